@@ -1,0 +1,64 @@
+# jnd — top-level driver. The real build is CMake; these targets are the README's commands.
+#   make demo   install deps, build, run `jnd diff` on a built-in synthetic pair
+#   make test   install deps, build with -Werror, run the unit + end-to-end suite,
+#               then the same suite under ASan + UBSan, then each fuzzer briefly
+#   make bench  speed and memory figures, with peer tools where present
+#   make fuzz   build the libFuzzer targets and run each for FUZZ_SECONDS
+#   make asan   the suite under AddressSanitizer + UndefinedBehaviorSanitizer
+#   make install PREFIX=/usr/local
+SHELL := /bin/bash
+BUILD ?= build
+ASAN_BUILD ?= build-asan
+FUZZ_BUILD ?= build-fuzz
+JOBS ?= $(shell nproc)
+PREFIX ?= /usr/local
+FUZZ_SECONDS ?= 20
+CMAKE_FLAGS ?=
+
+.PHONY: all deps build demo test unit asan fuzz fuzz-build bench install clean
+
+all: build
+
+deps:
+	@bash scripts/install-deps.sh
+
+build: deps
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DJND_WERROR=ON $(CMAKE_FLAGS) >/dev/null
+	@cmake --build $(BUILD) -j $(JOBS)
+
+demo: build
+	@mkdir -p demo
+	$(BUILD)/jnd example -o demo
+	$(BUILD)/jnd diff demo/reference.png demo/test.png --display standard-fhd \
+	    --json demo/diff.json --heatmap demo/heatmap.png --map demo/jnd.exr
+	@echo "demo: wrote demo/diff.json, demo/heatmap.png and demo/jnd.exr"
+
+unit: build
+	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+test: unit asan fuzz
+
+asan: deps
+	@cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DJND_WERROR=ON -DJND_SANITIZE=ON \
+	    -DCMAKE_C_COMPILER=clang $(CMAKE_FLAGS) >/dev/null
+	@cmake --build $(ASAN_BUILD) -j $(JOBS)
+	@cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+	    UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 JND_SANITIZED=1 \
+	    ctest --output-on-failure -j $(JOBS) -LE slow
+
+fuzz-build: deps
+	@cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=Debug -DJND_FUZZ=ON \
+	    -DCMAKE_C_COMPILER=clang $(CMAKE_FLAGS) >/dev/null
+	@cmake --build $(FUZZ_BUILD) -j $(JOBS)
+
+fuzz: fuzz-build
+	@bash fuzz/run.sh $(FUZZ_BUILD) $(FUZZ_SECONDS)
+
+bench: build
+	@bash bench/run.sh $(BUILD)
+
+install: build
+	@cmake --install $(BUILD) --prefix $(PREFIX)
+
+clean:
+	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD)

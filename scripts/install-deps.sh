@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages jnd needs to build, test and benchmark.
+# Idempotent and non-interactive: only missing packages are installed.
+# Uses sudo when not root.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake pkg-config
+  libstb-dev libopenexr-dev libcjson-dev zlib1g-dev  # image I/O, JSON
+  liblapacke-dev                                   # PCA
+  libassimp-dev libmeshoptimizer-dev               # asset import, LOD
+  libegl-dev libgl-dev libegl1-mesa-dev libgl1-mesa-dri libgbm-dev  # headless GL (llvmpipe)
+  clang libclang-rt-14-dev                         # libFuzzer + sanitizers
+  jq                                               # JSON checks in end-to-end tests
+  libjxl-devtools                                  # butteraugli_main, the peer in `make bench`
+  assimp-testmodels                                # real (and malformed) glTF files for tests
+  libsquish-dev                                    # BC1/BC4/BC5 reference encoder
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+# npm only where no node toolchain is present (Debian's npm conflicts with other node installs)
+if ! command -v npm >/dev/null 2>&1; then missing+=(npm); fi
+
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "install-deps: installing ${missing[*]}" >&2
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2

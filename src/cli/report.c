@@ -1,0 +1,93 @@
+/* The JSON report every subcommand writes, and the progress bar. */
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "cli/cli.h"
+
+cJSON *cli_report_new(const char *command) {
+  cJSON *r = cJSON_CreateObject();
+  cJSON_AddStringToObject(r, "jnd_version", jnd_version());
+  cJSON_AddStringToObject(r, "command", command);
+  cJSON_AddObjectToObject(r, "inputs");
+  cJSON_AddObjectToObject(r, "parameters");
+  cJSON_AddObjectToObject(r, "result");
+  return r;
+}
+
+cJSON *cli_report_section(cJSON *report, const char *name) {
+  return cJSON_GetObjectItemCaseSensitive(report, name);
+}
+
+cJSON *cli_display_json(const jnd_display *d) {
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddStringToObject(o, "name", d->name);
+  cJSON_AddNumberToObject(o, "ppd", d->ppd);
+  cJSON_AddNumberToObject(o, "peak_cdm2", d->peak_cdm2);
+  cJSON_AddNumberToObject(o, "black_cdm2", d->black_cdm2);
+  cJSON_AddNumberToObject(o, "ambient_lux", d->ambient_lux);
+  cJSON_AddNumberToObject(o, "reflectivity", d->reflectivity);
+  cJSON_AddNumberToObject(o, "exr_scale", d->exr_scale);
+  if (d->diagonal_in > 0) {
+    cJSON_AddNumberToObject(o, "diagonal_in", d->diagonal_in);
+    cJSON_AddNumberToObject(o, "width_px", d->width_px);
+    cJSON_AddNumberToObject(o, "height_px", d->height_px);
+    cJSON_AddNumberToObject(o, "distance_m", d->distance_m);
+  }
+  return o;
+}
+
+int cli_report_write(cJSON *report, const char *path) {
+  char *text = cJSON_Print(report);
+  if (!text) {
+    cli_error("out of memory writing the JSON report");
+    return EXIT_BAD;
+  }
+  size_t n = strlen(text);
+  int rc = EXIT_OK;
+  if (strcmp(path, "-") == 0) {
+    fwrite(text, 1, n, stdout);
+    fputc('\n', stdout);
+    fflush(stdout);
+  } else {
+    char *t2 = malloc(n + 2);
+    if (!t2) {
+      free(text);
+      cli_error("out of memory");
+      return EXIT_BAD;
+    }
+    memcpy(t2, text, n);
+    t2[n] = '\n';
+    if (jnd_write_file_atomic(path, t2, n + 1) != JND_OK) {
+      cli_error("%s", jnd_last_error());
+      rc = EXIT_BAD;
+    }
+    free(t2);
+  }
+  free(text);
+  return rc;
+}
+
+void cli_progress_start(cli_progress *p, const cli_common *c, const char *label, int total) {
+  p->enabled = !(c && c->quiet) && isatty(2);
+  p->total = total > 0 ? total : 1;
+  p->done = 0;
+  p->label = label;
+  p->t0 = cli_now();
+}
+
+void cli_progress_step(cli_progress *p, int done) {
+  p->done = done;
+  if (!p->enabled) return;
+  int width = 30, filled = (int)((double)width * done / p->total);
+  double el = cli_now() - p->t0;
+  double eta = done > 0 ? el * (p->total - done) / done : 0;
+  fprintf(stderr, "\r%-12s [", p->label);
+  for (int k = 0; k < width; k++) fputc(k < filled ? '#' : '.', stderr);
+  fprintf(stderr, "] %d/%d  %.0fs, ~%.0fs left ", done, p->total, el, eta);
+  fflush(stderr);
+}
+
+void cli_progress_end(cli_progress *p) {
+  if (p->enabled) fprintf(stderr, "\r%*s\r", 80, "");
+}

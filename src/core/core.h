@@ -1,0 +1,36 @@
+/* Internal helpers of the core layer, shared by every layer of the library. */
+#ifndef JND_CORE_H
+#define JND_CORE_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "jnd.h"
+
+/* Records a one-line message for jnd_last_error() and returns status. */
+jnd_status jnd_fail(jnd_status status, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+
+/* Checked allocation: NULL (and an error recorded) on failure or overflow. */
+void *jnd_alloc(size_t count, size_t size);
+void *jnd_calloc(size_t count, size_t size);
+
+/* Checks w × h × c against the stated limits. */
+jnd_status jnd_check_size(int w, int h, int c, const char *what);
+
+/* Number of threads to use for a request (0 = OpenMP default). */
+int jnd_threads(int requested);
+
+/* A deterministic generator (SplitMix64 seeding xoshiro256**): the same
+ * seed gives the same sequence on every machine. */
+typedef struct { uint64_t s[4]; } jnd_rng;
+void jnd_rng_seed(jnd_rng *r, uint64_t seed);
+uint64_t jnd_rng_next(jnd_rng *r);
+double jnd_rng_uniform(jnd_rng *r);   /* [0, 1) */
+double jnd_rng_normal(jnd_rng *r);    /* standard normal (Box–Muller) */
+
+static inline double jnd_clampd(double v, double lo, double hi) {
+  return v < lo ? lo : v > hi ? hi : v;
+}
+static inline int jnd_clampi(int v, int lo, int hi) { return v < lo ? lo : v > hi ? hi : v; }
+
+#endif

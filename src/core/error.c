@@ -1,0 +1,23 @@
+/* Errors as values: each function returns a jnd_status, and the message of the
+ * last failure on the calling thread is kept for jnd_last_error(). */
+#include <stdarg.h>
+#include <stdio.h>
+
+#include "core/core.h"
+
+static _Thread_local char last_error[1024];
+
+jnd_status jnd_fail(jnd_status status, const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(last_error, sizeof last_error, fmt, ap);
+  va_end(ap);
+  /* one line: a message never carries a newline into the user's terminal */
+  for (char *p = last_error; *p; p++)
+    if (*p == '\n' || *p == '\r') *p = ' ';
+  return status;
+}
+
+const char *jnd_last_error(void) { return last_error; }
+
+const char *jnd_version(void) { return JND_VERSION_STRING; }

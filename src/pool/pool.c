@@ -1,0 +1,117 @@
+/* Pooling a map into one number (000 §6): percentiles (P93 by default: the
+ * value below which 93% of the map lies, which best predicted the measured
+ * thresholds in 000 §6), maximum, mean and Minkowski mean. */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/core.h"
+#include "pool/pool.h"
+
+static int cmp_float(const void *a, const void *b) {
+  float x = *(const float *)a, y = *(const float *)b;
+  return (x > y) - (x < y);
+}
+
+jnd_status jnd_sort_floats(float *v, size_t n) {
+  int nonneg = 1;
+  for (size_t i = 0; i < n; i++)
+    if (!(v[i] >= 0)) { nonneg = 0; break; }
+  if (!nonneg || n < 4096) {
+    qsort(v, n, sizeof *v, cmp_float);
+    return JND_OK;
+  }
+  /* non-negative IEEE floats order like their bit patterns: LSD radix, 4 × 8 bits */
+  uint32_t *a = (uint32_t *)(void *)v;
+  uint32_t *b = jnd_alloc(n, sizeof *b);
+  if (!b) return JND_ERR_NOMEM;
+  for (int pass = 0; pass < 4; pass++) {
+    size_t count[257] = {0};
+    int sh = pass * 8;
+    for (size_t i = 0; i < n; i++) count[((a[i] >> sh) & 0xff) + 1]++;
+    for (int k = 0; k < 256; k++) count[k + 1] += count[k];
+    for (size_t i = 0; i < n; i++) b[count[(a[i] >> sh) & 0xff]++] = a[i];
+    uint32_t *t = a;
+    a = b;
+    b = t;
+  }
+  /* after 4 passes the data is back in the caller's buffer */
+  free(b);
+  return JND_OK;
+}
+
+double jnd_percentile_sorted(const float *s, size_t n, double p) {
+  if (n == 0) return NAN;
+  double pos = jnd_clampd(p, 0, 100) / 100.0 * (double)(n - 1);
+  size_t k = (size_t)floor(pos);
+  if (k >= n - 1) return s[n - 1];
+  double t = pos - (double)k;
+  return s[k] + t * ((double)s[k + 1] - s[k]);
+}
+
+double jnd_percentile(const float *values, size_t n, double p) {
+  if (n == 0) return NAN;
+  float *c = jnd_alloc(n, sizeof *c);
+  if (!c) return NAN;
+  memcpy(c, values, n * sizeof *c);
+  double r = jnd_sort_floats(c, n) == JND_OK ? jnd_percentile_sorted(c, n, p) : NAN;
+  free(c);
+  return r;
+}
+
+double jnd_pool(const float *values, size_t n, const jnd_pooling *pool, double e) {
+  if (n == 0) return NAN;
+  switch (pool->kind) {
+  case JND_POOL_MAX: {
+    float m = values[0];
+    for (size_t i = 1; i < n; i++) m = values[i] > m ? values[i] : m;
+    return m;
+  }
+  case JND_POOL_MEAN: {
+    double s = 0;
+    for (size_t i = 0; i < n; i++) s += values[i];
+    return s / (double)n;
+  }
+  case JND_POOL_MINKOWSKI: {
+    double s = 0;
+    for (size_t i = 0; i < n; i++) s += pow(fabs(values[i]), e);
+    return pow(s / (double)n, 1.0 / e);
+  }
+  case JND_POOL_PERCENTILE:
+  default:
+    return jnd_percentile(values, n, pool->percentile);
+  }
+}
+
+jnd_status jnd_pooling_parse(const char *s, jnd_pooling *out) {
+  memset(out, 0, sizeof *out);
+  if (strcmp(s, "max") == 0) {
+    out->kind = JND_POOL_MAX;
+  } else if (strcmp(s, "mean") == 0) {
+    out->kind = JND_POOL_MEAN;
+  } else if (strcmp(s, "minkowski") == 0) {
+    out->kind = JND_POOL_MINKOWSKI;
+  } else if (s[0] == 'p' && s[1]) {
+    char *end;
+    double p = strtod(s + 1, &end);
+    if (*end || !(p >= 0 && p <= 100))
+      return jnd_fail(JND_ERR_ARG, "pooling '%s': a percentile is p0..p100, like p93", s);
+    out->kind = JND_POOL_PERCENTILE;
+    out->percentile = p;
+  } else {
+    return jnd_fail(JND_ERR_ARG, "pooling '%s': one of p93 (or any pNN), max, mean, minkowski", s);
+  }
+  return JND_OK;
+}
+
+const char *jnd_pooling_name(const jnd_pooling *p, char *buf, size_t n) {
+  switch (p->kind) {
+  case JND_POOL_MAX: snprintf(buf, n, "max"); break;
+  case JND_POOL_MEAN: snprintf(buf, n, "mean"); break;
+  case JND_POOL_MINKOWSKI: snprintf(buf, n, "minkowski"); break;
+  default: snprintf(buf, n, "p%g", p->percentile); break;
+  }
+  return buf;
+}

@@ -1,0 +1,40 @@
+/* Colour stages of 004 §3.1: linear RGB → CIE XYZ → Hunt–Pointer–Estévez LMS. */
+#include "core/core.h"
+#include "vision/vision.h"
+
+/* linear sRGB (Rec.709 primaries, D65 white) to XYZ, IEC 61966-2-1 */
+static const double RGB2XYZ[3][3] = {{0.4124564, 0.3575761, 0.1804375},
+                                     {0.2126729, 0.7151522, 0.0721750},
+                                     {0.0193339, 0.1191920, 0.9503041}};
+
+/* 004 §3.1: Hunt–Pointer–Estévez cone fundamentals (Fairchild 2004) */
+static const double XYZ2LMS[3][3] = {{0.40024, 0.70760, -0.08081},
+                                     {-0.22630, 1.16532, 0.04570},
+                                     {0.0, 0.0, 0.91822}};
+
+static void apply3(jnd_image *img, const double m[3][3]) {
+  size_t n = (size_t)img->w * img->h;
+  float *p0 = jnd_image_plane(img, 0), *p1 = jnd_image_plane(img, 1), *p2 = jnd_image_plane(img, 2);
+  float a[9];
+  for (int i = 0; i < 9; i++) a[i] = (float)m[i / 3][i % 3];
+  for (size_t i = 0; i < n; i++) {
+    float x = p0[i], y = p1[i], z = p2[i];
+    p0[i] = a[0] * x + a[1] * y + a[2] * z;
+    p1[i] = a[3] * x + a[4] * y + a[5] * z;
+    p2[i] = a[6] * x + a[7] * y + a[8] * z;
+  }
+}
+
+void jnd_rgb_to_xyz(jnd_image *img) { apply3(img, RGB2XYZ); }
+void jnd_xyz_to_lms(jnd_image *img) { apply3(img, XYZ2LMS); }
+
+void jnd_lms_luminance_weights(double w[3]) {
+  /* Y row of the inverse of XYZ2LMS, by cofactors */
+  const double(*m)[3] = XYZ2LMS;
+  double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+               m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+               m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+  w[0] = -(m[1][0] * m[2][2] - m[1][2] * m[2][0]) / det;
+  w[1] = (m[0][0] * m[2][2] - m[0][2] * m[2][0]) / det;
+  w[2] = -(m[0][0] * m[1][2] - m[0][2] * m[1][0]) / det;
+}

@@ -1,0 +1,109 @@
+/* Contrast sensitivity functions of 004 §3.1. */
+#include <math.h>
+
+#include "core/core.h"
+#include "vision/vision.h"
+
+/* 004 §3.1: Barten's (2003) spatial CSF, used only to adapt the achromatic
+ * CSF to the luminance level. */
+double jnd_csf_barten(double rho, double L) {
+  double r2 = rho * rho;
+  double num = 5200.0 * exp(-0.0016 * r2 * pow(1.0 + 100.0 / L, 0.08));
+  double den = sqrt((2.0 + 0.64 * r2) * (63.0 / pow(L, 0.83) + 1.0 / (1.0 - exp(-0.02 * r2))));
+  return num / den;
+}
+
+/* The maximum of csf_B over frequency at luminance L, and where it is:
+ * golden-section search in log frequency (csf_B is unimodal in ρ). */
+static void barten_peak(double L, double *peak, double *argmax) {
+  double lo = log(0.01), hi = log(100.0);
+  const double gr = 0.6180339887498949;
+  double x1 = hi - gr * (hi - lo), x2 = lo + gr * (hi - lo);
+  double f1 = jnd_csf_barten(exp(x1), L), f2 = jnd_csf_barten(exp(x2), L);
+  while (hi - lo > 1e-7) {
+    if (f1 > f2) {
+      hi = x2; x2 = x1; f2 = f1;
+      x1 = hi - gr * (hi - lo); f1 = jnd_csf_barten(exp(x1), L);
+    } else {
+      lo = x1; x1 = x2; f1 = f2;
+      x2 = lo + gr * (hi - lo); f2 = jnd_csf_barten(exp(x2), L);
+    }
+  }
+  *argmax = exp(0.5 * (lo + hi));
+  *peak = jnd_csf_barten(*argmax, L);
+}
+
+/* 004 §3.1: c0(L) = 1.14 · max csf_B(·, L) / max csf_B(·, 100),
+ *           c1(L) = 0.67 · argmax csf_B(·, 100) / argmax csf_B(·, L). */
+void jnd_csf_adaptation(double L, double *c0, double *c1) {
+  double p100, a100, pL, aL;
+  barten_peak(100.0, &p100, &a100);
+  barten_peak(L, &pL, &aL);
+  *c0 = 1.14 * pL / p100;
+  *c1 = 0.67 * a100 / aL;
+}
+
+/* 004 §3.1: Daly's (1998) refinement of Kelly's (1979) spatio-velocity CSF,
+ *   csf_A(ρ, v) = (6.1 + 7.3 |log10(c2 v / 3)|³) c0 c2 v (2π c1 ρ)² exp(−4π c1 ρ (c2 v + 2) / 45.9)
+ * with c2 = 1.7 and c0, c1 adapted to L through Barten's CSF. */
+double jnd_csf_achromatic(double rho, double v, double L) {
+  const double c2 = 1.7;
+  double c0, c1;
+  jnd_csf_adaptation(L, &c0, &c1);
+  double lv = fabs(log10(c2 * v / 3.0));
+  double k = 6.1 + 7.3 * lv * lv * lv;
+  double a = 2.0 * M_PI * c1 * rho;
+  return k * c0 * c2 * v * a * a * exp(-4.0 * M_PI * c1 * rho * (c2 * v + 2.0) / 45.9);
+}
+
+/* 004 §3.1: Le Grand's pupil diameter, d(L) = 5 − 3 tanh(0.4 log10 L), mm. */
+double jnd_pupil_diameter_mm(double L) { return 5.0 - 3.0 * tanh(0.4 * log10(L)); }
+
+/* Kelly's (1983) chromatic spatio-temporal CSF as 004 §3.1 describes it: a
+ * linear combination of two space–time-separable low-pass functions, a
+ * centre and a surround. 004 does not print Kelly's constants; the form and
+ * the constants below are our choice, documented in docs/model.md: each
+ * component is an exponential low-pass in spatial frequency times a
+ * first-order low-pass in temporal frequency ω = ρ·v; the surround is
+ * broader in space and slower, so motion removes it first and the peak
+ * sensitivity rises with velocity while the curve stays low-pass. */
+static const struct {
+  double rho_c, omega_c, k_s, rho_s, omega_s;
+} CHROM[2] = {
+    {2.6, 12.0, 0.25, 0.35, 2.0}, /* red–green (a) */
+    {1.7, 10.0, 0.25, 0.25, 2.0}, /* yellow–violet (b) */
+};
+#define CHROM_REF_LUM 35.0 /* 004 §3.1: the chromatic CSF's reference luminance */
+
+static double retinal_illuminance(double L) {
+  double d = jnd_pupil_diameter_mm(L);
+  return L * M_PI * d * d / 4.0; /* trolands */
+}
+
+double jnd_csf_chromatic(double rho, double v, double L, int ch) {
+  double omega = rho * v;
+  double tc = 1.0 / sqrt(1.0 + (omega / CHROM[ch].omega_c) * (omega / CHROM[ch].omega_c));
+  double ts = 1.0 / sqrt(1.0 + (omega / CHROM[ch].omega_s) * (omega / CHROM[ch].omega_s));
+  double s = exp(-rho / CHROM[ch].rho_c) * tc - CHROM[ch].k_s * exp(-rho / CHROM[ch].rho_s) * ts;
+  /* 004 §3.1 (van der Horst & Bouman 1969): threshold contrast scales with the
+   * square root of retinal illuminance, relative to the reference luminance */
+  return fmax(s, 0.0) * sqrt(retinal_illuminance(L) / retinal_illuminance(CHROM_REF_LUM));
+}
+
+/* 004 §3.1: Daly's (1998) model of unconstrained eye movements,
+ *   v = |v_s − min(0.82 v_s + 0.15, 80)| deg/s:
+ * smooth pursuit tracks 82% of the image velocity up to 80 deg/s, and drift
+ * leaves 0.15 deg/s on the retina even for a static image. */
+double jnd_retinal_velocity(double vs) {
+  vs = fabs(vs);
+  return fabs(vs - fmin(0.82 * vs + JND_DRIFT_DPS, 80.0));
+}
+
+/* Sensitivity falls with eccentricity following Geisler & Perry (1998): the
+ * contrast threshold grows as exp(α ρ (e + e2)/e2) with α = 0.106 and
+ * e2 = 2.3°, i.e. sensitivity is multiplied by exp(−α ρ e / e2) relative to
+ * the fovea (docs/model.md). */
+double jnd_eccentricity_factor(double rho, double ecc) {
+  const double alpha = 0.106, e2 = 2.3;
+  return exp(-alpha * rho * ecc / e2);
+}

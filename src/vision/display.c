@@ -1,0 +1,101 @@
+/* Display model (004 §3.1, first stage): from the file's signal to absolute
+ * linear RGB in cd/m², with the display's peak, black level and the ambient
+ * light it reflects; and the viewing geometry as pixels per degree. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "core/core.h"
+#include "vision/vision.h"
+
+static const char *const preset_names[] = {"standard-fhd", "standard-4k", "phone", "laptop", "vr", NULL};
+
+const char *const *jnd_display_preset_names(void) { return preset_names; }
+
+double jnd_ppd_from_geometry(double diagonal_in, int width_px, int height_px, double distance_m) {
+  double diag_px = sqrt((double)width_px * width_px + (double)height_px * height_px);
+  double pitch_m = diagonal_in * 0.0254 / diag_px;
+  /* one pixel at the centre of the screen subtends 2·atan(p / 2d) */
+  double deg_per_px = 2.0 * atan(pitch_m / (2.0 * distance_m)) * 180.0 / M_PI;
+  return 1.0 / deg_per_px;
+}
+
+static void set_geometry(jnd_display *d, const char *name, double diag, int w, int h, double dist,
+                         double peak) {
+  memset(d, 0, sizeof *d);
+  snprintf(d->name, sizeof d->name, "%s", name);
+  d->diagonal_in = diag;
+  d->width_px = w;
+  d->height_px = h;
+  d->distance_m = dist;
+  d->ppd = diag > 0 ? jnd_ppd_from_geometry(diag, w, h, dist) : 0;
+  d->peak_cdm2 = peak;
+  d->black_cdm2 = peak / 1000.0; /* a 1000:1 panel */
+  d->ambient_lux = 0.0;          /* a dark room, as in the experiments behind the CSFs */
+  d->reflectivity = 0.005;       /* a matte screen */
+  d->exr_scale = 1.0;
+}
+
+void jnd_display_defaults(jnd_display *d) { set_geometry(d, "standard-fhd", 24, 1920, 1080, 0.60, 200); }
+
+jnd_status jnd_display_preset(const char *name, jnd_display *d) {
+  if (strcmp(name, "standard-fhd") == 0) {
+    set_geometry(d, name, 24, 1920, 1080, 0.60, 200);
+  } else if (strcmp(name, "standard-4k") == 0) {
+    set_geometry(d, name, 27, 3840, 2160, 0.60, 200);
+  } else if (strcmp(name, "phone") == 0) {
+    set_geometry(d, name, 6.1, 2532, 1170, 0.30, 500);
+  } else if (strcmp(name, "laptop") == 0) {
+    set_geometry(d, name, 14, 2560, 1600, 0.50, 300);
+  } else if (strcmp(name, "vr") == 0) {
+    /* a current headset: about 20 pixels per degree, 100 cd/m² */
+    set_geometry(d, name, 0, 0, 0, 0, 100);
+    d->ppd = 20;
+  } else {
+    return jnd_fail(JND_ERR_ARG,
+                    "unknown display '%s' (one of standard-fhd, standard-4k, phone, laptop, vr)", name);
+  }
+  return JND_OK;
+}
+
+/* sRGB EOTF (IEC 61966-2-1) */
+static float srgb_decode(float v) {
+  if (v <= 0.04045f) return v / 12.92f;
+  return powf((v + 0.055f) / 1.055f, 2.4f);
+}
+
+jnd_status jnd_display_apply(const jnd_display *d, const jnd_image *in, jnd_encoding enc, int has_alpha,
+                             jnd_image *out) {
+  if (!(d->peak_cdm2 > 0) || d->black_cdm2 < 0 || d->black_cdm2 >= d->peak_cdm2)
+    return jnd_fail(JND_ERR_ARG, "display: need 0 <= black (%g) < peak (%g) cd/m²", d->black_cdm2,
+                    d->peak_cdm2);
+  if (in->c < 1 || in->c > 4) return jnd_fail(JND_ERR_ARG, "display: images need 1–4 channels, not %d", in->c);
+  int colour = in->c >= 3;
+  int alpha_ch = has_alpha ? (in->c == 2 ? 1 : in->c == 4 ? 3 : -1) : -1;
+  size_t n = (size_t)in->w * in->h;
+  jnd_image tmp;
+  jnd_status s = jnd_image_alloc(&tmp, in->w, in->h, 3);
+  if (s != JND_OK) return s;
+  double refl = d->reflectivity * d->ambient_lux / M_PI; /* Lambertian screen */
+  float range = (float)(d->peak_cdm2 - d->black_cdm2), black = (float)d->black_cdm2;
+  float scale = (float)d->exr_scale;
+  const float *alpha = alpha_ch >= 0 ? jnd_image_plane(in, alpha_ch) : NULL;
+  for (int ch = 0; ch < 3; ch++) {
+    const float *src = jnd_image_plane(in, colour ? ch : 0);
+    float *dst = jnd_image_plane(&tmp, ch);
+    for (size_t i = 0; i < n; i++) {
+      float a = alpha ? jnd_clampd(alpha[i], 0, 1) : 1.0f;
+      float v;
+      if (enc == JND_ENCODING_SRGB) {
+        /* alpha composites the linear signal over the display's black */
+        v = range * srgb_decode((float)jnd_clampd(src[i], 0, 1)) * a + black;
+      } else {
+        v = fmaxf(src[i], 0.0f) * scale * a;
+      }
+      dst[i] = v + (float)refl;
+    }
+  }
+  if (out == in) jnd_image_free(out);
+  *out = tmp;
+  return JND_OK;
+}

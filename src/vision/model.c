@@ -1,0 +1,515 @@
+/* The spatio-velocity colour vision model of 004 §3.1 and the difference map
+ * of 004 §3.2, stage by stage:
+ *
+ *   display → XYZ → LMS (HPE) → Gaussian pyramid → contrast pyramid
+ *   (G_i − G_{i+1}) / G_{i+2} → opponent A, a, b → CSF normalisation at each
+ *   band's measured peak frequency (velocity, adaptation luminance,
+ *   eccentricity) → masking transducer T → |T(test) − T(ref)|^2.4 summed over
+ *   channels → collapse across bands → ^(1/2.4) → JND map.
+ *
+ * Memory: the two Gaussian pyramids (3 × 4/3 floats a pixel each) are the
+ * bulk. Contrast bands are never stored: each band's difference is computed
+ * row by row from the Gaussian levels, expanding the coarser levels on the
+ * fly, so the peak stays near 40 bytes a pixel. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/core.h"
+#include "vision/vision.h"
+
+#define MAX_BANDS 16
+#define NCH 3                 /* A, a, b */
+#define LUT_LOGL0 (-5.0)      /* adaptation luminance 1e-5 .. 1e5 cd/m² */
+#define LUT_NL 201
+#define LUT_DLOGL 0.05
+#define LUT_LOGV0 (-1.0)      /* retinal velocity 0.1 .. 316 deg/s */
+#define LUT_NV 71
+#define LUT_DLOGV 0.05
+#define CONTRAST_FLOOR 1e-4f  /* cd/m²-scale floor of the contrast denominator */
+
+struct jnd_model {
+  jnd_model_params p;
+  int nbands;
+  double band_cpp[MAX_BANDS];  /* peak frequency, cycles per full-resolution pixel */
+  double band_amp[MAX_BANDS];  /* peak amplitude of the band's filter */
+  double band_cpd[MAX_BANDS];
+  int adapt_level;             /* Gaussian level where a pixel is about one degree */
+  double lum_w[3];             /* Y from LMS */
+  float *lut;                  /* [band][ch][iv][iL]: CSF · sensitivity / amplitude */
+};
+
+/* ---- psychometric function (000 eq. 4) ---- */
+
+double jnd_probability(double jnd, double beta) {
+  if (!(jnd > 0)) return 0.0;
+  return 1.0 - exp(log(0.5) * pow(jnd, beta));
+}
+
+double jnd_probability_inverse(double p, double beta) {
+  if (!(p > 0)) return 0.0;
+  if (p >= 1) return INFINITY;
+  return pow(log(1.0 - p) / log(0.5), 1.0 / beta);
+}
+
+/* ---- model construction ---- */
+
+void jnd_model_defaults(jnd_model_params *p) {
+  memset(p, 0, sizeof *p);
+  jnd_display_defaults(&p->display);
+  /* fitted on ../shared/data/csf/csf_train.csv by tools/fit_model (docs/model.md) */
+  p->sensitivity = 1.0;
+  p->sens_rg = 1.0;
+  p->sens_yv = 1.0;
+  p->minkowski = 2.4; /* 004 §3.2 */
+  p->beta = 3.5;      /* 000 eq. 4 */
+  p->fps = 60;
+}
+
+const jnd_model_params *jnd_model_get_params(const jnd_model *m) { return &m->p; }
+
+int jnd_model_band_peaks(const jnd_model *m, double *cpd, int max) {
+  int n = m->nbands < max ? m->nbands : max;
+  for (int i = 0; i < n; i++) cpd[i] = m->band_cpd[i];
+  return m->nbands;
+}
+
+/* Achromatic CSF with precomputed adaptation factors (004 §3.1, see csf.c). */
+static double csf_a(double rho, double v, double c0, double c1) {
+  const double c2 = 1.7;
+  double lv = fabs(log10(c2 * v / 3.0));
+  double k = 6.1 + 7.3 * lv * lv * lv;
+  double a = 2.0 * M_PI * c1 * rho;
+  return k * c0 * c2 * v * a * a * exp(-4.0 * M_PI * c1 * rho * (c2 * v + 2.0) / 45.9);
+}
+
+static float *lut_at(const jnd_model *m, int band, int ch) {
+  return m->lut + ((size_t)band * NCH + ch) * LUT_NV * LUT_NL;
+}
+
+jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
+  *out = NULL;
+  if (!(p->display.ppd >= 1 && p->display.ppd <= 1000))
+    return jnd_fail(JND_ERR_ARG, "model: pixels per degree must be in [1, 1000], not %g", p->display.ppd);
+  if (!(p->sensitivity > 0) || !(p->sens_rg >= 0) || !(p->sens_yv >= 0))
+    return jnd_fail(JND_ERR_ARG, "model: sensitivities must be positive");
+  if (!(p->minkowski >= 1) || !(p->beta > 0))
+    return jnd_fail(JND_ERR_ARG, "model: Minkowski exponent must be >= 1 and beta > 0");
+  jnd_model *m = jnd_calloc(1, sizeof *m);
+  if (!m) return JND_ERR_NOMEM;
+  m->p = *p;
+  double ppd = p->display.ppd;
+
+  /* 004 §3.1: as many bands as keep the coarsest band's peak at >= 0.5 cpd,
+   * with each band's actual peak frequency and amplitude taken from the
+   * filters (the finest peaks near Nyquist, ~4× the next). Bands from the
+   * sixth on are self-similar: each halves the previous one's frequency. */
+  int n = 0;
+  for (int i = 0; i < MAX_BANDS; i++) {
+    if (i <= 5) {
+      jnd_band_response(i, &m->band_cpp[i], &m->band_amp[i]);
+    } else {
+      m->band_cpp[i] = m->band_cpp[i - 1] / 2;
+      m->band_amp[i] = m->band_amp[i - 1];
+    }
+    m->band_cpd[i] = m->band_cpp[i] * ppd;
+    if (m->band_cpd[i] < 0.5) break;
+    n = i + 1;
+  }
+  if (n == 0) {
+    jnd_model_free(m);
+    return jnd_fail(JND_ERR_ARG, "model: %g pixels per degree resolves no band above 0.5 cpd", ppd);
+  }
+  m->nbands = n;
+  /* 004 §3.1: adaptation from the Gaussian level where one pixel is about one degree */
+  m->adapt_level = (int)lround(log2(ppd));
+  if (m->adapt_level < 0) m->adapt_level = 0;
+  jnd_lms_luminance_weights(m->lum_w);
+
+  m->lut = jnd_alloc((size_t)n * NCH * LUT_NV * LUT_NL, sizeof(float));
+  if (!m->lut) {
+    jnd_model_free(m);
+    return JND_ERR_NOMEM;
+  }
+  double c0[LUT_NL], c1[LUT_NL];
+  for (int il = 0; il < LUT_NL; il++) jnd_csf_adaptation(pow(10.0, LUT_LOGL0 + il * LUT_DLOGL), &c0[il], &c1[il]);
+  for (int b = 0; b < n; b++) {
+    double rho = m->band_cpd[b];
+    for (int iv = 0; iv < LUT_NV; iv++) {
+      double v = pow(10.0, LUT_LOGV0 + iv * LUT_DLOGV);
+      for (int il = 0; il < LUT_NL; il++) {
+        double L = pow(10.0, LUT_LOGL0 + il * LUT_DLOGL);
+        size_t k = (size_t)iv * LUT_NL + il;
+        lut_at(m, b, 0)[k] = (float)(p->sensitivity * csf_a(rho, v, c0[il], c1[il]) / m->band_amp[b]);
+        lut_at(m, b, 1)[k] = (float)(p->sens_rg * jnd_csf_chromatic(rho, v, L, 0) / m->band_amp[b]);
+        lut_at(m, b, 2)[k] = (float)(p->sens_yv * jnd_csf_chromatic(rho, v, L, 1) / m->band_amp[b]);
+      }
+    }
+  }
+  *out = m;
+  return JND_OK;
+}
+
+void jnd_model_free(jnd_model *m) {
+  if (!m) return;
+  free(m->lut);
+  free(m);
+}
+
+/* ---- per-comparison state ---- */
+
+typedef struct {
+  jnd_gauss g[2][3]; /* [image][L, M, S] */
+  float *adapt[2];   /* luminance at the adaptation level, per image */
+  int aw, ah, alev;
+  jnd_gauss vel;     /* retinal velocity pyramid (deg/s), when motion is given */
+  int has_vel;
+  float uniform_v;   /* retinal velocity when there is no map */
+} diff_state;
+
+/* bilinear sample of a coarse map at the centre of fine pixel (x, y) of level lev */
+static float sample_coarse(const float *map, int cw, int chh, int clev, int x, int y, int lev) {
+  double s = ldexp(1.0, lev - clev);
+  double fx = (x + 0.5) * s - 0.5, fy = (y + 0.5) * s - 0.5;
+  int x0 = (int)floor(fx), y0 = (int)floor(fy);
+  double tx = fx - x0, ty = fy - y0;
+  int xa = jnd_clampi(x0, 0, cw - 1), xb = jnd_clampi(x0 + 1, 0, cw - 1);
+  int ya = jnd_clampi(y0, 0, chh - 1), yb = jnd_clampi(y0 + 1, 0, chh - 1);
+  double v = (1 - ty) * ((1 - tx) * map[(size_t)ya * cw + xa] + tx * map[(size_t)ya * cw + xb]) +
+             ty * ((1 - tx) * map[(size_t)yb * cw + xa] + tx * map[(size_t)yb * cw + xb]);
+  return (float)v;
+}
+
+/* CSF look-up: bilinear in log luminance and log velocity. */
+static inline float lut_lookup(const float *t, float logL, float logv) {
+  float fl = (logL - (float)LUT_LOGL0) * (float)(1.0 / LUT_DLOGL);
+  float fv = (logv - (float)LUT_LOGV0) * (float)(1.0 / LUT_DLOGV);
+  if (fl < 0) fl = 0;
+  if (fl > LUT_NL - 1.001f) fl = LUT_NL - 1.001f;
+  if (fv < 0) fv = 0;
+  if (fv > LUT_NV - 1.001f) fv = LUT_NV - 1.001f;
+  int il = (int)fl, iv = (int)fv;
+  float tl = fl - il, tv = fv - iv;
+  const float *r0 = t + (size_t)iv * LUT_NL + il, *r1 = r0 + LUT_NL;
+  return (1 - tv) * ((1 - tl) * r0[0] + tl * r0[1]) + tv * ((1 - tl) * r1[0] + tl * r1[1]);
+}
+
+/* A small per-thread cache of horizontally expanded coarse rows. */
+typedef struct {
+  float *buf; /* 3 slots × width */
+  int row[3];
+} row_cache;
+
+static const float *cached_row(row_cache *c, const float *coarse, int cw, int crow, int fw) {
+  int slot = crow % 3;
+  float *dst = c->buf + (size_t)slot * fw;
+  if (c->row[slot] != crow) {
+    jnd_pyr_expand_row(coarse + (size_t)crow * cw, cw, dst, fw);
+    c->row[slot] = crow;
+  }
+  return dst;
+}
+
+/* Difference of band i, summed over channels: D_i = Σ_ch |T(n_test) − T(n_ref)|^e. */
+static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, float *xexp[2][3],
+                                  float *D) {
+  const int w = st->g[0][0].w[band], h = st->g[0][0].h[band];
+  const int w1 = st->g[0][0].w[band + 1], h1 = st->g[0][0].h[band + 1];
+  const float e = (float)m->p.minkowski;
+  const double ppd = m->p.display.ppd;
+  const float *lutA = lut_at(m, band, 0), *luta = lut_at(m, band, 1), *lutb = lut_at(m, band, 2);
+  const int threads = jnd_threads(m->p.threads);
+  const double scale = ldexp(1.0, band); /* full-resolution pixels per pixel of this level */
+  /* viewing distance in pixels, for eccentricity on a flat screen */
+  const double dist_px = 1.0 / tan(M_PI / 180.0 / ppd);
+  int fail = 0;
+
+#pragma omp parallel num_threads(threads)
+  {
+    row_cache cache[2][3][2];
+    float *mem = malloc(sizeof(float) * (size_t)w * 3 * 12);
+    if (!mem) {
+#pragma omp atomic write
+      fail = 1;
+    }
+    for (int a = 0; a < 2; a++)
+      for (int c = 0; c < 3; c++)
+        for (int k = 0; k < 2; k++) {
+          cache[a][c][k].buf = mem ? mem + (size_t)((a * 3 + c) * 2 + k) * 3 * w : NULL;
+          cache[a][c][k].row[0] = cache[a][c][k].row[1] = cache[a][c][k].row[2] = -1;
+        }
+#pragma omp for schedule(static)
+    for (int y = 0; y < h; y++) {
+      if (!mem) continue;
+      int rows[3];
+      float wts[3];
+      int nr = jnd_pyr_expand_rows(y, h1, rows, wts);
+      const float *e1[2][3][3], *e2[2][3][3], *g0[2][3];
+      for (int a = 0; a < 2; a++)
+        for (int c = 0; c < 3; c++) {
+          g0[a][c] = st->g[a][c].plane[band] + (size_t)y * w;
+          for (int k = 0; k < nr; k++) {
+            e1[a][c][k] = cached_row(&cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[k], w);
+            e2[a][c][k] = cached_row(&cache[a][c][1], xexp[a][c], w1, rows[k], w);
+          }
+        }
+      float *drow = D + (size_t)y * w;
+      for (int x = 0; x < w; x++) {
+        float logv;
+        if (st->has_vel) {
+          float v = st->vel.plane[band][(size_t)y * w + x];
+          logv = log10f(fmaxf(v, 1e-3f));
+        } else {
+          logv = log10f(st->uniform_v);
+        }
+        float ecc_factor = 1.0f;
+        if (m->p.has_gaze) {
+          double fx = (x + 0.5) * scale - 0.5 - m->p.gaze_x, fy = (y + 0.5) * scale - 0.5 - m->p.gaze_y;
+          double ecc = atan(sqrt(fx * fx + fy * fy) / dist_px) * 180.0 / M_PI;
+          ecc_factor = (float)jnd_eccentricity_factor(m->band_cpd[band], ecc);
+        }
+        float t[2][3];
+        for (int a = 0; a < 2; a++) {
+          float con[3];
+          for (int c = 0; c < 3; c++) {
+            float s1 = 0, s2 = 0;
+            for (int k = 0; k < nr; k++) {
+              s1 += wts[k] * e1[a][c][k][x];
+              s2 += wts[k] * e2[a][c][k][x];
+            }
+            /* 004 §3.1: band-limited contrast (G_i − G_{i+1}) / G_{i+2} (Lubin 1995) */
+            con[c] = (g0[a][c][x] - s1) / fmaxf(s2, CONTRAST_FLOOR);
+          }
+          float A, ca, cb;
+          jnd_opponent(con[0], con[1], con[2], &A, &ca, &cb);
+          float La = sample_coarse(st->adapt[a], st->aw, st->ah, st->alev, x, y, band);
+          float logL = log10f(fmaxf(La, 1e-6f));
+          float sA = lut_lookup(lutA, logL, logv) * ecc_factor;
+          float sa = lut_lookup(luta, logL, logv) * ecc_factor;
+          float sb = lut_lookup(lutb, logL, logv) * ecc_factor;
+          /* 004 §3.1: CSF normalisation, then the masking transducer */
+          t[a][0] = jnd_transducer(A * sA);
+          t[a][1] = jnd_transducer(ca * sa);
+          t[a][2] = jnd_transducer(cb * sb);
+        }
+        float d = 0;
+        for (int c = 0; c < 3; c++) {
+          float df = fabsf(t[1][c] - t[0][c]);
+          if (df > 0) d += powf(df, e);
+        }
+        drow[x] = d;
+      }
+    }
+    free(mem);
+  }
+  return fail ? jnd_fail(JND_ERR_NOMEM, "model: out of memory") : JND_OK;
+}
+
+static void state_free(diff_state *st) {
+  for (int a = 0; a < 2; a++) {
+    for (int c = 0; c < 3; c++) jnd_gauss_free(&st->g[a][c]);
+    free(st->adapt[a]);
+  }
+  if (st->has_vel) jnd_gauss_free(&st->vel);
+}
+
+/* Retinal velocity per full-resolution pixel from the displacement map
+ * (pixels per frame → deg/s through fps and ppd → Daly's eye-movement model). */
+static jnd_status velocity_map(const jnd_model *m, const jnd_image *motion, int w, int h, float **out) {
+  *out = NULL;
+  if (motion->w != w || motion->h != h || motion->c < 2)
+    return jnd_fail(JND_ERR_ARG, "motion map: %d × %d × %d does not match the %d × %d images (2 channels needed)",
+                    motion->w, motion->h, motion->c, w, h);
+  if (!(m->p.fps > 0)) return jnd_fail(JND_ERR_ARG, "motion map: frames per second must be positive");
+  float *v = jnd_alloc((size_t)w * h, sizeof(float));
+  if (!v) return JND_ERR_NOMEM;
+  const float *dx = jnd_image_plane(motion, 0), *dy = jnd_image_plane(motion, 1);
+  double k = m->p.fps / m->p.display.ppd;
+  for (size_t i = 0; i < (size_t)w * h; i++) {
+    double vs = sqrt((double)dx[i] * dx[i] + (double)dy[i] * dy[i]) * k;
+    v[i] = (float)jnd_retinal_velocity(vs);
+  }
+  *out = v;
+  return JND_OK;
+}
+
+/* The model on two LMS images (planar, 3 channels) whose buffers it takes over. */
+static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_diff_inputs *in,
+                           jnd_image *jnd_out) {
+  diff_state st;
+  memset(&st, 0, sizeof st);
+  const int threads = jnd_threads(m->p.threads);
+  const int nb = m->nbands;
+  /* Gaussian levels: bands need G_{i+2}; the adaptation level must exist too */
+  int levels = nb + 2;
+  if (m->adapt_level + 1 > levels) levels = m->adapt_level + 1;
+  jnd_status s = JND_OK;
+  size_t npx = (size_t)w * h;
+  jnd_image out = {0};
+  float *Dlev[MAX_BANDS] = {0};
+  float *vel0 = NULL;
+
+  for (int a = 0; a < 2 && s == JND_OK; a++)
+    for (int c = 0; c < 3 && s == JND_OK; c++) {
+      s = jnd_gauss_build(&st.g[a][c], lms[a] + (size_t)c * npx, w, h, levels, threads);
+      if (s == JND_OK && c == 0) st.g[a][c].own0 = 1; /* plane 0 of channel L owns the buffer */
+    }
+  if (s != JND_OK) {
+    for (int a = 0; a < 2; a++)
+      if (!st.g[a][0].own0) free(lms[a]);
+    goto done;
+  }
+  /* adaptation luminance: Y at the level where a pixel is about one degree */
+  st.alev = m->adapt_level < levels ? m->adapt_level : levels - 1;
+  st.aw = st.g[0][0].w[st.alev];
+  st.ah = st.g[0][0].h[st.alev];
+  for (int a = 0; a < 2; a++) {
+    st.adapt[a] = jnd_alloc((size_t)st.aw * st.ah, sizeof(float));
+    if (!st.adapt[a]) { s = JND_ERR_NOMEM; goto done; }
+    for (size_t i = 0; i < (size_t)st.aw * st.ah; i++) {
+      double y = 0;
+      for (int c = 0; c < 3; c++) y += m->lum_w[c] * st.g[a][c].plane[st.alev][i];
+      st.adapt[a][i] = (float)fmax(y, 1e-6);
+    }
+  }
+  /* retinal velocity */
+  st.uniform_v = JND_DRIFT_DPS; /* 004 §3.1: static images keep the drift minimum */
+  if (in && in->retinal_dps > 0) {
+    st.uniform_v = (float)in->retinal_dps;
+  } else if (in && in->motion) {
+    if ((s = velocity_map(m, in->motion, w, h, &vel0)) != JND_OK) goto done;
+    if ((s = jnd_gauss_build(&st.vel, vel0, w, h, nb, threads)) != JND_OK) goto done;
+    st.vel.own0 = 1;
+    vel0 = NULL;
+    st.has_vel = 1;
+  }
+
+  for (int b = 0; b < nb && s == JND_OK; b++) {
+    int w1 = st.g[0][0].w[b + 1], h1 = st.g[0][0].h[b + 1];
+    float *xexp[2][3] = {{0}};
+    /* EXPAND(G_{i+2}) at level i+1; the row loop expands it once more to level i */
+    for (int a = 0; a < 2 && s == JND_OK; a++)
+      for (int c = 0; c < 3; c++) {
+        xexp[a][c] = jnd_alloc((size_t)w1 * h1, sizeof(float));
+        if (!xexp[a][c]) { s = JND_ERR_NOMEM; break; }
+        jnd_pyr_expand(st.g[a][c].plane[b + 2], st.g[a][c].w[b + 2], st.g[a][c].h[b + 2], xexp[a][c], w1, h1,
+                       threads);
+      }
+    if (s == JND_OK) {
+      Dlev[b] = jnd_alloc((size_t)st.g[0][0].w[b] * st.g[0][0].h[b], sizeof(float));
+      if (!Dlev[b]) s = JND_ERR_NOMEM;
+    }
+    if (s == JND_OK) s = band_difference(m, &st, b, xexp, Dlev[b]);
+    for (int a = 0; a < 2; a++)
+      for (int c = 0; c < 3; c++) free(xexp[a][c]);
+  }
+  if (s != JND_OK) goto done;
+  state_free(&st);
+  memset(&st, 0, sizeof st);
+
+  /* 004 §3.2: collapse the difference pyramid (Minkowski sum across bands):
+   * acc_i = D_i + EXPAND(acc_{i+1}), from the coarsest band to the finest */
+  for (int b = nb - 1; b > 0; b--) {
+    int cw = w, ch = h, fw = w, fh = h;
+    for (int k = 0; k < b; k++) { cw = (cw + 1) / 2; ch = (ch + 1) / 2; }
+    for (int k = 0; k < b - 1; k++) { fw = (fw + 1) / 2; fh = (fh + 1) / 2; }
+    float *tmp = jnd_alloc((size_t)fw * fh, sizeof(float));
+    if (!tmp) { s = JND_ERR_NOMEM; goto done; }
+    jnd_pyr_expand(Dlev[b], cw, ch, tmp, fw, fh, threads);
+    for (size_t i = 0; i < (size_t)fw * fh; i++) Dlev[b - 1][i] += fmaxf(tmp[i], 0.0f);
+    free(tmp);
+    free(Dlev[b]);
+    Dlev[b] = NULL;
+  }
+  out.w = w;
+  out.h = h;
+  out.c = 1;
+  out.data = Dlev[0];
+  Dlev[0] = NULL;
+  {
+    const float inv = (float)(1.0 / m->p.minkowski);
+    const float *wt = in && in->weights ? in->weights->data : NULL;
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (size_t i = 0; i < npx; i++) {
+      float v = out.data[i] > 0 ? powf(out.data[i], inv) : 0.0f;
+      /* 004 §3.2: weights scale down the difference map */
+      if (wt) v *= fmaxf(wt[i], 0.0f);
+      out.data[i] = v;
+    }
+  }
+  *jnd_out = out;
+  return JND_OK;
+done:
+  state_free(&st);
+  for (int b = 0; b < MAX_BANDS; b++) free(Dlev[b]);
+  free(vel0);
+  return s;
+}
+
+static jnd_status check_pair(const jnd_image *a, const jnd_image *b, const jnd_diff_inputs *in) {
+  if (a->c != 3 || b->c != 3)
+    return jnd_fail(JND_ERR_ARG, "model: images need 3 channels (got %d and %d)", a->c, b->c);
+  if (a->w != b->w || a->h != b->h)
+    return jnd_fail(JND_ERR_ARG, "image sizes differ: %d × %d vs %d × %d", a->w, a->h, b->w, b->h);
+  jnd_status s = jnd_check_size(a->w, a->h, a->c, "model");
+  if (s != JND_OK) return s;
+  if (in && in->weights && (in->weights->w != a->w || in->weights->h != a->h))
+    return jnd_fail(JND_ERR_ARG, "weight map: %d × %d does not match the %d × %d images", in->weights->w,
+                    in->weights->h, a->w, a->h);
+  return JND_OK;
+}
+
+/* converts a 3-channel image (RGB or XYZ) in place to HPE LMS */
+static jnd_status to_lms(jnd_image *img, int is_xyz) {
+  if (!is_xyz) jnd_rgb_to_xyz(img);
+  jnd_xyz_to_lms(img);
+  return JND_OK;
+}
+
+static jnd_status diff_copy(jnd_model *m, const jnd_image *ref, const jnd_image *test, const jnd_diff_inputs *in,
+                            jnd_image *jnd_out, int is_xyz) {
+  memset(jnd_out, 0, sizeof *jnd_out);
+  jnd_status s = check_pair(ref, test, in);
+  if (s != JND_OK) return s;
+  size_t n = (size_t)ref->w * ref->h * 3;
+  jnd_image c[2] = {{ref->w, ref->h, 3, jnd_alloc(n, sizeof(float))}, {ref->w, ref->h, 3, jnd_alloc(n, sizeof(float))}};
+  if (!c[0].data || !c[1].data) {
+    free(c[0].data);
+    free(c[1].data);
+    return JND_ERR_NOMEM;
+  }
+  memcpy(c[0].data, ref->data, n * sizeof(float));
+  memcpy(c[1].data, test->data, n * sizeof(float));
+  to_lms(&c[0], is_xyz);
+  to_lms(&c[1], is_xyz);
+  float *lms[2] = {c[0].data, c[1].data};
+  return diff_lms(m, lms, ref->w, ref->h, in, jnd_out);
+}
+
+jnd_status jnd_model_diff(jnd_model *m, const jnd_image *ref, const jnd_image *test, const jnd_diff_inputs *in,
+                          jnd_image *jnd_out) {
+  return diff_copy(m, ref, test, in, jnd_out, 0);
+}
+
+jnd_status jnd_model_diff_xyz(jnd_model *m, const jnd_image *ref, const jnd_image *test,
+                              const jnd_diff_inputs *in, jnd_image *jnd_out) {
+  return diff_copy(m, ref, test, in, jnd_out, 1);
+}
+
+jnd_status jnd_model_diff_consume(jnd_model *m, jnd_image *ref, jnd_image *test, const jnd_diff_inputs *in,
+                                  jnd_image *jnd_out) {
+  memset(jnd_out, 0, sizeof *jnd_out);
+  jnd_status s = check_pair(ref, test, in);
+  if (s != JND_OK) {
+    jnd_image_free(ref);
+    jnd_image_free(test);
+    return s;
+  }
+  to_lms(ref, 0);
+  to_lms(test, 0);
+  float *lms[2] = {ref->data, test->data};
+  int w = ref->w, h = ref->h;
+  memset(ref, 0, sizeof *ref);
+  memset(test, 0, sizeof *test);
+  return diff_lms(m, lms, w, h, in, jnd_out);
+}

@@ -1,0 +1,214 @@
+/* Gaussian and contrast pyramids (004 §3.1; Burt & Adelson 1983): REDUCE
+ * blurs with the 5×5 binomial kernel [1 4 6 4 1]/16 (separable) and keeps the
+ * even samples; EXPAND inserts zeros and interpolates with twice the kernel.
+ * Borders are mirrored (whole-sample symmetric). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/core.h"
+#include "vision/vision.h"
+
+static const float K[5] = {1.0f / 16, 4.0f / 16, 6.0f / 16, 4.0f / 16, 1.0f / 16};
+
+void jnd_pyr_reduce(const float *src, int w, int h, float *dst, int dw, int dh, int threads) {
+  /* horizontal pass on the kept columns into a temporary of dw × h */
+  float *tmp = malloc(sizeof(float) * (size_t)dw * h);
+  if (!tmp) return; /* callers allocate far more than this; treated as fatal upstream */
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int y = 0; y < h; y++) {
+    const float *r = src + (size_t)y * w;
+    float *o = tmp + (size_t)y * dw;
+    for (int x = 0; x < dw; x++) {
+      int c = 2 * x;
+      float s;
+      if (c >= 2 && c + 2 < w) {
+        s = K[0] * r[c - 2] + K[1] * r[c - 1] + K[2] * r[c] + K[3] * r[c + 1] + K[4] * r[c + 2];
+      } else {
+        s = 0;
+        for (int k = -2; k <= 2; k++) s += K[k + 2] * r[jnd_mirror(c + k, w)];
+      }
+      o[x] = s;
+    }
+  }
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int y = 0; y < dh; y++) {
+    int c = 2 * y;
+    const float *r[5];
+    for (int k = -2; k <= 2; k++) r[k + 2] = tmp + (size_t)jnd_mirror(c + k, h) * dw;
+    float *o = dst + (size_t)y * dw;
+    for (int x = 0; x < dw; x++)
+      o[x] = K[0] * r[0][x] + K[1] * r[1][x] + K[2] * r[2][x] + K[3] * r[3][x] + K[4] * r[4][x];
+  }
+  free(tmp);
+}
+
+void jnd_pyr_expand_row(const float *src, int cw, float *dst, int fw) {
+  /* fine sample x gets 2·Σ K[m] src[(x−m)/2] over m with x−m even:
+   * even x: K0, K2, K4 on coarse x/2+1, x/2, x/2−1 → 1/8, 3/4, 1/8
+   * odd x:  K1, K3 on coarse (x±1)/2 → 1/2, 1/2 */
+  for (int x = 0; x < fw; x++) {
+    if ((x & 1) == 0) {
+      int c = x / 2;
+      dst[x] = 0.125f * src[jnd_mirror(c - 1, cw)] + 0.75f * src[jnd_mirror(c, cw)] +
+               0.125f * src[jnd_mirror(c + 1, cw)];
+    } else {
+      int c = (x - 1) / 2;
+      dst[x] = 0.5f * (src[jnd_mirror(c, cw)] + src[jnd_mirror(c + 1, cw)]);
+    }
+  }
+}
+
+int jnd_pyr_expand_rows(int y, int ch, int rows[3], float wts[3]) {
+  if ((y & 1) == 0) {
+    int c = y / 2;
+    rows[0] = jnd_mirror(c - 1, ch);
+    rows[1] = jnd_mirror(c, ch);
+    rows[2] = jnd_mirror(c + 1, ch);
+    wts[0] = 0.125f;
+    wts[1] = 0.75f;
+    wts[2] = 0.125f;
+    return 3;
+  }
+  int c = (y - 1) / 2;
+  rows[0] = jnd_mirror(c, ch);
+  rows[1] = jnd_mirror(c + 1, ch);
+  wts[0] = wts[1] = 0.5f;
+  return 2;
+}
+
+void jnd_pyr_expand(const float *src, int w, int h, float *dst, int dw, int dh, int threads) {
+#pragma omp parallel num_threads(threads)
+  {
+    float *rowbuf = malloc(sizeof(float) * (size_t)dw * 3);
+    int cached[3] = {-1, -1, -1};
+#pragma omp for schedule(static)
+    for (int y = 0; y < dh; y++) {
+      int rows[3];
+      float wts[3];
+      int n = jnd_pyr_expand_rows(y, h, rows, wts);
+      float *o = dst + (size_t)y * dw;
+      for (int x = 0; x < dw; x++) o[x] = 0;
+      for (int k = 0; k < n; k++) {
+        int slot = rows[k] % 3;
+        float *rb = rowbuf + (size_t)slot * dw;
+        if (cached[slot] != rows[k]) {
+          jnd_pyr_expand_row(src + (size_t)rows[k] * w, w, rb, dw);
+          cached[slot] = rows[k];
+        }
+        for (int x = 0; x < dw; x++) o[x] += wts[k] * rb[x];
+      }
+    }
+    free(rowbuf);
+  }
+}
+
+jnd_status jnd_gauss_build(jnd_gauss *g, float *plane0, int w, int h, int levels, int threads) {
+  memset(g, 0, sizeof *g);
+  if (levels < 1 || levels > 24) return jnd_fail(JND_ERR_INTERNAL, "pyramid: %d levels", levels);
+  g->levels = levels;
+  g->w[0] = w;
+  g->h[0] = h;
+  g->plane[0] = plane0;
+  for (int i = 1; i < levels; i++) {
+    g->w[i] = (g->w[i - 1] + 1) / 2;
+    g->h[i] = (g->h[i - 1] + 1) / 2;
+    g->plane[i] = jnd_alloc((size_t)g->w[i] * g->h[i], sizeof(float));
+    if (!g->plane[i]) {
+      jnd_gauss_free(g);
+      return JND_ERR_NOMEM;
+    }
+    jnd_pyr_reduce(g->plane[i - 1], g->w[i - 1], g->h[i - 1], g->plane[i], g->w[i], g->h[i], threads);
+  }
+  return JND_OK;
+}
+
+void jnd_gauss_free(jnd_gauss *g) {
+  for (int i = 1; i < g->levels; i++) free(g->plane[i]);
+  if (g->own0) free(g->plane[0]);
+  memset(g, 0, sizeof *g);
+}
+
+/* ---- band responses, measured through the filters themselves ---- */
+
+/* Amplitude of band `band` for a unit cosine of frequency f (cycles per
+ * full-resolution pixel): the 1-D signal goes through the same REDUCE and
+ * EXPAND as images, and the band's RMS over the central half (×√2) is the
+ * amplitude. Aliasing and the filters' gain losses are thereby included. */
+static double band_amplitude(int band, double f) {
+  int n = 256 << band; /* the band's level keeps 256 samples */
+  if (n < 1024) n = 1024;
+  float *lev[3];
+  int len[3];
+  float *sig = malloc(sizeof(float) * n);
+  float *a = malloc(sizeof(float) * n), *b = malloc(sizeof(float) * n);
+  if (!sig || !a || !b) {
+    free(sig); free(a); free(b);
+    return 0;
+  }
+  for (int x = 0; x < n; x++) sig[x] = (float)cos(2.0 * M_PI * f * x);
+  /* reduce `band` times (1-D: a 1-row image) */
+  int w = n;
+  float *cur = sig;
+  for (int i = 0; i < band; i++) {
+    int dw = (w + 1) / 2;
+    float *dst = cur == a ? b : a;
+    jnd_pyr_reduce(cur, w, 1, dst, dw, 1, 1);
+    cur = dst;
+    w = dw;
+  }
+  len[0] = w;
+  lev[0] = malloc(sizeof(float) * w);
+  memcpy(lev[0], cur, sizeof(float) * w);
+  len[1] = (w + 1) / 2;
+  lev[1] = malloc(sizeof(float) * len[1]);
+  jnd_pyr_reduce(lev[0], w, 1, lev[1], len[1], 1, 1);
+  lev[2] = malloc(sizeof(float) * w);
+  jnd_pyr_expand_row(lev[1], len[1], lev[2], w);
+  double ss = 0;
+  int cnt = 0;
+  for (int x = w / 4; x < 3 * w / 4; x++) {
+    double d = lev[0][x] - lev[2][x];
+    ss += d * d;
+    cnt++;
+  }
+  for (int i = 0; i < 3; i++) free(lev[i]);
+  free(sig); free(a); free(b);
+  return sqrt(2.0 * ss / cnt);
+}
+
+double jnd_band_gain(int band, double f_cpp) { return band_amplitude(band, f_cpp); }
+
+void jnd_band_response(int band, double *peak_cpp, double *peak_amp) {
+  /* coarse scan on a log grid below the full-resolution Nyquist, then golden section */
+  double best_f = 0.5, best_a = -1;
+  for (int k = 0; k <= 64; k++) {
+    double f = 0.5 * pow(2.0, -(double)k / 8.0);
+    if (f < 0.5 / pow(2.0, band + 4)) break;
+    double amp = band_amplitude(band, f);
+    if (amp > best_a) {
+      best_a = amp;
+      best_f = f;
+    }
+  }
+  double lo = best_f * pow(2.0, -1.0 / 8), hi = fmin(0.5, best_f * pow(2.0, 1.0 / 8));
+  const double gr = 0.6180339887498949;
+  double x1 = hi - gr * (hi - lo), x2 = lo + gr * (hi - lo);
+  double f1 = band_amplitude(band, x1), f2 = band_amplitude(band, x2);
+  for (int it = 0; it < 30 && hi - lo > 1e-6 * hi; it++) {
+    if (f1 > f2) {
+      hi = x2; x2 = x1; f2 = f1;
+      x1 = hi - gr * (hi - lo); f1 = band_amplitude(band, x1);
+    } else {
+      lo = x1; x1 = x2; f1 = f2;
+      x2 = lo + gr * (hi - lo); f2 = band_amplitude(band, x2);
+    }
+  }
+  double fm = 0.5 * (lo + hi), am = band_amplitude(band, fm);
+  if (am < best_a) {
+    fm = best_f;
+    am = best_a;
+  }
+  *peak_cpp = fm;
+  *peak_amp = am;
+}

@@ -1,0 +1,88 @@
+/* Internal pieces of the vision model (004 §3.1), one stage per function. */
+#ifndef JND_VISION_H
+#define JND_VISION_H
+
+#include <math.h>
+#include "jnd.h"
+
+/* ---- colour (colour.c) ---- */
+/* linear Rec.709/sRGB (D65) → CIE XYZ, in place on a 3-channel planar image */
+void jnd_rgb_to_xyz(jnd_image *img);
+/* CIE XYZ → Hunt–Pointer–Estévez LMS (004 §3.1, matrix from Fairchild 2004), in place */
+void jnd_xyz_to_lms(jnd_image *img);
+/* luminance Y from HPE LMS (the second row of the inverse matrix) */
+void jnd_lms_luminance_weights(double w[3]);
+/* Hunt's opponent channels A, a, b from LMS contrasts (004 §3.1). A is
+ * divided by 3.05 (the sum of its row) so that it equals the Weber contrast
+ * of an achromatic stimulus; see docs/model.md. */
+static inline void jnd_opponent(float cl, float cm, float cs, float *A, float *a, float *b) {
+  *A = (2.0f * cl + cm + cs * (1.0f / 20.0f)) * (1.0f / 3.05f);
+  *a = cl - (12.0f / 11.0f) * cm + (1.0f / 11.0f) * cs;
+  *b = (cl + cm - 2.0f * cs) * (1.0f / 9.0f);
+}
+
+/* ---- pyramids (pyramid.c) ---- */
+typedef struct {
+  int levels;
+  int w[24], h[24];
+  float *plane[24]; /* level 0 may be borrowed from the caller */
+  int own0;
+} jnd_gauss;
+
+/* Gaussian pyramid (Burt & Adelson 1983, 5×5 binomial kernel) of one plane,
+ * with `levels` levels; level 0 is the plane itself (borrowed). */
+jnd_status jnd_gauss_build(jnd_gauss *g, float *plane0, int w, int h, int levels, int threads);
+void jnd_gauss_free(jnd_gauss *g);
+/* one REDUCE step: blur with the binomial kernel and keep even samples */
+void jnd_pyr_reduce(const float *src, int w, int h, float *dst, int dw, int dh, int threads);
+/* one EXPAND step: to (dw, dh) from (w, h), interpolating with 2× the kernel */
+void jnd_pyr_expand(const float *src, int w, int h, float *dst, int dw, int dh, int threads);
+/* horizontally expands one coarse row of width cw to width fw */
+void jnd_pyr_expand_row(const float *src, int cw, float *dst, int fw);
+/* weights and rows of the vertical EXPAND for fine row y: n (2 or 3) rows */
+int jnd_pyr_expand_rows(int y, int ch, int rows[3], float wts[3]);
+static inline int jnd_mirror(int i, int n) {
+  if (n == 1) return 0;
+  while (i < 0 || i >= n) {
+    if (i < 0) i = -i;
+    if (i >= n) i = 2 * n - 2 - i;
+  }
+  return i;
+}
+/* Peak frequency (cycles/pixel of the full-resolution image) and peak
+ * amplitude of contrast band i = G_i − EXPAND(G_{i+1}), measured by passing
+ * sinusoids through the same filters (004 §3.1 "Contrast pyramid levels"). */
+void jnd_band_response(int band, double *peak_cpp, double *peak_amp);
+/* the band's amplitude response at frequency f (cycles/pixel) */
+double jnd_band_gain(int band, double f_cpp);
+
+/* ---- CSFs (csf.c) ---- */
+/* Barten's spatial CSF (004 §3.1, Barten 2003) */
+double jnd_csf_barten(double rho_cpd, double lum_cdm2);
+/* Daly's refinement of Kelly's spatio-velocity CSF with Barten-based
+ * luminance adaptation of c0 and c1 (004 §3.1) */
+double jnd_csf_achromatic(double rho_cpd, double vel_dps, double lum_cdm2);
+/* c0(L), c1(L) of 004 §3.1 */
+void jnd_csf_adaptation(double lum_cdm2, double *c0, double *c1);
+/* Kelly's (1983) chromatic spatio-temporal CSF, centre + surround, scaled
+ * by the square root of the retinal illuminance ratio (004 §3.1); channel 0
+ * red–green, 1 yellow–violet */
+double jnd_csf_chromatic(double rho_cpd, double vel_dps, double lum_cdm2, int channel);
+/* Le Grand's pupil diameter in mm (004 §3.1) */
+double jnd_pupil_diameter_mm(double lum_cdm2);
+
+/* ---- motion and eccentricity ---- */
+/* Daly's (1998) eye-movement model: retinal velocity from image velocity (004 §3.1) */
+double jnd_retinal_velocity(double image_vel_dps);
+#define JND_DRIFT_DPS 0.15
+/* sensitivity multiplier at eccentricity ecc_deg for frequency rho_cpd (docs/model.md) */
+double jnd_eccentricity_factor(double rho_cpd, double ecc_deg);
+
+/* ---- masking (masking.c) ---- */
+/* T(c) = sign(c)·|c| / (1 + (|c|^0.3)^10)^0.1 (004 §3.1) */
+static inline float jnd_transducer(float c) {
+  float a = fabsf(c);
+  return c * powf(1.0f + a * a * a, -0.1f);
+}
+
+#endif

@@ -1,0 +1,51 @@
+#include "test.h"
+#include "core/core.h"
+#include "jnd.h"
+
+TEST(image_alloc_is_zeroed_and_planar) {
+  jnd_image img;
+  CHECK_OK(jnd_image_alloc(&img, 5, 4, 3));
+  CHECK(img.w == 5 && img.h == 4 && img.c == 3);
+  CHECK(jnd_image_plane(&img, 2) == img.data + 2 * 20);
+  double s = 0;
+  for (int i = 0; i < 60; i++) s += img.data[i];
+  CHECK(s == 0);
+  jnd_image_free(&img);
+  CHECK(img.data == NULL);
+}
+
+TEST(image_alloc_refuses_zero_and_oversized) {
+  jnd_image img;
+  CHECK_STATUS(jnd_image_alloc(&img, 0, 10, 3), JND_ERR_FORMAT);
+  CHECK_STATUS(jnd_image_alloc(&img, JND_MAX_SIDE + 1, 1, 1), JND_ERR_LIMIT);
+  CHECK_STATUS(jnd_image_alloc(&img, 20000, 20000, 1), JND_ERR_LIMIT);
+  CHECK(strstr(jnd_last_error(), "limit") != NULL);
+}
+
+TEST(error_messages_are_one_line) {
+  jnd_fail(JND_ERR_IO, "a\nb\rc");
+  CHECK(strchr(jnd_last_error(), '\n') == NULL);
+  CHECK(strcmp(jnd_last_error(), "a b c") == 0);
+}
+
+TEST(rng_is_deterministic_and_uniform) {
+  jnd_rng a, b;
+  jnd_rng_seed(&a, 42);
+  jnd_rng_seed(&b, 42);
+  double mean = 0;
+  for (int i = 0; i < 10000; i++) {
+    double u = jnd_rng_uniform(&a);
+    CHECK(u == jnd_rng_uniform(&b));
+    mean += u;
+  }
+  CHECK_NEAR(mean / 10000, 0.5, 0.02);
+  double s2 = 0;
+  for (int i = 0; i < 10000; i++) {
+    double z = jnd_rng_normal(&a);
+    s2 += z * z;
+  }
+  CHECK_NEAR(s2 / 10000, 1.0, 0.05);
+}
+
+RUN_TESTS(image_alloc_is_zeroed_and_planar, image_alloc_refuses_zero_and_oversized,
+          error_messages_are_one_line, rng_is_deterministic_and_uniform)
