@@ -30,7 +30,7 @@ jnd_status jnd_image_check_finite(const char *name, const jnd_image *img) {
 static jnd_status planar_from_interleaved(const char *name, const void *px, int bits, int w, int h,
                                           int c, double scale, jnd_image *out) {
   jnd_status s = jnd_image_alloc(out, w, h, c);
-  if (s != JND_OK) return jnd_fail(s, "%s: %s", name, jnd_last_error());
+  if (s != JND_OK) return jnd_fail(s, "%s: out of memory for %d × %d × %d", name, w, h, c);
   size_t n = (size_t)w * h;
   for (int ch = 0; ch < c; ch++) {
     float *dst = jnd_image_plane(out, ch);
@@ -48,12 +48,24 @@ static jnd_status planar_from_interleaved(const char *name, const void *px, int 
   return JND_OK;
 }
 
-static jnd_status stb_header(const char *name, const unsigned char *buf, size_t n, int *w, int *h,
-                             int *c) {
+/* Headers may claim up to this many samples whatever the file's size. */
+#define SMALL_SAMPLES ((double)(1u << 22))
+
+/* Reads the size from the header and refuses sizes over the limits, or more
+ * samples than max_per_byte per byte of the file could encode, so that a few
+ * bytes cannot make the decoder allocate gigabytes. */
+static jnd_status stb_header(const char *name, const unsigned char *buf, size_t n, double max_per_byte,
+                             int *w, int *h, int *c) {
   if (n > INT32_MAX) return jnd_fail(JND_ERR_LIMIT, "%s: file too large", name);
   if (!stbi_info_from_memory(buf, (int)n, w, h, c))
     return jnd_fail(JND_ERR_FORMAT, "%s: cannot read the header: %s", name, stbi_failure_reason());
-  return jnd_check_size(*w, *h, *c, name);
+  jnd_status s = jnd_check_size(*w, *h, *c, name);
+  if (s != JND_OK) return s;
+  double samples = (double)*w * *h * *c;
+  if (samples > SMALL_SAMPLES && samples > max_per_byte * (double)n)
+    return jnd_fail(JND_ERR_FORMAT, "%s: header claims %d × %d × %d samples, more than a %zu-byte file can hold",
+                    name, *w, *h, *c, n);
+  return JND_OK;
 }
 
 jnd_status jnd_decode_png(const char *name, const unsigned char *buf, size_t n, jnd_image *out,
@@ -62,7 +74,8 @@ jnd_status jnd_decode_png(const char *name, const unsigned char *buf, size_t n, 
   jnd_status s = jnd_png_validate(name, buf, n);
   if (s != JND_OK) return s;
   int w, h, c;
-  if ((s = stb_header(name, buf, n, &w, &h, &c)) != JND_OK) return s;
+  /* jnd_png_validate has bounded the size by the compressed data */
+  if ((s = stb_header(name, buf, n, 1e12, &w, &h, &c)) != JND_OK) return s;
   int bits = stbi_is_16_bit_from_memory(buf, (int)n) ? 16 : 8;
   void *px = bits == 16 ? (void *)stbi_load_16_from_memory(buf, (int)n, &w, &h, &c, 0)
                         : (void *)stbi_load_from_memory(buf, (int)n, &w, &h, &c, 0);
@@ -90,7 +103,9 @@ jnd_status jnd_decode_jpeg(const char *name, const unsigned char *buf, size_t n,
   if (end < 4 || buf[end - 2] != 0xFF || buf[end - 1] != 0xD9)
     return jnd_fail(JND_ERR_FORMAT, "%s: truncated JPEG (no end-of-image marker)", name);
   int w, h, c;
-  jnd_status s = stb_header(name, buf, n, &w, &h, &c);
+  /* every 8 × 8 block of every component costs at least a bit (its DC code);
+   * chroma subsampling spreads a block over up to 4 × 4 more pixels */
+  jnd_status s = stb_header(name, buf, n, 2048, &w, &h, &c);
   if (s != JND_OK) return s;
   unsigned char *px = stbi_load_from_memory(buf, (int)n, &w, &h, &c, 0);
   if (!px) return jnd_fail(JND_ERR_FORMAT, "%s: corrupt JPEG: %s", name, stbi_failure_reason());
@@ -111,7 +126,8 @@ jnd_status jnd_decode_hdr(const char *name, const unsigned char *buf, size_t n, 
                           jnd_image_info *info) {
   memset(out, 0, sizeof *out);
   int w, h, c;
-  jnd_status s = stb_header(name, buf, n, &w, &h, &c);
+  /* run-length scanlines spend at least 2 bytes on 127 values of a component */
+  jnd_status s = stb_header(name, buf, n, 64, &w, &h, &c);
   if (s != JND_OK) return s;
   float *px = stbi_loadf_from_memory(buf, (int)n, &w, &h, &c, 3);
   if (!px) return jnd_fail(JND_ERR_FORMAT, "%s: corrupt Radiance HDR: %s", name, stbi_failure_reason());

@@ -1,5 +1,6 @@
 /* PNG: chunk validation on read (stb_image skips CRCs) and a writer for 8- and
  * 16-bit images (stb_image_write only writes 8-bit), deflated by zlib. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <zlib.h>
@@ -15,11 +16,31 @@ static uint32_t be32(const unsigned char *p) {
   return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3];
 }
 
+/* Refuses sizes over the limits, and images whose filtered rows could not
+ * come out of idat_bytes of deflate data (deflate expands at most ~1032:1),
+ * so that a few bytes cannot make the decoder allocate gigabytes. */
+static jnd_status png_check_size(const char *name, uint32_t w, uint32_t h, unsigned depth,
+                                 unsigned colour, size_t idat_bytes) {
+  static const unsigned samples[7] = {1, 0, 3, 1, 2, 0, 4};
+  if (colour > 6 || !samples[colour] || (depth != 1 && depth != 2 && depth != 4 && depth != 8 && depth != 16))
+    return jnd_fail(JND_ERR_FORMAT, "%s: corrupt PNG (colour type %u, bit depth %u)", name, colour, depth);
+  if (w > INT32_MAX || h > INT32_MAX) w = h = JND_MAX_SIDE + 1u;
+  jnd_status s = jnd_check_size((int)w, (int)h, 1, name);
+  if (s != JND_OK) return s;
+  double row = 1 + ceil((double)w * samples[colour] * depth / 8);
+  if (row * h > 1040.0 * (double)idat_bytes + 1024)
+    return jnd_fail(JND_ERR_FORMAT, "%s: corrupt PNG (%u × %u pixels cannot come from %zu bytes of image data)",
+                    name, (unsigned)w, (unsigned)h, idat_bytes);
+  return JND_OK;
+}
+
 jnd_status jnd_png_validate(const char *name, const unsigned char *buf, size_t n) {
   static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   if (n < 8 || memcmp(buf, sig, 8) != 0) return jnd_fail(JND_ERR_FORMAT, "%s: not a PNG file", name);
-  size_t pos = 8;
+  size_t pos = 8, idat_bytes = 0;
   int chunk = 0, seen_idat = 0;
+  uint32_t w = 0, h = 0;
+  unsigned depth = 0, colour = 0;
   while (pos < n) {
     if (n - pos < 12) return jnd_fail(JND_ERR_FORMAT, "%s: truncated PNG (chunk header cut off)", name);
     uint32_t len = be32(buf + pos);
@@ -31,12 +52,22 @@ jnd_status jnd_png_validate(const char *name, const unsigned char *buf, size_t n
       return jnd_fail(JND_ERR_FORMAT, "%s: corrupt PNG (bad CRC in chunk %.4s)", name, type);
     if (chunk == 0 && memcmp(type, "IHDR", 4) != 0)
       return jnd_fail(JND_ERR_FORMAT, "%s: corrupt PNG (first chunk is not IHDR)", name);
-    if (memcmp(type, "IDAT", 4) == 0) seen_idat = 1;
+    if (chunk == 0) {
+      if (len != 13) return jnd_fail(JND_ERR_FORMAT, "%s: corrupt PNG (IHDR is %u bytes, not 13)", name, (unsigned)len);
+      w = be32(type + 4);
+      h = be32(type + 8);
+      depth = type[12];
+      colour = type[13];
+    }
+    if (memcmp(type, "IDAT", 4) == 0) {
+      seen_idat = 1;
+      idat_bytes += len;
+    }
     pos += (size_t)len + 12;
     chunk++;
     if (memcmp(type, "IEND", 4) == 0) {
       if (!seen_idat) return jnd_fail(JND_ERR_FORMAT, "%s: corrupt PNG (no image data)", name);
-      return JND_OK;
+      return png_check_size(name, w, h, depth, colour, idat_bytes);
     }
   }
   return jnd_fail(JND_ERR_FORMAT, "%s: truncated PNG (no IEND chunk)", name);

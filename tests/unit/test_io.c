@@ -1,0 +1,658 @@
+/* io: image files in and out, and CSV. Every fixture is made here, in the
+ * test's scratch folder: nothing is read from outside. */
+#include <stdint.h>
+
+#include <OpenEXR/openexr.h>
+#include <stb_image_write.h>
+
+#include "test.h"
+#include "core/core.h"
+#include "io/io.h"
+#include "jnd.h"
+
+/* ---- helpers ---- */
+
+static const char *tmp_file(const char *name) {
+  static char paths[8][1200];
+  static int next;
+  char *p = paths[next++ % 8];
+  snprintf(p, sizeof paths[0], "%s/%s", test_tmp_dir(), name);
+  return p;
+}
+
+static int write_bytes(const char *path, const void *buf, size_t n) {
+  FILE *f = fopen(path, "wb");
+  if (!f) return 0;
+  size_t put = n ? fwrite(buf, 1, n, f) : 0;
+  return (fclose(f) == 0) & (put == n);
+}
+
+static unsigned char *read_bytes(const char *path, size_t *n) {
+  unsigned char *buf = NULL;
+  if (jnd_read_file(path, (size_t)1 << 30, &buf, n) != JND_OK) return NULL;
+  return buf;
+}
+
+/* A deterministic image with values spread over [lo, hi). */
+static jnd_image pattern(int w, int h, int c, double lo, double hi, uint64_t seed) {
+  jnd_image img;
+  jnd_image_alloc(&img, w, h, c);
+  jnd_rng r;
+  jnd_rng_seed(&r, seed);
+  for (size_t i = 0; i < (size_t)w * h * c; i++) img.data[i] = (float)(lo + (hi - lo) * jnd_rng_uniform(&r));
+  return img;
+}
+
+static double max_abs_diff(const jnd_image *a, const jnd_image *b) {
+  double m = 0;
+  for (size_t i = 0; i < (size_t)a->w * a->h * a->c; i++) {
+    double d = fabs((double)a->data[i] - b->data[i]);
+    if (d > m) m = d;
+  }
+  return m;
+}
+
+static int same_shape(const jnd_image *a, const jnd_image *b) {
+  return a->w == b->w && a->h == b->h && a->c == b->c;
+}
+
+static unsigned char *find_bytes(unsigned char *buf, size_t n, const void *what, size_t k) {
+  for (size_t i = 0; i + k <= n; i++)
+    if (memcmp(buf + i, what, k) == 0) return buf + i;
+  return NULL;
+}
+
+static void put_le32(unsigned char *p, uint32_t v) {
+  for (int i = 0; i < 4; i++) p[i] = (unsigned char)(v >> (8 * i));
+}
+
+static void put_be32(unsigned char *p, uint32_t v) {
+  for (int i = 0; i < 4; i++) p[i] = (unsigned char)(v >> (24 - 8 * i));
+}
+
+/* An EXR written straight through the core API, for layouts jnd never writes:
+ * tiles, UINT channels, data windows away from the origin. data is planar
+ * float (UINT channels take the value's integer part). */
+typedef struct {
+  exr_storage_t storage;
+  exr_compression_t compression;
+  int x0, y0, w, h, c;
+  const char *names[8];
+  exr_pixel_type_t types[8];
+} exr_layout;
+
+static int write_core_exr(const char *path, const exr_layout *L, const jnd_image *img) {
+  exr_context_t ctx;
+  exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+  if (exr_start_write(&ctx, path, EXR_WRITE_FILE_DIRECTLY, &init) != EXR_ERR_SUCCESS) return 0;
+  int part, ok = 1;
+  exr_attr_box2i_t dw;
+  dw.min.x = L->x0;
+  dw.min.y = L->y0;
+  dw.max.x = L->x0 + L->w - 1;
+  dw.max.y = L->y0 + L->h - 1;
+  exr_attr_v2f_t centre;
+  centre.x = centre.y = 0.f;
+  ok &= exr_add_part(ctx, NULL, L->storage, &part) == EXR_ERR_SUCCESS;
+  ok &= exr_initialize_required_attr(ctx, part, &dw, &dw, 1.f, &centre, 1.f, EXR_LINEORDER_INCREASING_Y,
+                                     L->compression) == EXR_ERR_SUCCESS;
+  for (int k = 0; k < L->c; k++)
+    ok &= exr_add_channel(ctx, part, L->names[k], L->types[k], EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1) == EXR_ERR_SUCCESS;
+  if (L->storage == EXR_STORAGE_TILED)
+    ok &= exr_set_tile_descriptor(ctx, part, 16, 8, EXR_TILE_ONE_LEVEL, EXR_TILE_ROUND_DOWN) == EXR_ERR_SUCCESS;
+  ok &= exr_write_header(ctx) == EXR_ERR_SUCCESS;
+  uint32_t *u = calloc((size_t)L->w * L->h * L->c, sizeof *u);
+  for (size_t i = 0; i < (size_t)L->w * L->h * L->c; i++) u[i] = (uint32_t)img->data[i];
+  exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
+  int first = 1, lines = 16;
+  if (L->storage == EXR_STORAGE_SCANLINE) exr_get_scanlines_per_chunk(ctx, part, &lines);
+  int tw = L->storage == EXR_STORAGE_TILED ? 16 : L->w, th = L->storage == EXR_STORAGE_TILED ? 8 : lines;
+  for (int ty = 0; ok && ty * th < L->h; ty++) {
+    for (int tx = 0; ok && tx * tw < L->w; tx++) {
+      exr_chunk_info_t ci;
+      if (L->storage == EXR_STORAGE_TILED)
+        ok &= exr_write_tile_chunk_info(ctx, part, tx, ty, 0, 0, &ci) == EXR_ERR_SUCCESS;
+      else
+        ok &= exr_write_scanline_chunk_info(ctx, part, L->y0 + ty * th, &ci) == EXR_ERR_SUCCESS;
+      if (!ok) break;
+      ok &= (first ? exr_encoding_initialize(ctx, part, &ci, &enc) : exr_encoding_update(ctx, part, &ci, &enc)) ==
+            EXR_ERR_SUCCESS;
+      first = 0;
+      for (int i = 0; ok && i < enc.channel_count; i++) {
+        exr_coding_channel_info_t *ch = &enc.channels[i];
+        int k = 0;
+        while (strcmp(L->names[k], ch->channel_name) != 0) k++;
+        size_t at = ((size_t)k * L->h + (size_t)ty * th) * L->w + (size_t)tx * tw;
+        int is_uint = L->types[k] == EXR_PIXEL_UINT;
+        ch->encode_from_ptr = is_uint ? (const uint8_t *)(u + at) : (const uint8_t *)(img->data + at);
+        ch->user_pixel_stride = 4;
+        ch->user_line_stride = 4 * L->w;
+        ch->user_bytes_per_element = 4;
+        ch->user_data_type = is_uint ? EXR_PIXEL_UINT : EXR_PIXEL_FLOAT;
+      }
+      ok &= exr_encoding_choose_default_routines(ctx, part, &enc) == EXR_ERR_SUCCESS;
+      ok &= exr_encoding_run(ctx, part, &enc) == EXR_ERR_SUCCESS;
+    }
+  }
+  if (!first) exr_encoding_destroy(ctx, &enc);
+  free(u);
+  ok &= exr_finish(&ctx) == EXR_ERR_SUCCESS;
+  return ok;
+}
+
+/* ---- OpenEXR ---- */
+
+TEST(exr_float_round_trips_exactly) {
+  const char *path = tmp_file("float.exr");
+  jnd_image img = pattern(37, 29, 3, -5.0, 1e6, 1), back;
+  jnd_image_info info;
+  CHECK_OK(jnd_image_write_exr(path, &img, NULL, 0));
+  CHECK_OK(jnd_image_read(path, &back, &info));
+  CHECK(same_shape(&img, &back));
+  if (same_shape(&img, &back)) CHECK(max_abs_diff(&img, &back) == 0);
+  CHECK(info.encoding == JND_ENCODING_LINEAR && info.bits == 32 && info.channels == 3 && !info.has_alpha);
+  CHECK(strcmp(info.format, "exr") == 0);
+  jnd_image_free(&img);
+  jnd_image_free(&back);
+}
+
+TEST(exr_half_round_trips_within_half_precision) {
+  const char *path = tmp_file("half.exr");
+  jnd_image img = pattern(64, 33, 4, 0.0, 1000.0, 2), back;
+  jnd_image_info info;
+  CHECK_OK(jnd_image_write_exr(path, &img, NULL, 1));
+  CHECK_OK(jnd_image_read(path, &back, &info));
+  CHECK(same_shape(&img, &back));
+  for (size_t i = 0; same_shape(&img, &back) && i < (size_t)64 * 33 * 4; i++)
+    if (fabs(back.data[i] - img.data[i]) > img.data[i] / 1024.0 + 1e-7) {
+      CHECK_NEAR(back.data[i], img.data[i], img.data[i] / 1024.0);
+      break;
+    }
+  CHECK(info.bits == 16 && info.channels == 4 && info.has_alpha);
+  jnd_image_free(&img);
+  jnd_image_free(&back);
+}
+
+TEST(exr_half_write_clamps_to_the_half_range_instead_of_infinity) {
+  const char *path = tmp_file("half_big.exr");
+  jnd_image img, back;
+  jnd_image_alloc(&img, 4, 1, 1);
+  img.data[0] = 1e9f;
+  img.data[1] = -1e9f;
+  img.data[2] = 0.5f;
+  CHECK_OK(jnd_image_write_exr(path, &img, NULL, 1));
+  CHECK_OK(jnd_image_read(path, &back, NULL));
+  if (back.data) {
+    CHECK(back.data[0] == 65504.0f && back.data[1] == -65504.0f && back.data[2] == 0.5f);
+  }
+  jnd_image_free(&img);
+  jnd_image_free(&back);
+}
+
+TEST(exr_default_names_give_back_the_same_channel_order) {
+  for (int c = 1; c <= 4; c++) {
+    const char *path = tmp_file("defaults.exr");
+    jnd_image img = pattern(5, 3, c, 0.0, 1.0, 10 + c), back;
+    jnd_image_info info;
+    CHECK_OK(jnd_image_write_exr(path, &img, NULL, 0));
+    CHECK_OK(jnd_image_read(path, &back, &info));
+    CHECK(same_shape(&img, &back));
+    if (same_shape(&img, &back)) CHECK(max_abs_diff(&img, &back) == 0);
+    CHECK(info.has_alpha == (c == 4));
+    jnd_image_free(&img);
+    jnd_image_free(&back);
+  }
+}
+
+TEST(exr_channels_are_read_as_r_g_b_a_whatever_their_order) {
+  const char *path = tmp_file("bgra.exr");
+  jnd_image img, back;
+  jnd_image_alloc(&img, 2, 2, 4);
+  const char *names[] = {"B", "A", "R", "G"};
+  const float value[] = {3, 4, 1, 2}; /* so R = 1, G = 2, B = 3, A = 4 */
+  for (int k = 0; k < 4; k++)
+    for (int i = 0; i < 4; i++) jnd_image_plane(&img, k)[i] = value[k];
+  CHECK_OK(jnd_image_write_exr(path, &img, names, 0));
+  CHECK_OK(jnd_image_read(path, &back, NULL));
+  CHECK(back.c == 4);
+  for (int k = 0; k < back.c; k++) CHECK(jnd_image_plane(&back, k)[3] == (float)(k + 1));
+  jnd_image_free(&img);
+  jnd_image_free(&back);
+}
+
+TEST(exr_without_colour_channels_is_read_alphabetically) {
+  const char *path = tmp_file("abc.exr");
+  jnd_image img, back;
+  jnd_image_alloc(&img, 3, 1, 3);
+  const char *names[] = {"zeta", "alpha", "mu"};
+  for (int k = 0; k < 3; k++)
+    for (int i = 0; i < 3; i++) jnd_image_plane(&img, k)[i] = (float)k;
+  CHECK_OK(jnd_image_write_exr(path, &img, names, 0));
+  CHECK_OK(jnd_image_read(path, &back, NULL));
+  CHECK(back.c == 3);
+  if (back.c == 3) {
+    CHECK(jnd_image_plane(&back, 0)[0] == 1.0f); /* alpha */
+    CHECK(jnd_image_plane(&back, 1)[0] == 2.0f); /* mu */
+    CHECK(jnd_image_plane(&back, 2)[0] == 0.0f); /* zeta */
+  }
+  jnd_image_free(&img);
+  jnd_image_free(&back);
+}
+
+TEST(exr_luminance_with_alpha_is_y_then_a) {
+  const char *path = tmp_file("ya.exr");
+  jnd_image img, back;
+  jnd_image_info info;
+  jnd_image_alloc(&img, 2, 1, 2);
+  const char *names[] = {"A", "Y"};
+  img.data[0] = img.data[1] = 0.25f; /* A */
+  img.data[2] = img.data[3] = 7.0f;  /* Y */
+  CHECK_OK(jnd_image_write_exr(path, &img, names, 0));
+  CHECK_OK(jnd_image_read(path, &back, &info));
+  CHECK(back.c == 2 && info.has_alpha);
+  if (back.c == 2) CHECK(back.data[0] == 7.0f && back.data[2] == 0.25f);
+  jnd_image_free(&img);
+  jnd_image_free(&back);
+}
+
+TEST(exr_writer_refuses_duplicate_channel_names) {
+  jnd_image img = pattern(2, 2, 2, 0, 1, 3);
+  const char *names[] = {"Y", "Y"};
+  CHECK_STATUS(jnd_image_write_exr(tmp_file("dup.exr"), &img, names, 0), JND_ERR_ARG);
+  jnd_image_free(&img);
+}
+
+TEST(exr_tiled_file_reads_like_the_pixels_it_holds) {
+  const char *path = tmp_file("tiled.exr");
+  exr_layout L = {EXR_STORAGE_TILED, EXR_COMPRESSION_ZIP, 0, 0, 37, 21, 3, {"B", "G", "R"},
+                  {EXR_PIXEL_FLOAT, EXR_PIXEL_FLOAT, EXR_PIXEL_FLOAT}};
+  jnd_image img = pattern(37, 21, 3, -1, 1, 4), back;
+  CHECK(write_core_exr(path, &L, &img));
+  CHECK_OK(jnd_image_read(path, &back, NULL));
+  CHECK(same_shape(&img, &back));
+  if (same_shape(&img, &back)) { /* the file's B, G, R come back as R, G, B */
+    size_t plane = (size_t)37 * 21;
+    CHECK(memcmp(back.data, img.data + 2 * plane, plane * 4) == 0);
+    CHECK(memcmp(back.data + plane, img.data + plane, plane * 4) == 0);
+    CHECK(memcmp(back.data + 2 * plane, img.data, plane * 4) == 0);
+  }
+  jnd_image_free(&img);
+  jnd_image_free(&back);
+}
+
+TEST(exr_data_window_away_from_the_origin_is_the_image) {
+  const char *path = tmp_file("window.exr");
+  exr_layout L = {EXR_STORAGE_SCANLINE, EXR_COMPRESSION_PIZ, -7, 100, 19, 35, 1, {"Y"}, {EXR_PIXEL_HALF}};
+  jnd_image img = pattern(19, 35, 1, 0, 1, 5), back;
+  for (size_t i = 0; i < (size_t)19 * 35; i++) img.data[i] = (float)(i % 64) / 64; /* exact in half */
+  CHECK(write_core_exr(path, &L, &img));
+  CHECK_OK(jnd_image_read(path, &back, NULL));
+  CHECK(same_shape(&img, &back));
+  if (same_shape(&img, &back)) CHECK(max_abs_diff(&img, &back) == 0);
+  jnd_image_free(&img);
+  jnd_image_free(&back);
+}
+
+TEST(exr_every_compression_reads_back) {
+  const exr_compression_t lossless[] = {EXR_COMPRESSION_NONE, EXR_COMPRESSION_RLE, EXR_COMPRESSION_ZIPS,
+                                        EXR_COMPRESSION_ZIP, EXR_COMPRESSION_PIZ};
+  for (size_t t = 0; t < sizeof lossless / sizeof lossless[0]; t++) {
+    const char *path = tmp_file("comp.exr");
+    exr_layout L = {EXR_STORAGE_SCANLINE, lossless[t], 0, 0, 40, 40, 3, {"R", "G", "B"},
+                    {EXR_PIXEL_FLOAT, EXR_PIXEL_HALF, EXR_PIXEL_FLOAT}};
+    jnd_image img = pattern(40, 40, 3, 0, 4, 6), back;
+    for (size_t i = 0; i < (size_t)40 * 40 * 3; i++) img.data[i] = floorf(img.data[i] * 256) / 256;
+    CHECK(write_core_exr(path, &L, &img));
+    CHECK_OK(jnd_image_read(path, &back, NULL));
+    CHECK(same_shape(&img, &back));
+    if (same_shape(&img, &back)) CHECK(max_abs_diff(&img, &back) == 0);
+    jnd_image_free(&img);
+    jnd_image_free(&back);
+  }
+  /* DWAA and DWAB: OpenEXRCore 3.1 implements neither (docs/formats.md) */
+  const exr_compression_t lossy[] = {EXR_COMPRESSION_PXR24, EXR_COMPRESSION_B44, EXR_COMPRESSION_B44A};
+  for (size_t t = 0; t < sizeof lossy / sizeof lossy[0]; t++) {
+    const char *path = tmp_file("lossy.exr");
+    exr_layout L = {EXR_STORAGE_SCANLINE, lossy[t], 0, 0, 40, 40, 3, {"R", "G", "B"},
+                    {EXR_PIXEL_HALF, EXR_PIXEL_HALF, EXR_PIXEL_HALF}};
+    jnd_image img = pattern(40, 40, 3, 0.2, 0.3, 7), back;
+    CHECK(write_core_exr(path, &L, &img));
+    CHECK_OK(jnd_image_read(path, &back, NULL));
+    CHECK(same_shape(&img, &back));
+    if (same_shape(&img, &back)) CHECK_LT(max_abs_diff(&img, &back), 0.05);
+    jnd_image_free(&img);
+    jnd_image_free(&back);
+  }
+}
+
+TEST(exr_uint_channel_reads_as_float_counts) {
+  const char *path = tmp_file("uint.exr");
+  exr_layout L = {EXR_STORAGE_SCANLINE, EXR_COMPRESSION_ZIP, 0, 0, 9, 4, 1, {"id"}, {EXR_PIXEL_UINT}};
+  jnd_image img, back;
+  jnd_image_info info;
+  jnd_image_alloc(&img, 9, 4, 1);
+  for (int i = 0; i < 36; i++) img.data[i] = (float)(i * 1000);
+  CHECK(write_core_exr(path, &L, &img));
+  CHECK_OK(jnd_image_read(path, &back, &info));
+  CHECK(same_shape(&img, &back) && info.bits == 32);
+  if (same_shape(&img, &back)) CHECK(max_abs_diff(&img, &back) == 0);
+  jnd_image_free(&img);
+  jnd_image_free(&back);
+}
+
+TEST(exr_with_nan_is_refused) {
+  const char *path = tmp_file("nan.exr");
+  jnd_image img = pattern(8, 8, 3, 0, 1, 8), back;
+  img.data[8 * 8 + 3 * 8 + 5] = NAN;
+  CHECK_OK(jnd_image_write_exr(path, &img, NULL, 0));
+  CHECK_STATUS(jnd_image_read(path, &back, NULL), JND_ERR_FORMAT);
+  CHECK(strstr(jnd_last_error(), "nan.exr") && strstr(jnd_last_error(), "NaN") &&
+        strstr(jnd_last_error(), "(5, 3) channel 1"));
+  CHECK(back.data == NULL);
+  jnd_image_free(&img);
+}
+
+TEST(exr_with_infinity_is_refused) {
+  const char *path = tmp_file("inf.exr");
+  jnd_image img = pattern(8, 8, 1, 0, 1, 9), back;
+  img.data[0] = INFINITY;
+  CHECK_OK(jnd_image_write_exr(path, &img, NULL, 0));
+  CHECK_STATUS(jnd_image_read(path, &back, NULL), JND_ERR_FORMAT);
+  CHECK(strstr(jnd_last_error(), "infinite") != NULL);
+  jnd_image_free(&img);
+}
+
+TEST(every_truncation_of_an_exr_is_refused) {
+  const char *path = tmp_file("whole.exr");
+  jnd_image img = pattern(20, 40, 3, 0, 1, 10), back;
+  CHECK_OK(jnd_image_write_exr(path, &img, NULL, 1));
+  size_t n;
+  unsigned char *buf = read_bytes(path, &n);
+  CHECK(buf != NULL);
+  int accepted = 0;
+  for (size_t k = 0; buf && k < n; k++) {
+    if (jnd_decode_exr("cut.exr", buf, k, &back, NULL) == JND_OK) accepted++;
+    CHECK(back.data == NULL);
+    jnd_image_free(&back);
+  }
+  CHECK(accepted == 0);
+  CHECK_OK(jnd_decode_exr("whole.exr", buf, n, &back, NULL));
+  free(buf);
+  jnd_image_free(&back);
+  jnd_image_free(&img);
+}
+
+TEST(exr_errors_name_the_file_on_one_line) {
+  static const unsigned char junk[] = {0x76, 0x2f, 0x31, 0x01, 2, 0, 0, 0, 'x', 'y'};
+  jnd_image back;
+  CHECK_STATUS(jnd_decode_exr("junk.exr", junk, sizeof junk, &back, NULL), JND_ERR_FORMAT);
+  CHECK(strncmp(jnd_last_error(), "junk.exr: ", 10) == 0);
+  CHECK(strchr(jnd_last_error(), '\n') == NULL);
+}
+
+TEST(exr_claiming_more_than_the_size_limit_is_refused) {
+  const char *path = tmp_file("huge.exr");
+  jnd_image img = pattern(16, 16, 1, 0, 1, 11), back;
+  CHECK_OK(jnd_image_write_exr(path, &img, NULL, 0));
+  size_t n;
+  unsigned char *buf = read_bytes(path, &n);
+  unsigned char *dwa = buf ? find_bytes(buf, n, "dataWindow\0box2i\0", 17) : NULL;
+  CHECK(dwa != NULL);
+  if (dwa) {
+    put_le32(dwa + 17 + 4 + 8, 40000); /* max.x */
+    CHECK_STATUS(jnd_decode_exr("huge.exr", buf, n, &back, NULL), JND_ERR_LIMIT);
+    CHECK(strstr(jnd_last_error(), "limit") != NULL);
+    put_le32(dwa + 17 + 4 + 8, 10000); /* within the limits, but 10001² pixels from a few hundred bytes */
+    put_le32(dwa + 17 + 4 + 12, 10000);
+    CHECK_STATUS(jnd_decode_exr("huge.exr", buf, n, &back, NULL), JND_ERR_FORMAT);
+  }
+  free(buf);
+  jnd_image_free(&img);
+}
+
+TEST(exr_with_subsampled_channels_is_refused) {
+  const char *path = tmp_file("sub.exr");
+  jnd_image img = pattern(8, 8, 1, 0, 1, 12), back;
+  CHECK_OK(jnd_image_write_exr(path, &img, NULL, 0));
+  size_t n;
+  unsigned char *buf = read_bytes(path, &n);
+  unsigned char *cl = buf ? find_bytes(buf, n, "channels\0chlist\0", 16) : NULL;
+  CHECK(cl != NULL);
+  if (cl) {
+    put_le32(cl + 16 + 4 + 2 + 8, 2); /* after the size, "Y\0", type, pLinear + reserved: xSampling */
+    CHECK_STATUS(jnd_decode_exr("sub.exr", buf, n, &back, NULL), JND_ERR_FORMAT);
+    CHECK(strstr(jnd_last_error(), "sub.exr") != NULL);
+    CHECK(back.data == NULL);
+  }
+  free(buf);
+  jnd_image_free(&img);
+}
+
+TEST(exr_write_is_atomic_and_leaves_no_temporary_file) {
+  const char *path = tmp_file("atomic.exr");
+  jnd_image img = pattern(8, 8, 3, 0, 1, 13);
+  CHECK_OK(jnd_image_write_exr(path, &img, NULL, 0));
+  char cmd[1400];
+  snprintf(cmd, sizeof cmd, "ls '%s' | grep -q 'atomic.exr.tmp'", test_tmp_dir());
+  CHECK(system(cmd) != 0);
+  /* a folder that does not exist: an error, nothing written */
+  CHECK_STATUS(jnd_image_write_exr("/nonexistent-folder/x.exr", &img, NULL, 0), JND_ERR_IO);
+  jnd_image_free(&img);
+}
+
+/* ---- PNG ---- */
+
+TEST(png_8_bit_round_trips_for_1_to_4_channels) {
+  for (int c = 1; c <= 4; c++) {
+    const char *path = tmp_file("rt8.png");
+    jnd_image img = pattern(17, 9, c, 0, 1, 20 + c), back;
+    jnd_image_info info;
+    for (size_t i = 0; i < (size_t)17 * 9 * c; i++) img.data[i] = roundf(img.data[i] * 255) / 255;
+    CHECK_OK(jnd_image_write_png(path, &img, 8));
+    CHECK_OK(jnd_image_read(path, &back, &info));
+    CHECK(same_shape(&img, &back));
+    if (same_shape(&img, &back)) CHECK_LT(max_abs_diff(&img, &back), 1e-6);
+    CHECK(info.bits == 8 && info.channels == c && info.has_alpha == (c == 2 || c == 4));
+    CHECK(info.encoding == JND_ENCODING_SRGB && strcmp(info.format, "png") == 0);
+    jnd_image_free(&img);
+    jnd_image_free(&back);
+  }
+}
+
+TEST(png_16_bit_round_trips_to_within_one_code) {
+  const char *path = tmp_file("rt16.png");
+  jnd_image img = pattern(31, 7, 3, 0, 1, 30), back;
+  jnd_image_info info;
+  CHECK_OK(jnd_image_write_png(path, &img, 16));
+  CHECK_OK(jnd_image_read(path, &back, &info));
+  CHECK(same_shape(&img, &back) && info.bits == 16);
+  if (same_shape(&img, &back)) CHECK_LT(max_abs_diff(&img, &back), 0.5 / 65535 + 1e-7);
+  jnd_image_free(&img);
+  jnd_image_free(&back);
+}
+
+static unsigned char *small_png(size_t *n) {
+  jnd_image img = pattern(6, 5, 3, 0, 1, 31);
+  const char *path = tmp_file("small.png");
+  jnd_image_write_png(path, &img, 8);
+  jnd_image_free(&img);
+  return read_bytes(path, n);
+}
+
+TEST(png_with_bad_crc_is_refused) {
+  size_t n;
+  unsigned char *buf = small_png(&n);
+  jnd_image back;
+  CHECK(buf != NULL);
+  if (!buf) return;
+  buf[8 + 8 + 13] ^= 1; /* IHDR's CRC */
+  CHECK_STATUS(jnd_decode_png("bad.png", buf, n, &back, NULL), JND_ERR_FORMAT);
+  CHECK(strstr(jnd_last_error(), "bad.png") && strstr(jnd_last_error(), "CRC"));
+  buf[8 + 8 + 13] ^= 1;
+  buf[8 + 25 + 8 + 2] ^= 0x40; /* a byte inside IDAT */
+  CHECK_STATUS(jnd_decode_png("bad.png", buf, n, &back, NULL), JND_ERR_FORMAT);
+  free(buf);
+}
+
+TEST(every_truncation_of_a_png_is_refused) {
+  size_t n;
+  unsigned char *buf = small_png(&n);
+  jnd_image back;
+  int accepted = 0;
+  for (size_t k = 0; buf && k < n; k++) {
+    if (jnd_decode_png("cut.png", buf, k, &back, NULL) == JND_OK) accepted++;
+    jnd_image_free(&back);
+  }
+  CHECK(buf && accepted == 0);
+  free(buf);
+}
+
+TEST(png_without_iend_is_refused) {
+  size_t n;
+  unsigned char *buf = small_png(&n);
+  jnd_image back;
+  CHECK(buf != NULL);
+  if (!buf) return;
+  CHECK_STATUS(jnd_decode_png("noend.png", buf, n - 12, &back, NULL), JND_ERR_FORMAT);
+  CHECK(strstr(jnd_last_error(), "IEND") != NULL);
+  free(buf);
+}
+
+TEST(png_claiming_more_than_the_size_limit_is_refused) {
+  size_t n;
+  unsigned char *buf = small_png(&n);
+  jnd_image back;
+  CHECK(buf != NULL);
+  if (!buf) return;
+  put_be32(buf + 16, 40000); /* IHDR width, then a valid CRC */
+  put_be32(buf + 8 + 8 + 13, jnd_crc32(buf + 12, 17));
+  CHECK_STATUS(jnd_decode_png("wide.png", buf, n, &back, NULL), JND_ERR_LIMIT);
+  put_be32(buf + 16, 10000); /* within the limits, but far more than the data holds */
+  put_be32(buf + 20, 10000);
+  put_be32(buf + 8 + 8 + 13, jnd_crc32(buf + 12, 17));
+  CHECK_STATUS(jnd_decode_png("wide.png", buf, n, &back, NULL), JND_ERR_FORMAT);
+  CHECK(back.data == NULL);
+  free(buf);
+}
+
+/* ---- any image ---- */
+
+TEST(empty_file_is_refused) {
+  const char *path = tmp_file("empty.png");
+  jnd_image back;
+  CHECK(write_bytes(path, "", 0));
+  CHECK_STATUS(jnd_image_read(path, &back, NULL), JND_ERR_FORMAT);
+  CHECK(strstr(jnd_last_error(), "empty") != NULL);
+}
+
+TEST(non_image_file_is_refused_naming_it) {
+  const char *path = tmp_file("notes.png");
+  jnd_image back;
+  CHECK(write_bytes(path, "hello, world\n", 13));
+  CHECK_STATUS(jnd_image_read(path, &back, NULL), JND_ERR_FORMAT);
+  CHECK(strstr(jnd_last_error(), "notes.png") != NULL);
+  CHECK_STATUS(jnd_image_read(tmp_file("missing.png"), &back, NULL), JND_ERR_IO);
+  CHECK_STATUS(jnd_image_read(test_tmp_dir(), &back, NULL), JND_ERR_IO);
+}
+
+TEST(jpeg_reads_as_srgb_8_bit) {
+  const char *path = tmp_file("grey.jpg");
+  unsigned char px[16 * 16 * 3];
+  for (int i = 0; i < 16 * 16 * 3; i++) px[i] = 128;
+  CHECK(stbi_write_jpg(path, 16, 16, 3, px, 95));
+  jnd_image back;
+  jnd_image_info info;
+  CHECK_OK(jnd_image_read(path, &back, &info));
+  CHECK(back.w == 16 && back.h == 16 && back.c == 3);
+  CHECK(info.encoding == JND_ENCODING_SRGB && info.bits == 8 && strcmp(info.format, "jpeg") == 0);
+  if (back.data) CHECK_NEAR(back.data[100], 128.0 / 255, 2.0 / 255);
+  size_t n;
+  unsigned char *buf = read_bytes(path, &n);
+  jnd_image cut;
+  if (buf) CHECK_STATUS(jnd_decode_jpeg("cut.jpg", buf, n / 2, &cut, NULL), JND_ERR_FORMAT);
+  free(buf);
+  jnd_image_free(&back);
+}
+
+TEST(radiance_hdr_reads_as_linear) {
+  const char *path = tmp_file("sky.hdr");
+  float px[8 * 4 * 3];
+  for (int i = 0; i < 8 * 4 * 3; i++) px[i] = 0.5f * (float)(i % 3 + 1);
+  CHECK(stbi_write_hdr(path, 8, 4, 3, px));
+  jnd_image back;
+  jnd_image_info info;
+  CHECK_OK(jnd_image_read(path, &back, &info));
+  CHECK(back.w == 8 && back.h == 4 && back.c == 3);
+  CHECK(info.encoding == JND_ENCODING_LINEAR && strcmp(info.format, "hdr") == 0);
+  if (back.data) {
+    CHECK_NEAR(jnd_image_plane(&back, 0)[5], 0.5, 0.01);
+    CHECK_NEAR(jnd_image_plane(&back, 2)[5], 1.5, 0.01);
+  }
+  jnd_image_free(&back);
+}
+
+/* ---- CSV ---- */
+
+TEST(csv_reads_quoted_fields_with_commas_quotes_and_newlines) {
+  const char text[] = "\xEF\xBB\xBFname,value,note\r\n"
+                      "\"a,b\",1.5,\"say \"\"hi\"\"\"\r\n"
+                      "\n"
+                      "c,,\"two\nlines\"\n";
+  jnd_csv csv;
+  CHECK_OK(jnd_csv_parse("t.csv", text, sizeof text - 1, &csv));
+  CHECK(csv.ncols == 3 && csv.nrows == 2);
+  if (csv.nrows == 2) {
+    CHECK(strcmp(csv.header[0], "name") == 0);
+    CHECK(strcmp(csv.cells[0][0], "a,b") == 0);
+    CHECK(strcmp(csv.cells[0][2], "say \"hi\"") == 0);
+    CHECK(strcmp(csv.cells[1][1], "") == 0);
+    CHECK(strcmp(csv.cells[1][2], "two\nlines") == 0);
+    CHECK(jnd_csv_column(&csv, "note") == 2 && jnd_csv_column(&csv, "nope") == -1);
+  }
+  jnd_csv_free(&csv);
+}
+
+TEST(csv_row_with_the_wrong_column_count_is_refused_with_its_line) {
+  const char text[] = "a,b\n1,2\n3\n";
+  jnd_csv csv;
+  CHECK_STATUS(jnd_csv_parse("rows.csv", text, sizeof text - 1, &csv), JND_ERR_FORMAT);
+  CHECK(strstr(jnd_last_error(), "rows.csv: line 3") != NULL);
+  const char text2[] = "a,b\n1,2,3\n";
+  CHECK_STATUS(jnd_csv_parse("rows.csv", text2, sizeof text2 - 1, &csv), JND_ERR_FORMAT);
+}
+
+TEST(csv_unterminated_quote_and_empty_input_are_refused) {
+  const char text[] = "a,b\n\"1,2\n";
+  jnd_csv csv;
+  CHECK_STATUS(jnd_csv_parse("q.csv", text, sizeof text - 1, &csv), JND_ERR_FORMAT);
+  CHECK_STATUS(jnd_csv_parse("e.csv", "", 0, &csv), JND_ERR_FORMAT);
+  CHECK_STATUS(jnd_csv_read(tmp_file("missing.csv"), &csv), JND_ERR_IO);
+}
+
+TEST(csv_numbers_parse_and_missing_values_are_nan) {
+  double v;
+  CHECK(jnd_csv_number(" 2.5 ", &v) && v == 2.5);
+  CHECK(jnd_csv_number("NA", &v) && isnan(v));
+  CHECK(jnd_csv_number("", &v) && isnan(v));
+  CHECK(!jnd_csv_number("2.5x", &v));
+  CHECK(!jnd_csv_number("1e999", &v));
+}
+
+RUN_TESTS(exr_float_round_trips_exactly, exr_half_round_trips_within_half_precision,
+          exr_half_write_clamps_to_the_half_range_instead_of_infinity,
+          exr_default_names_give_back_the_same_channel_order,
+          exr_channels_are_read_as_r_g_b_a_whatever_their_order,
+          exr_without_colour_channels_is_read_alphabetically, exr_luminance_with_alpha_is_y_then_a,
+          exr_writer_refuses_duplicate_channel_names, exr_tiled_file_reads_like_the_pixels_it_holds,
+          exr_data_window_away_from_the_origin_is_the_image, exr_every_compression_reads_back,
+          exr_uint_channel_reads_as_float_counts, exr_with_nan_is_refused, exr_with_infinity_is_refused,
+          every_truncation_of_an_exr_is_refused, exr_errors_name_the_file_on_one_line,
+          exr_claiming_more_than_the_size_limit_is_refused, exr_with_subsampled_channels_is_refused,
+          exr_write_is_atomic_and_leaves_no_temporary_file, png_8_bit_round_trips_for_1_to_4_channels,
+          png_16_bit_round_trips_to_within_one_code, png_with_bad_crc_is_refused,
+          every_truncation_of_a_png_is_refused, png_without_iend_is_refused,
+          png_claiming_more_than_the_size_limit_is_refused, empty_file_is_refused,
+          non_image_file_is_refused_naming_it, jpeg_reads_as_srgb_8_bit, radiance_hdr_reads_as_linear,
+          csv_reads_quoted_fields_with_commas_quotes_and_newlines,
+          csv_row_with_the_wrong_column_count_is_refused_with_its_line,
+          csv_unterminated_quote_and_empty_input_are_refused, csv_numbers_parse_and_missing_values_are_nan)
