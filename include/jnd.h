@@ -263,6 +263,209 @@ jnd_status jnd_diff_summarise(const jnd_image *jnd_map, double beta, const jnd_p
                               jnd_diff_stats *stats);
 
 /* ------------------------------------------------------------------------ */
+/* Texture-set PCA (001)                                                    */
+/* ------------------------------------------------------------------------ */
+/* A material's maps (albedo, normal, roughness, ...) packed as one (w·h) × C
+ * matrix and decorrelated by a principal component analysis (Wronski, 001):
+ * a few components at full resolution carry most of the information, the
+ * rest can be shrunk, quantised or dropped. Values are used as stored (0..1,
+ * not linearised), as 001 does. Typical use:
+ *
+ *     jnd_texset set;  jnd_texset_read(paths, n, NULL, &set);
+ *     jnd_pca pca;     jnd_pca_analyse(&set, NULL, &pca);        // weights 1
+ *     jnd_pca_encoding e;  jnd_pca_encoding_default(&pca, &e);  // all at full, 8-bit
+ *     e.components = 5;
+ *     jnd_pca_encoded enc;  jnd_pca_encode(&set, &pca, &e, &enc);
+ *     // enc.psnr_db[c] per channel, enc.comp[k] images, enc.recon the matrix
+ *     jnd_pca_encoded_free(&enc);  jnd_texset_free(&set);
+ */
+
+#define JND_PCA_MAX_CHANNELS 32   /* channels of a set */
+#define JND_PCA_MAX_MAPS 16       /* maps of a set */
+#define JND_PCA_MAX_SCALE 3       /* coarsest component resolution: 1/2^3 */
+
+/* One map of a texture set and where its channels went. */
+typedef struct {
+  char name[64];        /* file stem less the prefix every map shares ("Default_") */
+  int file_w, file_h;   /* the file's size, pixels */
+  int file_channels;    /* channels in the file (1–4) */
+  int resampled;        /* 1: the file was resampled (Lanczos-3) to the set's size */
+  int first, count;     /* its channels in the set: first .. first + count − 1 */
+  int src[4];           /* file channel (0 = R .. 3 = A) of each of its set channels */
+  int duplicates;       /* file channels left out as exact copies of another (grey stored as RGB) */
+  int constants;        /* file channels left out because they are constant */
+} jnd_texset_map;
+
+/* A texture set: C channels of one size, planar, values as stored. */
+typedef struct {
+  int w, h, c;                                /* pixels, channels */
+  float *data;                                /* c planes of w·h floats; owned, jnd_texset_free */
+  int nmaps;
+  jnd_texset_map maps[JND_PCA_MAX_MAPS];
+  char names[JND_PCA_MAX_CHANNELS][72];       /* "albedo.r", ... or the map name for a grey map */
+  int map_of[JND_PCA_MAX_CHANNELS];           /* index into maps of each channel */
+} jnd_texset;
+
+/* Builds a set from n decoded maps (each 1–4 channels; names[i] is map i's
+ * name). Maps smaller or larger than the largest are resampled to it with a
+ * Lanczos-3 filter (maps[i].resampled says so); a map whose aspect ratio
+ * differs is refused (JND_ERR_ARG, "NAME: ..."). Without a pick, a map keeps
+ * every channel that carries information: channels identical to an earlier
+ * one of the same map (a grey JPEG stored as RGB) and constant channels are
+ * left out (one channel is always kept). channels (NULL or "") picks
+ * explicitly: "normal=rg,metalRoughness=gb" (MAP=letters among r, g, b, a).
+ * The images are not modified; out owns new memory. */
+jnd_status jnd_texset_from_images(const jnd_image *maps, const char *const *names, int n,
+                                  const char *channels, jnd_texset *out);
+
+/* Reads n map files (PNG, JPEG, HDR, EXR) and builds the set as above; map
+ * names are the file stems less their shared prefix. Errors name the file:
+ * "PATH: problem". */
+jnd_status jnd_texset_read(const char *const *paths, int n, const char *channels, jnd_texset *out);
+
+/* Frees the planes and zeroes the struct; safe on a zeroed struct. */
+void jnd_texset_free(jnd_texset *set);
+
+/* Parses per-channel importance weights (001 "Input channel weighting"):
+ * "albedo=2,height=0.75"; a key is a map name (all its channels) or a
+ * channel name ("albedo.g"). weights[c] for c < set->c is filled: 1 where
+ * not named. Weights must be > 0. JND_ERR_ARG for an unknown name. */
+jnd_status jnd_texset_parse_weights(const jnd_texset *set, const char *spec, double *weights);
+
+/* The decomposition of a set. Channel c enters as weight[c]·(x_c − mean[c]);
+ * no standardisation (001: ranges already carry importance). */
+typedef struct {
+  int c;                                           /* channels (= components) */
+  double mean[JND_PCA_MAX_CHANNELS];               /* per channel, as stored */
+  double weight[JND_PCA_MAX_CHANNELS];
+  double energy[JND_PCA_MAX_CHANNELS];             /* variance of each component, descending
+                                                      (eigenvalues of the weighted covariance) */
+  double total_variance;                           /* Σ weighted channel variances = Σ energy */
+  double basis[JND_PCA_MAX_CHANNELS * JND_PCA_MAX_CHANNELS];
+      /* basis[c·C + k]: unit column k, component k in weighted channel space;
+       * its largest-magnitude entry is positive (deterministic sign) */
+  int knee;                                        /* components up to the knee of the
+                                                      cumulative energy curve (001) */
+} jnd_pca;
+
+/* Mean-centres the set, weights it (weights NULL = all 1), accumulates the
+ * C × C covariance in double precision (fixed-order reduction: results do not
+ * depend on threads) and eigen-decomposes it with LAPACK (dsyev). */
+jnd_status jnd_pca_analyse(const jnd_texset *set, const double *weights, jnd_pca *out);
+
+/* The contribution matrix |S·Tᵀ| of 001: out[k·C + c] = sqrt(energy_k) ·
+ * |basis[c·C + k]|, how much input channel c feeds component k. out holds
+ * C·C doubles (caller's). */
+void jnd_pca_contribution(const jnd_pca *pca, double *out);
+
+/* A picture of the contribution matrix: one 16-pixel cell per (component
+ * row, channel column), brightness ∝ contribution / max. out is allocated
+ * (3 channels, 0..1) for jnd_image_write_png. */
+jnd_status jnd_pca_contribution_plot(const jnd_pca *pca, jnd_image *out);
+
+/* How the components are stored. */
+typedef struct {
+  int components;                        /* K: components kept, 0..C */
+  int scale[JND_PCA_MAX_CHANNELS];       /* component k at 1/2^scale[k] of the size
+                                            (0 full, 1 half, ... JND_PCA_MAX_SCALE);
+                                            box-filtered down, Lanczos-3 up */
+  int bits[JND_PCA_MAX_CHANNELS];        /* 8 or 16; 0 = float, no quantisation */
+} jnd_pca_encoding;
+
+/* All C components at full resolution with 8 bits. */
+void jnd_pca_encoding_default(const jnd_pca *pca, jnd_pca_encoding *e);
+
+/* Storage of an encoding of a w × h set in bytes: Σ_k pixels_k · bits_k / 8
+ * (float counts 4 bytes) plus the float32 reconstruction matrix. */
+size_t jnd_pca_storage_bytes(const jnd_pca_encoding *e, int c, int w, int h);
+
+/* An encoded set. Stored value q ∈ [0,1] of component k stands for the
+ * component value offset[k] + scale[k]·q. The reconstruction of channel c
+ * is x_c = Σ_k recon[c·(K+1) + k]·q_k + recon[c·(K+1) + K]: a C × (K+1)
+ * homogeneous matrix, row-major, K + 1 multiply-adds per channel (001
+ * "Runtime cost"; weights and means folded in). */
+typedef struct {
+  jnd_pca_encoding enc;
+  int c, w, h;                               /* the set's channels and size */
+  jnd_image comp[JND_PCA_MAX_CHANNELS];      /* K one-channel images, 0..1, at their sizes */
+  double scale[JND_PCA_MAX_CHANNELS], offset[JND_PCA_MAX_CHANNELS];
+  double recon[JND_PCA_MAX_CHANNELS * (JND_PCA_MAX_CHANNELS + 1)];
+  double psnr_db[JND_PCA_MAX_CHANNELS];      /* per input channel, peak 1 (INFINITY if exact) */
+  double mse[JND_PCA_MAX_CHANNELS];
+  size_t storage_bytes;                      /* jnd_pca_storage_bytes */
+} jnd_pca_encoded;
+
+/* Projects the set on the first K components, stores each at its scale and
+ * bit depth, reconstructs at full size and measures PSNR per channel
+ * (10·log10(1/MSE), values 0..1, as 001). out owns the component images. */
+jnd_status jnd_pca_encode(const jnd_texset *set, const jnd_pca *pca, const jnd_pca_encoding *e,
+                          jnd_pca_encoded *out);
+
+/* Reconstructs the set (w × h × C, allocated in out) from components comp
+ * (K images, 0..1, any of the sizes 1/2^s; NULL = enc->comp), e.g. after
+ * block compression. */
+jnd_status jnd_pca_reconstruct(const jnd_pca_encoded *enc, const jnd_image *comp, jnd_image *out);
+
+/* Per-channel PSNR (dB, peak 1) of a reconstruction (w × h × C) against the
+ * set; mse may be NULL. */
+jnd_status jnd_texset_psnr(const jnd_texset *set, const jnd_image *recon, double *psnr_db, double *mse);
+
+/* Frees the component images; safe on a zeroed struct. */
+void jnd_pca_encoded_free(jnd_pca_encoded *enc);
+
+/* The smallest encoding (K, per-component scale in 0..max_scale, bits 8 or
+ * 16) whose every channel reaches min_psnr_db. Candidates are ranked with
+ * an additive error model (components are decorrelated: a channel's MSE is
+ * Σ_k basis[c][k]²·D_k / weight_c², D_k measured per component and option),
+ * then the best is encoded for real and checked; out is that encoding.
+ * JND_ERR_ARG when even all components at 16 bits miss the target. */
+jnd_status jnd_pca_choose_psnr(const jnd_texset *set, const jnd_pca *pca, double min_psnr_db,
+                               int max_scale, jnd_pca_encoding *out);
+
+/* Rendered visibility of an encoding (001 + the vision model): the set is
+ * reconstructed, applied to material `material` of model_path (glTF/GLB),
+ * rendered from sampled views and compared; p_detect is the pooled
+ * probability a viewer notices. Needs the renderer: until it is wired this
+ * returns JND_ERR_ARG "rendered visibility needs the renderer". */
+jnd_status jnd_pca_rendered_visibility(const jnd_texset *set, const jnd_pca_encoded *enc,
+                                       const char *model_path, const char *material,
+                                       double *p_detect);
+
+/* Block compression (001 "Caveats"). 8-bit texels; blocks of 4 × 4 texels,
+ * the image edge replicated into partial blocks. BC1: 8 bytes a block, RGB
+ * as two RGB565 endpoints and 2-bit indices (4-colour mode); BC4: 8 bytes,
+ * one channel as two 8-bit endpoints and 3-bit indices; BC5: two BC4. */
+typedef enum { JND_BC1 = 1, JND_BC4 = 4, JND_BC5 = 5 } jnd_bc_format;
+
+/* Bytes a w × h texture takes in format f. */
+size_t jnd_bc_size(jnd_bc_format f, int w, int h);
+
+/* Encodes channels [first, first+n) of img (values 0..1, n = 3 for BC1,
+ * 1 for BC4, 2 for BC5) into blocks (jnd_bc_size bytes, caller's). BC1 fits
+ * the principal axis of each block then refines the endpoints by least
+ * squares; BC4 starts from the block's min/max and refines likewise. */
+jnd_status jnd_bc_encode(jnd_bc_format f, const jnd_image *img, int first, uint8_t *blocks);
+
+/* Decodes blocks into channels [first, first+n) of img (already allocated
+ * w × h, values 0..1 on the 8-bit grid). */
+jnd_status jnd_bc_decode(jnd_bc_format f, const uint8_t *blocks, jnd_image *img, int first);
+
+/* PSNR and storage of the set under block compression. */
+typedef struct {
+  double psnr_pca_bc4_db[JND_PCA_MAX_CHANNELS]; /* components one each in BC4 (pairs as BC5) */
+  double psnr_pca_bc1_db[JND_PCA_MAX_CHANNELS]; /* components by threes of one size in BC1
+                                                   (a pair left over in BC5, one in BC4) */
+  double psnr_plain_db[JND_PCA_MAX_CHANNELS];   /* the maps themselves: BC1 for 3 channels,
+                                                   BC4 for 1, BC5 for 2, BC1+BC4 for 4 */
+  size_t bytes_pca_bc4, bytes_pca_bc1, bytes_plain;
+} jnd_pca_bc_report;
+
+/* Encodes the components of enc (8-bit view of them) and the set's maps with
+ * block compression, decodes, reconstructs and measures PSNR per channel. */
+jnd_status jnd_pca_block_compression(const jnd_texset *set, const jnd_pca_encoded *enc,
+                                     jnd_pca_bc_report *out);
+
+/* ------------------------------------------------------------------------ */
 /* Tasks                                                                    */
 /* ------------------------------------------------------------------------ */
 

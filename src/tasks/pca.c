@@ -1,0 +1,941 @@
+/* Texture sets in fewer channels (Wronski, 001): a material's maps packed as
+ * a (w·h) × C matrix, mean-centred and weighted, decorrelated by PCA; the
+ * first K components kept, each at its own resolution and bit depth; the
+ * reconstruction a (C × (K+1)) homogeneous matrix; quality as PSNR per
+ * channel, with and without GPU block compression; an automatic choice of
+ * the smallest encoding meeting a PSNR floor.
+ *
+ * Resampling: components are shrunk by averaging 2^s × 2^s boxes (as mip
+ * levels are made) and enlarged with Lanczos-3; maps of different sizes are
+ * brought to the largest with Lanczos-3 (widened when shrinking). 001 used
+ * a box filter with nearest-neighbour enlargement and notes that a better
+ * filter would do better. */
+#include <ctype.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/core.h"
+#include "tasks/tasks.h"
+
+#define MAXC JND_PCA_MAX_CHANNELS
+
+/* ------------------------------------------------------------------------ */
+/* Resampling                                                               */
+/* ------------------------------------------------------------------------ */
+
+static double lanczos3(double x) {
+  x = fabs(x);
+  if (x < 1e-9) return 1.0;
+  if (x >= 3.0) return 0.0;
+  double px = M_PI * x;
+  return 3.0 * sin(px) * sin(px / 3.0) / (px * px);
+}
+
+/* For each of dn outputs: the taps into a source of sn samples, where
+ * output i sits at source coordinate (i + 0.5)·ratio − 0.5 + shift. */
+typedef struct {
+  int n, taps;
+  int *first;      /* n */
+  float *w;        /* n × taps */
+} axis_weights;
+
+static jnd_status axis_make(int sn, int dn, double ratio, axis_weights *a) {
+  double scale = ratio > 1 ? ratio : 1;   /* widen the kernel when shrinking */
+  double support = 3.0 * scale;
+  int taps = (int)ceil(2 * support) + 1;
+  a->n = dn;
+  a->taps = taps;
+  a->first = jnd_alloc((size_t)dn, sizeof *a->first);
+  a->w = jnd_calloc((size_t)dn * taps, sizeof *a->w);
+  if (!a->first || !a->w) {
+    free(a->first);
+    free(a->w);
+    return JND_ERR_NOMEM;
+  }
+  for (int i = 0; i < dn; i++) {
+    double centre = (i + 0.5) * ratio - 0.5;
+    int lo = (int)floor(centre - support) + 1;
+    a->first[i] = lo;
+    double sum = 0;
+    float *w = a->w + (size_t)i * taps;
+    for (int t = 0; t < taps; t++) {
+      double v = lanczos3((lo + t - centre) / scale);
+      w[t] = (float)v;
+      sum += v;
+    }
+    for (int t = 0; t < taps; t++) w[t] = (float)(w[t] / sum);
+  }
+  (void)sn;
+  return JND_OK;
+}
+
+static void axis_free(axis_weights *a) {
+  free(a->first);
+  free(a->w);
+}
+
+/* separable filter: horizontal into tmp (dw × sh), then vertical */
+static jnd_status resample(const float *src, int sw, int sh, float *dst, int dw, int dh, double rx, double ry) {
+  axis_weights ax = {0}, ay = {0};
+  jnd_status s = axis_make(sw, dw, rx, &ax);
+  if (s == JND_OK) s = axis_make(sh, dh, ry, &ay);
+  float *tmp = s == JND_OK ? jnd_alloc((size_t)dw * sh, sizeof *tmp) : NULL;
+  if (!tmp) {
+    axis_free(&ax);
+    axis_free(&ay);
+    return s == JND_OK ? JND_ERR_NOMEM : s;
+  }
+#pragma omp parallel for schedule(static)
+  for (int y = 0; y < sh; y++) {
+    const float *row = src + (size_t)y * sw;
+    float *out = tmp + (size_t)y * dw;
+    for (int x = 0; x < dw; x++) {
+      const float *w = ax.w + (size_t)x * ax.taps;
+      int lo = ax.first[x];
+      double acc = 0;
+      if (lo >= 0 && lo + ax.taps <= sw) {
+        for (int t = 0; t < ax.taps; t++) acc += w[t] * row[lo + t];
+      } else {
+        for (int t = 0; t < ax.taps; t++) acc += w[t] * row[jnd_clampi(lo + t, 0, sw - 1)];
+      }
+      out[x] = (float)acc;
+    }
+  }
+#pragma omp parallel for schedule(static)
+  for (int y = 0; y < dh; y++) {
+    const float *w = ay.w + (size_t)y * ay.taps;
+    int lo = ay.first[y];
+    float *out = dst + (size_t)y * dw;
+    for (int x = 0; x < dw; x++) out[x] = 0;
+    for (int t = 0; t < ay.taps; t++) {
+      const float *row = tmp + (size_t)jnd_clampi(lo + t, 0, sh - 1) * dw;
+      float wt = w[t];
+      for (int x = 0; x < dw; x++) out[x] += wt * row[x];
+    }
+  }
+  free(tmp);
+  axis_free(&ax);
+  axis_free(&ay);
+  return JND_OK;
+}
+
+jnd_status pca_resample_lanczos3(const float *src, int w, int h, float *dst, int dw, int dh) {
+  return resample(src, w, h, dst, dw, dh, (double)w / dw, (double)h / dh);
+}
+
+static int coarse_side(int n, int s) { return (n + (1 << s) - 1) >> s; }
+
+void pca_box_down(const float *src, int w, int h, int s, float *dst) {
+  int d = 1 << s, cw = coarse_side(w, s), ch = coarse_side(h, s);
+#pragma omp parallel for schedule(static)
+  for (int cy = 0; cy < ch; cy++) {
+    for (int cx = 0; cx < cw; cx++) {
+      double acc = 0;
+      int n = 0;
+      for (int y = cy * d; y < cy * d + d && y < h; y++)
+        for (int x = cx * d; x < cx * d + d && x < w; x++) {
+          acc += src[(size_t)y * w + x];
+          n++;
+        }
+      dst[(size_t)cy * cw + cx] = (float)(acc / n);
+    }
+  }
+}
+
+jnd_status pca_upsample(const float *coarse, int w, int h, int s, float *dst) {
+  if (s == 0) {
+    memcpy(dst, coarse, (size_t)w * h * sizeof *dst);
+    return JND_OK;
+  }
+  double r = 1.0 / (1 << s);
+  return resample(coarse, coarse_side(w, s), coarse_side(h, s), dst, w, h, r, r);
+}
+
+/* ------------------------------------------------------------------------ */
+/* Texture sets                                                             */
+/* ------------------------------------------------------------------------ */
+
+static const char letters[] = "rgba";
+
+void jnd_texset_free(jnd_texset *set) {
+  if (!set) return;
+  free(set->data);
+  memset(set, 0, sizeof *set);
+}
+
+static int plane_constant(const float *p, size_t n) {
+  for (size_t i = 1; i < n; i++)
+    if (p[i] != p[0]) return 0;
+  return 1;
+}
+
+static int planes_equal(const float *a, const float *b, size_t n) { return memcmp(a, b, n * sizeof *a) == 0; }
+
+/* "normal=rg,metalRoughness=gb" → picks[map] = letters string; -1 for unknown map */
+static jnd_status parse_picks(const char *spec, const char *const *names, int n, char picks[][8]) {
+  for (int i = 0; i < n; i++) picks[i][0] = 0;
+  if (!spec || !*spec) return JND_OK;
+  char buf[1024];
+  snprintf(buf, sizeof buf, "%s", spec);
+  char *save = NULL;
+  for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    char *eq = strchr(tok, '=');
+    if (!eq) return jnd_fail(JND_ERR_ARG, "--channels: '%s' is not MAP=LETTERS (e.g. normal=rg)", tok);
+    *eq = 0;
+    int m = -1;
+    for (int i = 0; i < n; i++)
+      if (strcmp(names[i], tok) == 0) m = i;
+    if (m < 0) return jnd_fail(JND_ERR_ARG, "--channels: no map named '%s'", tok);
+    const char *l = eq + 1;
+    size_t len = strlen(l);
+    if (len == 0 || len > 4) return jnd_fail(JND_ERR_ARG, "--channels: '%s' needs 1 to 4 of r, g, b, a", tok);
+    for (size_t k = 0; k < len; k++)
+      if (!strchr(letters, tolower((unsigned char)l[k])))
+        return jnd_fail(JND_ERR_ARG, "--channels: '%c' is not one of r, g, b, a", l[k]);
+    for (size_t k = 0; k < len; k++) picks[m][k] = (char)tolower((unsigned char)l[k]);
+    picks[m][len] = 0;
+  }
+  return JND_OK;
+}
+
+/* labels name the inputs in errors (paths for files) */
+static jnd_status texset_build(const jnd_image *maps, const char *const *names, const char *const *labels, int n,
+                               const char *channels, jnd_texset *out) {
+  memset(out, 0, sizeof *out);
+  if (n <= 0) return jnd_fail(JND_ERR_ARG, "a texture set needs at least one map");
+  if (n > JND_PCA_MAX_MAPS) return jnd_fail(JND_ERR_LIMIT, "%d maps is over the limit of %d", n, JND_PCA_MAX_MAPS);
+  int W = 0, H = 0;
+  for (int i = 0; i < n; i++) {
+    if (!maps[i].data || maps[i].c < 1 || maps[i].c > 4)
+      return jnd_fail(JND_ERR_FORMAT, "%s: needs 1 to 4 channels (has %d)", labels[i], maps[i].c);
+    if ((size_t)maps[i].w * maps[i].h > (size_t)W * H) {
+      W = maps[i].w;
+      H = maps[i].h;
+    }
+  }
+  for (int i = 0; i < n; i++)
+    if ((long long)maps[i].w * H != (long long)maps[i].h * W)
+      return jnd_fail(JND_ERR_ARG, "%s: %d × %d does not have the shape of the set's largest map (%d × %d)",
+                      labels[i], maps[i].w, maps[i].h, W, H);
+  char picks[JND_PCA_MAX_MAPS][8];
+  jnd_status s = parse_picks(channels, names, n, picks);
+  if (s != JND_OK) return s;
+  size_t np = (size_t)W * H;
+  /* choose channels */
+  int total = 0;
+  for (int i = 0; i < n; i++) {
+    jnd_texset_map *m = &out->maps[i];
+    snprintf(m->name, sizeof m->name, "%s", names[i]);
+    m->file_w = maps[i].w;
+    m->file_h = maps[i].h;
+    m->file_channels = maps[i].c;
+    m->resampled = maps[i].w != W || maps[i].h != H;
+    m->first = total;
+    size_t fp = (size_t)maps[i].w * maps[i].h;
+    if (picks[i][0]) {
+      for (int k = 0; picks[i][k]; k++) {
+        int ch = (int)(strchr(letters, picks[i][k]) - letters);
+        if (ch >= maps[i].c)
+          return jnd_fail(JND_ERR_ARG, "%s: --channels asks for '%c' of a %d-channel map", labels[i], picks[i][k],
+                          maps[i].c);
+        m->src[m->count++] = ch;
+      }
+    } else {
+      for (int ch = 0; ch < maps[i].c; ch++) {
+        const float *p = jnd_image_plane(&maps[i], ch);
+        if (plane_constant(p, fp)) {
+          m->constants++;
+          continue;
+        }
+        int dup = 0;
+        for (int k = 0; k < m->count && !dup; k++) dup = planes_equal(p, jnd_image_plane(&maps[i], m->src[k]), fp);
+        if (dup) {
+          m->duplicates++;
+          continue;
+        }
+        m->src[m->count++] = ch;
+      }
+      if (m->count == 0) {   /* a constant map still needs one channel */
+        m->src[m->count++] = 0;
+        m->constants--;
+      }
+    }
+    total += m->count;
+  }
+  if (total > MAXC) return jnd_fail(JND_ERR_LIMIT, "%d channels is over the limit of %d (pick with --channels)", total, MAXC);
+  s = jnd_check_size(W, H, total, labels[0]);
+  if (s != JND_OK) return s;
+  out->data = jnd_alloc(np * (size_t)total, sizeof *out->data);
+  if (!out->data) return JND_ERR_NOMEM;
+  out->w = W;
+  out->h = H;
+  out->c = total;
+  out->nmaps = n;
+  for (int i = 0; i < n; i++) {
+    jnd_texset_map *m = &out->maps[i];
+    int grey = m->count == 1 && (m->file_channels == 1 || m->duplicates == m->file_channels - 1);
+    for (int k = 0; k < m->count; k++) {
+      int c = m->first + k;
+      out->map_of[c] = i;
+      if (grey)
+        snprintf(out->names[c], sizeof out->names[c], "%s", m->name);
+      else
+        snprintf(out->names[c], sizeof out->names[c], "%s.%c", m->name, letters[m->src[k]]);
+      const float *p = jnd_image_plane(&maps[i], m->src[k]);
+      float *d = out->data + (size_t)c * np;
+      if (m->resampled) {
+        s = pca_resample_lanczos3(p, maps[i].w, maps[i].h, d, W, H);
+        if (s != JND_OK) {
+          jnd_texset_free(out);
+          return s;
+        }
+      } else {
+        memcpy(d, p, np * sizeof *d);
+      }
+    }
+  }
+  return JND_OK;
+}
+
+jnd_status jnd_texset_from_images(const jnd_image *maps, const char *const *names, int n, const char *channels,
+                                  jnd_texset *out) {
+  return texset_build(maps, names, names, n, channels, out);
+}
+
+/* file stem: after the last '/', before the last '.' */
+static void stem(const char *path, char *out, size_t n) {
+  const char *b = strrchr(path, '/');
+  b = b ? b + 1 : path;
+  snprintf(out, n, "%s", b);
+  char *dot = strrchr(out, '.');
+  if (dot && dot != out) *dot = 0;
+}
+
+jnd_status jnd_texset_read(const char *const *paths, int n, const char *channels, jnd_texset *out) {
+  memset(out, 0, sizeof *out);
+  if (n <= 0) return jnd_fail(JND_ERR_ARG, "a texture set needs at least one map");
+  if (n > JND_PCA_MAX_MAPS) return jnd_fail(JND_ERR_LIMIT, "%d maps is over the limit of %d", n, JND_PCA_MAX_MAPS);
+  char stems[JND_PCA_MAX_MAPS][64];
+  const char *names[JND_PCA_MAX_MAPS];
+  for (int i = 0; i < n; i++) stem(paths[i], stems[i], sizeof stems[i]);
+  /* drop the prefix every stem shares, up to a separator ("Default_") */
+  size_t pre = 0;
+  if (n > 1) {
+    size_t common = strlen(stems[0]);
+    for (int i = 1; i < n; i++) {
+      size_t k = 0;
+      while (k < common && stems[i][k] == stems[0][k]) k++;
+      common = k;
+    }
+    for (size_t k = 0; k < common; k++)
+      if (strchr("_-. ", stems[0][k])) pre = k + 1;
+    for (int i = 0; i < n; i++)
+      if (!stems[i][pre]) pre = 0;
+  }
+  for (int i = 0; i < n; i++) {
+    names[i] = stems[i] + pre;
+    for (int j = 0; j < i; j++)
+      if (strcmp(names[i], names[j]) == 0)
+        return jnd_fail(JND_ERR_ARG, "%s: a second map named '%s'", paths[i], names[i]);
+  }
+  jnd_image maps[JND_PCA_MAX_MAPS];
+  memset(maps, 0, sizeof maps);
+  jnd_status s = JND_OK;
+  for (int i = 0; i < n && s == JND_OK; i++) s = jnd_image_read(paths[i], &maps[i], NULL);
+  if (s == JND_OK) s = texset_build(maps, names, paths, n, channels, out);
+  for (int i = 0; i < n; i++) jnd_image_free(&maps[i]);
+  return s;
+}
+
+jnd_status jnd_texset_parse_weights(const jnd_texset *set, const char *spec, double *weights) {
+  for (int c = 0; c < set->c; c++) weights[c] = 1.0;
+  if (!spec || !*spec) return JND_OK;
+  char buf[1024];
+  snprintf(buf, sizeof buf, "%s", spec);
+  char *save = NULL;
+  for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    char *eq = strchr(tok, '=');
+    if (!eq) return jnd_fail(JND_ERR_ARG, "--weight: '%s' is not NAME=WEIGHT (e.g. albedo=2)", tok);
+    *eq = 0;
+    char *end;
+    double w = strtod(eq + 1, &end);
+    if (end == eq + 1 || *end || !(w > 0) || !isfinite(w))
+      return jnd_fail(JND_ERR_ARG, "--weight: %s: '%s' is not a positive number", tok, eq + 1);
+    int hit = 0;
+    for (int c = 0; c < set->c; c++)
+      if (strcmp(set->names[c], tok) == 0 || strcmp(set->maps[set->map_of[c]].name, tok) == 0) {
+        weights[c] = w;
+        hit = 1;
+      }
+    if (!hit) return jnd_fail(JND_ERR_ARG, "--weight: no map or channel named '%s'", tok);
+  }
+  return JND_OK;
+}
+
+static const float *const *set_planes(const jnd_texset *set, const float **planes) {
+  for (int c = 0; c < set->c; c++) planes[c] = set->data + (size_t)c * set->w * set->h;
+  return planes;
+}
+
+/* ------------------------------------------------------------------------ */
+/* Decomposition                                                            */
+/* ------------------------------------------------------------------------ */
+
+jnd_status jnd_pca_analyse(const jnd_texset *set, const double *weights, jnd_pca *out) {
+  memset(out, 0, sizeof *out);
+  if (!set || !set->data || set->c < 1 || set->c > MAXC) return jnd_fail(JND_ERR_ARG, "pca: empty texture set");
+  int C = set->c;
+  size_t np = (size_t)set->w * set->h;
+  const float *planes[MAXC];
+  set_planes(set, planes);
+  out->c = C;
+  for (int c = 0; c < C; c++) {
+    out->weight[c] = weights ? weights[c] : 1.0;
+    if (!(out->weight[c] > 0)) return jnd_fail(JND_ERR_ARG, "pca: weight of %s must be > 0", set->names[c]);
+  }
+  linalg_channel_means(planes, C, np, out->mean);
+  double cov[MAXC * MAXC];
+  jnd_status s = linalg_weighted_covariance(planes, C, np, out->mean, out->weight, cov);
+  if (s != JND_OK) return s;
+  out->total_variance = 0;
+  for (int c = 0; c < C; c++) out->total_variance += cov[c * C + c];
+  s = linalg_symmetric_eigen(cov, C, out->energy, out->basis);
+  if (s != JND_OK) return s;
+  /* round-off can leave tiny negative eigenvalues of a semi-definite matrix */
+  for (int k = 0; k < C; k++)
+    if (out->energy[k] < 0) out->energy[k] = 0;
+  out->knee = linalg_knee(out->energy, C);
+  return JND_OK;
+}
+
+void jnd_pca_contribution(const jnd_pca *pca, double *out) {
+  int C = pca->c;
+  for (int k = 0; k < C; k++)
+    for (int c = 0; c < C; c++) out[k * C + c] = sqrt(pca->energy[k]) * fabs(pca->basis[c * C + k]);
+}
+
+jnd_status jnd_pca_contribution_plot(const jnd_pca *pca, jnd_image *out) {
+  enum { CELL = 16, GAP = 1 };
+  int C = pca->c;
+  double m[MAXC * MAXC], mx = 0;
+  jnd_pca_contribution(pca, m);
+  for (int i = 0; i < C * C; i++) mx = m[i] > mx ? m[i] : mx;
+  int side = C * (CELL + GAP) + GAP;
+  jnd_status s = jnd_image_alloc(out, side, side, 3);
+  if (s != JND_OK) return s;
+  for (int ch = 0; ch < 3; ch++) {
+    float *p = jnd_image_plane(out, ch);
+    for (size_t i = 0; i < (size_t)side * side; i++) p[i] = 0.25f;   /* grid lines */
+  }
+  /* rows: components (first at the top); columns: input channels. A dark
+   * blue → yellow ramp, like 001's plots. */
+  for (int k = 0; k < C; k++)
+    for (int c = 0; c < C; c++) {
+      double v = mx > 0 ? m[k * C + c] / mx : 0;
+      float rgb[3] = {(float)v, (float)(0.1 + 0.8 * v), (float)(0.35 * (1 - v))};
+      for (int y = 0; y < CELL; y++)
+        for (int x = 0; x < CELL; x++) {
+          size_t i = (size_t)(GAP + k * (CELL + GAP) + y) * side + GAP + c * (CELL + GAP) + x;
+          for (int ch = 0; ch < 3; ch++) jnd_image_plane(out, ch)[i] = rgb[ch];
+        }
+    }
+  return JND_OK;
+}
+
+/* ------------------------------------------------------------------------ */
+/* Encoding                                                                 */
+/* ------------------------------------------------------------------------ */
+
+void jnd_pca_encoding_default(const jnd_pca *pca, jnd_pca_encoding *e) {
+  memset(e, 0, sizeof *e);
+  e->components = pca->c;
+  for (int k = 0; k < MAXC; k++) e->bits[k] = 8;
+}
+
+static size_t comp_pixels(int w, int h, int s) { return (size_t)coarse_side(w, s) * coarse_side(h, s); }
+
+size_t jnd_pca_storage_bytes(const jnd_pca_encoding *e, int c, int w, int h) {
+  size_t bits = 0;
+  for (int k = 0; k < e->components; k++)
+    bits += comp_pixels(w, h, e->scale[k]) * (size_t)(e->bits[k] ? e->bits[k] : 32);
+  return (bits + 7) / 8 + (size_t)c * (e->components + 1) * sizeof(float);
+}
+
+void jnd_pca_encoded_free(jnd_pca_encoded *enc) {
+  if (!enc) return;
+  for (int k = 0; k < MAXC; k++) jnd_image_free(&enc->comp[k]);
+  memset(enc, 0, sizeof *enc);
+}
+
+/* The K component planes u_k = Σ_c basis[c][k]·w_c·(x_c − mean_c) at full
+ * size, into proj (K planes of w·h, caller's). */
+static void project(const jnd_texset *set, const jnd_pca *pca, int K, float *proj) {
+  int C = set->c;
+  size_t np = (size_t)set->w * set->h;
+  double m[MAXC * MAXC], off[MAXC];
+  for (int k = 0; k < K; k++) {
+    off[k] = 0;
+    for (int c = 0; c < C; c++) {
+      m[k * C + c] = pca->basis[c * C + k] * pca->weight[c];
+      off[k] -= m[k * C + c] * pca->mean[c];
+    }
+  }
+#pragma omp parallel for schedule(static)
+  for (int y = 0; y < set->h; y++) {
+    double x[MAXC];
+    for (int px = 0; px < set->w; px++) {
+      size_t i = (size_t)y * set->w + px;
+      for (int c = 0; c < C; c++) x[c] = set->data[(size_t)c * np + i];
+      for (int k = 0; k < K; k++) {
+        double acc = off[k];
+        const double *row = m + k * C;
+        for (int c = 0; c < C; c++) acc += row[c] * x[c];
+        proj[(size_t)k * np + i] = (float)acc;
+      }
+    }
+  }
+}
+
+/* A component plane → its stored image: box down to scale s, range to 0..1,
+ * quantised to bits (0: not quantised). */
+static jnd_status store_component(const float *u, int w, int h, int s, int bits, jnd_image *img, double *scale,
+                                  double *offset) {
+  int cw = coarse_side(w, s), ch = coarse_side(h, s);
+  jnd_status st = jnd_image_alloc(img, cw, ch, 1);
+  if (st != JND_OK) return st;
+  if (s == 0)
+    memcpy(img->data, u, (size_t)w * h * sizeof *u);
+  else
+    pca_box_down(u, w, h, s, img->data);
+  size_t n = (size_t)cw * ch;
+  float lo = img->data[0], hi = img->data[0];
+  for (size_t i = 1; i < n; i++) {
+    lo = img->data[i] < lo ? img->data[i] : lo;
+    hi = img->data[i] > hi ? img->data[i] : hi;
+  }
+  *offset = lo;
+  *scale = hi > lo ? (double)hi - lo : 0;
+  double inv = *scale > 0 ? 1.0 / *scale : 0, levels = bits ? (double)((1u << bits) - 1) : 0;
+  for (size_t i = 0; i < n; i++) {
+    double q = ((double)img->data[i] - lo) * inv;
+    if (levels > 0) q = nearbyint(q * levels) / levels;
+    img->data[i] = (float)q;
+  }
+  return JND_OK;
+}
+
+static void fill_recon(const jnd_pca *pca, jnd_pca_encoded *enc) {
+  int C = pca->c, K = enc->enc.components;
+  for (int c = 0; c < C; c++) {
+    double *row = enc->recon + (size_t)c * (K + 1);
+    double cst = pca->mean[c];
+    for (int k = 0; k < K; k++) {
+      double t = pca->basis[c * C + k] / pca->weight[c];
+      row[k] = t * enc->scale[k];
+      cst += t * enc->offset[k];
+    }
+    row[K] = cst;
+  }
+}
+
+static jnd_status check_encoding(const jnd_pca *pca, const jnd_pca_encoding *e) {
+  if (e->components < 0 || e->components > pca->c)
+    return jnd_fail(JND_ERR_ARG, "pca: %d components asked of %d", e->components, pca->c);
+  for (int k = 0; k < e->components; k++) {
+    if (e->scale[k] < 0 || e->scale[k] > JND_PCA_MAX_SCALE)
+      return jnd_fail(JND_ERR_ARG, "pca: component %d scale 1/2^%d is outside 0..%d", k, e->scale[k], JND_PCA_MAX_SCALE);
+    if (e->bits[k] != 0 && e->bits[k] != 8 && e->bits[k] != 16)
+      return jnd_fail(JND_ERR_ARG, "pca: component %d: %d bits (8, 16, or 0 for float)", k, e->bits[k]);
+  }
+  return JND_OK;
+}
+
+jnd_status jnd_texset_psnr(const jnd_texset *set, const jnd_image *recon, double *psnr_db, double *mse) {
+  if (recon->w != set->w || recon->h != set->h || recon->c != set->c)
+    return jnd_fail(JND_ERR_ARG, "psnr: reconstruction %d × %d × %d for a %d × %d × %d set", recon->w, recon->h,
+                    recon->c, set->w, set->h, set->c);
+  size_t np = (size_t)set->w * set->h;
+  enum { CH = 1 << 16 };
+  size_t nch = (np + CH - 1) / CH;
+  double *part = jnd_calloc(nch * (size_t)set->c, sizeof *part);
+  if (!part) return JND_ERR_NOMEM;
+#pragma omp parallel for schedule(static)
+  for (size_t k = 0; k < nch; k++) {
+    size_t a = k * CH, b = a + CH < np ? a + CH : np;
+    for (int c = 0; c < set->c; c++) {
+      const float *x = set->data + (size_t)c * np, *r = recon->data + (size_t)c * np;
+      double acc = 0;
+      for (size_t i = a; i < b; i++) acc += ((double)x[i] - r[i]) * ((double)x[i] - r[i]);
+      part[k * set->c + c] = acc;
+    }
+  }
+  for (int c = 0; c < set->c; c++) {
+    double acc = 0;
+    for (size_t k = 0; k < nch; k++) acc += part[k * set->c + c];
+    double m = acc / (double)np;
+    if (mse) mse[c] = m;
+    psnr_db[c] = m > 0 ? 10.0 * log10(1.0 / m) : INFINITY;
+  }
+  free(part);
+  return JND_OK;
+}
+
+jnd_status jnd_pca_reconstruct(const jnd_pca_encoded *enc, const jnd_image *comp, jnd_image *out) {
+  int C = enc->c, K = enc->enc.components, w = enc->w, h = enc->h;
+  if (!comp) comp = enc->comp;
+  size_t np = (size_t)w * h;
+  jnd_status s = jnd_image_alloc(out, w, h, C);
+  if (s != JND_OK) return s;
+  float *up = NULL;
+  if (K > 0 && !(up = jnd_alloc(np * (size_t)K, sizeof *up))) {
+    jnd_image_free(out);
+    return JND_ERR_NOMEM;
+  }
+  for (int k = 0; k < K && s == JND_OK; k++) {
+    int sc = enc->enc.scale[k];
+    if (comp[k].w != coarse_side(w, sc) || comp[k].h != coarse_side(h, sc) || comp[k].c < 1)
+      s = jnd_fail(JND_ERR_ARG, "reconstruct: component %d is %d × %d, wanted %d × %d", k, comp[k].w, comp[k].h,
+                   coarse_side(w, sc), coarse_side(h, sc));
+    else
+      s = pca_upsample(comp[k].data, w, h, sc, up + (size_t)k * np);
+  }
+  if (s != JND_OK) {
+    free(up);
+    jnd_image_free(out);
+    return s;
+  }
+#pragma omp parallel for schedule(static)
+  for (int y = 0; y < h; y++) {
+    double q[MAXC + 1];
+    for (int x = 0; x < w; x++) {
+      size_t i = (size_t)y * w + x;
+      for (int k = 0; k < K; k++) q[k] = up[(size_t)k * np + i];
+      for (int c = 0; c < C; c++) {
+        const double *row = enc->recon + (size_t)c * (K + 1);
+        double acc = row[K];
+        for (int k = 0; k < K; k++) acc += row[k] * q[k];
+        out->data[(size_t)c * np + i] = (float)acc;
+      }
+    }
+  }
+  free(up);
+  return JND_OK;
+}
+
+/* encode from precomputed projections (at least e->components planes) */
+static jnd_status encode_from(const jnd_texset *set, const jnd_pca *pca, const float *proj,
+                              const jnd_pca_encoding *e, jnd_pca_encoded *out) {
+  memset(out, 0, sizeof *out);
+  jnd_status s = check_encoding(pca, e);
+  if (s != JND_OK) return s;
+  out->enc = *e;
+  out->c = set->c;
+  out->w = set->w;
+  out->h = set->h;
+  size_t np = (size_t)set->w * set->h;
+  for (int k = 0; k < e->components && s == JND_OK; k++)
+    s = store_component(proj + (size_t)k * np, set->w, set->h, e->scale[k], e->bits[k], &out->comp[k],
+                        &out->scale[k], &out->offset[k]);
+  if (s != JND_OK) {
+    jnd_pca_encoded_free(out);
+    return s;
+  }
+  fill_recon(pca, out);
+  out->storage_bytes = jnd_pca_storage_bytes(e, set->c, set->w, set->h);
+  jnd_image rec = {0};
+  s = jnd_pca_reconstruct(out, NULL, &rec);
+  if (s == JND_OK) s = jnd_texset_psnr(set, &rec, out->psnr_db, out->mse);
+  jnd_image_free(&rec);
+  if (s != JND_OK) jnd_pca_encoded_free(out);
+  return s;
+}
+
+jnd_status jnd_pca_encode(const jnd_texset *set, const jnd_pca *pca, const jnd_pca_encoding *e,
+                          jnd_pca_encoded *out) {
+  memset(out, 0, sizeof *out);
+  if (!set || !set->data || !pca || pca->c != set->c) return jnd_fail(JND_ERR_ARG, "pca: set and analysis differ");
+  jnd_status s = check_encoding(pca, e);
+  if (s != JND_OK) return s;
+  size_t np = (size_t)set->w * set->h;
+  int K = e->components;
+  float *proj = jnd_alloc(np * (size_t)(K > 0 ? K : 1), sizeof *proj);
+  if (!proj) return JND_ERR_NOMEM;
+  project(set, pca, K, proj);
+  s = encode_from(set, pca, proj, e, out);
+  free(proj);
+  return s;
+}
+
+/* ------------------------------------------------------------------------ */
+/* Automatic choice by PSNR                                                 */
+/* ------------------------------------------------------------------------ */
+
+/* Options for one component, most expensive first: (scale, bits), then
+ * dropped. Costs in bits per full-size pixel strictly decrease. */
+typedef struct {
+  int scale, bits;
+  double cost;
+} option;
+
+typedef struct {
+  int C, K, nopt;
+  option opt[2 * (JND_PCA_MAX_SCALE + 1) + 1];
+  double dist[MAXC][2 * (JND_PCA_MAX_SCALE + 1) + 1];  /* E[(û_k − u_k)²] */
+  double t2[MAXC][MAXC];       /* basis[c][k]² / weight_c² */
+  double budget[MAXC];         /* per-channel MSE allowed */
+  double fixed_bytes;          /* per channel per component of the matrix */
+  double px;                   /* pixels */
+  int cur[MAXC], best[MAXC];
+  double best_cost;
+} search;
+
+static void search_rec(search *S, int k, int min_opt, double cost, const double *err) {
+  if (cost >= S->best_cost) return;
+  if (k == S->C) {
+    S->best_cost = cost;
+    memcpy(S->best, S->cur, sizeof S->cur);
+    return;
+  }
+  for (int o = min_opt; o < S->nopt; o++) {
+    int drop = o == S->nopt - 1;
+    double e2[MAXC];
+    int ok = 1;
+    for (int c = 0; c < S->C && ok; c++) {
+      e2[c] = err[c] + S->t2[c][k] * S->dist[k][o];
+      ok = e2[c] <= S->budget[c];
+    }
+    if (!ok) continue;   /* a cheaper option only adds error */
+    S->cur[k] = o;
+    if (drop) {
+      /* the rest are dropped too: check them all */
+      for (int j = k + 1; j < S->C && ok; j++)
+        for (int c = 0; c < S->C && ok; c++) {
+          e2[c] += S->t2[c][j] * S->dist[j][o];
+          ok = e2[c] <= S->budget[c];
+        }
+      if (ok && cost < S->best_cost) {
+        for (int j = k + 1; j < S->C; j++) S->cur[j] = o;
+        S->best_cost = cost;
+        memcpy(S->best, S->cur, sizeof S->cur);
+      }
+      continue;
+    }
+    search_rec(S, k + 1, o, cost + S->opt[o].cost * S->px / 8 + S->fixed_bytes, e2);
+  }
+}
+
+/* distortion of each component under each option, measured at full size */
+static jnd_status measure_options(const jnd_texset *set, const jnd_pca *pca, const float *proj, search *S) {
+  int w = set->w, h = set->h;
+  size_t np = (size_t)w * h;
+  float *up = jnd_alloc(np, sizeof *up);
+  if (!up) return JND_ERR_NOMEM;
+  jnd_status s = JND_OK;
+  for (int k = 0; k < S->C && s == JND_OK; k++) {
+    const float *u = proj + (size_t)k * np;
+    for (int o = 0; o < S->nopt && s == JND_OK; o++) {
+      if (o == S->nopt - 1) {
+        S->dist[k][o] = pca->energy[k];
+        continue;
+      }
+      jnd_image img = {0};
+      double scale, offset;
+      s = store_component(u, w, h, S->opt[o].scale, S->opt[o].bits, &img, &scale, &offset);
+      if (s == JND_OK) s = pca_upsample(img.data, w, h, S->opt[o].scale, up);
+      if (s == JND_OK) {
+        double acc = 0;
+#pragma omp parallel for reduction(+ : acc) schedule(static)
+        for (int y = 0; y < h; y++) {
+          double r = 0;
+          for (int x = 0; x < w; x++) {
+            size_t i = (size_t)y * w + x;
+            double d = offset + scale * up[i] - u[i];
+            r += d * d;
+          }
+          acc += r;
+        }
+        S->dist[k][o] = acc / (double)np;
+      }
+      jnd_image_free(&img);
+    }
+  }
+  free(up);
+  return s;
+}
+
+jnd_status jnd_pca_choose_psnr(const jnd_texset *set, const jnd_pca *pca, double min_psnr_db, int max_scale,
+                               jnd_pca_encoding *out) {
+  memset(out, 0, sizeof *out);
+  if (!set || !pca || pca->c != set->c) return jnd_fail(JND_ERR_ARG, "pca: set and analysis differ");
+  if (!(min_psnr_db > 0 && min_psnr_db < 200)) return jnd_fail(JND_ERR_ARG, "pca: PSNR target %g dB", min_psnr_db);
+  max_scale = jnd_clampi(max_scale, 0, JND_PCA_MAX_SCALE);
+  int C = set->c;
+  size_t np = (size_t)set->w * set->h;
+  float *proj = jnd_alloc(np * (size_t)C, sizeof *proj);
+  if (!proj) return JND_ERR_NOMEM;
+  project(set, pca, C, proj);
+  search *S = jnd_calloc(1, sizeof *S);
+  if (!S) {
+    free(proj);
+    return JND_ERR_NOMEM;
+  }
+  S->C = C;
+  for (int sc = 0; sc <= max_scale; sc++)
+    for (int b = 16; b >= 8; b -= 8) S->opt[S->nopt++] = (option){sc, b, (double)b / (1 << (2 * sc))};
+  S->opt[S->nopt++] = (option){0, 0, 0};
+  /* costs must strictly decrease for the monotone enumeration */
+  for (int o = 1; o < S->nopt; o++)
+    if (!(S->opt[o].cost < S->opt[o - 1].cost)) {
+      free(S);
+      free(proj);
+      return jnd_fail(JND_ERR_INTERNAL, "pca: options not ordered by cost");
+    }
+  S->px = (double)np;
+  S->fixed_bytes = (double)C * sizeof(float);
+  for (int c = 0; c < C; c++)
+    for (int k = 0; k < C; k++) {
+      double t = pca->basis[c * C + k] / pca->weight[c];
+      S->t2[c][k] = t * t;
+    }
+  jnd_status s = measure_options(set, pca, proj, S);
+  double target = pow(10.0, -min_psnr_db / 10.0);
+  for (int c = 0; c < C; c++) S->budget[c] = target;
+  int found = 0;
+  /* The additive model ignores the small correlations between the errors
+   * of different components; check for real and tighten where it missed. */
+  for (int round = 0; round < 8 && s == JND_OK && !found; round++) {
+    double zero[MAXC] = {0};
+    S->best_cost = INFINITY;
+    search_rec(S, 0, 0, (double)C * sizeof(float), zero);
+    if (!isfinite(S->best_cost)) break;
+    jnd_pca_encoding e = {0};
+    for (int k = 0; k < C; k++) {
+      if (S->best[k] == S->nopt - 1) break;
+      e.scale[k] = S->opt[S->best[k]].scale;
+      e.bits[k] = S->opt[S->best[k]].bits;
+      e.components = k + 1;
+    }
+    jnd_pca_encoded enc;
+    s = encode_from(set, pca, proj, &e, &enc);
+    if (s != JND_OK) break;
+    found = 1;
+    for (int c = 0; c < C; c++)
+      if (enc.mse[c] > target) {
+        found = 0;
+        S->budget[c] *= 0.95 * target / enc.mse[c];
+      }
+    jnd_pca_encoded_free(&enc);
+    if (found) *out = e;
+  }
+  if (s == JND_OK && !found)
+    s = jnd_fail(JND_ERR_ARG, "pca: no encoding reaches %g dB in every channel (try a lower --psnr)", min_psnr_db);
+  free(S);
+  free(proj);
+  return s;
+}
+
+/* ------------------------------------------------------------------------ */
+/* Rendered visibility (the renderer's part)                                */
+/* ------------------------------------------------------------------------ */
+
+/* Hook for the renderer: reconstruct the set from enc, put it on material
+ * `material` of the model, render views with the original and the
+ * reconstructed textures, and pool the vision model's probability. */
+jnd_status pca_rendered_visibility(const jnd_texset *set, const jnd_pca_encoded *enc, const char *model_path,
+                                   const char *material, double *p_detect) {
+  (void)set;
+  (void)enc;
+  (void)material;
+  if (p_detect) *p_detect = NAN;
+  return jnd_fail(JND_ERR_ARG, "%s: rendered visibility needs the renderer", model_path ? model_path : "--model");
+}
+
+jnd_status jnd_pca_rendered_visibility(const jnd_texset *set, const jnd_pca_encoded *enc, const char *model_path,
+                                       const char *material, double *p_detect) {
+  return pca_rendered_visibility(set, enc, model_path, material, p_detect);
+}
+
+/* ------------------------------------------------------------------------ */
+/* Block compression of the components and of the maps (001 "Caveats")     */
+/* ------------------------------------------------------------------------ */
+
+/* Compresses channels [first, first+n) of img with f and decodes them back
+ * in place; returns the bytes it took. */
+static jnd_status bc_roundtrip(jnd_bc_format f, jnd_image *img, int first, size_t *bytes) {
+  size_t n = jnd_bc_size(f, img->w, img->h);
+  uint8_t *blocks = jnd_alloc(n, 1);
+  if (!blocks) return JND_ERR_NOMEM;
+  jnd_status s = jnd_bc_encode(f, img, first, blocks);
+  if (s == JND_OK) s = jnd_bc_decode(f, blocks, img, first);
+  free(blocks);
+  *bytes += n;
+  return s;
+}
+
+/* components grouped (by threes of one size when bc1, else pairs) and block-compressed */
+static jnd_status bc_components(const jnd_texset *set, const jnd_pca_encoded *enc, int bc1, double *psnr,
+                                size_t *bytes) {
+  int K = enc->enc.components;
+  jnd_image comp[MAXC];
+  memset(comp, 0, sizeof comp);
+  jnd_status s = JND_OK;
+  *bytes = 0;
+  int done[MAXC] = {0};
+  for (int k = 0; k < K && s == JND_OK; k++) {
+    if (done[k]) continue;
+    int group[3] = {k, -1, -1}, n = 1, want = bc1 ? 3 : 2;
+    for (int j = k + 1; j < K && n < want; j++)
+      if (!done[j] && enc->enc.scale[j] == enc->enc.scale[k]) group[n++] = j;
+    const jnd_image *src = &enc->comp[k];
+    jnd_image packed = {0};
+    s = jnd_image_alloc(&packed, src->w, src->h, n);
+    for (int g = 0; g < n && s == JND_OK; g++) {
+      memcpy(jnd_image_plane(&packed, g), enc->comp[group[g]].data, (size_t)src->w * src->h * sizeof(float));
+      done[group[g]] = 1;
+    }
+    if (s == JND_OK) s = bc_roundtrip(n == 3 ? JND_BC1 : n == 2 ? JND_BC5 : JND_BC4, &packed, 0, bytes);
+    for (int g = 0; g < n && s == JND_OK; g++) {
+      s = jnd_image_alloc(&comp[group[g]], src->w, src->h, 1);
+      if (s == JND_OK)
+        memcpy(comp[group[g]].data, jnd_image_plane(&packed, g), (size_t)src->w * src->h * sizeof(float));
+    }
+    jnd_image_free(&packed);
+  }
+  jnd_image rec = {0};
+  if (s == JND_OK) s = jnd_pca_reconstruct(enc, comp, &rec);
+  if (s == JND_OK) s = jnd_texset_psnr(set, &rec, psnr, NULL);
+  jnd_image_free(&rec);
+  for (int k = 0; k < K; k++) jnd_image_free(&comp[k]);
+  return s;
+}
+
+jnd_status jnd_pca_block_compression(const jnd_texset *set, const jnd_pca_encoded *enc, jnd_pca_bc_report *out) {
+  memset(out, 0, sizeof *out);
+  if (!set || !enc || enc->c != set->c || enc->w != set->w || enc->h != set->h)
+    return jnd_fail(JND_ERR_ARG, "block compression: set and encoding differ");
+  jnd_status s = bc_components(set, enc, 0, out->psnr_pca_bc4_db, &out->bytes_pca_bc4);
+  if (s == JND_OK) s = bc_components(set, enc, 1, out->psnr_pca_bc1_db, &out->bytes_pca_bc1);
+  if (s != JND_OK) return s;
+  /* the maps themselves, each in the format its channel count calls for */
+  jnd_image rec = {0};
+  s = jnd_image_alloc(&rec, set->w, set->h, set->c);
+  if (s == JND_OK) memcpy(rec.data, set->data, (size_t)set->w * set->h * set->c * sizeof(float));
+  for (int i = 0; i < set->nmaps && s == JND_OK; i++) {
+    const jnd_texset_map *m = &set->maps[i];
+    jnd_image view = {set->w, set->h, m->count, jnd_image_plane(&rec, m->first)};
+    switch (m->count) {
+    case 1: s = bc_roundtrip(JND_BC4, &view, 0, &out->bytes_plain); break;
+    case 2: s = bc_roundtrip(JND_BC5, &view, 0, &out->bytes_plain); break;
+    case 3: s = bc_roundtrip(JND_BC1, &view, 0, &out->bytes_plain); break;
+    default:
+      s = bc_roundtrip(JND_BC1, &view, 0, &out->bytes_plain);
+      if (s == JND_OK) s = bc_roundtrip(JND_BC4, &view, 3, &out->bytes_plain);
+      break;
+    }
+  }
+  if (s == JND_OK) s = jnd_texset_psnr(set, &rec, out->psnr_plain_db, NULL);
+  jnd_image_free(&rec);
+  return s;
+}
