@@ -263,6 +263,269 @@ jnd_status jnd_diff_summarise(const jnd_image *jnd_map, double beta, const jnd_p
                               jnd_diff_stats *stats);
 
 /* ------------------------------------------------------------------------ */
+/* Scene                                                                    */
+/* ------------------------------------------------------------------------ */
+/* An asset as the renderer sees it: triangle meshes in object units (the
+ * file's units, node transforms applied), glTF metallic-roughness materials
+ * and their texture maps. Every map of every material is addressable by a
+ * name "MATERIAL/SLOT" (e.g. "Helmet/baseColor") and can be replaced for a
+ * rendering by a resampled version at any resolution (000 §4). */
+
+typedef struct jnd_scene jnd_scene;
+
+/* The texture slots of a material (glTF 2.0 metallic-roughness). */
+typedef enum {
+  JND_MAP_BASE_COLOR = 0,      /* "baseColor": sRGB RGB(A), × base colour factor */
+  JND_MAP_METALLIC_ROUGHNESS,  /* "metallicRoughness": G = roughness, B = metallic */
+  JND_MAP_NORMAL,              /* "normal": tangent-space normal, RGB = (xyz + 1) / 2 */
+  JND_MAP_OCCLUSION,           /* "occlusion": R = ambient occlusion */
+  JND_MAP_EMISSIVE,            /* "emissive": sRGB RGB, × emissive factor */
+  JND_MAP_SLOTS
+} jnd_map_slot;
+
+/* How a map's values are resampled (000 §4). */
+typedef enum {
+  JND_MAP_KIND_COLOR = 0,      /* sRGB-encoded colour: filtered in linear light; alpha as is */
+  JND_MAP_KIND_NORMAL,         /* unit vectors encoded as (v + 1) / 2: renormalised after filtering */
+  JND_MAP_KIND_DATA            /* plain values (roughness, metallic, occlusion) */
+} jnd_map_kind;
+
+typedef enum { JND_ALPHA_OPAQUE = 0, JND_ALPHA_MASK, JND_ALPHA_BLEND } jnd_alpha_mode;
+
+/* The slot's name ("baseColor", "metallicRoughness", "normal", "occlusion",
+ * "emissive") and the kind of values it holds. */
+const char *jnd_map_slot_name(jnd_map_slot slot);
+jnd_map_kind jnd_map_slot_kind(jnd_map_slot slot);
+
+/* Loads a glTF 2.0 (.gltf with external or embedded buffers, .glb) or OBJ +
+ * MTL file with assimp: triangulated, node transforms applied, tangents
+ * computed where the file has none (docs/render.md). A texture file that is
+ * missing or unreadable is not an error: the slot falls back to its factor
+ * and a warning is recorded (jnd_scene_warning). A malformed model, or one
+ * without triangles, is JND_ERR_FORMAT "PATH: problem"; a missing model
+ * JND_ERR_IO. *out is owned by the caller (jnd_scene_free). */
+jnd_status jnd_scene_load(const char *path, jnd_scene **out);
+
+/* Parameters of the built-in procedural asset. */
+typedef struct {
+  int map_size;          /* side of the square texture maps, pixels (default 2048) */
+  int shape;             /* 0: rounded box (default), 1: sphere */
+  uint64_t seed;         /* seed of the procedural detail (default 1) */
+} jnd_builtin_params;
+void jnd_builtin_defaults(jnd_builtin_params *p);
+
+/* Makes the built-in asset needing no files: a rounded box of side 2 (or a
+ * sphere of radius 1) in object units, centred at the origin, with one
+ * material "builtin" carrying baseColor (fine albedo detail), normal (from
+ * a height field), metallicRoughness (roughness variation) and occlusion
+ * maps of map_size² pixels. p may be NULL (defaults). */
+jnd_status jnd_scene_builtin(const jnd_builtin_params *p, jnd_scene **out);
+
+void jnd_scene_free(jnd_scene *s);
+
+/* The path the scene came from ("builtin" for the procedural asset). */
+const char *jnd_scene_path(const jnd_scene *s);
+
+/* Counts: meshes (after triangulation), triangles, materials. */
+int jnd_scene_mesh_count(const jnd_scene *s);
+size_t jnd_scene_triangle_count(const jnd_scene *s);
+int jnd_scene_material_count(const jnd_scene *s);
+const char *jnd_scene_material_name(const jnd_scene *s, int material);
+
+/* The bounding sphere of the scene (object units): centre[3] and radius. */
+void jnd_scene_bounds(const jnd_scene *s, double centre[3], double *radius);
+
+/* Warnings recorded while loading (missing textures, ...): count, and the
+ * i-th one-line message (owned by the scene). */
+int jnd_scene_warning_count(const jnd_scene *s);
+const char *jnd_scene_warning(const jnd_scene *s, int i);
+
+/* One texture map of a material. */
+typedef struct {
+  char name[128];        /* "MATERIAL/SLOT" */
+  int material;          /* material index */
+  jnd_map_slot slot;
+  jnd_map_kind kind;
+  int width, height;     /* resolution used for rendering now, pixels */
+  int orig_width, orig_height;  /* resolution in the file, pixels */
+  int channels;          /* 1–4 */
+  int uv_set;            /* texture coordinate set, 0 or 1 */
+} jnd_map_info;
+
+/* Number of texture maps (material slots that have a texture), and the
+ * description of map i (0 ≤ i < count), in material order then slot order. */
+int jnd_scene_map_count(const jnd_scene *s);
+jnd_status jnd_scene_map_info(const jnd_scene *s, int i, jnd_map_info *info);
+
+/* The index of the map called name ("MATERIAL/SLOT"), or -1. Material names
+ * that repeat get "#N" appended in file order (docs/render.md). */
+int jnd_scene_map_find(const jnd_scene *s, const char *name);
+
+/* Replaces map i for subsequent renderings by the original resampled to
+ * w × h pixels (any size ≥ 1, not only powers of two) with
+ * jnd_resample_map. w, h equal to the original restore it exactly. */
+jnd_status jnd_scene_map_resize(jnd_scene *s, int i, int w, int h);
+
+/* Replaces map i by a copy of img (the caller keeps img), in the slot's
+ * encoding: values 0..1, sRGB-encoded for colour slots, (v + 1) / 2 for
+ * normals; 1–4 channels, any size. */
+jnd_status jnd_scene_map_set(jnd_scene *s, int i, const jnd_image *img);
+
+/* Restores map i to the file's version. */
+void jnd_scene_map_restore(jnd_scene *s, int i);
+
+/* A copy of map i as used now (caller frees it); orig = 1 for the file's version. */
+jnd_status jnd_scene_map_get(const jnd_scene *s, int i, int orig, jnd_image *out);
+
+/* Resamples a texture map to w × h pixels with a separable Lanczos-3 filter
+ * (000 §4), widened by the scale factor when shrinking so that it
+ * antialiases. Colour maps (values sRGB-encoded 0..1) are filtered in linear
+ * light and re-encoded, with alpha filtered as is; normal maps are decoded
+ * to vectors, filtered and renormalised; data maps are filtered as plain
+ * values. Results are clamped to 0..1. Edges are clamped (wrap = 0) or
+ * wrapped (wrap = 1, for tiling maps). out is allocated (caller frees). */
+jnd_status jnd_resample_map(const jnd_image *in, int w, int h, jnd_map_kind kind, int wrap,
+                            jnd_image *out);
+
+/* ------------------------------------------------------------------------ */
+/* Renderer                                                                 */
+/* ------------------------------------------------------------------------ */
+/* A headless OpenGL 4.5 core renderer (EGL, no window system: a GPU through
+ * the EGL device platform when there is one, else Mesa's surfaceless
+ * platform, e.g. llvmpipe on the CPU). It shades with Cook–Torrance (GGX,
+ * Smith masking, Schlick Fresnel), normal, occlusion and emissive maps,
+ * image-based lighting from an equirectangular environment and up to
+ * JND_MAX_LIGHTS punctual lights; textures are sampled as engines do
+ * (full mip chains, trilinear, 8× anisotropic). An instance stays open for
+ * any number of renderings: meshes and textures are uploaded once per scene
+ * and only changed maps are uploaded again. Not thread-safe: one thread uses
+ * one renderer. See docs/render.md. */
+
+typedef struct jnd_renderer jnd_renderer;
+
+#define JND_MAX_LIGHTS 8
+
+typedef struct {
+  int width, height;        /* image size, pixels (default 512 × 512) */
+  int samples;              /* MSAA samples of the colour pass (default 4; capped by the driver) */
+  int anisotropy;           /* maximum anisotropy (default 8) */
+  const char *env_path;     /* equirectangular .hdr/.exr environment; NULL: the built-in studio */
+  const char *platform;     /* NULL/"auto", "device" or "surfaceless" (also $JND_EGL_PLATFORM) */
+} jnd_renderer_params;
+void jnd_renderer_defaults(jnd_renderer_params *p);
+
+/* Opens the EGL display and an OpenGL 4.5 core context, compiles the
+ * shaders and prepares the environment (diffuse irradiance as spherical
+ * harmonics, specular prefiltered per roughness; computed at load).
+ * JND_ERR_GL when no context can be had; JND_ERR_IO/FORMAT for a bad
+ * environment file. *out is owned by the caller (jnd_renderer_free). */
+jnd_status jnd_renderer_create(const jnd_renderer_params *p, jnd_renderer **out);
+void jnd_renderer_free(jnd_renderer *r);
+
+/* "GL_RENDERER string (EGL platform)", e.g. "llvmpipe (LLVM 15.0.6, 256 bits) (surfaceless)". */
+const char *jnd_renderer_description(const jnd_renderer *r);
+
+/* Changes the output size (pixels) for the next renderings. */
+jnd_status jnd_renderer_resize(jnd_renderer *r, int width, int height);
+
+/* A pinhole camera, object units. */
+typedef struct {
+  double eye[3], target[3], up[3];
+  double fov_y_deg;          /* vertical field of view, degrees */
+  double znear, zfar;        /* clip distances, object units (0: from the scene bounds) */
+} jnd_camera;
+
+typedef enum { JND_LIGHT_DIRECTIONAL = 0, JND_LIGHT_POINT, JND_LIGHT_SPOT } jnd_light_type;
+
+typedef struct {
+  jnd_light_type type;
+  double position[3];        /* point, spot: object units */
+  double direction[3];       /* directional, spot: the direction the light travels */
+  double color[3];           /* linear RGB, multiplied by intensity */
+  double intensity;          /* directional: illuminance (1 = white diffuse surface facing
+                                it reflects radiance 1/π); point/spot: intensity, falls off 1/d² */
+  double range;              /* point/spot: 0 = unlimited, else a smooth cut-off, object units */
+  double inner_deg, outer_deg; /* spot cone half-angles, degrees */
+} jnd_light;
+
+/* Outputs of a rendering (bit flags). */
+enum {
+  JND_OUT_COLOR = 1,         /* linear RGB (after exposure), 4× MSAA resolved */
+  JND_OUT_DEPTH = 2,         /* distance along the view axis, object units; 0 off the object */
+  JND_OUT_MASK = 4,          /* object coverage 0..1 (MSAA-resolved silhouette) */
+  JND_OUT_MOTION = 8,        /* screen displacement from the previous pose, pixels (x right, y down) */
+  JND_OUT_MIP = 16           /* per slot, the mip level sampled (−1 where no map or no object) */
+};
+
+/* Everything that defines one image. */
+typedef struct {
+  jnd_camera camera;
+  double model[16];          /* object-to-world transform, column-major (identity by default) */
+  int has_prev;              /* 1: prev_camera / prev_model give the previous pose for motion */
+  jnd_camera prev_camera;
+  double prev_model[16];
+  jnd_light lights[JND_MAX_LIGHTS];
+  int nlights;
+  double env_intensity;      /* multiplier on the environment (default 1; 0: no IBL) */
+  double env_rotation_deg;   /* rotation of the environment about +Y, degrees */
+  double exposure;           /* multiplier on the linear result (default 1) */
+  int background_env;        /* 1: the environment is visible behind the object; 0: black */
+  unsigned outputs;          /* JND_OUT_* (default colour) */
+} jnd_view;
+
+/* A view with a camera at distance 3 on +Z looking at the origin, fov 45°,
+ * no punctual lights, environment intensity 1, exposure 1, colour only. */
+void jnd_view_defaults(jnd_view *v);
+
+/* The images of one rendering (each allocated only when asked for; the
+ * caller frees them with jnd_frame_free). Row 0 is the top of the image. */
+typedef struct {
+  jnd_image color;           /* 3 channels, linear light */
+  jnd_image depth;           /* 1 channel */
+  jnd_image mask;            /* 1 channel */
+  jnd_image motion;          /* 2 channels */
+  jnd_image mip;             /* JND_MAP_SLOTS channels, in jnd_map_slot order */
+} jnd_frame;
+void jnd_frame_free(jnd_frame *f);
+
+/* Renders scene as seen from view into frame (allocated; previous contents
+ * are not freed). The scene's meshes and textures are uploaded on first use
+ * and kept while the same scene is rendered; maps changed since (resize,
+ * set, restore) are uploaded again. */
+jnd_status jnd_render(jnd_renderer *r, const jnd_scene *scene, const jnd_view *view,
+                      jnd_frame *frame);
+
+/* Display transform: linear RGB × 1 → sRGB-encoded 0..1 (clamped), for PNG. */
+jnd_status jnd_render_to_srgb(const jnd_image *linear, jnd_image *out);
+
+/* How views are sampled around an object. */
+typedef struct {
+  int count;                 /* number of views (default 8) */
+  uint64_t seed;             /* seed of the rotation of the point set and of the lights (default 1) */
+  double coverage;           /* fraction of the image height the bounding sphere fills (default 0.8) */
+  double distance;           /* > 0: camera distance from the centre in object units, overriding coverage */
+  double fov_y_deg;          /* vertical field of view, degrees (default 45) */
+  double aspect;             /* width / height of the image (default 1) */
+  double min_elevation_deg;  /* lowest camera elevation, degrees (default −60) */
+  double max_elevation_deg;  /* highest (default 75) */
+  int lights;                /* directional key lights sampled per view (default 1) */
+  double light_intensity;    /* their illuminance (default 2) */
+} jnd_view_sampling;
+void jnd_view_sampling_defaults(jnd_view_sampling *p);
+
+/* Fills views[0..count-1] (caller-allocated) with cameras on a sphere around
+ * the scene's bounding sphere: a Fibonacci spiral over the allowed band of
+ * elevations, rotated about +Y by a seeded angle, looking at the centre;
+ * each gets p->lights directional lights from the seeded generator, coming
+ * from above and from the camera's side. Deterministic in p. Every other
+ * field is from jnd_view_defaults. */
+jnd_status jnd_views_sample(const jnd_scene *scene, const jnd_view_sampling *p, jnd_view *views);
+
+/* The camera distance (object units) at which a sphere of radius r fills
+ * fraction coverage of the image height with vertical field of view fov. */
+double jnd_camera_distance_for_coverage(double radius, double coverage, double fov_y_deg);
+
+/* ------------------------------------------------------------------------ */
 /* Texture-set PCA (001)                                                    */
 /* ------------------------------------------------------------------------ */
 /* A material's maps (albedo, normal, roughness, ...) packed as one (w·h) × C

@@ -1,0 +1,189 @@
+/* Cameras and lights: matrices, and deterministic sampling of views around
+ * an object. */
+#include <math.h>
+#include <string.h>
+
+#include "core/core.h"
+#include "render/render.h"
+#include "scene/scene.h"
+
+void jnd_mat4_identity(double m[16]) {
+  memset(m, 0, 16 * sizeof *m);
+  m[0] = m[5] = m[10] = m[15] = 1;
+}
+
+void jnd_mat4_mul(const double a[16], const double b[16], double out[16]) {
+  double r[16];
+  for (int c = 0; c < 4; c++)
+    for (int rr = 0; rr < 4; rr++) {
+      double s = 0;
+      for (int k = 0; k < 4; k++) s += a[k * 4 + rr] * b[c * 4 + k];
+      r[c * 4 + rr] = s;
+    }
+  memcpy(out, r, sizeof r);
+}
+
+static void normalize3(double v[3]) {
+  double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (l > 0)
+    for (int k = 0; k < 3; k++) v[k] /= l;
+}
+static void cross3(const double a[3], const double b[3], double o[3]) {
+  o[0] = a[1] * b[2] - a[2] * b[1];
+  o[1] = a[2] * b[0] - a[0] * b[2];
+  o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+void jnd_mat4_look_at(const double eye[3], const double target[3], const double up[3], double out[16]) {
+  double f[3] = {target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]}, s[3], u[3];
+  normalize3(f);
+  cross3(f, up, s);
+  if (s[0] * s[0] + s[1] * s[1] + s[2] * s[2] < 1e-12) {   /* looking along up */
+    double alt[3] = {0, 0, 1};
+    cross3(f, alt, s);
+  }
+  normalize3(s);
+  cross3(s, f, u);
+  jnd_mat4_identity(out);
+  for (int k = 0; k < 3; k++) {
+    out[k * 4 + 0] = s[k];
+    out[k * 4 + 1] = u[k];
+    out[k * 4 + 2] = -f[k];
+  }
+  out[12] = -(s[0] * eye[0] + s[1] * eye[1] + s[2] * eye[2]);
+  out[13] = -(u[0] * eye[0] + u[1] * eye[1] + u[2] * eye[2]);
+  out[14] = f[0] * eye[0] + f[1] * eye[1] + f[2] * eye[2];
+}
+
+void jnd_mat4_perspective(double fov_y_deg, double aspect, double zn, double zf, double out[16]) {
+  double f = 1.0 / tan(fov_y_deg * M_PI / 360);
+  memset(out, 0, 16 * sizeof *out);
+  out[0] = f / aspect;
+  out[5] = f;
+  out[10] = (zf + zn) / (zn - zf);
+  out[11] = -1;
+  out[14] = 2 * zf * zn / (zn - zf);
+}
+
+int jnd_mat4_invert(const double m[16], double out[16]) {
+  double a[4][8];
+  for (int r = 0; r < 4; r++)
+    for (int c = 0; c < 4; c++) {
+      a[r][c] = m[c * 4 + r];
+      a[r][c + 4] = r == c;
+    }
+  for (int c = 0; c < 4; c++) {
+    int piv = c;
+    for (int r = c + 1; r < 4; r++)
+      if (fabs(a[r][c]) > fabs(a[piv][c])) piv = r;
+    if (fabs(a[piv][c]) < 1e-300) return 0;
+    if (piv != c)
+      for (int k = 0; k < 8; k++) {
+        double t = a[c][k];
+        a[c][k] = a[piv][k];
+        a[piv][k] = t;
+      }
+    double d = a[c][c];
+    for (int k = 0; k < 8; k++) a[c][k] /= d;
+    for (int r = 0; r < 4; r++)
+      if (r != c) {
+        double f = a[r][c];
+        for (int k = 0; k < 8; k++) a[r][k] -= f * a[c][k];
+      }
+  }
+  for (int r = 0; r < 4; r++)
+    for (int c = 0; c < 4; c++) out[c * 4 + r] = a[r][c + 4];
+  return 1;
+}
+
+void jnd_mat3_normal(const double m[16], double out[9]) {
+  double inv[16];
+  if (!jnd_mat4_invert(m, inv)) jnd_mat4_identity(inv);
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++) out[c * 3 + r] = inv[r * 4 + c];   /* transpose */
+}
+
+void jnd_view_defaults(jnd_view *v) {
+  memset(v, 0, sizeof *v);
+  v->camera.eye[2] = 3;
+  v->camera.up[1] = 1;
+  v->camera.fov_y_deg = 45;
+  jnd_mat4_identity(v->model);
+  jnd_mat4_identity(v->prev_model);
+  v->prev_camera = v->camera;
+  v->env_intensity = 1;
+  v->exposure = 1;
+  v->outputs = JND_OUT_COLOR;
+}
+
+void jnd_view_sampling_defaults(jnd_view_sampling *p) {
+  memset(p, 0, sizeof *p);
+  p->count = 8;
+  p->seed = 1;
+  p->coverage = 0.8;
+  p->fov_y_deg = 45;
+  p->aspect = 1;
+  p->min_elevation_deg = -60;
+  p->max_elevation_deg = 75;
+  p->lights = 1;
+  p->light_intensity = 2;
+}
+
+double jnd_camera_distance_for_coverage(double radius, double coverage, double fov_y_deg) {
+  /* a sphere at distance d subtends a half-angle asin(r/d); its image spans
+   * tan(asin(r/d)) / tan(fov/2) of the half-height */
+  double t = coverage * tan(fov_y_deg * M_PI / 360);
+  return radius / sin(atan(t));
+}
+
+jnd_status jnd_views_sample(const jnd_scene *scene, const jnd_view_sampling *p, jnd_view *views) {
+  if (p->count < 1) return jnd_fail(JND_ERR_ARG, "views: count %d is not positive", p->count);
+  if (!(p->fov_y_deg > 0 && p->fov_y_deg < 180))
+    return jnd_fail(JND_ERR_ARG, "views: field of view %g is outside (0, 180)", p->fov_y_deg);
+  if (p->distance <= 0 && !(p->coverage > 0 && p->coverage <= 10))
+    return jnd_fail(JND_ERR_ARG, "views: coverage %g is outside (0, 10]", p->coverage);
+  if (p->lights < 0 || p->lights > JND_MAX_LIGHTS)
+    return jnd_fail(JND_ERR_ARG, "views: %d lights (at most %d)", p->lights, JND_MAX_LIGHTS);
+  double c[3], r;
+  jnd_scene_bounds(scene, c, &r);
+  double dist = p->distance > 0 ? p->distance : jnd_camera_distance_for_coverage(r, p->coverage, p->fov_y_deg);
+  if (dist <= r * 1.0001 && p->distance <= 0) dist = r * 1.0001;
+  jnd_rng rng;
+  jnd_rng_seed(&rng, p->seed);
+  double rot = 2 * M_PI * jnd_rng_uniform(&rng);
+  /* Fibonacci spiral on the band of elevations: equal areas per view */
+  double z0 = sin(p->min_elevation_deg * M_PI / 180), z1 = sin(p->max_elevation_deg * M_PI / 180);
+  const double golden = M_PI * (3 - sqrt(5.0));
+  for (int i = 0; i < p->count; i++) {
+    jnd_view *v = &views[i];
+    jnd_view_defaults(v);
+    double y = z1 + (z0 - z1) * (i + 0.5) / p->count;
+    double rr = sqrt(fmax(0, 1 - y * y)), az = rot + golden * i;
+    double d[3] = {rr * sin(az), y, rr * cos(az)};
+    for (int k = 0; k < 3; k++) {
+      v->camera.eye[k] = c[k] + dist * d[k];
+      v->camera.target[k] = c[k];
+    }
+    v->camera.up[0] = v->camera.up[2] = 0;
+    v->camera.up[1] = 1;
+    v->camera.fov_y_deg = p->fov_y_deg;
+    v->camera.znear = fmax(dist - 1.5 * r, dist * 1e-3);
+    v->camera.zfar = dist + 1.5 * r;
+    v->prev_camera = v->camera;
+    v->nlights = p->lights;
+    for (int l = 0; l < p->lights; l++) {
+      /* from above (elevation 20–70°), within ±100° of the camera's azimuth */
+      double el = (20 + 50 * jnd_rng_uniform(&rng)) * M_PI / 180;
+      double la = az + (jnd_rng_uniform(&rng) * 200 - 100) * M_PI / 180;
+      jnd_light *L = &v->lights[l];
+      memset(L, 0, sizeof *L);
+      L->type = JND_LIGHT_DIRECTIONAL;
+      L->direction[0] = -cos(el) * sin(la);
+      L->direction[1] = -sin(el);
+      L->direction[2] = -cos(el) * cos(la);
+      L->color[0] = L->color[1] = L->color[2] = 1;
+      L->intensity = p->light_intensity;
+    }
+  }
+  return JND_OK;
+}

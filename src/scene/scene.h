@@ -1,0 +1,76 @@
+/* Internal view of a scene, shared by the scene and render layers. */
+#ifndef JND_SCENE_H
+#define JND_SCENE_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "jnd.h"
+
+/* Interleaved vertex layout uploaded as is by the renderer. */
+enum { JND_VTX_FLOATS = 18 };   /* pos 3, normal 3, tangent 4, uv0 2, uv1 2, colour 4 */
+
+typedef struct {
+  float *vertices;        /* nverts × JND_VTX_FLOATS */
+  uint32_t *indices;      /* 3 × ntris */
+  size_t nverts, ntris;
+  int material;
+} jnd_mesh;
+
+typedef enum { JND_WRAP_REPEAT = 0, JND_WRAP_CLAMP, JND_WRAP_MIRROR } jnd_wrap;
+
+typedef struct {
+  jnd_image orig;         /* the file's map, values 0..1 in the slot's encoding */
+  jnd_image now;          /* a replacement (resampled or set); data NULL = use orig */
+  int uv_set;
+  jnd_wrap wrap_s, wrap_t;
+  int mag_nearest;        /* glTF sampler magFilter NEAREST */
+  int min_nearest;        /* glTF sampler minFilter NEAREST* (mips still used) */
+  uint64_t version;       /* changes whenever the map in use changes (unique across scenes) */
+} jnd_map;
+
+typedef struct {
+  char name[96];
+  float base_color[4];
+  float metallic, roughness;
+  float normal_scale, occlusion_strength;
+  float emissive[3];
+  jnd_alpha_mode alpha_mode;
+  float alpha_cutoff;
+  int double_sided;
+  int map[JND_MAP_SLOTS];  /* index into scene maps, or -1 */
+} jnd_material;
+
+struct jnd_scene {
+  char path[1024];
+  jnd_mesh *meshes;
+  int nmeshes;
+  jnd_material *materials;
+  int nmaterials;
+  jnd_map *maps;
+  int nmaps;
+  char **warnings;
+  int nwarnings;
+  double centre[3], radius;
+  uint64_t id;             /* unique per scene object, so a renderer knows what it uploaded */
+};
+
+/* The map in use now. */
+static inline const jnd_image *jnd_map_image(const jnd_map *m) {
+  return m->now.data ? &m->now : &m->orig;
+}
+
+jnd_scene *jnd_scene_new(const char *path);
+jnd_status jnd_scene_add_warning(jnd_scene *s, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+/* Adds a map for (material, slot); takes ownership of img. Returns its index or -1. */
+int jnd_scene_add_map(jnd_scene *s, int material, jnd_map_slot slot, jnd_image *img);
+void jnd_material_defaults(jnd_material *m, const char *name);
+/* Computes per-vertex tangents (xyz, handedness in w) for a mesh that has
+ * normals and uv0: per-triangle tangents weighted by the corner angle,
+ * Gram–Schmidt orthogonalised to the normal. */
+void jnd_mesh_compute_tangents(jnd_mesh *m);
+/* Bounding sphere of all meshes (centre of the box, radius to the farthest vertex). */
+void jnd_scene_compute_bounds(jnd_scene *s);
+uint64_t jnd_scene_next_version(void);
+
+#endif
