@@ -445,6 +445,7 @@ static void draw_meshes(jnd_renderer *r, const jnd_scene *s, const double eye[3]
     for (int j = 0; j < n; j++) {
       const gpu_mesh *g = &r->meshes[(int)order[j][1]];
       set_material(r, s, &s->materials[g->material]);
+      glProgramUniform1f(r->prog, U(r->prog, "u_material"), (float)g->material);
       glBindVertexArray(g->vao);
       glDrawElements(GL_TRIANGLES, g->count, GL_UNSIGNED_INT, NULL);
     }
@@ -621,6 +622,9 @@ jnd_status jnd_render(jnd_renderer *r, const jnd_scene *scene, const jnd_view *v
     static const int m4[4] = {0, 1, 2, 3}, m1[1] = {0};
     read_back(r, r->aux_fbo, GL_COLOR_ATTACHMENT2, m4, 4, &four);
     read_back(r, r->aux_fbo, GL_COLOR_ATTACHMENT3, m1, 1, &one);
+    if ((st = jnd_image_alloc(&f.material, w, h, 1))) goto fail;
+    static const int mat[1] = {1};
+    read_back(r, r->aux_fbo, GL_COLOR_ATTACHMENT3, mat, 1, &f.material);
   }
   glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
   if ((st = gl_check("read-back"))) goto fail;
@@ -637,6 +641,7 @@ void jnd_frame_free(jnd_frame *f) {
   jnd_image_free(&f->mask);
   jnd_image_free(&f->motion);
   jnd_image_free(&f->mip);
+  jnd_image_free(&f->material);
 }
 
 jnd_status jnd_render_to_srgb(const jnd_image *linear, jnd_image *out) {

@@ -17,7 +17,7 @@ in float v_depth;
 layout(location = 0) out vec4 o_color;  // linear RGB × exposure, coverage
 layout(location = 1) out vec4 o_aux;    // depth, motion x, motion y (pixels), 1
 layout(location = 2) out vec4 o_mip0;   // mip level: baseColor, metallicRoughness, normal, occlusion
-layout(location = 3) out vec4 o_mip1;   // mip level: emissive
+layout(location = 3) out vec4 o_mip1;   // mip level: emissive; material index
 
 const float PI = 3.14159265358979;
 
@@ -32,6 +32,7 @@ uniform int u_uvset[5];
 uniform vec2 u_size[5];
 uniform float u_levels[5];
 uniform float u_max_aniso;
+uniform float u_material;
 
 uniform vec4 u_base_color;
 uniform float u_metallic;
@@ -182,5 +183,5 @@ void main() {
   vec2 prev = (v_prev_clip.xy / v_prev_clip.w * 0.5 + 0.5) * u_viewport;
   o_aux = vec4(v_depth, cur.x - prev.x, -(cur.y - prev.y), 1.0);
   o_mip0 = vec4(mip[0], mip[1], mip[2], mip[3]);
-  o_mip1 = vec4(mip[4], -1.0, -1.0, -1.0);
+  o_mip1 = vec4(mip[4], u_material, -1.0, -1.0);
 }

@@ -1,0 +1,863 @@
+/* jnd render MODEL -o DIR — frames of an asset under deterministic views. */
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "cli/cli.h"
+
+#define MAX_EDITS 64
+
+static void help(void) {
+  printf(
+      "usage: jnd render MODEL -o DIR [options]\n"
+      "\n"
+      "Renders MODEL (glTF 2.0 .gltf/.glb, or OBJ + MTL) headlessly with OpenGL 4.5\n"
+      "(a GPU through EGL when there is one, else Mesa llvmpipe on the CPU) from N\n"
+      "deterministic views around it, with physically based shading and image-based\n"
+      "lighting, and writes the images and DIR/views.json. MODEL may be the word\n"
+      "`builtin` (a rounded box with a procedural 2048^2 PBR material, no files\n"
+      "needed) or `builtin:sphere`. See docs/render.md.\n"
+      "\n"
+      "views:\n"
+      "  --views N           number of views on a Fibonacci spiral around the object (8)\n"
+      "  --seed S            seed of the spiral's rotation and of the lights (1)\n"
+      "  --size WxH          image size in pixels (512x512)\n"
+      "  --coverage F        fraction of the image height the bounding sphere fills (0.8)\n"
+      "  --distance D        camera distance from the centre in object units (overrides --coverage)\n"
+      "  --fov DEG           vertical field of view, degrees (45)\n"
+      "  --cameras FILE      explicit cameras from JSON: a list (or {\"views\": [...]}, e.g. a\n"
+      "                      views.json) of {\"eye\":[x,y,z], \"target\":[..], \"up\":[..],\n"
+      "                      \"fov_y_deg\":45, \"prev\":{...}, \"lights\":[...]}\n"
+      "  --motion-orbit DEG  the previous pose for motion vectors: the camera orbited by DEG\n"
+      "                      degrees about the vertical axis through the centre (0.5)\n"
+      "\n"
+      "lighting:\n"
+      "  --env FILE          equirectangular environment (.hdr or .exr, linear); default: a\n"
+      "                      built-in neutral studio\n"
+      "  --env-intensity K   multiplier on the environment (1; 0 turns IBL off)\n"
+      "  --env-rotation DEG  rotation of the environment about +Y (0)\n"
+      "  --background MODE   black (default) or env (the environment behind the object)\n"
+      "  --lights N          directional key lights sampled per view (1)\n"
+      "  --light-intensity E their illuminance (2)\n"
+      "  --light SPEC        a fixed light instead of the sampled ones (repeatable, <= 8):\n"
+      "                        dir:DX,DY,DZ[:INTENSITY[:R,G,B]]      (direction of travel)\n"
+      "                        point:X,Y,Z[:INTENSITY[:R,G,B]]\n"
+      "                        spot:X,Y,Z:DX,DY,DZ[:INTENSITY[:OUTER_DEG]]\n"
+      "  --exposure E        multiplier on linear radiance before the display transform (1)\n"
+      "\n"
+      "texture maps (named MATERIAL/SLOT, SLOT one of baseColor, metallicRoughness,\n"
+      "normal, occlusion, emissive; * matches every material, a bare * every map):\n"
+      "  --list-maps         print the maps and exit\n"
+      "  --scale MAP=F       resample the map by factor F with Lanczos-3 (000 §4)\n"
+      "  --scale MAP=WxH     resample the map to W x H pixels\n"
+      "  --replace MAP=FILE  use an image file instead (PNG/JPEG in the slot's encoding)\n"
+      "  --map-size N        side of the builtin asset's maps (2048)\n"
+      "  --strict            a texture that cannot be loaded is an error (default: the slot\n"
+      "                      falls back to its factor with a warning, as engines do)\n"
+      "\n"
+      "outputs (written to DIR, listed in DIR/views.json):\n"
+      "  -o, --output DIR    the folder (created)\n"
+      "  --outputs LIST      any of color,depth,mask,motion,mip,exr (default color,mask):\n"
+      "                        color  view_NNN.png, 8-bit sRGB\n"
+      "                        exr    also view_NNN.exr (linear) and float depth/motion/mip\n"
+      "                        depth  view_NNN_depth.png, 16-bit, depth / depth_scale\n"
+      "                        mask   view_NNN_mask.png, 8-bit coverage\n"
+      "                        motion view_NNN_motion.png, 16-bit RGB, 0.5 + d / (2 motion_scale)\n"
+      "                        mip    view_NNN_mip.png, 16-bit RGBA, (level + 1) / 64 for\n"
+      "                               baseColor, metallicRoughness, normal, occlusion\n"
+      "  --samples N         MSAA samples (4)\n"
+      "  --anisotropy N      maximum anisotropic filtering (8; 1 = trilinear only, much faster\n"
+      "                      on llvmpipe)\n"
+      "  --platform P        EGL platform: auto (default), device, surfaceless\n"
+      "  --json FILE|-       also write the manifest there (- for stdout)\n"
+      "  --timings           add load and render times to the manifest (they vary run to run)\n"
+      "  --quiet             nothing on stderr but errors\n"
+      "\n"
+      "The same command on the same machine writes identical images.\n"
+      "Exit status: 0, 2 for bad input (one line: jnd: FILE: problem).\n");
+}
+
+typedef struct {
+  const char *map;   /* pattern */
+  const char *file;  /* --replace */
+  double factor;     /* --scale F */
+  int w, h;          /* --scale WxH */
+} map_edit;
+
+static int bad(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+static int bad(const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  fputs("jnd: ", stderr);
+  vfprintf(stderr, fmt, ap);
+  fputc('\n', stderr);
+  va_end(ap);
+  return EXIT_BAD;
+}
+
+/* MAP matches "MAT/SLOT" with "*" for the material, or a bare "*". */
+static int map_matches(const char *pattern, const char *name) {
+  if (strcmp(pattern, "*") == 0) return 1;
+  if (strncmp(pattern, "*/", 2) == 0) {
+    const char *slash = strrchr(name, '/');
+    return slash && strcmp(slash + 1, pattern + 2) == 0;
+  }
+  return strcmp(pattern, name) == 0;
+}
+
+static int parse_vec3(const char *s, double v[3], const char **end) {
+  char *e;
+  for (int k = 0; k < 3; k++) {
+    errno = 0;
+    v[k] = strtod(s, &e);
+    if (e == s || errno || !isfinite(v[k])) return 0;
+    s = e;
+    if (k < 2) {
+      if (*s != ',') return 0;
+      s++;
+    }
+  }
+  *end = s;
+  return 1;
+}
+
+static int parse_light(const char *spec, jnd_light *L) {
+  memset(L, 0, sizeof *L);
+  L->color[0] = L->color[1] = L->color[2] = 1;
+  L->intensity = 2;
+  const char *s;
+  if (strncmp(spec, "dir:", 4) == 0) {
+    L->type = JND_LIGHT_DIRECTIONAL;
+    if (!parse_vec3(spec + 4, L->direction, &s)) return 0;
+  } else if (strncmp(spec, "point:", 6) == 0) {
+    L->type = JND_LIGHT_POINT;
+    L->intensity = 10;
+    if (!parse_vec3(spec + 6, L->position, &s)) return 0;
+  } else if (strncmp(spec, "spot:", 5) == 0) {
+    L->type = JND_LIGHT_SPOT;
+    L->intensity = 10;
+    L->outer_deg = 30;
+    L->inner_deg = 20;
+    if (!parse_vec3(spec + 5, L->position, &s) || *s != ':' || !parse_vec3(s + 1, L->direction, &s)) return 0;
+  } else {
+    return 0;
+  }
+  if (*s == 0) return 1;
+  if (*s != ':') return 0;
+  char *e;
+  L->intensity = strtod(s + 1, &e);
+  if (e == s + 1 || !isfinite(L->intensity) || L->intensity < 0) return 0;
+  s = e;
+  if (*s == 0) return 1;
+  if (*s != ':') return 0;
+  if (L->type == JND_LIGHT_SPOT) {
+    L->outer_deg = strtod(s + 1, &e);
+    if (e == s + 1 || !(L->outer_deg > 0 && L->outer_deg < 90)) return 0;
+    L->inner_deg = 0.8 * L->outer_deg;
+    return *e == 0;
+  }
+  return parse_vec3(s + 1, L->color, &s) && *s == 0;
+}
+
+static cJSON *vec3_json(const double v[3]) {
+  cJSON *a = cJSON_CreateArray();
+  for (int k = 0; k < 3; k++) cJSON_AddItemToArray(a, cJSON_CreateNumber(v[k]));
+  return a;
+}
+
+static cJSON *camera_json(const jnd_camera *c) {
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddItemToObject(o, "eye", vec3_json(c->eye));
+  cJSON_AddItemToObject(o, "target", vec3_json(c->target));
+  cJSON_AddItemToObject(o, "up", vec3_json(c->up));
+  cJSON_AddNumberToObject(o, "fov_y_deg", c->fov_y_deg);
+  cJSON_AddNumberToObject(o, "znear", c->znear);
+  cJSON_AddNumberToObject(o, "zfar", c->zfar);
+  return o;
+}
+
+static cJSON *light_json(const jnd_light *L) {
+  static const char *const types[3] = {"directional", "point", "spot"};
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddStringToObject(o, "type", types[L->type]);
+  if (L->type != JND_LIGHT_DIRECTIONAL) cJSON_AddItemToObject(o, "position", vec3_json(L->position));
+  if (L->type != JND_LIGHT_POINT) cJSON_AddItemToObject(o, "direction", vec3_json(L->direction));
+  cJSON_AddItemToObject(o, "color", vec3_json(L->color));
+  cJSON_AddNumberToObject(o, "intensity", L->intensity);
+  if (L->range > 0) cJSON_AddNumberToObject(o, "range", L->range);
+  if (L->type == JND_LIGHT_SPOT) {
+    cJSON_AddNumberToObject(o, "inner_deg", L->inner_deg);
+    cJSON_AddNumberToObject(o, "outer_deg", L->outer_deg);
+  }
+  return o;
+}
+
+static int json_vec3(const cJSON *o, const char *key, double v[3]) {
+  const cJSON *a = cJSON_GetObjectItemCaseSensitive(o, key);
+  if (!a) return 0;
+  if (!cJSON_IsArray(a) || cJSON_GetArraySize(a) != 3) return -1;
+  for (int k = 0; k < 3; k++) {
+    const cJSON *x = cJSON_GetArrayItem(a, k);
+    if (!cJSON_IsNumber(x) || !isfinite(x->valuedouble)) return -1;
+    v[k] = x->valuedouble;
+  }
+  return 1;
+}
+
+static double json_num(const cJSON *o, const char *key, double dflt) {
+  const cJSON *x = cJSON_GetObjectItemCaseSensitive(o, key);
+  return cJSON_IsNumber(x) && isfinite(x->valuedouble) ? x->valuedouble : dflt;
+}
+
+/* A camera from {"eye", "target", "up", "fov_y_deg"|"fov", "znear", "zfar"}. */
+static int camera_from_json(const cJSON *o, const double centre[3], double fov, jnd_camera *c) {
+  memset(c, 0, sizeof *c);
+  for (int k = 0; k < 3; k++) c->target[k] = centre[k];
+  c->up[1] = 1;
+  if (!cJSON_IsObject(o) || json_vec3(o, "eye", c->eye) != 1) return 0;
+  if (json_vec3(o, "target", c->target) < 0 || json_vec3(o, "up", c->up) < 0) return 0;
+  c->fov_y_deg = json_num(o, "fov_y_deg", json_num(o, "fov", fov));
+  c->znear = json_num(o, "znear", 0);
+  c->zfar = json_num(o, "zfar", 0);
+  return c->fov_y_deg > 0 && c->fov_y_deg < 180;
+}
+
+static int light_from_json(const cJSON *o, jnd_light *L) {
+  memset(L, 0, sizeof *L);
+  const cJSON *t = cJSON_GetObjectItemCaseSensitive(o, "type");
+  if (!cJSON_IsString(t)) return 0;
+  if (strcmp(t->valuestring, "directional") == 0) L->type = JND_LIGHT_DIRECTIONAL;
+  else if (strcmp(t->valuestring, "point") == 0) L->type = JND_LIGHT_POINT;
+  else if (strcmp(t->valuestring, "spot") == 0) L->type = JND_LIGHT_SPOT;
+  else return 0;
+  L->color[0] = L->color[1] = L->color[2] = 1;
+  if (json_vec3(o, "position", L->position) < 0 || json_vec3(o, "direction", L->direction) < 0 ||
+      json_vec3(o, "color", L->color) < 0)
+    return 0;
+  L->intensity = json_num(o, "intensity", 1);
+  L->range = json_num(o, "range", 0);
+  L->inner_deg = json_num(o, "inner_deg", 20);
+  L->outer_deg = json_num(o, "outer_deg", 30);
+  return 1;
+}
+
+/* Reads --cameras: returns the number of views (views allocated), or -1. */
+static int read_cameras(const char *path, const jnd_scene *scene, double fov, jnd_view **out) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return bad("%s: cannot open (%s)", path, strerror(errno)), -1;
+  char *text = NULL;
+  size_t n = 0, cap = 0;
+  for (;;) {
+    if (n + 65536 > cap) {
+      cap = cap ? cap * 2 : 131072;
+      if (cap > ((size_t)64 << 20)) {
+        free(text);
+        fclose(f);
+        return bad("%s: too large", path), -1;
+      }
+      char *t = realloc(text, cap + 1);
+      if (!t) break;
+      text = t;
+    }
+    size_t k = fread(text + n, 1, cap - n, f);
+    n += k;
+    if (k == 0) break;
+  }
+  fclose(f);
+  if (!text) return bad("%s: out of memory", path), -1;
+  text[n] = 0;
+  cJSON *root = cJSON_Parse(text);
+  free(text);
+  const cJSON *list = root;
+  if (cJSON_IsObject(root)) list = cJSON_GetObjectItemCaseSensitive(root, "views");
+  if (!cJSON_IsArray(list) || cJSON_GetArraySize(list) < 1) {
+    cJSON_Delete(root);
+    return bad("%s: %s", path, "not a JSON list of cameras (or {\"views\": [...]})"), -1;
+  }
+  int count = cJSON_GetArraySize(list);
+  jnd_view *views = calloc((size_t)count, sizeof *views);
+  if (!views) {
+    cJSON_Delete(root);
+    return -1;
+  }
+  double centre[3], radius;
+  jnd_scene_bounds(scene, centre, &radius);
+  for (int i = 0; i < count; i++) {
+    const cJSON *e = cJSON_GetArrayItem(list, i);
+    const cJSON *cam = cJSON_GetObjectItemCaseSensitive(e, "camera");
+    jnd_view *v = &views[i];
+    jnd_view_defaults(v);
+    char what[64];
+    snprintf(what, sizeof what, "camera %d is invalid", i);
+    if (!camera_from_json(cam ? cam : e, centre, fov, &v->camera)) {
+      free(views);
+      cJSON_Delete(root);
+      return bad("%s: %s", path, what), -1;
+    }
+    v->prev_camera = v->camera;
+    const cJSON *prev = cJSON_GetObjectItemCaseSensitive(e, "prev");
+    if (!prev) prev = cJSON_GetObjectItemCaseSensitive(e, "prev_camera");
+    if (prev) {
+      if (!camera_from_json(prev, centre, fov, &v->prev_camera)) {
+        free(views);
+        cJSON_Delete(root);
+        return bad("%s: %s", path, what), -1;
+      }
+      v->has_prev = 1;
+    }
+    const cJSON *lights = cJSON_GetObjectItemCaseSensitive(e, "lights");
+    v->nlights = -1;   /* not given: filled later */
+    if (cJSON_IsArray(lights)) {
+      v->nlights = 0;
+      const cJSON *l;
+      cJSON_ArrayForEach(l, lights) {
+        if (v->nlights >= JND_MAX_LIGHTS || !light_from_json(l, &v->lights[v->nlights])) {
+          free(views);
+          cJSON_Delete(root);
+          return bad("%s: %s", path, "a light is invalid (or more than 8)"), -1;
+        }
+        v->nlights++;
+      }
+    }
+  }
+  cJSON_Delete(root);
+  *out = views;
+  return count;
+}
+
+/* The camera orbited by deg about the vertical axis through the target. */
+static void orbit(const jnd_camera *c, double deg, jnd_camera *out) {
+  *out = *c;
+  double a = deg * M_PI / 180, cs = cos(a), sn = sin(a);
+  double dx = c->eye[0] - c->target[0], dz = c->eye[2] - c->target[2];
+  out->eye[0] = c->target[0] + cs * dx + sn * dz;
+  out->eye[2] = c->target[2] - sn * dx + cs * dz;
+}
+
+static int write_png(const char *dir, const char *name, const jnd_image *img, int bits, cJSON *view,
+                     const char *key) {
+  char path[4200];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  if (jnd_image_write_png(path, img, bits) != JND_OK) {
+    cli_error("%s", jnd_last_error());
+    return 0;
+  }
+  cJSON_AddStringToObject(view, key, name);
+  return 1;
+}
+
+static int write_exr(const char *dir, const char *name, const jnd_image *img, const char *const *names,
+                     cJSON *view, const char *key) {
+  char path[4200];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  if (jnd_image_write_exr(path, img, names, 0) != JND_OK) {
+    cli_error("%s", jnd_last_error());
+    return 0;
+  }
+  cJSON_AddStringToObject(view, key, name);
+  return 1;
+}
+
+static int mkdir_p(const char *dir) {
+  char buf[4096];
+  snprintf(buf, sizeof buf, "%s", dir);
+  for (char *p = buf + 1; *p; p++)
+    if (*p == '/') {
+      *p = 0;
+      if (mkdir(buf, 0777) != 0 && errno != EEXIST) return 0;
+      *p = '/';
+    }
+  if (mkdir(buf, 0777) != 0 && errno != EEXIST) return 0;
+  struct stat st;
+  return stat(buf, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+enum { O_COLOR = 1, O_DEPTH = 2, O_MASK = 4, O_MOTION = 8, O_MIP = 16, O_EXR = 32 };
+
+static int parse_outputs(const char *v, unsigned *out) {
+  char buf[256];
+  snprintf(buf, sizeof buf, "%s", v);
+  *out = 0;
+  char *save = NULL;
+  for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+    if (strcmp(t, "color") == 0 || strcmp(t, "colour") == 0) *out |= O_COLOR;
+    else if (strcmp(t, "depth") == 0) *out |= O_DEPTH;
+    else if (strcmp(t, "mask") == 0) *out |= O_MASK;
+    else if (strcmp(t, "motion") == 0) *out |= O_MOTION;
+    else if (strcmp(t, "mip") == 0) *out |= O_MIP;
+    else if (strcmp(t, "exr") == 0) *out |= O_EXR;
+    else return 0;
+  }
+  return *out != 0;
+}
+
+static int apply_edits(jnd_scene *scene, const map_edit *edits, int nedits) {
+  for (int e = 0; e < nedits; e++) {
+    int hits = 0;
+    jnd_image img = {0};
+    jnd_image_info info;
+    if (edits[e].file && jnd_image_read(edits[e].file, &img, &info) != JND_OK) {
+      cli_error("%s", jnd_last_error());
+      return 0;
+    }
+    for (int i = 0; i < jnd_scene_map_count(scene); i++) {
+      jnd_map_info mi;
+      jnd_scene_map_info(scene, i, &mi);
+      if (!map_matches(edits[e].map, mi.name)) continue;
+      hits++;
+      jnd_status st;
+      if (edits[e].file) {
+        if (info.encoding == JND_ENCODING_LINEAR && mi.kind == JND_MAP_KIND_COLOR) {
+          cli_error("%s: a linear image cannot replace the colour map %s (give PNG/JPEG)", edits[e].file,
+                    mi.name);
+          jnd_image_free(&img);
+          return 0;
+        }
+        st = jnd_scene_map_set(scene, i, &img);
+      } else if (edits[e].w > 0) {
+        st = jnd_scene_map_resize(scene, i, edits[e].w, edits[e].h);
+      } else {
+        int w = (int)lround(mi.orig_width * edits[e].factor), h = (int)lround(mi.orig_height * edits[e].factor);
+        st = jnd_scene_map_resize(scene, i, w < 1 ? 1 : w, h < 1 ? 1 : h);
+      }
+      if (st != JND_OK) {
+        cli_error("%s: %s", mi.name, jnd_last_error());
+        jnd_image_free(&img);
+        return 0;
+      }
+    }
+    jnd_image_free(&img);
+    if (!hits) {
+      cli_error("%s: no such map in %s (jnd render %s --list-maps)", edits[e].map, jnd_scene_path(scene),
+                jnd_scene_path(scene));
+      return 0;
+    }
+  }
+  return 1;
+}
+
+static int run(int argc, char **argv) {
+  const char *model = NULL, *dir = NULL, *env = NULL, *cameras = NULL, *platform = NULL, *v;
+  cli_common common = {0};
+  jnd_view_sampling vs;
+  jnd_view_sampling_defaults(&vs);
+  int width = 512, height = 512, samples = 4, anisotropy = 8, map_size = 2048, list_maps = 0, strict = 0, timings = 0;
+  int background_env = 0, nlights_fixed = 0;
+  double env_intensity = 1, env_rotation = 0, exposure = 1, motion_orbit = 0.5;
+  unsigned outputs = O_COLOR | O_MASK;
+  jnd_light fixed[JND_MAX_LIGHTS];
+  map_edit edits[MAX_EDITS];
+  int nedits = 0;
+  for (int i = 1; i < argc; i++) {
+    const char *a = argv[i];
+    if (cli_flag(argv, i, "--help") || cli_flag(argv, i, "-h")) {
+      help();
+      return EXIT_OK;
+    } else if (cli_opt(argc, argv, &i, "-o", &v) || cli_opt(argc, argv, &i, "--output", &v)) {
+      dir = v;
+    } else if (cli_opt(argc, argv, &i, "--views", &v)) {
+      vs.count = cli_int("render", "--views", v, 1, 100000);
+    } else if (cli_opt(argc, argv, &i, "--seed", &v)) {
+      vs.seed = (uint64_t)cli_double("render", "--seed", v, 0, 9007199254740992.0);
+    } else if (cli_opt(argc, argv, &i, "--size", &v)) {
+      double w, h;
+      cli_pair("render", "--size", v, &w, &h);
+      if (w != floor(w) || h != floor(h) || w < 1 || h < 1 || w > 16384 || h > 16384)
+        return bad("render: --size: '%s' is not WxH with 1..16384 pixels", v);
+      width = (int)w;
+      height = (int)h;
+    } else if (cli_opt(argc, argv, &i, "--coverage", &v)) {
+      vs.coverage = cli_double("render", "--coverage", v, 0.01, 10);
+    } else if (cli_opt(argc, argv, &i, "--distance", &v)) {
+      vs.distance = cli_double("render", "--distance", v, 1e-9, 1e12);
+    } else if (cli_opt(argc, argv, &i, "--fov", &v)) {
+      vs.fov_y_deg = cli_double("render", "--fov", v, 0.1, 179);
+    } else if (cli_opt(argc, argv, &i, "--cameras", &v)) {
+      cameras = v;
+    } else if (cli_opt(argc, argv, &i, "--motion-orbit", &v)) {
+      motion_orbit = cli_double("render", "--motion-orbit", v, -180, 180);
+    } else if (cli_opt(argc, argv, &i, "--env", &v)) {
+      env = v;
+    } else if (cli_opt(argc, argv, &i, "--env-intensity", &v)) {
+      env_intensity = cli_double("render", "--env-intensity", v, 0, 1e6);
+    } else if (cli_opt(argc, argv, &i, "--env-rotation", &v)) {
+      env_rotation = cli_double("render", "--env-rotation", v, -3600, 3600);
+    } else if (cli_opt(argc, argv, &i, "--background", &v)) {
+      if (strcmp(v, "env") == 0) background_env = 1;
+      else if (strcmp(v, "black") == 0) background_env = 0;
+      else return bad("render: --background: '%s' is not black or env", v);
+    } else if (cli_opt(argc, argv, &i, "--lights", &v)) {
+      vs.lights = cli_int("render", "--lights", v, 0, JND_MAX_LIGHTS);
+    } else if (cli_opt(argc, argv, &i, "--light-intensity", &v)) {
+      vs.light_intensity = cli_double("render", "--light-intensity", v, 0, 1e9);
+    } else if (cli_opt(argc, argv, &i, "--light", &v)) {
+      if (nlights_fixed >= JND_MAX_LIGHTS) return bad("render: --light: more than 8 lights");
+      if (!parse_light(v, &fixed[nlights_fixed]))
+        return bad("render: --light: '%s' is not dir:DX,DY,DZ[:I[:R,G,B]], point:X,Y,Z[:I[:R,G,B]] "
+                   "or spot:X,Y,Z:DX,DY,DZ[:I[:OUTER_DEG]]",
+                   v);
+      nlights_fixed++;
+    } else if (cli_opt(argc, argv, &i, "--exposure", &v)) {
+      exposure = cli_double("render", "--exposure", v, 0, 1e9);
+    } else if (cli_opt(argc, argv, &i, "--scale", &v) || cli_opt(argc, argv, &i, "--replace", &v)) {
+      int replace = strncmp(a, "--replace", 9) == 0;
+      const char *eq = strrchr(v, '=');
+      if (!eq || eq == v || !eq[1] || nedits >= MAX_EDITS)
+        return bad("render: '%s' is not MAP=VALUE (at most 64 edits)", v);
+      map_edit *e = &edits[nedits++];
+      memset(e, 0, sizeof *e);
+      e->map = strndup(v, (size_t)(eq - v));   /* freed at exit */
+      if (replace) {
+        e->file = eq + 1;
+      } else if (strchr(eq + 1, 'x')) {
+        double w, h;
+        cli_pair("render", "--scale", eq + 1, &w, &h);
+        if (w < 1 || h < 1 || w > 32768 || h > 32768 || w != floor(w) || h != floor(h))
+          return bad("render: --scale: '%s' is not a size WxH", eq + 1);
+        e->w = (int)w;
+        e->h = (int)h;
+      } else {
+        e->factor = cli_double("render", "--scale", eq + 1, 1e-6, 16);
+      }
+    } else if (cli_opt(argc, argv, &i, "--map-size", &v)) {
+      map_size = cli_int("render", "--map-size", v, 8, 8192);
+    } else if (cli_flag(argv, i, "--list-maps")) {
+      list_maps = 1;
+    } else if (cli_flag(argv, i, "--strict")) {
+      strict = 1;
+    } else if (cli_opt(argc, argv, &i, "--outputs", &v)) {
+      if (!parse_outputs(v, &outputs))
+        return bad("render: --outputs: '%s' is not a list of color,depth,mask,motion,mip,exr", v);
+    } else if (cli_opt(argc, argv, &i, "--samples", &v)) {
+      samples = cli_int("render", "--samples", v, 1, 64);
+    } else if (cli_opt(argc, argv, &i, "--anisotropy", &v)) {
+      anisotropy = cli_int("render", "--anisotropy", v, 1, 16);
+    } else if (cli_opt(argc, argv, &i, "--platform", &v)) {
+      platform = v;
+    } else if (cli_opt(argc, argv, &i, "--json", &v)) {
+      common.json_path = v;
+    } else if (cli_flag(argv, i, "--timings")) {
+      timings = 1;
+    } else if (cli_flag(argv, i, "--quiet") || cli_flag(argv, i, "-q")) {
+      common.quiet = 1;
+    } else if (a[0] == '-' && a[1]) {
+      return cli_unknown("render", a);
+    } else if (!model) {
+      model = a;
+    } else {
+      return cli_unknown("render", a);
+    }
+  }
+  if (!model) {
+    cli_error("render: give a MODEL (a .gltf/.glb/.obj file or builtin); jnd render --help");
+    return EXIT_BAD;
+  }
+  if (!dir && !list_maps) {
+    cli_error("render: give an output folder with -o DIR; jnd render --help");
+    return EXIT_BAD;
+  }
+  int rc = EXIT_BAD;
+  jnd_scene *scene = NULL;
+  jnd_renderer *r = NULL;
+  jnd_view *views = NULL;
+  cJSON *report = NULL;
+  double t0 = cli_now();
+  jnd_status st;
+  if (strcmp(model, "builtin") == 0 || strcmp(model, "builtin:box") == 0 || strcmp(model, "builtin:sphere") == 0) {
+    jnd_builtin_params bp;
+    jnd_builtin_defaults(&bp);
+    bp.map_size = map_size;
+    bp.shape = strcmp(model, "builtin:sphere") == 0;
+    st = jnd_scene_builtin(&bp, &scene);
+  } else {
+    st = jnd_scene_load(model, &scene);
+  }
+  if (st != JND_OK) {
+    cli_error("%s", jnd_last_error());
+    goto done;
+  }
+  for (int i = 0; i < jnd_scene_warning_count(scene); i++) {
+    if (strict) {
+      cli_error("%s", jnd_scene_warning(scene, i));
+      goto done;
+    }
+    if (!common.quiet) fprintf(stderr, "jnd: warning: %s\n", jnd_scene_warning(scene, i));
+  }
+  if (list_maps) {
+    for (int i = 0; i < jnd_scene_map_count(scene); i++) {
+      jnd_map_info mi;
+      jnd_scene_map_info(scene, i, &mi);
+      printf("%-48s %5d x %-5d %d channels, uv set %d\n", mi.name, mi.orig_width, mi.orig_height, mi.channels,
+             mi.uv_set);
+    }
+    rc = EXIT_OK;
+    goto done;
+  }
+  if (!apply_edits(scene, edits, nedits)) goto done;
+  double t_load = cli_now() - t0;
+  if (!mkdir_p(dir)) {
+    cli_error("%s: cannot create the folder (%s)", dir, strerror(errno));
+    goto done;
+  }
+
+  /* views */
+  int nviews = 0;
+  vs.aspect = (double)width / height;
+  if (nlights_fixed) vs.lights = 0;
+  if (cameras) {
+    nviews = read_cameras(cameras, scene, vs.fov_y_deg, &views);
+    if (nviews < 0) goto done;
+    /* views without lights get the sampled ones of the same index */
+    jnd_view_sampling ls = vs;
+    ls.count = nviews;
+    jnd_view *sampled = calloc((size_t)nviews, sizeof *sampled);
+    if (!sampled || jnd_views_sample(scene, &ls, sampled) != JND_OK) {
+      free(sampled);
+      cli_error("render: %s", jnd_last_error());
+      goto done;
+    }
+    for (int i = 0; i < nviews; i++)
+      if (views[i].nlights < 0) {
+        views[i].nlights = sampled[i].nlights;
+        memcpy(views[i].lights, sampled[i].lights, sizeof views[i].lights);
+      }
+    free(sampled);
+  } else {
+    nviews = vs.count;
+    views = calloc((size_t)nviews, sizeof *views);
+    if (!views || jnd_views_sample(scene, &vs, views) != JND_OK) {
+      cli_error("render: %s", jnd_last_error());
+      goto done;
+    }
+  }
+  unsigned gl_outputs = JND_OUT_COLOR | JND_OUT_MASK;
+  if (outputs & O_DEPTH) gl_outputs |= JND_OUT_DEPTH;
+  if (outputs & O_MOTION) gl_outputs |= JND_OUT_MOTION;
+  if (outputs & O_MIP) gl_outputs |= JND_OUT_MIP;
+  for (int i = 0; i < nviews; i++) {
+    jnd_view *w = &views[i];
+    if (nlights_fixed) {
+      w->nlights = nlights_fixed;
+      memcpy(w->lights, fixed, sizeof fixed);
+    }
+    w->env_intensity = env_intensity;
+    w->env_rotation_deg = env_rotation;
+    w->exposure = exposure;
+    w->background_env = background_env;
+    w->outputs = gl_outputs;
+    if (!w->has_prev && (outputs & O_MOTION) && motion_orbit != 0) {
+      orbit(&w->camera, motion_orbit, &w->prev_camera);
+      w->has_prev = 1;
+    }
+  }
+
+  double t1 = cli_now();
+  jnd_renderer_params rp;
+  jnd_renderer_defaults(&rp);
+  rp.width = width;
+  rp.height = height;
+  rp.samples = samples;
+  rp.anisotropy = anisotropy;
+  rp.env_path = env;
+  rp.platform = platform;
+  if (jnd_renderer_create(&rp, &r) != JND_OK) {
+    cli_error("%s", jnd_last_error());
+    goto done;
+  }
+  double t_renderer = cli_now() - t1;
+
+  report = cli_report_new("render");
+  cJSON *in = cli_report_section(report, "inputs");
+  cJSON_AddStringToObject(in, "model", model);
+  if (env) cJSON_AddStringToObject(in, "env", env);
+  if (cameras) cJSON_AddStringToObject(in, "cameras", cameras);
+  cJSON *par = cli_report_section(report, "parameters");
+  cJSON_AddNumberToObject(par, "views", nviews);
+  cJSON_AddNumberToObject(par, "seed", (double)vs.seed);
+  cJSON_AddNumberToObject(par, "width", width);
+  cJSON_AddNumberToObject(par, "height", height);
+  cJSON_AddNumberToObject(par, "coverage", vs.coverage);
+  if (vs.distance > 0) cJSON_AddNumberToObject(par, "distance", vs.distance);
+  cJSON_AddNumberToObject(par, "fov_y_deg", vs.fov_y_deg);
+  cJSON_AddNumberToObject(par, "env_intensity", env_intensity);
+  cJSON_AddNumberToObject(par, "env_rotation_deg", env_rotation);
+  cJSON_AddNumberToObject(par, "exposure", exposure);
+  cJSON_AddStringToObject(par, "background", background_env ? "env" : "black");
+  cJSON_AddNumberToObject(par, "samples", samples);
+  cJSON_AddNumberToObject(par, "anisotropy", anisotropy);
+  cJSON *res = cli_report_section(report, "result");
+  cJSON_AddStringToObject(res, "renderer", jnd_renderer_description(r));
+  double centre[3], radius;
+  jnd_scene_bounds(scene, centre, &radius);
+  cJSON_AddItemToObject(res, "centre", vec3_json(centre));
+  cJSON_AddNumberToObject(res, "radius", radius);
+  cJSON_AddNumberToObject(res, "triangles", (double)jnd_scene_triangle_count(scene));
+  cJSON_AddNumberToObject(res, "materials", jnd_scene_material_count(scene));
+  int nmaps = jnd_scene_map_count(scene);
+  cJSON *jmaps = cJSON_AddArrayToObject(report, "maps");
+  double *mip_min = calloc((size_t)nmaps + 1, sizeof *mip_min);
+  for (int i = 0; i < nmaps; i++) {
+    jnd_map_info mi;
+    jnd_scene_map_info(scene, i, &mi);
+    cJSON *m = cJSON_CreateObject();
+    cJSON_AddStringToObject(m, "name", mi.name);
+    cJSON_AddNumberToObject(m, "width", mi.width);
+    cJSON_AddNumberToObject(m, "height", mi.height);
+    cJSON_AddNumberToObject(m, "orig_width", mi.orig_width);
+    cJSON_AddNumberToObject(m, "orig_height", mi.orig_height);
+    cJSON_AddNumberToObject(m, "uv_set", mi.uv_set);
+    cJSON_AddItemToArray(jmaps, m);
+    if (mip_min) mip_min[i] = INFINITY;
+  }
+  cJSON *jviews = cJSON_AddArrayToObject(report, "views");
+
+  cli_progress prog;
+  cli_progress_start(&prog, &common, "render", nviews);
+  double t_render = 0;
+  int ok = 1;
+  for (int i = 0; i < nviews && ok; i++) {
+    jnd_frame f;
+    double tr = cli_now();
+    if (jnd_render(r, scene, &views[i], &f) != JND_OK) {
+      cli_error("%s: %s", model, jnd_last_error());
+      ok = 0;
+      break;
+    }
+    t_render += cli_now() - tr;
+    cJSON *jv = cJSON_CreateObject();
+    cJSON_AddItemToArray(jviews, jv);
+    cJSON_AddNumberToObject(jv, "index", i);
+    char name[64];
+    jnd_image tmp = {0};
+    if (outputs & O_COLOR) {
+      snprintf(name, sizeof name, "view_%03d.png", i);
+      ok = jnd_render_to_srgb(&f.color, &tmp) == JND_OK && write_png(dir, name, &tmp, 8, jv, "color");
+      jnd_image_free(&tmp);
+      if (ok && (outputs & O_EXR)) {
+        snprintf(name, sizeof name, "view_%03d.exr", i);
+        ok = write_exr(dir, name, &f.color, NULL, jv, "color_exr");
+      }
+    }
+    double cover = 0;
+    for (size_t k = 0; k < (size_t)width * height; k++) cover += f.mask.data[k];
+    cJSON_AddNumberToObject(jv, "coverage", cover / ((double)width * height));
+    if (ok && (outputs & O_MASK)) {
+      snprintf(name, sizeof name, "view_%03d_mask.png", i);
+      ok = write_png(dir, name, &f.mask, 8, jv, "mask");
+    }
+    if (ok && (outputs & O_DEPTH)) {
+      double scale = views[i].camera.zfar > 0 ? views[i].camera.zfar : 1;
+      for (size_t k = 0; k < (size_t)width * height; k++)
+        if (f.depth.data[k] > scale) scale = f.depth.data[k];
+      if (jnd_image_alloc(&tmp, width, height, 1) == JND_OK) {
+        for (size_t k = 0; k < (size_t)width * height; k++) tmp.data[k] = (float)(f.depth.data[k] / scale);
+        snprintf(name, sizeof name, "view_%03d_depth.png", i);
+        ok = write_png(dir, name, &tmp, 16, jv, "depth");
+        cJSON_AddNumberToObject(jv, "depth_scale", scale);
+        jnd_image_free(&tmp);
+      }
+      if (ok && (outputs & O_EXR)) {
+        snprintf(name, sizeof name, "view_%03d_depth.exr", i);
+        ok = write_exr(dir, name, &f.depth, NULL, jv, "depth_exr");
+      }
+    }
+    if (ok && (outputs & O_MOTION)) {
+      double mx = 0;
+      size_t P = (size_t)width * height;
+      for (size_t k = 0; k < 2 * P; k++)
+        if (fabs(f.motion.data[k]) > mx) mx = fabs(f.motion.data[k]);
+      double scale = mx > 0 ? pow(2, ceil(log2(mx))) : 1;
+      if (jnd_image_alloc(&tmp, width, height, 3) == JND_OK) {
+        for (size_t k = 0; k < 2 * P; k++) tmp.data[k] = (float)(0.5 + f.motion.data[k] / (2 * scale));
+        snprintf(name, sizeof name, "view_%03d_motion.png", i);
+        ok = write_png(dir, name, &tmp, 16, jv, "motion");
+        cJSON_AddNumberToObject(jv, "motion_scale", scale);
+        jnd_image_free(&tmp);
+      }
+      if (ok && (outputs & O_EXR)) {
+        static const char *const xy[2] = {"X", "Y"};
+        snprintf(name, sizeof name, "view_%03d_motion.exr", i);
+        ok = write_exr(dir, name, &f.motion, xy, jv, "motion_exr");
+      }
+    }
+    if (ok && (outputs & O_MIP)) {
+      size_t P = (size_t)width * height;
+      if (jnd_image_alloc(&tmp, width, height, 4) == JND_OK) {
+        for (size_t k = 0; k < 4 * P; k++) tmp.data[k] = (float)((f.mip.data[k] + 1) / 64.0);
+        snprintf(name, sizeof name, "view_%03d_mip.png", i);
+        ok = write_png(dir, name, &tmp, 16, jv, "mip");
+        jnd_image_free(&tmp);
+      }
+      if (ok && (outputs & O_EXR)) {
+        static const char *const slots[5] = {"baseColor", "metallicRoughness", "emissive", "normal", "occlusion"};
+        /* EXR channels are stored alphabetically by most readers: name them so */
+        jnd_image m5 = {0};
+        if (jnd_image_alloc(&m5, width, height, 5) == JND_OK) {
+          static const int order[5] = {0, 1, 4, 2, 3};
+          for (int c = 0; c < 5; c++) memcpy(m5.data + c * P, f.mip.data + order[c] * P, P * sizeof(float));
+          snprintf(name, sizeof name, "view_%03d_mip.exr", i);
+          ok = write_exr(dir, name, &m5, slots, jv, "mip_exr");
+          jnd_image_free(&m5);
+        }
+      }
+      /* the finest level each map is sampled at in this view (000 §4: a
+       * map never sampled at level 0 can be halved) */
+      cJSON *mm = cJSON_AddObjectToObject(jv, "mip_min");
+      for (int mi = 0; mi < nmaps; mi++) {
+        jnd_map_info info;
+        jnd_scene_map_info(scene, mi, &info);
+        double lo = INFINITY;
+        const float *lv = f.mip.data + (size_t)info.slot * P;
+        for (size_t k = 0; k < P; k++)
+          if ((int)lroundf(f.material.data[k]) == info.material && lv[k] >= 0 && lv[k] < lo) lo = lv[k];
+        if (isfinite(lo)) {
+          cJSON_AddNumberToObject(mm, info.name, lo);
+          if (mip_min && lo < mip_min[mi]) mip_min[mi] = lo;
+        }
+      }
+    }
+    cJSON_AddItemToObject(jv, "camera", camera_json(&views[i].camera));
+    if (views[i].has_prev) cJSON_AddItemToObject(jv, "prev_camera", camera_json(&views[i].prev_camera));
+    cJSON *jl = cJSON_AddArrayToObject(jv, "lights");
+    for (int l = 0; l < views[i].nlights; l++) cJSON_AddItemToArray(jl, light_json(&views[i].lights[l]));
+    jnd_frame_free(&f);
+    cli_progress_step(&prog, i + 1);
+  }
+  cli_progress_end(&prog);
+  if (ok && (outputs & O_MIP) && mip_min) {
+    for (int i = 0; i < nmaps; i++) {
+      cJSON *m = cJSON_GetArrayItem(jmaps, i);
+      if (isfinite(mip_min[i])) cJSON_AddNumberToObject(m, "mip_min", mip_min[i]);
+    }
+  }
+  free(mip_min);
+  if (ok && timings) {
+    cJSON *t = cJSON_AddObjectToObject(res, "timings");
+    cJSON_AddNumberToObject(t, "load_s", t_load);
+    cJSON_AddNumberToObject(t, "renderer_s", t_renderer);
+    cJSON_AddNumberToObject(t, "render_s", t_render);
+    cJSON_AddNumberToObject(t, "fps", t_render > 0 ? nviews / t_render : 0);
+  }
+  if (!ok) goto done;
+  char manifest[4200];
+  snprintf(manifest, sizeof manifest, "%s/views.json", dir);
+  if (cli_report_write(report, manifest) != EXIT_OK) goto done;
+  if (common.json_path && cli_report_write(report, common.json_path) != EXIT_OK) goto done;
+  cli_info(&common, "jnd render: %d views of %s (%zu triangles) at %dx%d on %s; load %.2f s, %.1f frames/s\n",
+           nviews, model, jnd_scene_triangle_count(scene), width, height, jnd_renderer_description(r), t_load,
+           t_render > 0 ? nviews / t_render : 0);
+  rc = EXIT_OK;
+done:
+  for (int e = 0; e < nedits; e++) free((char *)edits[e].map);
+  cJSON_Delete(report);
+  free(views);
+  jnd_renderer_free(r);
+  jnd_scene_free(scene);
+  return rc;
+}
+
+const jnd_command jnd_cmd_render = {"render", "frames of an asset under deterministic views (headless PBR)", run};
