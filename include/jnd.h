@@ -484,7 +484,11 @@ typedef struct {
   jnd_image depth;           /* 1 channel */
   jnd_image mask;            /* 1 channel */
   jnd_image motion;          /* 2 channels */
-  jnd_image mip;             /* JND_MAP_SLOTS channels, in jnd_map_slot order */
+  jnd_image mip;             /* JND_MAP_SLOTS channels, in jnd_map_slot order: the mip level
+                                (0 = full resolution, fractional between levels) that
+                                trilinear + anisotropic filtering samples; −1 where none */
+  jnd_image material;        /* 1 channel: material index of the pixel, −1 off the object
+                                (with JND_OUT_MIP, so that levels can be pooled per map) */
 } jnd_frame;
 void jnd_frame_free(jnd_frame *f);
 
