@@ -454,7 +454,8 @@ enum {
   JND_OUT_DEPTH = 2,         /* distance along the view axis, object units; 0 off the object */
   JND_OUT_MASK = 4,          /* object coverage 0..1 (MSAA-resolved silhouette) */
   JND_OUT_MOTION = 8,        /* screen displacement from the previous pose, pixels (x right, y down) */
-  JND_OUT_MIP = 16           /* per slot, the mip level sampled (−1 where no map or no object) */
+  JND_OUT_MIP = 16           /* per slot, the mip level sampled (−1 where no map or no object),
+                                and the material index per pixel */
 };
 
 /* Everything that defines one image. */
