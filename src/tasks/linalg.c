@@ -48,6 +48,7 @@ jnd_status linalg_weighted_covariance(const float *const *planes, int n, size_t 
       for (int r = 0; r < n; r++) {
         double vr = v[r];
         double *row = acc + (size_t)r * n;
+#pragma omp simd
         for (int c = r; c < n; c++) row[c] += vr * v[c];
       }
     }

@@ -11,6 +11,7 @@
  * a box filter with nearest-neighbour enlargement and notes that a better
  * filter would do better. */
 #include <ctype.h>
+#include <stddef.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -94,13 +95,13 @@ static jnd_status resample(const float *src, int sw, int sh, float *dst, int dw,
     for (int x = 0; x < dw; x++) {
       const float *w = ax.w + (size_t)x * ax.taps;
       int lo = ax.first[x];
-      double acc = 0;
+      float acc = 0;
       if (lo >= 0 && lo + ax.taps <= sw) {
         for (int t = 0; t < ax.taps; t++) acc += w[t] * row[lo + t];
       } else {
         for (int t = 0; t < ax.taps; t++) acc += w[t] * row[jnd_clampi(lo + t, 0, sw - 1)];
       }
-      out[x] = (float)acc;
+      out[x] = acc;
     }
   }
 #pragma omp parallel for schedule(static)
@@ -112,6 +113,7 @@ static jnd_status resample(const float *src, int sw, int sh, float *dst, int dw,
     for (int t = 0; t < ay.taps; t++) {
       const float *row = tmp + (size_t)jnd_clampi(lo + t, 0, sh - 1) * dw;
       float wt = w[t];
+      #pragma omp simd
       for (int x = 0; x < dw; x++) out[x] += wt * row[x];
     }
   }
@@ -482,17 +484,21 @@ static void project(const jnd_texset *set, const jnd_pca *pca, int K, float *pro
       off[k] -= m[k * C + c] * pca->mean[c];
     }
   }
+  float mf[MAXC * MAXC], of[MAXC];
+  for (int i = 0; i < K * C; i++) mf[i] = (float)m[i];
+  for (int k = 0; k < K; k++) of[k] = (float)off[k];
+  /* row by row, one multiply-add sweep per (component, channel): vectorises */
 #pragma omp parallel for schedule(static)
   for (int y = 0; y < set->h; y++) {
-    double x[MAXC];
-    for (int px = 0; px < set->w; px++) {
-      size_t i = (size_t)y * set->w + px;
-      for (int c = 0; c < C; c++) x[c] = set->data[(size_t)c * np + i];
-      for (int k = 0; k < K; k++) {
-        double acc = off[k];
-        const double *row = m + k * C;
-        for (int c = 0; c < C; c++) acc += row[c] * x[c];
-        proj[(size_t)k * np + i] = (float)acc;
+    size_t base = (size_t)y * set->w;
+    for (int k = 0; k < K; k++) {
+      float *out = proj + (size_t)k * np + base;
+      for (int x = 0; x < set->w; x++) out[x] = of[k];
+      for (int c = 0; c < C; c++) {
+        const float *in = set->data + (size_t)c * np + base;
+        float mk = mf[k * C + c];
+        #pragma omp simd
+        for (int x = 0; x < set->w; x++) out[x] += mk * in[x];
       }
     }
   }
@@ -509,19 +515,22 @@ static jnd_status store_component(const float *u, int w, int h, int s, int bits,
     memcpy(img->data, u, (size_t)w * h * sizeof *u);
   else
     pca_box_down(u, w, h, s, img->data);
-  size_t n = (size_t)cw * ch;
+  ptrdiff_t n = (ptrdiff_t)cw * ch;
   float lo = img->data[0], hi = img->data[0];
-  for (size_t i = 1; i < n; i++) {
-    lo = img->data[i] < lo ? img->data[i] : lo;
-    hi = img->data[i] > hi ? img->data[i] : hi;
+  float *d = img->data;
+#pragma omp parallel for reduction(min : lo) reduction(max : hi) schedule(static)
+  for (ptrdiff_t i = 0; i < n; i++) {
+    lo = d[i] < lo ? d[i] : lo;
+    hi = d[i] > hi ? d[i] : hi;
   }
   *offset = lo;
   *scale = hi > lo ? (double)hi - lo : 0;
   double inv = *scale > 0 ? 1.0 / *scale : 0, levels = bits ? (double)((1u << bits) - 1) : 0;
-  for (size_t i = 0; i < n; i++) {
-    double q = ((double)img->data[i] - lo) * inv;
-    if (levels > 0) q = nearbyint(q * levels) / levels;
-    img->data[i] = (float)q;
+#pragma omp parallel for schedule(static)
+  for (ptrdiff_t i = 0; i < n; i++) {
+    double q = ((double)d[i] - lo) * inv;
+    if (levels > 0) q = floor(q * levels + 0.5) / levels;
+    d[i] = (float)q;
   }
   return JND_OK;
 }
@@ -608,15 +617,16 @@ jnd_status jnd_pca_reconstruct(const jnd_pca_encoded *enc, const jnd_image *comp
   }
 #pragma omp parallel for schedule(static)
   for (int y = 0; y < h; y++) {
-    double q[MAXC + 1];
-    for (int x = 0; x < w; x++) {
-      size_t i = (size_t)y * w + x;
-      for (int k = 0; k < K; k++) q[k] = up[(size_t)k * np + i];
-      for (int c = 0; c < C; c++) {
-        const double *row = enc->recon + (size_t)c * (K + 1);
-        double acc = row[K];
-        for (int k = 0; k < K; k++) acc += row[k] * q[k];
-        out->data[(size_t)c * np + i] = (float)acc;
+    size_t base = (size_t)y * w;
+    for (int c = 0; c < C; c++) {
+      const double *row = enc->recon + (size_t)c * (K + 1);
+      float *o = out->data + (size_t)c * np + base, cst = (float)row[K];
+      for (int x = 0; x < w; x++) o[x] = cst;
+      for (int k = 0; k < K; k++) {
+        const float *q = up + (size_t)k * np + base;
+        float r = (float)row[k];
+        #pragma omp simd
+        for (int x = 0; x < w; x++) o[x] += r * q[x];
       }
     }
   }
@@ -823,8 +833,13 @@ jnd_status jnd_pca_choose_psnr(const jnd_texset *set, const jnd_pca *pca, double
     found = 1;
     for (int c = 0; c < C; c++)
       if (enc.mse[c] > target) {
+        /* scale the model's prediction for this channel by how far it was
+         * off, so that this candidate (and its like) no longer passes */
+        double model = 0;
+        for (int k = 0; k < C; k++) model += S->t2[c][k] * S->dist[k][S->best[k]];
+        double b = 0.99 * model * target / enc.mse[c];
+        S->budget[c] = b < S->budget[c] ? b : S->budget[c];
         found = 0;
-        S->budget[c] *= 0.95 * target / enc.mse[c];
       }
     jnd_pca_encoded_free(&enc);
     if (found) *out = e;

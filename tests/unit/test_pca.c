@@ -1,0 +1,411 @@
+/* Texture-set PCA (001): the properties the decomposition, the encodings and
+ * the automatic choice must have. Synthetic sets are small; the helmet set
+ * (../shared data) is shrunk to 256² in the test so that it stays fast. */
+#include "jnd.h"
+#include "test.h"
+#include "core/core.h"
+#include "tasks/tasks.h"
+
+/* A synthetic material: n_maps maps of w × h; channels are mixtures of three
+ * smooth latent fields plus a little noise, so they are correlated. */
+static void make_maps(jnd_image *maps, int n_maps, const int *channels, int w, int h, uint64_t seed) {
+  jnd_rng r;
+  jnd_rng_seed(&r, seed);
+  double mix[16][3];
+  for (int i = 0; i < 16; i++)
+    for (int j = 0; j < 3; j++) mix[i][j] = jnd_rng_uniform(&r) * 0.3;
+  int ch = 0;
+  for (int m = 0; m < n_maps; m++) {
+    jnd_image_alloc(&maps[m], w, h, channels[m]);
+    for (int c = 0; c < channels[m]; c++, ch++)
+      for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+          double f0 = 0.5 + 0.5 * sin(x * 0.11) * cos(y * 0.07);
+          double f1 = 0.5 + 0.5 * sin((x + 2 * y) * 0.05);
+          double f2 = (double)(x ^ y) / (w > h ? w : h) / 2;
+          double v = 0.2 + mix[ch][0] * f0 + mix[ch][1] * f1 + mix[ch][2] * f2 + 0.01 * jnd_rng_normal(&r);
+          jnd_image_plane(&maps[m], c)[(size_t)y * w + x] = (float)jnd_clampd(v, 0, 1);
+        }
+  }
+}
+
+static void free_maps(jnd_image *maps, int n) {
+  for (int i = 0; i < n; i++) jnd_image_free(&maps[i]);
+}
+
+/* albedo (3), roughness (1), normal (3): 7 channels */
+static void synthetic_set(jnd_texset *set, int w, int h) {
+  jnd_image maps[3];
+  const int ch[3] = {3, 1, 3};
+  const char *names[3] = {"albedo", "roughness", "normal"};
+  make_maps(maps, 3, ch, w, h, 7);
+  CHECK_OK(jnd_texset_from_images(maps, names, 3, NULL, set));
+  free_maps(maps, 3);
+}
+
+TEST(energies_sum_to_total_variance) {
+  jnd_texset set;
+  synthetic_set(&set, 64, 48);
+  CHECK(set.c == 7);
+  jnd_pca p;
+  CHECK_OK(jnd_pca_analyse(&set, NULL, &p));
+  double sum = 0;
+  for (int k = 0; k < p.c; k++) sum += p.energy[k];
+  CHECK_NEAR(sum, p.total_variance, 1e-9 * p.total_variance);
+  for (int k = 1; k < p.c; k++) CHECK(p.energy[k] <= p.energy[k - 1]);
+  CHECK(p.knee >= 1 && p.knee <= p.c);
+  jnd_texset_free(&set);
+}
+
+TEST(basis_is_orthonormal_with_deterministic_signs) {
+  jnd_texset set;
+  synthetic_set(&set, 40, 40);
+  jnd_pca p;
+  CHECK_OK(jnd_pca_analyse(&set, NULL, &p));
+  int C = p.c;
+  for (int a = 0; a < C; a++) {
+    for (int b = 0; b < C; b++) {
+      double d = 0;
+      for (int c = 0; c < C; c++) d += p.basis[c * C + a] * p.basis[c * C + b];
+      CHECK_NEAR(d, a == b ? 1.0 : 0.0, 1e-9);
+    }
+    int big = 0;
+    for (int c = 1; c < C; c++)
+      if (fabs(p.basis[c * C + a]) > fabs(p.basis[big * C + a])) big = c;
+    CHECK(p.basis[big * C + a] > 0);
+  }
+  jnd_texset_free(&set);
+}
+
+TEST(keeping_all_components_reconstructs_in_float) {
+  jnd_texset set;
+  synthetic_set(&set, 64, 64);
+  jnd_pca p;
+  CHECK_OK(jnd_pca_analyse(&set, NULL, &p));
+  jnd_pca_encoding e;
+  jnd_pca_encoding_default(&p, &e);
+  for (int k = 0; k < p.c; k++) e.bits[k] = 0;
+  jnd_pca_encoded enc;
+  CHECK_OK(jnd_pca_encode(&set, &p, &e, &enc));
+  for (int c = 0; c < set.c; c++) CHECK_LT(60.0, enc.psnr_db[c]);
+  jnd_pca_encoded_free(&enc);
+  jnd_texset_free(&set);
+}
+
+TEST(fewer_components_lose_quality) {
+  jnd_texset set;
+  synthetic_set(&set, 64, 64);
+  jnd_pca p;
+  CHECK_OK(jnd_pca_analyse(&set, NULL, &p));
+  jnd_pca_encoding e;
+  jnd_pca_encoding_default(&p, &e);
+  double prev = 0;
+  for (int K = 1; K <= p.c; K++) {
+    e.components = K;
+    for (int k = 0; k < K; k++) e.bits[k] = 0;
+    jnd_pca_encoded enc;
+    CHECK_OK(jnd_pca_encode(&set, &p, &e, &enc));
+    /* total squared error equals the dropped energy (Eckart–Young) */
+    double sse = 0, dropped = 0;
+    for (int c = 0; c < set.c; c++) sse += enc.mse[c];
+    for (int k = K; k < p.c; k++) dropped += p.energy[k];
+    CHECK_NEAR(sse, dropped, 1e-6 + 1e-4 * dropped);
+    CHECK(K == 1 || sse <= prev + 1e-12);
+    prev = sse;
+    jnd_pca_encoded_free(&enc);
+  }
+  jnd_texset_free(&set);
+}
+
+TEST(reconstruction_matrix_maps_stored_values_to_channels) {
+  jnd_texset set;
+  synthetic_set(&set, 32, 32);
+  jnd_pca p;
+  CHECK_OK(jnd_pca_analyse(&set, NULL, &p));
+  jnd_pca_encoding e;
+  jnd_pca_encoding_default(&p, &e);
+  e.components = 4;
+  e.bits[3] = 16;
+  jnd_pca_encoded enc;
+  CHECK_OK(jnd_pca_encode(&set, &p, &e, &enc));
+  jnd_image rec;
+  CHECK_OK(jnd_pca_reconstruct(&enc, NULL, &rec));
+  /* a shader: x_c = Σ_k R[c][k] q_k + R[c][K] */
+  int K = 4, i = 17 * 32 + 5;
+  for (int c = 0; c < set.c; c++) {
+    double x = enc.recon[c * (K + 1) + K];
+    for (int k = 0; k < K; k++) x += enc.recon[c * (K + 1) + k] * enc.comp[k].data[i];
+    CHECK_NEAR(x, jnd_image_plane(&rec, c)[i], 1e-5);
+  }
+  /* stored values are on the 8-bit grid in 0..1 */
+  for (int j = 0; j < 32 * 32; j += 37) {
+    double q = enc.comp[0].data[j] * 255.0;
+    CHECK_NEAR(q, round(q), 1e-3);
+    CHECK(enc.comp[0].data[j] >= 0 && enc.comp[0].data[j] <= 1);
+  }
+  CHECK(enc.storage_bytes == jnd_pca_storage_bytes(&e, set.c, 32, 32));
+  jnd_image_free(&rec);
+  jnd_pca_encoded_free(&enc);
+  jnd_texset_free(&set);
+}
+
+TEST(weighting_a_channel_raises_its_psnr) {
+  jnd_texset set;
+  synthetic_set(&set, 64, 64);
+  jnd_pca p0, p1;
+  double w[JND_PCA_MAX_CHANNELS];
+  CHECK_OK(jnd_pca_analyse(&set, NULL, &p0));
+  CHECK_OK(jnd_texset_parse_weights(&set, "roughness=4", w));
+  CHECK_OK(jnd_pca_analyse(&set, w, &p1));
+  jnd_pca_encoding e;
+  jnd_pca_encoding_default(&p0, &e);
+  e.components = 2;
+  e.bits[0] = e.bits[1] = 0;
+  jnd_pca_encoded a, b;
+  CHECK_OK(jnd_pca_encode(&set, &p0, &e, &a));
+  CHECK_OK(jnd_pca_encode(&set, &p1, &e, &b));
+  int r = 3; /* roughness */
+  CHECK(strcmp(set.names[r], "roughness") == 0);
+  CHECK_LT(a.psnr_db[r], b.psnr_db[r]);
+  int lower = 0;
+  for (int c = 0; c < set.c; c++)
+    if (c != r && b.psnr_db[c] < a.psnr_db[c]) lower++;
+  CHECK(lower >= 1);
+  jnd_pca_encoded_free(&a);
+  jnd_pca_encoded_free(&b);
+  jnd_texset_free(&set);
+}
+
+TEST(smaller_components_cost_less_and_keep_quality) {
+  jnd_texset set;
+  synthetic_set(&set, 128, 96);
+  jnd_pca p;
+  CHECK_OK(jnd_pca_analyse(&set, NULL, &p));
+  jnd_pca_encoding full, mixed;
+  jnd_pca_encoding_default(&p, &full);
+  mixed = full;
+  for (int k = 3; k < p.c; k++) mixed.scale[k] = k < 5 ? 1 : 2;
+  jnd_pca_encoded a, b;
+  CHECK_OK(jnd_pca_encode(&set, &p, &full, &a));
+  CHECK_OK(jnd_pca_encode(&set, &p, &mixed, &b));
+  CHECK(b.storage_bytes < a.storage_bytes);
+  CHECK(b.comp[6].w == 32 && b.comp[6].h == 24);
+  for (int c = 0; c < set.c; c++) CHECK_LT(30.0, b.psnr_db[c]);
+  jnd_pca_encoded_free(&a);
+  jnd_pca_encoded_free(&b);
+  jnd_texset_free(&set);
+}
+
+TEST(psnr_choice_meets_the_target_with_less_storage) {
+  jnd_texset set;
+  synthetic_set(&set, 96, 96);
+  jnd_pca p;
+  CHECK_OK(jnd_pca_analyse(&set, NULL, &p));
+  jnd_pca_encoding e, all;
+  CHECK_OK(jnd_pca_choose_psnr(&set, &p, 38.0, 2, &e));
+  jnd_pca_encoded enc;
+  CHECK_OK(jnd_pca_encode(&set, &p, &e, &enc));
+  for (int c = 0; c < set.c; c++) CHECK(enc.psnr_db[c] >= 38.0);
+  jnd_pca_encoding_default(&p, &all);
+  CHECK(enc.storage_bytes < jnd_pca_storage_bytes(&all, set.c, set.w, set.h));
+  /* a stricter target never costs less */
+  jnd_pca_encoding e2;
+  CHECK_OK(jnd_pca_choose_psnr(&set, &p, 45.0, 2, &e2));
+  CHECK(jnd_pca_storage_bytes(&e2, set.c, set.w, set.h) >= enc.storage_bytes);
+  CHECK_STATUS(jnd_pca_choose_psnr(&set, &p, 140.0, 2, &e2), JND_ERR_ARG);
+  jnd_pca_encoded_free(&enc);
+  jnd_texset_free(&set);
+}
+
+TEST(grey_map_stored_as_rgb_counts_once) {
+  jnd_image maps[2];
+  const int ch[2] = {1, 3};
+  make_maps(maps, 2, ch, 16, 16, 3);
+  /* map 0 as RGB with three identical channels; map 1 with a constant alpha */
+  jnd_image grey3, rgba;
+  jnd_image_alloc(&grey3, 16, 16, 3);
+  jnd_image_alloc(&rgba, 16, 16, 4);
+  for (int c = 0; c < 3; c++) memcpy(jnd_image_plane(&grey3, c), maps[0].data, 256 * sizeof(float));
+  memcpy(rgba.data, maps[1].data, 3 * 256 * sizeof(float));
+  for (int i = 0; i < 256; i++) jnd_image_plane(&rgba, 3)[i] = 1.0f;
+  jnd_image in[2] = {grey3, rgba};
+  const char *names[2] = {"AO", "albedo"};
+  jnd_texset set;
+  CHECK_OK(jnd_texset_from_images(in, names, 2, NULL, &set));
+  CHECK(set.c == 4);
+  CHECK(set.maps[0].count == 1 && set.maps[0].duplicates == 2);
+  CHECK(set.maps[1].count == 3 && set.maps[1].constants == 1);
+  CHECK(strcmp(set.names[0], "AO") == 0);
+  CHECK(strcmp(set.names[1], "albedo.r") == 0);
+  jnd_texset_free(&set);
+  /* an explicit pick wins */
+  CHECK_OK(jnd_texset_from_images(in, names, 2, "albedo=rg", &set));
+  CHECK(set.c == 3 && strcmp(set.names[2], "albedo.g") == 0);
+  jnd_texset_free(&set);
+  CHECK_STATUS(jnd_texset_from_images(in, names, 2, "height=r", &set), JND_ERR_ARG);
+  CHECK_STATUS(jnd_texset_from_images(in, names, 2, "AO=x", &set), JND_ERR_ARG);
+  jnd_image_free(&grey3);
+  jnd_image_free(&rgba);
+  free_maps(maps, 2);
+}
+
+TEST(smaller_maps_are_resampled_and_other_shapes_refused) {
+  jnd_image maps[2];
+  const int ch[2] = {3, 1};
+  make_maps(maps, 1, ch, 64, 32, 5);
+  make_maps(maps + 1, 1, ch + 1, 32, 16, 6);
+  const char *names[2] = {"albedo", "height"};
+  jnd_texset set;
+  CHECK_OK(jnd_texset_from_images(maps, names, 2, NULL, &set));
+  CHECK(set.w == 64 && set.h == 32 && set.maps[1].resampled && !set.maps[0].resampled);
+  jnd_texset_free(&set);
+  jnd_image_free(&maps[1]);
+  make_maps(maps + 1, 1, ch + 1, 32, 32, 6);
+  CHECK_STATUS(jnd_texset_from_images(maps, names, 2, NULL, &set), JND_ERR_ARG);
+  CHECK(strstr(jnd_last_error(), "height") != NULL);
+  free_maps(maps, 2);
+}
+
+TEST(weights_name_maps_or_channels) {
+  jnd_texset set;
+  synthetic_set(&set, 8, 8);
+  double w[JND_PCA_MAX_CHANNELS];
+  CHECK_OK(jnd_texset_parse_weights(&set, "albedo=2,normal.b=0.5", w));
+  CHECK(w[0] == 2 && w[1] == 2 && w[2] == 2 && w[3] == 1 && w[6] == 0.5);
+  CHECK_STATUS(jnd_texset_parse_weights(&set, "height=2", w), JND_ERR_ARG);
+  CHECK_STATUS(jnd_texset_parse_weights(&set, "albedo=-1", w), JND_ERR_ARG);
+  CHECK_STATUS(jnd_texset_parse_weights(&set, "albedo", w), JND_ERR_ARG);
+  jnd_texset_free(&set);
+}
+
+TEST(resampling_keeps_constants_and_smooth_signals) {
+  enum { W = 64, H = 48 };
+  float src[W * H], coarse[(W / 2) * (H / 2)], up[W * H];
+  for (int i = 0; i < W * H; i++) src[i] = 0.3f;
+  pca_box_down(src, W, H, 2, coarse);
+  CHECK_OK(pca_upsample(coarse, W, H, 2, up));
+  for (int i = 0; i < W * H; i += 7) CHECK_NEAR(up[i], 0.3, 1e-6);
+  for (int y = 0; y < H; y++)
+    for (int x = 0; x < W; x++) src[y * W + x] = (float)(0.5 + 0.4 * sin(x * 0.08) * cos(y * 0.06));
+  pca_box_down(src, W, H, 1, coarse);
+  CHECK_OK(pca_upsample(coarse, W, H, 1, up));
+  double err = 0;
+  for (int y = 4; y < H - 4; y++)
+    for (int x = 4; x < W - 4; x++) err = fmax(err, fabs(up[y * W + x] - src[y * W + x]));
+  CHECK_LT(err, 0.01);
+  float big[2 * W * 2 * H];
+  CHECK_OK(pca_resample_lanczos3(src, W, H, big, 2 * W, 2 * H));
+  CHECK_NEAR(big[(2 * 20 + 1) * 2 * W + 2 * 30 + 1], src[20 * W + 30], 0.01);
+}
+
+TEST(knee_of_a_fast_decay_is_early) {
+  double v[6] = {10, 5, 0.1, 0.1, 0.1, 0.1};
+  CHECK(linalg_knee(v, 6) == 2);
+  double flat[4] = {1, 1, 1, 1};
+  CHECK(linalg_knee(flat, 4) >= 1);
+}
+
+TEST(rendered_visibility_needs_the_renderer) {
+  jnd_texset set;
+  synthetic_set(&set, 8, 8);
+  double pd = 0;
+  CHECK_STATUS(jnd_pca_rendered_visibility(&set, NULL, "helmet.glb", "mat", &pd), JND_ERR_ARG);
+  CHECK(strstr(jnd_last_error(), "needs the renderer") != NULL);
+  jnd_texset_free(&set);
+}
+
+/* ---- the DamagedHelmet set (001's kind of PBR set), shrunk to 256² ---- */
+
+static int helmet_set(jnd_texset *set) {
+  const char *data = test_shared_data();
+  if (!data) {
+    fprintf(stderr, "skip: no shared data\n");
+    return 0;
+  }
+  const char *files[5] = {"AO", "albedo", "emissive", "metalRoughness", "normal"};
+  jnd_image maps[5], small[5];
+  memset(maps, 0, sizeof maps);
+  memset(small, 0, sizeof small);
+  int ok = 1;
+  for (int i = 0; i < 5 && ok; i++) {
+    char path[1200];
+    snprintf(path, sizeof path, "%s/texsets/damagedhelmet/Default_%s.jpg", data, files[i]);
+    ok = jnd_image_read(path, &maps[i], NULL) == JND_OK;
+    if (!ok) break;
+    int s = 3;   /* 2048 → 256 by box averages */
+    jnd_image_alloc(&small[i], (maps[i].w + 7) >> s, (maps[i].h + 7) >> s, maps[i].c);
+    for (int c = 0; c < maps[i].c; c++)
+      pca_box_down(jnd_image_plane(&maps[i], c), maps[i].w, maps[i].h, s, jnd_image_plane(&small[i], c));
+    jnd_image_free(&maps[i]);
+  }
+  /* box-averaging keeps identical channels identical */
+  if (ok) CHECK_OK(jnd_texset_from_images(small, files, 5, NULL, set));
+  for (int i = 0; i < 5; i++) jnd_image_free(&small[i]);
+  return ok;
+}
+
+TEST(helmet_set_has_13_informative_channels_and_full_reconstruction) {
+  jnd_texset set;
+  if (!helmet_set(&set)) return;
+  CHECK(set.c == 13);
+  CHECK(strcmp(set.names[0], "AO") == 0);
+  jnd_pca p;
+  CHECK_OK(jnd_pca_analyse(&set, NULL, &p));
+  double sum = 0;
+  for (int k = 0; k < p.c; k++) sum += p.energy[k];
+  CHECK_NEAR(sum, p.total_variance, 1e-9);
+  jnd_pca_encoding e;
+  jnd_pca_encoding_default(&p, &e);
+  for (int k = 0; k < p.c; k++) e.bits[k] = 0;
+  jnd_pca_encoded enc;
+  CHECK_OK(jnd_pca_encode(&set, &p, &e, &enc));
+  for (int c = 0; c < set.c; c++) CHECK_LT(60.0, enc.psnr_db[c]);
+  jnd_pca_encoded_free(&enc);
+  /* 5 components hold most of the energy (001: the knee is early) */
+  double five = 0;
+  for (int k = 0; k < 5; k++) five += p.energy[k];
+  CHECK_LT(0.9 * p.total_variance, five);
+  jnd_texset_free(&set);
+}
+
+TEST(helmet_albedo_weighting_raises_albedo_psnr_at_five_components) {
+  jnd_texset set;
+  if (!helmet_set(&set)) return;
+  double w[JND_PCA_MAX_CHANNELS];
+  CHECK_OK(jnd_texset_parse_weights(&set, "albedo=2", w));
+  jnd_pca p0, p1;
+  CHECK_OK(jnd_pca_analyse(&set, NULL, &p0));
+  CHECK_OK(jnd_pca_analyse(&set, w, &p1));
+  jnd_pca_encoding e;
+  jnd_pca_encoding_default(&p0, &e);
+  e.components = 5;
+  for (int k = 0; k < 5; k++) e.bits[k] = 0;
+  jnd_pca_encoded a, b;
+  CHECK_OK(jnd_pca_encode(&set, &p0, &e, &a));
+  CHECK_OK(jnd_pca_encode(&set, &p1, &e, &b));
+  double alb_a = 0, alb_b = 0;
+  int lower = 0;
+  for (int c = 0; c < set.c; c++) {
+    if (strncmp(set.names[c], "albedo", 6) == 0) {
+      alb_a += a.psnr_db[c] / 3;
+      alb_b += b.psnr_db[c] / 3;
+    } else if (b.psnr_db[c] < a.psnr_db[c] - 0.01) {
+      lower++;
+    }
+  }
+  CHECK_LT(alb_a, alb_b);
+  CHECK(lower >= 1);
+  jnd_pca_encoded_free(&a);
+  jnd_pca_encoded_free(&b);
+  jnd_texset_free(&set);
+}
+
+RUN_TESTS(energies_sum_to_total_variance, basis_is_orthonormal_with_deterministic_signs,
+          keeping_all_components_reconstructs_in_float, fewer_components_lose_quality,
+          reconstruction_matrix_maps_stored_values_to_channels, weighting_a_channel_raises_its_psnr,
+          smaller_components_cost_less_and_keep_quality, psnr_choice_meets_the_target_with_less_storage,
+          grey_map_stored_as_rgb_counts_once, smaller_maps_are_resampled_and_other_shapes_refused,
+          weights_name_maps_or_channels, resampling_keeps_constants_and_smooth_signals,
+          knee_of_a_fast_decay_is_early, rendered_visibility_needs_the_renderer,
+          helmet_set_has_13_informative_channels_and_full_reconstruction,
+          helmet_albedo_weighting_raises_albedo_psnr_at_five_components)
