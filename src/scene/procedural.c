@@ -110,7 +110,7 @@ static jnd_status make_maps(jnd_scene *s, int S, uint64_t seed) {
   }
   /* normal map from the height field (glTF convention: +Y up the image) and
    * occlusion from how far a pixel lies below its neighbourhood */
-  const double strength = S / 64.0;   /* height units per pixel → slope, resolution-independent */
+  const double strength = S / 24.0;   /* height units per pixel → slope, resolution-independent */
 #pragma omp parallel for schedule(static)
   for (int y = 0; y < S; y++) {
     for (int x = 0; x < S; x++) {
