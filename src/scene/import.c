@@ -140,10 +140,10 @@ static void import_slot(jnd_scene *s, const struct aiScene *sc, const struct aiM
     m->wrap_s = w[0];
     m->wrap_t = w[1];
     int mag = 0, min = 0;
-    if (aiGetMaterialInteger(am, _AI_MATKEY_GLTF_MAPPINGFILTER_MAG_BASE, types[t], 0, &mag) ==
+    if (aiGetMaterialIntegerArray(am, _AI_MATKEY_GLTF_MAPPINGFILTER_MAG_BASE, types[t], 0, &mag, NULL) ==
         aiReturn_SUCCESS)
       m->mag_nearest = mag == 9728;                                   /* GL_NEAREST */
-    if (aiGetMaterialInteger(am, _AI_MATKEY_GLTF_MAPPINGFILTER_MIN_BASE, types[t], 0, &min) ==
+    if (aiGetMaterialIntegerArray(am, _AI_MATKEY_GLTF_MAPPINGFILTER_MIN_BASE, types[t], 0, &min, NULL) ==
         aiReturn_SUCCESS)
       m->min_nearest = min == 9728 || min == 9984 || min == 9986;    /* NEAREST* */
     return;
@@ -213,7 +213,7 @@ static void import_material(jnd_scene *s, const struct aiScene *sc, int mi) {
   }
   m->alpha_cutoff = get_float(am, AI_MATKEY_GLTF_ALPHACUTOFF, 0.5f, NULL);
   int two = 0;
-  if (aiGetMaterialInteger(am, AI_MATKEY_TWOSIDED, &two) == aiReturn_SUCCESS) m->double_sided = two != 0;
+  if (aiGetMaterialIntegerArray(am, AI_MATKEY_TWOSIDED, &two, NULL) == aiReturn_SUCCESS) m->double_sided = two != 0;
   m->normal_scale = get_float(am, _AI_MATKEY_GLTF_SCALE_BASE, aiTextureType_NORMALS, 0, 1.0f, NULL);
   m->occlusion_strength =
       get_float(am, _AI_MATKEY_GLTF_STRENGTH_BASE, aiTextureType_LIGHTMAP, 0, 1.0f, NULL);
