@@ -46,6 +46,7 @@ static void help(void) {
       "  -o, --out OUTDIR    folder for pca.json, component_NN.png, contribution.png\n"
       "  --no-bc             skip the block-compression comparison (faster)\n"
       "  --json FILE|-       also write the JSON report there (- for stdout)\n"
+      "  --timings           add wall-clock seconds per stage to the JSON (they vary)\n"
       "  --quiet             nothing on stderr but errors\n"
       "\n"
       "pca.json: .result.energy[] (per component, descending), .result.total_variance,\n"
@@ -100,7 +101,8 @@ static int run(int argc, char **argv) {
   cli_common common = {0};
   const char *paths[JND_PCA_MAX_MAPS], *outdir = NULL, *channels = NULL, *weight_spec = NULL;
   const char *model = NULL, *material = NULL, *res_spec = NULL;
-  int npaths = 0, components = -1, bits = 8, max_scale = 2, no_bc = 0;
+  int npaths = 0, components = -1, bits = 8, max_scale = 2, no_bc = 0, timings = 0;
+  double t_read = 0, t_analyse = 0, t_choose = 0, t_encode = 0, t_bc = 0;
   double psnr_target = -1, max_p = 0.2;
   int has_max_p = 0;
   for (int i = 1; i < argc; i++) {
@@ -135,6 +137,8 @@ static int run(int argc, char **argv) {
       channels = v;
     } else if (cli_opt(argc, argv, &i, "--weight", &v)) {
       weight_spec = v;
+    } else if (cli_flag(argv, i, "--timings")) {
+      timings = 1;
     } else if (cli_flag(argv, i, "--no-bc")) {
       no_bc = 1;
     } else if (cli_opt(argc, argv, &i, "--json", &v)) {
@@ -184,6 +188,7 @@ static int run(int argc, char **argv) {
     return EXIT_BAD;
   }
   cli_progress_step(&prog, 1);
+  t_read = cli_now() - t0;
   for (int i = 0; i < set.nmaps; i++) {
     const jnd_texset_map *m = &set.maps[i];
     if (m->resampled)
@@ -204,6 +209,7 @@ static int run(int argc, char **argv) {
     goto out;
   }
   cli_progress_step(&prog, 2);
+  t_analyse = cli_now() - t0 - t_read;
   int C = set.c;
   jnd_pca_encoding e;
   jnd_pca_encoding_default(&pca, &e);
@@ -225,6 +231,7 @@ static int run(int argc, char **argv) {
     }
   }
   cli_progress_step(&prog, 3);
+  t_choose = cli_now() - t0 - t_read - t_analyse;
   if (jnd_pca_encode(&set, &pca, &e, &enc) != JND_OK) {
     cli_progress_end(&prog);
     cli_error("pca: %s", jnd_last_error());
@@ -251,12 +258,14 @@ static int run(int argc, char **argv) {
     goto out;
   }
   cli_progress_step(&prog, 4);
+  t_encode = cli_now() - t0 - t_read - t_analyse - t_choose;
   if (!no_bc && jnd_pca_block_compression(&set, &enc, &bc) != JND_OK) {
     cli_progress_end(&prog);
     cli_error("pca: %s", jnd_last_error());
     goto out;
   }
   cli_progress_step(&prog, 5);
+  t_bc = cli_now() - t0 - t_read - t_analyse - t_choose - t_encode;
 
   /* files */
   int K = enc.enc.components;
@@ -385,6 +394,15 @@ static int run(int argc, char **argv) {
     cJSON_AddStringToObject(b, "plain_formats", "BC1 for RGB maps, BC4 for grey, BC5 for 2 channels, BC1+BC4 for RGBA");
   }
   if (model) cJSON_AddNumberToObject(res, "p_detect", p_detect);
+  if (timings) {
+    cJSON *t = cJSON_AddObjectToObject(res, "timings_s");
+    cJSON_AddNumberToObject(t, "read", t_read);
+    cJSON_AddNumberToObject(t, "decomposition", t_analyse);
+    cJSON_AddNumberToObject(t, "choice", t_choose);
+    cJSON_AddNumberToObject(t, "encoding", t_encode);
+    cJSON_AddNumberToObject(t, "block_compression", t_bc);
+    cJSON_AddNumberToObject(t, "total", cli_now() - t0);
+  }
 
   snprintf(path, sizeof path, "%s/pca.json", outdir);
   if (cli_report_write(report, path) != EXIT_OK) goto out;
