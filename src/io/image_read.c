@@ -68,6 +68,129 @@ static jnd_status stb_header(const char *name, const unsigned char *buf, size_t 
   return JND_OK;
 }
 
+/* ---- checks stb_image (v2.27) leaves to the caller ---- */
+
+/* stb_image decodes with Huffman and quantisation tables that were never
+ * defined (uninitialised memory; an assertion aborts the process), so every
+ * table a frame or scan uses must have been defined before it. Walks the
+ * markers up to the end of the image. */
+static jnd_status jpeg_check_tables(const char *name, const unsigned char *buf, size_t n) {
+  int dqt = 0, dc = 0, ac = 0, progressive = 0, frame = 0, quant_used = 0;
+  unsigned char comp_id[4];
+  int ncomp = 0;
+  size_t p = 2;
+  for (;;) {
+    while (p < n && buf[p] != 0xFF) p++; /* entropy-coded data between markers */
+    while (p < n && buf[p] == 0xFF) p++;
+    if (p >= n) return jnd_fail(JND_ERR_FORMAT, "%s: truncated JPEG", name);
+    unsigned m = buf[p++];
+    if (m == 0x00 || (m >= 0xD0 && m <= 0xD7) || m == 0x01) continue; /* stuffing, RSTn, TEM */
+    if (m == 0xD9) return frame ? JND_OK : jnd_fail(JND_ERR_FORMAT, "%s: corrupt JPEG (no frame header)", name);
+    if (m == 0xD8) continue;
+    if (n - p < 2) return jnd_fail(JND_ERR_FORMAT, "%s: truncated JPEG", name);
+    size_t len = (size_t)buf[p] << 8 | buf[p + 1];
+    if (len < 2 || len > n - p) return jnd_fail(JND_ERR_FORMAT, "%s: truncated JPEG (segment runs past the end)", name);
+    const unsigned char *seg = buf + p + 2, *end = buf + p + len;
+    if (m == 0xDB) {
+      while (seg < end) {
+        int tq = seg[0] & 15, bytes = (seg[0] >> 4) ? 128 : 64;
+        if (tq > 3 || end - seg < 1 + bytes) return jnd_fail(JND_ERR_FORMAT, "%s: corrupt JPEG (bad quantisation table)", name);
+        dqt |= 1 << tq;
+        seg += 1 + bytes;
+      }
+    } else if (m == 0xC4) {
+      while (seg < end) {
+        int tc = seg[0] >> 4, th = seg[0] & 15, count = 0;
+        if (tc > 1 || th > 3 || end - seg < 17) return jnd_fail(JND_ERR_FORMAT, "%s: corrupt JPEG (bad Huffman table)", name);
+        for (int i = 1; i <= 16; i++) count += seg[i];
+        if (count > 256 || end - seg < 17 + count)
+          return jnd_fail(JND_ERR_FORMAT, "%s: corrupt JPEG (bad Huffman table)", name);
+        if (tc) ac |= 1 << th;
+        else dc |= 1 << th;
+        seg += 17 + count;
+      }
+    } else if (m >= 0xC0 && m <= 0xCF && m != 0xC4 && m != 0xC8 && m != 0xCC) {
+      if (frame) return jnd_fail(JND_ERR_FORMAT, "%s: corrupt JPEG (two frame headers)", name);
+      frame = 1;
+      progressive = m == 0xC2;
+      if (len < 8) return jnd_fail(JND_ERR_FORMAT, "%s: corrupt JPEG (short frame header)", name);
+      ncomp = seg[5];
+      if ((ncomp != 1 && ncomp != 3 && ncomp != 4) || len < 8 + 3 * (size_t)ncomp)
+        return jnd_fail(JND_ERR_FORMAT, "%s: corrupt JPEG (bad frame header)", name);
+      for (int i = 0; i < ncomp; i++) {
+        comp_id[i] = seg[6 + 3 * i];
+        quant_used |= 1 << (seg[6 + 3 * i + 2] & 3);
+        if (seg[6 + 3 * i + 2] > 3) return jnd_fail(JND_ERR_FORMAT, "%s: corrupt JPEG (bad frame header)", name);
+      }
+    } else if (m == 0xDA) {
+      if (!frame) return jnd_fail(JND_ERR_FORMAT, "%s: corrupt JPEG (scan before the frame header)", name);
+      if ((quant_used & dqt) != quant_used)
+        return jnd_fail(JND_ERR_FORMAT, "%s: corrupt JPEG (quantisation table used but not defined)", name);
+      int ns = len >= 3 ? seg[0] : 0;
+      if (ns < 1 || ns > 4 || len < 6 + 2 * (size_t)ns) return jnd_fail(JND_ERR_FORMAT, "%s: corrupt JPEG (bad scan header)", name);
+      int ss = seg[1 + 2 * ns];
+      for (int i = 0; i < ns; i++) {
+        int id = seg[1 + 2 * i], td = seg[2 + 2 * i] >> 4, ta = seg[2 + 2 * i] & 15, known = 0;
+        for (int k = 0; k < ncomp; k++) known |= comp_id[k] == id;
+        if (!known || td > 3 || ta > 3) return jnd_fail(JND_ERR_FORMAT, "%s: corrupt JPEG (bad scan header)", name);
+        int need_dc = !progressive || ss == 0, need_ac = !progressive || ss != 0;
+        if ((need_dc && !(dc >> td & 1)) || (need_ac && !(ac >> ta & 1)))
+          return jnd_fail(JND_ERR_FORMAT, "%s: corrupt JPEG (Huffman table used but not defined)", name);
+      }
+    }
+    p += len;
+  }
+}
+
+/* stb_image loops for ever on a run-length scanline whose data ends early
+ * (and on a zero-length literal run), so the runs are walked here first: the
+ * data must hold every pixel the header promises. */
+static jnd_status hdr_check_runs(const char *name, const unsigned char *buf, size_t n, int w, int h) {
+  /* header: the magic line, lines up to an empty one, then the resolution line */
+  size_t p = 0;
+  int line_len = 0, seen_empty = 0;
+  for (;;) {
+    if (p >= n) return jnd_fail(JND_ERR_FORMAT, "%s: truncated Radiance HDR header", name);
+    if (buf[p++] != '\n') {
+      line_len++;
+      continue;
+    }
+    if (seen_empty) break; /* the end of the resolution line */
+    if (line_len == 0) seen_empty = 1;
+    line_len = 0;
+  }
+  size_t left = n - p, need = (size_t)w * h * 4;
+  const unsigned char *d = buf + p;
+  if (w < 8 || w >= 32768) /* flat pixels */
+    return left >= need ? JND_OK : jnd_fail(JND_ERR_FORMAT, "%s: truncated Radiance HDR", name);
+  size_t q = 0;
+  for (int y = 0; y < h; y++) {
+    if (left - q < 4) return jnd_fail(JND_ERR_FORMAT, "%s: truncated Radiance HDR", name);
+    if (d[q] != 2 || d[q + 1] != 2 || (d[q + 2] & 0x80)) /* flat from here on, restarting at pixel 0 */
+      return left - q >= need ? JND_OK : jnd_fail(JND_ERR_FORMAT, "%s: truncated Radiance HDR", name);
+    if (((int)d[q + 2] << 8 | d[q + 3]) != w) return JND_OK; /* stb refuses it */
+    q += 4;
+    for (int k = 0; k < 4; k++) {
+      for (int x = 0; x < w;) {
+        if (q >= left) return jnd_fail(JND_ERR_FORMAT, "%s: truncated Radiance HDR", name);
+        int count = d[q++];
+        if (count > 128) {
+          if (q >= left) return jnd_fail(JND_ERR_FORMAT, "%s: truncated Radiance HDR", name);
+          q++;
+          count -= 128;
+        } else {
+          if (count == 0) return jnd_fail(JND_ERR_FORMAT, "%s: corrupt Radiance HDR (empty run)", name);
+          if ((size_t)count > left - q) return jnd_fail(JND_ERR_FORMAT, "%s: truncated Radiance HDR", name);
+          q += (size_t)count;
+        }
+        if (count > w - x) return JND_OK; /* stb refuses it */
+        x += count;
+      }
+    }
+  }
+  return JND_OK;
+}
+
 jnd_status jnd_decode_png(const char *name, const unsigned char *buf, size_t n, jnd_image *out,
                           jnd_image_info *info) {
   memset(out, 0, sizeof *out);
@@ -97,6 +220,9 @@ jnd_status jnd_decode_png(const char *name, const unsigned char *buf, size_t n, 
 jnd_status jnd_decode_jpeg(const char *name, const unsigned char *buf, size_t n, jnd_image *out,
                            jnd_image_info *info) {
   memset(out, 0, sizeof *out);
+  /* stb_image guesses the format; only a JPEG may reach its decoder from here */
+  if (n < 3 || buf[0] != 0xFF || buf[1] != 0xD8 || buf[2] != 0xFF)
+    return jnd_fail(JND_ERR_FORMAT, "%s: not a JPEG file", name);
   /* stb_image fills a truncated JPEG with grey; refuse files without the end marker */
   size_t end = n;
   while (end > 2 && buf[end - 1] == 0) end--; /* some writers pad with zeros */
@@ -107,6 +233,7 @@ jnd_status jnd_decode_jpeg(const char *name, const unsigned char *buf, size_t n,
    * chroma subsampling spreads a block over up to 4 × 4 more pixels */
   jnd_status s = stb_header(name, buf, n, 2048, &w, &h, &c);
   if (s != JND_OK) return s;
+  if ((s = jpeg_check_tables(name, buf, n)) != JND_OK) return s;
   unsigned char *px = stbi_load_from_memory(buf, (int)n, &w, &h, &c, 0);
   if (!px) return jnd_fail(JND_ERR_FORMAT, "%s: corrupt JPEG: %s", name, stbi_failure_reason());
   s = planar_from_interleaved(name, px, 8, w, h, c, 1.0 / 255, out);
@@ -125,10 +252,15 @@ jnd_status jnd_decode_jpeg(const char *name, const unsigned char *buf, size_t n,
 jnd_status jnd_decode_hdr(const char *name, const unsigned char *buf, size_t n, jnd_image *out,
                           jnd_image_info *info) {
   memset(out, 0, sizeof *out);
+  /* stb_image guesses the format (a "#?" file could pass for a TGA); only a
+   * Radiance file may reach its decoder from here */
+  if (!(n >= 11 && memcmp(buf, "#?RADIANCE\n", 11) == 0) && !(n >= 7 && memcmp(buf, "#?RGBE\n", 7) == 0))
+    return jnd_fail(JND_ERR_FORMAT, "%s: not a Radiance HDR file", name);
   int w, h, c;
   /* run-length scanlines spend at least 2 bytes on 127 values of a component */
   jnd_status s = stb_header(name, buf, n, 64, &w, &h, &c);
   if (s != JND_OK) return s;
+  if ((s = hdr_check_runs(name, buf, n, w, h)) != JND_OK) return s;
   float *px = stbi_loadf_from_memory(buf, (int)n, &w, &h, &c, 3);
   if (!px) return jnd_fail(JND_ERR_FORMAT, "%s: corrupt Radiance HDR: %s", name, stbi_failure_reason());
   s = planar_from_interleaved(name, px, 32, w, h, 3, 1.0, out);

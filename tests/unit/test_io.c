@@ -591,6 +591,56 @@ TEST(radiance_hdr_reads_as_linear) {
   jnd_image_free(&back);
 }
 
+TEST(jpeg_using_an_undefined_huffman_table_is_refused) {
+  /* stb_image would decode with uninitialised tables, or abort on an assertion */
+  const char *path = tmp_file("grey1.jpg");
+  unsigned char px[16 * 16];
+  for (int i = 0; i < 256; i++) px[i] = (unsigned char)i;
+  CHECK(stbi_write_jpg(path, 16, 16, 1, px, 90));
+  size_t n;
+  unsigned char *buf = read_bytes(path, &n);
+  unsigned char *sos = buf ? find_bytes(buf, n, "\xFF\xDA", 2) : NULL;
+  CHECK(sos != NULL);
+  jnd_image back;
+  if (sos) {
+    CHECK_OK(jnd_decode_jpeg("grey1.jpg", buf, n, &back, NULL));
+    jnd_image_free(&back);
+    sos[2 + 2 + 1 + 1] = 0x22; /* the scan's only component now uses DC and AC tables 2 */
+    CHECK_STATUS(jnd_decode_jpeg("grey1.jpg", buf, n, &back, NULL), JND_ERR_FORMAT);
+    CHECK(strstr(jnd_last_error(), "Huffman") != NULL);
+  }
+  free(buf);
+}
+
+TEST(radiance_hdr_with_truncated_runs_is_refused_not_hung) {
+  /* stb_image loops for ever when run-length data ends early */
+  const char *path = tmp_file("runs.hdr");
+  float px[32 * 4 * 3];
+  for (int i = 0; i < 32 * 4 * 3; i++) px[i] = 1.0f + (float)(i % 5);
+  CHECK(stbi_write_hdr(path, 32, 4, 3, px)); /* 32 wide: run-length scanlines */
+  size_t n;
+  unsigned char *buf = read_bytes(path, &n);
+  jnd_image back;
+  CHECK(buf != NULL);
+  for (size_t cut = 1; buf && cut < 40; cut++) {
+    CHECK_STATUS(jnd_decode_hdr("runs.hdr", buf, n - cut, &back, NULL), JND_ERR_FORMAT);
+    CHECK(back.data == NULL);
+  }
+  if (buf) CHECK_OK(jnd_decode_hdr("runs.hdr", buf, n, &back, NULL));
+  jnd_image_free(&back);
+  free(buf);
+}
+
+TEST(each_decoder_refuses_other_formats) {
+  /* stb_image guesses formats; a PNM must not reach it through the HDR decoder */
+  static const char pnm[] = "P5\n2 1\n469\n\0\1\0\2";
+  jnd_image back;
+  CHECK_STATUS(jnd_decode_hdr("x.hdr", (const unsigned char *)pnm, sizeof pnm - 1, &back, NULL), JND_ERR_FORMAT);
+  CHECK_STATUS(jnd_decode_jpeg("x.jpg", (const unsigned char *)pnm, sizeof pnm - 1, &back, NULL), JND_ERR_FORMAT);
+  CHECK_STATUS(jnd_decode_png("x.png", (const unsigned char *)pnm, sizeof pnm - 1, &back, NULL), JND_ERR_FORMAT);
+  CHECK_STATUS(jnd_decode_exr("x.exr", (const unsigned char *)pnm, sizeof pnm - 1, &back, NULL), JND_ERR_FORMAT);
+}
+
 /* ---- CSV ---- */
 
 TEST(csv_reads_quoted_fields_with_commas_quotes_and_newlines) {
@@ -653,6 +703,8 @@ RUN_TESTS(exr_float_round_trips_exactly, exr_half_round_trips_within_half_precis
           every_truncation_of_a_png_is_refused, png_without_iend_is_refused,
           png_claiming_more_than_the_size_limit_is_refused, empty_file_is_refused,
           non_image_file_is_refused_naming_it, jpeg_reads_as_srgb_8_bit, radiance_hdr_reads_as_linear,
+          jpeg_using_an_undefined_huffman_table_is_refused,
+          radiance_hdr_with_truncated_runs_is_refused_not_hung, each_decoder_refuses_other_formats,
           csv_reads_quoted_fields_with_commas_quotes_and_newlines,
           csv_row_with_the_wrong_column_count_is_refused_with_its_line,
           csv_unterminated_quote_and_empty_input_are_refused, csv_numbers_parse_and_missing_values_are_nan)
