@@ -21,15 +21,9 @@ static int has_ext(const char *list, const char *ext) {
 static jnd_status make_context(EGLDisplay dpy, jnd_gl_context *ctx) {
   EGLint major, minor;
   if (!eglInitialize(dpy, &major, &minor)) return JND_ERR_GL;
-  if (!eglBindAPI(EGL_OPENGL_API)) {
-    eglTerminate(dpy);
-    return JND_ERR_GL;
-  }
+  if (!eglBindAPI(EGL_OPENGL_API)) return JND_ERR_GL;
   const char *ext = eglQueryString(dpy, EGL_EXTENSIONS);
-  if (!has_ext(ext, "EGL_KHR_surfaceless_context")) {
-    eglTerminate(dpy);
-    return JND_ERR_GL;
-  }
+  if (!has_ext(ext, "EGL_KHR_surfaceless_context")) return JND_ERR_GL;
   EGLConfig cfg = NULL;
   EGLint ncfg = 0;
   const EGLint cattr[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_NONE};
@@ -41,8 +35,7 @@ static jnd_status make_context(EGLDisplay dpy, jnd_gl_context *ctx) {
   EGLContext c = eglCreateContext(dpy, cfg, EGL_NO_CONTEXT, attr);
   if (c == EGL_NO_CONTEXT || !eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, c)) {
     if (c != EGL_NO_CONTEXT) eglDestroyContext(dpy, c);
-    eglTerminate(dpy);
-    return JND_ERR_GL;
+    return JND_ERR_GL;   /* the display stays initialised: see jnd_gl_close */
   }
   ctx->display = dpy;
   ctx->context = c;
@@ -112,7 +105,9 @@ void jnd_gl_close(jnd_gl_context *ctx) {
   if (!ctx->display) return;
   eglMakeCurrent(ctx->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
   if (ctx->context) eglDestroyContext(ctx->display, ctx->context);
-  eglTerminate(ctx->display);
+  /* No eglTerminate: an EGL display is one per process and platform, shared
+   * by every renderer in it, so terminating it would pull the contexts of
+   * other live renderers away. It is released at process exit. */
   eglReleaseThread();
   memset(ctx, 0, sizeof *ctx);
 }
