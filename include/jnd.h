@@ -562,6 +562,9 @@ typedef struct {
   int src[4];           /* file channel (0 = R .. 3 = A) of each of its set channels */
   int duplicates;       /* file channels left out as exact copies of another (grey stored as RGB) */
   int constants;        /* file channels left out because they are constant */
+  int from[4];          /* for each file channel: the set channel that carries it
+                           (an identical copy's source too), or −1 if constant */
+  float constant[4];    /* the value of each constant file channel */
 } jnd_texset_map;
 
 /* A texture set: C channels of one size, planar, values as stored. */
@@ -593,6 +596,13 @@ jnd_status jnd_texset_read(const char *const *paths, int n, const char *channels
 
 /* Frees the planes and zeroes the struct; safe on a zeroed struct. */
 void jnd_texset_free(jnd_texset *set);
+
+/* Rebuilds map `map` as its file had it (file_channels channels, the set's
+ * size) from channels, a w × h × C image in the set's channel order (the set
+ * itself or a reconstruction): identical copies are filled from their
+ * source, constant channels with their value, channels --channels left out
+ * with 0. out is allocated. */
+jnd_status jnd_texset_map_image(const jnd_texset *set, const jnd_image *channels, int map, jnd_image *out);
 
 /* Parses per-channel importance weights (001 "Input channel weighting"):
  * "albedo=2,height=0.75"; a key is a map name (all its channels) or a

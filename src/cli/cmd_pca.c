@@ -25,7 +25,8 @@ static void help(void) {
       "\n"
       "what to keep:\n"
       "  --components K      keep the first K components (default: all)\n"
-      "  --bits B            8 (default) or 16 bits for every kept component\n"
+      "  --bits B[,B...]     8 (default) or 16 bits for every kept component, or a\n"
+      "                      list per component (the last repeats): 16,16,8\n"
       "  --resolutions LIST  size divisor per component, powers of two up to 8:\n"
       "                      1,1,1,1,2,2,2,4,4 = 4 at full, 3 at half, 2 at quarter\n"
       "                      (the last repeats; default all 1). Box down, Lanczos-3 up.\n"
@@ -44,6 +45,7 @@ static void help(void) {
       "\n"
       "outputs:\n"
       "  -o, --out OUTDIR    folder for pca.json, component_NN.png, contribution.png\n"
+      "  --write-maps        also write each map as reconstructed: OUTDIR/MAP.png\n"
       "  --no-bc             skip the block-compression comparison (faster)\n"
       "  --json FILE|-       also write the JSON report there (- for stdout)\n"
       "  --timings           add wall-clock seconds per stage to the JSON (they vary)\n"
@@ -91,6 +93,23 @@ static int parse_resolutions(const char *v, int *scale, int *n) {
   return *n > 0;
 }
 
+/* "8" or "16,16,8" */
+static int parse_bits(const char *v, int *bits, int *n) {
+  char buf[512];
+  snprintf(buf, sizeof buf, "%s", v);
+  char *save = NULL;
+  *n = 0;
+  for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    int b = cli_int("pca", "--bits", tok, 8, 16);
+    if ((b != 8 && b != 16) || *n >= JND_PCA_MAX_CHANNELS) {
+      cli_error("pca: --bits: %d (8 or 16 per component)", b);
+      return 0;
+    }
+    bits[(*n)++] = b;
+  }
+  return *n > 0;
+}
+
 static cJSON *numbers(const double *v, int n) {
   cJSON *a = cJSON_CreateArray();
   for (int i = 0; i < n; i++) cJSON_AddItemToArray(a, cJSON_CreateNumber(v[i]));
@@ -101,7 +120,8 @@ static int run(int argc, char **argv) {
   cli_common common = {0};
   const char *paths[JND_PCA_MAX_MAPS], *outdir = NULL, *channels = NULL, *weight_spec = NULL;
   const char *model = NULL, *material = NULL, *res_spec = NULL;
-  int npaths = 0, components = -1, bits = 8, max_scale = 2, no_bc = 0, timings = 0;
+  int npaths = 0, components = -1, max_scale = 2, no_bc = 0, timings = 0, write_maps = 0;
+  int bits[JND_PCA_MAX_CHANNELS], nbits = 0;
   double t_read = 0, t_analyse = 0, t_choose = 0, t_encode = 0, t_bc = 0;
   double psnr_target = -1, max_p = 0.2;
   int has_max_p = 0;
@@ -115,11 +135,7 @@ static int run(int argc, char **argv) {
     } else if (cli_opt(argc, argv, &i, "--components", &v)) {
       components = cli_int("pca", "--components", v, 0, JND_PCA_MAX_CHANNELS);
     } else if (cli_opt(argc, argv, &i, "--bits", &v)) {
-      bits = cli_int("pca", "--bits", v, 8, 16);
-      if (bits != 8 && bits != 16) {
-        cli_error("pca: --bits: %d (8 or 16)", bits);
-        return EXIT_BAD;
-      }
+      if (!parse_bits(v, bits, &nbits)) return EXIT_BAD;
     } else if (cli_opt(argc, argv, &i, "--resolutions", &v)) {
       res_spec = v;
     } else if (cli_opt(argc, argv, &i, "--psnr", &v)) {
@@ -137,6 +153,8 @@ static int run(int argc, char **argv) {
       channels = v;
     } else if (cli_opt(argc, argv, &i, "--weight", &v)) {
       weight_spec = v;
+    } else if (cli_flag(argv, i, "--write-maps")) {
+      write_maps = 1;
     } else if (cli_flag(argv, i, "--timings")) {
       timings = 1;
     } else if (cli_flag(argv, i, "--no-bc")) {
@@ -219,7 +237,7 @@ static int run(int argc, char **argv) {
     criterion = "components";
   }
   for (int k = 0; k < C; k++) {
-    e.bits[k] = bits;
+    e.bits[k] = nbits ? bits[k < nbits ? k : nbits - 1] : 8;
     e.scale[k] = nscales ? scales[k < nscales ? k : nscales - 1] : 0;
   }
   if (psnr_target > 0) {
@@ -289,6 +307,28 @@ static int run(int argc, char **argv) {
       cli_error("%s", jnd_last_error());
       goto out;
     }
+  }
+  if (write_maps) {
+    jnd_image rec = {0};
+    if (jnd_pca_reconstruct(&enc, NULL, &rec) != JND_OK) {
+      cli_progress_end(&prog);
+      cli_error("pca: %s", jnd_last_error());
+      goto out;
+    }
+    for (int i = 0; i < set.nmaps; i++) {
+      jnd_image mi = {0};
+      snprintf(path, sizeof path, "%s/%s.png", outdir, set.maps[i].name);
+      jnd_status s = jnd_texset_map_image(&set, &rec, i, &mi);
+      if (s == JND_OK) s = jnd_image_write_png(path, &mi, 8);
+      jnd_image_free(&mi);
+      if (s != JND_OK) {
+        jnd_image_free(&rec);
+        cli_progress_end(&prog);
+        cli_error("%s", jnd_last_error());
+        goto out;
+      }
+    }
+    jnd_image_free(&rec);
   }
   cli_progress_step(&prog, 6);
   cli_progress_end(&prog);

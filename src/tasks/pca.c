@@ -236,6 +236,7 @@ static jnd_status texset_build(const jnd_image *maps, const char *const *names, 
     m->resampled = maps[i].w != W || maps[i].h != H;
     m->first = total;
     size_t fp = (size_t)maps[i].w * maps[i].h;
+    int dup_of[4] = {-1, -1, -1, -1};   /* index into m->src */
     if (picks[i][0]) {
       for (int k = 0; picks[i][k]; k++) {
         int ch = (int)(strchr(letters, picks[i][k]) - letters);
@@ -251,10 +252,12 @@ static jnd_status texset_build(const jnd_image *maps, const char *const *names, 
           m->constants++;
           continue;
         }
-        int dup = 0;
-        for (int k = 0; k < m->count && !dup; k++) dup = planes_equal(p, jnd_image_plane(&maps[i], m->src[k]), fp);
-        if (dup) {
+        int dup = -1;
+        for (int k = 0; k < m->count && dup < 0; k++)
+          if (planes_equal(p, jnd_image_plane(&maps[i], m->src[k]), fp)) dup = k;
+        if (dup >= 0) {
           m->duplicates++;
+          dup_of[ch] = dup;
           continue;
         }
         m->src[m->count++] = ch;
@@ -263,6 +266,15 @@ static jnd_status texset_build(const jnd_image *maps, const char *const *names, 
         m->src[m->count++] = 0;
         m->constants--;
       }
+    }
+    for (int ch = 0; ch < 4; ch++) {
+      m->from[ch] = -1;
+      m->constant[ch] = 0;
+      if (ch >= maps[i].c) continue;
+      for (int k = 0; k < m->count; k++)
+        if (m->src[k] == ch) m->from[ch] = total + k;
+      if (dup_of[ch] >= 0) m->from[ch] = total + dup_of[ch];
+      if (m->from[ch] < 0 && !picks[i][0]) m->constant[ch] = jnd_image_plane(&maps[i], ch)[0];
     }
     total += m->count;
   }
@@ -349,6 +361,26 @@ jnd_status jnd_texset_read(const char *const *paths, int n, const char *channels
   if (s == JND_OK) s = texset_build(maps, names, paths, n, channels, out);
   for (int i = 0; i < n; i++) jnd_image_free(&maps[i]);
   return s;
+}
+
+jnd_status jnd_texset_map_image(const jnd_texset *set, const jnd_image *channels, int map, jnd_image *out) {
+  memset(out, 0, sizeof *out);
+  if (map < 0 || map >= set->nmaps) return jnd_fail(JND_ERR_ARG, "map %d of a set of %d", map, set->nmaps);
+  if (channels->w != set->w || channels->h != set->h || channels->c != set->c)
+    return jnd_fail(JND_ERR_ARG, "map image: channels are %d × %d × %d, the set %d × %d × %d", channels->w,
+                    channels->h, channels->c, set->w, set->h, set->c);
+  const jnd_texset_map *m = &set->maps[map];
+  jnd_status s = jnd_image_alloc(out, set->w, set->h, m->file_channels);
+  if (s != JND_OK) return s;
+  size_t np = (size_t)set->w * set->h;
+  for (int ch = 0; ch < m->file_channels; ch++) {
+    float *d = jnd_image_plane(out, ch);
+    if (m->from[ch] >= 0)
+      memcpy(d, jnd_image_plane(channels, m->from[ch]), np * sizeof *d);
+    else
+      for (size_t i = 0; i < np; i++) d[i] = m->constant[ch];
+  }
+  return JND_OK;
 }
 
 jnd_status jnd_texset_parse_weights(const jnd_texset *set, const char *spec, double *weights) {

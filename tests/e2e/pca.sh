@@ -53,7 +53,8 @@ assert r['storage_bytes'] > 0 and 'block_compression' in r
 PY
 
 # K components at 16 bits: reconstruction C × (K+1); storage shrinks
-"$JND" pca $M -o "$T/k2" --components 2 --bits 16 --quiet --json "$T/k2.json"
+"$JND" pca $M -o "$T/k2" --components 2 --bits 16 --quiet --json "$T/k2.json" --write-maps
+for f in albedo height normal; do test -s "$T/k2/$f.png"; done
 python3 - "$T/k2/pca.json" "$T/all/pca.json" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))['result']; a = json.load(open(sys.argv[2]))['result']
@@ -67,6 +68,14 @@ test ! -e "$T/k2/component_02.png"
 # deterministic: the same run gives the same report
 "$JND" pca $M -o "$T/k2b" --components 2 --bits 16 --quiet
 cmp "$T/k2/pca.json" "$T/k2b/pca.json"
+
+# bits per component
+"$JND" pca $M -o "$T/bits" --components 3 --bits 16,8 --no-bc --quiet
+python3 - "$T/bits/pca.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))['result']
+assert [c['bits'] for c in r['components']] == [16, 8, 8], r['components']
+PY
 
 # --psnr: every channel meets the floor
 "$JND" pca $M -o "$T/psnr" --psnr 42 --no-bc --quiet
@@ -97,4 +106,5 @@ expect_bad "channels" $M -o "$T/x" --channels albedo=q
 expect_bad "max-p needs --model" $M -o "$T/x" --max-p 0.1
 expect_bad "rendered visibility needs the renderer" $M -o "$T/x" --max-p 0.1 --model "$T/m.glb" --material m
 expect_bad "needs maps" -o "$T/x"
+expect_bad "bits" $M -o "$T/x" --bits 12
 echo "pca e2e ok"

@@ -237,6 +237,14 @@ TEST(grey_map_stored_as_rgb_counts_once) {
   CHECK(set.maps[1].count == 3 && set.maps[1].constants == 1);
   CHECK(strcmp(set.names[0], "AO") == 0);
   CHECK(strcmp(set.names[1], "albedo.r") == 0);
+  /* the maps come back as their files had them */
+  jnd_image chans = {set.w, set.h, set.c, set.data}, back;
+  CHECK_OK(jnd_texset_map_image(&set, &chans, 0, &back));
+  CHECK(back.c == 3 && memcmp(back.data, grey3.data, 3 * 256 * sizeof(float)) == 0);
+  jnd_image_free(&back);
+  CHECK_OK(jnd_texset_map_image(&set, &chans, 1, &back));
+  CHECK(back.c == 4 && memcmp(back.data, rgba.data, 4 * 256 * sizeof(float)) == 0);
+  jnd_image_free(&back);
   jnd_texset_free(&set);
   /* an explicit pick wins */
   CHECK_OK(jnd_texset_from_images(in, names, 2, "albedo=rg", &set));
