@@ -31,10 +31,11 @@ static void help(void) {
       "                      1,1,1,1,2,2,2,4,4 = 4 at full, 3 at half, 2 at quarter\n"
       "                      (the last repeats; default all 1). Box down, Lanczos-3 up.\n"
       "  --psnr DB           the smallest storage (K, resolutions, bits) whose every\n"
-      "                      channel reaches DB dB PSNR\n"
+      "                      channel reaches DB dB PSNR (chooses bits and resolutions)\n"
       "  --max-scale S       coarsest resolution --psnr may use: 1/2^S (default 2)\n"
       "  --max-p P           the smallest storage whose rendered difference a viewer\n"
-      "                      notices with probability <= P (default 0.2); needs --model\n"
+      "                      notices with probability <= P; needs --model (with a\n"
+      "                      model and no other criterion: --max-p 0.2)\n"
       "  --model FILE.glb    a model using the set, for rendered visibility\n"
       "  --material NAME     the material of --model that uses the set\n"
       "\n"
@@ -181,6 +182,7 @@ static int run(int argc, char **argv) {
     cli_error("pca: give one of --components, --psnr, --max-p");
     return EXIT_BAD;
   }
+  if (model && criteria == 0) has_max_p = 1;   /* with a model, --max-p 0.2 is the default */
   if (has_max_p && !model) {
     cli_error("pca: --max-p needs --model FILE.glb and --material NAME");
     return EXIT_BAD;

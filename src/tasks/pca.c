@@ -773,7 +773,12 @@ static jnd_status measure_options(const jnd_texset *set, const jnd_pca *pca, con
   int w = set->w, h = set->h;
   size_t np = (size_t)w * h;
   float *up = jnd_alloc(np, sizeof *up);
-  if (!up) return JND_ERR_NOMEM;
+  double *rows = jnd_alloc((size_t)h, sizeof *rows);
+  if (!up || !rows) {
+    free(up);
+    free(rows);
+    return JND_ERR_NOMEM;
+  }
   jnd_status s = JND_OK;
   for (int k = 0; k < S->C && s == JND_OK; k++) {
     const float *u = proj + (size_t)k * np;
@@ -787,8 +792,8 @@ static jnd_status measure_options(const jnd_texset *set, const jnd_pca *pca, con
       s = store_component(u, w, h, S->opt[o].scale, S->opt[o].bits, &img, &scale, &offset);
       if (s == JND_OK) s = pca_upsample(img.data, w, h, S->opt[o].scale, up);
       if (s == JND_OK) {
-        double acc = 0;
-#pragma omp parallel for reduction(+ : acc) schedule(static)
+        /* per-row sums added in row order: the same on any thread count */
+#pragma omp parallel for schedule(static)
         for (int y = 0; y < h; y++) {
           double r = 0;
           for (int x = 0; x < w; x++) {
@@ -796,14 +801,17 @@ static jnd_status measure_options(const jnd_texset *set, const jnd_pca *pca, con
             double d = offset + scale * up[i] - u[i];
             r += d * d;
           }
-          acc += r;
+          rows[y] = r;
         }
+        double acc = 0;
+        for (int y = 0; y < h; y++) acc += rows[y];
         S->dist[k][o] = acc / (double)np;
       }
       jnd_image_free(&img);
     }
   }
   free(up);
+  free(rows);
   return s;
 }
 
