@@ -65,9 +65,12 @@ PY
 cmp "$T/k2/pca.json" "$T/k2.json"
 test ! -e "$T/k2/component_02.png"
 
-# deterministic: the same run gives the same report
-"$JND" pca $M -o "$T/k2b" --components 2 --bits 16 --quiet
+# deterministic: the same report on any thread count
+OMP_NUM_THREADS=1 "$JND" pca $M -o "$T/k2b" --components 2 --bits 16 --quiet
 cmp "$T/k2/pca.json" "$T/k2b/pca.json"
+OMP_NUM_THREADS=1 "$JND" pca $M -o "$T/p1" --psnr 40 --quiet
+OMP_NUM_THREADS=3 "$JND" pca $M -o "$T/p3" --psnr 40 --quiet
+cmp "$T/p1/pca.json" "$T/p3/pca.json"
 
 # bits per component
 "$JND" pca $M -o "$T/bits" --components 3 --bits 16,8 --no-bc --quiet
