@@ -113,7 +113,8 @@ static int find_channel(const exr_attr_chlist_t *cl, const char *name) {
 /* Picks the file channels that become image channels, in image order:
  * R, G, B[, A] when R, G and B are present (other channels are left out);
  * Y[, A] when those are the only channels; else every channel alphabetically
- * (the order the library lists them in). Returns the count. */
+ * (the order the library lists them in). Returns the count, or -1 for more
+ * than 64 channels without R, G, B. */
 static int choose_channels(const exr_attr_chlist_t *cl, int *pick, int *has_alpha) {
   int r = find_channel(cl, "R"), g = find_channel(cl, "G"), b = find_channel(cl, "B");
   int a = find_channel(cl, "A"), y = find_channel(cl, "Y");
@@ -126,7 +127,8 @@ static int choose_channels(const exr_attr_chlist_t *cl, int *pick, int *has_alph
   } else if (y >= 0 && cl->num_channels == 1 + (a >= 0)) {
     pick[c++] = y;
   } else {
-    for (int i = 0; i < cl->num_channels && i < 64; i++) pick[c++] = i;
+    if (cl->num_channels > 64) return -1;
+    for (int i = 0; i < cl->num_channels; i++) pick[c++] = i;
     return c;
   }
   if (a >= 0) {
@@ -228,9 +230,7 @@ static jnd_status read_part(const char *name, exr_context_t ctx, exr_stream *st,
   int64_t w64 = (int64_t)dw.max.x - dw.min.x + 1, h64 = (int64_t)dw.max.y - dw.min.y + 1;
   if (w64 <= 0 || h64 <= 0) return jnd_fail(JND_ERR_FORMAT, "%s: empty OpenEXR data window", name);
   if (w64 > JND_MAX_SIDE || h64 > JND_MAX_SIDE) w64 = h64 = JND_MAX_SIDE + 1; /* refused below */
-  if (cl->num_channels > 64)
-    return jnd_fail(JND_ERR_LIMIT, "%s: %d channels is over the limit of 64", name, cl->num_channels);
-  jnd_status s = jnd_check_size((int)w64, (int)h64, cl->num_channels, name);
+  jnd_status s = jnd_check_size((int)w64, (int)h64, 1, name);
   if (s != JND_OK) return s;
   int w = (int)w64, h = (int)h64;
 
@@ -244,6 +244,8 @@ static jnd_status read_part(const char *name, exr_context_t ctx, exr_stream *st,
   }
   int pick[64], has_alpha;
   int c = choose_channels(cl, pick, &has_alpha);
+  if (c < 0)
+    return jnd_fail(JND_ERR_LIMIT, "%s: %d channels without R, G, B is over the limit of 64", name, cl->num_channels);
   int bits = 16;
   for (int k = 0; k < c; k++)
     if (cl->entries[pick[k]].pixel_type != EXR_PIXEL_HALF) bits = 32;

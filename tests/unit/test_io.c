@@ -77,11 +77,12 @@ typedef struct {
   exr_storage_t storage;
   exr_compression_t compression;
   int x0, y0, w, h, c;
-  const char *names[8];
-  exr_pixel_type_t types[8];
+  const char *names[72];
+  exr_pixel_type_t types[72];
 } exr_layout;
 
-static int write_core_exr(const char *path, const exr_layout *L, const jnd_image *img) {
+/* data: c planes of w × h floats */
+static int write_core_exr(const char *path, const exr_layout *L, const float *data) {
   exr_context_t ctx;
   exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
   if (exr_start_write(&ctx, path, EXR_WRITE_FILE_DIRECTLY, &init) != EXR_ERR_SUCCESS) return 0;
@@ -102,7 +103,7 @@ static int write_core_exr(const char *path, const exr_layout *L, const jnd_image
     ok &= exr_set_tile_descriptor(ctx, part, 16, 8, EXR_TILE_ONE_LEVEL, EXR_TILE_ROUND_DOWN) == EXR_ERR_SUCCESS;
   ok &= exr_write_header(ctx) == EXR_ERR_SUCCESS;
   uint32_t *u = calloc((size_t)L->w * L->h * L->c, sizeof *u);
-  for (size_t i = 0; i < (size_t)L->w * L->h * L->c; i++) u[i] = (uint32_t)img->data[i];
+  for (size_t i = 0; i < (size_t)L->w * L->h * L->c; i++) u[i] = (uint32_t)data[i];
   exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
   int first = 1, lines = 16;
   if (L->storage == EXR_STORAGE_SCANLINE) exr_get_scanlines_per_chunk(ctx, part, &lines);
@@ -124,7 +125,7 @@ static int write_core_exr(const char *path, const exr_layout *L, const jnd_image
         while (strcmp(L->names[k], ch->channel_name) != 0) k++;
         size_t at = ((size_t)k * L->h + (size_t)ty * th) * L->w + (size_t)tx * tw;
         int is_uint = L->types[k] == EXR_PIXEL_UINT;
-        ch->encode_from_ptr = is_uint ? (const uint8_t *)(u + at) : (const uint8_t *)(img->data + at);
+        ch->encode_from_ptr = is_uint ? (const uint8_t *)(u + at) : (const uint8_t *)(data + at);
         ch->user_pixel_stride = 4;
         ch->user_line_stride = 4 * L->w;
         ch->user_bytes_per_element = 4;
@@ -255,6 +256,31 @@ TEST(exr_luminance_with_alpha_is_y_then_a) {
   jnd_image_free(&back);
 }
 
+TEST(exr_with_many_layers_reads_its_rgb_and_over_64_plain_channels_is_refused) {
+  const char *path = tmp_file("layers.exr");
+  enum { C = 70 };
+  exr_layout L = {EXR_STORAGE_SCANLINE, EXR_COMPRESSION_ZIP, 0, 0, 2, 2, C, {0}, {0}};
+  char storage[C][8];
+  float data[C * 4];
+  for (int k = 0; k < C; k++) {
+    snprintf(storage[k], sizeof storage[k], "c%02d", k);
+    L.names[k] = storage[k];
+    L.types[k] = EXR_PIXEL_FLOAT;
+    for (int i = 0; i < 4; i++) data[k * 4 + i] = (float)(k * 4 + i);
+  }
+  jnd_image back;
+  CHECK(write_core_exr(path, &L, data));
+  CHECK_STATUS(jnd_image_read(path, &back, NULL), JND_ERR_LIMIT);
+  L.names[7] = "R";
+  L.names[8] = "G";
+  L.names[9] = "B";
+  CHECK(write_core_exr(path, &L, data));
+  CHECK_OK(jnd_image_read(path, &back, NULL));
+  CHECK(back.c == 3);
+  if (back.c == 3) CHECK(memcmp(back.data, data + 7 * 4, 3 * 4 * sizeof(float)) == 0);
+  jnd_image_free(&back);
+}
+
 TEST(exr_writer_refuses_duplicate_channel_names) {
   jnd_image img = pattern(2, 2, 2, 0, 1, 3);
   const char *names[] = {"Y", "Y"};
@@ -267,7 +293,7 @@ TEST(exr_tiled_file_reads_like_the_pixels_it_holds) {
   exr_layout L = {EXR_STORAGE_TILED, EXR_COMPRESSION_ZIP, 0, 0, 37, 21, 3, {"B", "G", "R"},
                   {EXR_PIXEL_FLOAT, EXR_PIXEL_FLOAT, EXR_PIXEL_FLOAT}};
   jnd_image img = pattern(37, 21, 3, -1, 1, 4), back;
-  CHECK(write_core_exr(path, &L, &img));
+  CHECK(write_core_exr(path, &L, img.data));
   CHECK_OK(jnd_image_read(path, &back, NULL));
   CHECK(same_shape(&img, &back));
   if (same_shape(&img, &back)) { /* the file's B, G, R come back as R, G, B */
@@ -285,7 +311,7 @@ TEST(exr_data_window_away_from_the_origin_is_the_image) {
   exr_layout L = {EXR_STORAGE_SCANLINE, EXR_COMPRESSION_PIZ, -7, 100, 19, 35, 1, {"Y"}, {EXR_PIXEL_HALF}};
   jnd_image img = pattern(19, 35, 1, 0, 1, 5), back;
   for (size_t i = 0; i < (size_t)19 * 35; i++) img.data[i] = (float)(i % 64) / 64; /* exact in half */
-  CHECK(write_core_exr(path, &L, &img));
+  CHECK(write_core_exr(path, &L, img.data));
   CHECK_OK(jnd_image_read(path, &back, NULL));
   CHECK(same_shape(&img, &back));
   if (same_shape(&img, &back)) CHECK(max_abs_diff(&img, &back) == 0);
@@ -302,7 +328,7 @@ TEST(exr_every_compression_reads_back) {
                     {EXR_PIXEL_FLOAT, EXR_PIXEL_HALF, EXR_PIXEL_FLOAT}};
     jnd_image img = pattern(40, 40, 3, 0, 4, 6), back;
     for (size_t i = 0; i < (size_t)40 * 40 * 3; i++) img.data[i] = floorf(img.data[i] * 256) / 256;
-    CHECK(write_core_exr(path, &L, &img));
+    CHECK(write_core_exr(path, &L, img.data));
     CHECK_OK(jnd_image_read(path, &back, NULL));
     CHECK(same_shape(&img, &back));
     if (same_shape(&img, &back)) CHECK(max_abs_diff(&img, &back) == 0);
@@ -316,7 +342,7 @@ TEST(exr_every_compression_reads_back) {
     exr_layout L = {EXR_STORAGE_SCANLINE, lossy[t], 0, 0, 40, 40, 3, {"R", "G", "B"},
                     {EXR_PIXEL_HALF, EXR_PIXEL_HALF, EXR_PIXEL_HALF}};
     jnd_image img = pattern(40, 40, 3, 0.2, 0.3, 7), back;
-    CHECK(write_core_exr(path, &L, &img));
+    CHECK(write_core_exr(path, &L, img.data));
     CHECK_OK(jnd_image_read(path, &back, NULL));
     CHECK(same_shape(&img, &back));
     if (same_shape(&img, &back)) CHECK_LT(max_abs_diff(&img, &back), 0.05);
@@ -332,7 +358,7 @@ TEST(exr_uint_channel_reads_as_float_counts) {
   jnd_image_info info;
   jnd_image_alloc(&img, 9, 4, 1);
   for (int i = 0; i < 36; i++) img.data[i] = (float)(i * 1000);
-  CHECK(write_core_exr(path, &L, &img));
+  CHECK(write_core_exr(path, &L, img.data));
   CHECK_OK(jnd_image_read(path, &back, &info));
   CHECK(same_shape(&img, &back) && info.bits == 32);
   if (same_shape(&img, &back)) CHECK(max_abs_diff(&img, &back) == 0);
@@ -693,6 +719,7 @@ RUN_TESTS(exr_float_round_trips_exactly, exr_half_round_trips_within_half_precis
           exr_default_names_give_back_the_same_channel_order,
           exr_channels_are_read_as_r_g_b_a_whatever_their_order,
           exr_without_colour_channels_is_read_alphabetically, exr_luminance_with_alpha_is_y_then_a,
+          exr_with_many_layers_reads_its_rgb_and_over_64_plain_channels_is_refused,
           exr_writer_refuses_duplicate_channel_names, exr_tiled_file_reads_like_the_pixels_it_holds,
           exr_data_window_away_from_the_origin_is_the_image, exr_every_compression_reads_back,
           exr_uint_channel_reads_as_float_counts, exr_with_nan_is_refused, exr_with_infinity_is_refused,
