@@ -33,7 +33,9 @@ struct jnd_renderer {
   char desc[320];
   int w, h, samples, aniso;
   float max_aniso;
-  GLuint prog, bg_prog, empty_vao;
+  /* the PBR program in four variants: [aux pass][alpha mask]; only the
+   * masked variant may discard, so that the others keep early depth tests */
+  GLuint prog[2][2], bg_prog, empty_vao;
   GLuint msaa_fbo, msaa_color, msaa_depth;
   GLuint resolve_fbo, resolve_color;
   GLuint aux_fbo, aux_tex[3], aux_depth;
@@ -63,14 +65,20 @@ static jnd_status gl_check(const char *what) {
   return JND_OK;
 }
 
-static jnd_status compile(const char *vs_name, const char *fs_name, GLuint *out) {
+/* Compiles and links a program; defines (may be "") go right after the
+ * #version line of both stages. */
+static jnd_status compile(const char *vs_name, const char *fs_name, const char *defines, GLuint *out) {
   const char *src[2] = {jnd_shader_source(vs_name), jnd_shader_source(fs_name)};
   GLenum type[2] = {GL_VERTEX_SHADER, GL_FRAGMENT_SHADER};
   GLuint sh[2] = {0, 0}, prog = glCreateProgram();
   for (int i = 0; i < 2; i++) {
     if (!src[i]) return jnd_fail(JND_ERR_INTERNAL, "shader %s is not embedded", i ? fs_name : vs_name);
+    const char *nl = strchr(src[i], '\n');
+    if (!nl) return jnd_fail(JND_ERR_INTERNAL, "shader %s has no #version line", i ? fs_name : vs_name);
+    const char *parts[3] = {src[i], defines, nl + 1};
+    GLint lens[3] = {(GLint)(nl + 1 - src[i]), (GLint)strlen(defines), -1};
     sh[i] = glCreateShader(type[i]);
-    glShaderSource(sh[i], 1, &src[i], NULL);
+    glShaderSource(sh[i], 3, parts, lens);
     glCompileShader(sh[i]);
     GLint ok = 0;
     glGetShaderiv(sh[i], GL_COMPILE_STATUS, &ok);
@@ -222,7 +230,11 @@ jnd_status jnd_renderer_create(const jnd_renderer_params *p, jnd_renderer **out)
   glGetError();   /* no anisotropic filtering: ma stays 1 */
   r->max_aniso = (float)(p->anisotropy < 1 ? 1 : p->anisotropy);
   if (r->max_aniso > ma) r->max_aniso = ma;
-  if ((st = compile("pbr_vert", "pbr_frag", &r->prog)) || (st = compile("bg_vert", "bg_frag", &r->bg_prog)) ||
+  static const char *const variants[2][2] = {{"", "#define JND_ALPHA_MASK 1\n"},
+                                             {"#define JND_AUX 1\n", "#define JND_AUX 1\n#define JND_ALPHA_MASK 1\n"}};
+  for (int a = 0; a < 2 && !st; a++)
+    for (int m = 0; m < 2 && !st; m++) st = compile("pbr_vert", "pbr_frag", variants[a][m], &r->prog[a][m]);
+  if (st || (st = compile("bg_vert", "bg_frag", "", &r->bg_prog)) ||
       (st = make_targets(r)) || (st = load_environment(r, p->env_path))) {
     jnd_renderer_free(r);
     return st;
@@ -252,7 +264,8 @@ void jnd_renderer_free(jnd_renderer *r) {
   if (r->gl.context) {
     drop_scene(r);
     delete_targets(r);
-    glDeleteProgram(r->prog);
+    for (int a = 0; a < 2; a++)
+      for (int m = 0; m < 2; m++) glDeleteProgram(r->prog[a][m]);
     glDeleteProgram(r->bg_prog);
     GLuint t[3] = {r->env_tex, r->bg_tex, r->brdf_tex};
     glDeleteTextures(3, t);
@@ -387,8 +400,7 @@ static void camera_matrices(const jnd_scene *s, const jnd_camera *c, double aspe
   jnd_mat4_perspective(c->fov_y_deg > 0 ? c->fov_y_deg : 45, aspect, zn, zf, proj);
 }
 
-static void set_material(jnd_renderer *r, const jnd_scene *s, const jnd_material *m) {
-  GLuint p = r->prog;
+static void set_material(jnd_renderer *r, const jnd_scene *s, const jnd_material *m, GLuint p) {
   glProgramUniform4fv(p, U(p, "u_base_color"), 1, m->base_color);
   glProgramUniform1f(p, U(p, "u_metallic"), m->metallic);
   glProgramUniform1f(p, U(p, "u_roughness"), m->roughness);
@@ -416,42 +428,48 @@ static void set_material(jnd_renderer *r, const jnd_scene *s, const jnd_material
   else glEnable(GL_CULL_FACE);
 }
 
-static int by_distance_desc(const void *a, const void *b) {
+/* Sort keys: blended meshes last and back to front; the others front to
+ * back so that early depth tests spare hidden fragments; ties by index. */
+static int by_key(const void *a, const void *b) {
   const double *x = a, *y = b;
-  return x[0] < y[0] ? 1 : x[0] > y[0] ? -1 : (x[1] > y[1]) - (x[1] < y[1]);
+  for (int k = 0; k < 3; k++)
+    if (x[k] != y[k]) return x[k] < y[k] ? -1 : 1;
+  return 0;
 }
 
-/* Draws every mesh: opaque and masked first, blended ones back to front. */
-static void draw_meshes(jnd_renderer *r, const jnd_scene *s, const double eye[3], int blend_colour) {
-  double (*order)[2] = jnd_alloc(r->nmeshes ? (size_t)r->nmeshes : 1, sizeof *order);
+/* Draws every mesh: opaque and masked first, blended ones after. aux selects
+ * the auxiliary-pass programs. */
+static void draw_meshes(jnd_renderer *r, const jnd_scene *s, const double eye[3], int aux) {
+  double (*order)[3] = jnd_alloc(r->nmeshes ? (size_t)r->nmeshes : 1, sizeof *order);
   if (!order) return;
-  for (int pass = 0; pass < 2; pass++) {
-    int n = 0;
-    for (int i = 0; i < r->nmeshes; i++) {
-      int blend = s->materials[r->meshes[i].material].alpha_mode == JND_ALPHA_BLEND;
-      if (blend != pass) continue;
-      double d = 0;
-      for (int k = 0; k < 3; k++) d += (r->meshes[i].centre[k] - eye[k]) * (r->meshes[i].centre[k] - eye[k]);
-      order[n][0] = pass ? d : 0;
-      order[n][1] = i;
-      n++;
-    }
-    if (pass) qsort(order, (size_t)n, sizeof order[0], by_distance_desc);
-    if (pass && blend_colour) {
-      glEnablei(GL_BLEND, 0);
-      glBlendFunci(0, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-      glDepthMask(GL_FALSE);
-    }
-    for (int j = 0; j < n; j++) {
-      const gpu_mesh *g = &r->meshes[(int)order[j][1]];
-      set_material(r, s, &s->materials[g->material]);
-      glProgramUniform1f(r->prog, U(r->prog, "u_material"), (float)g->material);
-      glBindVertexArray(g->vao);
-      glDrawElements(GL_TRIANGLES, g->count, GL_UNSIGNED_INT, NULL);
-    }
-    glDisablei(GL_BLEND, 0);
-    glDepthMask(GL_TRUE);
+  for (int i = 0; i < r->nmeshes; i++) {
+    int blend = s->materials[r->meshes[i].material].alpha_mode == JND_ALPHA_BLEND;
+    double d = 0;
+    for (int k = 0; k < 3; k++) d += (r->meshes[i].centre[k] - eye[k]) * (r->meshes[i].centre[k] - eye[k]);
+    order[i][0] = blend;
+    order[i][1] = blend ? -d : d;
+    order[i][2] = i;
   }
+  qsort(order, (size_t)r->nmeshes, sizeof order[0], by_key);
+  int blending = 0;
+  for (int j = 0; j < r->nmeshes; j++) {
+    const gpu_mesh *g = &r->meshes[(int)order[j][2]];
+    const jnd_material *m = &s->materials[g->material];
+    if (order[j][0] > 0 && !blending && !aux) {
+      glEnablei(GL_BLEND, 0);
+      glBlendFunci(0, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);   /* premultiplied */
+      glDepthMask(GL_FALSE);
+      blending = 1;
+    }
+    GLuint p = r->prog[aux][m->alpha_mode == JND_ALPHA_MASK];
+    glUseProgram(p);
+    set_material(r, s, m, p);
+    glProgramUniform1f(p, U(p, "u_material"), (float)g->material);
+    glBindVertexArray(g->vao);
+    glDrawElements(GL_TRIANGLES, g->count, GL_UNSIGNED_INT, NULL);
+  }
+  glDisablei(GL_BLEND, 0);
+  glDepthMask(GL_TRUE);
   free(order);
 }
 
@@ -488,20 +506,9 @@ jnd_status jnd_render(jnd_renderer *r, const jnd_scene *scene, const jnd_view *v
   jnd_mat4_mul(pvp, pm, prev_mvp);
   jnd_mat3_normal(view->model, nrm);
 
-  GLuint p = r->prog;
-  glUseProgram(p);
-  set_mat4(p, "u_model", view->model);
-  set_mat4(p, "u_view", vmat);
-  set_mat4(p, "u_viewproj", vp);
-  set_mat4(p, "u_prev_mvp", prev_mvp);
   float nf[9], rot[9];
   for (int i = 0; i < 9; i++) nf[i] = (float)nrm[i];
-  glProgramUniformMatrix3fv(p, U(p, "u_normal_mat"), 1, GL_FALSE, nf);
-  glProgramUniform3f(p, U(p, "u_eye"), (float)view->camera.eye[0], (float)view->camera.eye[1],
-                     (float)view->camera.eye[2]);
-  glProgramUniform2f(p, U(p, "u_viewport"), (float)r->w, (float)r->h);
-  glProgramUniform1f(p, U(p, "u_exposure"), (float)view->exposure);
-  glProgramUniform1f(p, U(p, "u_max_aniso"), r->max_aniso);
+  env_rotation(view->env_rotation_deg, rot);
   /* lights */
   GLint lt[8] = {0};
   float lpos[24] = {0}, ldir[24] = {0}, lcol[24] = {0}, lrange[8] = {0}, lcone[16] = {0};
@@ -519,23 +526,35 @@ jnd_status jnd_render(jnd_renderer *r, const jnd_scene *scene, const jnd_view *v
     lcone[2 * i] = (float)cos(inner * M_PI / 180);
     lcone[2 * i + 1] = (float)cos(outer * M_PI / 180);
   }
-  glProgramUniform1i(p, U(p, "u_nlights"), view->nlights);
-  glProgramUniform1iv(p, U(p, "u_ltype"), 8, lt);
-  glProgramUniform3fv(p, U(p, "u_lpos"), 8, lpos);
-  glProgramUniform3fv(p, U(p, "u_ldir"), 8, ldir);
-  glProgramUniform3fv(p, U(p, "u_lcolor"), 8, lcol);
-  glProgramUniform1fv(p, U(p, "u_lrange"), 8, lrange);
-  glProgramUniform2fv(p, U(p, "u_lcone"), 8, lcone);
-  /* environment */
-  env_rotation(view->env_rotation_deg, rot);
-  glProgramUniformMatrix3fv(p, U(p, "u_env_rot"), 1, GL_FALSE, rot);
-  glProgramUniform1f(p, U(p, "u_env_intensity"), (float)view->env_intensity);
-  glProgramUniform1f(p, U(p, "u_env_levels"), (float)JND_ENV_LEVELS);
-  glProgramUniform3fv(p, U(p, "u_sh"), 9, &r->sh[0][0]);
-  static const char *const maps[5] = {"u_map0", "u_map1", "u_map2", "u_map3", "u_map4"};
-  for (int k = 0; k < 5; k++) glProgramUniform1i(p, U(p, maps[k]), k);
-  glProgramUniform1i(p, U(p, "u_env"), 5);
-  glProgramUniform1i(p, U(p, "u_brdf"), 6);
+  for (int pi = 0; pi < 4; pi++) {
+    GLuint p = r->prog[pi / 2][pi % 2];
+    set_mat4(p, "u_model", view->model);
+    set_mat4(p, "u_view", vmat);
+    set_mat4(p, "u_viewproj", vp);
+    set_mat4(p, "u_prev_mvp", prev_mvp);
+    glProgramUniformMatrix3fv(p, U(p, "u_normal_mat"), 1, GL_FALSE, nf);
+    glProgramUniform3f(p, U(p, "u_eye"), (float)view->camera.eye[0], (float)view->camera.eye[1],
+                       (float)view->camera.eye[2]);
+    glProgramUniform2f(p, U(p, "u_viewport"), (float)r->w, (float)r->h);
+    glProgramUniform1f(p, U(p, "u_exposure"), (float)view->exposure);
+    glProgramUniform1f(p, U(p, "u_max_aniso"), r->max_aniso);
+    glProgramUniform1i(p, U(p, "u_nlights"), view->nlights);
+    glProgramUniform1iv(p, U(p, "u_ltype"), 8, lt);
+    glProgramUniform3fv(p, U(p, "u_lpos"), 8, lpos);
+    glProgramUniform3fv(p, U(p, "u_ldir"), 8, ldir);
+    glProgramUniform3fv(p, U(p, "u_lcolor"), 8, lcol);
+    glProgramUniform1fv(p, U(p, "u_lrange"), 8, lrange);
+    glProgramUniform2fv(p, U(p, "u_lcone"), 8, lcone);
+    /* environment */
+    glProgramUniformMatrix3fv(p, U(p, "u_env_rot"), 1, GL_FALSE, rot);
+    glProgramUniform1f(p, U(p, "u_env_intensity"), (float)view->env_intensity);
+    glProgramUniform1f(p, U(p, "u_env_levels"), (float)JND_ENV_LEVELS);
+    glProgramUniform3fv(p, U(p, "u_sh"), 9, &r->sh[0][0]);
+    static const char *const maps[5] = {"u_map0", "u_map1", "u_map2", "u_map3", "u_map4"};
+    for (int k = 0; k < 5; k++) glProgramUniform1i(p, U(p, maps[k]), k);
+    glProgramUniform1i(p, U(p, "u_env"), 5);
+    glProgramUniform1i(p, U(p, "u_brdf"), 6);
+  }
   glBindTextureUnit(5, r->env_tex);
   glBindTextureUnit(6, r->brdf_tex);
 
@@ -570,9 +589,8 @@ jnd_status jnd_render(jnd_renderer *r, const jnd_scene *scene, const jnd_view *v
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glEnable(GL_DEPTH_TEST);
     glDepthMask(GL_TRUE);
-    glUseProgram(p);
   }
-  draw_meshes(r, scene, view->camera.eye, 1);
+  draw_meshes(r, scene, view->camera.eye, 0);
   glBlitNamedFramebuffer(r->msaa_fbo, r->resolve_fbo, 0, 0, r->w, r->h, 0, 0, r->w, r->h,
                          GL_COLOR_BUFFER_BIT, GL_NEAREST);
   if ((st = gl_check("colour pass"))) return st;
@@ -586,7 +604,7 @@ jnd_status jnd_render(jnd_renderer *r, const jnd_scene *scene, const jnd_view *v
     glClearNamedFramebufferfv(r->aux_fbo, GL_COLOR, 2, none);
     glClearNamedFramebufferfv(r->aux_fbo, GL_COLOR, 3, none);
     glClearNamedFramebufferfi(r->aux_fbo, GL_DEPTH_STENCIL, 0, 1.0f, 0);
-    draw_meshes(r, scene, view->camera.eye, 0);
+    draw_meshes(r, scene, view->camera.eye, 1);
     if ((st = gl_check("auxiliary pass"))) return st;
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);

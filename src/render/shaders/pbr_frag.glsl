@@ -98,13 +98,28 @@ void main() {
   float mip[5];
   for (int i = 0; i < 5; i++) {
     uv[i] = u_uvset[i] == 1 ? v_uv1 : v_uv0;
+#ifdef JND_AUX
     mip[i] = u_has[i] != 0 ? mip_level(uv[i], u_size[i], u_levels[i]) : -1.0;
+#endif
   }
   // derivatives are taken above, before any fragment may leave
   vec4 base = u_base_color * v_color;
   if (u_has[0] != 0) base *= texture(u_map0, uv[0]);
-  if (u_alpha_mode == 1 && base.a < u_alpha_cutoff) discard;
+#ifdef JND_ALPHA_MASK
+  // only this variant may discard: the others keep early depth testing
+  if (base.a < u_alpha_cutoff) discard;
+#endif
   float alpha = u_alpha_mode == 2 ? base.a : 1.0;
+#ifdef JND_AUX
+  // the auxiliary pass: one sample per pixel, no shading
+  vec2 cur = (v_clip.xy / v_clip.w * 0.5 + 0.5) * u_viewport;
+  vec2 prev = (v_prev_clip.xy / v_prev_clip.w * 0.5 + 0.5) * u_viewport;
+  o_aux = vec4(v_depth, cur.x - prev.x, -(cur.y - prev.y), 1.0);
+  o_mip0 = vec4(mip[0], mip[1], mip[2], mip[3]);
+  o_mip1 = vec4(mip[4], u_material, -1.0, -1.0);
+  o_color = vec4(0.0);
+  return;
+#endif
 
   float metallic = u_metallic, rough = u_roughness;
   if (u_has[1] != 0) {
@@ -179,9 +194,4 @@ void main() {
   c += emissive;
 
   o_color = vec4(c * u_exposure * alpha, alpha);  // premultiplied
-  vec2 cur = (v_clip.xy / v_clip.w * 0.5 + 0.5) * u_viewport;
-  vec2 prev = (v_prev_clip.xy / v_prev_clip.w * 0.5 + 0.5) * u_viewport;
-  o_aux = vec4(v_depth, cur.x - prev.x, -(cur.y - prev.y), 1.0);
-  o_mip0 = vec4(mip[0], mip[1], mip[2], mip[3]);
-  o_mip1 = vec4(mip[4], u_material, -1.0, -1.0);
 }
