@@ -558,10 +558,11 @@ static jnd_status store_component(const float *u, int w, int h, int s, int bits,
   *offset = lo;
   *scale = hi > lo ? (double)hi - lo : 0;
   double inv = *scale > 0 ? 1.0 / *scale : 0, levels = bits ? (double)((1u << bits) - 1) : 0;
+  double inv_levels = levels > 0 ? 1.0 / levels : 0;
 #pragma omp parallel for schedule(static)
   for (ptrdiff_t i = 0; i < n; i++) {
     double q = ((double)d[i] - lo) * inv;
-    if (levels > 0) q = floor(q * levels + 0.5) / levels;
+    if (levels > 0) q = floor(q * levels + 0.5) * inv_levels;
     d[i] = (float)q;
   }
   return JND_OK;
