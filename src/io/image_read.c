@@ -146,18 +146,16 @@ static jnd_status jpeg_check_tables(const char *name, const unsigned char *buf, 
  * (and on a zero-length literal run), so the runs are walked here first: the
  * data must hold every pixel the header promises. */
 static jnd_status hdr_check_runs(const char *name, const unsigned char *buf, size_t n, int w, int h) {
-  /* header: the magic line, lines up to an empty one, then the resolution line */
-  size_t p = 0;
-  int line_len = 0, seen_empty = 0;
+  /* header: the magic line, lines up to an empty one (for stb, one that is
+   * empty or starts with a NUL), then the resolution line */
+  size_t p = 0, line_start = 0;
+  int seen_empty = 0;
   for (;;) {
     if (p >= n) return jnd_fail(JND_ERR_FORMAT, "%s: truncated Radiance HDR header", name);
-    if (buf[p++] != '\n') {
-      line_len++;
-      continue;
-    }
+    if (buf[p++] != '\n') continue;
     if (seen_empty) break; /* the end of the resolution line */
-    if (line_len == 0) seen_empty = 1;
-    line_len = 0;
+    if (line_start > 0 && (p - 1 == line_start || buf[line_start] == 0)) seen_empty = 1;
+    line_start = p;
   }
   size_t left = n - p, need = (size_t)w * h * 4;
   const unsigned char *d = buf + p;

@@ -655,6 +655,10 @@ TEST(radiance_hdr_with_truncated_runs_is_refused_not_hung) {
   if (buf) CHECK_OK(jnd_decode_hdr("runs.hdr", buf, n, &back, NULL));
   jnd_image_free(&back);
   free(buf);
+  /* stb ends the header at a line that starts with a NUL, not only at an empty one */
+  static const char nul_line[] = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\0x\n-Y 2 +X 16\n\2\2\0\20\220\1";
+  CHECK_STATUS(jnd_decode_hdr("nul.hdr", (const unsigned char *)nul_line, sizeof nul_line - 1, &back, NULL),
+               JND_ERR_FORMAT);
 }
 
 TEST(each_decoder_refuses_other_formats) {
