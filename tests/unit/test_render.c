@@ -414,39 +414,138 @@ TEST(view_sampling_is_deterministic_and_seeded) {
   jnd_scene_free(s);
 }
 
-TEST(golden_builtin_frame_matches) {
-  /* tests/data/render/builtin_128.png: the default front view of the
-   * builtin box (256² maps) at 128². Compared by mean absolute difference,
-   * not bytes, so that other llvmpipe/GPU versions pass.
-   * TODO: compare with jnd diff (jnd_model_diff) once it lands. */
+/* Compares a frame with tests/data/render/NAME (JND_UPDATE_GOLDEN=1
+ * rewrites it): by mean absolute difference and by the vision model's
+ * probability of detection, not by bytes, so that other llvmpipe or GPU
+ * versions pass. */
+static void check_golden(const jnd_image *color, const char *name) {
   char path[1200];
   snprintf(path, sizeof path, "%s", __FILE__);   /* .../tests/unit/test_render.c */
   char *cut = strstr(path, "/unit/test_render.c");
   if (!cut) return;
-  snprintf(cut, sizeof path - (size_t)(cut - path), "/data/render/builtin_128.png");
+  snprintf(cut, sizeof path - (size_t)(cut - path), "/data/render/%s", name);
+  jnd_image srgb, gold;
+  jnd_image_info gi;
+  CHECK_OK(jnd_render_to_srgb(color, &srgb));
+  if (getenv("JND_UPDATE_GOLDEN")) CHECK_OK(jnd_image_write_png(path, &srgb, 8));
+  if (jnd_image_read(path, &gold, &gi) != JND_OK) {
+    fprintf(stderr, "%s\n", jnd_last_error());
+    CHECK(!"golden image missing");
+    jnd_image_free(&srgb);
+    return;
+  }
+  CHECK(gold.w == srgb.w && gold.h == srgb.h && gold.c == 3);
+  if (gold.w == srgb.w && gold.h == srgb.h && gold.c == 3) {
+    double d = 0;
+    size_t n = (size_t)gold.w * gold.h * 3;
+    for (size_t k = 0; k < n; k++) d += fabs(gold.data[k] - srgb.data[k]);
+    CHECK_LT(d / n, 0.01);
+    /* how likely a viewer notices the difference (jnd diff) */
+    jnd_model_params mp;
+    jnd_model_defaults(&mp);
+    jnd_model *m = NULL;
+    jnd_diff_stats st;
+    jnd_image_info si = gi;
+    if (jnd_model_create(&mp, &m) == JND_OK) {
+      CHECK_OK(jnd_diff_files(m, &gold, &gi, &srgb, &si, NULL, NULL, NULL, &st));
+      CHECK_LT(st.p_detect, 0.25);
+      jnd_model_free(m);
+      return;   /* gold and srgb were consumed */
+    }
+  }
+  jnd_image_free(&gold);
+  jnd_image_free(&srgb);
+}
+
+TEST(golden_builtin_frame_matches) {
   jnd_scene *s = builtin_scene(0);
   if (!s) return;
   jnd_view v = front_view(s, 0.8);
   jnd_frame f;
   if (render(s, &v, &f)) {
-    jnd_image srgb, gold;
-    CHECK_OK(jnd_render_to_srgb(&f.color, &srgb));
-    if (getenv("JND_UPDATE_GOLDEN")) CHECK_OK(jnd_image_write_png(path, &srgb, 8));
-    if (jnd_image_read(path, &gold, NULL) == JND_OK) {
-      CHECK(gold.w == SIZE && gold.h == SIZE && gold.c == 3);
-      double d = 0;
-      size_t n = (size_t)SIZE * SIZE * 3;
-      if (gold.w == SIZE && gold.h == SIZE && gold.c == 3)
-        for (size_t k = 0; k < n; k++) d += fabs(gold.data[k] - srgb.data[k]);
-      CHECK_LT(d / n, 0.01);
-      jnd_image_free(&gold);
-    } else {
-      CHECK(!"golden image missing");
-    }
-    jnd_image_free(&srgb);
+    check_golden(&f.color, "builtin_128.png");
     jnd_frame_free(&f);
   }
   jnd_scene_free(s);
+}
+
+TEST(golden_box_textured_frame_matches) {
+  jnd_scene *s = NULL;
+  if (jnd_scene_load(ASSIMP_MODELS "/glTF2/BoxTextured-glTF/BoxTextured.gltf", &s) != JND_OK) {
+    fprintf(stderr, "skip: %s\n", jnd_last_error());
+    return;
+  }
+  jnd_view v = front_view(s, 0.8);
+  jnd_frame f;
+  if (render(s, &v, &f)) {
+    check_golden(&f.color, "box_textured_128.png");
+    jnd_frame_free(&f);
+  }
+  jnd_scene_free(s);
+}
+
+/* A quad facing +Z whose uv u runs along +X and v down the image (image up
+ * is +Y), with a constant normal map tilted by `tilt` (tangent space). */
+static jnd_scene *tilted_quad(const double tilt[3]) {
+  char dir[1100], path[1200];
+  snprintf(dir, sizeof dir, "%s", test_tmp_dir());
+  jnd_image nm;
+  CHECK_OK(jnd_image_alloc(&nm, 8, 8, 3));
+  for (int c = 0; c < 3; c++)
+    for (int k = 0; k < 64; k++) nm.data[c * 64 + k] = (float)(0.5 + 0.5 * tilt[c]);
+  snprintf(path, sizeof path, "%s/tilt.png", dir);
+  CHECK_OK(jnd_image_write_png(path, &nm, 16));
+  jnd_image_free(&nm);
+  snprintf(path, sizeof path, "%s/tilt.mtl", dir);
+  FILE *f = fopen(path, "w");
+  fputs("newmtl Tilt\nKd 0.8 0.8 0.8\nNs 0\nnorm tilt.png\n", f);
+  fclose(f);
+  snprintf(path, sizeof path, "%s/tilt.obj", dir);
+  f = fopen(path, "w");
+  fputs("mtllib tilt.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+        "vn 0 0 1\nusemtl Tilt\nf 1/1/1 2/2/1 3/3/1 4/4/1\n", f);
+  fclose(f);
+  jnd_scene *s = NULL;
+  CHECK_OK(jnd_scene_load(path, &s));
+  return s;
+}
+
+static double lit_by(const jnd_scene *s, double dx, double dy) {
+  jnd_view v;
+  jnd_view_defaults(&v);
+  v.env_intensity = 0;
+  v.nlights = 1;
+  memset(&v.lights[0], 0, sizeof v.lights[0]);
+  v.lights[0].type = JND_LIGHT_DIRECTIONAL;
+  v.lights[0].direction[0] = -dx;   /* travels away from (dx, dy, 1) */
+  v.lights[0].direction[1] = -dy;
+  v.lights[0].direction[2] = -1;
+  v.lights[0].color[0] = v.lights[0].color[1] = v.lights[0].color[2] = 1;
+  v.lights[0].intensity = 1;
+  jnd_frame f;
+  double m = 0;
+  if (render(s, &v, &f)) {
+    m = mean(&f.color, 1);
+    jnd_frame_free(&f);
+  }
+  return m;
+}
+
+TEST(normal_maps_follow_the_gltf_tangent_convention) {
+  /* +X of the map tilts the surface toward +u, +Y (green) toward the top of
+   * the image: a light from that side makes it brighter */
+  const double right[3] = {0.6, 0, 0.8}, up[3] = {0, 0.6, 0.8};
+  jnd_scene *s = tilted_quad(right);
+  if (s) {
+    CHECK(jnd_scene_map_find(s, "Tilt/normal") >= 0);
+    CHECK_LT(1.3 * lit_by(s, -1, 0), lit_by(s, 1, 0));
+    jnd_scene_free(s);
+  }
+  s = tilted_quad(up);
+  if (s) {
+    CHECK_LT(1.3 * lit_by(s, 0, -1), lit_by(s, 0, 1));
+    jnd_scene_free(s);
+  }
 }
 
 TEST(assimp_test_models_render_with_plausible_coverage) {
@@ -503,4 +602,6 @@ RUN_TESTS(builtin_maps_are_addressable_by_material_and_slot, resampling_a_consta
           normal_map_changes_shading, environment_changes_the_specular_response, rendering_is_deterministic,
           restoring_a_map_restores_the_image_exactly, mip_level_rises_by_one_per_halving_of_size_on_screen,
           motion_vectors_follow_the_camera, view_sampling_is_deterministic_and_seeded,
-          golden_builtin_frame_matches, assimp_test_models_render_with_plausible_coverage, close_renderer)
+          golden_builtin_frame_matches, golden_box_textured_frame_matches,
+          normal_maps_follow_the_gltf_tangent_convention, assimp_test_models_render_with_plausible_coverage,
+          close_renderer)
