@@ -591,6 +591,101 @@ TEST(assimp_test_models_render_with_plausible_coverage) {
   }
 }
 
+/* A quad facing +Z with material Paint: Kd, opacity d. */
+static jnd_scene *paint_quad(double d) {
+  char dir[1100], path[1200];
+  snprintf(dir, sizeof dir, "%s", test_tmp_dir());
+  snprintf(path, sizeof path, "%s/paint.mtl", dir);
+  FILE *f = fopen(path, "w");
+  fprintf(f, "newmtl Paint\nKd 0.8 0.8 0.8\nNs 10\nd %g\n", d);
+  fclose(f);
+  snprintf(path, sizeof path, "%s/paint.obj", dir);
+  f = fopen(path, "w");
+  fputs("mtllib paint.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvn 0 0 1\nusemtl Paint\n"
+        "f 1//1 2//1 3//1 4//1\n", f);
+  fclose(f);
+  jnd_scene *s = NULL;
+  CHECK_OK(jnd_scene_load(path, &s));
+  return s;
+}
+
+TEST(blended_surfaces_cover_by_their_opacity) {
+  jnd_scene *opaque = paint_quad(1), *half = paint_quad(0.5);
+  if (opaque && half) {
+    jnd_view v;
+    jnd_view_defaults(&v);
+    v.outputs = JND_OUT_COLOR | JND_OUT_MASK;
+    jnd_frame a, b;
+    if (render(opaque, &v, &a)) {
+      if (render(half, &v, &b)) {
+        CHECK_NEAR(mean(&b.mask, 0) / mean(&a.mask, 0), 0.5, 0.02);
+        CHECK_NEAR(mean(&b.color, 1) / mean(&a.color, 1), 0.5, 0.05);   /* over black */
+        jnd_frame_free(&b);
+      }
+      jnd_frame_free(&a);
+    }
+  }
+  jnd_scene_free(opaque);
+  jnd_scene_free(half);
+}
+
+TEST(point_and_spot_lights_light_the_side_they_are_on) {
+  jnd_scene *s = paint_quad(1);
+  if (!s) return;
+  jnd_view v;
+  jnd_view_defaults(&v);
+  v.env_intensity = 0;
+  v.nlights = 1;
+  jnd_light *L = &v.lights[0];
+  memset(L, 0, sizeof *L);
+  L->type = JND_LIGHT_POINT;
+  L->color[0] = L->color[1] = L->color[2] = 1;
+  L->intensity = 5;
+  L->position[2] = 1;
+  jnd_frame front, back, spot_in, spot_out;
+  if (render(s, &v, &front)) {
+    L->position[2] = -1;   /* behind the quad: it faces away */
+    if (render(s, &v, &back)) {
+      CHECK_LT(mean(&back.color, 0) + 0.01, mean(&front.color, 0));
+      jnd_frame_free(&back);
+    }
+    jnd_frame_free(&front);
+  }
+  L->type = JND_LIGHT_SPOT;
+  L->position[2] = 1;
+  L->direction[2] = -1;
+  L->inner_deg = 10;
+  L->outer_deg = 20;
+  if (render(s, &v, &spot_in)) {
+    L->direction[0] = 1;   /* turned 45° away: the cone misses the quad's centre */
+    if (render(s, &v, &spot_out)) {
+      size_t c = (size_t)(SIZE / 2) * SIZE + SIZE / 2;
+      CHECK_LT(spot_out.color.data[c] + 0.01, spot_in.color.data[c]);
+      jnd_frame_free(&spot_out);
+    }
+    jnd_frame_free(&spot_in);
+  }
+  jnd_scene_free(s);
+}
+
+TEST(maps_keep_their_texture_coordinate_set) {
+  jnd_scene *s = NULL;
+  if (jnd_scene_load(ASSIMP_MODELS "/glTF2/BoxTexcoords-glTF/boxTexcoords.gltf", &s) != JND_OK) return;
+  jnd_map_info info;
+  int i = jnd_scene_map_find(s, "Material/metallicRoughness");
+  CHECK(i >= 0);
+  if (i >= 0) {
+    CHECK_OK(jnd_scene_map_info(s, i, &info));
+    CHECK(info.uv_set == 1);
+  }
+  i = jnd_scene_map_find(s, "Material/baseColor");
+  if (i >= 0) {
+    CHECK_OK(jnd_scene_map_info(s, i, &info));
+    CHECK(info.uv_set == 0);
+  }
+  jnd_scene_free(s);
+}
+
 static void close_renderer(void) {
   jnd_renderer_free(renderer());
 }
@@ -603,5 +698,7 @@ RUN_TESTS(builtin_maps_are_addressable_by_material_and_slot, resampling_a_consta
           restoring_a_map_restores_the_image_exactly, mip_level_rises_by_one_per_halving_of_size_on_screen,
           motion_vectors_follow_the_camera, view_sampling_is_deterministic_and_seeded,
           golden_builtin_frame_matches, golden_box_textured_frame_matches,
-          normal_maps_follow_the_gltf_tangent_convention, assimp_test_models_render_with_plausible_coverage,
+          normal_maps_follow_the_gltf_tangent_convention, blended_surfaces_cover_by_their_opacity,
+          point_and_spot_lights_light_the_side_they_are_on, maps_keep_their_texture_coordinate_set,
+          assimp_test_models_render_with_plausible_coverage,
           close_renderer)
