@@ -312,6 +312,8 @@ typedef struct {
   int shape;             /* 0: rounded box (default), 1: sphere */
   uint64_t seed;         /* seed of the procedural detail (default 1) */
 } jnd_builtin_params;
+
+/* Fills p with the defaults above. */
 void jnd_builtin_defaults(jnd_builtin_params *p);
 
 /* Makes the built-in asset needing no files: a rounded box of side 2 (or a
@@ -321,6 +323,8 @@ void jnd_builtin_defaults(jnd_builtin_params *p);
  * maps of map_size² pixels. p may be NULL (defaults). */
 jnd_status jnd_scene_builtin(const jnd_builtin_params *p, jnd_scene **out);
 
+/* Frees a scene and all its maps; safe on NULL. A renderer that drew it
+ * forgets it on its next rendering of another scene. */
 void jnd_scene_free(jnd_scene *s);
 
 /* The path the scene came from ("builtin" for the procedural asset). */
@@ -412,6 +416,8 @@ typedef struct {
   const char *env_path;     /* equirectangular .hdr/.exr environment; NULL: the built-in studio */
   const char *platform;     /* NULL/"auto", "device" or "surfaceless" (also $JND_EGL_PLATFORM) */
 } jnd_renderer_params;
+
+/* Fills p with the defaults above (512 × 512, 4 samples, anisotropy 8, studio). */
 void jnd_renderer_defaults(jnd_renderer_params *p);
 
 /* Opens the EGL display and an OpenGL 4.5 core context, compiles the
@@ -420,6 +426,9 @@ void jnd_renderer_defaults(jnd_renderer_params *p);
  * JND_ERR_GL when no context can be had; JND_ERR_IO/FORMAT for a bad
  * environment file. *out is owned by the caller (jnd_renderer_free). */
 jnd_status jnd_renderer_create(const jnd_renderer_params *p, jnd_renderer **out);
+
+/* Frees the renderer's GL objects and context; safe on NULL. The EGL
+ * display stays initialised for the process (it is shared by renderers). */
 void jnd_renderer_free(jnd_renderer *r);
 
 /* "GL_RENDERER string (EGL platform)", e.g. "llvmpipe (LLVM 15.0.6, 256 bits) (surfaceless)". */
@@ -491,6 +500,8 @@ typedef struct {
   jnd_image material;        /* 1 channel: material index of the pixel, −1 off the object
                                 (with JND_OUT_MIP, so that levels can be pooled per map) */
 } jnd_frame;
+
+/* Frees the images of a frame; safe on a zeroed frame. */
 void jnd_frame_free(jnd_frame *f);
 
 /* Renders scene as seen from view into frame (allocated; previous contents
@@ -516,6 +527,8 @@ typedef struct {
   int lights;                /* directional key lights sampled per view (default 1) */
   double light_intensity;    /* their illuminance (default 2) */
 } jnd_view_sampling;
+
+/* Fills p with the defaults above. */
 void jnd_view_sampling_defaults(jnd_view_sampling *p);
 
 /* Fills views[0..count-1] (caller-allocated) with cameras on a sphere around
