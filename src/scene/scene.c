@@ -158,7 +158,58 @@ static void sub3(const float *a, const float *b, double *o) {
 }
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
+/* The handedness of triangle t's uv mapping: +1, −1, or 0 when degenerate. */
+static int uv_handedness(const jnd_mesh *m, size_t t) {
+  const uint32_t *ix = m->indices + 3 * t;
+  const float *a = m->vertices + (size_t)ix[0] * JND_VTX_FLOATS, *b = m->vertices + (size_t)ix[1] * JND_VTX_FLOATS,
+              *c = m->vertices + (size_t)ix[2] * JND_VTX_FLOATS;
+  double det = ((double)b[10] - a[10]) * -((double)c[11] - a[11]) - ((double)c[10] - a[10]) * -((double)b[11] - a[11]);
+  return det > 0 ? 1 : det < 0 ? -1 : 0;
+}
+
+/* Where the uv mapping is mirrored (a symmetric model sharing one half of a
+ * texture), vertices on the mirror line are used by triangles of both
+ * handedness; MikkTSpace gives each side its own tangent frame, so such a
+ * vertex is duplicated for its left-handed triangles. */
+static void split_mirrored_vertices(jnd_mesh *m) {
+  unsigned char *seen = calloc(m->nverts, 1);   /* bit 0: right-handed use, bit 1: left-handed */
+  if (!seen) return;
+  for (size_t t = 0; t < m->ntris; t++) {
+    int h = uv_handedness(m, t);
+    for (int k = 0; k < 3 && h; k++) seen[m->indices[3 * t + k]] |= h > 0 ? 1 : 2;
+  }
+  size_t extra = 0;
+  for (size_t v = 0; v < m->nverts; v++) extra += seen[v] == 3;
+  if (extra == 0 || m->nverts + extra > UINT32_MAX) {
+    free(seen);
+    return;
+  }
+  float *nv = realloc(m->vertices, (m->nverts + extra) * JND_VTX_FLOATS * sizeof(float));
+  uint32_t *dup = malloc(m->nverts * sizeof *dup);
+  if (!nv || !dup) {
+    if (nv) m->vertices = nv;
+    free(seen);
+    free(dup);
+    return;
+  }
+  m->vertices = nv;
+  size_t next = m->nverts;
+  for (size_t v = 0; v < m->nverts; v++) {
+    dup[v] = (uint32_t)v;
+    if (seen[v] != 3) continue;
+    memcpy(nv + next * JND_VTX_FLOATS, nv + v * JND_VTX_FLOATS, JND_VTX_FLOATS * sizeof(float));
+    dup[v] = (uint32_t)next++;
+  }
+  for (size_t t = 0; t < m->ntris; t++)
+    if (uv_handedness(m, t) < 0)
+      for (int k = 0; k < 3; k++) m->indices[3 * t + k] = dup[m->indices[3 * t + k]];
+  m->nverts = next;
+  free(seen);
+  free(dup);
+}
+
 void jnd_mesh_compute_tangents(jnd_mesh *m) {
+  split_mirrored_vertices(m);
   double *acc = calloc(m->nverts * 6, sizeof *acc);   /* tangent xyz, bitangent xyz */
   if (!acc) return;
   for (size_t t = 0; t < m->ntris; t++) {

@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 
 #include "jnd.h"
+#include "scene/scene.h"
 #include "test.h"
 
 #define SIZE 128
@@ -609,6 +610,34 @@ static jnd_scene *paint_quad(double d) {
   return s;
 }
 
+TEST(mirrored_uvs_get_their_own_tangent_frames) {
+  /* two quads side by side, the right one's u mirrored: the vertices on the
+   * mirror line are shared by both and must be split (as MikkTSpace does) */
+  char path[1200];
+  snprintf(path, sizeof path, "%s/mirror.obj", test_tmp_dir());
+  FILE *f = fopen(path, "w");
+  fputs("v -1 -1 0\nv 0 -1 0\nv 0 1 0\nv -1 1 0\nv 1 -1 0\nv 1 1 0\n"
+        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n"
+        "f 1/1/1 2/2/1 3/3/1 4/4/1\nf 2/2/1 5/1/1 6/4/1 3/3/1\n", f);
+  fclose(f);
+  jnd_scene *s = NULL;
+  CHECK_OK(jnd_scene_load(path, &s));
+  if (!s) return;
+  const jnd_mesh *m = &s->meshes[0];
+  CHECK(m->nverts == 8);
+  int pos = 0, neg = 0;
+  for (size_t v = 0; v < m->nverts; v++) {
+    const float *d = m->vertices + v * JND_VTX_FLOATS;
+    if (d[9] > 0) pos++;
+    else neg++;
+    /* the tangent follows +u: +X on the left quad, −X on the mirrored one */
+    CHECK_NEAR(fabs(d[6]), 1.0, 1e-5);
+    CHECK(d[0] < -0.5 ? d[6] > 0 : d[0] > 0.5 ? d[6] < 0 : 1);
+  }
+  CHECK(pos == 4 && neg == 4);
+  jnd_scene_free(s);
+}
+
 TEST(blended_surfaces_cover_by_their_opacity) {
   jnd_scene *opaque = paint_quad(1), *half = paint_quad(0.5);
   if (opaque && half) {
@@ -698,7 +727,8 @@ RUN_TESTS(builtin_maps_are_addressable_by_material_and_slot, resampling_a_consta
           restoring_a_map_restores_the_image_exactly, mip_level_rises_by_one_per_halving_of_size_on_screen,
           motion_vectors_follow_the_camera, view_sampling_is_deterministic_and_seeded,
           golden_builtin_frame_matches, golden_box_textured_frame_matches,
-          normal_maps_follow_the_gltf_tangent_convention, blended_surfaces_cover_by_their_opacity,
+          normal_maps_follow_the_gltf_tangent_convention, mirrored_uvs_get_their_own_tangent_frames,
+          blended_surfaces_cover_by_their_opacity,
           point_and_spot_lights_light_the_side_they_are_on, maps_keep_their_texture_coordinate_set,
           assimp_test_models_render_with_plausible_coverage,
           close_renderer)
