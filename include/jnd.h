@@ -116,6 +116,31 @@ jnd_status jnd_image_write_png(const char *path, const jnd_image *img, int bits)
 jnd_status jnd_image_write_exr(const char *path, const jnd_image *img,
                                const char *const *names, int half);
 
+/* CSV files. */
+typedef struct {
+  int ncols, nrows;
+  char **header;   /* ncols names */
+  char ***cells;   /* nrows × ncols strings ("" for empty) */
+} jnd_csv;
+
+/* Reads a comma-separated file with a header row; quoted fields ("a,b",
+ * "say ""hi""") are supported. Rows must have the header's column count. */
+jnd_status jnd_csv_read(const char *path, jnd_csv *out);
+jnd_status jnd_csv_parse(const char *name, const char *text, size_t n, jnd_csv *out);
+void jnd_csv_free(jnd_csv *csv);
+/* Index of a column by name, or -1. */
+int jnd_csv_column(const jnd_csv *csv, const char *name);
+/* Parses a cell as a number; NaN for "NaN"/"NA"/"". Returns 0 if not a number. */
+int jnd_csv_number(const char *cell, double *out);
+
+/* A heatmap of a JND map over a dimmed grey copy of the reference: colours
+ * from transparent at 0 through blue, green and yellow to red at max_jnd
+ * (<= 0 means 1 JND), with a legend strip of 30 rows below images at least
+ * 160 pixels wide. ref holds the reference's file signal (0..1, 1–4 channels,
+ * as jnd_image_read gives). out is allocated: 3 channels, sRGB-encoded 0..1,
+ * ready for jnd_image_write_png. */
+jnd_status jnd_heatmap(const jnd_image *ref, const jnd_image *jnd_map, double max_jnd, jnd_image *out);
+
 /* Writes n bytes to path through a temporary file in the same folder and a
  * rename, so path is either the old file or the complete new one. */
 jnd_status jnd_write_file_atomic(const char *path, const void *data, size_t n);
@@ -170,6 +195,10 @@ typedef struct {
   double sens_rg;            /* multiplier on the red–green CSF (fitted) */
   double sens_yv;            /* multiplier on the yellow–violet CSF (fitted) */
   double minkowski;          /* exponent across bands and channels (2.4, 004 §3.2) */
+  double min_band_cpd;       /* bands are added while their peak is >= this (004: 0.5 cpd;
+                                see docs/model.md for the default) */
+  double summation_cycles;   /* local probability summation: Gaussian window of this many
+                                cycles of each band (0: none, as 004); docs/model.md */
   double beta;               /* psychometric slope (3.5, 000 eq. 4) */
   double fps;                /* frames per second, to turn motion maps into deg/s */
   int has_gaze;              /* 1: gaze_x/gaze_y give the fixation point */
@@ -759,6 +788,44 @@ jnd_status jnd_pca_block_compression(const jnd_texset *set, const jnd_pca_encode
 /* ------------------------------------------------------------------------ */
 /* Tasks                                                                    */
 /* ------------------------------------------------------------------------ */
+
+/* The built-in example pair (no files needed): a synthetic sRGB reference
+ * (gradients, gratings, edges, colour, texture) and a test with four known
+ * distortions, one per quadrant — blur (top left), noise (top right), a
+ * colour shift (bottom left), a faint 1% luminance step (bottom right).
+ * Both are allocated: w × h × 3, sRGB-encoded 0..1. w, h >= 64. */
+jnd_status jnd_example_pair(int w, int h, jnd_image *ref, jnd_image *test);
+
+/* A contrast-detection stimulus in castleCSF's terms (`jnd csf`). */
+typedef enum { JND_STIM_GABOR = 0, JND_STIM_GRATING, JND_STIM_DISK } jnd_stim_kind;
+typedef struct {
+  jnd_stim_kind kind;
+  double luminance;       /* background luminance, cd/m² */
+  double s_frequency;     /* cycles per degree (0 for discs) */
+  double t_frequency;     /* Hz; > 0: a drifting grating, seen under fixation */
+  double area;            /* deg² (gratings: a square aperture; discs: a disc) */
+  double ge_sigma;        /* Gabor envelope sigma, degrees */
+  double eccentricity;    /* degrees from fixation */
+  double orientation;     /* degrees */
+  double bkg_lms[3];      /* background, CIE 2006 LMS (luminance = L + M) */
+  double dir_lms[3];      /* colour direction of the modulation, CIE 2006 LMS */
+} jnd_csf_stimulus;
+
+typedef struct {
+  double ppd;             /* sampling density used */
+  int side_px;            /* image side */
+  int evaluations;        /* model runs in the search */
+} jnd_csf_detail;
+
+/* The model's sensitivity (1 / threshold RMS cone contrast) for a stimulus:
+ * the contrast where the max-pooled probability of detection is 0.5, found in
+ * log contrast. base supplies the model's constants (its display's ppd is
+ * replaced by one suited to the stimulus, see docs/csf.md). detail may be NULL. */
+jnd_status jnd_csf_threshold(const jnd_model_params *base, const jnd_csf_stimulus *s, double *sensitivity,
+                             jnd_csf_detail *detail);
+
+/* The sampling chosen for a stimulus: pixels per degree, half-extent and edge taper in degrees. */
+void jnd_csf_sampling(const jnd_csf_stimulus *s, double *ppd, double *half_deg, double *taper_deg);
 
 /* `jnd diff` as a call: applies the model's display to two decoded files
  * (infos from jnd_image_read; alpha composited over the display's black),

@@ -29,21 +29,4 @@ uint32_t jnd_crc32(const unsigned char *buf, size_t n);
 /* Refuses NaN and Inf samples. */
 jnd_status jnd_image_check_finite(const char *name, const jnd_image *img);
 
-/* ---- CSV ---- */
-typedef struct {
-  int ncols, nrows;
-  char **header;   /* ncols names */
-  char ***cells;   /* nrows × ncols strings ("" for empty) */
-} jnd_csv;
-
-/* Reads a comma-separated file with a header row; quoted fields ("a,b",
- * "say ""hi""") are supported. Rows must have the header's column count. */
-jnd_status jnd_csv_read(const char *path, jnd_csv *out);
-jnd_status jnd_csv_parse(const char *name, const char *text, size_t n, jnd_csv *out);
-void jnd_csv_free(jnd_csv *csv);
-/* Index of a column by name, or -1. */
-int jnd_csv_column(const jnd_csv *csv, const char *name);
-/* Parses a cell as a number; NaN for "NaN"/"NA"/"". Returns 0 if not a number. */
-int jnd_csv_number(const char *cell, double *out);
-
 #endif

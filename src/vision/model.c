@@ -62,6 +62,8 @@ void jnd_model_defaults(jnd_model_params *p) {
   p->sens_rg = 1.0;
   p->sens_yv = 1.0;
   p->minkowski = 2.4; /* 004 §3.2 */
+  p->min_band_cpd = 0.5;
+  p->summation_cycles = 0;
   p->beta = 3.5;      /* 000 eq. 4 */
   p->fps = 60;
 }
@@ -93,6 +95,7 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
     return jnd_fail(JND_ERR_ARG, "model: pixels per degree must be in [1, 1000], not %g", p->display.ppd);
   if (!(p->sensitivity > 0) || !(p->sens_rg >= 0) || !(p->sens_yv >= 0))
     return jnd_fail(JND_ERR_ARG, "model: sensitivities must be positive");
+  if (!(p->min_band_cpd > 0.01)) return jnd_fail(JND_ERR_ARG, "model: min_band_cpd must be > 0.01");
   if (!(p->minkowski >= 1) || !(p->beta > 0))
     return jnd_fail(JND_ERR_ARG, "model: Minkowski exponent must be >= 1 and beta > 0");
   jnd_model *m = jnd_calloc(1, sizeof *m);
@@ -113,7 +116,7 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
       m->band_amp[i] = m->band_amp[i - 1];
     }
     m->band_cpd[i] = m->band_cpp[i] * ppd;
-    if (m->band_cpd[i] < 0.5) break;
+    if (m->band_cpd[i] < p->min_band_cpd) break;
     n = i + 1;
   }
   if (n == 0) {
@@ -305,6 +308,62 @@ static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, 
   return fail ? jnd_fail(JND_ERR_NOMEM, "model: out of memory") : JND_OK;
 }
 
+/* Local probability summation (our extension of 004, docs/model.md): a band's
+ * detectors near a pixel all have a chance to see the difference, so the
+ * per-band JND j is pooled over a Gaussian window of `summation_cycles`
+ * cycles of the band with the psychometric exponent beta:
+ *   j'(x) = (Σ_y g(x − y) j(y)^beta)^(1/beta),  g summing to area in cycles²,
+ * which makes large stimuli more visible than small ones of equal contrast
+ * (area summation, e.g. Rovamo et al. 1993). D holds j^e and is updated. */
+static jnd_status local_summation(const jnd_model *m, int band, float *D, int w, int h) {
+  const double e = m->p.minkowski, beta = m->p.beta;
+  /* samples of this level per cycle of the band's peak frequency */
+  const double spc = 1.0 / (m->band_cpp[band] * ldexp(1.0, band));
+  const double sigma = m->p.summation_cycles * spc;
+  int r = (int)ceil(3.0 * sigma);
+  if (r < 1) r = 1;
+  if (r > 512) r = 512;
+  float *k = jnd_alloc((size_t)2 * r + 1, sizeof(float));
+  float *tmp = jnd_alloc((size_t)w * h, sizeof(float));
+  if (!k || !tmp) {
+    free(k);
+    free(tmp);
+    return JND_ERR_NOMEM;
+  }
+  /* 1-D weights; their outer product sums to 2π σ² samples = 2π cycles² / spc²
+   * scaled by 1/spc² to count area in cycles² */
+  for (int i = -r; i <= r; i++) k[i + r] = (float)(exp(-0.5 * i * i / (sigma * sigma)) / spc);
+  const float up = (float)(beta / e), down = (float)(e / beta);
+  const int threads = jnd_threads(m->p.threads);
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int y = 0; y < h; y++) {
+    float *d = D + (size_t)y * w;
+    for (int x = 0; x < w; x++) d[x] = d[x] > 0 ? powf(d[x], up) : 0.0f;
+  }
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int y = 0; y < h; y++) {
+    const float *d = D + (size_t)y * w;
+    float *o = tmp + (size_t)y * w;
+    for (int x = 0; x < w; x++) {
+      float acc = 0;
+      for (int i = -r; i <= r; i++) acc += k[i + r] * d[jnd_mirror(x + i, w)];
+      o[x] = acc;
+    }
+  }
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (int y = 0; y < h; y++) {
+    float *o = D + (size_t)y * w;
+    for (int x = 0; x < w; x++) {
+      float acc = 0;
+      for (int i = -r; i <= r; i++) acc += k[i + r] * tmp[(size_t)jnd_mirror(y + i, h) * w + x];
+      o[x] = acc > 0 ? powf(acc, down) : 0.0f;
+    }
+  }
+  free(k);
+  free(tmp);
+  return JND_OK;
+}
+
 static void state_free(diff_state *st) {
   for (int a = 0; a < 2; a++) {
     for (int c = 0; c < 3; c++) jnd_gauss_free(&st->g[a][c]);
@@ -400,6 +459,8 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
       if (!Dlev[b]) s = JND_ERR_NOMEM;
     }
     if (s == JND_OK) s = band_difference(m, &st, b, xexp, Dlev[b]);
+    if (s == JND_OK && m->p.summation_cycles > 0)
+      s = local_summation(m, b, Dlev[b], st.g[0][0].w[b], st.g[0][0].h[b]);
     for (int a = 0; a < 2; a++)
       for (int c = 0; c < 3; c++) free(xexp[a][c]);
   }

@@ -134,7 +134,9 @@ void jnd_gauss_free(jnd_gauss *g) {
 /* Amplitude of band `band` for a unit cosine of frequency f (cycles per
  * full-resolution pixel): the 1-D signal goes through the same REDUCE and
  * EXPAND as images, and the band's RMS over the central half (×√2) is the
- * amplitude. Aliasing and the filters' gain losses are thereby included. */
+ * amplitude: the filters' gain losses and any aliased energy are included.
+ * Frequencies stop just short of Nyquist (0.49 cycles/pixel), where a sampled
+ * cosine is no longer a sinusoid and RMS·√2 would overstate it. */
 static double band_amplitude(int band, double f) {
   int n = 256 << band; /* the band's level keeps 256 samples */
   if (n < 1024) n = 1024;
@@ -181,9 +183,10 @@ double jnd_band_gain(int band, double f_cpp) { return band_amplitude(band, f_cpp
 
 void jnd_band_response(int band, double *peak_cpp, double *peak_amp) {
   /* coarse scan on a log grid below the full-resolution Nyquist, then golden section */
-  double best_f = 0.5, best_a = -1;
+  const double fmax_cpp = 0.49;
+  double best_f = fmax_cpp, best_a = -1;
   for (int k = 0; k <= 64; k++) {
-    double f = 0.5 * pow(2.0, -(double)k / 8.0);
+    double f = fmax_cpp * pow(2.0, -(double)k / 8.0);
     if (f < 0.5 / pow(2.0, band + 4)) break;
     double amp = band_amplitude(band, f);
     if (amp > best_a) {
@@ -191,7 +194,7 @@ void jnd_band_response(int band, double *peak_cpp, double *peak_amp) {
       best_f = f;
     }
   }
-  double lo = best_f * pow(2.0, -1.0 / 8), hi = fmin(0.5, best_f * pow(2.0, 1.0 / 8));
+  double lo = best_f * pow(2.0, -1.0 / 8), hi = fmin(fmax_cpp, best_f * pow(2.0, 1.0 / 8));
   const double gr = 0.6180339887498949;
   double x1 = hi - gr * (hi - lo), x2 = lo + gr * (hi - lo);
   double f1 = band_amplitude(band, x1), f2 = band_amplitude(band, x2);

@@ -1,0 +1,408 @@
+/* jnd csf DATA.csv — the vision model against human contrast thresholds. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/cli.h"
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+static void help(void) {
+  printf(
+      "usage: jnd csf DATA.csv [options]\n"
+      "\n"
+      "Predicts the contrast sensitivity of every stimulus in a castleCSF-format CSV\n"
+      "(Gabors, gratings, discs; any colour direction, luminance, size, eccentricity)\n"
+      "with the vision model: each stimulus is synthesised over its background and the\n"
+      "contrast where the model's max-pooled probability of detection is 0.5 is found in\n"
+      "log contrast. Prints the RMS error in dB (20 log10 predicted/measured) per data\n"
+      "set and pooled, over static rows (t_frequency = 0) and over all rows.\n"
+      "\n"
+      "options:\n"
+      "  -o FILE             write every input column plus predicted_sensitivity, error_db\n"
+      "  --json FILE|-       JSON report\n"
+      "  --colors FILE       colour directions (default: color_directions.csv beside DATA)\n"
+      "  --backgrounds FILE  backgrounds (default: backgrounds.csv beside DATA)\n"
+      "  --dataset NAME      only rows of this data set (repeatable)\n"
+      "  --static-only       skip rows with t_frequency > 0\n"
+      "  --every N           only every N-th row (a quick look)\n"
+      "  --sensitivity S, --sens-rg S, --sens-yv S\n"
+      "                      override the model's fitted CSF multipliers\n"
+      "  --fit               fit the three multipliers to the data (least squares in dB)\n"
+      "                      and report them; predictions are then made with the fit\n"
+      "  --threads N         rows are predicted in parallel (results do not depend on it)\n"
+      "  --quiet\n");
+}
+
+typedef struct {
+  jnd_csf_stimulus st;
+  int use;             /* 1: predict */
+  const char *skip;    /* reason when not used */
+  double measured, predicted, err_db;
+  int dataset;         /* index into the data set list */
+  int chan;            /* 0 achromatic, 1 red–green, 2 yellow–violet: the dominant channel, for --fit */
+} row_t;
+
+static char *dir_of(const char *path) {
+  char *d = strdup(path);
+  char *slash = strrchr(d, '/');
+  if (slash)
+    slash[1] = 0;
+  else
+    d[0] = 0;
+  return d;
+}
+
+/* finds id in a lookup CSV (first column), fills 3 values from columns a, b, c */
+static int lookup3(const jnd_csv *t, double id, int ca, int cb, int cc, double out[3]) {
+  for (int r = 0; r < t->nrows; r++) {
+    double v;
+    if (jnd_csv_number(t->cells[r][0], &v) && v == id) {
+      return jnd_csv_number(t->cells[r][ca], &out[0]) && jnd_csv_number(t->cells[r][cb], &out[1]) &&
+             jnd_csv_number(t->cells[r][cc], &out[2]);
+    }
+  }
+  return 0;
+}
+
+/* which opponent channel carries a stimulus (for the fit): the largest of
+ * |A|, |a|, |b| of its cone-contrast vector weighted by a rough CSF ratio */
+static int dominant_channel(const jnd_csf_stimulus *s) {
+  double c[3];
+  for (int i = 0; i < 3; i++) c[i] = s->dir_lms[i] / s->bkg_lms[i];
+  double A = fabs((2 * c[0] + c[1] + c[2] / 20) / 3.05), a = fabs(c[0] - 12.0 / 11 * c[1] + c[2] / 11),
+         b = fabs((c[0] + c[1] - 2 * c[2]) / 9);
+  /* chromatic channels are about as sensitive per unit as A at low frequency (fit) */
+  double wA = A, wa = a * 0.5, wb = b * 0.5;
+  if (wA >= wa && wA >= wb) return 0;
+  return wa >= wb ? 1 : 2;
+}
+
+static double rmse(const row_t *rows, int n, int ds, int static_only) {
+  double s = 0;
+  int k = 0;
+  for (int i = 0; i < n; i++) {
+    if (!rows[i].use || isnan(rows[i].err_db)) continue;
+    if (ds >= 0 && rows[i].dataset != ds) continue;
+    if (static_only && rows[i].st.t_frequency > 0) continue;
+    s += rows[i].err_db * rows[i].err_db;
+    k++;
+  }
+  return k ? sqrt(s / k) : NAN;
+}
+
+static int predict_all(row_t *rows, int n, const jnd_model_params *mp, int threads, const cli_common *c,
+                       const char *label) {
+  cli_progress pr;
+  cli_progress_start(&pr, c, label, n);
+  int done = 0, failed = 0;
+  char msg[512] = "";
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+  for (int i = 0; i < n; i++) {
+    if (!rows[i].use) continue;
+    double sens;
+    jnd_model_params p = *mp;
+    p.threads = 1;
+    if (jnd_csf_threshold(&p, &rows[i].st, &sens, NULL) != JND_OK) {
+#pragma omp critical
+      {
+        if (!failed) snprintf(msg, sizeof msg, "row %d: %s", i + 2, jnd_last_error());
+        failed = 1;
+      }
+      continue;
+    }
+    rows[i].predicted = sens;
+    rows[i].err_db = 20 * log10(sens / rows[i].measured);
+#pragma omp critical
+    cli_progress_step(&pr, ++done);
+  }
+  cli_progress_end(&pr);
+  if (failed) cli_error("csf: %s", msg);
+  return !failed;
+}
+
+static int run(int argc, char **argv) {
+  cli_common common = {0};
+  jnd_model_params mp;
+  jnd_model_defaults(&mp);
+  const char *data = NULL, *out_csv = NULL, *colors = NULL, *bkgs = NULL;
+  const char *only[16];
+  int nonly = 0, static_only = 0, every = 1, fit = 0;
+  for (int i = 1; i < argc; i++) {
+    const char *v;
+    if (cli_flag(argv, i, "--help") || cli_flag(argv, i, "-h")) {
+      help();
+      return EXIT_OK;
+    } else if (cli_opt(argc, argv, &i, "-o", &v) || cli_opt(argc, argv, &i, "--output", &v)) {
+      out_csv = v;
+    } else if (cli_opt(argc, argv, &i, "--json", &v)) {
+      common.json_path = v;
+    } else if (cli_opt(argc, argv, &i, "--colors", &v)) {
+      colors = v;
+    } else if (cli_opt(argc, argv, &i, "--backgrounds", &v)) {
+      bkgs = v;
+    } else if (cli_opt(argc, argv, &i, "--dataset", &v)) {
+      if (nonly < 16) only[nonly++] = v;
+    } else if (cli_flag(argv, i, "--static-only")) {
+      static_only = 1;
+    } else if (cli_opt(argc, argv, &i, "--every", &v)) {
+      every = cli_int("csf", "--every", v, 1, 1000000);
+    } else if (cli_opt(argc, argv, &i, "--sensitivity", &v)) {
+      mp.sensitivity = cli_double("csf", "--sensitivity", v, 1e-6, 1e6);
+    } else if (cli_opt(argc, argv, &i, "--sens-rg", &v)) {
+      mp.sens_rg = cli_double("csf", "--sens-rg", v, 0, 1e6);
+    } else if (cli_opt(argc, argv, &i, "--sens-yv", &v)) {
+      mp.sens_yv = cli_double("csf", "--sens-yv", v, 0, 1e6);
+    } else if (cli_opt(argc, argv, &i, "--min-band", &v)) {
+      mp.min_band_cpd = cli_double("csf", "--min-band", v, 0.02, 10);
+    } else if (cli_opt(argc, argv, &i, "--summation", &v)) {
+      mp.summation_cycles = cli_double("csf", "--summation", v, 0, 20);
+    } else if (cli_flag(argv, i, "--fit")) {
+      fit = 1;
+    } else if (cli_opt(argc, argv, &i, "--threads", &v)) {
+      common.threads = cli_int("csf", "--threads", v, 1, 1024);
+    } else if (cli_flag(argv, i, "--quiet") || cli_flag(argv, i, "-q")) {
+      common.quiet = 1;
+    } else if (argv[i][0] == '-' && argv[i][1]) {
+      return cli_unknown("csf", argv[i]);
+    } else if (!data) {
+      data = argv[i];
+    } else {
+      return cli_unknown("csf", argv[i]);
+    }
+  }
+  if (!data) {
+    cli_error("csf: needs a CSV of thresholds (jnd csf --help)");
+    return EXIT_BAD;
+  }
+  char *dir = dir_of(data);
+  char colors_def[4096], bkgs_def[4096];
+  snprintf(colors_def, sizeof colors_def, "%scolor_directions.csv", dir);
+  snprintf(bkgs_def, sizeof bkgs_def, "%sbackgrounds.csv", dir);
+  free(dir);
+  if (!colors) colors = colors_def;
+  if (!bkgs) bkgs = bkgs_def;
+
+  jnd_csv t = {0}, tc = {0}, tb = {0};
+  row_t *rows = NULL;
+  cJSON *report = NULL;
+  int rc = EXIT_BAD;
+  const char *dsnames[64];
+  int nds = 0;
+  if (jnd_csv_read(data, &t) != JND_OK || jnd_csv_read(colors, &tc) != JND_OK || jnd_csv_read(bkgs, &tb) != JND_OK) {
+    cli_error("%s", jnd_last_error());
+    goto out;
+  }
+  static const char *need[] = {"luminance", "s_frequency", "t_frequency", "area", "ge_sigma", "eccentricity",
+                               "orientation", "col_dir_id", "bkg_id", "stimulus", "sensitivity", "dataset"};
+  int col[12];
+  for (int k = 0; k < 12; k++) {
+    col[k] = jnd_csv_column(&t, need[k]);
+    if (col[k] < 0) {
+      cli_error("%s: missing column '%s'", data, need[k]);
+      goto out;
+    }
+  }
+  int cL = jnd_csv_column(&tc, "L_delta"), cM = jnd_csv_column(&tc, "M_delta"), cS = jnd_csv_column(&tc, "S_delta");
+  if (cL < 0 || cM < 0 || cS < 0) {
+    cli_error("%s: needs columns L_delta, M_delta, S_delta", colors);
+    goto out;
+  }
+  int bL = jnd_csv_column(&tb, "L"), bM = jnd_csv_column(&tb, "M"), bS = jnd_csv_column(&tb, "S");
+  if (bL < 0 || bM < 0 || bS < 0) {
+    cli_error("%s: needs columns L, M, S", bkgs);
+    goto out;
+  }
+  rows = calloc(t.nrows ? t.nrows : 1, sizeof *rows);
+  if (!rows) goto out;
+  for (int r = 0; r < t.nrows; r++) {
+    row_t *row = &rows[r];
+    char **c = t.cells[r];
+    double v[12];
+    for (int k = 0; k < 12; k++) {
+      if (k == 9 || k == 11) continue;
+      if (!jnd_csv_number(c[col[k]], &v[k])) {
+        cli_error("%s: line %d: column %s: '%s' is not a number", data, r + 2, need[k], c[col[k]]);
+        goto out;
+      }
+    }
+    const char *ds = c[col[11]];
+    int d;
+    for (d = 0; d < nds; d++)
+      if (strcmp(dsnames[d], ds) == 0) break;
+    if (d == nds && nds < 64) dsnames[nds++] = ds;
+    row->dataset = d;
+    jnd_csf_stimulus *s = &row->st;
+    const char *kind = c[col[9]];
+    s->kind = strcmp(kind, "gabor") == 0 ? JND_STIM_GABOR : strcmp(kind, "grating") == 0 ? JND_STIM_GRATING
+              : strcmp(kind, "disk") == 0 || strcmp(kind, "disc") == 0               ? JND_STIM_DISK
+                                                                                      : -1;
+    s->luminance = v[0];
+    s->s_frequency = v[1];
+    s->t_frequency = isnan(v[2]) ? 0 : v[2];
+    s->area = v[3];
+    s->ge_sigma = v[4];
+    s->eccentricity = isnan(v[5]) ? 0 : v[5];
+    s->orientation = isnan(v[6]) ? 0 : v[6];
+    row->measured = v[10];
+    row->err_db = NAN;
+    row->use = 1;
+    if ((int)s->kind < 0) {
+      row->use = 0;
+      row->skip = "unknown stimulus type";
+    } else if (!lookup3(&tc, v[7], cL, cM, cS, s->dir_lms)) {
+      cli_error("%s: line %d: colour direction %g is not in %s", data, r + 2, v[7], colors);
+      goto out;
+    } else if (!lookup3(&tb, v[8], bL, bM, bS, s->bkg_lms)) {
+      cli_error("%s: line %d: background %g is not in %s", data, r + 2, v[8], bkgs);
+      goto out;
+    } else if (!(row->measured > 0)) {
+      row->use = 0;
+      row->skip = "no measured sensitivity";
+    } else if (s->kind == JND_STIM_GABOR && !(s->ge_sigma > 0)) {
+      row->use = 0;
+      row->skip = "Gabor without ge_sigma";
+    } else if (s->kind != JND_STIM_GABOR && !(s->area > 0)) {
+      row->use = 0;
+      row->skip = "no area";
+    }
+    if (row->use && static_only && s->t_frequency > 0) {
+      row->use = 0;
+      row->skip = "t_frequency > 0 (--static-only)";
+    }
+    if (row->use && nonly) {
+      int keep = 0;
+      for (int k = 0; k < nonly; k++) keep |= strcmp(only[k], ds) == 0;
+      if (!keep) {
+        row->use = 0;
+        row->skip = "other data set";
+      }
+    }
+    if (row->use && r % every) {
+      row->use = 0;
+      row->skip = "--every";
+    }
+    row->chan = dominant_channel(s);
+  }
+  int threads = common.threads > 0 ? common.threads : 0;
+  if (threads == 0) {
+#ifdef _OPENMP
+    threads = omp_get_max_threads();
+#else
+    threads = 1;
+#endif
+  }
+  if (fit) {
+    /* multiplicative fit of the three CSF multipliers: each round moves a
+     * channel's multiplier by the mean dB error of the rows it dominates */
+    for (int round = 0; round < 4; round++) {
+      if (!predict_all(rows, t.nrows, &mp, threads, &common, "fitting")) goto out;
+      double sum[3] = {0}, cnt[3] = {0};
+      for (int r = 0; r < t.nrows; r++) {
+        if (!rows[r].use || isnan(rows[r].err_db) || rows[r].st.t_frequency > 0) continue;
+        sum[rows[r].chan] += rows[r].err_db;
+        cnt[rows[r].chan]++;
+      }
+      double *mult[3] = {&mp.sensitivity, &mp.sens_rg, &mp.sens_yv};
+      for (int k = 0; k < 3; k++)
+        if (cnt[k] > 0) *mult[k] *= pow(10, -sum[k] / cnt[k] / 20);
+      cli_info(&common, "fit round %d: static RMSE %.2f dB -> sensitivity %.4g, sens_rg %.4g, sens_yv %.4g\n", round + 1,
+               rmse(rows, t.nrows, -1, 1), mp.sensitivity, mp.sens_rg, mp.sens_yv);
+    }
+  }
+  if (!predict_all(rows, t.nrows, &mp, threads, &common, "csf")) goto out;
+
+  report = cli_report_new("csf");
+  cJSON *inputs = cli_report_section(report, "inputs"), *params = cli_report_section(report, "parameters"),
+        *res = cli_report_section(report, "result");
+  cJSON_AddStringToObject(inputs, "data", data);
+  cJSON_AddStringToObject(inputs, "colors", colors);
+  cJSON_AddStringToObject(inputs, "backgrounds", bkgs);
+  cJSON_AddNumberToObject(params, "sensitivity", mp.sensitivity);
+  cJSON_AddNumberToObject(params, "sens_rg", mp.sens_rg);
+  cJSON_AddNumberToObject(params, "sens_yv", mp.sens_yv);
+  cJSON_AddNumberToObject(params, "beta", mp.beta);
+  cJSON_AddNumberToObject(params, "minkowski", mp.minkowski);
+  cJSON_AddStringToObject(params, "pooling", "max");
+  cJSON_AddBoolToObject(params, "fitted", fit);
+  cJSON *per = cJSON_AddObjectToObject(res, "datasets");
+  cli_info(&common, "%-14s %6s %12s %12s\n", "dataset", "rows", "static dB", "all dB");
+  for (int d = 0; d < nds; d++) {
+    int n = 0, ns = 0;
+    for (int r = 0; r < t.nrows; r++)
+      if (rows[r].use && rows[r].dataset == d) {
+        n++;
+        ns += rows[r].st.t_frequency <= 0;
+      }
+    if (!n) continue;
+    double rs = rmse(rows, t.nrows, d, 1), ra = rmse(rows, t.nrows, d, 0);
+    cJSON *o = cJSON_AddObjectToObject(per, dsnames[d]);
+    cJSON_AddNumberToObject(o, "rows", n);
+    cJSON_AddNumberToObject(o, "static_rows", ns);
+    if (ns) cJSON_AddNumberToObject(o, "rmse_db_static", rs);
+    cJSON_AddNumberToObject(o, "rmse_db", ra);
+    cli_info(&common, "%-14s %6d %12.2f %12.2f\n", dsnames[d], n, ns ? rs : NAN, ra);
+  }
+  int nused = 0, nskip = 0;
+  for (int r = 0; r < t.nrows; r++) nused += rows[r].use, nskip += !rows[r].use;
+  double ps = rmse(rows, t.nrows, -1, 1), pa = rmse(rows, t.nrows, -1, 0);
+  cJSON_AddNumberToObject(res, "rows", nused);
+  cJSON_AddNumberToObject(res, "skipped", nskip);
+  if (!isnan(ps)) cJSON_AddNumberToObject(res, "rmse_db_static", ps);
+  if (!isnan(pa)) cJSON_AddNumberToObject(res, "rmse_db", pa);
+  cli_info(&common, "%-14s %6d %12.2f %12.2f\n", "pooled", nused, ps, pa);
+
+  if (out_csv) {
+    size_t cap = 1 << 16, len = 0;
+    char *buf = malloc(cap);
+    if (!buf) goto out;
+#define PUT(...)                                                                           \
+  do {                                                                                     \
+    int need_ = snprintf(NULL, 0, __VA_ARGS__);                                            \
+    while (len + need_ + 1 > cap) {                                                        \
+      cap *= 2;                                                                            \
+      char *nb_ = realloc(buf, cap);                                                       \
+      if (!nb_) { free(buf); goto out; }                                                   \
+      buf = nb_;                                                                           \
+    }                                                                                      \
+    len += snprintf(buf + len, cap - len, __VA_ARGS__);                                    \
+  } while (0)
+    for (int k = 0; k < t.ncols; k++) PUT("%s,", t.header[k]);
+    PUT("predicted_sensitivity,error_db,note\n");
+    for (int r = 0; r < t.nrows; r++) {
+      for (int k = 0; k < t.ncols; k++) {
+        const char *cell = t.cells[r][k];
+        if (strpbrk(cell, ",\"\n")) {
+          PUT("\"");
+          for (const char *p = cell; *p; p++) PUT(*p == '"' ? "\"\"" : "%c", *p);
+          PUT("\",");
+        } else {
+          PUT("%s,", cell);
+        }
+      }
+      if (rows[r].use && !isnan(rows[r].err_db))
+        PUT("%.6g,%.4f,\n", rows[r].predicted, rows[r].err_db);
+      else
+        PUT("NaN,NaN,skipped: %s\n", rows[r].skip ? rows[r].skip : "failed");
+    }
+#undef PUT
+    jnd_status s = jnd_write_file_atomic(out_csv, buf, len);
+    free(buf);
+    if (s != JND_OK) {
+      cli_error("%s", jnd_last_error());
+      goto out;
+    }
+  }
+  if (common.json_path && cli_report_write(report, common.json_path) != EXIT_OK) goto out;
+  rc = EXIT_OK;
+out:
+  cJSON_Delete(report);
+  free(rows);
+  jnd_csv_free(&t);
+  jnd_csv_free(&tc);
+  jnd_csv_free(&tb);
+  return rc;
+}
+
+const jnd_command jnd_cmd_csf = {"csf", "the vision model against human contrast-sensitivity data", run};

@@ -1,0 +1,252 @@
+/* jnd diff REF TEST — how likely a viewer notices the difference. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/cli.h"
+
+static void help(void) {
+  printf(
+      "usage: jnd diff REF TEST [options]\n"
+      "\n"
+      "Predicts, per pixel, how many just-noticeable differences (JND) separate TEST\n"
+      "from REF as a viewer sees them on a display, and the probability that a viewer\n"
+      "notices (000 eq. 4), pooled over the image (default: 93rd percentile, 000 §6).\n"
+      "Inputs: PNG (8/16-bit, sRGB), JPEG, Radiance HDR, OpenEXR (linear, cd/m2 x\n"
+      "--exr-scale). Alpha is composited over the display's black.\n"
+      "\n"
+      "%s"
+      "\n"
+      "model inputs:\n"
+      "  --motion FILE.exr   per-pixel screen displacement, pixels per frame (2 channels)\n"
+      "  --fps N             frames per second for --motion (default 60)\n"
+      "  --weights FILE      per-pixel weights (first channel) multiplying the difference map\n"
+      "  --gaze X,Y          fixation point in pixels: sensitivity falls with eccentricity\n"
+      "                      (default: every pixel is seen foveally)\n"
+      "\n"
+      "outputs:\n"
+      "  --json FILE|-       JSON report (- for stdout)\n"
+      "  --map FILE.exr      float JND per pixel\n"
+      "  --heatmap FILE.png  JND over a dimmed grey copy of REF, with a legend\n"
+      "  --heatmap-max J     JND at the top of the heatmap's scale (default 1)\n"
+      "  --pool P            pooling for p_detect: p93 (default), pNN, max, mean, minkowski\n"
+      "  --fail-above P      exit 1 when the pooled probability exceeds P (render gating)\n"
+      "  --timings           add wall-clock timings to the JSON (they differ run to run)\n"
+      "  --threads N         worker threads (results do not depend on it)\n"
+      "  --quiet             nothing on stderr but errors\n"
+      "\n"
+      "Exit status: 0, 1 when above --fail-above, 2 for bad input.\n",
+      cli_display_help);
+}
+
+static int load(const char *path, jnd_image *img, jnd_image_info *info) {
+  if (jnd_image_read(path, img, info) != JND_OK) {
+    cli_error("%s", jnd_last_error());
+    return 0;
+  }
+  return 1;
+}
+
+/* the reference as a display signal for the heatmap's grey backdrop */
+static int heatmap_backdrop(const char *path, const jnd_display *d, jnd_image *out) {
+  jnd_image_info info;
+  if (!load(path, out, &info)) return 0;
+  if (info.encoding == JND_ENCODING_LINEAR) {
+    size_t n = (size_t)out->w * out->h * out->c;
+    for (size_t i = 0; i < n; i++) {
+      double v = out->data[i] * d->exr_scale / d->peak_cdm2;
+      out->data[i] = (float)pow(v > 0 ? (v < 1 ? v : 1) : 0, 1 / 2.2);
+    }
+  }
+  return 1;
+}
+
+static int run(int argc, char **argv) {
+  cli_common common = {0};
+  jnd_model_params mp;
+  jnd_model_defaults(&mp);
+  const char *paths[2] = {0}, *motion_path = NULL, *weights_path = NULL, *map_path = NULL, *heat_path = NULL;
+  const char *pool_name = "p93";
+  double fail_above = -1, heat_max = 1;
+  int npaths = 0, timings = 0;
+  for (int i = 1; i < argc; i++) {
+    const char *v;
+    if (cli_flag(argv, i, "--help") || cli_flag(argv, i, "-h")) {
+      help();
+      return EXIT_OK;
+    } else if (cli_display_opt("diff", argc, argv, &i, &mp.display)) {
+    } else if (cli_opt(argc, argv, &i, "--motion", &v)) {
+      motion_path = v;
+    } else if (cli_opt(argc, argv, &i, "--fps", &v)) {
+      mp.fps = cli_double("diff", "--fps", v, 1, 1000);
+    } else if (cli_opt(argc, argv, &i, "--weights", &v)) {
+      weights_path = v;
+    } else if (cli_opt(argc, argv, &i, "--gaze", &v)) {
+      cli_pair("diff", "--gaze", v, &mp.gaze_x, &mp.gaze_y);
+      mp.has_gaze = 1;
+    } else if (cli_opt(argc, argv, &i, "--pool", &v)) {
+      pool_name = v;
+    } else if (cli_opt(argc, argv, &i, "--json", &v)) {
+      common.json_path = v;
+    } else if (cli_opt(argc, argv, &i, "--map", &v)) {
+      map_path = v;
+    } else if (cli_opt(argc, argv, &i, "--heatmap", &v)) {
+      heat_path = v;
+    } else if (cli_opt(argc, argv, &i, "--heatmap-max", &v)) {
+      heat_max = cli_double("diff", "--heatmap-max", v, 1e-3, 1e6);
+    } else if (cli_opt(argc, argv, &i, "--fail-above", &v)) {
+      fail_above = cli_double("diff", "--fail-above", v, 0, 1);
+    } else if (cli_opt(argc, argv, &i, "--threads", &v)) {
+      mp.threads = common.threads = cli_int("diff", "--threads", v, 1, 1024);
+    } else if (cli_flag(argv, i, "--timings")) {
+      timings = 1;
+    } else if (cli_flag(argv, i, "--quiet") || cli_flag(argv, i, "-q")) {
+      common.quiet = 1;
+    } else if (argv[i][0] == '-' && argv[i][1]) {
+      return cli_unknown("diff", argv[i]);
+    } else if (npaths < 2) {
+      paths[npaths++] = argv[i];
+    } else {
+      return cli_unknown("diff", argv[i]);
+    }
+  }
+  if (npaths != 2) {
+    cli_error("diff: needs two images, REF and TEST (jnd diff --help)");
+    return EXIT_BAD;
+  }
+  jnd_pooling pool;
+  if (jnd_pooling_parse(pool_name, &pool) != JND_OK) {
+    cli_error("diff: --pool: %s", jnd_last_error());
+    return EXIT_BAD;
+  }
+  double t0 = cli_now();
+  jnd_image ref = {0}, test = {0}, motion = {0}, weights = {0}, map = {0};
+  jnd_image_info ri, ti;
+  int rc = EXIT_BAD;
+  jnd_model *model = NULL;
+  cJSON *report = NULL;
+  if (!load(paths[0], &ref, &ri) || !load(paths[1], &test, &ti)) goto out;
+  if (ref.w != test.w || ref.h != test.h) {
+    cli_error("%s: size %d x %d differs from %s (%d x %d)", paths[1], test.w, test.h, paths[0], ref.w, ref.h);
+    goto out;
+  }
+  jnd_diff_inputs in = {0};
+  if (motion_path) {
+    if (!load(motion_path, &motion, NULL)) goto out;
+    if (motion.w != ref.w || motion.h != ref.h || motion.c < 2) {
+      cli_error("%s: motion map must be %d x %d with 2 channels (is %d x %d x %d)", motion_path, ref.w, ref.h,
+                motion.w, motion.h, motion.c);
+      goto out;
+    }
+    in.motion = &motion;
+  }
+  if (weights_path) {
+    if (!load(weights_path, &weights, NULL)) goto out;
+    if (weights.w != ref.w || weights.h != ref.h) {
+      cli_error("%s: weight map must be %d x %d (is %d x %d)", weights_path, ref.w, ref.h, weights.w, weights.h);
+      goto out;
+    }
+    weights.c = 1; /* the first channel */
+    in.weights = &weights;
+  }
+  int w = ref.w, h = ref.h;
+  double t_load = cli_now() - t0;
+  if (jnd_model_create(&mp, &model) != JND_OK) {
+    cli_error("diff: %s", jnd_last_error());
+    goto out;
+  }
+  jnd_diff_stats st;
+  if (jnd_diff_files(model, &ref, &ri, &test, &ti, &in, &pool, &map, &st) != JND_OK) {
+    cli_error("%s", jnd_last_error());
+    goto out;
+  }
+  double t_model = cli_now() - t0 - t_load;
+  if (map_path) {
+    const char *name[1] = {"JND"};
+    if (jnd_image_write_exr(map_path, &map, name, 0) != JND_OK) {
+      cli_error("%s", jnd_last_error());
+      goto out;
+    }
+  }
+  if (heat_path) {
+    jnd_image back = {0}, heat = {0};
+    if (!heatmap_backdrop(paths[0], &mp.display, &back)) goto out;
+    jnd_status s = jnd_heatmap(&back, &map, heat_max, &heat);
+    if (s == JND_OK) s = jnd_image_write_png(heat_path, &heat, 8);
+    jnd_image_free(&back);
+    jnd_image_free(&heat);
+    if (s != JND_OK) {
+      cli_error("%s", jnd_last_error());
+      goto out;
+    }
+  }
+  double t_total = cli_now() - t0;
+  int above = fail_above >= 0 && st.p_detect > fail_above;
+
+  char pname[32];
+  jnd_pooling_name(&pool, pname, sizeof pname);
+  report = cli_report_new("diff");
+  cJSON *inputs = cli_report_section(report, "inputs"), *params = cli_report_section(report, "parameters"),
+        *res = cli_report_section(report, "result");
+  cJSON_AddStringToObject(inputs, "reference", paths[0]);
+  cJSON_AddStringToObject(inputs, "test", paths[1]);
+  cJSON_AddStringToObject(inputs, "reference_format", ri.format);
+  cJSON_AddStringToObject(inputs, "test_format", ti.format);
+  if (motion_path) cJSON_AddStringToObject(inputs, "motion", motion_path);
+  if (weights_path) cJSON_AddStringToObject(inputs, "weights", weights_path);
+  cJSON_AddItemToObject(params, "display", cli_display_json(&mp.display));
+  cJSON_AddStringToObject(params, "pooling", pname);
+  cJSON_AddNumberToObject(params, "beta", mp.beta);
+  cJSON_AddNumberToObject(params, "minkowski", mp.minkowski);
+  cJSON_AddNumberToObject(params, "sensitivity", mp.sensitivity);
+  cJSON_AddNumberToObject(params, "sens_rg", mp.sens_rg);
+  cJSON_AddNumberToObject(params, "sens_yv", mp.sens_yv);
+  if (motion_path) cJSON_AddNumberToObject(params, "fps", mp.fps);
+  if (mp.has_gaze) {
+    cJSON *g = cJSON_AddArrayToObject(params, "gaze");
+    cJSON_AddItemToArray(g, cJSON_CreateNumber(mp.gaze_x));
+    cJSON_AddItemToArray(g, cJSON_CreateNumber(mp.gaze_y));
+  }
+  if (fail_above >= 0) cJSON_AddNumberToObject(params, "fail_above", fail_above);
+  cJSON_AddNumberToObject(res, "p_detect", st.p_detect);
+  cJSON_AddStringToObject(res, "pooling", pname);
+  cJSON_AddNumberToObject(res, "p_p50", st.p_p50);
+  cJSON_AddNumberToObject(res, "p_p93", st.p_p93);
+  cJSON_AddNumberToObject(res, "p_p99", st.p_p99);
+  cJSON_AddNumberToObject(res, "p_max", st.p_max);
+  cJSON_AddNumberToObject(res, "p_mean", st.p_mean);
+  cJSON_AddNumberToObject(res, "jnd_mean", st.jnd_mean);
+  cJSON_AddNumberToObject(res, "jnd_p93", st.jnd_p93);
+  cJSON_AddNumberToObject(res, "jnd_max", st.jnd_max);
+  cJSON_AddNumberToObject(res, "jnd_minkowski", st.jnd_minkowski);
+  cJSON_AddNumberToObject(res, "width", w);
+  cJSON_AddNumberToObject(res, "height", h);
+  double bands[16];
+  int nb = jnd_model_band_peaks(model, bands, 16);
+  cJSON *ba = cJSON_AddArrayToObject(res, "bands_cpd");
+  for (int b = 0; b < nb && b < 16; b++) cJSON_AddItemToArray(ba, cJSON_CreateNumber(round(bands[b] * 1e4) / 1e4));
+  if (fail_above >= 0) cJSON_AddBoolToObject(res, "above_threshold", above);
+  if (timings) {
+    cJSON *t = cJSON_AddObjectToObject(res, "timings");
+    cJSON_AddNumberToObject(t, "load_s", t_load);
+    cJSON_AddNumberToObject(t, "model_s", t_model);
+    cJSON_AddNumberToObject(t, "total_s", t_total);
+    cJSON_AddNumberToObject(t, "megapixels_per_s", (double)w * h / 1e6 / t_total);
+  }
+  if (common.json_path && cli_report_write(report, common.json_path) != EXIT_OK) goto out;
+  cli_info(&common, "P(detect) %s = %.3f   (p50 %.3f, p99 %.3f, max %.3f)   JND p93 %.2f, max %.2f   %dx%d, %.2f s\n",
+           pname, st.p_detect, st.p_p50, st.p_p99, st.p_max, st.jnd_p93, st.jnd_max, w, h, t_total);
+  if (above) cli_info(&common, "above --fail-above %.3f\n", fail_above);
+  rc = above ? EXIT_ABOVE : EXIT_OK;
+out:
+  cJSON_Delete(report);
+  jnd_model_free(model);
+  jnd_image_free(&ref);
+  jnd_image_free(&test);
+  jnd_image_free(&motion);
+  jnd_image_free(&weights);
+  jnd_image_free(&map);
+  return rc;
+}
+
+const jnd_command jnd_cmd_diff = {"diff", "how likely a viewer notices the difference between two images", run};
