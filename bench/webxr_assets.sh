@@ -8,7 +8,7 @@ webxr_assets() {
   command -v npm >/dev/null 2>&1 || return 1
   mkdir -p "$cache" || return 1
   local tgz
-  tgz=$(cd "$cache" && timeout 120 npm pack --silent @webxr-input-profiles/assets 2>/dev/null | tail -1) || return 1
+  tgz=$(cd "$cache" && timeout 120 npm pack --silent --fetch-retries=1 --fetch-timeout=30000 @webxr-input-profiles/assets 2>/dev/null | tail -1) || return 1
   [ -n "$tgz" ] && [ -f "$cache/$tgz" ] || return 1
   tar -xzf "$cache/$tgz" -C "$cache" || return 1
   [ -d "$cache/package/dist/profiles" ] || return 1
