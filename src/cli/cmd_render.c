@@ -793,16 +793,10 @@ static int run(int argc, char **argv) {
         jnd_image_free(&tmp);
       }
       if (ok && (outputs & O_EXR)) {
-        static const char *const slots[5] = {"baseColor", "metallicRoughness", "emissive", "normal", "occlusion"};
-        /* EXR channels are stored alphabetically by most readers: name them so */
-        jnd_image m5 = {0};
-        if (jnd_image_alloc(&m5, width, height, 5) == JND_OK) {
-          static const int order[5] = {0, 1, 4, 2, 3};
-          for (int c = 0; c < 5; c++) memcpy(m5.data + c * P, f.mip.data + order[c] * P, P * sizeof(float));
-          snprintf(name, sizeof name, "view_%03d_mip.exr", i);
-          ok = write_exr(dir, name, &m5, slots, jv, "mip_exr");
-          jnd_image_free(&m5);
-        }
+        /* one channel per slot, named for it (readers order EXR channels by name) */
+        static const char *const slots[5] = {"baseColor", "metallicRoughness", "normal", "occlusion", "emissive"};
+        snprintf(name, sizeof name, "view_%03d_mip.exr", i);
+        ok = write_exr(dir, name, &f.mip, slots, jv, "mip_exr");
       }
       /* the finest level each map is sampled at in this view (000 §4: a
        * map never sampled at level 0 can be halved) */
