@@ -1,13 +1,12 @@
 #!/usr/bin/env bash
-# jnd pca end to end on small synthetic maps: outputs, the JSON contract,
-# the float reconstruction, and one-line errors with exit 2 for bad input.
-set -euo pipefail
-T=${JND_TMP:-/tmp/jnd-e2e-pca}
-rm -rf "$T" && mkdir -p "$T"
+# jnd pca end to end on small synthetic maps: outputs, the JSON contract, the
+# float reconstruction, the PSNR choice, determinism, and one-line errors
+# with exit 2 for bad input.
+. "$(dirname "$0")/lib.bash"
 command -v python3 >/dev/null || { echo "skip: needs python3"; exit 0; }
 
-# three correlated maps (RGB albedo, grey height stored as RGB, RG normal-ish)
-# and one of another shape, written as PNG with the standard library only
+# three correlated maps (RGB albedo, grey height stored as RGB, a normal map
+# with a constant blue) and two odd ones, as PNG with the standard library only
 python3 - "$T" <<'PY'
 import math, struct, sys, zlib
 d = sys.argv[1]
@@ -31,83 +30,67 @@ png(f'{d}/mat_square.png', 64, 64, 1, lambda x, y: (a(x, y),))
 PY
 M="$T/mat_albedo.png $T/mat_height.png $T/mat_normal.png"
 
-"$JND" pca --help | grep -q -- "--components K"
+expect_exit 0 help_exits_zero "$JND" pca --help
+check help_names_the_stable_flags grep -q -- "--components K" "$T/out.txt"
 
-# all components, float reconstruction; energies sum to the total variance
-"$JND" pca $M -o "$T/all" --quiet
-for f in pca.json component_00.png contribution.png; do test -s "$T/all/$f"; done
-python3 - "$T/all/pca.json" <<'PY'
-import json, sys
-r = json.load(open(sys.argv[1]))['result']
-names = [c['name'] for c in r['channels']]
-# height is grey stored as RGB: counted once; normal.b is constant: left out
-assert names == ['albedo.r', 'albedo.g', 'albedo.b', 'height', 'normal.r', 'normal.g'], names
-e = r['energy']
-assert all(e[i] >= e[i + 1] for i in range(len(e) - 1)), e
-assert abs(sum(e) - r['total_variance']) <= 1e-9 * r['total_variance'], (sum(e), r['total_variance'])
-assert all(c['psnr_float_db'] >= 60 for c in r['channels']), r['channels']
-assert all(c['psnr_db'] >= 40 for c in r['channels']), r['channels']   # 8-bit components
-C = len(names)
-assert len(r['reconstruction']) == C and all(len(row) == C + 1 for row in r['reconstruction'])
-assert r['storage_bytes'] > 0 and 'block_compression' in r
-PY
+# all components: float reconstruction, energies summing to the total variance
+expect_exit 0 all_components_run "$JND" pca $M -o "$T/all" --quiet
+check writes_json_components_and_plot test -s "$T/all/pca.json" -a -s "$T/all/component_00.png" -a -s "$T/all/contribution.png"
+check grey_stored_as_rgb_counts_once_and_constant_blue_is_left_out \
+  jq -e '[.result.channels[].name] == ["albedo.r","albedo.g","albedo.b","height","normal.r","normal.g"]' "$T/all/pca.json"
+check energies_descend_and_sum_to_total_variance \
+  jq -e '.result.energy as $e | ([range(1; $e|length)] | all($e[.] <= $e[. - 1]))
+         and (($e | add) - .result.total_variance | fabs) <= 1e-9 * .result.total_variance' "$T/all/pca.json"
+check all_components_reconstruct_at_60_db_in_float jq -e 'all(.result.channels[]; .psnr_float_db >= 60)' "$T/all/pca.json"
+check eight_bit_components_stay_above_40_db jq -e 'all(.result.channels[]; .psnr_db >= 40)' "$T/all/pca.json"
+check reconstruction_has_c_rows_of_k_plus_1 \
+  jq -e '(.result.channels | length) as $c | (.result.reconstruction | length) == $c
+         and all(.result.reconstruction[]; length == $c + 1)' "$T/all/pca.json"
+check block_compression_is_reported jq -e '.result.block_compression.plain_bc_bytes > 0
+         and all(.result.channels[]; .psnr_bc4_db > 0 and .psnr_bc1_db > 0 and .psnr_plain_bc_db > 0)' "$T/all/pca.json"
 
-# K components at 16 bits: reconstruction C × (K+1); storage shrinks
-"$JND" pca $M -o "$T/k2" --components 2 --bits 16 --quiet --json "$T/k2.json" --write-maps
-for f in albedo height normal; do test -s "$T/k2/$f.png"; done
-python3 - "$T/k2/pca.json" "$T/all/pca.json" <<'PY'
-import json, sys
-r = json.load(open(sys.argv[1]))['result']; a = json.load(open(sys.argv[2]))['result']
-assert r['components_kept'] == 2 and len(r['reconstruction'][0]) == 3
-assert all(c['bits'] == 16 for c in r['components'])
-assert r['storage_bytes'] < a['storage_bytes']
-PY
-cmp "$T/k2/pca.json" "$T/k2.json"
-test ! -e "$T/k2/component_02.png"
+# K components at 16 bits
+expect_exit 0 two_components_at_16_bits_run "$JND" pca $M -o "$T/k2" --components 2 --bits 16 --quiet --json "$T/k2.json" --write-maps
+check keeps_k_components_with_a_c_by_k_plus_1_matrix \
+  jq -e '.result.components_kept == 2 and (.result.reconstruction[0] | length) == 3 and all(.result.components[]; .bits == 16)' "$T/k2/pca.json"
+check fewer_components_store_less jq -e --slurpfile a "$T/all/pca.json" '.result.storage_bytes < $a[0].result.storage_bytes' "$T/k2/pca.json"
+check writes_no_extra_component test ! -e "$T/k2/component_02.png"
+check json_flag_writes_the_same_report cmp -s "$T/k2/pca.json" "$T/k2.json"
+check write_maps_rebuilds_every_map test -s "$T/k2/albedo.png" -a -s "$T/k2/height.png" -a -s "$T/k2/normal.png"
+
+expect_exit 0 bits_per_component_run "$JND" pca $M -o "$T/bits" --components 3 --bits 16,8 --no-bc --quiet
+check bits_list_applies_per_component_and_repeats jq -e '[.result.components[].bits] == [16, 8, 8]' "$T/bits/pca.json"
+expect_exit 0 resolutions_run "$JND" pca $M -o "$T/res" --resolutions 1,2,4 --no-bc --quiet
+check resolutions_shrink_components jq -e '[.result.components[].width] == [96, 48, 24, 24, 24, 24]' "$T/res/pca.json"
+
+# the PSNR choice meets its floor and stores less than everything
+expect_exit 0 psnr_choice_runs "$JND" pca $M -o "$T/psnr" --psnr 42 --no-bc --quiet
+check psnr_choice_meets_the_floor jq -e 'all(.result.channels[]; .psnr_db >= 42)' "$T/psnr/pca.json"
+check psnr_choice_stores_less jq -e --slurpfile a "$T/all/pca.json" '.result.storage_bytes < $a[0].result.storage_bytes' "$T/psnr/pca.json"
 
 # deterministic: the same report on any thread count
-OMP_NUM_THREADS=1 "$JND" pca $M -o "$T/k2b" --components 2 --bits 16 --quiet
-cmp "$T/k2/pca.json" "$T/k2b/pca.json"
 OMP_NUM_THREADS=1 "$JND" pca $M -o "$T/p1" --psnr 40 --quiet
 OMP_NUM_THREADS=3 "$JND" pca $M -o "$T/p3" --psnr 40 --quiet
-cmp "$T/p1/pca.json" "$T/p3/pca.json"
-
-# bits per component
-"$JND" pca $M -o "$T/bits" --components 3 --bits 16,8 --no-bc --quiet
-python3 - "$T/bits/pca.json" <<'PY'
-import json, sys
-r = json.load(open(sys.argv[1]))['result']
-assert [c['bits'] for c in r['components']] == [16, 8, 8], r['components']
-PY
-
-# --psnr: every channel meets the floor
-"$JND" pca $M -o "$T/psnr" --psnr 42 --no-bc --quiet
-python3 - "$T/psnr/pca.json" <<'PY'
-import json, sys
-r = json.load(open(sys.argv[1]))['result']
-assert all(c['psnr_db'] >= 42 for c in r['channels']), r['channels']
-PY
+check report_is_byte_identical_across_thread_counts cmp -s "$T/p1/pca.json" "$T/p3/pca.json"
 
 # a smaller map of the same shape is resampled with a warning
-"$JND" pca $M "$T/mat_small.png" -o "$T/small" --no-bc 2>"$T/small.err"
-grep -q "warning: .*mat_small.png" "$T/small.err"
+expect_exit 0 smaller_map_is_accepted "$JND" pca $M "$T/mat_small.png" -o "$T/small" --no-bc
+check smaller_map_gets_a_warning grep -q "warning: .*mat_small.png" "$T/err.txt"
 
 # bad input: one line "jnd: FILE: problem", exit 2
-expect_bad() {   # expect_bad PATTERN ARGS...
-  local pat=$1; shift
-  set +e; "$JND" pca "$@" 2>"$T/err" >/dev/null; local rc=$?; set -e
-  [ "$rc" = 2 ] || { echo "exit $rc for: $*"; cat "$T/err"; exit 1; }
-  [ "$(wc -l <"$T/err")" = 1 ] || { echo "not one line:"; cat "$T/err"; exit 1; }
-  grep -q "^jnd: .*$pat" "$T/err" || { echo "unexpected message:"; cat "$T/err"; exit 1; }
-}
-expect_bad "missing.png" $M "$T/missing.png" -o "$T/x"
 echo "not an image" >"$T/bad.png"
-expect_bad "bad.png" $M "$T/bad.png" -o "$T/x"
-expect_bad "mat_square.png" $M "$T/mat_square.png" -o "$T/x"
-expect_bad "weight" $M -o "$T/x" --weight roughness=2
-expect_bad "channels" $M -o "$T/x" --channels albedo=q
-expect_bad "max-p needs --model" $M -o "$T/x" --max-p 0.1
-expect_bad "rendered visibility needs the renderer" $M -o "$T/x" --max-p 0.1 --model "$T/m.glb" --material m
-expect_bad "needs maps" -o "$T/x"
-expect_bad "bits" $M -o "$T/x" --bits 12
-echo "pca e2e ok"
+bad_input() { # bad_input NAME PATTERN ARGS...
+  local name=$1 pat=$2; shift 2
+  expect_exit 2 "$name" "$JND" pca "$@"
+  check "${name}_says_so_in_one_line" bash -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q '^jnd: .*$pat' '$T/err.txt'"
+}
+bad_input missing_map_is_refused "missing.png" $M "$T/missing.png" -o "$T/x"
+bad_input unreadable_map_is_refused "bad.png" $M "$T/bad.png" -o "$T/x"
+bad_input map_of_another_shape_is_refused "mat_square.png" $M "$T/mat_square.png" -o "$T/x"
+bad_input unknown_weight_name_is_refused "roughness" $M -o "$T/x" --weight roughness=2
+bad_input bad_channel_pick_is_refused "channels" $M -o "$T/x" --channels albedo=q
+bad_input odd_bits_are_refused "bits" $M -o "$T/x" --bits 12
+bad_input max_p_without_a_model_is_refused "max-p needs --model" $M -o "$T/x" --max-p 0.1
+bad_input rendered_visibility_needs_the_renderer "rendered visibility needs the renderer" $M -o "$T/x" --max-p 0.1 --model "$T/m.glb" --material m
+bad_input no_maps_is_refused "needs maps" -o "$T/x"
+finish
