@@ -289,7 +289,8 @@ static jnd_status texset_build(const jnd_image *maps, const char *const *names, 
   out->nmaps = n;
   for (int i = 0; i < n; i++) {
     jnd_texset_map *m = &out->maps[i];
-    int grey = m->count == 1 && (m->file_channels == 1 || m->duplicates == m->file_channels - 1);
+    /* a grey file (with or without alpha), or grey stored as RGB(A) */
+    int grey = m->count == 1 && m->src[0] == 0 && !picks[i][0] && (m->file_channels <= 2 || m->duplicates >= 1);
     for (int k = 0; k < m->count; k++) {
       int c = m->first + k;
       out->map_of[c] = i;
