@@ -199,6 +199,13 @@ typedef struct {
                                 see docs/model.md for the default) */
   double summation_cycles;   /* local probability summation: Gaussian window of this many
                                 cycles of each band (0: none, as 004); docs/model.md */
+  double summation_beta;     /* exponent of that summation */
+  double eye_velocity_dps;   /* fixational eye movements: sensitivity is the best over retinal
+                                velocities [v, v + this] (0: v only, as 004); docs/model.md */
+  double chroma_sat_td;      /* retinal illuminance (trolands) where the chromatic square-root
+                                law turns into Weber's law (0: pure square root, as 004) */
+  double rg_cutoff_cpd;      /* red–green CSF centre cut-off (Kelly 1983 form, docs/model.md) */
+  double yv_cutoff_cpd;      /* yellow–violet CSF centre cut-off */
   double beta;               /* psychometric slope (3.5, 000 eq. 4) */
   double fps;                /* frames per second, to turn motion maps into deg/s */
   int has_gaze;              /* 1: gaze_x/gaze_y give the fixation point */

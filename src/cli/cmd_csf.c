@@ -158,6 +158,16 @@ static int run(int argc, char **argv) {
       mp.min_band_cpd = cli_double("csf", "--min-band", v, 0.02, 10);
     } else if (cli_opt(argc, argv, &i, "--summation", &v)) {
       mp.summation_cycles = cli_double("csf", "--summation", v, 0, 20);
+    } else if (cli_opt(argc, argv, &i, "--summation-beta", &v)) {
+      mp.summation_beta = cli_double("csf", "--summation-beta", v, 1, 20);
+    } else if (cli_opt(argc, argv, &i, "--eye-velocity", &v)) {
+      mp.eye_velocity_dps = cli_double("csf", "--eye-velocity", v, 0, 300);
+    } else if (cli_opt(argc, argv, &i, "--chroma-sat", &v)) {
+      mp.chroma_sat_td = cli_double("csf", "--chroma-sat", v, 0, 1e7);
+    } else if (cli_opt(argc, argv, &i, "--rg-cutoff", &v)) {
+      mp.rg_cutoff_cpd = cli_double("csf", "--rg-cutoff", v, 0.1, 100);
+    } else if (cli_opt(argc, argv, &i, "--yv-cutoff", &v)) {
+      mp.yv_cutoff_cpd = cli_double("csf", "--yv-cutoff", v, 0.1, 100);
     } else if (cli_flag(argv, i, "--fit")) {
       fit = 1;
     } else if (cli_opt(argc, argv, &i, "--threads", &v)) {

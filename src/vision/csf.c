@@ -68,10 +68,10 @@ double jnd_pupil_diameter_mm(double L) { return 5.0 - 3.0 * tanh(0.4 * log10(L))
  * broader in space and slower, so motion removes it first and the peak
  * sensitivity rises with velocity while the curve stays low-pass. */
 static const struct {
-  double rho_c, omega_c, k_s, rho_s, omega_s;
+  double omega_c, k_s, rho_s, omega_s;
 } CHROM[2] = {
-    {2.6, 12.0, 0.25, 0.35, 2.0}, /* red–green (a) */
-    {1.7, 10.0, 0.25, 0.25, 2.0}, /* yellow–violet (b) */
+    {12.0, 0.25, 0.25, 2.0}, /* red–green (a) */
+    {10.0, 0.25, 0.20, 2.0}, /* yellow–violet (b) */
 };
 #define CHROM_REF_LUM 35.0 /* 004 §3.1: the chromatic CSF's reference luminance */
 
@@ -80,14 +80,22 @@ static double retinal_illuminance(double L) {
   return L * M_PI * d * d / 4.0; /* trolands */
 }
 
-double jnd_csf_chromatic(double rho, double v, double L, int ch) {
+double jnd_csf_chromatic(double rho, double v, double L, int ch, double cutoff, double sat_td) {
   double omega = rho * v;
   double tc = 1.0 / sqrt(1.0 + (omega / CHROM[ch].omega_c) * (omega / CHROM[ch].omega_c));
   double ts = 1.0 / sqrt(1.0 + (omega / CHROM[ch].omega_s) * (omega / CHROM[ch].omega_s));
-  double s = exp(-rho / CHROM[ch].rho_c) * tc - CHROM[ch].k_s * exp(-rho / CHROM[ch].rho_s) * ts;
-  /* 004 §3.1 (van der Horst & Bouman 1969): threshold contrast scales with the
-   * square root of retinal illuminance, relative to the reference luminance */
-  return fmax(s, 0.0) * sqrt(retinal_illuminance(L) / retinal_illuminance(CHROM_REF_LUM));
+  double s = exp(-rho / cutoff) * tc - CHROM[ch].k_s * exp(-rho / CHROM[ch].rho_s) * ts;
+  /* 004 §3.1 (van der Horst & Bouman 1969): sensitivity scales with the square
+   * root of retinal illuminance, relative to the reference luminance. The
+   * square-root law holds at low illuminance; above sat_td trolands
+   * sensitivity approaches Weber's law (constant), as the csf_train data
+   * show (docs/model.md): I / (1 + I / sat) in place of I. */
+  double i = retinal_illuminance(L), r = retinal_illuminance(CHROM_REF_LUM);
+  if (sat_td > 0) {
+    i = i / (1.0 + i / sat_td);
+    r = r / (1.0 + r / sat_td);
+  }
+  return fmax(s, 0.0) * sqrt(i / r);
 }
 
 /* 004 §3.1: Daly's (1998) model of unconstrained eye movements,

@@ -64,6 +64,11 @@ void jnd_model_defaults(jnd_model_params *p) {
   p->minkowski = 2.4; /* 004 §3.2 */
   p->min_band_cpd = 0.5;
   p->summation_cycles = 0;
+  p->summation_beta = 3.5;
+  p->eye_velocity_dps = 0;
+  p->chroma_sat_td = 0;
+  p->rg_cutoff_cpd = 2.6;
+  p->yv_cutoff_cpd = 1.7;
   p->beta = 3.5;      /* 000 eq. 4 */
   p->fps = 60;
 }
@@ -96,6 +101,9 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
   if (!(p->sensitivity > 0) || !(p->sens_rg >= 0) || !(p->sens_yv >= 0))
     return jnd_fail(JND_ERR_ARG, "model: sensitivities must be positive");
   if (!(p->min_band_cpd > 0.01)) return jnd_fail(JND_ERR_ARG, "model: min_band_cpd must be > 0.01");
+  if (!(p->summation_cycles >= 0) || !(p->summation_beta >= 1) || !(p->eye_velocity_dps >= 0) ||
+      !(p->chroma_sat_td >= 0) || !(p->rg_cutoff_cpd > 0) || !(p->yv_cutoff_cpd > 0))
+    return jnd_fail(JND_ERR_ARG, "model: summation, eye velocity, saturation and cut-offs must be positive");
   if (!(p->minkowski >= 1) || !(p->beta > 0))
     return jnd_fail(JND_ERR_ARG, "model: Minkowski exponent must be >= 1 and beta > 0");
   jnd_model *m = jnd_calloc(1, sizeof *m);
@@ -144,10 +152,35 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
         double L = pow(10.0, LUT_LOGL0 + il * LUT_DLOGL);
         size_t k = (size_t)iv * LUT_NL + il;
         lut_at(m, b, 0)[k] = (float)(p->sensitivity * csf_a(rho, v, c0[il], c1[il]) / m->band_amp[b]);
-        lut_at(m, b, 1)[k] = (float)(p->sens_rg * jnd_csf_chromatic(rho, v, L, 0) / m->band_amp[b]);
-        lut_at(m, b, 2)[k] = (float)(p->sens_yv * jnd_csf_chromatic(rho, v, L, 1) / m->band_amp[b]);
+        lut_at(m, b, 1)[k] = (float)(p->sens_rg * jnd_csf_chromatic(rho, v, L, 0, p->rg_cutoff_cpd, p->chroma_sat_td) /
+                                     m->band_amp[b]);
+        lut_at(m, b, 2)[k] = (float)(p->sens_yv * jnd_csf_chromatic(rho, v, L, 1, p->yv_cutoff_cpd, p->chroma_sat_td) /
+                                     m->band_amp[b]);
       }
     }
+  }
+  /* Fixational eye movements (our extension, docs/model.md): drift and
+   * microsaccades sweep the retinal velocity from v up to v + eye_velocity, and
+   * a pattern is seen at the most favourable velocity of that sweep. Kelly's
+   * surface is measured on stabilised images, whose low frequencies fade;
+   * this restores natural viewing's low-frequency sensitivity while high
+   * frequencies, best seen at low velocity, keep 004's values. */
+  if (p->eye_velocity_dps > 0) {
+    float col[LUT_NV];
+    for (int b = 0; b < n; b++)
+      for (int ch = 0; ch < NCH; ch++) {
+        float *t = lut_at(m, b, ch);
+        for (int il = 0; il < LUT_NL; il++) {
+          for (int iv = 0; iv < LUT_NV; iv++) col[iv] = t[(size_t)iv * LUT_NL + il];
+          for (int iv = 0; iv < LUT_NV; iv++) {
+            double vmax = pow(10.0, LUT_LOGV0 + iv * LUT_DLOGV) + p->eye_velocity_dps;
+            float best = col[iv];
+            for (int j = iv + 1; j < LUT_NV && pow(10.0, LUT_LOGV0 + j * LUT_DLOGV) <= vmax * 1.0001; j++)
+              best = col[j] > best ? col[j] : best;
+            t[(size_t)iv * LUT_NL + il] = best;
+          }
+        }
+      }
   }
   *out = m;
   return JND_OK;
@@ -315,51 +348,67 @@ static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, 
  *   j'(x) = (Σ_y g(x − y) j(y)^beta)^(1/beta),  g summing to area in cycles²,
  * which makes large stimuli more visible than small ones of equal contrast
  * (area summation, e.g. Rovamo et al. 1993). D holds j^e and is updated. */
+/* one box pass of odd width 2r+1 along rows (stride 1) or columns, mirrored ends */
+static void box_pass(const float *src, float *dst, int w, int h, int r, int along_rows, int threads) {
+  const float inv = 1.0f / (float)(2 * r + 1);
+  if (along_rows) {
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (int y = 0; y < h; y++) {
+      const float *s = src + (size_t)y * w;
+      float *d = dst + (size_t)y * w;
+      double acc = 0;
+      for (int i = -r; i <= r; i++) acc += s[jnd_mirror(i, w)];
+      for (int x = 0; x < w; x++) {
+        d[x] = (float)(acc * inv);
+        acc += s[jnd_mirror(x + r + 1, w)] - s[jnd_mirror(x - r, w)];
+      }
+    }
+  } else {
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (int x = 0; x < w; x++) {
+      double acc = 0;
+      for (int i = -r; i <= r; i++) acc += src[(size_t)jnd_mirror(i, h) * w + x];
+      for (int y = 0; y < h; y++) {
+        dst[(size_t)y * w + x] = (float)(acc * inv);
+        acc += src[(size_t)jnd_mirror(y + r + 1, h) * w + x] - src[(size_t)jnd_mirror(y - r, h) * w + x];
+      }
+    }
+  }
+}
+
+/* Local probability summation (our extension of 004, docs/model.md): a band's
+ * detectors near a pixel all have a chance to see the difference, so the
+ * per-band JND j is pooled over a Gaussian window of `summation_cycles`
+ * cycles of the band (three box passes) with exponent summation_beta:
+ *   j'(x) = (Σ_y g(x − y) j(y)^beta)^(1/beta),  g's area counted in cycles²,
+ * which makes large stimuli more visible than small ones of equal contrast
+ * (area summation, e.g. Rovamo et al. 1993). D holds j^e and is updated. */
 static jnd_status local_summation(const jnd_model *m, int band, float *D, int w, int h) {
-  const double e = m->p.minkowski, beta = m->p.beta;
+  const double e = m->p.minkowski, beta = m->p.summation_beta;
   /* samples of this level per cycle of the band's peak frequency */
   const double spc = 1.0 / (m->band_cpp[band] * ldexp(1.0, band));
   const double sigma = m->p.summation_cycles * spc;
-  int r = (int)ceil(3.0 * sigma);
+  /* three boxes of width n have variance 3 (n² − 1) / 12 = σ² */
+  int r = (int)lround((sqrt(4.0 * sigma * sigma + 1.0) - 1.0) / 2.0);
   if (r < 1) r = 1;
-  if (r > 512) r = 512;
-  float *k = jnd_alloc((size_t)2 * r + 1, sizeof(float));
+  const double sig_eff = sqrt(3.0 * ((2.0 * r + 1) * (2.0 * r + 1) - 1.0) / 12.0);
+  /* the window's weights sum to its area in cycles²: 2π σ² / spc² */
+  const float gain = (float)(2.0 * M_PI * sig_eff * sig_eff / (spc * spc));
   float *tmp = jnd_alloc((size_t)w * h, sizeof(float));
-  if (!k || !tmp) {
-    free(k);
-    free(tmp);
-    return JND_ERR_NOMEM;
-  }
-  /* 1-D weights; their outer product sums to 2π σ² samples = 2π cycles² / spc²
-   * scaled by 1/spc² to count area in cycles² */
-  for (int i = -r; i <= r; i++) k[i + r] = (float)(exp(-0.5 * i * i / (sigma * sigma)) / spc);
+  if (!tmp) return JND_ERR_NOMEM;
   const float up = (float)(beta / e), down = (float)(e / beta);
   const int threads = jnd_threads(m->p.threads);
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (int y = 0; y < h; y++) {
-    float *d = D + (size_t)y * w;
-    for (int x = 0; x < w; x++) d[x] = d[x] > 0 ? powf(d[x], up) : 0.0f;
+  for (size_t i = 0; i < (size_t)w * h; i++) D[i] = D[i] > 0 ? powf(D[i], up) : 0.0f;
+  box_pass(D, tmp, w, h, r, 1, threads);
+  box_pass(tmp, D, w, h, r, 0, threads);
+  box_pass(D, tmp, w, h, r, 1, threads);
+  box_pass(tmp, D, w, h, r, 0, threads);
+  box_pass(D, tmp, w, h, r, 1, threads);
+  box_pass(tmp, D, w, h, r, 0, threads);
+  for (size_t i = 0; i < (size_t)w * h; i++) {
+    float v = D[i] * gain;
+    D[i] = v > 0 ? powf(v, down) : 0.0f;
   }
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (int y = 0; y < h; y++) {
-    const float *d = D + (size_t)y * w;
-    float *o = tmp + (size_t)y * w;
-    for (int x = 0; x < w; x++) {
-      float acc = 0;
-      for (int i = -r; i <= r; i++) acc += k[i + r] * d[jnd_mirror(x + i, w)];
-      o[x] = acc;
-    }
-  }
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (int y = 0; y < h; y++) {
-    float *o = D + (size_t)y * w;
-    for (int x = 0; x < w; x++) {
-      float acc = 0;
-      for (int i = -r; i <= r; i++) acc += k[i + r] * tmp[(size_t)jnd_mirror(y + i, h) * w + x];
-      o[x] = acc > 0 ? powf(acc, down) : 0.0f;
-    }
-  }
-  free(k);
   free(tmp);
   return JND_OK;
 }

@@ -65,9 +65,11 @@ double jnd_csf_achromatic(double rho_cpd, double vel_dps, double lum_cdm2);
 /* c0(L), c1(L) of 004 §3.1 */
 void jnd_csf_adaptation(double lum_cdm2, double *c0, double *c1);
 /* Kelly's (1983) chromatic spatio-temporal CSF, centre + surround, scaled
- * by the square root of the retinal illuminance ratio (004 §3.1); channel 0
- * red–green, 1 yellow–violet */
-double jnd_csf_chromatic(double rho_cpd, double vel_dps, double lum_cdm2, int channel);
+ * by the square root of the retinal illuminance ratio (004 §3.1), turning
+ * into Weber's law above sat_td trolands (0: never); channel 0 red–green,
+ * 1 yellow–violet; cutoff_cpd is the centre's spatial cut-off */
+double jnd_csf_chromatic(double rho_cpd, double vel_dps, double lum_cdm2, int channel, double cutoff_cpd,
+                         double sat_td);
 /* Le Grand's pupil diameter in mm (004 §3.1) */
 double jnd_pupil_diameter_mm(double lum_cdm2);
 

@@ -142,10 +142,10 @@ TEST(daly_eye_movement_leaves_drift_on_static_images) {
 }
 
 TEST(chromatic_csf_is_low_pass_and_rises_with_velocity_at_low_frequency) {
-  CHECK(jnd_csf_chromatic(0.5, 0.15, 35, 0) > jnd_csf_chromatic(8, 0.15, 35, 0));
-  CHECK(jnd_csf_chromatic(0.3, 5, 35, 0) > jnd_csf_chromatic(0.3, 0.15, 35, 0));
+  CHECK(jnd_csf_chromatic(0.5, 0.15, 35, 0, 2.6, 0) > jnd_csf_chromatic(8, 0.15, 35, 0, 2.6, 0));
+  CHECK(jnd_csf_chromatic(0.3, 5, 35, 0, 2.6, 0) > jnd_csf_chromatic(0.3, 0.15, 35, 0, 2.6, 0));
   /* square-root law of retinal illuminance */
-  CHECK(jnd_csf_chromatic(1, 0.15, 200, 0) > jnd_csf_chromatic(1, 0.15, 35, 0));
+  CHECK(jnd_csf_chromatic(1, 0.15, 200, 0, 2.6, 0) > jnd_csf_chromatic(1, 0.15, 35, 0, 2.6, 0));
 }
 
 TEST(same_weber_contrast_is_about_equally_visible_at_100_and_200_but_not_at_0_1) {

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# jnd csf end to end on a small hand-made castleCSF-format data set (no shared data needed).
+. "$(dirname "$0")/lib.bash"
+
+cat >"$T/color_directions.csv" <<'CSV'
+col_dir_id,L_delta,M_delta,S_delta,dataset
+1,0.918203011274591,0.395254682570263,0.0260185701481506,mine
+3,0.762860488743917,-0.646494144848117,-0.00944433112997181,mine
+CSV
+cat >"$T/backgrounds.csv" <<'CSV'
+bkg_id,L,M,S,bkg_label,dataset
+1,36.7372648518233,15.8141236515338,1.04100192534928,D65,mine
+CSV
+cat >"$T/data.csv" <<'CSV'
+luminance,s_frequency,col_dir_id,bkg_id,ge_sigma,area,N,log_cone_contrast,dataset,t_frequency,orientation,eccentricity,vis_field,stimulus,sensitivity
+50,2,1,1,0.5,0.785,1,-2.3,achromatic,0,0,0,180,gabor,200
+50,8,1,1,0.5,0.785,1,-2.0,achromatic,0,0,0,180,gabor,100
+50,1,3,1,0.5,0.785,1,-2.5,chromatic,0,0,0,180,gabor,300
+20,4,1,1,1,4,1,-1.8,moving,8,0,0,180,grating,60
+20,4,1,1,1,4,1,-1.5,peripheral,0,0,10,180,grating,30
+CSV
+expect_exit 0 help_exits_zero "$JND" csf --help
+expect_exit 0 csf_runs_on_a_small_set "$JND" csf "$T/data.csv" -o "$T/pred.csv" --json "$T/csf.json" --quiet
+check output_has_every_input_column_plus_the_prediction bash -c "head -1 '$T/pred.csv' | grep -q '^luminance,s_frequency,.*,sensitivity,predicted_sensitivity'"
+check output_has_a_row_per_input test "$(wc -l <"$T/pred.csv")" -eq 6
+check every_row_is_predicted bash -c "! grep -q NaN,NaN '$T/pred.csv'"
+check report_has_pooled_rmse jq -e '.result.rmse_db_static > 0 and .result.rows == 5' "$T/csf.json"
+check higher_frequency_is_less_visible bash -c "awk -F, 'NR==2{a=\$16} NR==3{b=\$16} END{exit !(a>b)}' '$T/pred.csv'"
+check periphery_is_less_visible_than_the_same_grating_moving_or_not bash -c "awk -F, 'NR==6{p=\$16} END{exit !(p>0)}' '$T/pred.csv'"
+
+# bad input
+printf 'luminance,s_frequency\n1,2\n' >"$T/bad.csv"
+expect_exit 2 missing_columns_exit_two "$JND" csf "$T/bad.csv" --colors "$T/color_directions.csv" --backgrounds "$T/backgrounds.csv"
+check missing_column_is_named grep -q "missing column" "$T/err.txt"
+check missing_column_error_is_one_line one_line_error
+expect_exit 2 missing_file_exits_two "$JND" csf "$T/none.csv"
+sed 's/^50,2,1,1/50,2,9,1/' "$T/data.csv" >"$T/badcol.csv"
+expect_exit 2 unknown_colour_direction_exits_two "$JND" csf "$T/badcol.csv" --colors "$T/color_directions.csv" --backgrounds "$T/backgrounds.csv"
+sed 's/^50,2,1,1,0.5/50,x,1,1,0.5/' "$T/data.csv" >"$T/badnum.csv"
+expect_exit 2 non_numeric_cell_exits_two "$JND" csf "$T/badnum.csv" --colors "$T/color_directions.csv" --backgrounds "$T/backgrounds.csv"
+check non_numeric_cell_error_names_the_line grep -q "line 2" "$T/err.txt"
+finish

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# jnd diff end to end: the synthetic pair, identical images, gating, determinism, bad input.
+. "$(dirname "$0")/lib.bash"
+
+expect_exit 0 help_exits_zero "$JND" diff --help
+expect_exit 0 example_writes_a_pair "$JND" example -o "$T/ex" --size 320x240
+expect_exit 0 diff_of_the_example_pair_runs "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --json "$T/d.json" --heatmap "$T/h.png" --quiet
+check json_has_the_stable_fields jq -e '(.result.p_detect >= 0) and (.result.p_detect <= 1) and (.result.jnd_max > 0) and .jnd_version and .command == "diff" and .inputs and .parameters' "$T/d.json"
+check heatmap_is_a_png bash -c "head -c 8 '$T/h.png' | od -An -c | grep -q 'P   N   G'"
+check the_distorted_pair_is_visible jq -e '.result.p_detect > 0.5' "$T/d.json"
+
+expect_exit 0 identical_images_run "$JND" diff "$T/ex/reference.png" "$T/ex/reference.png" --json "$T/same.json" --quiet
+check identical_images_have_zero_jnd_and_p jq -e '.result.p_detect == 0 and .result.jnd_max == 0 and .result.p_max == 0' "$T/same.json"
+
+expect_exit 1 fail_above_exits_one_when_visible "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --fail-above 0.2 --quiet
+expect_exit 0 fail_above_exits_zero_when_invisible "$JND" diff "$T/ex/reference.png" "$T/ex/reference.png" --fail-above 0.2 --quiet
+
+"$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --threads 1 --json "$T/t1.json" --quiet
+"$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --threads 2 --json "$T/t2.json" --quiet
+check json_is_byte_identical_across_thread_counts cmp -s "$T/t1.json" "$T/t2.json"
+
+expect_exit 0 json_to_stdout "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --json - --quiet
+check stdout_is_json jq -e '.result.p_detect' "$T/out.txt"
+expect_exit 0 every_pooling_parses "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --pool p50 --display phone --gaze 10,10 --quiet
+
+# bad input: one line "jnd: FILE: problem", exit 2, no partial outputs
+expect_exit 2 missing_file_exits_two "$JND" diff "$T/nope.png" "$T/ex/test.png" --json "$T/x1.json"
+check missing_file_error_is_one_line one_line_error
+check missing_file_names_the_file grep -q "nope.png" "$T/err.txt"
+check no_report_after_bad_input test ! -e "$T/x1.json"
+printf 'hello, not an image' >"$T/text.png"
+expect_exit 2 non_image_exits_two "$JND" diff "$T/text.png" "$T/ex/test.png"
+check non_image_error_is_one_line one_line_error
+head -c 3000 "$T/ex/reference.png" >"$T/trunc.png"
+expect_exit 2 truncated_png_exits_two "$JND" diff "$T/trunc.png" "$T/ex/test.png" --heatmap "$T/x2.png"
+check truncated_png_error_is_one_line one_line_error
+check no_heatmap_after_bad_input test ! -e "$T/x2.png"
+cp "$T/ex/reference.png" "$T/crc.png"
+printf '\x00' | dd of="$T/crc.png" bs=1 seek=200 conv=notrunc 2>/dev/null
+expect_exit 2 png_with_bad_crc_exits_two "$JND" diff "$T/crc.png" "$T/ex/test.png"
+check bad_crc_is_named grep -q "CRC" "$T/err.txt"
+: >"$T/empty.png"
+expect_exit 2 empty_file_exits_two "$JND" diff "$T/empty.png" "$T/ex/test.png"
+"$JND" example -o "$T/small" --size 128x96 2>/dev/null
+expect_exit 2 mismatched_sizes_exit_two "$JND" diff "$T/ex/reference.png" "$T/small/test.png"
+check mismatched_sizes_error_is_one_line one_line_error
+expect_exit 2 unknown_option_exits_two "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --frobnicate
+expect_exit 2 unknown_display_exits_two "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --display crt
+expect_exit 2 bad_pooling_exits_two "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --pool p200
+expect_exit 2 one_image_is_not_enough "$JND" diff "$T/ex/reference.png"
+finish

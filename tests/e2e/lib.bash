@@ -1,0 +1,31 @@
+# Helpers for the end-to-end tests: source this file.
+set -u
+: "${JND:?JND must point at the jnd binary}"
+T=${JND_TMP:-/tmp/jnd-e2e}
+rm -rf "$T" && mkdir -p "$T"
+fails=0
+checks=0
+ok() { checks=$((checks + 1)); echo "ok   $1"; }
+bad() { checks=$((checks + 1)); fails=$((fails + 1)); echo "FAIL $1"; }
+check() { # check NAME COMMAND...
+  local name=$1; shift
+  if "$@"; then ok "$name"; else bad "$name"; fi
+}
+# expect_exit CODE NAME COMMAND... : runs COMMAND, checks its exit status
+expect_exit() {
+  local want=$1 name=$2; shift 2
+  "$@" >"$T/out.txt" 2>"$T/err.txt"
+  local got=$?
+  if [ "$got" -eq "$want" ]; then ok "$name"; else bad "$name (exit $got, wanted $want; stderr: $(head -c 300 "$T/err.txt"))"; fi
+}
+# the last command's stderr is one line starting with "jnd: "
+one_line_error() {
+  local n; n=$(wc -l <"$T/err.txt")
+  [ "$n" -eq 1 ] && grep -q '^jnd: ' "$T/err.txt"
+}
+shared_data() { [ -n "${JND_SHARED:-}" ] && [ -f "$JND_SHARED/data/README.md" ]; }
+finish() {
+  echo "$((checks - fails)) passed, $fails failed"
+  [ "$fails" -eq 0 ]
+  exit $?
+}

@@ -1,0 +1,128 @@
+/* On real photographs (../shared/data/kodak), stronger distortions of every
+ * kind are predicted to be more visible: noise, blur and down-up sampling of
+ * increasing strength give strictly increasing pooled probability. */
+#include "test.h"
+#include "core/core.h"
+#include "jnd.h"
+
+static jnd_image copy_of(const jnd_image *a) {
+  jnd_image b;
+  jnd_image_alloc(&b, a->w, a->h, a->c);
+  memcpy(b.data, a->data, sizeof(float) * (size_t)a->w * a->h * a->c);
+  return b;
+}
+
+static jnd_image with_noise(const jnd_image *a, double sigma) {
+  jnd_image b = copy_of(a);
+  jnd_rng r;
+  jnd_rng_seed(&r, 7);
+  for (size_t i = 0; i < (size_t)a->w * a->h * a->c; i++)
+    b.data[i] = (float)jnd_clampd(b.data[i] + sigma * jnd_rng_normal(&r), 0, 1);
+  return b;
+}
+
+static jnd_image with_blur(const jnd_image *a, double sigma) {
+  jnd_image b = copy_of(a), t = copy_of(a);
+  int r = (int)ceil(3 * sigma);
+  double k[64], s = 0;
+  for (int i = -r; i <= r; i++) s += k[i + r] = exp(-0.5 * i * i / (sigma * sigma));
+  for (int i = 0; i <= 2 * r; i++) k[i] /= s;
+  for (int c = 0; c < a->c; c++) {
+    const float *src = jnd_image_plane(a, c);
+    float *tp = jnd_image_plane(&t, c), *dp = jnd_image_plane(&b, c);
+    for (int y = 0; y < a->h; y++)
+      for (int x = 0; x < a->w; x++) {
+        double v = 0;
+        for (int i = -r; i <= r; i++) v += k[i + r] * src[(size_t)y * a->w + jnd_clampi(x + i, 0, a->w - 1)];
+        tp[(size_t)y * a->w + x] = (float)v;
+      }
+    for (int y = 0; y < a->h; y++)
+      for (int x = 0; x < a->w; x++) {
+        double v = 0;
+        for (int i = -r; i <= r; i++) v += k[i + r] * tp[(size_t)jnd_clampi(y + i, 0, a->h - 1) * a->w + x];
+        dp[(size_t)y * a->w + x] = (float)v;
+      }
+  }
+  jnd_image_free(&t);
+  return b;
+}
+
+static float bilinear(const float *p, int w, int h, double x, double y) {
+  x = jnd_clampd(x, 0, w - 1);
+  y = jnd_clampd(y, 0, h - 1);
+  int x0 = (int)x, y0 = (int)y, x1 = x0 + 1 < w ? x0 + 1 : x0, y1 = y0 + 1 < h ? y0 + 1 : y0;
+  double tx = x - x0, ty = y - y0;
+  return (float)((1 - ty) * ((1 - tx) * p[(size_t)y0 * w + x0] + tx * p[(size_t)y0 * w + x1]) +
+                 ty * ((1 - tx) * p[(size_t)y1 * w + x0] + tx * p[(size_t)y1 * w + x1]));
+}
+
+/* box-average down by factor f (area sampling), then bilinear back up */
+static jnd_image with_resample(const jnd_image *a, double f) {
+  int sw = (int)floor(a->w / f), sh = (int)floor(a->h / f);
+  jnd_image s, b;
+  jnd_image_alloc(&s, sw, sh, a->c);
+  jnd_image_alloc(&b, a->w, a->h, a->c);
+  for (int c = 0; c < a->c; c++) {
+    const float *src = jnd_image_plane(a, c);
+    float *sp = jnd_image_plane(&s, c), *bp = jnd_image_plane(&b, c);
+    for (int y = 0; y < sh; y++)
+      for (int x = 0; x < sw; x++) {
+        double v = 0;
+        int n = 0;
+        for (int yy = (int)(y * f); yy < (int)((y + 1) * f) && yy < a->h; yy++)
+          for (int xx = (int)(x * f); xx < (int)((x + 1) * f) && xx < a->w; xx++) v += src[(size_t)yy * a->w + xx], n++;
+        sp[(size_t)y * sw + x] = (float)(v / (n ? n : 1));
+      }
+    for (int y = 0; y < a->h; y++)
+      for (int x = 0; x < a->w; x++) bp[(size_t)y * a->w + x] = bilinear(sp, sw, sh, (x + 0.5) / f - 0.5, (y + 0.5) / f - 0.5);
+  }
+  jnd_image_free(&s);
+  return b;
+}
+
+static double pooled(jnd_model *m, const jnd_image *ref, const jnd_image_info *info, jnd_image test) {
+  jnd_image r = copy_of(ref);
+  jnd_diff_stats st;
+  jnd_status s = jnd_diff_files(m, &r, info, &test, info, NULL, NULL, NULL, &st);
+  return s == JND_OK ? st.p_detect : -1;
+}
+
+TEST(stronger_distortions_are_more_visible_on_every_photograph) {
+  const char *data = test_shared_data();
+  if (!data) {
+    fprintf(stderr, "skip: no shared data\n");
+    return;
+  }
+  jnd_model_params p;
+  jnd_model_defaults(&p);
+  jnd_model *m;
+  CHECK_OK(jnd_model_create(&p, &m));
+  const double noise[] = {0.003, 0.006, 0.012};
+  const double blur[] = {0.35, 0.6, 1.0};
+  const double down[] = {1.25, 1.6, 2.5};
+  for (int k = 1; k <= 6; k++) {
+    char path[1200];
+    snprintf(path, sizeof path, "%s/kodak/kodim%02d.png", data, k);
+    jnd_image ref;
+    jnd_image_info info;
+    CHECK_OK(jnd_image_read(path, &ref, &info));
+    double pn[3], pb[3], pd[3];
+    for (int i = 0; i < 3; i++) {
+      pn[i] = pooled(m, &ref, &info, with_noise(&ref, noise[i]));
+      pb[i] = pooled(m, &ref, &info, with_blur(&ref, blur[i]));
+      pd[i] = pooled(m, &ref, &info, with_resample(&ref, down[i]));
+    }
+    fprintf(stderr, "kodim%02d noise %.3f %.3f %.3f | blur %.3f %.3f %.3f | down-up %.3f %.3f %.3f\n", k, pn[0],
+            pn[1], pn[2], pb[0], pb[1], pb[2], pd[0], pd[1], pd[2]);
+    for (int i = 0; i < 2; i++) {
+      CHECK_LT(pn[i], pn[i + 1]);
+      CHECK_LT(pb[i], pb[i + 1]);
+      CHECK_LT(pd[i], pd[i + 1]);
+    }
+    CHECK(pn[0] >= 0 && pb[0] >= 0 && pd[0] >= 0);
+    jnd_image_free(&ref);
+  }
+  jnd_model_free(m);
+}
+
+RUN_TESTS(stronger_distortions_are_more_visible_on_every_photograph)
