@@ -749,11 +749,128 @@ void jnd_pca_encoded_free(jnd_pca_encoded *enc);
 jnd_status jnd_pca_choose_psnr(const jnd_texset *set, const jnd_pca *pca, double min_psnr_db,
                                int max_scale, jnd_pca_encoding *out);
 
-/* Rendered visibility of an encoding (001 + the vision model): the set is
- * reconstructed, applied to material `material` of model_path (glTF/GLB),
- * rendered from sampled views and compared; p_detect is the pooled
- * probability a viewer notices. Needs the renderer: until it is wired this
- * returns JND_ERR_ARG "rendered visibility needs the renderer". */
+/* Rendered visibility (001 + the renderer + the vision model): the material
+ * of a model is rendered from sampled views with its maps replaced by a
+ * reconstruction of the set, and with the set itself (the reference), and
+ * each view's JND map is pooled into a probability of detection P. An
+ * encoding passes when at most a fraction max_fraction of the views has
+ * P > max_p. See docs/pca.md "Rendered visibility". Typical use:
+ *
+ *     jnd_pca_render_params rp;  jnd_pca_render_defaults(&rp);
+ *     jnd_pca_render *r;  jnd_pca_render_open("ctrl.glb", "body", &rp, &r);
+ *     jnd_texset set;  jnd_map_slot slots[JND_PCA_MAX_MAPS];
+ *     jnd_pca_render_material_set(r, NULL, &set, slots, NULL);  // the material's own maps
+ *     jnd_pca_render_bind(r, &set, slots);                       // renders the reference once
+ *     jnd_pca pca;  jnd_pca_analyse(&set, NULL, &pca);
+ *     jnd_pca_encoding e;  jnd_pca_visibility v;
+ *     jnd_pca_choose_rendered(r, &set, &pca, 2, &e, &v, NULL);   // the cheapest that passes
+ *     jnd_pca_render_free(r);  jnd_texset_free(&set);
+ */
+
+#define JND_PCA_MAX_VIEWS 64    /* views of a rendered-visibility measurement */
+#define JND_PCA_MAX_TRIED 32    /* candidates a rendered search records */
+
+typedef struct {
+  int views;                  /* sampled views (default 8), 1..JND_PCA_MAX_VIEWS */
+  int width, height;          /* rendered image size, pixels (default 512 × 512) */
+  double coverage;            /* fraction of the image height the bounding sphere fills (0.8) */
+  uint64_t seed;              /* seed of the view sampling (1) */
+  const char *platform;       /* EGL platform: NULL/"auto", "device", "surfaceless" */
+  int builtin_map_size;       /* map side of the "builtin" asset, pixels (2048) */
+  jnd_model_params model;     /* vision model and display (jnd_model_defaults) */
+  jnd_pooling pool;           /* per-view pooling of the P map (p93, 000 §6) */
+  double max_p;               /* a view is above when its pooled P > max_p (0.2) */
+  double max_fraction;        /* at most this fraction of the views may be above (0.1) */
+} jnd_pca_render_params;
+
+/* Fills p with the defaults above. */
+void jnd_pca_render_defaults(jnd_pca_render_params *p);
+
+/* A model's material, an open renderer, the vision model and the sampled
+ * views, kept for any number of measurements. Not thread-safe. */
+typedef struct jnd_pca_render jnd_pca_render;
+
+/* Loads model_path (glTF/GLB/OBJ, or "builtin", "builtin:sphere"), finds
+ * material (JND_ERR_ARG "PATH: no material 'NAME' (...)" listing them),
+ * opens a renderer of width × height (JND_ERR_GL without a context),
+ * creates the vision model and samples the views. *out is the caller's
+ * (jnd_pca_render_free). */
+jnd_status jnd_pca_render_open(const char *model_path, const char *material, const jnd_pca_render_params *p,
+                               jnd_pca_render **out);
+
+/* Frees everything open; safe on NULL. */
+void jnd_pca_render_free(jnd_pca_render *r);
+
+/* "GL_RENDERER (platform)" of the renderer in use. */
+const char *jnd_pca_render_description(const jnd_pca_render *r);
+
+/* The material's own maps (the file's versions) as a texture set, maps
+ * named after their slots ("baseColor", "normal", ...), with the channels
+ * the shader reads: metallicRoughness G and B, occlusion R (channels, as in
+ * jnd_texset_from_images, overrides per slot name); the other maps keep
+ * their informative channels. slots[i] receives map i's slot (caller's,
+ * JND_PCA_MAX_MAPS). orig_bytes (may be NULL) receives the bytes of the
+ * distinct original images at 8 bits per channel (a glTF image packing
+ * occlusion with metal-roughness counts once). JND_ERR_ARG when the material
+ * has no texture maps. */
+jnd_status jnd_pca_render_material_set(const jnd_pca_render *r, const char *channels, jnd_texset *set,
+                                       jnd_map_slot *slots, size_t *orig_bytes);
+
+/* The slot a map name suggests: an exact slot name, else by words (case
+ * ignored): "emissive"/"emission" → emissive; "normal" → normal;
+ * "metal"/"rough"/"orm" → metallicRoughness; "occlusion", "ao" (whole word)
+ * → occlusion; "basecolor"/"base_color"/"albedo"/"diffuse"/"color"/"colour"
+ * → baseColor. Returns 0 when none fits. */
+int jnd_pca_slot_guess(const char *name, jnd_map_slot *slot);
+
+/* Binds map i of set to slot slots[i] of the material (that slot must have
+ * a texture in the model), and renders the reference: every view with the
+ * set's own values in those slots (maps resampled to the set's size go
+ * back to their file's size). The set must outlive the binding's use. */
+jnd_status jnd_pca_render_bind(jnd_pca_render *r, const jnd_texset *set, const jnd_map_slot *slots);
+
+/* Pooled probability of detection per view and the criterion. */
+typedef struct {
+  int views;
+  double p[JND_PCA_MAX_VIEWS];   /* pooled P of each view, 0..1 */
+  int above;                     /* views with P > max_p */
+  int allowed;                   /* views allowed above: floor(max_fraction · views) */
+  double p_criterion;            /* the (allowed + 1)-th largest P: passes iff <= max_p */
+  int pass;                      /* above <= allowed */
+} jnd_pca_visibility;
+
+/* Renders every view with the bound maps rebuilt from channels (w × h × C
+ * in the set's channel order: a reconstruction, e.g. jnd_pca_reconstruct)
+ * and compares with the reference. The maps stay replaced until the next
+ * call. */
+jnd_status jnd_pca_render_measure(jnd_pca_render *r, const jnd_image *channels, jnd_pca_visibility *out);
+
+/* What a rendered search tried, in the order tried. */
+typedef struct {
+  int candidates;                               /* encodings in the family */
+  int tried;                                    /* rendered */
+  jnd_pca_encoding enc[JND_PCA_MAX_TRIED];
+  size_t storage_bytes[JND_PCA_MAX_TRIED];
+  double psnr_target_db[JND_PCA_MAX_TRIED];     /* the PSNR floor that produced it (0: lossless) */
+  jnd_pca_visibility vis[JND_PCA_MAX_TRIED];
+  int chosen;                                   /* index into the arrays, -1 if none passed */
+} jnd_pca_search_log;
+
+/* The cheapest encoding whose rendering passes the criterion. Candidates:
+ * for PSNR floors of 14, 16, ... 60 dB, the smallest encoding
+ * jnd_pca_choose_psnr finds (K, scale 0..max_scale and 8/16 bits per
+ * component), plus all components at 16 bits; deduplicated and sorted by
+ * storage. Along that family P falls as storage grows, so the cheapest
+ * passing candidate is found by bisection (about log2(n) renderings of all
+ * views). out and vis (may be NULL) receive the encoding and its
+ * measurement, log (may be NULL) what was tried. JND_ERR_ARG when not even
+ * the lossless candidate passes. */
+jnd_status jnd_pca_choose_rendered(jnd_pca_render *r, const jnd_texset *set, const jnd_pca *pca, int max_scale,
+                                   jnd_pca_encoding *out, jnd_pca_visibility *vis, jnd_pca_search_log *log);
+
+/* The simple call: opens model_path with the defaults, binds the set's maps
+ * to the slots their names suggest (jnd_pca_slot_guess), measures enc and
+ * returns the criterion statistic (jnd_pca_visibility.p_criterion). */
 jnd_status jnd_pca_rendered_visibility(const jnd_texset *set, const jnd_pca_encoded *enc,
                                        const char *model_path, const char *material,
                                        double *p_detect);
@@ -776,6 +893,15 @@ jnd_status jnd_bc_encode(jnd_bc_format f, const jnd_image *img, int first, uint8
 /* Decodes blocks into channels [first, first+n) of img (already allocated
  * w × h, values 0..1 on the 8-bit grid). */
 jnd_status jnd_bc_decode(jnd_bc_format f, const uint8_t *blocks, jnd_image *img, int first);
+
+/* The set as it comes back from block compression, w × h × C in out
+ * (allocated): JND_PCA_BC_PCA_BC4 / _BC1 compress the components of enc as
+ * jnd_pca_block_compression does and reconstruct; JND_PCA_BC_PLAIN
+ * compresses the maps themselves (enc unused, may be NULL). bytes (may be
+ * NULL) receives the compressed size. */
+typedef enum { JND_PCA_BC_PCA_BC4 = 0, JND_PCA_BC_PCA_BC1, JND_PCA_BC_PLAIN } jnd_pca_bc_variant;
+jnd_status jnd_pca_block_compressed(const jnd_texset *set, const jnd_pca_encoded *enc, jnd_pca_bc_variant v,
+                                    jnd_image *out, size_t *bytes);
 
 /* PSNR and storage of the set under block compression. */
 typedef struct {

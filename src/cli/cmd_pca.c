@@ -10,6 +10,7 @@
 static void help(void) {
   printf(
       "usage: jnd pca MAP... -o OUTDIR [options]\n"
+      "       jnd pca [MAP...] --model FILE.glb --material NAME -o OUTDIR [options]\n"
       "\n"
       "Packs the maps of one material (albedo, normal, roughness, ...) as a (w*h) x C\n"
       "matrix, decorrelates it by PCA (Wronski, 001) and keeps the first components,\n"
@@ -34,10 +35,26 @@ static void help(void) {
       "                      channel reaches DB dB PSNR (chooses bits and resolutions)\n"
       "  --max-scale S       coarsest resolution --psnr may use: 1/2^S (default 2)\n"
       "  --max-p P           the smallest storage whose rendered difference a viewer\n"
-      "                      notices with probability <= P; needs --model (with a\n"
+      "                      notices with probability <= P (pooled p93 per view) in all\n"
+      "                      but --max-fraction of the views; needs --model (with a\n"
       "                      model and no other criterion: --max-p 0.2)\n"
-      "  --model FILE.glb    a model using the set, for rendered visibility\n"
+      "\n"
+      "rendered visibility (the material re-rendered with the reconstructed maps):\n"
+      "  --model FILE.glb    a model using the set (glTF, GLB, OBJ, or builtin);\n"
+      "                      without MAP files the set is the material's own maps\n"
       "  --material NAME     the material of --model that uses the set\n"
+      "  --slot FILE=SLOT    the material slot a MAP file replaces: baseColor,\n"
+      "                      metallicRoughness, normal, occlusion, emissive (default:\n"
+      "                      guessed from the name: albedo/color, normal, metal/rough,\n"
+      "                      ao/occlusion, emissive)\n"
+      "  --max-fraction Q    fraction of views allowed above --max-p (default 0.1)\n"
+      "  --views N           sampled views (default 8)\n"
+      "  --size WxH          rendered image size (default 512x512)\n"
+      "  --coverage F        fraction of the image height the object fills (0.8)\n"
+      "  --seed S            seed of the view sampling (1)\n"
+      "  --map-size N        side of the builtin asset's maps (2048)\n"
+      "  --platform P        EGL platform: device or surfaceless (default: auto)\n"
+      "  --display NAME ...  the display the renderings are seen on (jnd diff --help)\n"
       "\n"
       "how to decompose:\n"
       "  --channels SPEC     pick channels per map: normal=rg,metalRoughness=gb\n"
@@ -54,13 +71,16 @@ static void help(void) {
       "\n"
       "pca.json: .result.energy[] (per component, descending), .result.total_variance,\n"
       ".result.channels[] {name, psnr_db, psnr_float_db, psnr_bc4_db, psnr_bc1_db,\n"
-      "psnr_plain_bc_db}, .result.storage_bytes, .result.reconstruction (C rows of K+1:\n"
+      "psnr_plain_bc_db}, .result.storage_bytes, .result.storage_maps_8bit_bytes (the\n"
+      "original maps), .result.rendered {p_per_view, pass, block_compressed, search}\n"
+      "with --model, .result.reconstruction (C rows of K+1:\n"
       "channel c = sum_k R[c][k]*q_k + R[c][K], q_k the stored component value 0..1).\n"
       "PSNR is 10*log10(1/MSE) on values 0..1; 999 stands for an exact reconstruction.\n"
       "\n"
       "examples:\n"
       "  jnd pca Default_*.jpg -o out --components 5\n"
       "  jnd pca albedo.png normal.png rough.png -o out --psnr 40 --weight albedo=2\n"
+      "  jnd pca --model controller.glb --material body -o out --max-p 0.2\n"
       "\n"
       "Exit status: 0, 2 for bad input.\n");
 }
@@ -117,6 +137,57 @@ static cJSON *numbers(const double *v, int n) {
   return a;
 }
 
+/* pooled P per view of one rendered measurement */
+static cJSON *visibility_json(const jnd_pca_visibility *v) {
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddItemToObject(o, "p_per_view", numbers(v->p, v->views));
+  cJSON_AddNumberToObject(o, "views_above", v->above);
+  cJSON_AddNumberToObject(o, "p_criterion", v->p_criterion);
+  cJSON_AddBoolToObject(o, "pass", v->pass);
+  return o;
+}
+
+static void print_views(const cli_common *c, const char *label, const jnd_pca_visibility *v) {
+  cli_info(c, "  %-18s P per view:", label);
+  for (int i = 0; i < v->views; i++) cli_info(c, " %.3f", v->p[i]);
+  cli_info(c, "  (%d above, %s)\n", v->above, v->pass ? "passes" : "fails");
+}
+
+/* "FILE=SLOT" options → the slot of each map path */
+static int slots_for_maps(const jnd_texset *set, const char *const *paths, const char *const *slot_specs, int nspecs,
+                          jnd_map_slot *slots) {
+  for (int i = 0; i < set->nmaps; i++) {
+    int found = 0;
+    for (int k = 0; k < nspecs && !found; k++) {
+      const char *eq = strrchr(slot_specs[k], '=');
+      if (!eq) {
+        cli_error("pca: --slot: '%s' is not FILE=SLOT", slot_specs[k]);
+        return 0;
+      }
+      size_t n = (size_t)(eq - slot_specs[k]);
+      const char *base = strrchr(paths[i], '/');
+      base = base ? base + 1 : paths[i];
+      if ((strlen(paths[i]) == n && strncmp(paths[i], slot_specs[k], n) == 0) ||
+          (strlen(base) == n && strncmp(base, slot_specs[k], n) == 0)) {
+        int s = 0;
+        while (s < JND_MAP_SLOTS && strcmp(jnd_map_slot_name((jnd_map_slot)s), eq + 1) != 0) s++;
+        if (s == JND_MAP_SLOTS) {
+          cli_error("pca: --slot: '%s' is not a slot (baseColor, metallicRoughness, normal, occlusion, emissive)",
+                    eq + 1);
+          return 0;
+        }
+        slots[i] = (jnd_map_slot)s;
+        found = 1;
+      }
+    }
+    if (!found && !jnd_pca_slot_guess(set->maps[i].name, &slots[i])) {
+      cli_error("%s: no material slot fits this map's name (give --slot FILE=SLOT)", paths[i]);
+      return 0;
+    }
+  }
+  return 1;
+}
+
 static int run(int argc, char **argv) {
   cli_common common = {0};
   const char *paths[JND_PCA_MAX_MAPS], *outdir = NULL, *channels = NULL, *weight_spec = NULL;
@@ -126,6 +197,10 @@ static int run(int argc, char **argv) {
   double t_read = 0, t_analyse = 0, t_choose = 0, t_encode = 0, t_bc = 0;
   double psnr_target = -1, max_p = 0.2;
   int has_max_p = 0;
+  jnd_pca_render_params rp;
+  jnd_pca_render_defaults(&rp);
+  const char *slot_specs[JND_PCA_MAX_MAPS];
+  int nslot_specs = 0;
   for (int i = 1; i < argc; i++) {
     const char *v;
     if (cli_flag(argv, i, "--help") || cli_flag(argv, i, "-h")) {
@@ -146,6 +221,35 @@ static int run(int argc, char **argv) {
     } else if (cli_opt(argc, argv, &i, "--max-p", &v)) {
       max_p = cli_double("pca", "--max-p", v, 0, 1);
       has_max_p = 1;
+    } else if (cli_opt(argc, argv, &i, "--max-fraction", &v)) {
+      rp.max_fraction = cli_double("pca", "--max-fraction", v, 0, 0.99);
+    } else if (cli_opt(argc, argv, &i, "--views", &v)) {
+      rp.views = cli_int("pca", "--views", v, 1, JND_PCA_MAX_VIEWS);
+    } else if (cli_opt(argc, argv, &i, "--size", &v)) {
+      double w = 0, h = 0;
+      cli_pair("pca", "--size", v, &w, &h);
+      if (w < 16 || h < 16 || w > 8192 || h > 8192 || w != (int)w || h != (int)h) {
+        cli_error("pca: --size: '%s' is not WxH with 16..8192 pixels", v);
+        return EXIT_BAD;
+      }
+      rp.width = (int)w;
+      rp.height = (int)h;
+    } else if (cli_opt(argc, argv, &i, "--coverage", &v)) {
+      rp.coverage = cli_double("pca", "--coverage", v, 0.01, 10);
+    } else if (cli_opt(argc, argv, &i, "--seed", &v)) {
+      rp.seed = (uint64_t)cli_int("pca", "--seed", v, 0, 2147483647);
+    } else if (cli_opt(argc, argv, &i, "--map-size", &v)) {
+      rp.builtin_map_size = cli_int("pca", "--map-size", v, 8, 8192);
+    } else if (cli_opt(argc, argv, &i, "--platform", &v)) {
+      rp.platform = v;
+    } else if (cli_opt(argc, argv, &i, "--slot", &v)) {
+      if (nslot_specs >= JND_PCA_MAX_MAPS) {
+        cli_error("pca: at most %d --slot options", JND_PCA_MAX_MAPS);
+        return EXIT_BAD;
+      }
+      slot_specs[nslot_specs++] = v;
+    } else if (cli_display_opt("pca", argc, argv, &i, &rp.model.display)) {
+      continue;
     } else if (cli_opt(argc, argv, &i, "--model", &v)) {
       model = v;
     } else if (cli_opt(argc, argv, &i, "--material", &v)) {
@@ -173,8 +277,8 @@ static int run(int argc, char **argv) {
       return EXIT_BAD;
     }
   }
-  if (npaths == 0 || !outdir) {
-    cli_error("pca: needs maps and -o OUTDIR (jnd pca --help)");
+  if ((npaths == 0 && !model) || !outdir) {
+    cli_error("pca: needs maps (or --model) and -o OUTDIR (jnd pca --help)");
     return EXIT_BAD;
   }
   int criteria = (components >= 0) + (psnr_target > 0) + has_max_p;
@@ -191,10 +295,25 @@ static int run(int argc, char **argv) {
     cli_error("pca: --model needs --material NAME");
     return EXIT_BAD;
   }
+  if (nslot_specs && !(model && npaths)) {
+    cli_error("pca: --slot needs MAP files and --model");
+    return EXIT_BAD;
+  }
+  rp.max_p = max_p;
   int scales[JND_PCA_MAX_CHANNELS] = {0}, nscales = 0;
   if (res_spec && !parse_resolutions(res_spec, scales, &nscales)) return EXIT_BAD;
 
   int rc = EXIT_BAD;
+  jnd_pca_render *rr = NULL;
+  jnd_pca_search_log *slog = NULL;
+  jnd_map_slot slots[JND_PCA_MAX_MAPS];
+  size_t orig_bytes = 0;
+  jnd_pca_visibility vis, vis_bc[3];
+  size_t bytes_bc[3] = {0};
+  double t_render = 0;
+  memset(&vis, 0, sizeof vis);
+  memset(vis_bc, 0, sizeof vis_bc);
+  char labels[JND_PCA_MAX_MAPS][160];
   jnd_texset set = {0};
   jnd_pca_encoded enc = {0}, encf = {0};
   jnd_pca_bc_report bc;
@@ -202,13 +321,36 @@ static int run(int argc, char **argv) {
   cli_progress prog;
   cli_progress_start(&prog, &common, "pca", 6);
   double t0 = cli_now();
-  if (jnd_texset_read(paths, npaths, channels, &set) != JND_OK) {
+  if (model && jnd_pca_render_open(model, material, &rp, &rr) != JND_OK) {
     cli_progress_end(&prog);
     cli_error("%s", jnd_last_error());
-    return EXIT_BAD;
+    goto out;
+  }
+  if ((npaths ? jnd_texset_read(paths, npaths, channels, &set)
+              : jnd_pca_render_material_set(rr, channels, &set, slots, &orig_bytes)) != JND_OK) {
+    cli_progress_end(&prog);
+    cli_error("%s", jnd_last_error());
+    goto out;
+  }
+  for (int i = 0; i < set.nmaps && !npaths; i++) {   /* the material's maps are named MATERIAL/SLOT */
+    snprintf(labels[i], sizeof labels[i], "%s/%s", material, set.maps[i].name);
+    paths[i] = labels[i];
+  }
+  if (model && npaths && !slots_for_maps(&set, paths, slot_specs, nslot_specs, slots)) {
+    cli_progress_end(&prog);
+    goto out;
   }
   cli_progress_step(&prog, 1);
   t_read = cli_now() - t0;
+  if (model) {
+    double tr = cli_now();
+    if (jnd_pca_render_bind(rr, &set, slots) != JND_OK) {
+      cli_progress_end(&prog);
+      cli_error("%s", jnd_last_error());
+      goto out;
+    }
+    t_render += cli_now() - tr;
+  }
   for (int i = 0; i < set.nmaps; i++) {
     const jnd_texset_map *m = &set.maps[i];
     if (m->resampled)
@@ -250,6 +392,17 @@ static int run(int argc, char **argv) {
       goto out;
     }
   }
+  if (has_max_p) {
+    criterion = "max_p";
+    double tr = cli_now();
+    slog = calloc(1, sizeof *slog);
+    if (!slog || jnd_pca_choose_rendered(rr, &set, &pca, max_scale, &e, &vis, slog) != JND_OK) {
+      cli_progress_end(&prog);
+      cli_error("%s", slog ? jnd_last_error() : "pca: out of memory");
+      goto out;
+    }
+    t_render += cli_now() - tr;
+  }
   cli_progress_step(&prog, 3);
   t_choose = cli_now() - t0 - t_read - t_analyse;
   if (jnd_pca_encode(&set, &pca, &e, &enc) != JND_OK) {
@@ -257,14 +410,26 @@ static int run(int argc, char **argv) {
     cli_error("pca: %s", jnd_last_error());
     goto out;
   }
-  double p_detect = NAN;
-  if (has_max_p || model) {
-    criterion = has_max_p ? "max_p" : criterion;
-    if (jnd_pca_rendered_visibility(&set, &enc, model, material, &p_detect) != JND_OK) {
+  if (model) {
+    double tr = cli_now();
+    jnd_image rec = {0};
+    jnd_status st = JND_OK;
+    if (!has_max_p) {   /* the encoding asked for, measured as it is */
+      st = jnd_pca_reconstruct(&enc, NULL, &rec);
+      if (st == JND_OK) st = jnd_pca_render_measure(rr, &rec, &vis);
+      jnd_image_free(&rec);
+    }
+    for (int v = 0; v < 3 && !no_bc && st == JND_OK; v++) {
+      st = jnd_pca_block_compressed(&set, &enc, (jnd_pca_bc_variant)v, &rec, &bytes_bc[v]);
+      if (st == JND_OK) st = jnd_pca_render_measure(rr, &rec, &vis_bc[v]);
+      jnd_image_free(&rec);
+    }
+    if (st != JND_OK) {
       cli_progress_end(&prog);
       cli_error("%s", jnd_last_error());
       goto out;
     }
+    t_render += cli_now() - tr;
   }
   /* the same K without resizing or quantisation: PSNR "in float" */
   jnd_pca_encoding ef = e;
@@ -358,6 +523,7 @@ static int run(int argc, char **argv) {
     cJSON_AddItemToArray(maps, o);
     plain8 += (size_t)m->file_w * m->file_h * m->file_channels;
   }
+  if (model && !npaths) plain8 = orig_bytes;   /* a packed image bound to two slots counts once */
   cJSON_AddStringToObject(params, "criterion", criterion);
   if (psnr_target > 0) cJSON_AddNumberToObject(params, "psnr_db", psnr_target);
   if (psnr_target > 0) cJSON_AddNumberToObject(params, "max_scale", max_scale);
@@ -435,7 +601,51 @@ static int run(int argc, char **argv) {
     cJSON_AddNumberToObject(b, "plain_bc_bytes", (double)bc.bytes_plain);
     cJSON_AddStringToObject(b, "plain_formats", "BC1 for RGB maps, BC4 for grey, BC5 for 2 channels, BC1+BC4 for RGBA");
   }
-  if (model) cJSON_AddNumberToObject(res, "p_detect", p_detect);
+  if (model) {
+    cJSON *rj = cJSON_AddObjectToObject(res, "rendered");
+    cJSON_AddStringToObject(rj, "model", model);
+    cJSON_AddStringToObject(rj, "material", material);
+    cJSON_AddStringToObject(rj, "renderer", jnd_pca_render_description(rr));
+    cJSON *sj = cJSON_AddObjectToObject(rj, "slots");
+    for (int i = 0; i < set.nmaps; i++) cJSON_AddStringToObject(sj, set.maps[i].name, jnd_map_slot_name(slots[i]));
+    cJSON_AddNumberToObject(rj, "views", rp.views);
+    cJSON_AddNumberToObject(rj, "width", rp.width);
+    cJSON_AddNumberToObject(rj, "height", rp.height);
+    cJSON_AddNumberToObject(rj, "coverage", rp.coverage);
+    cJSON_AddNumberToObject(rj, "seed", (double)rp.seed);
+    cJSON_AddItemToObject(rj, "display", cli_display_json(&rp.model.display));
+    cJSON_AddStringToObject(rj, "pooling", "p93");
+    cJSON *cj = cJSON_AddObjectToObject(rj, "criterion");
+    cJSON_AddNumberToObject(cj, "max_p", rp.max_p);
+    cJSON_AddNumberToObject(cj, "max_fraction", rp.max_fraction);
+    cJSON_AddNumberToObject(cj, "views_allowed_above", vis.allowed);
+    cJSON_AddItemToObject(rj, "p_per_view", numbers(vis.p, vis.views));
+    cJSON_AddNumberToObject(rj, "views_above", vis.above);
+    cJSON_AddNumberToObject(rj, "p_criterion", vis.p_criterion);
+    cJSON_AddBoolToObject(rj, "pass", vis.pass);
+    if (!no_bc) {
+      cJSON *bj = cJSON_AddObjectToObject(rj, "block_compressed");
+      const char *bn[3] = {"pca_bc4", "pca_bc1", "plain_bc"};
+      for (int v = 0; v < 3; v++) {
+        cJSON *o = visibility_json(&vis_bc[v]);
+        cJSON_AddNumberToObject(o, "bytes", (double)bytes_bc[v]);
+        cJSON_AddItemToObject(bj, bn[v], o);
+      }
+    }
+    if (slog) {
+      cJSON *search = cJSON_AddObjectToObject(rj, "search");
+      cJSON_AddNumberToObject(search, "candidates", slog->candidates);
+      cJSON_AddNumberToObject(search, "rendered", slog->tried);
+      cJSON *tried = cJSON_AddArrayToObject(search, "tried");
+      for (int t = 0; t < slog->tried; t++) {
+        cJSON *o = visibility_json(&slog->vis[t]);
+        cJSON_AddNumberToObject(o, "components", slog->enc[t].components);
+        cJSON_AddNumberToObject(o, "storage_bytes", (double)slog->storage_bytes[t]);
+        cJSON_AddNumberToObject(o, "psnr_floor_db", slog->psnr_target_db[t]);
+        cJSON_AddItemToArray(tried, o);
+      }
+    }
+  }
   if (timings) {
     cJSON *t = cJSON_AddObjectToObject(res, "timings_s");
     cJSON_AddNumberToObject(t, "read", t_read);
@@ -443,6 +653,7 @@ static int run(int argc, char **argv) {
     cJSON_AddNumberToObject(t, "choice", t_choose);
     cJSON_AddNumberToObject(t, "encoding", t_encode);
     cJSON_AddNumberToObject(t, "block_compression", t_bc);
+    if (model) cJSON_AddNumberToObject(t, "rendering", t_render);
     cJSON_AddNumberToObject(t, "total", cli_now() - t0);
   }
 
@@ -471,10 +682,24 @@ static int run(int argc, char **argv) {
   if (!no_bc)
     cli_info(&common, "  block-compressed: PCA+BC4 %.2f MB, PCA+BC1 %.2f MB, plain BC %.2f MB\n",
              bc.bytes_pca_bc4 / 1e6, bc.bytes_pca_bc1 / 1e6, bc.bytes_plain / 1e6);
+  if (model) {
+    cli_info(&common, "  rendered: %d views of %s at %dx%d on %s; criterion P <= %.3g in all but %d view(s)\n",
+             rp.views, material, rp.width, rp.height, jnd_pca_render_description(rr), rp.max_p, vis.allowed);
+    if (slog) cli_info(&common, "  search: %d candidates, %d rendered\n", slog->candidates, slog->tried);
+    cli_info(&common, "  storage %.3f MB against %.3f MB of original maps\n", enc.storage_bytes / 1e6, plain8 / 1e6);
+    print_views(&common, "chosen", &vis);
+    if (!no_bc) {
+      print_views(&common, "PCA+BC4", &vis_bc[0]);
+      print_views(&common, "PCA+BC1", &vis_bc[1]);
+      print_views(&common, "plain BC", &vis_bc[2]);
+    }
+  }
   cli_info(&common, "  %.1f s; wrote %s/pca.json\n", cli_now() - t0, outdir);
   rc = EXIT_OK;
 out:
   cJSON_Delete(report);
+  free(slog);
+  jnd_pca_render_free(rr);
   jnd_pca_encoded_free(&enc);
   jnd_pca_encoded_free(&encf);
   jnd_texset_free(&set);

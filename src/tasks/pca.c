@@ -817,22 +817,34 @@ static jnd_status measure_options(const jnd_texset *set, const jnd_pca *pca, con
   return s;
 }
 
-jnd_status jnd_pca_choose_psnr(const jnd_texset *set, const jnd_pca *pca, double min_psnr_db, int max_scale,
-                               jnd_pca_encoding *out) {
-  memset(out, 0, sizeof *out);
+/* The PSNR search set up once (projections, per-option distortions) for
+ * any number of targets: the rendered search asks for many. */
+typedef struct {
+  search *S;
+  float *proj;   /* all C component planes at full size */
+} psnr_chooser;
+
+static void chooser_free(psnr_chooser *ch) {
+  free(ch->S);
+  free(ch->proj);
+  ch->S = NULL;
+  ch->proj = NULL;
+}
+
+static jnd_status chooser_init(const jnd_texset *set, const jnd_pca *pca, int max_scale, psnr_chooser *ch) {
+  memset(ch, 0, sizeof *ch);
   if (!set || !pca || pca->c != set->c) return jnd_fail(JND_ERR_ARG, "pca: set and analysis differ");
-  if (!(min_psnr_db > 0 && min_psnr_db < 200)) return jnd_fail(JND_ERR_ARG, "pca: PSNR target %g dB", min_psnr_db);
   max_scale = jnd_clampi(max_scale, 0, JND_PCA_MAX_SCALE);
   int C = set->c;
   size_t np = (size_t)set->w * set->h;
-  float *proj = jnd_alloc(np * (size_t)C, sizeof *proj);
-  if (!proj) return JND_ERR_NOMEM;
-  project(set, pca, C, proj);
-  search *S = jnd_calloc(1, sizeof *S);
-  if (!S) {
-    free(proj);
+  ch->proj = jnd_alloc(np * (size_t)C, sizeof *ch->proj);
+  ch->S = jnd_calloc(1, sizeof *ch->S);
+  if (!ch->proj || !ch->S) {
+    chooser_free(ch);
     return JND_ERR_NOMEM;
   }
+  project(set, pca, C, ch->proj);
+  search *S = ch->S;
   S->C = C;
   for (int sc = 0; sc <= max_scale; sc++)
     for (int b = 16; b >= 8; b -= 8) S->opt[S->nopt++] = (option){sc, b, (double)b / (1 << (2 * sc))};
@@ -840,8 +852,7 @@ jnd_status jnd_pca_choose_psnr(const jnd_texset *set, const jnd_pca *pca, double
   /* costs must strictly decrease for the monotone enumeration */
   for (int o = 1; o < S->nopt; o++)
     if (!(S->opt[o].cost < S->opt[o - 1].cost)) {
-      free(S);
-      free(proj);
+      chooser_free(ch);
       return jnd_fail(JND_ERR_INTERNAL, "pca: options not ordered by cost");
     }
   S->px = (double)np;
@@ -851,7 +862,17 @@ jnd_status jnd_pca_choose_psnr(const jnd_texset *set, const jnd_pca *pca, double
       double t = pca->basis[c * C + k] / pca->weight[c];
       S->t2[c][k] = t * t;
     }
-  jnd_status s = measure_options(set, pca, proj, S);
+  jnd_status s = measure_options(set, pca, ch->proj, S);
+  if (s != JND_OK) chooser_free(ch);
+  return s;
+}
+
+static jnd_status chooser_run(psnr_chooser *ch, const jnd_texset *set, const jnd_pca *pca, double min_psnr_db,
+                              jnd_pca_encoding *out) {
+  memset(out, 0, sizeof *out);
+  search *S = ch->S;
+  int C = set->c;
+  jnd_status s = JND_OK;
   double target = pow(10.0, -min_psnr_db / 10.0);
   for (int c = 0; c < C; c++) S->budget[c] = target;
   int found = 0;
@@ -870,7 +891,7 @@ jnd_status jnd_pca_choose_psnr(const jnd_texset *set, const jnd_pca *pca, double
       e.components = k + 1;
     }
     jnd_pca_encoded enc;
-    s = encode_from(set, pca, proj, &e, &enc);
+    s = encode_from(set, pca, ch->proj, &e, &enc);
     if (s != JND_OK) break;
     found = 1;
     for (int c = 0; c < C; c++)
@@ -888,8 +909,18 @@ jnd_status jnd_pca_choose_psnr(const jnd_texset *set, const jnd_pca *pca, double
   }
   if (s == JND_OK && !found)
     s = jnd_fail(JND_ERR_ARG, "pca: no encoding reaches %g dB in every channel (try a lower --psnr)", min_psnr_db);
-  free(S);
-  free(proj);
+  return s;
+}
+
+jnd_status jnd_pca_choose_psnr(const jnd_texset *set, const jnd_pca *pca, double min_psnr_db, int max_scale,
+                               jnd_pca_encoding *out) {
+  memset(out, 0, sizeof *out);
+  if (!set || !pca || pca->c != set->c) return jnd_fail(JND_ERR_ARG, "pca: set and analysis differ");
+  if (!(min_psnr_db > 0 && min_psnr_db < 200)) return jnd_fail(JND_ERR_ARG, "pca: PSNR target %g dB", min_psnr_db);
+  psnr_chooser ch;
+  jnd_status s = chooser_init(set, pca, max_scale, &ch);
+  if (s == JND_OK) s = chooser_run(&ch, set, pca, min_psnr_db, out);
+  chooser_free(&ch);
   return s;
 }
 
@@ -897,16 +928,450 @@ jnd_status jnd_pca_choose_psnr(const jnd_texset *set, const jnd_pca *pca, double
 /* Rendered visibility (the renderer's part)                                */
 /* ------------------------------------------------------------------------ */
 
-/* Hook for the renderer: reconstruct the set from enc, put it on material
- * `material` of the model, render views with the original and the
- * reconstructed textures, and pool the vision model's probability. */
+/* The loop of DESIGN.md for a texture set: the material rendered with its
+ * maps rebuilt from a candidate, shown on the display, compared with the
+ * rendering of the set itself by the vision model, pooled per view. One
+ * renderer and one vision model stay open; the reference is rendered once
+ * per view and kept in cd/m². */
+struct jnd_pca_render {
+  char path[1024];
+  jnd_pca_render_params p;
+  jnd_scene *scene;
+  jnd_renderer *renderer;
+  jnd_model *model;
+  int material;
+  int nviews;
+  jnd_view views[JND_PCA_MAX_VIEWS];
+  jnd_image ref[JND_PCA_MAX_VIEWS];        /* reference per view, linear RGB cd/m² */
+  const jnd_texset *set;                   /* bound set (the caller's) */
+  int nbound;
+  int scene_map[JND_PCA_MAX_MAPS];         /* scene map of each set map */
+  jnd_map_slot slot[JND_PCA_MAX_MAPS];
+};
+
+void jnd_pca_render_defaults(jnd_pca_render_params *p) {
+  memset(p, 0, sizeof *p);
+  p->views = 8;
+  p->width = p->height = 512;
+  p->coverage = 0.8;
+  p->seed = 1;
+  p->builtin_map_size = 2048;
+  jnd_model_defaults(&p->model);
+  p->pool.kind = JND_POOL_PERCENTILE;
+  p->pool.percentile = 93;   /* 000 §6 */
+  p->max_p = 0.2;
+  p->max_fraction = 0.1;
+}
+
+void jnd_pca_render_free(jnd_pca_render *r) {
+  if (!r) return;
+  for (int v = 0; v < JND_PCA_MAX_VIEWS; v++) jnd_image_free(&r->ref[v]);
+  jnd_model_free(r->model);
+  jnd_renderer_free(r->renderer);
+  jnd_scene_free(r->scene);
+  free(r);
+}
+
+const char *jnd_pca_render_description(const jnd_pca_render *r) {
+  return r && r->renderer ? jnd_renderer_description(r->renderer) : "";
+}
+
+static jnd_status load_scene(const char *path, int map_size, jnd_scene **out) {
+  if (strcmp(path, "builtin") == 0 || strcmp(path, "builtin:box") == 0 || strcmp(path, "builtin:sphere") == 0) {
+    jnd_builtin_params bp;
+    jnd_builtin_defaults(&bp);
+    bp.map_size = map_size;
+    bp.shape = strcmp(path, "builtin:sphere") == 0;
+    return jnd_scene_builtin(&bp, out);
+  }
+  return jnd_scene_load(path, out);
+}
+
+jnd_status jnd_pca_render_open(const char *model_path, const char *material, const jnd_pca_render_params *p,
+                               jnd_pca_render **out) {
+  *out = NULL;
+  if (!model_path || !material) return jnd_fail(JND_ERR_ARG, "rendered visibility needs a model and a material");
+  if (p->views < 1 || p->views > JND_PCA_MAX_VIEWS)
+    return jnd_fail(JND_ERR_ARG, "%s: %d views (1 to %d)", model_path, p->views, JND_PCA_MAX_VIEWS);
+  if (!(p->max_p >= 0 && p->max_p <= 1) || !(p->max_fraction >= 0 && p->max_fraction < 1))
+    return jnd_fail(JND_ERR_ARG, "%s: criterion P <= %g in all but %g of the views", model_path, p->max_p,
+                    p->max_fraction);
+  jnd_pca_render *r = jnd_calloc(1, sizeof *r);
+  if (!r) return JND_ERR_NOMEM;
+  snprintf(r->path, sizeof r->path, "%s", model_path);
+  r->p = *p;
+  r->nviews = p->views;
+  jnd_status s = load_scene(model_path, p->builtin_map_size, &r->scene);
+  if (s != JND_OK) goto fail;
+  r->material = -1;
+  int nm = jnd_scene_material_count(r->scene);
+  for (int i = 0; i < nm && r->material < 0; i++)
+    if (strcmp(jnd_scene_material_name(r->scene, i), material) == 0) r->material = i;
+  if (r->material < 0) {
+    char list[512] = "";
+    for (int i = 0; i < nm; i++) {
+      size_t n = strlen(list);
+      snprintf(list + n, sizeof list - n, "%s'%s'", i ? ", " : "", jnd_scene_material_name(r->scene, i));
+    }
+    s = jnd_fail(JND_ERR_ARG, "%s: no material '%s' (it has %s)", model_path, material, nm ? list : "none");
+    goto fail;
+  }
+  jnd_renderer_params rp;
+  jnd_renderer_defaults(&rp);
+  rp.width = p->width;
+  rp.height = p->height;
+  rp.platform = p->platform;
+  if ((s = jnd_renderer_create(&rp, &r->renderer)) != JND_OK) goto fail;
+  if ((s = jnd_model_create(&p->model, &r->model)) != JND_OK) goto fail;
+  jnd_view_sampling vs;
+  jnd_view_sampling_defaults(&vs);
+  vs.count = p->views;
+  vs.seed = p->seed;
+  vs.coverage = p->coverage;
+  vs.aspect = (double)p->width / p->height;
+  if ((s = jnd_views_sample(r->scene, &vs, r->views)) != JND_OK) goto fail;
+  for (int v = 0; v < r->nviews; v++) r->views[v].outputs = JND_OUT_COLOR;
+  *out = r;
+  return JND_OK;
+fail:
+  jnd_pca_render_free(r);
+  return s;
+}
+
+int jnd_pca_slot_guess(const char *name, jnd_map_slot *slot) {
+  char low[128];
+  size_t n = 0;
+  for (; name[n] && n + 1 < sizeof low; n++) low[n] = (char)tolower((unsigned char)name[n]);
+  low[n] = 0;
+  for (int i = 0; i < JND_MAP_SLOTS; i++) {
+    char sn[32];
+    const char *t = jnd_map_slot_name((jnd_map_slot)i);
+    size_t k = 0;
+    for (; t[k] && k + 1 < sizeof sn; k++) sn[k] = (char)tolower((unsigned char)t[k]);
+    sn[k] = 0;
+    if (strcmp(low, sn) == 0) {
+      *slot = (jnd_map_slot)i;
+      return 1;
+    }
+  }
+  /* "ao" as a whole word: the name itself or delimited by _ - . space */
+  int ao = 0;
+  for (const char *q = strstr(low, "ao"); q && !ao; q = strstr(q + 1, "ao"))
+    ao = (q == low || strchr("_-. ", q[-1])) && (!q[2] || strchr("_-. ", q[2]));
+  struct {
+    const char *word;
+    jnd_map_slot slot;
+  } const rules[] = {{"emissive", JND_MAP_EMISSIVE},         {"emission", JND_MAP_EMISSIVE},
+                     {"normal", JND_MAP_NORMAL},             {"metal", JND_MAP_METALLIC_ROUGHNESS},
+                     {"rough", JND_MAP_METALLIC_ROUGHNESS},  {"orm", JND_MAP_METALLIC_ROUGHNESS},
+                     {"occlusion", JND_MAP_OCCLUSION},       {"basecolor", JND_MAP_BASE_COLOR},
+                     {"base_color", JND_MAP_BASE_COLOR},     {"albedo", JND_MAP_BASE_COLOR},
+                     {"diffuse", JND_MAP_BASE_COLOR},        {"color", JND_MAP_BASE_COLOR},
+                     {"colour", JND_MAP_BASE_COLOR}};
+  for (size_t i = 0; i < sizeof rules / sizeof rules[0]; i++) {
+    if (rules[i].slot == JND_MAP_OCCLUSION && ao) break;
+    if (strstr(low, rules[i].word)) {
+      *slot = rules[i].slot;
+      return 1;
+    }
+  }
+  if (ao) {
+    *slot = JND_MAP_OCCLUSION;
+    return 1;
+  }
+  return 0;
+}
+
+static int images_equal(const jnd_image *a, const jnd_image *b) {
+  return a->w == b->w && a->h == b->h && a->c == b->c &&
+         memcmp(a->data, b->data, (size_t)a->w * a->h * a->c * sizeof(float)) == 0;
+}
+
+jnd_status jnd_pca_render_material_set(const jnd_pca_render *r, const char *channels, jnd_texset *set,
+                                       jnd_map_slot *slots, size_t *orig_bytes) {
+  memset(set, 0, sizeof *set);
+  if (orig_bytes) *orig_bytes = 0;
+  jnd_image maps[JND_MAP_SLOTS];
+  memset(maps, 0, sizeof maps);
+  const char *names[JND_MAP_SLOTS];
+  char picks[256] = "";
+  int n = 0;
+  jnd_status s = JND_OK;
+  const char *mname = jnd_scene_material_name(r->scene, r->material);
+  for (int slot = 0; slot < JND_MAP_SLOTS && s == JND_OK; slot++) {
+    char full[256];
+    snprintf(full, sizeof full, "%s/%s", mname, jnd_map_slot_name((jnd_map_slot)slot));
+    int idx = jnd_scene_map_find(r->scene, full);
+    if (idx < 0) continue;
+    if ((s = jnd_scene_map_get(r->scene, idx, 1, &maps[n])) != JND_OK) break;
+    names[n] = jnd_map_slot_name((jnd_map_slot)slot);
+    slots[n] = (jnd_map_slot)slot;
+    /* the channels the shader reads (docs/render.md "Materials") */
+    const char *use = slot == JND_MAP_METALLIC_ROUGHNESS && maps[n].c >= 3 ? "gb"
+                      : slot == JND_MAP_OCCLUSION && maps[n].c >= 2       ? "r"
+                                                                          : NULL;
+    int given = 0;   /* an explicit pick for this slot wins */
+    if (channels && *channels) {
+      size_t ln = strlen(names[n]);
+      for (const char *q = strstr(channels, names[n]); q && !given; q = strstr(q + 1, names[n]))
+        given = (q == channels || q[-1] == ',') && q[ln] == '=';
+    }
+    if (use && !given) {
+      size_t k = strlen(picks);
+      snprintf(picks + k, sizeof picks - k, "%s%s=%s", k ? "," : "", names[n], use);
+    }
+    int shared = 0;   /* one image of the file bound to two slots (packed occlusion) */
+    for (int j = 0; j < n && !shared; j++) shared = images_equal(&maps[j], &maps[n]);
+    if (orig_bytes && !shared) *orig_bytes += (size_t)maps[n].w * maps[n].h * maps[n].c;
+    n++;
+  }
+  if (s == JND_OK && n == 0)
+    s = jnd_fail(JND_ERR_ARG, "%s: material '%s' has no texture maps", r->path, mname);
+  if (s == JND_OK && channels && *channels) {
+    size_t k = strlen(picks);
+    snprintf(picks + k, sizeof picks - k, "%s%s", k ? "," : "", channels);
+  }
+  if (s == JND_OK) s = jnd_texset_from_images(maps, names, n, picks, set);
+  for (int i = 0; i < n; i++) jnd_image_free(&maps[i]);
+  return s;
+}
+
+/* puts map i of the set, rebuilt from channels, into its slot */
+static jnd_status set_map(jnd_pca_render *r, const jnd_image *channels, int i) {
+  const jnd_texset_map *m = &r->set->maps[i];
+  jnd_image img = {0}, back = {0};
+  jnd_status s = jnd_texset_map_image(r->set, channels, i, &img);
+  if (s == JND_OK && m->resampled) {
+    s = jnd_resample_map(&img, m->file_w, m->file_h, jnd_map_slot_kind(r->slot[i]), 0, &back);
+    jnd_image_free(&img);
+    img = back;
+  }
+  if (s == JND_OK) s = jnd_scene_map_set(r->scene, r->scene_map[i], &img);
+  jnd_image_free(&img);
+  return s;
+}
+
+/* renders view v and applies the display: out in cd/m² (allocated) */
+static jnd_status render_view(jnd_pca_render *r, int v, jnd_image *out) {
+  jnd_frame f;
+  memset(&f, 0, sizeof f);
+  jnd_image srgb = {0};
+  jnd_status s = jnd_render(r->renderer, r->scene, &r->views[v], &f);
+  if (s == JND_OK) s = jnd_render_to_srgb(&f.color, &srgb);
+  jnd_frame_free(&f);
+  if (s == JND_OK) s = jnd_display_apply(&r->p.model.display, &srgb, JND_ENCODING_SRGB, 0, out);
+  jnd_image_free(&srgb);
+  return s;
+}
+
+jnd_status jnd_pca_render_bind(jnd_pca_render *r, const jnd_texset *set, const jnd_map_slot *slots) {
+  if (!set || !set->data || set->nmaps < 1) return jnd_fail(JND_ERR_ARG, "%s: no texture set to bind", r->path);
+  const char *mname = jnd_scene_material_name(r->scene, r->material);
+  for (int i = 0; i < r->nbound; i++) jnd_scene_map_restore(r->scene, r->scene_map[i]);
+  r->nbound = 0;
+  r->set = set;
+  for (int i = 0; i < set->nmaps; i++) {
+    if ((int)slots[i] < 0 || slots[i] >= JND_MAP_SLOTS)
+      return jnd_fail(JND_ERR_ARG, "%s: map '%s' has no slot", r->path, set->maps[i].name);
+    for (int j = 0; j < i; j++)
+      if (slots[j] == slots[i])
+        return jnd_fail(JND_ERR_ARG, "%s: maps '%s' and '%s' both go to slot %s", r->path, set->maps[j].name,
+                        set->maps[i].name, jnd_map_slot_name(slots[i]));
+    char full[256];
+    snprintf(full, sizeof full, "%s/%s", mname, jnd_map_slot_name(slots[i]));
+    r->scene_map[i] = jnd_scene_map_find(r->scene, full);
+    r->slot[i] = slots[i];
+    if (r->scene_map[i] < 0)
+      return jnd_fail(JND_ERR_ARG, "%s: material '%s' has no %s texture to replace with '%s'", r->path, mname,
+                      jnd_map_slot_name(slots[i]), set->maps[i].name);
+  }
+  r->nbound = set->nmaps;
+  jnd_image own = {set->w, set->h, set->c, set->data};
+  jnd_status s = JND_OK;
+  for (int i = 0; i < r->nbound && s == JND_OK; i++) s = set_map(r, &own, i);
+  for (int v = 0; v < r->nviews && s == JND_OK; v++) {
+    jnd_image_free(&r->ref[v]);
+    s = render_view(r, v, &r->ref[v]);
+  }
+  return s;
+}
+
+static int cmp_desc(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return x < y ? 1 : x > y ? -1 : 0;
+}
+
+jnd_status jnd_pca_render_measure(jnd_pca_render *r, const jnd_image *channels, jnd_pca_visibility *out) {
+  memset(out, 0, sizeof *out);
+  if (!r->set || !r->nbound) return jnd_fail(JND_ERR_ARG, "%s: no texture set bound", r->path);
+  jnd_status s = JND_OK;
+  for (int i = 0; i < r->nbound && s == JND_OK; i++) s = set_map(r, channels, i);
+  double beta = jnd_model_get_params(r->model)->beta;
+  for (int v = 0; v < r->nviews && s == JND_OK; v++) {
+    jnd_image test = {0}, map = {0};
+    jnd_diff_stats st;
+    s = render_view(r, v, &test);
+    if (s == JND_OK) s = jnd_model_diff(r->model, &r->ref[v], &test, NULL, &map);
+    if (s == JND_OK) s = jnd_diff_summarise(&map, beta, &r->p.pool, &st);
+    if (s == JND_OK) out->p[v] = st.p_detect;
+    jnd_image_free(&test);
+    jnd_image_free(&map);
+  }
+  if (s != JND_OK) return s;
+  out->views = r->nviews;
+  out->allowed = (int)floor(r->p.max_fraction * r->nviews + 1e-9);
+  if (out->allowed > r->nviews - 1) out->allowed = r->nviews - 1;
+  double desc[JND_PCA_MAX_VIEWS];
+  memcpy(desc, out->p, sizeof desc);
+  qsort(desc, (size_t)r->nviews, sizeof *desc, cmp_desc);
+  for (int v = 0; v < r->nviews; v++) out->above += out->p[v] > r->p.max_p;
+  out->p_criterion = desc[out->allowed];
+  out->pass = out->above <= out->allowed;
+  return JND_OK;
+}
+
+/* encodes e, reconstructs and measures */
+static jnd_status measure_encoding(jnd_pca_render *r, const jnd_texset *set, const jnd_pca *pca, const float *proj,
+                                   const jnd_pca_encoding *e, jnd_pca_visibility *vis, size_t *bytes) {
+  jnd_pca_encoded enc;
+  jnd_status s = encode_from(set, pca, proj, e, &enc);
+  if (s != JND_OK) return s;
+  jnd_image rec = {0};
+  s = jnd_pca_reconstruct(&enc, NULL, &rec);
+  if (s == JND_OK) s = jnd_pca_render_measure(r, &rec, vis);
+  *bytes = enc.storage_bytes;
+  jnd_image_free(&rec);
+  jnd_pca_encoded_free(&enc);
+  return s;
+}
+
+static int same_encoding(const jnd_pca_encoding *a, const jnd_pca_encoding *b) {
+  if (a->components != b->components) return 0;
+  for (int k = 0; k < a->components; k++)
+    if (a->scale[k] != b->scale[k] || a->bits[k] != b->bits[k]) return 0;
+  return 1;
+}
+
+jnd_status jnd_pca_choose_rendered(jnd_pca_render *r, const jnd_texset *set, const jnd_pca *pca, int max_scale,
+                                   jnd_pca_encoding *out, jnd_pca_visibility *vis, jnd_pca_search_log *log) {
+  enum { FAMILY = 26 };   /* 24 PSNR floors and the lossless candidate */
+  memset(out, 0, sizeof *out);
+  if (vis) memset(vis, 0, sizeof *vis);
+  if (log) {
+    memset(log, 0, sizeof *log);
+    log->chosen = -1;
+  }
+  if (r->set != set) return jnd_fail(JND_ERR_ARG, "%s: the set is not the one bound", r->path);
+  psnr_chooser ch;
+  jnd_status s = chooser_init(set, pca, max_scale, &ch);
+  if (s != JND_OK) return s;
+  jnd_pca_encoding fam[FAMILY];
+  double floor_db[FAMILY];
+  size_t bytes[FAMILY];
+  int n = 0;
+  /* the family: the cheapest encoding for each PSNR floor (001's measure,
+   * fast to search), then all components at 16 bits */
+  for (int db = 14; db <= 60 && s == JND_OK; db += 2) {
+    jnd_pca_encoding e;
+    s = chooser_run(&ch, set, pca, db, &e);
+    if (s == JND_ERR_ARG) {   /* unreachable floor: the higher ones are too */
+      s = JND_OK;
+      break;
+    }
+    if (s != JND_OK) break;
+    fam[n] = e;
+    floor_db[n++] = db;
+  }
+  if (s == JND_OK) {
+    jnd_pca_encoding e;
+    jnd_pca_encoding_default(pca, &e);
+    for (int k = 0; k < set->c; k++) e.bits[k] = 16;
+    fam[n] = e;
+    floor_db[n++] = 0;
+  }
+  /* deduplicate, sort by storage (stable: insertion) */
+  int m = 0;
+  for (int i = 0; i < n; i++) {
+    int dup = 0;
+    for (int j = 0; j < m && !dup; j++) dup = same_encoding(&fam[j], &fam[i]);
+    if (dup) continue;
+    fam[m] = fam[i];
+    floor_db[m] = floor_db[i];
+    bytes[m] = jnd_pca_storage_bytes(&fam[m], set->c, set->w, set->h);
+    for (int j = m; j > 0 && bytes[j] < bytes[j - 1]; j--) {
+      jnd_pca_encoding te = fam[j];
+      fam[j] = fam[j - 1];
+      fam[j - 1] = te;
+      double td = floor_db[j];
+      floor_db[j] = floor_db[j - 1];
+      floor_db[j - 1] = td;
+      size_t tb = bytes[j];
+      bytes[j] = bytes[j - 1];
+      bytes[j - 1] = tb;
+    }
+    m++;
+  }
+  if (log) log->candidates = m;
+  /* bisection for the first candidate that passes */
+  int lo = 0, hi = m, best = -1;
+  jnd_pca_visibility best_vis;
+  memset(&best_vis, 0, sizeof best_vis);
+  while (lo < hi && s == JND_OK) {
+    int mid = lo + (hi - lo) / 2;
+    jnd_pca_visibility v;
+    size_t b = 0;
+    s = measure_encoding(r, set, pca, ch.proj, &fam[mid], &v, &b);
+    if (s != JND_OK) break;
+    if (log && log->tried < JND_PCA_MAX_TRIED) {
+      int t = log->tried++;
+      log->enc[t] = fam[mid];
+      log->storage_bytes[t] = b;
+      log->psnr_target_db[t] = floor_db[mid];
+      log->vis[t] = v;
+      if (v.pass && mid < hi) log->chosen = t;
+    }
+    if (v.pass) {
+      hi = mid;
+      best = mid;
+      best_vis = v;
+    } else {
+      lo = mid + 1;
+    }
+  }
+  chooser_free(&ch);
+  if (s != JND_OK) return s;
+  if (best < 0)
+    return jnd_fail(JND_ERR_ARG, "%s: no encoding keeps P <= %g in all but %g of the views, not even all components at 16 bits",
+                    r->path, r->p.max_p, r->p.max_fraction);
+  *out = fam[best];
+  if (vis) *vis = best_vis;
+  return JND_OK;
+}
+
+/* The hook of tasks.h: the simple call. */
 jnd_status pca_rendered_visibility(const jnd_texset *set, const jnd_pca_encoded *enc, const char *model_path,
                                    const char *material, double *p_detect) {
-  (void)set;
-  (void)enc;
-  (void)material;
   if (p_detect) *p_detect = NAN;
-  return jnd_fail(JND_ERR_ARG, "%s: rendered visibility needs the renderer", model_path ? model_path : "--model");
+  if (!set || !enc) return jnd_fail(JND_ERR_ARG, "%s: rendered visibility needs a set and an encoding",
+                                    model_path ? model_path : "--model");
+  jnd_map_slot slots[JND_PCA_MAX_MAPS];
+  for (int i = 0; i < set->nmaps; i++)
+    if (!jnd_pca_slot_guess(set->maps[i].name, &slots[i]))
+      return jnd_fail(JND_ERR_ARG, "%s: no material slot fits the map name '%s'", model_path ? model_path : "--model",
+                      set->maps[i].name);
+  jnd_pca_render_params p;
+  jnd_pca_render_defaults(&p);
+  jnd_pca_render *r = NULL;
+  jnd_status s = jnd_pca_render_open(model_path, material, &p, &r);
+  if (s == JND_OK) s = jnd_pca_render_bind(r, set, slots);
+  jnd_image rec = {0};
+  jnd_pca_visibility v;
+  if (s == JND_OK) s = jnd_pca_reconstruct(enc, NULL, &rec);
+  if (s == JND_OK) s = jnd_pca_render_measure(r, &rec, &v);
+  if (s == JND_OK && p_detect) *p_detect = v.p_criterion;
+  jnd_image_free(&rec);
+  jnd_pca_render_free(r);
+  return s;
 }
 
 jnd_status jnd_pca_rendered_visibility(const jnd_texset *set, const jnd_pca_encoded *enc, const char *model_path,
@@ -931,9 +1396,9 @@ static jnd_status bc_roundtrip(jnd_bc_format f, jnd_image *img, int first, size_
   return s;
 }
 
-/* components grouped (by threes of one size when bc1, else pairs) and block-compressed */
-static jnd_status bc_components(const jnd_texset *set, const jnd_pca_encoded *enc, int bc1, double *psnr,
-                                size_t *bytes) {
+/* components grouped (by threes of one size when bc1, else pairs),
+ * block-compressed and reconstructed into rec (w × h × C, allocated) */
+static jnd_status bc_components(const jnd_pca_encoded *enc, int bc1, jnd_image *rec, size_t *bytes) {
   int K = enc->enc.components;
   jnd_image comp[MAXC];
   memset(comp, 0, sizeof comp);
@@ -960,11 +1425,48 @@ static jnd_status bc_components(const jnd_texset *set, const jnd_pca_encoded *en
     }
     jnd_image_free(&packed);
   }
-  jnd_image rec = {0};
-  if (s == JND_OK) s = jnd_pca_reconstruct(enc, comp, &rec);
-  if (s == JND_OK) s = jnd_texset_psnr(set, &rec, psnr, NULL);
-  jnd_image_free(&rec);
+  if (s == JND_OK) s = jnd_pca_reconstruct(enc, comp, rec);
   for (int k = 0; k < K; k++) jnd_image_free(&comp[k]);
+  return s;
+}
+
+/* the maps themselves, each in the format its channel count calls for */
+static jnd_status bc_plain(const jnd_texset *set, jnd_image *rec, size_t *bytes) {
+  *bytes = 0;
+  jnd_status s = jnd_image_alloc(rec, set->w, set->h, set->c);
+  if (s == JND_OK) memcpy(rec->data, set->data, (size_t)set->w * set->h * set->c * sizeof(float));
+  for (int i = 0; i < set->nmaps && s == JND_OK; i++) {
+    const jnd_texset_map *m = &set->maps[i];
+    jnd_image view = {set->w, set->h, m->count, jnd_image_plane(rec, m->first)};
+    switch (m->count) {
+    case 1: s = bc_roundtrip(JND_BC4, &view, 0, bytes); break;
+    case 2: s = bc_roundtrip(JND_BC5, &view, 0, bytes); break;
+    case 3: s = bc_roundtrip(JND_BC1, &view, 0, bytes); break;
+    default:
+      s = bc_roundtrip(JND_BC1, &view, 0, bytes);
+      if (s == JND_OK) s = bc_roundtrip(JND_BC4, &view, 3, bytes);
+      break;
+    }
+  }
+  if (s != JND_OK) jnd_image_free(rec);
+  return s;
+}
+
+jnd_status jnd_pca_block_compressed(const jnd_texset *set, const jnd_pca_encoded *enc, jnd_pca_bc_variant v,
+                                    jnd_image *out, size_t *bytes) {
+  memset(out, 0, sizeof *out);
+  size_t b = 0;
+  if (!set || !set->data) return jnd_fail(JND_ERR_ARG, "block compression: no set");
+  if (v != JND_PCA_BC_PLAIN && (!enc || enc->c != set->c || enc->w != set->w || enc->h != set->h))
+    return jnd_fail(JND_ERR_ARG, "block compression: set and encoding differ");
+  jnd_status s;
+  switch (v) {
+  case JND_PCA_BC_PCA_BC4: s = bc_components(enc, 0, out, &b); break;
+  case JND_PCA_BC_PCA_BC1: s = bc_components(enc, 1, out, &b); break;
+  case JND_PCA_BC_PLAIN: s = bc_plain(set, out, &b); break;
+  default: return jnd_fail(JND_ERR_ARG, "block compression: variant %d", (int)v);
+  }
+  if (bytes) *bytes = b;
   return s;
 }
 
@@ -972,27 +1474,14 @@ jnd_status jnd_pca_block_compression(const jnd_texset *set, const jnd_pca_encode
   memset(out, 0, sizeof *out);
   if (!set || !enc || enc->c != set->c || enc->w != set->w || enc->h != set->h)
     return jnd_fail(JND_ERR_ARG, "block compression: set and encoding differ");
-  jnd_status s = bc_components(set, enc, 0, out->psnr_pca_bc4_db, &out->bytes_pca_bc4);
-  if (s == JND_OK) s = bc_components(set, enc, 1, out->psnr_pca_bc1_db, &out->bytes_pca_bc1);
-  if (s != JND_OK) return s;
-  /* the maps themselves, each in the format its channel count calls for */
-  jnd_image rec = {0};
-  s = jnd_image_alloc(&rec, set->w, set->h, set->c);
-  if (s == JND_OK) memcpy(rec.data, set->data, (size_t)set->w * set->h * set->c * sizeof(float));
-  for (int i = 0; i < set->nmaps && s == JND_OK; i++) {
-    const jnd_texset_map *m = &set->maps[i];
-    jnd_image view = {set->w, set->h, m->count, jnd_image_plane(&rec, m->first)};
-    switch (m->count) {
-    case 1: s = bc_roundtrip(JND_BC4, &view, 0, &out->bytes_plain); break;
-    case 2: s = bc_roundtrip(JND_BC5, &view, 0, &out->bytes_plain); break;
-    case 3: s = bc_roundtrip(JND_BC1, &view, 0, &out->bytes_plain); break;
-    default:
-      s = bc_roundtrip(JND_BC1, &view, 0, &out->bytes_plain);
-      if (s == JND_OK) s = bc_roundtrip(JND_BC4, &view, 3, &out->bytes_plain);
-      break;
-    }
+  double *psnr[3] = {out->psnr_pca_bc4_db, out->psnr_pca_bc1_db, out->psnr_plain_db};
+  size_t *bytes[3] = {&out->bytes_pca_bc4, &out->bytes_pca_bc1, &out->bytes_plain};
+  jnd_status s = JND_OK;
+  for (int v = 0; v < 3 && s == JND_OK; v++) {
+    jnd_image rec = {0};
+    s = jnd_pca_block_compressed(set, enc, (jnd_pca_bc_variant)v, &rec, bytes[v]);
+    if (s == JND_OK) s = jnd_texset_psnr(set, &rec, psnr[v], NULL);
+    jnd_image_free(&rec);
   }
-  if (s == JND_OK) s = jnd_texset_psnr(set, &rec, out->psnr_plain_db, NULL);
-  jnd_image_free(&rec);
   return s;
 }

@@ -91,6 +91,6 @@ bad_input unknown_weight_name_is_refused "roughness" $M -o "$T/x" --weight rough
 bad_input bad_channel_pick_is_refused "channels" $M -o "$T/x" --channels albedo=q
 bad_input odd_bits_are_refused "bits" $M -o "$T/x" --bits 12
 bad_input max_p_without_a_model_is_refused "max-p needs --model" $M -o "$T/x" --max-p 0.1
-bad_input rendered_visibility_needs_the_renderer "rendered visibility needs the renderer" $M -o "$T/x" --max-p 0.1 --model "$T/m.glb" --material m
+bad_input missing_model_is_refused "m.glb" $M -o "$T/x" --max-p 0.1 --model "$T/m.glb" --material m
 bad_input no_maps_is_refused "needs maps" -o "$T/x"
 finish

@@ -313,12 +313,102 @@ TEST(knee_of_a_fast_decay_is_early) {
   CHECK(linalg_knee(flat, 4) >= 1);
 }
 
-TEST(rendered_visibility_needs_the_renderer) {
+TEST(rendered_visibility_of_a_missing_model_names_it) {
   jnd_texset set;
   synthetic_set(&set, 8, 8);
+  jnd_pca p;
+  CHECK_OK(jnd_pca_analyse(&set, NULL, &p));
+  jnd_pca_encoding e;
+  jnd_pca_encoding_default(&p, &e);
+  jnd_pca_encoded enc;
+  CHECK_OK(jnd_pca_encode(&set, &p, &e, &enc));
   double pd = 0;
-  CHECK_STATUS(jnd_pca_rendered_visibility(&set, NULL, "helmet.glb", "mat", &pd), JND_ERR_ARG);
-  CHECK(strstr(jnd_last_error(), "needs the renderer") != NULL);
+  CHECK(jnd_pca_rendered_visibility(&set, &enc, "/nonexistent/helmet.glb", "mat", &pd) != JND_OK);
+  CHECK(strstr(jnd_last_error(), "helmet.glb") != NULL);
+  CHECK(isnan(pd));
+  jnd_pca_encoded_free(&enc);
+  jnd_texset_free(&set);
+}
+
+TEST(slot_guess_reads_common_map_names) {
+  struct {
+    const char *name;
+    int slot;
+  } cases[] = {{"albedo", JND_MAP_BASE_COLOR},         {"Default_albedo", JND_MAP_BASE_COLOR},
+               {"baseColor", JND_MAP_BASE_COLOR},      {"diffuse", JND_MAP_BASE_COLOR},
+               {"metalRoughness", JND_MAP_METALLIC_ROUGHNESS}, {"roughness", JND_MAP_METALLIC_ROUGHNESS},
+               {"ORM", JND_MAP_METALLIC_ROUGHNESS},    {"normal", JND_MAP_NORMAL},
+               {"AO", JND_MAP_OCCLUSION},              {"helmet_ao", JND_MAP_OCCLUSION},
+               {"occlusion", JND_MAP_OCCLUSION},       {"emissive", JND_MAP_EMISSIVE},
+               {"emissiveColor", JND_MAP_EMISSIVE}};
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+    jnd_map_slot s = JND_MAP_SLOTS;
+    CHECK(jnd_pca_slot_guess(cases[i].name, &s));
+    CHECK((int)s == cases[i].slot);
+  }
+  jnd_map_slot s;
+  CHECK(!jnd_pca_slot_guess("height", &s));
+  CHECK(!jnd_pca_slot_guess("chaos", &s));   /* "ao" inside a word is not occlusion */
+}
+
+/* the builtin material at 64², two views of 64 × 64: small enough for a unit test */
+static int open_builtin(jnd_pca_render **r, jnd_texset *set, jnd_map_slot *slots) {
+  jnd_pca_render_params rp;
+  jnd_pca_render_defaults(&rp);
+  rp.views = 2;
+  rp.width = rp.height = 64;
+  rp.builtin_map_size = 64;
+  if (jnd_pca_render_open("builtin", "builtin", &rp, r) != JND_OK) {
+    fprintf(stderr, "skip: no renderer (%s)\n", jnd_last_error());
+    return 0;
+  }
+  size_t orig = 0;
+  CHECK_OK(jnd_pca_render_material_set(*r, NULL, set, slots, &orig));
+  CHECK(set->nmaps == 4 && set->w == 64);
+  CHECK(orig > 0);
+  CHECK_OK(jnd_pca_render_bind(*r, set, slots));
+  return 1;
+}
+
+TEST(the_set_itself_renders_invisibly_and_its_mean_visibly) {
+  jnd_pca_render *r = NULL;
+  jnd_texset set;
+  jnd_map_slot slots[JND_PCA_MAX_MAPS];
+  if (!open_builtin(&r, &set, slots)) return;
+  jnd_image own = {set.w, set.h, set.c, set.data};
+  jnd_pca_visibility v;
+  CHECK_OK(jnd_pca_render_measure(r, &own, &v));
+  CHECK(v.views == 2 && v.pass && v.above == 0);
+  for (int i = 0; i < v.views; i++) CHECK(v.p[i] == 0);
+  /* every channel at its mean (K = 0): the detail is gone */
+  jnd_pca p;
+  CHECK_OK(jnd_pca_analyse(&set, NULL, &p));
+  jnd_pca_encoding e;
+  jnd_pca_encoding_default(&p, &e);
+  e.components = 0;
+  jnd_pca_encoded enc;
+  CHECK_OK(jnd_pca_encode(&set, &p, &e, &enc));
+  jnd_image rec = {0};
+  CHECK_OK(jnd_pca_reconstruct(&enc, NULL, &rec));
+  jnd_pca_visibility m;
+  CHECK_OK(jnd_pca_render_measure(r, &rec, &m));
+  for (int i = 0; i < m.views; i++) CHECK(m.p[i] > v.p[i]);
+  CHECK(m.p_criterion >= m.p[0] && m.p_criterion >= m.p[1]);   /* no view allowed above with 2 views */
+  jnd_image_free(&rec);
+  jnd_pca_encoded_free(&enc);
+  jnd_pca_render_free(r);
+  jnd_texset_free(&set);
+}
+
+TEST(binding_two_maps_to_one_slot_is_refused) {
+  jnd_pca_render *r = NULL;
+  jnd_texset set;
+  jnd_map_slot slots[JND_PCA_MAX_MAPS];
+  if (!open_builtin(&r, &set, slots)) return;
+  slots[1] = slots[0];
+  CHECK_STATUS(jnd_pca_render_bind(r, &set, slots), JND_ERR_ARG);
+  CHECK(strstr(jnd_last_error(), "both go to slot") != NULL);
+  jnd_pca_render_free(r);
   jnd_texset_free(&set);
 }
 
@@ -414,6 +504,8 @@ RUN_TESTS(energies_sum_to_total_variance, basis_is_orthonormal_with_deterministi
           smaller_components_cost_less_and_keep_quality, psnr_choice_meets_the_target_with_less_storage,
           grey_map_stored_as_rgb_counts_once, smaller_maps_are_resampled_and_other_shapes_refused,
           weights_name_maps_or_channels, resampling_keeps_constants_and_smooth_signals,
-          knee_of_a_fast_decay_is_early, rendered_visibility_needs_the_renderer,
+          knee_of_a_fast_decay_is_early, rendered_visibility_of_a_missing_model_names_it,
+          slot_guess_reads_common_map_names, the_set_itself_renders_invisibly_and_its_mean_visibly,
+          binding_two_maps_to_one_slot_is_refused,
           helmet_set_has_13_informative_channels_and_full_reconstruction,
           helmet_albedo_weighting_raises_albedo_psnr_at_five_components)
