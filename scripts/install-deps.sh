@@ -11,7 +11,7 @@ PACKAGES=(
   libassimp-dev libmeshoptimizer-dev               # asset import, LOD
   libegl-dev libgl-dev libegl1-mesa-dev libgl1-mesa-dri libgbm-dev  # headless GL (llvmpipe)
   clang libclang-rt-14-dev                         # libFuzzer + sanitizers
-  jq                                               # JSON checks in end-to-end tests
+  jq time                                          # JSON checks in tests; peak memory in make bench
   libjxl-devtools                                  # butteraugli_main, the peer in `make bench`
   assimp-testmodels                                # real (and malformed) glTF files for tests
   libsquish-dev                                    # BC1/BC4/BC5 reference encoder

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "core/fastmath.h"
 #include "pool/pool.h"
 
 jnd_status jnd_diff_summarise(const jnd_image *map, double beta, const jnd_pooling *pool,
@@ -16,12 +17,14 @@ jnd_status jnd_diff_summarise(const jnd_image *map, double beta, const jnd_pooli
   if (!pool) pool = &p93;
   float *v = jnd_alloc(n, sizeof *v);
   if (!v) return JND_ERR_NOMEM;
+  /* P = 1 − exp(ln 0.5 · jnd^beta) = 1 − 2^(−jnd^beta) (000 eq. 4) */
   double sj = 0, sj24 = 0, sp = 0;
+  const float fb = (float)beta;
   for (size_t i = 0; i < n; i++) {
-    double j = map->data[i];
+    float j = map->data[i];
     sj += j;
-    sj24 += pow(j, 2.4);
-    v[i] = (float)jnd_probability(j, beta);
+    sj24 += jnd_fast_pow(j, 2.4f);
+    v[i] = j > 0 ? 1.0f - jnd_fast_exp2(-jnd_fast_pow(j, fb)) : 0.0f;
     sp += v[i];
   }
   st->jnd_mean = sj / (double)n;

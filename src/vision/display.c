@@ -80,6 +80,9 @@ jnd_status jnd_display_apply(const jnd_display *d, const jnd_image *in, jnd_enco
   float range = (float)(d->peak_cdm2 - d->black_cdm2), black = (float)d->black_cdm2;
   float scale = (float)d->exr_scale;
   const float *alpha = alpha_ch >= 0 ? jnd_image_plane(in, alpha_ch) : NULL;
+  /* 8-bit signals (most inputs) decode through a table */
+  float table[256];
+  for (int k = 0; k < 256; k++) table[k] = srgb_decode(k / 255.0f);
   for (int ch = 0; ch < 3; ch++) {
     const float *src = jnd_image_plane(in, colour ? ch : 0);
     float *dst = jnd_image_plane(&tmp, ch);
@@ -88,7 +91,10 @@ jnd_status jnd_display_apply(const jnd_display *d, const jnd_image *in, jnd_enco
       float v;
       if (enc == JND_ENCODING_SRGB) {
         /* alpha composites the linear signal over the display's black */
-        v = range * srgb_decode((float)jnd_clampd(src[i], 0, 1)) * a + black;
+        float sv = (float)jnd_clampd(src[i], 0, 1), q = sv * 255.0f;
+        int k = (int)(q + 0.5f);
+        float lin = fabsf(q - (float)k) < 1e-3f ? table[k] : srgb_decode(sv);
+        v = range * lin * a + black;
       } else {
         v = fmaxf(src[i], 0.0f) * scale * a;
       }

@@ -203,17 +203,32 @@ typedef struct {
   float uniform_v;   /* retinal velocity when there is no map */
 } diff_state;
 
-/* bilinear sample of a coarse map at the centre of fine pixel (x, y) of level lev */
-static float sample_coarse(const float *map, int cw, int chh, int clev, int x, int y, int lev) {
-  double s = ldexp(1.0, lev - clev);
-  double fx = (x + 0.5) * s - 0.5, fy = (y + 0.5) * s - 0.5;
-  int x0 = (int)floor(fx), y0 = (int)floor(fy);
-  double tx = fx - x0, ty = fy - y0;
-  int xa = jnd_clampi(x0, 0, cw - 1), xb = jnd_clampi(x0 + 1, 0, cw - 1);
-  int ya = jnd_clampi(y0, 0, chh - 1), yb = jnd_clampi(y0 + 1, 0, chh - 1);
-  double v = (1 - ty) * ((1 - tx) * map[(size_t)ya * cw + xa] + tx * map[(size_t)ya * cw + xb]) +
-             ty * ((1 - tx) * map[(size_t)yb * cw + xa] + tx * map[(size_t)yb * cw + xb]);
-  return (float)v;
+/* Bilinear sampling of the coarse adaptation map at the centres of a level's
+ * pixels: indices and weights per column and per row, computed once. */
+typedef struct {
+  int *i0, *i1;
+  float *t;
+} interp_axis;
+
+static int axis_init(interp_axis *a, int n, int coarse_n, double scale) {
+  a->i0 = malloc(sizeof(int) * (size_t)n);
+  a->i1 = malloc(sizeof(int) * (size_t)n);
+  a->t = malloc(sizeof(float) * (size_t)n);
+  if (!a->i0 || !a->i1 || !a->t) return 0;
+  for (int k = 0; k < n; k++) {
+    double f = (k + 0.5) * scale - 0.5;
+    int k0 = (int)floor(f);
+    a->t[k] = (float)(f - k0);
+    a->i0[k] = jnd_clampi(k0, 0, coarse_n - 1);
+    a->i1[k] = jnd_clampi(k0 + 1, 0, coarse_n - 1);
+  }
+  return 1;
+}
+
+static void axis_free(interp_axis *a) {
+  free(a->i0);
+  free(a->i1);
+  free(a->t);
 }
 
 /* CSF look-up: bilinear in log luminance and log velocity. */
@@ -254,11 +269,30 @@ static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, 
   const float e = (float)m->p.minkowski;
   const double ppd = m->p.display.ppd;
   const float *lutA = lut_at(m, band, 0), *luta = lut_at(m, band, 1), *lutb = lut_at(m, band, 2);
+  /* without a motion map every pixel has the same retinal velocity: the
+   * CSF tables reduce to one dimension (adaptation luminance) */
+  float lut1[NCH][LUT_NL];
+  if (!st->has_vel) {
+    float fv = (log10f(st->uniform_v) - (float)LUT_LOGV0) * (float)(1.0 / LUT_DLOGV);
+    fv = fv < 0 ? 0 : fv > LUT_NV - 1.001f ? LUT_NV - 1.001f : fv;
+    int iv = (int)fv;
+    float tv = fv - iv;
+    const float *tabs[NCH] = {lutA, luta, lutb};
+    for (int c = 0; c < NCH; c++)
+      for (int il = 0; il < LUT_NL; il++)
+        lut1[c][il] = (1 - tv) * tabs[c][(size_t)iv * LUT_NL + il] + tv * tabs[c][(size_t)(iv + 1) * LUT_NL + il];
+  }
   const int threads = jnd_threads(m->p.threads);
   const double scale = ldexp(1.0, band); /* full-resolution pixels per pixel of this level */
   /* viewing distance in pixels, for eccentricity on a flat screen */
   const double dist_px = 1.0 / tan(M_PI / 180.0 / ppd);
   int fail = 0;
+  interp_axis ax = {0}, ay = {0};
+  if (!axis_init(&ax, w, st->aw, ldexp(1.0, band - st->alev)) || !axis_init(&ay, h, st->ah, ldexp(1.0, band - st->alev))) {
+    axis_free(&ax);
+    axis_free(&ay);
+    return jnd_fail(JND_ERR_NOMEM, "model: out of memory");
+  }
 
 #pragma omp parallel num_threads(threads)
   {
@@ -291,13 +325,8 @@ static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, 
         }
       float *drow = D + (size_t)y * w;
       for (int x = 0; x < w; x++) {
-        float logv;
-        if (st->has_vel) {
-          float v = st->vel.plane[band][(size_t)y * w + x];
-          logv = log10f(fmaxf(v, 1e-3f));
-        } else {
-          logv = log10f(st->uniform_v);
-        }
+        float logv = 0;
+        if (st->has_vel) logv = jnd_fast_log2(fmaxf(st->vel.plane[band][(size_t)y * w + x], 1e-3f)) * 0.30103f;
         float ecc_factor = 1.0f;
         if (m->p.has_gaze) {
           double fx = (x + 0.5) * scale - 0.5 - m->p.gaze_x, fy = (y + 0.5) * scale - 0.5 - m->p.gaze_y;
@@ -318,11 +347,28 @@ static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, 
           }
           float A, ca, cb;
           jnd_opponent(con[0], con[1], con[2], &A, &ca, &cb);
-          float La = sample_coarse(st->adapt[a], st->aw, st->ah, st->alev, x, y, band);
-          float logL = log10f(fmaxf(La, 1e-6f));
-          float sA = lut_lookup(lutA, logL, logv) * ecc_factor;
-          float sa = lut_lookup(luta, logL, logv) * ecc_factor;
-          float sb = lut_lookup(lutb, logL, logv) * ecc_factor;
+          const float *ar0 = st->adapt[a] + (size_t)ay.i0[y] * st->aw, *ar1 = st->adapt[a] + (size_t)ay.i1[y] * st->aw;
+          float tx = ax.t[x], ty = ay.t[y];
+          float La = (1 - ty) * ((1 - tx) * ar0[ax.i0[x]] + tx * ar0[ax.i1[x]]) +
+                     ty * ((1 - tx) * ar1[ax.i0[x]] + tx * ar1[ax.i1[x]]);
+          float logL = jnd_fast_log2(fmaxf(La, 1e-6f)) * 0.30103f;
+          float sA, sa, sb;
+          if (st->has_vel) {
+            sA = lut_lookup(lutA, logL, logv);
+            sa = lut_lookup(luta, logL, logv);
+            sb = lut_lookup(lutb, logL, logv);
+          } else {
+            float fl = (logL - (float)LUT_LOGL0) * (float)(1.0 / LUT_DLOGL);
+            fl = fl < 0 ? 0 : fl > LUT_NL - 1.001f ? LUT_NL - 1.001f : fl;
+            int il = (int)fl;
+            float tl = fl - il;
+            sA = lut1[0][il] + tl * (lut1[0][il + 1] - lut1[0][il]);
+            sa = lut1[1][il] + tl * (lut1[1][il + 1] - lut1[1][il]);
+            sb = lut1[2][il] + tl * (lut1[2][il + 1] - lut1[2][il]);
+          }
+          sA *= ecc_factor;
+          sa *= ecc_factor;
+          sb *= ecc_factor;
           /* 004 §3.1: CSF normalisation, then the masking transducer */
           t[a][0] = jnd_transducer(A * sA);
           t[a][1] = jnd_transducer(ca * sa);
@@ -331,13 +377,15 @@ static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, 
         float d = 0;
         for (int c = 0; c < 3; c++) {
           float df = fabsf(t[1][c] - t[0][c]);
-          if (df > 0) d += powf(df, e);
+          if (df > 0) d += jnd_fast_pow(df, e);
         }
         drow[x] = d;
       }
     }
     free(mem);
   }
+  axis_free(&ax);
+  axis_free(&ay);
   return fail ? jnd_fail(JND_ERR_NOMEM, "model: out of memory") : JND_OK;
 }
 
@@ -398,7 +446,7 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, int w,
   if (!tmp) return JND_ERR_NOMEM;
   const float up = (float)(beta / e), down = (float)(e / beta);
   const int threads = jnd_threads(m->p.threads);
-  for (size_t i = 0; i < (size_t)w * h; i++) D[i] = D[i] > 0 ? powf(D[i], up) : 0.0f;
+  for (size_t i = 0; i < (size_t)w * h; i++) D[i] = jnd_fast_pow(D[i], up);
   box_pass(D, tmp, w, h, r, 1, threads);
   box_pass(tmp, D, w, h, r, 0, threads);
   box_pass(D, tmp, w, h, r, 1, threads);
@@ -406,8 +454,7 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, int w,
   box_pass(D, tmp, w, h, r, 1, threads);
   box_pass(tmp, D, w, h, r, 0, threads);
   for (size_t i = 0; i < (size_t)w * h; i++) {
-    float v = D[i] * gain;
-    D[i] = v > 0 ? powf(v, down) : 0.0f;
+    D[i] = jnd_fast_pow(D[i] * gain, down);
   }
   free(tmp);
   return JND_OK;
@@ -541,7 +588,7 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
     const float *wt = in && in->weights ? in->weights->data : NULL;
 #pragma omp parallel for num_threads(threads) schedule(static)
     for (size_t i = 0; i < npx; i++) {
-      float v = out.data[i] > 0 ? powf(out.data[i], inv) : 0.0f;
+      float v = jnd_fast_pow(out.data[i], inv);
       /* 004 §3.2: weights scale down the difference map */
       if (wt) v *= fmaxf(wt[i], 0.0f);
       out.data[i] = v;

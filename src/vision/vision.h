@@ -3,6 +3,7 @@
 #define JND_VISION_H
 
 #include <math.h>
+#include "core/fastmath.h"
 #include "jnd.h"
 
 /* ---- colour (colour.c) ---- */
@@ -84,7 +85,7 @@ double jnd_eccentricity_factor(double rho_cpd, double ecc_deg);
 /* T(c) = sign(c)·|c| / (1 + (|c|^0.3)^10)^0.1 (004 §3.1) */
 static inline float jnd_transducer(float c) {
   float a = fabsf(c);
-  return c * powf(1.0f + a * a * a, -0.1f);
+  return c * jnd_fast_exp2(-0.1f * jnd_fast_log2(1.0f + a * a * a));
 }
 
 #endif

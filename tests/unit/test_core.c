@@ -1,6 +1,7 @@
 #include "test.h"
 #include "core/core.h"
 #include "jnd.h"
+#include "core/fastmath.h"
 
 TEST(image_alloc_is_zeroed_and_planar) {
   jnd_image img;
@@ -47,5 +48,22 @@ TEST(rng_is_deterministic_and_uniform) {
   CHECK_NEAR(s2 / 10000, 1.0, 0.05);
 }
 
-RUN_TESTS(image_alloc_is_zeroed_and_planar, image_alloc_refuses_zero_and_oversized,
+TEST(fast_pow_matches_libm_to_1e5_relative) {
+  double worst = 0;
+  for (float x = 1e-6f; x < 1e6f; x *= 1.013f) {
+    const float ys[] = {2.4f, 1.0f / 2.4f, -0.1f, 3.5f, 0.3f, 1.458f};
+    for (int k = 0; k < 6; k++) {
+      double want = pow(x, ys[k]);
+      double got = jnd_fast_pow(x, ys[k]);
+      double rel = fabs(got - want) / want;
+      if (rel > worst) worst = rel;
+    }
+  }
+  CHECK_LT(worst, 1e-5);
+  CHECK(jnd_fast_pow(0.0f, 2.4f) == 0.0f);
+  CHECK_NEAR(jnd_fast_log2(8.0f), 3.0, 1e-6);
+  CHECK_NEAR(jnd_fast_exp2(-3.0f), 0.125, 1e-9);
+}
+
+RUN_TESTS(fast_pow_matches_libm_to_1e5_relative, image_alloc_is_zeroed_and_planar, image_alloc_refuses_zero_and_oversized,
           error_messages_are_one_line, rng_is_deterministic_and_uniform)

@@ -1,0 +1,47 @@
+/* Fast, deterministic log2 / exp2 / pow for float data on the model's hot
+ * paths. Pure arithmetic (no tables, no library calls), so the same input
+ * gives the same bits on every thread and run. Accuracy: relative error
+ * below 1e-5 over the float range (tests/unit/test_core.c checks it against
+ * libm), ample for a perceptual model whose constants are fitted to data. */
+#ifndef JND_FASTMATH_H
+#define JND_FASTMATH_H
+#include <stdint.h>
+#include <string.h>
+
+/* log2(x) for finite x > 0: x = m·2^e with m in [√½, √2), then
+ * ln m = 2 atanh(t), t = (m − 1)/(m + 1), by its series to t⁹ */
+static inline float jnd_fast_log2(float x) {
+  uint32_t b;
+  memcpy(&b, &x, 4);
+  int e = (int)((b >> 23) & 0xff) - 127;
+  b = (b & 0x007fffffu) | 0x3f800000u; /* m in [1, 2) */
+  float m;
+  memcpy(&m, &b, 4);
+  if (m > 1.41421356f) {
+    m *= 0.5f;
+    e += 1;
+  }
+  float t = (m - 1.0f) / (m + 1.0f), t2 = t * t;
+  float s = t * (2.0f + t2 * (2.0f / 3 + t2 * (2.0f / 5 + t2 * (2.0f / 7 + t2 * (2.0f / 9)))));
+  return (float)e + s * 1.44269504f;
+}
+
+/* 2^y for y in about [-126, 127]: integer part into the exponent, the
+ * fraction in [-0.5, 0.5] by the Taylor series of e^(f ln 2) to degree 7 */
+static inline float jnd_fast_exp2(float y) {
+  if (y < -126.0f) return 0.0f;
+  if (y > 127.0f) y = 127.0f;
+  float k = (float)(int)(y + (y >= 0 ? 0.5f : -0.5f));
+  float f = (y - k) * 0.69314718f;
+  float p = 1.0f + f * (1.0f + f * (0.5f + f * (1.0f / 6 + f * (1.0f / 24 + f * (1.0f / 120 + f * (1.0f / 720 + f * (1.0f / 5040)))))));
+  uint32_t b = (uint32_t)((int)k + 127) << 23;
+  float s;
+  memcpy(&s, &b, 4);
+  return p * s;
+}
+
+/* x^y for x > 0 (0 for x <= 0) */
+static inline float jnd_fast_pow(float x, float y) {
+  return x > 0.0f ? jnd_fast_exp2(y * jnd_fast_log2(x)) : 0.0f;
+}
+#endif
