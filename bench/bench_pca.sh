@@ -1,17 +1,21 @@
 #!/usr/bin/env bash
 # jnd pca: the decomposition of the DamagedHelmet set (2048² × 13 channels)
-# on 2 threads — target ≤ 2 s — and the whole run with block compression.
-# Prints seconds and MB/s (MB of float32 channel data per second).
+# on 2 threads — target ≤ 2 s — and the whole run with block compression
+# (MB/s = MB of float32 channel data per second); then --max-p with rendered
+# visibility on webxr controllers (their material's own maps, 8 views at
+# 512², llvmpipe without a GPU): seconds, renderings, the chosen storage.
 set -uo pipefail
 : "${JND:?JND must point at the jnd binary}"
-H="${JND_SHARED:-$(cd "$(dirname "$0")/../.." && pwd)/shared}/data/texsets/damagedhelmet"
-[ -d "$H" ] || { echo "   skip: no shared data ($H)"; exit 0; }
+here=$(cd "$(dirname "$0")" && pwd)
+H="${JND_SHARED:-$(cd "$here/../.." && pwd)/shared}/data/texsets/damagedhelmet"
 OUT="${BENCH_OUT:-/tmp}/pca"
 mkdir -p "$OUT"
+
+helmet() {
 MAPS="$H/Default_AO.jpg $H/Default_albedo.jpg $H/Default_emissive.jpg $H/Default_metalRoughness.jpg $H/Default_normal.jpg"
 best=""
 for run in 1 2 3; do
-  OMP_NUM_THREADS=2 "$JND" pca $MAPS -o "$OUT" --components 5 --no-bc --timings --quiet || exit 1
+  OMP_NUM_THREADS=2 "$JND" pca $MAPS -o "$OUT" --components 5 --no-bc --timings --quiet || return 1
   t=$(python3 -c "import json;print(json.load(open('$OUT/pca.json'))['result']['timings_s']['decomposition'])")
   best=$(python3 -c "print(min(float('$t'), float('${best:-1e9}')))")
 done
@@ -24,11 +28,38 @@ print(f"   decomposition {r['width']}x{r['height']}x{r['channel_count']} on 2 th
 tm = r['timings_s']
 print(f"   --components 5: read {tm['read']:.2f} s, encode {tm['encoding']:.2f} s, total {tm['total']:.2f} s")
 PY
-OMP_NUM_THREADS=2 "$JND" pca $MAPS -o "$OUT" --components 5 --timings --quiet || exit 1
+OMP_NUM_THREADS=2 "$JND" pca $MAPS -o "$OUT" --components 5 --timings --quiet || return 1
 python3 -c "
 import json; t=json.load(open('$OUT/pca.json'))['result']['timings_s']
 print(f\"   with block compression (BC1/BC4/BC5 encode + decode, 3 variants): {t['block_compression']:.2f} s, total {t['total']:.2f} s\")"
-OMP_NUM_THREADS=2 "$JND" pca $MAPS -o "$OUT" --psnr 35 --no-bc --timings --quiet || exit 1
+OMP_NUM_THREADS=2 "$JND" pca $MAPS -o "$OUT" --psnr 35 --no-bc --timings --quiet || return 1
 python3 -c "
 import json; r=json.load(open('$OUT/pca.json'))['result']; t=r['timings_s']
 print(f\"   --psnr 35: choice {t['choice']:.2f} s, K={r['components_kept']}, {r['storage_bytes']/1e6:.2f} MB, total {t['total']:.2f} s\")"
+}
+
+webxr() {
+  . "$here/webxr_assets.sh"
+  local assets model mat
+  assets=$(webxr_assets "$(dirname "$JND")/webxr-cache") ||
+    { echo "   skip: @webxr-input-profiles/assets not available (npm/network)"; return 0; }
+  for model in oculus-touch-v3/left.glb generic-trigger/none.glb; do
+    local f="$assets/dist/profiles/$model"
+    mat=$("$JND" render "$f" -o "$OUT/list" --list-maps 2>/dev/null | awk 'NR == 1 { sub("/[^/]*$", "", $1); print $1 }')
+    [ -n "$mat" ] || { echo "   $model: no material with maps"; continue; }
+    OMP_NUM_THREADS=2 "$JND" pca --model "$f" --material "$mat" -o "$OUT/webxr" --max-p 0.2 --timings --quiet || return 1
+    python3 - "$OUT/webxr/pca.json" "$model" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))["result"]; rd = r["rendered"]; t = r["timings_s"]
+print(f"   --max-p 0.2 on {sys.argv[2]} ({rd['material']}, {r['width']}x{r['height']} x {r['channel_count']} channels), "
+      f"{rd['views']} views at {rd['width']}x{rd['height']} on {rd['renderer']}:")
+print(f"     K={r['components_kept']}, {r['storage_bytes']/1e3:.0f} KB of {r['storage_maps_8bit_bytes']/1e3:.0f} KB; "
+      f"{rd['search']['rendered']} of {rd['search']['candidates']} candidates rendered (+ reference, 3 BC variants); "
+      f"P per view {' '.join(f'{p:.3f}' for p in rd['p_per_view'])}")
+print(f"     {t['total']:.1f} s total, rendering and comparison {t['rendering']:.1f} s")
+PY
+  done
+}
+
+if [ -d "$H" ]; then helmet || exit 1; else echo "   skip: no shared data ($H)"; fi
+webxr || exit 1

@@ -1245,6 +1245,16 @@ static jnd_status measure_encoding(jnd_pca_render *r, const jnd_texset *set, con
   return s;
 }
 
+static void search_log_add(jnd_pca_search_log *log, const jnd_pca_encoding *e, size_t bytes, double floor_db,
+                           const jnd_pca_visibility *v) {
+  if (!log || log->tried >= JND_PCA_MAX_TRIED) return;
+  int t = log->tried++;
+  log->enc[t] = *e;
+  log->storage_bytes[t] = bytes;
+  log->psnr_target_db[t] = floor_db;
+  log->vis[t] = *v;
+}
+
 static int same_encoding(const jnd_pca_encoding *a, const jnd_pca_encoding *b) {
   if (a->components != b->components) return 0;
   for (int k = 0; k < a->components; k++)
@@ -1314,7 +1324,10 @@ jnd_status jnd_pca_choose_rendered(jnd_pca_render *r, const jnd_texset *set, con
   if (log) log->candidates = m;
   /* bisection for the first candidate that passes */
   int lo = 0, hi = m, best = -1;
+  jnd_pca_encoding best_enc;
   jnd_pca_visibility best_vis;
+  size_t best_bytes = 0;
+  memset(&best_enc, 0, sizeof best_enc);
   memset(&best_vis, 0, sizeof best_vis);
   while (lo < hi && s == JND_OK) {
     int mid = lo + (hi - lo) / 2;
@@ -1322,20 +1335,49 @@ jnd_status jnd_pca_choose_rendered(jnd_pca_render *r, const jnd_texset *set, con
     size_t b = 0;
     s = measure_encoding(r, set, pca, ch.proj, &fam[mid], &v, &b);
     if (s != JND_OK) break;
-    if (log && log->tried < JND_PCA_MAX_TRIED) {
-      int t = log->tried++;
-      log->enc[t] = fam[mid];
-      log->storage_bytes[t] = b;
-      log->psnr_target_db[t] = floor_db[mid];
-      log->vis[t] = v;
-      if (v.pass && mid < hi) log->chosen = t;
-    }
+    search_log_add(log, &fam[mid], b, floor_db[mid], &v);
     if (v.pass) {
       hi = mid;
       best = mid;
+      best_enc = fam[mid];
       best_vis = v;
+      best_bytes = b;
     } else {
       lo = mid + 1;
+    }
+  }
+  /* The floors are 2 dB apart, and one step can double the storage (a
+   * component going from 8 to 16 bits): bisect the floor between the
+   * candidate below, which failed (lo only moves past failures), and the
+   * chosen one. */
+  if (s == JND_OK && best > 0 && floor_db[best] > 0 && floor_db[best - 1] > 0) {
+    double f_lo = floor_db[best - 1], f_hi = floor_db[best];
+    for (int it = 0; it < 3 && s == JND_OK; it++) {
+      double f = 0.5 * (f_lo + f_hi);
+      jnd_pca_encoding e;
+      s = chooser_run(&ch, set, pca, f, &e);
+      if (s != JND_OK) break;
+      size_t b = jnd_pca_storage_bytes(&e, set->c, set->w, set->h);
+      if (b >= best_bytes) {   /* nothing cheaper above f */
+        f_hi = f;
+        continue;
+      }
+      if (same_encoding(&e, &fam[best - 1])) {   /* known to fail */
+        f_lo = f;
+        continue;
+      }
+      jnd_pca_visibility v;
+      s = measure_encoding(r, set, pca, ch.proj, &e, &v, &b);
+      if (s != JND_OK) break;
+      search_log_add(log, &e, b, f, &v);
+      if (v.pass) {
+        best_enc = e;
+        best_vis = v;
+        best_bytes = b;
+        f_hi = f;
+      } else {
+        f_lo = f;
+      }
     }
   }
   chooser_free(&ch);
@@ -1343,7 +1385,10 @@ jnd_status jnd_pca_choose_rendered(jnd_pca_render *r, const jnd_texset *set, con
   if (best < 0)
     return jnd_fail(JND_ERR_ARG, "%s: no encoding keeps P <= %g in all but %g of the views, not even all components at 16 bits",
                     r->path, r->p.max_p, r->p.max_fraction);
-  *out = fam[best];
+  if (log)
+    for (int t = 0; t < log->tried; t++)
+      if (same_encoding(&log->enc[t], &best_enc)) log->chosen = t;
+  *out = best_enc;
   if (vis) *vis = best_vis;
   return JND_OK;
 }
