@@ -862,7 +862,9 @@ typedef struct {
  * component), plus all components at 16 bits; deduplicated and sorted by
  * storage. Along that family P falls as storage grows, so the cheapest
  * passing candidate is found by bisection (about log2(n) renderings of all
- * views). out and vis (may be NULL) receive the encoding and its
+ * views), then the floor is bisected (3 steps) between the failing
+ * candidate below it and the chosen one, where a cheaper encoding may lie.
+ * out and vis (may be NULL) receive the encoding and its
  * measurement, log (may be NULL) what was tried. JND_ERR_ARG when not even
  * the lossless candidate passes. */
 jnd_status jnd_pca_choose_rendered(jnd_pca_render *r, const jnd_texset *set, const jnd_pca *pca, int max_scale,
