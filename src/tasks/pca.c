@@ -3,7 +3,10 @@
  * first K components kept, each at its own resolution and bit depth; the
  * reconstruction a (C × (K+1)) homogeneous matrix; quality as PSNR per
  * channel, with and without GPU block compression; an automatic choice of
- * the smallest encoding meeting a PSNR floor.
+ * the smallest encoding meeting a PSNR floor; and rendered visibility: the
+ * material re-rendered with the reconstructed maps from sampled views,
+ * compared with the original by the vision model, P pooled per view, and
+ * the cheapest encoding whose views pass (docs/pca.md).
  *
  * Resampling: components are shrunk by averaging 2^s × 2^s boxes (as mip
  * levels are made) and enlarged with Lanczos-3; maps of different sizes are
