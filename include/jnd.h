@@ -921,6 +921,272 @@ jnd_status jnd_pca_block_compression(const jnd_texset *set, const jnd_pca_encode
                                      jnd_pca_bc_report *out);
 
 /* ------------------------------------------------------------------------ */
+/* Texture resolution (000)                                                 */
+/* ------------------------------------------------------------------------ */
+/* Which texture resolution nobody notices (Wolski et al. 2019, 000 §4–§9):
+ * every map of an asset is shrunk to candidate sizes, the asset is rendered
+ * from sampled views, each view is compared with the full-resolution
+ * rendering, and the smallest maps are kept for which at most a fraction q
+ * of the views have a pooled probability of detection above p. Also: the
+ * cross-population psychometric function of 000 eq. 1 and its fit, memory
+ * accounting of maps with their mip chains (000 Table 2), and calibration of
+ * the model to measured thresholds (000 §6–§7). See docs/texres.md and
+ * docs/calibrate.md. */
+
+/* The cross-population psychometric function of 000 eq. 1 over texture
+ * resolution r (pixels): P_det(r) = 1 − Θ(x; µ, σ), Θ the cumulative normal,
+ * x = r (domain 0, pixels, as 000) or x = log2 r (domain 1, octaves). */
+typedef struct {
+  double mu, sigma;          /* in the domain's units (pixels or log2 pixels) */
+  int log2_domain;           /* 0: x = r; 1: x = log2 r */
+  double rmse;               /* root mean squared error of the fit in probability */
+} jnd_psychometric;
+
+/* P_det at resolution r (pixels) for f. */
+double jnd_psychometric_eval(const jnd_psychometric *f, double r);
+
+/* The resolution (pixels) where P_det = p (0 < p < 1). */
+double jnd_psychometric_resolution(const jnd_psychometric *f, double p);
+
+/* Fits µ and σ (σ > 0) of 000 eq. 1 to n >= 2 points (r[i] pixels > 0,
+ * p[i] in 0..1) by least squares on probability: a small grid over (µ, log σ)
+ * refined by Nelder–Mead from a probit-analysis start. Detection must fall as r grows; data that never
+ * change (all 0 or all 1) give the nearest step function (σ small, µ just
+ * outside the data's range). log2_domain picks the domain (see above).
+ * JND_ERR_ARG for n < 2 or values out of range. */
+jnd_status jnd_psychometric_fit(const double *r, const double *p, int n, int log2_domain,
+                                jnd_psychometric *out);
+
+/* Texture storage formats of the memory accounting (000 Table 2). */
+typedef enum {
+  JND_TEX_RGBA8 = 0,   /* uncompressed, 32 bits per texel */
+  JND_TEX_BC1,         /* 4 bits per texel (8-byte 4×4 blocks) */
+  JND_TEX_BC4,         /* 4 bits per texel, one channel */
+  JND_TEX_BC5,         /* 8 bits per texel, two channels */
+  JND_TEX_BC7,         /* 8 bits per texel (16-byte 4×4 blocks) */
+  JND_TEX_ASTC4,       /* ASTC 4×4: 8 bits per texel */
+  JND_TEX_ASTC6,       /* ASTC 6×6: 3.56 bits per texel (16-byte 6×6 blocks) */
+  JND_TEX_FORMATS
+} jnd_tex_format;
+
+/* The format's name ("rgba8", "bc1", "bc4", "bc5", "bc7", "astc4x4", "astc6x6"). */
+const char *jnd_tex_format_name(jnd_tex_format f);
+
+/* Bytes of a w × h texture in format f; with mips = 1, of its full mip chain
+ * (levels down to 1 × 1, each side halved and rounded down, at least 1; block
+ * formats round each level up to whole blocks). */
+size_t jnd_texture_bytes(jnd_tex_format f, int w, int h, int mips);
+
+/* The block format engines usually pick for a slot: baseColor BC7 (BC1 for
+ * channels <= 3 is smaller but BC7 is the quality default), normal BC5,
+ * occlusion BC4, metallicRoughness BC1, emissive BC1. */
+jnd_tex_format jnd_slot_block_format(jnd_map_slot slot, int channels);
+
+/* A calibration of the model to a task (000 §6–§7): the per-pixel JND is
+ * transformed to max(0, scale·JND + bias) before the psychometric function
+ * P = 1 − exp(ln 0.5 · x^beta) (000 eq. 4), and the P map is pooled with the
+ * given percentile. The identity is scale 1, bias 0, p93. */
+typedef struct {
+  double percentile;         /* pooling percentile, 0..100 (93) */
+  double scale, bias;        /* linear transform of the JND map (1, 0) */
+  double beta;               /* psychometric slope (3.5) */
+  double threshold_p;        /* the P at which thresholds are read (0.2, 000 §6) */
+  double mae_px;             /* fitted: cross-validated mean absolute error, pixels (0 unknown) */
+} jnd_calibration;
+
+/* Fills c with the identity calibration above. */
+void jnd_calibration_defaults(jnd_calibration *c);
+
+/* Reads a calibration file written by jnd_calibration_save / `jnd
+ * calibrate` (JSON with "calibration": {"percentile", "scale", "bias",
+ * "beta", ...}). JND_ERR_IO / JND_ERR_FORMAT "PATH: problem". */
+jnd_status jnd_calibration_load(const char *path, jnd_calibration *c);
+
+/* Writes c as JSON to path (atomic). */
+jnd_status jnd_calibration_save(const char *path, const jnd_calibration *c);
+
+/* The calibrated pooled probability of a JND map: JND → max(0, scale·JND +
+ * bias) → P (eq. 4, c->beta) → c->percentile over the pixels where mask >
+ * 0.5 (mask NULL: every pixel). NaN when no pixel counts. */
+double jnd_calibration_pool(const jnd_calibration *c, const jnd_image *jnd_map, const jnd_image *mask);
+
+/* Summarises a JND map as jnd_diff_summarise does, but through the
+ * calibration: the JND statistics are of the transformed map, the P map uses
+ * c->beta and p_detect is its c->percentile. */
+jnd_status jnd_diff_summarise_calibrated(const jnd_image *jnd_map, const jnd_calibration *c,
+                                         jnd_diff_stats *stats);
+
+/* Calibration data: one scene (an asset's map, or a series of image pairs)
+ * with the model's JND percentiles per tested resolution and the measured
+ * cross-population threshold (000 eq. 1, pixels). */
+#define JND_CALIB_PCT_LO 90   /* percentiles tested: 90 .. 99 (000 §6) */
+#define JND_CALIB_NPCT 10
+typedef struct {
+  char name[128];            /* scene name; folds group by it */
+  int nres;                  /* resolutions of the series (>= 2) */
+  const double *res;         /* nres resolutions, pixels */
+  const double *jnd_pct;     /* nres × JND_CALIB_NPCT: percentile 90 + k of the model's JND map
+                                at res[i] (jnd_calib_percentiles) */
+  double mu, sigma;          /* measured threshold distribution, pixels (000 eq. 1) */
+} jnd_calib_scene;
+
+/* The JND percentiles 90..99 of a map over the pixels where mask > 0.5 (mask
+ * NULL: all), into out[JND_CALIB_NPCT]. */
+jnd_status jnd_calib_percentiles(const jnd_image *jnd_map, const jnd_image *mask, double *out);
+
+typedef struct {
+  int folds;                 /* k of k-fold cross-validation by scene (5; at most the scenes) */
+  double beta;               /* psychometric slope (3.5) */
+  double threshold_p;        /* P at which threshold resolutions are compared (0.2) */
+  double bias_min, bias_max; /* exhaustive bias range, JND (−2 .. 2) */
+  int bias_steps;            /* grid steps over it (41) */
+  double scale_min, scale_max; /* scale range (0.05 .. 20), searched in log */
+} jnd_calibrate_params;
+
+/* Fills p with the defaults above. */
+void jnd_calibrate_defaults(jnd_calibrate_params *p);
+
+/* What a calibration fit found. */
+typedef struct {
+  jnd_calibration cal;       /* fitted on all scenes */
+  double mae_px;             /* training error on all scenes, pixels */
+  int folds;
+  double fold_mae_px[32];    /* held-out error of each fold, pixels */
+  double cv_mae_px;          /* mean held-out absolute error over scenes, pixels */
+  double *errors_px;         /* per scene: predicted − measured threshold, held out (pixels);
+                                owned, jnd_calibrate_result_free */
+  double *predicted_px;      /* per scene: predicted threshold with the final calibration */
+  int nscenes;
+  double pct_mae_px[JND_CALIB_NPCT]; /* best training error per percentile */
+} jnd_calibrate_result;
+
+/* Fits percentile (90..99), scale and bias minimising the mean absolute
+ * error between predicted and measured threshold resolution (at P =
+ * threshold_p) over the scenes, 000 §6–§7.1: per percentile, an exhaustive
+ * search over bias with the best scale for each (golden section in log
+ * scale), then a local refinement; the predicted threshold of a scene is
+ * read from 000 eq. 1 fitted to the calibrated pooled P over its series,
+ * in pixels as 000. Then k-fold cross-validation by scene (000 §7.3).
+ * Deterministic. out owns arrays (jnd_calibrate_result_free). */
+jnd_status jnd_calibrate_fit(const jnd_calib_scene *scenes, int n, const jnd_calibrate_params *p,
+                             jnd_calibrate_result *out);
+
+/* Frees the arrays of a result; safe on a zeroed struct. */
+void jnd_calibrate_result_free(jnd_calibrate_result *r);
+
+/* Parameters of a texture resolution search. */
+typedef struct {
+  int views;                 /* N sampled views for the choice (8) */
+  int verify_views;          /* M further views for a held-out check (0: none) */
+  uint64_t seed;             /* view sampling seed (1); held-out views use another seed */
+  int width, height;         /* rendering size, pixels (384 × 384) */
+  double coverage;           /* fraction of the image height the bounding sphere fills (0.8) */
+  double distance;           /* > 0: camera distance in object units instead of coverage */
+  double fov_y_deg;          /* vertical field of view (45) */
+  int lights;                /* directional lights per view (1) */
+  int anisotropy;            /* renderer anisotropy (8) */
+  int samples;               /* MSAA samples (4) */
+  const char *env_path;      /* environment (NULL: the studio) */
+  const char *platform;      /* EGL platform (NULL: auto) */
+  double p_threshold;        /* p: a view is "above" when its pooled P > p (0.2) */
+  double max_fraction;       /* q: at most this fraction of views above p (0.1) */
+  int min_size;              /* floor of the power-of-two candidates, pixels (32) */
+  const int *sizes;          /* explicit candidate sizes (longer side, pixels) or NULL */
+  int nsizes;
+  const char *maps;          /* NULL: every map; else a comma list of MATERIAL/SLOT names or
+                                bare slot names (that slot of every material) to search;
+                                the others stay at their size */
+  int matrix;                /* 1: also the full baseColor × normal matrix of each material
+                                that has both (000 Fig. 13) (1) */
+  jnd_calibration calibration; /* transform and pooling (identity p93 by default) */
+  jnd_model_params model;    /* display and model constants */
+  void (*progress)(void *user, int done, int total); /* NULL or called after each rendering */
+  void *progress_user;
+} jnd_texres_params;
+
+/* Fills p with the defaults above. */
+void jnd_texres_defaults(jnd_texres_params *p);
+
+#define JND_TEXRES_MAX_CAND 16
+/* The outcome for one map. */
+typedef struct {
+  char name[128];            /* MATERIAL/SLOT */
+  int map, material;
+  jnd_map_slot slot;
+  int channels;
+  int searched;              /* 0: not in --maps; kept at its size */
+  int orig[2], chosen[2];    /* width, height in pixels */
+  int mip_bound[2];          /* finest mip level any pixel of any view samples (000 §4) */
+  double mip_min;            /* that level (fractional); −1: never sampled */
+  int eye_bound[2];          /* texel density the eye can resolve at the condition */
+  int ncand;                 /* candidates (descending), the first the original */
+  int cand[JND_TEXRES_MAX_CAND][2];
+  double series[JND_TEXRES_MAX_CAND]; /* the criterion statistic (the view quantile of pooled P)
+                                with only this map at candidate k; NaN where not evaluated */
+  jnd_psychometric fit;      /* 000 eq. 1 fitted to series (log2 domain) */
+  int fit_ok;
+  double fit_res;            /* continuous resolution at P = p (longer side, pixels) */
+  int fit_cand[2];           /* rounded up to a candidate */
+  size_t bytes_before[JND_TEX_FORMATS], bytes_after[JND_TEX_FORMATS]; /* with mip chains */
+} jnd_texres_map;
+
+/* A full two-map matrix (000 Fig. 13): p[(v·na + a)·nb + b], v a view,
+ * a the first map's candidate, b the second's. */
+typedef struct {
+  int map_a, map_b;          /* indices into the result's maps */
+  int na, nb, nviews;
+  int size_a[JND_TEXRES_MAX_CAND], size_b[JND_TEXRES_MAX_CAND]; /* longer sides */
+  double *p;                 /* owned */
+  double *stat;              /* na × nb: the criterion statistic per cell */
+  int best_a, best_b;        /* the passing cell with the least memory (−1: none) */
+} jnd_texres_matrix;
+
+/* The outcome of a search. */
+typedef struct {
+  int nmaps;
+  jnd_texres_map *maps;      /* owned */
+  int nviews;
+  double *view_p;            /* pooled P per view of the chosen combination */
+  double stat;               /* the criterion statistic of the choice */
+  double fraction_above;     /* fraction of the views with P > p */
+  int passes;                /* 1: fraction_above <= q */
+  int verify_views;          /* M (0: not run) */
+  double *verify_p;          /* pooled P per held-out view */
+  double verify_fraction;    /* fraction of the held-out views above p */
+  int verify_passes;
+  int worst_view;            /* the view with the highest P (choice) */
+  jnd_image worst_heatmap;   /* its heatmap (jnd_heatmap), sRGB 0..1 */
+  int nmatrix;
+  jnd_texres_matrix *matrix; /* owned */
+  size_t before_bytes[JND_TEX_FORMATS], after_bytes[JND_TEX_FORMATS]; /* all maps, mip chains */
+  double ppd;                /* the display's pixels per degree */
+  int evaluations, renderings;
+  char renderer[160];
+} jnd_texres_result;
+
+/* Runs the search of docs/texres.md on scene (loaded by the caller; its
+ * maps are left at the chosen sizes on return): mip-usage bound, per-map
+ * series from the bound down (stopping one candidate after the criterion
+ * fails), coordinate descent over the maps until the combination passes,
+ * the optional matrices, and the verification on held-out views. out owns
+ * arrays (jnd_texres_result_free). JND_ERR_ARG for a scene without texture
+ * maps or an unknown map name. */
+jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *p, jnd_texres_result *out);
+
+/* Frees a result's arrays; safe on a zeroed struct. */
+void jnd_texres_result_free(jnd_texres_result *r);
+
+/* Writes a copy of the glTF/GLB model at src_path under out_dir whose maps
+ * are the scene's maps at the sizes in use now (jnd_scene_map_get of each
+ * resized map, encoded as the file had it: PNG or JPEG), and which points
+ * at them; unchanged maps and buffers are copied. A .glb stays one .glb
+ * file; a .gltf gets its images and buffers as files beside it. The model
+ * file's name is kept. The input is never modified. out_path (NULL or
+ * caller's, n bytes) receives the written model's path. */
+jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src_path, const char *out_dir,
+                                  char *out_path, size_t n);
+
+/* ------------------------------------------------------------------------ */
 /* Tasks                                                                    */
 /* ------------------------------------------------------------------------ */
 
@@ -952,11 +1218,18 @@ typedef struct {
   int evaluations;        /* model runs in the search */
 } jnd_csf_detail;
 
+/* A context for many threshold searches with one set of model constants: it
+ * keeps the models it builds (one per sampling density and fixation) for
+ * reuse. Not for concurrent use: give each thread its own. */
+typedef struct jnd_csf_context jnd_csf_context;
+jnd_status jnd_csf_context_create(const jnd_model_params *base, jnd_csf_context **out);
+void jnd_csf_context_free(jnd_csf_context *ctx);
+
 /* The model's sensitivity (1 / threshold RMS cone contrast) for a stimulus:
  * the contrast where the max-pooled probability of detection is 0.5, found in
- * log contrast. base supplies the model's constants (its display's ppd is
- * replaced by one suited to the stimulus, see docs/csf.md). detail may be NULL. */
-jnd_status jnd_csf_threshold(const jnd_model_params *base, const jnd_csf_stimulus *s, double *sensitivity,
+ * log contrast. The context's constants are used; the display's ppd is
+ * replaced by one suited to the stimulus (docs/csf.md). detail may be NULL. */
+jnd_status jnd_csf_threshold(jnd_csf_context *ctx, const jnd_csf_stimulus *s, double *sensitivity,
                              jnd_csf_detail *detail);
 
 /* The sampling chosen for a stimulus: pixels per degree, half-extent and edge taper in degrees. */

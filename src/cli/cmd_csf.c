@@ -4,9 +4,7 @@
 #include <string.h>
 
 #include "cli/cli.h"
-#ifdef _OPENMP
 #include <omp.h>
-#endif
 
 static void help(void) {
   printf(
@@ -98,13 +96,23 @@ static int predict_all(row_t *rows, int n, const jnd_model_params *mp, int threa
   cli_progress_start(&pr, c, label, n);
   int done = 0, failed = 0;
   char msg[512] = "";
+  jnd_model_params p = *mp;
+  p.threads = 1;
+  /* each thread keeps its own models; rows are independent, so results do not
+   * depend on the thread count */
+  jnd_csf_context *ctxs[256] = {0};
+  if (threads > 256) threads = 256;
+  for (int t = 0; t < threads; t++)
+    if (jnd_csf_context_create(&p, &ctxs[t]) != JND_OK) {
+      for (int k = 0; k < t; k++) jnd_csf_context_free(ctxs[k]);
+      cli_error("csf: out of memory");
+      return 0;
+    }
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
   for (int i = 0; i < n; i++) {
     if (!rows[i].use) continue;
     double sens;
-    jnd_model_params p = *mp;
-    p.threads = 1;
-    if (jnd_csf_threshold(&p, &rows[i].st, &sens, NULL) != JND_OK) {
+    if (jnd_csf_threshold(ctxs[omp_get_thread_num()], &rows[i].st, &sens, NULL) != JND_OK) {
 #pragma omp critical
       {
         if (!failed) snprintf(msg, sizeof msg, "row %d: %s", i + 2, jnd_last_error());
@@ -118,6 +126,7 @@ static int predict_all(row_t *rows, int n, const jnd_model_params *mp, int threa
     cli_progress_step(&pr, ++done);
   }
   cli_progress_end(&pr);
+  for (int t = 0; t < threads; t++) jnd_csf_context_free(ctxs[t]);
   if (failed) cli_error("csf: %s", msg);
   return !failed;
 }

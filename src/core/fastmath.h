@@ -5,6 +5,7 @@
  * libm), ample for a perceptual model whose constants are fitted to data. */
 #ifndef JND_FASTMATH_H
 #define JND_FASTMATH_H
+#include <math.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -17,10 +18,10 @@ static inline float jnd_fast_log2(float x) {
   b = (b & 0x007fffffu) | 0x3f800000u; /* m in [1, 2) */
   float m;
   memcpy(&m, &b, 4);
-  if (m > 1.41421356f) {
-    m *= 0.5f;
-    e += 1;
-  }
+  /* branch-free so that loops over arrays vectorise */
+  int big = m > 1.41421356f;
+  m = big ? m * 0.5f : m;
+  e += big;
   float t = (m - 1.0f) / (m + 1.0f), t2 = t * t;
   float s = t * (2.0f + t2 * (2.0f / 3 + t2 * (2.0f / 5 + t2 * (2.0f / 7 + t2 * (2.0f / 9)))));
   return (float)e + s * 1.44269504f;
@@ -29,19 +30,20 @@ static inline float jnd_fast_log2(float x) {
 /* 2^y for y in about [-126, 127]: integer part into the exponent, the
  * fraction in [-0.5, 0.5] by the Taylor series of e^(f ln 2) to degree 7 */
 static inline float jnd_fast_exp2(float y) {
-  if (y < -126.0f) return 0.0f;
-  if (y > 127.0f) y = 127.0f;
-  float k = (float)(int)(y + (y >= 0 ? 0.5f : -0.5f));
+  float under = y < -126.0f ? 0.0f : 1.0f;
+  y = y < -126.0f ? -126.0f : y > 127.0f ? 127.0f : y;
+  float k = (float)(int)(y + copysignf(0.5f, y)); /* nearest integer */
   float f = (y - k) * 0.69314718f;
   float p = 1.0f + f * (1.0f + f * (0.5f + f * (1.0f / 6 + f * (1.0f / 24 + f * (1.0f / 120 + f * (1.0f / 720 + f * (1.0f / 5040)))))));
   uint32_t b = (uint32_t)((int)k + 127) << 23;
   float s;
   memcpy(&s, &b, 4);
-  return p * s;
+  return p * s * under;
 }
 
 /* x^y for x > 0 (0 for x <= 0) */
 static inline float jnd_fast_pow(float x, float y) {
-  return x > 0.0f ? jnd_fast_exp2(y * jnd_fast_log2(x)) : 0.0f;
+  float r = jnd_fast_exp2(y * jnd_fast_log2(x > 1e-30f ? x : 1e-30f));
+  return x > 0.0f ? r : 0.0f;
 }
 #endif

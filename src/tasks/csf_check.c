@@ -101,8 +101,52 @@ static jnd_status max_jnd(stim_ctx *ctx, double c, double *out) {
   return JND_OK;
 }
 
-jnd_status jnd_csf_threshold(const jnd_model_params *base, const jnd_csf_stimulus *st, double *sensitivity,
+#define CACHE_MODELS 48
+
+struct jnd_csf_context {
+  jnd_model_params base;
+  int n;
+  jnd_model_params key[CACHE_MODELS];
+  jnd_model *model[CACHE_MODELS];
+};
+
+jnd_status jnd_csf_context_create(const jnd_model_params *base, jnd_csf_context **out) {
+  *out = jnd_calloc(1, sizeof **out);
+  if (!*out) return JND_ERR_NOMEM;
+  (*out)->base = *base;
+  return JND_OK;
+}
+
+void jnd_csf_context_free(jnd_csf_context *ctx) {
+  if (!ctx) return;
+  for (int i = 0; i < ctx->n; i++) jnd_model_free(ctx->model[i]);
+  free(ctx);
+}
+
+/* a model for these parameters: from the cache, or built (and cached, oldest out) */
+static jnd_status context_model(jnd_csf_context *ctx, const jnd_model_params *p, jnd_model **m) {
+  for (int i = 0; i < ctx->n; i++)
+    if (ctx->key[i].display.ppd == p->display.ppd && ctx->key[i].has_gaze == p->has_gaze &&
+        ctx->key[i].gaze_x == p->gaze_x && ctx->key[i].gaze_y == p->gaze_y) {
+      *m = ctx->model[i];
+      return JND_OK;
+    }
+  jnd_status s = jnd_model_create(p, m);
+  if (s != JND_OK) return s;
+  if (ctx->n == CACHE_MODELS) {
+    jnd_model_free(ctx->model[0]);
+    memmove(ctx->model, ctx->model + 1, sizeof ctx->model[0] * (CACHE_MODELS - 1));
+    memmove(ctx->key, ctx->key + 1, sizeof ctx->key[0] * (CACHE_MODELS - 1));
+    ctx->n--;
+  }
+  ctx->key[ctx->n] = *p;
+  ctx->model[ctx->n++] = *m;
+  return JND_OK;
+}
+
+jnd_status jnd_csf_threshold(jnd_csf_context *cx, const jnd_csf_stimulus *st, double *sensitivity,
                              jnd_csf_detail *detail) {
+  const jnd_model_params *base = &cx->base;
   *sensitivity = NAN;
   if (!(st->luminance > 0)) return jnd_fail(JND_ERR_ARG, "stimulus: luminance must be positive");
   if (st->kind == JND_STIM_GABOR && !(st->ge_sigma > 0)) return jnd_fail(JND_ERR_ARG, "stimulus: Gabor needs ge_sigma > 0");
@@ -148,7 +192,7 @@ jnd_status jnd_csf_threshold(const jnd_model_params *base, const jnd_csf_stimulu
   } else {
     p.has_gaze = 0;
   }
-  jnd_status s = jnd_model_create(&p, &ctx.model);
+  jnd_status s = context_model(cx, &p, &ctx.model);
   if (s != JND_OK) return s;
   if ((s = jnd_image_alloc(&ctx.bg, side, side, 3)) != JND_OK || (s = jnd_image_alloc(&ctx.stim, side, side, 3)) != JND_OK)
     goto done;
@@ -195,7 +239,6 @@ jnd_status jnd_csf_threshold(const jnd_model_params *base, const jnd_csf_stimulu
     detail->evaluations = evals;
   }
 done:
-  jnd_model_free(ctx.model);
   jnd_image_free(&ctx.bg);
   jnd_image_free(&ctx.stim);
   return s;

@@ -297,7 +297,9 @@ static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, 
 #pragma omp parallel num_threads(threads)
   {
     row_cache cache[2][3][2];
-    float *mem = malloc(sizeof(float) * (size_t)w * 3 * 12);
+    /* expanded-row caches (12 × 3 rows) and the row stages: opponent values
+     * (2 images × 3 channels), adaptation, sensitivities (3), eccentricity */
+    float *mem = malloc(sizeof(float) * (size_t)w * (36 + 6 + 2 + 3 + 1));
     if (!mem) {
 #pragma omp atomic write
       fail = 1;
@@ -308,78 +310,102 @@ static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, 
           cache[a][c][k].buf = mem ? mem + (size_t)((a * 3 + c) * 2 + k) * 3 * w : NULL;
           cache[a][c][k].row[0] = cache[a][c][k].row[1] = cache[a][c][k].row[2] = -1;
         }
+    float *opp[2][3] = {{0}}, *logl[2] = {0}, *sens[3] = {0}, *eccf = NULL;
+    if (mem) {
+      float *p = mem + (size_t)36 * w;
+      for (int a = 0; a < 2; a++)
+        for (int c = 0; c < 3; c++) opp[a][c] = p, p += w;
+      for (int a = 0; a < 2; a++) logl[a] = p, p += w;
+      for (int c = 0; c < 3; c++) sens[c] = p, p += w;
+      eccf = p;
+    }
 #pragma omp for schedule(static)
     for (int y = 0; y < h; y++) {
       if (!mem) continue;
       int rows[3];
-      float wts[3];
+      float wts[3] = {0, 0, 0};
       int nr = jnd_pyr_expand_rows(y, h1, rows, wts);
-      const float *e1[2][3][3], *e2[2][3][3], *g0[2][3];
-      for (int a = 0; a < 2; a++)
-        for (int c = 0; c < 3; c++) {
-          g0[a][c] = st->g[a][c].plane[band] + (size_t)y * w;
-          for (int k = 0; k < nr; k++) {
-            e1[a][c][k] = cached_row(&cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[k], w);
-            e2[a][c][k] = cached_row(&cache[a][c][1], xexp[a][c], w1, rows[k], w);
-          }
-        }
-      float *drow = D + (size_t)y * w;
-      for (int x = 0; x < w; x++) {
-        float logv = 0;
-        if (st->has_vel) logv = jnd_fast_log2(fmaxf(st->vel.plane[band][(size_t)y * w + x], 1e-3f)) * 0.30103f;
-        float ecc_factor = 1.0f;
-        if (m->p.has_gaze) {
+      if (nr == 2) rows[2] = rows[1]; /* weight 0: any valid row */
+      if (m->p.has_gaze) {
+        for (int x = 0; x < w; x++) {
           double fx = (x + 0.5) * scale - 0.5 - m->p.gaze_x, fy = (y + 0.5) * scale - 0.5 - m->p.gaze_y;
           double ecc = atan(sqrt(fx * fx + fy * fy) / dist_px) * 180.0 / M_PI;
-          ecc_factor = (float)jnd_eccentricity_factor(m->band_cpd[band], ecc);
+          eccf[x] = (float)jnd_eccentricity_factor(m->band_cpd[band], ecc);
         }
-        float t[2][3];
-        for (int a = 0; a < 2; a++) {
-          float con[3];
-          for (int c = 0; c < 3; c++) {
-            float s1 = 0, s2 = 0;
-            for (int k = 0; k < nr; k++) {
-              s1 += wts[k] * e1[a][c][k][x];
-              s2 += wts[k] * e2[a][c][k][x];
-            }
-            /* 004 §3.1: band-limited contrast (G_i − G_{i+1}) / G_{i+2} (Lubin 1995) */
-            con[c] = (g0[a][c][x] - s1) / fmaxf(s2, CONTRAST_FLOOR);
+      }
+      for (int a = 0; a < 2; a++) {
+        /* 004 §3.1: band-limited contrast (G_i − G_{i+1}) / G_{i+2} (Lubin 1995), per cone */
+        for (int c = 0; c < 3; c++) {
+          const float *g0 = st->g[a][c].plane[band] + (size_t)y * w;
+          const float *p0 = cached_row(&cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[0], w);
+          const float *p1 = cached_row(&cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[1], w);
+          const float *p2 = cached_row(&cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[2], w);
+          const float *q0 = cached_row(&cache[a][c][1], xexp[a][c], w1, rows[0], w);
+          const float *q1 = cached_row(&cache[a][c][1], xexp[a][c], w1, rows[1], w);
+          const float *q2 = cached_row(&cache[a][c][1], xexp[a][c], w1, rows[2], w);
+          float *o = opp[a][c];
+          const float w0 = wts[0], w1_ = wts[1], w2 = wts[2];
+          for (int x = 0; x < w; x++) {
+            float s1 = w0 * p0[x] + w1_ * p1[x] + w2 * p2[x];
+            float s2 = w0 * q0[x] + w1_ * q1[x] + w2 * q2[x];
+            o[x] = (g0[x] - s1) / fmaxf(s2, CONTRAST_FLOOR);
           }
+        }
+        /* 004 §3.1: Hunt's opponent channels */
+        float *o0 = opp[a][0], *o1 = opp[a][1], *o2 = opp[a][2];
+        for (int x = 0; x < w; x++) {
           float A, ca, cb;
-          jnd_opponent(con[0], con[1], con[2], &A, &ca, &cb);
-          const float *ar0 = st->adapt[a] + (size_t)ay.i0[y] * st->aw, *ar1 = st->adapt[a] + (size_t)ay.i1[y] * st->aw;
-          float tx = ax.t[x], ty = ay.t[y];
-          float La = (1 - ty) * ((1 - tx) * ar0[ax.i0[x]] + tx * ar0[ax.i1[x]]) +
-                     ty * ((1 - tx) * ar1[ax.i0[x]] + tx * ar1[ax.i1[x]]);
-          float logL = jnd_fast_log2(fmaxf(La, 1e-6f)) * 0.30103f;
-          float sA, sa, sb;
-          if (st->has_vel) {
-            sA = lut_lookup(lutA, logL, logv);
-            sa = lut_lookup(luta, logL, logv);
-            sb = lut_lookup(lutb, logL, logv);
-          } else {
-            float fl = (logL - (float)LUT_LOGL0) * (float)(1.0 / LUT_DLOGL);
+          jnd_opponent(o0[x], o1[x], o2[x], &A, &ca, &cb);
+          o0[x] = A;
+          o1[x] = ca;
+          o2[x] = cb;
+        }
+        /* adaptation luminance (log10) from the level where a pixel is ~1° */
+        const float *ar0 = st->adapt[a] + (size_t)ay.i0[y] * st->aw, *ar1 = st->adapt[a] + (size_t)ay.i1[y] * st->aw;
+        const float ty = ay.t[y];
+        float *ll = logl[a];
+        for (int x = 0; x < w; x++) {
+          float tx = ax.t[x];
+          ll[x] = (1 - ty) * ((1 - tx) * ar0[ax.i0[x]] + tx * ar0[ax.i1[x]]) +
+                  ty * ((1 - tx) * ar1[ax.i0[x]] + tx * ar1[ax.i1[x]]);
+        }
+        for (int x = 0; x < w; x++) ll[x] = jnd_fast_log2(fmaxf(ll[x], 1e-6f)) * 0.30103f;
+        /* CSF normalisation at the band's peak frequency (004 §3.1) */
+        if (st->has_vel) {
+          const float *vr = st->vel.plane[band] + (size_t)y * w;
+          for (int x = 0; x < w; x++) {
+            float logv = jnd_fast_log2(fmaxf(vr[x], 1e-3f)) * 0.30103f;
+            sens[0][x] = lut_lookup(lutA, ll[x], logv);
+            sens[1][x] = lut_lookup(luta, ll[x], logv);
+            sens[2][x] = lut_lookup(lutb, ll[x], logv);
+          }
+        } else {
+          for (int x = 0; x < w; x++) {
+            float fl = (ll[x] - (float)LUT_LOGL0) * (float)(1.0 / LUT_DLOGL);
             fl = fl < 0 ? 0 : fl > LUT_NL - 1.001f ? LUT_NL - 1.001f : fl;
             int il = (int)fl;
             float tl = fl - il;
-            sA = lut1[0][il] + tl * (lut1[0][il + 1] - lut1[0][il]);
-            sa = lut1[1][il] + tl * (lut1[1][il + 1] - lut1[1][il]);
-            sb = lut1[2][il] + tl * (lut1[2][il + 1] - lut1[2][il]);
+            sens[0][x] = lut1[0][il] + tl * (lut1[0][il + 1] - lut1[0][il]);
+            sens[1][x] = lut1[1][il] + tl * (lut1[1][il + 1] - lut1[1][il]);
+            sens[2][x] = lut1[2][il] + tl * (lut1[2][il + 1] - lut1[2][il]);
           }
-          sA *= ecc_factor;
-          sa *= ecc_factor;
-          sb *= ecc_factor;
-          /* 004 §3.1: CSF normalisation, then the masking transducer */
-          t[a][0] = jnd_transducer(A * sA);
-          t[a][1] = jnd_transducer(ca * sa);
-          t[a][2] = jnd_transducer(cb * sb);
         }
-        float d = 0;
+        if (m->p.has_gaze)
+          for (int c = 0; c < 3; c++)
+            for (int x = 0; x < w; x++) sens[c][x] *= eccf[x];
+        /* 004 §3.1: the masking transducer on the normalised contrast */
         for (int c = 0; c < 3; c++) {
-          float df = fabsf(t[1][c] - t[0][c]);
-          if (df > 0) d += jnd_fast_pow(df, e);
+          float *o = opp[a][c];
+          const float *sc = sens[c];
+          for (int x = 0; x < w; x++) o[x] = jnd_transducer(o[x] * sc[x]);
         }
-        drow[x] = d;
+      }
+      /* 004 §3.2: difference of the responses, Minkowski over channels */
+      float *drow = D + (size_t)y * w;
+      for (int x = 0; x < w; x++) {
+        float d0 = fabsf(opp[1][0][x] - opp[0][0][x]), d1 = fabsf(opp[1][1][x] - opp[0][1][x]),
+              d2 = fabsf(opp[1][2][x] - opp[0][2][x]);
+        drow[x] = jnd_fast_pow(d0, e) + jnd_fast_pow(d1, e) + jnd_fast_pow(d2, e);
       }
     }
     free(mem);
