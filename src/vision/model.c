@@ -415,13 +415,6 @@ static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, 
   return fail ? jnd_fail(JND_ERR_NOMEM, "model: out of memory") : JND_OK;
 }
 
-/* Local probability summation (our extension of 004, docs/model.md): a band's
- * detectors near a pixel all have a chance to see the difference, so the
- * per-band JND j is pooled over a Gaussian window of `summation_cycles`
- * cycles of the band with the psychometric exponent beta:
- *   j'(x) = (Σ_y g(x − y) j(y)^beta)^(1/beta),  g summing to area in cycles²,
- * which makes large stimuli more visible than small ones of equal contrast
- * (area summation, e.g. Rovamo et al. 1993). D holds j^e and is updated. */
 /* one box pass of odd width 2r+1 along rows (stride 1) or columns, mirrored ends */
 static void box_pass(const float *src, float *dst, int w, int h, int r, int along_rows, int threads) {
   const float inv = 1.0f / (float)(2 * r + 1);
