@@ -1096,8 +1096,9 @@ typedef struct {
   const char *maps;          /* NULL: every map; else a comma list of MATERIAL/SLOT names or
                                 bare slot names (that slot of every material) to search;
                                 the others stay at their size */
-  int matrix;                /* 1: also the full baseColor × normal matrix of each material
-                                that has both (000 Fig. 13) (1) */
+  int matrix;                /* baseColor × normal matrix of each material that has both
+                                (000 Fig. 13): 0 none; 1 (default) the candidates down to each
+                                map's first failure on its own; 2 every candidate */
   jnd_calibration calibration; /* transform and pooling (identity p93 by default) */
   jnd_model_params model;    /* display and model constants */
   void (*progress)(void *user, int done, int total); /* NULL or called after each rendering */
@@ -1139,6 +1140,7 @@ typedef struct {
   double *p;                 /* owned */
   double *stat;              /* na × nb: the criterion statistic per cell */
   int best_a, best_b;        /* the passing cell with the least memory (−1: none) */
+  int complete;              /* 1: every candidate of both maps; 0: smaller ones fail alone */
 } jnd_texres_matrix;
 
 /* The outcome of a search. */
