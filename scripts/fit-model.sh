@@ -22,7 +22,7 @@ mult="--sensitivity 0.54 --sens-rg 137 --sens-yv 71"
 score() { # prints "rmse sensitivity sens_rg sens_yv"
   local args=() i
   for i in "${!names[@]}"; do args+=("--${names[$i]}" "${vals_try[$i]}"); done
-  "$JND" csf "$DATA" --static-only --every "$EVERY" --min-band 0.125 $mult "${args[@]}" --fit --json "$work/r.json" \
+  "$JND" csf "$DATA" --static-only --every "$EVERY" --min-band 0.125 $mult "${args[@]}" --fit-rounds 2 --json "$work/r.json" \
     >"$work/log" 2>&1 || { echo "999"; return; }
   local r s1 s2 s3
   r=$(jq '.result.rmse_db_static' "$work/r.json")

@@ -137,7 +137,7 @@ static int run(int argc, char **argv) {
   jnd_model_defaults(&mp);
   const char *data = NULL, *out_csv = NULL, *colors = NULL, *bkgs = NULL;
   const char *only[16];
-  int nonly = 0, static_only = 0, every = 1, fit = 0;
+  int nonly = 0, static_only = 0, every = 1, fit = 0, fit_rounds = 4;
   for (int i = 1; i < argc; i++) {
     const char *v;
     if (cli_flag(argv, i, "--help") || cli_flag(argv, i, "-h")) {
@@ -177,6 +177,9 @@ static int run(int argc, char **argv) {
       mp.rg_cutoff_cpd = cli_double("csf", "--rg-cutoff", v, 0.1, 100);
     } else if (cli_opt(argc, argv, &i, "--yv-cutoff", &v)) {
       mp.yv_cutoff_cpd = cli_double("csf", "--yv-cutoff", v, 0.1, 100);
+    } else if (cli_opt(argc, argv, &i, "--fit-rounds", &v)) {
+      fit_rounds = cli_int("csf", "--fit-rounds", v, 1, 20);
+      fit = 1;
     } else if (cli_flag(argv, i, "--fit")) {
       fit = 1;
     } else if (cli_opt(argc, argv, &i, "--threads", &v)) {
@@ -315,7 +318,7 @@ static int run(int argc, char **argv) {
   if (fit) {
     /* multiplicative fit of the three CSF multipliers: each round moves a
      * channel's multiplier by the mean dB error of the rows it dominates */
-    for (int round = 0; round < 4; round++) {
+    for (int round = 0; round < fit_rounds; round++) {
       if (!predict_all(rows, t.nrows, &mp, threads, &common, "fitting")) goto out;
       double sum[3] = {0}, cnt[3] = {0};
       for (int r = 0; r < t.nrows; r++) {

@@ -24,7 +24,7 @@ static const double LMS2006_XYZ[3][3] = {{2.629129278399650, -3.780202391780134,
                                          {0.865649062438827, 1.215555811642301, -0.984175688105352},
                                          {-0.008886561474676, 0.081612628990755, 51.371024830897888}};
 
-#define MAX_SIDE_PX 768
+#define MAX_SIDE_PX 512
 
 static void lms_to_xyz(const double lms[3], double xyz[3]) {
   for (int r = 0; r < 3; r++) xyz[r] = LMS2006_XYZ[r][0] * lms[0] + LMS2006_XYZ[r][1] * lms[1] + LMS2006_XYZ[r][2] * lms[2];

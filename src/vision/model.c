@@ -198,6 +198,7 @@ typedef struct {
   jnd_gauss g[2][3]; /* [image][L, M, S] */
   float *adapt[2];   /* luminance at the adaptation level, per image */
   int aw, ah, alev;
+  int uniform[2];    /* 1: the image is one colour, so its contrast bands are exactly 0 */
   jnd_gauss vel;     /* retinal velocity pyramid (deg/s), when motion is given */
   int has_vel;
   float uniform_v;   /* retinal velocity when there is no map */
@@ -334,6 +335,11 @@ static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, 
         }
       }
       for (int a = 0; a < 2; a++) {
+        if (st->uniform[a]) {
+          /* a uniform image has no contrast: its response is 0 */
+          for (int c = 0; c < 3; c++) memset(opp[a][c], 0, sizeof(float) * (size_t)w);
+          continue;
+        }
         /* 004 §3.1: band-limited contrast (G_i − G_{i+1}) / G_{i+2} (Lubin 1995), per cone */
         for (int c = 0; c < 3; c++) {
           const float *g0 = st->g[a][c].plane[band] + (size_t)y * w;
@@ -532,6 +538,18 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
     for (int a = 0; a < 2; a++)
       if (!st.g[a][0].own0) free(lms[a]);
     goto done;
+  }
+  /* a uniform image (a psychophysical background) needs no contrast bands */
+  for (int a = 0; a < 2; a++) {
+    st.uniform[a] = 1;
+    for (int c = 0; c < 3 && st.uniform[a]; c++) {
+      const float *p = lms[a] + (size_t)c * npx;
+      for (size_t i = 1; i < npx; i++)
+        if (p[i] != p[0]) {
+          st.uniform[a] = 0;
+          break;
+        }
+    }
   }
   /* adaptation luminance: Y at the level where a pixel is about one degree */
   st.alev = m->adapt_level < levels ? m->adapt_level : levels - 1;
