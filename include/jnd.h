@@ -1097,8 +1097,8 @@ typedef struct {
                                 bare slot names (that slot of every material) to search;
                                 the others stay at their size */
   int matrix;                /* baseColor × normal matrix of each material that has both
-                                (000 Fig. 13): 0 none; 1 (default) the candidates down to each
-                                map's first failure on its own; 2 every candidate */
+                                (000 Fig. 13): 0 none; 1 the candidates down to each map's
+                                first failure on its own; 2 (default) every candidate */
   jnd_calibration calibration; /* transform and pooling (identity p93 by default) */
   jnd_model_params model;    /* display and model constants */
   void (*progress)(void *user, int done, int total); /* NULL or called after each rendering */

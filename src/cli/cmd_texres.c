@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 
 #include "cli/cli.h"
@@ -45,8 +46,8 @@ static void help(void) {
       "  --pool pNN          pooling percentile (p93, 000 §6)\n"
       "  --calibration FILE  a `jnd calibrate` file: pooling and JND transform (000 §7)\n"
       "  --no-matrix         skip the baseColor x normal matrices\n"
-      "  --full-matrix       every candidate pair (default: down to each map's first\n"
-      "                      size that fails on its own; smaller ones fail anyway)\n"
+      "  --quick-matrix      only candidates down to each map's first size that fails on\n"
+      "                      its own (smaller ones fail anyway; default: every pair)\n"
       "  --anisotropy N      renderer anisotropic filtering (8)\n"
       "  --samples N         MSAA samples (4)\n"
       "  --platform P        EGL platform: auto, device, surfaceless\n"
@@ -206,8 +207,8 @@ static int run(int argc, char **argv) {
       cal_path = v;
     } else if (cli_flag(argv, i, "--no-matrix")) {
       p.matrix = 0;
-    } else if (cli_flag(argv, i, "--full-matrix")) {
-      p.matrix = 2;
+    } else if (cli_flag(argv, i, "--quick-matrix")) {
+      p.matrix = 1;
     } else if (cli_opt(argc, argv, &i, "--anisotropy", &v)) {
       p.anisotropy = cli_int("texres", "--anisotropy", v, 1, 16);
     } else if (cli_opt(argc, argv, &i, "--samples", &v)) {
@@ -298,7 +299,9 @@ static int run(int argc, char **argv) {
   double t_search = cli_now() - t0;
 
   char path[4400], model_out[4400] = "";
-  if (!is_builtin) {
+  const char *ext = strrchr(model, '.');
+  int gltf = ext && (strcasecmp(ext, ".gltf") == 0 || strcasecmp(ext, ".glb") == 0);
+  if (!is_builtin && gltf) {
     char mdir[4200];
     snprintf(mdir, sizeof mdir, "%s/model", dir);
     if (!mkdir_p(mdir) || jnd_texres_write_model(scene, model, mdir, model_out, sizeof model_out) != JND_OK) {

@@ -75,7 +75,7 @@ void jnd_texres_defaults(jnd_texres_params *p) {
   p->p_threshold = 0.2;   /* 000 §9 */
   p->max_fraction = 0.1;  /* 000 §9 */
   p->min_size = 32;
-  p->matrix = 1;
+  p->matrix = 2;
   jnd_calibration_defaults(&p->calibration);
   jnd_model_defaults(&p->model);
 }
@@ -549,7 +549,14 @@ jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *pp, jnd_tex
   rp.platform = p->platform;
   if ((s = jnd_renderer_create(&rp, &c.r)) != JND_OK) goto done;
   snprintf(out->renderer, sizeof out->renderer, "%s", jnd_renderer_description(c.r));
-  if ((s = jnd_model_create(&p->model, &c.m)) != JND_OK) goto done;
+  {
+    /* on a CPU rasteriser (llvmpipe) the model's OpenMP workers would spin
+     * against the rasteriser's threads between frames (8× slower on 2
+     * cores); one model thread is faster there unless threads were asked */
+    jnd_model_params mp = p->model;
+    if (mp.threads == 0 && (strstr(out->renderer, "llvmpipe") || strstr(out->renderer, "softpipe"))) mp.threads = 1;
+    if ((s = jnd_model_create(&mp, &c.m)) != JND_OK) goto done;
+  }
 
   /* views and their reference renderings (full resolution), mip levels */
   if ((s = sample_views(scene, p, N, p->seed, &views)) != JND_OK) goto done;

@@ -1,6 +1,382 @@
-/* stub */
+/* A copy of a glTF 2.0 model whose texture maps are the scene's maps at the
+ * sizes in use (jnd texres's output; the input is never touched).
+ *
+ * The glTF JSON is edited, not regenerated, so everything jnd does not model
+ * (animations, extensions, extras) survives. A map is found through its
+ * material's textureInfo (glTF material index = jnd material index: assimp
+ * keeps the file's order); its image is re-encoded as the file had it (PNG
+ * or JPEG). An image used at two sizes (glTF's shared occlusion-roughness-
+ * metallic image when the slots got different sizes) becomes two images,
+ * the second with its own texture. A .glb is rewritten as one .glb whose
+ * binary chunk holds every buffer view compacted, the resized images in
+ * place of the old ones; a .gltf gets its images and external buffers as
+ * files beside it. */
+#include <cjson/cJSON.h>
+#include <stb/stb_image_write.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
 #include "core/core.h"
-jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src_path, const char *out_dir, char *out_path,
-                                  size_t n) {
-  return JND_OK;
+#include "io/io.h"
+
+#define MAX_MODEL (1u << 30)
+
+typedef struct {
+  unsigned char *p;
+  size_t n, cap;
+  int failed;
+} membuf;
+
+static void put(membuf *b, const void *data, size_t n) {
+  if (b->failed) return;
+  if (b->n + n > b->cap) {
+    size_t cap = b->cap ? b->cap : 65536;
+    while (cap < b->n + n) cap *= 2;
+    unsigned char *q = realloc(b->p, cap);
+    if (!q) {
+      b->failed = 1;
+      return;
+    }
+    b->p = q;
+    b->cap = cap;
+  }
+  memcpy(b->p + b->n, data, n);
+  b->n += n;
+}
+
+static void put_stb(void *ctx, void *data, int size) { put(ctx, data, (size_t)size); }
+
+static void pad4(membuf *b, unsigned char fill) {
+  while (b->n % 4) put(b, &fill, 1);
+}
+
+static const cJSON *item(const cJSON *o, const char *k) { return cJSON_GetObjectItemCaseSensitive(o, k); }
+
+static int int_of(const cJSON *o, const char *k, int dflt) {
+  const cJSON *x = item(o, k);
+  return cJSON_IsNumber(x) ? x->valueint : dflt;
+}
+
+/* the textureInfo object of a slot in a glTF material */
+static cJSON *texture_info(cJSON *mat, jnd_map_slot slot) {
+  cJSON *pbr = cJSON_GetObjectItemCaseSensitive(mat, "pbrMetallicRoughness");
+  switch (slot) {
+  case JND_MAP_BASE_COLOR: return cJSON_GetObjectItemCaseSensitive(pbr, "baseColorTexture");
+  case JND_MAP_METALLIC_ROUGHNESS: return cJSON_GetObjectItemCaseSensitive(pbr, "metallicRoughnessTexture");
+  case JND_MAP_NORMAL: return cJSON_GetObjectItemCaseSensitive(mat, "normalTexture");
+  case JND_MAP_OCCLUSION: return cJSON_GetObjectItemCaseSensitive(mat, "occlusionTexture");
+  case JND_MAP_EMISSIVE: return cJSON_GetObjectItemCaseSensitive(mat, "emissiveTexture");
+  default: return NULL;
+  }
+}
+
+/* image i is JPEG (by mimeType or the uri's extension) */
+static int is_jpeg(const cJSON *img) {
+  const cJSON *m = item(img, "mimeType"), *u = item(img, "uri");
+  if (cJSON_IsString(m)) return strcmp(m->valuestring, "image/jpeg") == 0;
+  if (cJSON_IsString(u)) {
+    const char *s = u->valuestring, *dot = strrchr(s, '.');
+    if (strncmp(s, "data:image/jpeg", 15) == 0) return 1;
+    return dot && (strcasecmp(dot, ".jpg") == 0 || strcasecmp(dot, ".jpeg") == 0);
+  }
+  return 0;
+}
+
+/* 8-bit interleaved pixels of a map, encoded as PNG or JPEG into out */
+static jnd_status encode(const jnd_image *im, int jpeg, membuf *out) {
+  size_t px = (size_t)im->w * im->h;
+  unsigned char *q = jnd_alloc(px * im->c, 1);
+  if (!q) return JND_ERR_NOMEM;
+  for (int ch = 0; ch < im->c; ch++) {
+    const float *pl = im->data + (size_t)ch * px;
+    for (size_t i = 0; i < px; i++) {
+      float v = pl[i] * 255.0f + 0.5f;
+      q[i * im->c + ch] = (unsigned char)(v < 0 ? 0 : v > 255 ? 255 : v);
+    }
+  }
+  int ok = jpeg ? stbi_write_jpg_to_func(put_stb, out, im->w, im->h, im->c, q, 95)
+                                             : stbi_write_png_to_func(put_stb, out, im->w, im->h, im->c, q, im->w * im->c);
+  free(q);
+  return ok && !out->failed ? JND_OK : jnd_fail(JND_ERR_NOMEM, "cannot encode a %d x %d map", im->w, im->h);
+}
+
+static void dir_of(const char *path, char *dir, size_t n) {
+  snprintf(dir, n, "%s", path);
+  char *s = strrchr(dir, '/');
+  if (s) *s = 0;
+  else snprintf(dir, n, ".");
+}
+
+static const char *base_of(const char *path) {
+  const char *s = strrchr(path, '/');
+  return s ? s + 1 : path;
+}
+
+/* copies an external file (uri relative to src_dir) into out_dir under its
+ * base name; rewrites the uri */
+static jnd_status copy_uri(cJSON *o, const char *src_dir, const char *out_dir) {
+  cJSON *u = cJSON_GetObjectItemCaseSensitive(o, "uri");
+  if (!cJSON_IsString(u) || strncmp(u->valuestring, "data:", 5) == 0) return JND_OK;
+  char from[4200], to[4200];
+  snprintf(from, sizeof from, "%s/%s", src_dir, u->valuestring);
+  snprintf(to, sizeof to, "%s/%s", out_dir, base_of(u->valuestring));
+  unsigned char *data;
+  size_t n;
+  jnd_status s = jnd_read_file(from, MAX_MODEL, &data, &n);
+  if (s != JND_OK) return s;
+  s = jnd_write_file_atomic(to, data, n);
+  free(data);
+  if (s == JND_OK) cJSON_SetValuestring(u, base_of(u->valuestring));
+  return s;
+}
+
+typedef struct {
+  int map;            /* scene map */
+  cJSON *info;        /* textureInfo */
+  int tex, img;       /* glTF texture and image */
+  int w, h, changed;
+  int target;         /* image index written for it */
+} slot_use;
+
+jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src, const char *out_dir, char *out_path,
+                                  size_t out_n) {
+  unsigned char *file = NULL;
+  size_t fn = 0;
+  jnd_status s = jnd_read_file(src, MAX_MODEL, &file, &fn);
+  if (s != JND_OK) return s;
+  int glb = fn >= 12 && memcmp(file, "glTF", 4) == 0;
+  const char *json_text = (const char *)file;
+  size_t json_n = fn;
+  const unsigned char *bin = NULL;
+  size_t bin_n = 0;
+  if (glb) {
+    uint32_t len0, type0;
+    if (fn < 20) goto bad;
+    memcpy(&len0, file + 12, 4);
+    memcpy(&type0, file + 16, 4);
+    if (type0 != 0x4E4F534Au || 20 + (size_t)len0 > fn) goto bad;
+    json_text = (const char *)file + 20;
+    json_n = len0;
+    size_t off = 20 + (size_t)len0;
+    if (off + 8 <= fn) {
+      uint32_t len1, type1;
+      memcpy(&len1, file + off, 4);
+      memcpy(&type1, file + off + 4, 4);
+      if (type1 == 0x004E4942u && off + 8 + len1 <= fn) {
+        bin = file + off + 8;
+        bin_n = len1;
+      }
+    }
+  }
+  cJSON *root = cJSON_ParseWithLength(json_text, json_n);
+  if (!root) goto bad;
+  cJSON *materials = cJSON_GetObjectItemCaseSensitive(root, "materials");
+  cJSON *textures = cJSON_GetObjectItemCaseSensitive(root, "textures");
+  cJSON *images = cJSON_GetObjectItemCaseSensitive(root, "images");
+  cJSON *views = cJSON_GetObjectItemCaseSensitive(root, "bufferViews");
+  cJSON *buffers = cJSON_GetObjectItemCaseSensitive(root, "buffers");
+  int nimg0 = cJSON_GetArraySize(images), nmaps = jnd_scene_map_count(scene);
+  slot_use *use = jnd_calloc((size_t)nmaps + 1, sizeof *use);
+  int *used_orig = jnd_calloc((size_t)nimg0 + 1, sizeof *used_orig);
+  int *replaced = jnd_calloc((size_t)nimg0 + 1, sizeof *replaced);
+  membuf *enc = NULL;
+  int nuse = 0, nenc = 0;
+  char src_dir[4096];
+  dir_of(src, src_dir, sizeof src_dir);
+  if (!use || !used_orig || !replaced) {
+    s = JND_ERR_NOMEM;
+    goto done;
+  }
+  for (int i = 0; i < nmaps; i++) {
+    jnd_map_info mi;
+    jnd_scene_map_info(scene, i, &mi);
+    cJSON *info = texture_info(cJSON_GetArrayItem(materials, mi.material), mi.slot);
+    int t = int_of(info, "index", -1);
+    int img = int_of(cJSON_GetArrayItem(textures, t), "source", -1);
+    if (!info || img < 0 || img >= nimg0) continue;
+    slot_use *u = &use[nuse++];
+    u->map = i;
+    u->info = info;
+    u->tex = t;
+    u->img = img;
+    u->w = mi.width;
+    u->h = mi.height;
+    u->changed = mi.width != mi.orig_width || mi.height != mi.orig_height;
+    u->target = img;
+    if (!u->changed) used_orig[img] = 1;
+  }
+  /* one encoded image per (image, size) */
+  enc = jnd_calloc((size_t)nuse + 1, sizeof *enc);
+  int *enc_img = jnd_calloc((size_t)nuse + 1, sizeof *enc_img);
+  int *enc_jpeg = jnd_calloc((size_t)nuse + 1, sizeof *enc_jpeg);
+  if (!enc || !enc_img || !enc_jpeg) {
+    free(enc_img);
+    free(enc_jpeg);
+    s = JND_ERR_NOMEM;
+    goto done;
+  }
+  for (int k = 0; k < nuse; k++) {
+    slot_use *u = &use[k];
+    if (!u->changed) continue;
+    int found = -1;
+    for (int j = 0; j < k; j++)
+      if (use[j].changed && use[j].img == u->img && use[j].w == u->w && use[j].h == u->h) found = j;
+    if (found >= 0) {
+      u->target = use[found].target;
+    } else {
+      if (!used_orig[u->img] && !replaced[u->img]) {
+        u->target = u->img;
+        replaced[u->img] = 1;
+      } else {
+        cJSON *copy = cJSON_Duplicate(cJSON_GetArrayItem(images, u->img), 1);
+        cJSON_DeleteItemFromObjectCaseSensitive(copy, "uri");
+        cJSON_DeleteItemFromObjectCaseSensitive(copy, "bufferView");
+        cJSON_AddItemToArray(images, copy);
+        u->target = cJSON_GetArraySize(images) - 1;
+      }
+      jnd_image im = {0};
+      if ((s = jnd_scene_map_get(scene, u->map, 0, &im)) != JND_OK) {
+        free(enc_img);
+        free(enc_jpeg);
+        goto done;
+      }
+      enc_jpeg[nenc] = is_jpeg(cJSON_GetArrayItem(images, u->img)) && im.c != 2 && im.c != 4;
+      s = encode(&im, enc_jpeg[nenc], &enc[nenc]);
+      jnd_image_free(&im);
+      if (s != JND_OK) {
+        free(enc_img);
+        free(enc_jpeg);
+        goto done;
+      }
+      enc_img[nenc++] = u->target;
+    }
+    if (u->target != u->img) { /* a texture for the new image */
+      cJSON *tcopy = cJSON_Duplicate(cJSON_GetArrayItem(textures, u->tex), 1);
+      cJSON_ReplaceItemInObjectCaseSensitive(tcopy, "source", cJSON_CreateNumber(u->target));
+      cJSON_AddItemToArray(textures, tcopy);
+      cJSON_ReplaceItemInObjectCaseSensitive(u->info, "index", cJSON_CreateNumber(cJSON_GetArraySize(textures) - 1));
+    }
+  }
+  char path[4400];
+  const char *name = base_of(src);
+  snprintf(path, sizeof path, "%s/%s", out_dir, name);
+  if (glb) {
+    /* the binary chunk rebuilt view by view; resized images replace their views' bytes */
+    membuf nb = {0};
+    int nviews = cJSON_GetArraySize(views);
+    for (int v = 0; v < nviews; v++) {
+      cJSON *bv = cJSON_GetArrayItem(views, v);
+      if (int_of(bv, "buffer", 0) != 0) continue;
+      size_t off = (size_t)int_of(bv, "byteOffset", 0), len = (size_t)int_of(bv, "byteLength", 0);
+      const unsigned char *data = NULL;
+      for (int e = 0; e < nenc; e++)
+        if (enc_img[e] < nimg0 && int_of(cJSON_GetArrayItem(images, enc_img[e]), "bufferView", -1) == v)
+          data = enc[e].p, len = enc[e].n;
+      if (!data) {
+        if (!bin || off + len > bin_n) {
+          nb.failed = 1;
+          break;
+        }
+        data = bin + off;
+      }
+      pad4(&nb, 0);
+      cJSON_ReplaceItemInObjectCaseSensitive(bv, "byteOffset", cJSON_CreateNumber((double)nb.n));
+      cJSON_ReplaceItemInObjectCaseSensitive(bv, "byteLength", cJSON_CreateNumber((double)len));
+      put(&nb, data, len);
+    }
+    /* images that had no view of their own (new ones, or uri images) */
+    for (int e = 0; e < nenc; e++) {
+      cJSON *im = cJSON_GetArrayItem(images, enc_img[e]);
+      if (enc_img[e] < nimg0 && item(im, "bufferView")) continue;
+      pad4(&nb, 0);
+      cJSON *bv = cJSON_CreateObject();
+      cJSON_AddNumberToObject(bv, "buffer", 0);
+      cJSON_AddNumberToObject(bv, "byteOffset", (double)nb.n);
+      cJSON_AddNumberToObject(bv, "byteLength", (double)enc[e].n);
+      cJSON_AddItemToArray(views, bv);
+      cJSON_DeleteItemFromObjectCaseSensitive(im, "uri");
+      cJSON_ReplaceItemInObjectCaseSensitive(im, "bufferView", cJSON_CreateNumber(cJSON_GetArraySize(views) - 1));
+      if (!item(im, "bufferView")) cJSON_AddNumberToObject(im, "bufferView", cJSON_GetArraySize(views) - 1);
+      if (!item(im, "mimeType")) cJSON_AddStringToObject(im, "mimeType", enc_jpeg[e] ? "image/jpeg" : "image/png");
+      put(&nb, enc[e].p, enc[e].n);
+    }
+    pad4(&nb, 0);
+    cJSON *b0 = cJSON_GetArrayItem(buffers, 0);
+    if (b0) cJSON_ReplaceItemInObjectCaseSensitive(b0, "byteLength", cJSON_CreateNumber((double)nb.n));
+    for (int b = 1; b < cJSON_GetArraySize(buffers) && s == JND_OK; b++)
+      s = copy_uri(cJSON_GetArrayItem(buffers, b), src_dir, out_dir);
+    for (int i = 0; i < cJSON_GetArraySize(images) && s == JND_OK; i++)
+      if (!item(cJSON_GetArrayItem(images, i), "bufferView")) s = copy_uri(cJSON_GetArrayItem(images, i), src_dir, out_dir);
+    char *js = s == JND_OK ? cJSON_PrintUnformatted(root) : NULL;
+    membuf g = {0};
+    if (js && !nb.failed) {
+      membuf jb = {0};
+      put(&jb, js, strlen(js));
+      pad4(&jb, ' ');
+      uint32_t total = (uint32_t)(12 + 8 + jb.n + (nb.n ? 8 + nb.n : 0)), ver = 2, jl = (uint32_t)jb.n,
+               jt = 0x4E4F534Au, bl = (uint32_t)nb.n, bt = 0x004E4942u;
+      put(&g, "glTF", 4);
+      put(&g, &ver, 4);
+      put(&g, &total, 4);
+      put(&g, &jl, 4);
+      put(&g, &jt, 4);
+      put(&g, jb.p, jb.n);
+      if (nb.n) {
+        put(&g, &bl, 4);
+        put(&g, &bt, 4);
+        put(&g, nb.p, nb.n);
+      }
+      free(jb.p);
+      s = g.failed ? JND_ERR_NOMEM : jnd_write_file_atomic(path, g.p, g.n);
+    } else if (s == JND_OK) {
+      s = jnd_fail(JND_ERR_FORMAT, "%s: a buffer view lies outside the binary chunk", src);
+    }
+    free(js);
+    free(g.p);
+    free(nb.p);
+  } else {
+    /* .gltf: resized images as files beside it; other external files copied */
+    char stem[256];
+    snprintf(stem, sizeof stem, "%s", name);
+    char *dot = strrchr(stem, '.');
+    if (dot) *dot = 0;
+    for (int e = 0; e < nenc && s == JND_OK; e++) {
+      cJSON *im = cJSON_GetArrayItem(images, enc_img[e]);
+      char fname[400], full[4800];
+      int jpeg = enc_jpeg[e];
+      snprintf(fname, sizeof fname, "%s_image%d.%s", stem, enc_img[e], jpeg ? "jpg" : "png");
+      snprintf(full, sizeof full, "%s/%s", out_dir, fname);
+      s = jnd_write_file_atomic(full, enc[e].p, enc[e].n);
+      cJSON_DeleteItemFromObjectCaseSensitive(im, "bufferView");
+      cJSON_DeleteItemFromObjectCaseSensitive(im, "uri");
+      cJSON_AddStringToObject(im, "uri", fname);
+    }
+    for (int b = 0; b < cJSON_GetArraySize(buffers) && s == JND_OK; b++)
+      s = copy_uri(cJSON_GetArrayItem(buffers, b), src_dir, out_dir);
+    for (int i = 0; i < nimg0 && s == JND_OK; i++) {
+      int done_here = 0;
+      for (int e = 0; e < nenc; e++) done_here |= enc_img[e] == i;
+      if (!done_here) s = copy_uri(cJSON_GetArrayItem(images, i), src_dir, out_dir);
+    }
+    char *js = s == JND_OK ? cJSON_Print(root) : NULL;
+    if (js) s = jnd_write_file_atomic(path, js, strlen(js));
+    else if (s == JND_OK) s = JND_ERR_NOMEM;
+    free(js);
+  }
+  if (s == JND_OK && out_path) snprintf(out_path, out_n, "%s", path);
+  free(enc_img);
+  free(enc_jpeg);
+done:
+  for (int e = 0; enc && e < nuse; e++) free(enc[e].p);
+  free(enc);
+  free(use);
+  free(used_orig);
+  free(replaced);
+  cJSON_Delete(root);
+  free(file);
+  return s;
+bad:
+  free(file);
+  return jnd_fail(JND_ERR_FORMAT, "%s: not a glTF 2.0 file (only glTF models can be written back)", src);
 }
