@@ -1178,6 +1178,15 @@ jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *p, jnd_texr
 /* Frees a result's arrays; safe on a zeroed struct. */
 void jnd_texres_result_free(jnd_texres_result *r);
 
+/* The model's JND percentiles 90..99 of map `map` (MATERIAL/SLOT) of scene
+ * at nres sizes (longer side in pixels, aspect kept; the other maps as they
+ * are), over the object's pixels of p->views sampled views together, each
+ * against the rendering with the file's map: the image series of `jnd
+ * calibrate` for an asset. out holds nres × JND_CALIB_NPCT doubles
+ * (caller's). The map is restored on return. */
+jnd_status jnd_texres_series_percentiles(jnd_scene *scene, const char *map, const int *sizes, int nres,
+                                         const jnd_texres_params *p, double *out);
+
 /* Writes a copy of the glTF/GLB model at src_path under out_dir whose maps
  * are the scene's maps at the sizes in use now (jnd_scene_map_get of each
  * resized map, encoded as the file had it: PNG or JPEG), and which points

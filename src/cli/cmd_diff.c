@@ -30,6 +30,7 @@ static void help(void) {
       "  --heatmap FILE.png  JND over a dimmed grey copy of REF, with a legend\n"
       "  --heatmap-max J     JND at the top of the heatmap's scale (default 1)\n"
       "  --pool P            pooling for p_detect: p93 (default), pNN, max, mean, minkowski\n"
+      "  --calibration FILE  a `jnd calibrate` file: its JND transform, slope and percentile\n"
       "  --fail-above P      exit 1 when the pooled probability exceeds P (render gating)\n"
       "  --timings           add wall-clock timings to the JSON (they differ run to run)\n"
       "  --threads N         worker threads (results do not depend on it)\n"
@@ -66,7 +67,8 @@ static int run(int argc, char **argv) {
   jnd_model_params mp;
   jnd_model_defaults(&mp);
   const char *paths[2] = {0}, *motion_path = NULL, *weights_path = NULL, *map_path = NULL, *heat_path = NULL;
-  const char *pool_name = "p93";
+  const char *pool_name = "p93", *cal_path = NULL;
+  jnd_calibration cal;
   double fail_above = -1, heat_max = 1;
   int npaths = 0, timings = 0;
   for (int i = 1; i < argc; i++) {
@@ -86,6 +88,8 @@ static int run(int argc, char **argv) {
       mp.has_gaze = 1;
     } else if (cli_opt(argc, argv, &i, "--pool", &v)) {
       pool_name = v;
+    } else if (cli_opt(argc, argv, &i, "--calibration", &v)) {
+      cal_path = v;
     } else if (cli_opt(argc, argv, &i, "--json", &v)) {
       common.json_path = v;
     } else if (cli_opt(argc, argv, &i, "--map", &v)) {
@@ -118,6 +122,15 @@ static int run(int argc, char **argv) {
   if (jnd_pooling_parse(pool_name, &pool) != JND_OK) {
     cli_error("diff: --pool: %s", jnd_last_error());
     return EXIT_BAD;
+  }
+  if (cal_path) { /* 000 §7: the calibration's transform, slope and percentile */
+    if (jnd_calibration_load(cal_path, &cal) != JND_OK) {
+      cli_error("%s", jnd_last_error());
+      return EXIT_BAD;
+    }
+    mp.beta = cal.beta;
+    pool.kind = JND_POOL_PERCENTILE;
+    pool.percentile = cal.percentile;
   }
   double t0 = cli_now();
   jnd_image ref = {0}, test = {0}, motion = {0}, weights = {0}, map = {0};
@@ -156,7 +169,8 @@ static int run(int argc, char **argv) {
     goto out;
   }
   jnd_diff_stats st;
-  if (jnd_diff_files(model, &ref, &ri, &test, &ti, &in, &pool, &map, &st) != JND_OK) {
+  if (jnd_diff_files(model, &ref, &ri, &test, &ti, &in, &pool, &map, &st) != JND_OK ||
+      (cal_path && jnd_diff_summarise_calibrated(&map, &cal, &st) != JND_OK)) {
     cli_error("%s", jnd_last_error());
     goto out;
   }
@@ -194,6 +208,7 @@ static int run(int argc, char **argv) {
   cJSON_AddStringToObject(inputs, "test_format", ti.format);
   if (motion_path) cJSON_AddStringToObject(inputs, "motion", motion_path);
   if (weights_path) cJSON_AddStringToObject(inputs, "weights", weights_path);
+  if (cal_path) cJSON_AddStringToObject(inputs, "calibration", cal_path);
   cJSON_AddItemToObject(params, "display", cli_display_json(&mp.display));
   cJSON_AddStringToObject(params, "pooling", pname);
   cJSON_AddNumberToObject(params, "beta", mp.beta);

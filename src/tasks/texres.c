@@ -796,3 +796,82 @@ done:
   if (s != JND_OK) jnd_texres_result_free(out);
   return s;
 }
+
+/* ---- the model's JND series of one map, for calibration (000 §6–§7) ---- */
+
+jnd_status jnd_texres_series_percentiles(jnd_scene *scene, const char *map, const int *sizes, int nres,
+                                         const jnd_texres_params *p, double *out) {
+  int mi_idx = jnd_scene_map_find(scene, map);
+  if (mi_idx < 0) return jnd_fail(JND_ERR_ARG, "%s: no map %s", jnd_scene_path(scene), map);
+  if (nres < 1 || !sizes || p->views < 1) return jnd_fail(JND_ERR_ARG, "%s: no sizes or views", map);
+  jnd_map_info mi;
+  jnd_scene_map_info(scene, mi_idx, &mi);
+  jnd_texres_result res = {0};
+  res.nmaps = 0;
+  ctx c = {scene, p, NULL, NULL, &res, NULL, 0, 0, 0, 0, NULL, NULL, NULL};
+  jnd_view *views = NULL;
+  view_ref *refs = NULL;
+  float *all = NULL;
+  jnd_status s;
+  jnd_renderer_params rp;
+  jnd_renderer_defaults(&rp);
+  rp.width = p->width;
+  rp.height = p->height;
+  rp.samples = p->samples;
+  rp.anisotropy = p->anisotropy;
+  rp.env_path = p->env_path;
+  rp.platform = p->platform;
+  if ((s = jnd_renderer_create(&rp, &c.r)) != JND_OK) return s;
+  jnd_model_params mp = p->model;
+  if (mp.threads == 0 && strstr(jnd_renderer_description(c.r), "llvmpipe")) mp.threads = 1;
+  if ((s = jnd_model_create(&mp, &c.m)) != JND_OK) goto done;
+  if ((s = sample_views(scene, p, p->views, p->seed, &views)) != JND_OK) goto done;
+  refs = jnd_calloc((size_t)p->views, sizeof *refs);
+  if (!refs) {
+    s = JND_ERR_NOMEM;
+    goto done;
+  }
+  jnd_scene_map_restore(scene, mi_idx);
+  size_t total = 0;
+  for (int v = 0; v < p->views; v++) {
+    jnd_frame f;
+    s = render_ref(&c, &views[v], &refs[v], &f);
+    jnd_frame_free(&f);
+    if (s != JND_OK) goto done;
+    total += (size_t)refs[v].w * refs[v].h;
+  }
+  all = jnd_alloc(total ? total : 1, sizeof *all);
+  if (!all) {
+    s = JND_ERR_NOMEM;
+    goto done;
+  }
+  int L = mi.orig_width > mi.orig_height ? mi.orig_width : mi.orig_height;
+  for (int r = 0; r < nres; r++) {
+    int w = (int)lround((double)sizes[r] * mi.orig_width / L), h = (int)lround((double)sizes[r] * mi.orig_height / L);
+    if ((s = jnd_scene_map_resize(scene, mi_idx, w < 1 ? 1 : w, h < 1 ? 1 : h)) != JND_OK) goto done;
+    size_t n = 0;
+    for (int v = 0; v < p->views; v++) {
+      jnd_image jm = {0};
+      double P;
+      if ((s = eval_view(&c, &views[v], &refs[v], &P, &jm)) != JND_OK) goto done;
+      size_t px = (size_t)jm.w * jm.h;
+      for (size_t q = 0; q < px; q++)
+        if (refs[v].mask.data[q] > 0.5f) all[n++] = jm.data[q];
+      jnd_image_free(&jm);
+    }
+    /* percentiles over the object's pixels of every view together */
+    jnd_image pooled = {(int)(n ? n : 1), 1, 1, all};
+    if (!n) all[0] = 0;
+    if ((s = jnd_calib_percentiles(&pooled, NULL, out + (size_t)r * JND_CALIB_NPCT)) != JND_OK) goto done;
+  }
+  jnd_scene_map_restore(scene, mi_idx);
+done:
+  if (refs)
+    for (int v = 0; v < p->views; v++) view_ref_free(&refs[v]);
+  free(refs);
+  free(views);
+  free(all);
+  jnd_model_free(c.m);
+  jnd_renderer_free(c.r);
+  return s;
+}
