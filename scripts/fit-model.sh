@@ -17,7 +17,7 @@ work=$(mktemp -d)
 names=(eye-velocity chroma-sat summation summation-beta rg-cutoff yv-cutoff)
 # start: the values in jnd_model_defaults
 vals=(${FIT_START:-5 100 3 2.5 5 2})
-mult="--sensitivity 0.54 --sens-rg 137 --sens-yv 71"
+mult="${FIT_MULT:---sensitivity 0.48 --sens-rg 105 --sens-yv 74}"
 
 score() { # prints "rmse sensitivity sens_rg sens_yv"
   local args=() i

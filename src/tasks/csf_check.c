@@ -42,10 +42,12 @@ void jnd_csf_sampling(const jnd_csf_stimulus *s, double *ppd, double *half_deg, 
   /* a soft edge for apertures: half a period, at least 0.05° */
   double taper = s->kind == JND_STIM_GABOR ? 0 : fmax(0.05, f > 0 ? 0.5 / f : 0.1);
   half += taper;
-  /* four samples a cycle where the size allows (the finest band then sits
-   * one octave above the stimulus), never fewer than 2.5, 8..128 ppd */
-  double pf = getenv("JND_CSF_PPD_FACTOR") ? atof(getenv("JND_CSF_PPD_FACTOR")) : 4.0;
-  double p = f > 0 ? jnd_clampd(pf * f, 8.0, 128.0) : 16.0;
+  /* 4√2 samples a cycle where the size allows: the stimulus then lies half
+   * an octave from the Nyquist frequency of every pyramid level (at exactly
+   * 4 or 8 samples a cycle it would sit on a level's Nyquist frequency, where
+   * the response depends on the grating's phase); 8..256 ppd, never fewer
+   * than 2.5 samples a cycle */
+  double p = f > 0 ? jnd_clampd(4.0 * M_SQRT2 * f, 8.0, 256.0) : 16.0;
   double margin = 1.25;
   if (2 * half * margin * p > MAX_SIDE_PX && f > 0) p = fmax(fmax(2.5 * f, 8.0), MAX_SIDE_PX / (2 * half * margin));
   *ppd = p;

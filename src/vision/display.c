@@ -96,7 +96,9 @@ jnd_status jnd_display_apply(const jnd_display *d, const jnd_image *in, jnd_enco
         float lin = fabsf(q - (float)k) < 1e-3f ? table[k] : srgb_decode(sv);
         v = range * lin * a + black;
       } else {
-        v = fmaxf(src[i], 0.0f) * scale * a;
+        /* OpenEXR colour is premultiplied by alpha: it already is the
+         * composite over black */
+        v = fmaxf(src[i], 0.0f) * scale;
       }
       dst[i] = v + (float)refl;
     }
