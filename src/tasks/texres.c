@@ -24,6 +24,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "tasks/tasks.h"
 
 /* ---- memory accounting (000 Table 2) ---- */
 
@@ -188,6 +189,49 @@ static void view_ref_free(view_ref *v) {
   jnd_image_free(&v->mask);
 }
 
+/* The mip level lev of a map as the driver makes it (000 §4: a map whose
+ * level 0 is never sampled can drop it, and what remains is its own mip
+ * chain): 2^lev × 2^lev boxes, colour averaged in linear light as GL does
+ * for sRGB textures, everything else as stored. Used for the candidate at
+ * the mip-usage bound, so that it renders as the reference does; smaller
+ * candidates are Lanczos-3 (000 §4). */
+static float srgb_decode(float v) { return v <= 0.04045f ? v / 12.92f : powf((v + 0.055f) / 1.055f, 2.4f); }
+static float srgb_encode(float v) {
+  v = v < 0 ? 0 : v > 1 ? 1 : v;
+  return v <= 0.0031308f ? 12.92f * v : 1.055f * powf(v, 1 / 2.4f) - 0.055f;
+}
+
+static jnd_status box_mip(const jnd_image *orig, int lev, jnd_map_kind kind, jnd_image *out) {
+  int w = orig->w >> lev, h = orig->h >> lev;
+  jnd_status s = jnd_image_alloc(out, w, h, orig->c);
+  if (s != JND_OK) return s;
+  size_t n = (size_t)orig->w * orig->h;
+  float *tmp = jnd_alloc(n, sizeof *tmp);
+  if (!tmp) {
+    jnd_image_free(out);
+    return JND_ERR_NOMEM;
+  }
+  for (int ch = 0; ch < orig->c; ch++) {
+    int colour = kind == JND_MAP_KIND_COLOR && ch < 3;
+    const float *src = orig->data + (size_t)ch * n;
+    for (size_t i = 0; i < n; i++) tmp[i] = colour ? srgb_decode(src[i]) : src[i];
+    float *dst = out->data + (size_t)ch * w * h;
+    pca_box_down(tmp, orig->w, orig->h, lev, dst);
+    if (colour)
+      for (size_t i = 0; i < (size_t)w * h; i++) dst[i] = srgb_encode(dst[i]);
+  }
+  free(tmp);
+  return JND_OK;
+}
+
+/* candidate k is the mip-usage bound and an exact level of the map's chain */
+static int is_mip_level(const jnd_texres_map *m, int k) {
+  if (m->cand[k][0] != m->mip_bound[0] || m->cand[k][1] != m->mip_bound[1] || m->mip_min < 1) return 0;
+  int lev = (int)floor(m->mip_min + 1e-6);
+  return lev < 31 && (m->orig[0] >> lev) == m->cand[k][0] && (m->orig[1] >> lev) == m->cand[k][1] &&
+         (m->orig[0] % (1 << lev)) == 0 && (m->orig[1] % (1 << lev)) == 0;
+}
+
 /* puts map i at candidate k (−1: the file's map); resampled maps are kept */
 static jnd_status set_map(ctx *c, int i, int k) {
   map_state *m = &c->ms[i];
@@ -197,6 +241,15 @@ static jnd_status set_map(ctx *c, int i, int k) {
     jnd_scene_map_restore(c->scene, tm->map);
   } else if (m->cache[k].data) {
     jnd_status s = jnd_scene_map_set(c->scene, tm->map, &m->cache[k]);
+    if (s != JND_OK) return s;
+  } else if (is_mip_level(tm, k)) {
+    jnd_image orig = {0};
+    int lev = 0;
+    while ((tm->orig[0] >> lev) != tm->cand[k][0]) lev++;
+    jnd_status s = jnd_scene_map_get(c->scene, tm->map, 1, &orig);
+    if (s == JND_OK) s = box_mip(&orig, lev, jnd_map_slot_kind(tm->slot), &m->cache[k]);
+    jnd_image_free(&orig);
+    if (s == JND_OK) s = jnd_scene_map_set(c->scene, tm->map, &m->cache[k]);
     if (s != JND_OK) return s;
   } else {
     jnd_status s = jnd_scene_map_resize(c->scene, tm->map, tm->cand[k][0], tm->cand[k][1]);
@@ -415,6 +468,24 @@ static void bounds_from_level(const jnd_texres_params *p, jnd_texres_map *m) {
   (void)L;
 }
 
+/* the mip bound becomes a candidate when it is not one (explicit --sizes,
+ * a bound under the floor), so that the search can start exactly there */
+static void insert_bound(jnd_texres_map *m) {
+  int Lb = longer(m->mip_bound), at = m->ncand;
+  for (int k = 0; k < m->ncand; k++) {
+    if (longer(m->cand[k]) == Lb) return;
+    if (longer(m->cand[k]) < Lb && at == m->ncand) at = k;
+  }
+  if (m->ncand >= JND_TEXRES_MAX_CAND) return;
+  for (int k = m->ncand; k > at; k--) {
+    m->cand[k][0] = m->cand[k - 1][0];
+    m->cand[k][1] = m->cand[k - 1][1];
+  }
+  m->cand[at][0] = m->mip_bound[0];
+  m->cand[at][1] = m->mip_bound[1];
+  m->ncand++;
+}
+
 /* restricts candidates to those within the mip bound; returns the index of
  * the first allowed one */
 static int first_allowed(const jnd_texres_map *m) {
@@ -592,6 +663,7 @@ jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *pp, jnd_tex
     jnd_texres_map *m = &out->maps[i];
     if (!isfinite(m->mip_min)) m->mip_min = -1;
     bounds_from_level(p, m);
+    if (m->mip_min >= 0) insert_bound(m);
     start[i] = first_allowed(m);
   }
 
@@ -768,9 +840,10 @@ jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *pp, jnd_tex
   }
   /* leave the scene with the chosen maps */
   for (int i = 0; i < nall; i++) {
-    if ((s = set_map(&c, i, -1)) != JND_OK) goto done;
-    if (out->maps[i].chosen[0] != out->maps[i].orig[0] || out->maps[i].chosen[1] != out->maps[i].orig[1])
-      if ((s = jnd_scene_map_resize(scene, i, out->maps[i].chosen[0], out->maps[i].chosen[1])) != JND_OK) goto done;
+    int j = -1;
+    for (int q = 0; q < out->maps[i].ncand; q++)
+      if (out->maps[i].cand[q][0] == out->maps[i].chosen[0] && out->maps[i].cand[q][1] == out->maps[i].chosen[1]) j = q;
+    if ((s = set_map(&c, i, j)) != JND_OK) goto done;
   }
   s = JND_OK;
 done:

@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# jnd texres: the report's stable fields, the mip-usage bound, monotonicity in
+# the viewing condition, the model copy, held-out views, and bad input.
+set -uo pipefail
+. "$(dirname "$0")/lib.bash"
+MODELS=/usr/share/assimp/models/glTF2
+SMALL=(--map-size 128 --size 96x96 --samples 1 --anisotropy 4 --quiet)
+
+expect_exit 0 "builtin runs" "$JND" texres builtin -o "$T/a" --views 3 --verify-views 3 --coverage 0.9 "${SMALL[@]}"
+check "texres.json has the stable fields" python3 - "$T/a/texres.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r["command"] == "texres" and "jnd_version" in r and "parameters" in r
+res = r["result"]
+maps = res["maps"]
+assert [m["slot"] for m in maps] == ["baseColor", "metallicRoughness", "normal", "occlusion"], maps
+for m in maps:
+    for k in ("original", "chosen", "mip_bound"):
+        assert len(m[k]) == 2 and all(isinstance(x, int) and x > 0 for x in m[k]), (k, m[k])
+    assert max(m["chosen"]) <= max(m["mip_bound"]) <= max(m["original"]), m
+mem = res["memory"]
+assert 0 < mem["after_bytes"] <= mem["before_bytes"], mem
+assert res["verify"]["views"] == 3 and 0 <= res["verify"]["fraction_above"] <= 1
+assert len(res["views"]["p"]) == 3
+mx = res["matrices"][0]
+assert mx["columns"].endswith("/baseColor") and mx["rows"].endswith("/normal")
+assert len(mx["p"]) == 3 and len(mx["stat"]) == len(mx["row_sizes"]) and len(mx["stat"][0]) == len(mx["column_sizes"])
+PY
+check "the worst view's heatmap and the matrix picture are written" test -s "$T/a/worst_view.png" -a -s "$T/a/matrix_0.png"
+
+# a smaller object on screen never gets larger maps (000 §4, §9)
+expect_exit 0 "builtin runs far away" "$JND" texres builtin -o "$T/b" --views 3 --coverage 0.25 --no-matrix "${SMALL[@]}"
+check "sizes are monotone in the viewing condition" python3 - "$T/a/texres.json" "$T/b/texres.json" <<'PY'
+import json, sys
+near, far = (json.load(open(p))["result"]["maps"] for p in sys.argv[1:3])
+for a, b in zip(near, far):
+    assert max(b["chosen"]) <= max(a["chosen"]), (a["name"], a["chosen"], b["chosen"])
+    assert max(b["mip_bound"]) <= max(a["mip_bound"])
+PY
+
+# the same command gives the same report
+"$JND" texres builtin -o "$T/c" --views 3 --verify-views 3 --coverage 0.9 "${SMALL[@]}"
+check "deterministic" cmp -s "$T/a/texres.json" "$T/c/texres.json"
+
+# glTF models: a copy points at the resized maps; the input is untouched
+if [ -d "$MODELS" ]; then
+  for m in BoxTextured-glTF/BoxTextured.gltf BoxTextured-glTF-Binary/BoxTextured.glb; do
+    sum=$(md5sum "$MODELS/$m" | cut -c1-32)
+    out="$T/$(dirname "$m")"
+    "$JND" texres "$MODELS/$m" -o "$out" --views 2 --size 64x64 --sizes 211,100,50 --quiet
+    rc=$?
+    check "texres $m: exit 0 or 1 (criterion met or not), never 2" [ $rc -eq 0 -o $rc -eq 1 ]
+    check "$m: the copy loads and has the chosen size" python3 - "$out" "$JND" "$(basename "$m")" <<'PY'
+import json, subprocess, sys
+out, jnd, name = sys.argv[1:4]
+r = json.load(open(out + "/texres.json"))["result"]
+chosen = r["maps"][0]["chosen"]
+lst = subprocess.run([jnd, "render", out + "/model/" + name, "--list-maps"], capture_output=True, text=True, check=True).stdout
+assert ("%d x %d" % tuple(chosen)) in lst.replace("  ", " "), (lst, chosen)
+PY
+    check "$m: the input is unchanged" [ "$(md5sum "$MODELS/$m" | cut -c1-32)" = "$sum" ]
+  done
+  # forced small: the copy really holds a smaller image
+  expect_exit 1 "a choice forced below visibility fails the criterion (exit 1)" "$JND" texres "$MODELS/BoxTextured-glTF-Binary/BoxTextured.glb" -o "$T/forced" --views 2 --size 64x64 --sizes 8 --p 0.001 --q 0 --quiet
+  expect_exit 2 "an asset without textures: exit 2" "$JND" texres "$MODELS/glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf" -o "$T/x"
+  check "one line" one_line_error
+fi
+
+expect_exit 2 "an unknown slot: exit 2" "$JND" texres builtin --map-size 16 -o "$T/x" --maps builtin/albedo
+check "one line naming it" bash -c "one_line_error() { [ \$(wc -l <'$T/err.txt') -eq 1 ]; }; one_line_error && grep -q 'builtin/albedo' '$T/err.txt'"
+expect_exit 2 "a bad --sizes: exit 2" "$JND" texres builtin -o "$T/x" --sizes 512,abc
+check "one line" one_line_error
+expect_exit 2 "no -o: exit 2" "$JND" texres builtin
+expect_exit 2 "a missing model: exit 2" "$JND" texres /nonexistent.glb -o "$T/x"
+check "one line" one_line_error
+expect_exit 2 "a bad calibration file: exit 2" "$JND" texres builtin -o "$T/x" --calibration /nonexistent.json
+check "--help prints the usage" bash -c "'$JND' texres --help | grep -q -- --verify-views"
+finish
