@@ -1039,7 +1039,7 @@ typedef struct {
   double beta;               /* psychometric slope (3.5) */
   double threshold_p;        /* P at which threshold resolutions are compared (0.2) */
   double bias_min, bias_max; /* exhaustive bias range, JND (−2 .. 2) */
-  int bias_steps;            /* grid steps over it (41) */
+  int bias_steps;            /* grid steps over it (21) */
   double scale_min, scale_max; /* scale range (0.05 .. 20), searched in log */
 } jnd_calibrate_params;
 

@@ -303,6 +303,7 @@ static int run(int argc, char **argv) {
       goto out;
     }
     jnd_model_params mp = tp.model;
+    mp.threads = 1;
     if (jnd_model_create(&mp, &model) != JND_OK) {
       cli_error("calibrate: %s", jnd_last_error());
       goto out;

@@ -187,7 +187,7 @@ void jnd_calibrate_defaults(jnd_calibrate_params *p) {
   p->threshold_p = 0.2;
   p->bias_min = -2;
   p->bias_max = 2;
-  p->bias_steps = 41;
+  p->bias_steps = 21;
   p->scale_min = 0.05;
   p->scale_max = 20;
 }
@@ -258,7 +258,7 @@ static double golden(const cal_set *S, int k, int along_scale, double fixed, dou
   const double g = 0.6180339887498949;
   double c = x1 - g * (x1 - x0), d = x0 + g * (x1 - x0);
   double fc = CAL_F(c), fd = CAL_F(d);
-  for (int it = 0; it < 16; it++) {
+  for (int it = 0; it < 10; it++) {
     if (fc < fd) {
       x1 = d, d = c, fd = fc;
       c = x1 - g * (x1 - x0);
@@ -281,50 +281,63 @@ typedef struct {
   double a, b, obj, mae;
 } cal_fit;
 
-/* per percentile: an exhaustive grid over bias (000 §7.1) × log scale, then
- * a golden-section search over bias, each bias with its best scale */
+/* the best log scale for bias b: a scan of nscan + 1 points over [l0, l1],
+ * then golden section between the best point's neighbours */
+static double best_log_scale(const cal_set *S, int k, double b, double l0, double l1, int nscan, double *f) {
+  double best = INFINITY, lb = l0, step = (l1 - l0) / nscan;
+  for (int i = 0; i <= nscan; i++) {
+    double o = objective(S, k, exp(l0 + step * i), b, NULL);
+    if (o < best) best = o, lb = l0 + step * i;
+  }
+  *f = best;
+  return golden(S, k, 1, b, lb - step, lb + step, lb, f);
+}
+
+/* per percentile: an exhaustive search over bias (000 §7.1), each bias with
+ * its best scale (the valley of equal thresholds runs diagonally in
+ * (log a, b), so the scale is followed along it), then a golden-section
+ * search over bias between the best grid point's neighbours */
 static void fit_set(const cal_set *S, const jnd_calibrate_params *p, cal_fit *best, double *pct_mae) {
   best->obj = INFINITY;
-  int steps = p->bias_steps > 1 ? p->bias_steps : 2, nscale = 10;
+  int steps = p->bias_steps > 1 ? p->bias_steps : 2, nscan = 6;
   double db = (p->bias_max - p->bias_min) / (steps - 1);
-  double l0 = log(p->scale_min), l1 = log(p->scale_max), dl = (l1 - l0) / (nscale - 1);
+  double l0 = log(p->scale_min), l1 = log(p->scale_max), ds = (l1 - l0) / nscan;
+  cal_fit per[JND_CALIB_NPCT];
+  /* the percentiles are independent searches; the best is picked in order
+   * afterwards, so the result does not depend on the threads */
+#pragma omp parallel for schedule(dynamic, 1)
   for (int k = 0; k < JND_CALIB_NPCT; k++) {
     double la = 0, b = 0, f = INFINITY;
-    for (int i = 0; i < steps; i++)
-      for (int j = 0; j < nscale; j++) {
-        double o = objective(S, k, exp(l0 + dl * j), p->bias_min + db * i, NULL);
-        if (o < f) f = o, la = l0 + dl * j, b = p->bias_min + db * i;
-      }
-    /* the valley of equal thresholds runs diagonally in (log a, b): refine
-     * the bias by golden section over the best scale of each bias */
-    {
-      const double g = 0.6180339887498949;
-      double x0 = b - db, x1 = b + db, lac = la, lad = la;
-      double c = x1 - g * (x1 - x0), d = x0 + g * (x1 - x0), fc = f, fd = f;
-      lac = golden(S, k, 1, c, la - dl, la + dl, la, &(double){INFINITY});
-      fc = objective(S, k, exp(lac), c, NULL);
-      lad = golden(S, k, 1, d, la - dl, la + dl, la, &(double){INFINITY});
-      fd = objective(S, k, exp(lad), d, NULL);
-      for (int it = 0; it < 14; it++) {
-        if (fc < fd) {
-          x1 = d, d = c, fd = fc, lad = lac;
-          c = x1 - g * (x1 - x0);
-          lac = golden(S, k, 1, c, la - dl, la + dl, la, &(double){INFINITY});
-          fc = objective(S, k, exp(lac), c, NULL);
-        } else {
-          x0 = c, c = d, fc = fd, lac = lad;
-          d = x0 + g * (x1 - x0);
-          lad = golden(S, k, 1, d, la - dl, la + dl, la, &(double){INFINITY});
-          fd = objective(S, k, exp(lad), d, NULL);
-        }
-      }
-      if (fc < f) f = fc, b = c, la = lac;
-      if (fd < f) f = fd, b = d, la = lad;
+    for (int i = 0; i < steps; i++) {
+      double bi = p->bias_min + db * i, fi;
+      double li = best_log_scale(S, k, bi, l0, l1, nscan, &fi);
+      if (fi < f) f = fi, la = li, b = bi;
     }
-    cal_fit c = {k, exp(la), b, f, INFINITY};
-    objective(S, k, c.a, c.b, &c.mae);
-    if (pct_mae) pct_mae[k] = c.mae;
-    if (c.obj < best->obj - 1e-9) *best = c;
+    const double g = 0.6180339887498949;
+    double x0 = b - db, x1 = b + db, lc, ld, fc, fd;
+    double c = x1 - g * (x1 - x0), d = x0 + g * (x1 - x0);
+    lc = best_log_scale(S, k, c, la - ds, la + ds, 4, &fc);
+    ld = best_log_scale(S, k, d, la - ds, la + ds, 4, &fd);
+    for (int it = 0; it < 14; it++) {
+      if (fc < fd) {
+        x1 = d, d = c, fd = fc, ld = lc;
+        c = x1 - g * (x1 - x0);
+        lc = best_log_scale(S, k, c, la - ds, la + ds, 4, &fc);
+      } else {
+        x0 = c, c = d, fc = fd, lc = ld;
+        d = x0 + g * (x1 - x0);
+        ld = best_log_scale(S, k, d, la - ds, la + ds, 4, &fd);
+      }
+    }
+    if (fc < f) f = fc, b = c, la = lc;
+    if (fd < f) f = fd, b = d, la = ld;
+    cal_fit cf = {k, exp(la), b, f, INFINITY};
+    objective(S, k, cf.a, cf.b, &cf.mae);
+    per[k] = cf;
+  }
+  for (int k = 0; k < JND_CALIB_NPCT; k++) {
+    if (pct_mae) pct_mae[k] = per[k].mae;
+    if (per[k].obj < best->obj - 1e-9) *best = per[k];
   }
 }
 

@@ -68,6 +68,8 @@ TEST(calibration_recovers_a_synthetic_observer) {
   p.folds = 4;
   jnd_calibrate_result r;
   CHECK_OK(jnd_calibrate_fit(scenes, NS, &p, &r));
+  fprintf(stderr, "recovered p%g, scale %.4f, bias %.4f (true p%g, %g, %g); train MAE %.2f px, held out %.2f px\n",
+          r.cal.percentile, r.cal.scale, r.cal.bias, true_pct, true_a, true_b, r.mae_px, r.cv_mae_px);
   CHECK_NEAR(r.cal.percentile, true_pct, 0);
   CHECK_NEAR(r.cal.scale, true_a, 0.1 * true_a);
   CHECK_NEAR(r.cal.bias, true_b, 0.1 * true_b);
