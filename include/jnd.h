@@ -1203,7 +1203,7 @@ jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src_path, 
 
 /* The built-in example pair (no files needed): a synthetic sRGB reference
  * (gradients, gratings, edges, colour, texture) and a test with four known
- * distortions, one per quadrant — blur (top left), noise (top right), a
+ * distortions, one per quadrant — 3×3 blur (top left), 1% noise (top right), a
  * colour shift (bottom left), a faint 1% luminance step (bottom right).
  * Both are allocated: w × h × 3, sRGB-encoded 0..1. w, h >= 64. */
 jnd_status jnd_example_pair(int w, int h, jnd_image *ref, jnd_image *test);

@@ -15,9 +15,9 @@ static int run(int argc, char **argv) {
       printf("usage: jnd example -o DIR [--size WxH]\n\n"
              "Writes the built-in synthetic pair DIR/reference.png and DIR/test.png (default\n"
              "768x512): a reference with gradients, gratings, edges, colour and texture, and\n"
-             "a test with four known distortions, one per quadrant: blur (top left), noise\n"
-             "(top right), a colour shift (bottom left), a faint 1%% luminance step (bottom\n"
-             "right). Try: jnd diff DIR/reference.png DIR/test.png --heatmap where.png\n");
+             "a test with four known distortions, one per quadrant: a 3x3 blur (top left),\n"
+             "1%% noise (top right), a colour shift (bottom left), a faint 1%% luminance step\n"
+             "(bottom right). Try: jnd diff DIR/reference.png DIR/test.png --heatmap where.png\n");
       return EXIT_OK;
     } else if (cli_opt(argc, argv, &i, "-o", &v) || cli_opt(argc, argv, &i, "--output", &v)) {
       dir = v;

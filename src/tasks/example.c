@@ -2,7 +2,8 @@
  * demo and the tests. The reference mixes what real renders have — smooth
  * gradients, gratings of several frequencies, sharp edges, saturated colour
  * and fine noise-like texture; the test carries four known distortions in
- * four quadrants: blur, noise, a colour shift and a faint luminance step. */
+ * four quadrants: a 3×3 blur, 1% noise, a colour shift and a faint 1%
+ * luminance step. */
 #include <math.h>
 #include <string.h>
 
@@ -52,22 +53,22 @@ jnd_status jnd_example_pair(int w, int h, jnd_image *ref, jnd_image *test) {
   }
   memcpy(test->data, ref->data, sizeof(float) * (size_t)w * h * 3);
   int hw = w / 2, hh = h / 2;
-  /* top left: a 5×5 box blur (a texture at a lower resolution) */
+  /* top left: a 3×3 box blur (a texture at a lower resolution) */
   for (int c = 0; c < 3; c++) {
     const float *src = jnd_image_plane(ref, c);
     float *dst = jnd_image_plane(test, c);
     for (int y = 8; y < hh - 8; y++)
       for (int x = 8; x < hw - 8; x++) {
         double sum = 0;
-        for (int dy = -2; dy <= 2; dy++)
-          for (int dx = -2; dx <= 2; dx++) sum += src[(size_t)(y + dy) * w + x + dx];
-        dst[(size_t)y * w + x] = (float)(sum / 25);
+        for (int dy = -1; dy <= 1; dy++)
+          for (int dx = -1; dx <= 1; dx++) sum += src[(size_t)(y + dy) * w + x + dx];
+        dst[(size_t)y * w + x] = (float)(sum / 9);
       }
   }
-  /* top right: Gaussian noise, sigma 2% of full scale */
+  /* top right: Gaussian noise, sigma 1% of full scale */
   for (int y = 8; y < hh - 8; y++)
     for (int x = hw + 8; x < w - 8; x++) {
-      double nz = 0.02 * jnd_rng_normal(&rng);
+      double nz = 0.01 * jnd_rng_normal(&rng);
       for (int c = 0; c < 3; c++) {
         float *p = &jnd_image_plane(test, c)[(size_t)y * w + x];
         *p = (float)jnd_clampd(*p + nz, 0, 1);
