@@ -23,6 +23,19 @@ expect_exit 0 json_to_stdout "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" 
 check stdout_is_json jq -e '.result.p_detect' "$T/out.txt"
 expect_exit 0 every_pooling_parses "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --pool p50 --display phone --gaze 10,10 --quiet
 
+# float outputs and inputs: the JND map as EXR; a rendered motion map (EXR, X and Y) and weights
+expect_exit 0 map_is_written "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --map "$T/jnd.exr" --quiet
+check map_is_an_exr bash -c "head -c 4 '$T/jnd.exr' | od -An -tx1 | grep -q '76 2f 31 01'"
+expect_exit 0 renders_for_motion "$JND" render builtin -o "$T/r" --views 1 --size 96x96 --outputs color,motion,exr --motion-orbit 20 --quiet
+"$JND" example -o "$T/ex96" --size 96x96 2>/dev/null
+"$JND" diff "$T/ex96/reference.png" "$T/ex96/test.png" --json "$T/still.json" --quiet
+expect_exit 0 motion_map_is_read "$JND" diff "$T/ex96/reference.png" "$T/ex96/test.png" --motion "$T/r/view_000_motion.exr" --fps 60 --json "$T/moving.json" --quiet
+check motion_changes_the_prediction bash -c "[ \"\$(jq .result.jnd_max '$T/still.json')\" != \"\$(jq .result.jnd_max '$T/moving.json')\" ]"
+expect_exit 0 weights_are_read "$JND" diff "$T/ex96/reference.png" "$T/ex96/test.png" --weights "$T/r/view_000.png" --json "$T/weighted.json" --quiet
+check weights_lower_the_jnd jq -e --slurpfile s "$T/still.json" '.result.jnd_max <= $s[0].result.jnd_max' "$T/weighted.json"
+expect_exit 2 motion_map_of_another_size_exits_two "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --motion "$T/r/view_000_motion.exr"
+check motion_size_error_is_one_line one_line_error
+
 # bad input: one line "jnd: FILE: problem", exit 2, no partial outputs
 expect_exit 2 missing_file_exits_two "$JND" diff "$T/nope.png" "$T/ex/test.png" --json "$T/x1.json"
 check missing_file_error_is_one_line one_line_error
