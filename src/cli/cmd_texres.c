@@ -55,7 +55,8 @@ static void help(void) {
       "\n"
       "outputs:\n"
       "  -o, --output DIR    the folder (created): texres.json, worst_view.png,\n"
-      "                      matrix_N.png, model/ (the model with resized maps)\n"
+      "                      matrix_N.png, model/ (a glTF/GLB copy with resized maps) or\n"
+      "                      maps/ (OBJ, builtin: the resized maps as PNG)\n"
       "  --json FILE|-       also write the report there\n"
       "  --timings           add wall-clock times to the report\n"
       "  --threads N         model worker threads\n"
@@ -279,7 +280,7 @@ static int run(int argc, char **argv) {
     return EXIT_BAD;
   }
   int rc = EXIT_BAD;
-  cJSON *report = NULL;
+  cJSON *report = NULL, *written = NULL;
   jnd_texres_result R = {0};
   cli_progress prog;
   cli_progress_start(&prog, &common, "texres", 1);
@@ -307,6 +308,32 @@ static int run(int argc, char **argv) {
     if (!mkdir_p(mdir) || jnd_texres_write_model(scene, model, mdir, model_out, sizeof model_out) != JND_OK) {
       cli_error("%s", jnd_last_error());
       goto out;
+    }
+  }
+  written = cJSON_CreateArray();
+  if (!gltf) {
+    /* OBJ and the builtin asset: the resized maps as PNG files (no model copy) */
+    char mdir[4200];
+    snprintf(mdir, sizeof mdir, "%s/maps", dir);
+    for (int i = 0; i < R.nmaps; i++) {
+      const jnd_texres_map *m = &R.maps[i];
+      if (m->chosen[0] == m->orig[0] && m->chosen[1] == m->orig[1]) continue;
+      char name[200];
+      snprintf(name, sizeof name, "%s_%dx%d.png", m->name, m->chosen[0], m->chosen[1]);
+      for (char *q = name; *q; q++)
+        if (*q == '/' || *q == ' ' || *q == '#') *q = '_';
+      snprintf(path, sizeof path, "%s/%s", mdir, name);
+      jnd_image im = {0};
+      int ok = mkdir_p(mdir) && jnd_scene_map_get(scene, m->map, 0, &im) == JND_OK &&
+               jnd_image_write_png(path, &im, 8) == JND_OK;
+      jnd_image_free(&im);
+      if (!ok) {
+        cli_error("%s: %s", path, jnd_last_error());
+        goto out;
+      }
+      char rel[260];
+      snprintf(rel, sizeof rel, "maps/%s", name);
+      cJSON_AddItemToArray(written, cJSON_CreateString(rel));
     }
   }
   snprintf(path, sizeof path, "%s/worst_view.png", dir);
@@ -461,6 +488,8 @@ static int run(int argc, char **argv) {
     cJSON_AddItemToArray(jmx, o);
   }
   if (model_out[0]) cJSON_AddStringToObject(res, "model", model_out);
+  cJSON_AddItemToObject(res, "map_files", written);
+  written = NULL;
   cJSON_AddNumberToObject(res, "ppd", R.ppd);
   cJSON_AddNumberToObject(res, "evaluations", R.evaluations);
   cJSON_AddNumberToObject(res, "renderings", R.renderings);
@@ -499,6 +528,7 @@ static int run(int argc, char **argv) {
   rc = (R.passes && (R.verify_views == 0 || R.verify_passes)) ? EXIT_OK : EXIT_ABOVE;
 out:
   cJSON_Delete(report);
+  cJSON_Delete(written);
   jnd_texres_result_free(&R);
   jnd_scene_free(scene);
   return rc;

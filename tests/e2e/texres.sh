@@ -27,6 +27,16 @@ assert mx["columns"].endswith("/baseColor") and mx["rows"].endswith("/normal")
 assert len(mx["p"]) == 3 and len(mx["stat"]) == len(mx["row_sizes"]) and len(mx["stat"][0]) == len(mx["column_sizes"])
 PY
 check "the worst view's heatmap and the matrix picture are written" test -s "$T/a/worst_view.png" -a -s "$T/a/matrix_0.png"
+check "the builtin asset's resized maps are written as PNG at their chosen sizes" python3 - "$T/a" <<'PY'
+import json, os, struct, sys
+d = sys.argv[1]
+r = json.load(open(d + "/texres.json"))["result"]
+changed = [m for m in r["maps"] if m["chosen"] != m["original"]]
+assert len(r["map_files"]) == len(changed)
+for f, m in zip(r["map_files"], changed):
+    b = open(os.path.join(d, f), "rb").read(24)
+    assert b[:8] == b"\x89PNG\r\n\x1a\n" and list(struct.unpack(">II", b[16:24])) == m["chosen"], (f, m["chosen"])
+PY
 
 # a smaller object on screen never gets larger maps (000 §4, §9)
 expect_exit 0 "builtin runs far away" "$JND" texres builtin -o "$T/b" --views 3 --coverage 0.25 --no-matrix "${SMALL[@]}"
