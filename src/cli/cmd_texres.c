@@ -427,6 +427,7 @@ static int run(int argc, char **argv) {
     cJSON_AddStringToObject(o, "material", jnd_scene_material_name(scene, mat));
     cJSON_AddNumberToObject(o, "before_bytes", (double)b0);
     cJSON_AddNumberToObject(o, "after_bytes", (double)a0);
+    cJSON_AddNumberToObject(o, "reduction", b0 ? 1.0 - (double)a0 / b0 : 0);
     cJSON_AddItemToArray(pm, o);
   }
   cJSON *jv = cJSON_AddObjectToObject(res, "views");
