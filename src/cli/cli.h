@@ -40,6 +40,8 @@ void cli_pair(const char *cmd, const char *opt, const char *v, double *a, double
 
 /* Prints "jnd: MSG" to stderr (one line). */
 void cli_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* The same, returning EXIT_BAD: `return cli_bad("%s: problem", path);` */
+int cli_bad(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* Prints an error for an unknown option and the hint to use --help; returns EXIT_BAD. */
 int cli_unknown(const char *cmd, const char *arg);
 /* Human messages to stderr unless quiet. */

@@ -1,7 +1,6 @@
 /* jnd render MODEL -o DIR — frames of an asset under deterministic views. */
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -88,16 +87,6 @@ typedef struct {
   int w, h;          /* --scale WxH */
 } map_edit;
 
-static int bad(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-static int bad(const char *fmt, ...) {
-  va_list ap;
-  va_start(ap, fmt);
-  fputs("jnd: ", stderr);
-  vfprintf(stderr, fmt, ap);
-  fputc('\n', stderr);
-  va_end(ap);
-  return EXIT_BAD;
-}
 
 /* MAP matches "MAT/SLOT" with "*" for the material, or a bare "*". */
 static int map_matches(const char *pattern, const char *name) {
@@ -248,7 +237,7 @@ static int light_from_json(const cJSON *o, jnd_light *L) {
 /* Reads --cameras: returns the number of views (views allocated), or -1. */
 static int read_cameras(const char *path, const jnd_scene *scene, double fov, jnd_view **out) {
   FILE *f = fopen(path, "rb");
-  if (!f) return bad("%s: cannot open (%s)", path, strerror(errno)), -1;
+  if (!f) return cli_bad("%s: cannot open (%s)", path, strerror(errno)), -1;
   char *text = NULL;
   size_t n = 0, cap = 0;
   for (;;) {
@@ -257,7 +246,7 @@ static int read_cameras(const char *path, const jnd_scene *scene, double fov, jn
       if (cap > ((size_t)64 << 20)) {
         free(text);
         fclose(f);
-        return bad("%s: too large", path), -1;
+        return cli_bad("%s: too large", path), -1;
       }
       char *t = realloc(text, cap + 1);
       if (!t) break;
@@ -268,7 +257,7 @@ static int read_cameras(const char *path, const jnd_scene *scene, double fov, jn
     if (k == 0) break;
   }
   fclose(f);
-  if (!text) return bad("%s: out of memory", path), -1;
+  if (!text) return cli_bad("%s: out of memory", path), -1;
   text[n] = 0;
   cJSON *root = cJSON_Parse(text);
   free(text);
@@ -276,7 +265,7 @@ static int read_cameras(const char *path, const jnd_scene *scene, double fov, jn
   if (cJSON_IsObject(root)) list = cJSON_GetObjectItemCaseSensitive(root, "views");
   if (!cJSON_IsArray(list) || cJSON_GetArraySize(list) < 1) {
     cJSON_Delete(root);
-    return bad("%s: %s", path, "not a JSON list of cameras (or {\"views\": [...]})"), -1;
+    return cli_bad("%s: %s", path, "not a JSON list of cameras (or {\"views\": [...]})"), -1;
   }
   int count = cJSON_GetArraySize(list);
   jnd_view *views = calloc((size_t)count, sizeof *views);
@@ -296,7 +285,7 @@ static int read_cameras(const char *path, const jnd_scene *scene, double fov, jn
     if (!camera_from_json(cam ? cam : e, centre, fov, &v->camera)) {
       free(views);
       cJSON_Delete(root);
-      return bad("%s: %s", path, what), -1;
+      return cli_bad("%s: %s", path, what), -1;
     }
     v->prev_camera = v->camera;
     const cJSON *prev = cJSON_GetObjectItemCaseSensitive(e, "prev");
@@ -305,7 +294,7 @@ static int read_cameras(const char *path, const jnd_scene *scene, double fov, jn
       if (!camera_from_json(prev, centre, fov, &v->prev_camera)) {
         free(views);
         cJSON_Delete(root);
-        return bad("%s: %s", path, what), -1;
+        return cli_bad("%s: %s", path, what), -1;
       }
       v->has_prev = 1;
     }
@@ -318,7 +307,7 @@ static int read_cameras(const char *path, const jnd_scene *scene, double fov, jn
         if (v->nlights >= JND_MAX_LIGHTS || !light_from_json(l, &v->lights[v->nlights])) {
           free(views);
           cJSON_Delete(root);
-          return bad("%s: %s", path, "a light is invalid (or more than 8)"), -1;
+          return cli_bad("%s: %s", path, "a light is invalid (or more than 8)"), -1;
         }
         v->nlights++;
       }
@@ -467,7 +456,7 @@ static int run(int argc, char **argv) {
       double w, h;
       cli_pair("render", "--size", v, &w, &h);
       if (w != floor(w) || h != floor(h) || w < 1 || h < 1 || w > 16384 || h > 16384)
-        return bad("render: --size: '%s' is not WxH with 1..16384 pixels", v);
+        return cli_bad("render: --size: '%s' is not WxH with 1..16384 pixels", v);
       width = (int)w;
       height = (int)h;
     } else if (cli_opt(argc, argv, &i, "--coverage", &v)) {
@@ -489,15 +478,15 @@ static int run(int argc, char **argv) {
     } else if (cli_opt(argc, argv, &i, "--background", &v)) {
       if (strcmp(v, "env") == 0) background_env = 1;
       else if (strcmp(v, "black") == 0) background_env = 0;
-      else return bad("render: --background: '%s' is not black or env", v);
+      else return cli_bad("render: --background: '%s' is not black or env", v);
     } else if (cli_opt(argc, argv, &i, "--lights", &v)) {
       vs.lights = cli_int("render", "--lights", v, 0, JND_MAX_LIGHTS);
     } else if (cli_opt(argc, argv, &i, "--light-intensity", &v)) {
       vs.light_intensity = cli_double("render", "--light-intensity", v, 0, 1e9);
     } else if (cli_opt(argc, argv, &i, "--light", &v)) {
-      if (nlights_fixed >= JND_MAX_LIGHTS) return bad("render: --light: more than 8 lights");
+      if (nlights_fixed >= JND_MAX_LIGHTS) return cli_bad("render: --light: more than 8 lights");
       if (!parse_light(v, &fixed[nlights_fixed]))
-        return bad("render: --light: '%s' is not dir:DX,DY,DZ[:I[:R,G,B]], point:X,Y,Z[:I[:R,G,B]] "
+        return cli_bad("render: --light: '%s' is not dir:DX,DY,DZ[:I[:R,G,B]], point:X,Y,Z[:I[:R,G,B]] "
                    "or spot:X,Y,Z:DX,DY,DZ[:I[:OUTER_DEG]]",
                    v);
       nlights_fixed++;
@@ -507,7 +496,7 @@ static int run(int argc, char **argv) {
       int replace = strncmp(a, "--replace", 9) == 0;
       const char *eq = strrchr(v, '=');
       if (!eq || eq == v || !eq[1] || nedits >= MAX_EDITS)
-        return bad("render: '%s' is not MAP=VALUE (at most 64 edits)", v);
+        return cli_bad("render: '%s' is not MAP=VALUE (at most 64 edits)", v);
       map_edit *e = &edits[nedits++];
       memset(e, 0, sizeof *e);
       e->map = strndup(v, (size_t)(eq - v));   /* freed at exit */
@@ -517,7 +506,7 @@ static int run(int argc, char **argv) {
         double w, h;
         cli_pair("render", "--scale", eq + 1, &w, &h);
         if (w < 1 || h < 1 || w > 32768 || h > 32768 || w != floor(w) || h != floor(h))
-          return bad("render: --scale: '%s' is not a size WxH", eq + 1);
+          return cli_bad("render: --scale: '%s' is not a size WxH", eq + 1);
         e->w = (int)w;
         e->h = (int)h;
       } else {
@@ -531,7 +520,7 @@ static int run(int argc, char **argv) {
       strict = 1;
     } else if (cli_opt(argc, argv, &i, "--outputs", &v)) {
       if (!parse_outputs(v, &outputs))
-        return bad("render: --outputs: '%s' is not a list of color,depth,mask,motion,mip,exr", v);
+        return cli_bad("render: --outputs: '%s' is not a list of color,depth,mask,motion,mip,exr", v);
     } else if (cli_opt(argc, argv, &i, "--samples", &v)) {
       samples = cli_int("render", "--samples", v, 1, 64);
     } else if (cli_opt(argc, argv, &i, "--anisotropy", &v)) {
