@@ -16,8 +16,8 @@ EVERY=${3:-3}
 work=$(mktemp -d)
 names=(eye-velocity chroma-sat summation summation-beta rg-cutoff yv-cutoff)
 # start: the values in jnd_model_defaults
-vals=(${FIT_START:-5 100 3 2.5 5 2})
-mult="${FIT_MULT:---sensitivity 0.48 --sens-rg 105 --sens-yv 74}"
+vals=(${FIT_START:-20.48 160 1.17188 2.5 1.95312 1.25})
+mult="${FIT_MULT:---sensitivity 0.825 --sens-rg 304.4 --sens-yv 223.7}"
 
 score() { # prints "rmse sensitivity sens_rg sens_yv"
   local args=() i
@@ -34,7 +34,7 @@ vals_try=("${vals[@]}")
 read -r best s1 s2 s3 < <(score)
 mult="--sensitivity $s1 --sens-rg $s2 --sens-yv $s3"
 echo "start: ${vals[*]} -> $best dB ($mult)"
-step=1.6
+step=${FIT_STEP:-1.6}
 while awk -v s="$step" 'BEGIN{exit !(s > 1.08)}'; do
   improved=0
   for i in "${!names[@]}"; do

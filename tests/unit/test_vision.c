@@ -71,12 +71,22 @@ TEST(finest_band_peaks_near_nyquist_and_four_times_the_next) {
   CHECK(a0 > 0.5 && a0 <= 1.01 && a1 > 0.2 && a1 < 1.0); /* amplitude lost to filtering */
 }
 
-TEST(coarsest_band_peaks_at_or_above_half_a_cycle_per_degree) {
-  jnd_model *m = model_with(60, 0);
+TEST(with_004s_limit_the_coarsest_band_peaks_at_or_above_half_a_cycle_per_degree) {
+  jnd_model_params p;
+  jnd_model_defaults(&p);
+  p.display.ppd = 60;
+  p.min_band_cpd = 0.5; /* 004 §3.1 */
+  jnd_model *m;
+  CHECK_OK(jnd_model_create(&p, &m));
   double cpd[16];
   int n = jnd_model_band_peaks(m, cpd, 16);
   CHECK(n == 5); /* 004: "a five-level contrast pyramid for our viewing setup" */
   CHECK(cpd[n - 1] >= 0.5 && cpd[n - 1] / 2 < 0.5);
+  jnd_model_free(m);
+  /* the default reaches lower, to the gratings of the human data */
+  m = model_with(60, 0);
+  n = jnd_model_band_peaks(m, cpd, 16);
+  CHECK(cpd[n - 1] >= p.min_band_cpd / 4 && cpd[n - 1] < 0.5);
   jnd_model_free(m);
 }
 
@@ -290,7 +300,7 @@ TEST(display_model_maps_white_to_peak_and_black_to_black_level) {
 }
 
 RUN_TESTS(identical_images_have_zero_jnd, finest_band_peaks_near_nyquist_and_four_times_the_next,
-          coarsest_band_peaks_at_or_above_half_a_cycle_per_degree, reduce_and_expand_keep_a_constant_image_constant,
+          with_004s_limit_the_coarsest_band_peaks_at_or_above_half_a_cycle_per_degree, reduce_and_expand_keep_a_constant_image_constant,
           lms_luminance_weights_recover_y, opponent_channels_separate_luminance_from_colour,
           csf_adaptation_is_identity_at_100_cdm2, barten_csf_peaks_near_a_few_cycles_per_degree,
           pupil_follows_le_grand, daly_eye_movement_leaves_drift_on_static_images,
