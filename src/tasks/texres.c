@@ -224,10 +224,22 @@ static jnd_status box_mip(const jnd_image *orig, int lev, jnd_map_kind kind, jnd
   return JND_OK;
 }
 
+/* The finest mip level the views are taken to sample: the shader's estimate
+ * of the level (the reference formula of anisotropic filtering) can differ
+ * from what a driver samples by up to half a level — derivatives are taken
+ * per 2×2 quad and drivers approximate the anisotropic footprint — so the
+ * bound keeps half a level of margin. Without it, a map cut at the estimated
+ * level rendered visibly differently on llvmpipe. */
+#define MIP_MARGIN 0.5
+static int bound_level(const jnd_texres_map *m) {
+  int lev = (int)floor(m->mip_min - MIP_MARGIN + 1e-6);
+  return lev < 0 ? 0 : lev;
+}
+
 /* candidate k is the mip-usage bound and an exact level of the map's chain */
 static int is_mip_level(const jnd_texres_map *m, int k) {
-  if (m->cand[k][0] != m->mip_bound[0] || m->cand[k][1] != m->mip_bound[1] || m->mip_min < 1) return 0;
-  int lev = (int)floor(m->mip_min + 1e-6);
+  if (m->cand[k][0] != m->mip_bound[0] || m->cand[k][1] != m->mip_bound[1] || bound_level(m) < 1) return 0;
+  int lev = bound_level(m);
   return lev < 31 && (m->orig[0] >> lev) == m->cand[k][0] && (m->orig[1] >> lev) == m->cand[k][1] &&
          (m->orig[0] % (1 << lev)) == 0 && (m->orig[1] % (1 << lev)) == 0;
 }
@@ -450,7 +462,7 @@ static void bounds_from_level(const jnd_texres_params *p, jnd_texres_map *m) {
     m->eye_bound[1] = m->mip_bound[1];
     return;
   }
-  int lev = (int)floor(m->mip_min + 1e-6);
+  int lev = bound_level(m);
   for (int k = 0; k < 2; k++) {
     m->mip_bound[k] = m->orig[k] >> lev;
     if (m->mip_bound[k] < 1) m->mip_bound[k] = 1;
