@@ -119,7 +119,8 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
   int n = 0;
   for (int i = 0; i < MAX_BANDS; i++) {
     if (i <= 5) {
-      jnd_band_response(i, &m->band_cpp[i], &m->band_amp[i]);
+      m->band_cpp[i] = jnd_band_table[i][0];
+      m->band_amp[i] = jnd_band_table[i][1];
     } else {
       m->band_cpp[i] = m->band_cpp[i - 1] / 2;
       m->band_amp[i] = m->band_amp[i - 1];
@@ -143,20 +144,29 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
     jnd_model_free(m);
     return JND_ERR_NOMEM;
   }
-  double c0[LUT_NL], c1[LUT_NL];
-  for (int il = 0; il < LUT_NL; il++) jnd_csf_adaptation(pow(10.0, LUT_LOGL0 + il * LUT_DLOGL), &c0[il], &c1[il]);
+  /* the tables: achromatic from c0(L), c1(L) (Barten-adapted, 004 §3.1), the
+   * chromatic CSFs as a spatio-temporal shape times their luminance factor */
+  double c0[LUT_NL], c1[LUT_NL], lumf[2][LUT_NL], vgrid[LUT_NV];
+  for (int il = 0; il < LUT_NL; il++) {
+    double L = pow(10.0, LUT_LOGL0 + il * LUT_DLOGL);
+    jnd_csf_adaptation(L, &c0[il], &c1[il]);
+    /* jnd_csf_chromatic at ρ = 0 is its luminance factor times (1 − k_s) */
+    for (int ch = 0; ch < 2; ch++)
+      lumf[ch][il] = jnd_csf_chromatic(0, 0, L, ch, 1, p->chroma_sat_td) /
+                     jnd_csf_chromatic(0, 0, 35.0, ch, 1, 0);
+  }
+  for (int iv = 0; iv < LUT_NV; iv++) vgrid[iv] = pow(10.0, LUT_LOGV0 + iv * LUT_DLOGV);
   for (int b = 0; b < n; b++) {
     double rho = m->band_cpd[b];
     for (int iv = 0; iv < LUT_NV; iv++) {
-      double v = pow(10.0, LUT_LOGV0 + iv * LUT_DLOGV);
+      double v = vgrid[iv];
+      double srg = p->sens_rg * jnd_csf_chromatic(rho, v, 35.0, 0, p->rg_cutoff_cpd, 0) / m->band_amp[b];
+      double syv = p->sens_yv * jnd_csf_chromatic(rho, v, 35.0, 1, p->yv_cutoff_cpd, 0) / m->band_amp[b];
       for (int il = 0; il < LUT_NL; il++) {
-        double L = pow(10.0, LUT_LOGL0 + il * LUT_DLOGL);
         size_t k = (size_t)iv * LUT_NL + il;
         lut_at(m, b, 0)[k] = (float)(p->sensitivity * csf_a(rho, v, c0[il], c1[il]) / m->band_amp[b]);
-        lut_at(m, b, 1)[k] = (float)(p->sens_rg * jnd_csf_chromatic(rho, v, L, 0, p->rg_cutoff_cpd, p->chroma_sat_td) /
-                                     m->band_amp[b]);
-        lut_at(m, b, 2)[k] = (float)(p->sens_yv * jnd_csf_chromatic(rho, v, L, 1, p->yv_cutoff_cpd, p->chroma_sat_td) /
-                                     m->band_amp[b]);
+        lut_at(m, b, 1)[k] = (float)(srg * lumf[0][il]);
+        lut_at(m, b, 2)[k] = (float)(syv * lumf[1][il]);
       }
     }
   }
@@ -174,10 +184,9 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
         for (int il = 0; il < LUT_NL; il++) {
           for (int iv = 0; iv < LUT_NV; iv++) col[iv] = t[(size_t)iv * LUT_NL + il];
           for (int iv = 0; iv < LUT_NV; iv++) {
-            double vmax = pow(10.0, LUT_LOGV0 + iv * LUT_DLOGV) + p->eye_velocity_dps;
+            double vmax = vgrid[iv] + p->eye_velocity_dps;
             float best = col[iv];
-            for (int j = iv + 1; j < LUT_NV && pow(10.0, LUT_LOGV0 + j * LUT_DLOGV) <= vmax * 1.0001; j++)
-              best = col[j] > best ? col[j] : best;
+            for (int j = iv + 1; j < LUT_NV && vgrid[j] <= vmax * 1.0001; j++) best = col[j] > best ? col[j] : best;
             t[(size_t)iv * LUT_NL + il] = best;
           }
         }

@@ -181,6 +181,13 @@ static double band_amplitude(int band, double f) {
 
 double jnd_band_gain(int band, double f_cpp) { return band_amplitude(band, f_cpp); }
 
+/* jnd_band_response's results for bands 0–5, kept so that models are cheap to
+ * create; tests/unit/test_vision.c recomputes them from the filters. */
+const double jnd_band_table[6][2] = {
+    {0.4731243168, 1.0057773433}, {0.1254403726, 0.7137890529}, {0.0562395714, 0.6509001104},
+    {0.0281187476, 0.6408069087}, {0.0140592362, 0.6383107060}, {0.0070296551, 0.6376883206},
+};
+
 void jnd_band_response(int band, double *peak_cpp, double *peak_amp) {
   /* coarse scan on a log grid below the full-resolution Nyquist, then golden section */
   const double fmax_cpp = 0.49;

@@ -54,6 +54,8 @@ static inline int jnd_mirror(int i, int n) {
  * amplitude of contrast band i = G_i − EXPAND(G_{i+1}), measured by passing
  * sinusoids through the same filters (004 §3.1 "Contrast pyramid levels"). */
 void jnd_band_response(int band, double *peak_cpp, double *peak_amp);
+/* jnd_band_response for bands 0–5 as a table: {peak cycles/pixel, amplitude} */
+extern const double jnd_band_table[6][2];
 /* the band's amplitude response at frequency f (cycles/pixel) */
 double jnd_band_gain(int band, double f_cpp);
 

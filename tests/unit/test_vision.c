@@ -71,6 +71,15 @@ TEST(finest_band_peaks_near_nyquist_and_four_times_the_next) {
   CHECK(a0 > 0.5 && a0 <= 1.01 && a1 > 0.2 && a1 < 1.0); /* amplitude lost to filtering */
 }
 
+TEST(band_table_matches_the_filters) {
+  for (int b = 0; b < 6; b++) {
+    double f, a;
+    jnd_band_response(b, &f, &a);
+    CHECK_NEAR(jnd_band_table[b][0], f, 1e-9);
+    CHECK_NEAR(jnd_band_table[b][1], a, 1e-9);
+  }
+}
+
 TEST(with_004s_limit_the_coarsest_band_peaks_at_or_above_half_a_cycle_per_degree) {
   jnd_model_params p;
   jnd_model_defaults(&p);
@@ -299,7 +308,7 @@ TEST(display_model_maps_white_to_peak_and_black_to_black_level) {
   jnd_image_free(&img);
 }
 
-RUN_TESTS(identical_images_have_zero_jnd, finest_band_peaks_near_nyquist_and_four_times_the_next,
+RUN_TESTS(identical_images_have_zero_jnd, band_table_matches_the_filters, finest_band_peaks_near_nyquist_and_four_times_the_next,
           with_004s_limit_the_coarsest_band_peaks_at_or_above_half_a_cycle_per_degree, reduce_and_expand_keep_a_constant_image_constant,
           lms_luminance_weights_recover_y, opponent_channels_separate_luminance_from_colour,
           csf_adaptation_is_identity_at_100_cdm2, barten_csf_peaks_near_a_few_cycles_per_degree,
