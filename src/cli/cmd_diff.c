@@ -138,7 +138,20 @@ static int run(int argc, char **argv) {
   int rc = EXIT_BAD;
   jnd_model *model = NULL;
   cJSON *report = NULL;
-  if (!load(paths[0], &ref, &ri) || !load(paths[1], &test, &ti)) goto out;
+  /* the two files decode at the same time */
+  int ok[2];
+#pragma omp parallel sections num_threads(2)
+  {
+#pragma omp section
+    ok[0] = jnd_image_read(paths[0], &ref, &ri) == JND_OK;
+#pragma omp section
+    ok[1] = jnd_image_read(paths[1], &test, &ti) == JND_OK;
+  }
+  if (!ok[0] || !ok[1]) {
+    /* the first failing file's message: re-read it on this thread for the error text */
+    load(paths[ok[0] ? 1 : 0], ok[0] ? &test : &ref, ok[0] ? &ti : &ri);
+    goto out;
+  }
   if (ref.w != test.w || ref.h != test.h) {
     cli_error("%s: size %d x %d differs from %s (%d x %d)", paths[1], test.w, test.h, paths[0], ref.w, ref.h);
     goto out;

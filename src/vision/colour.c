@@ -1,4 +1,6 @@
 /* Colour stages of 004 §3.1: linear RGB → CIE XYZ → Hunt–Pointer–Estévez LMS. */
+#include <stddef.h>
+
 #include "core/core.h"
 #include "vision/vision.h"
 
@@ -17,7 +19,9 @@ static void apply3(jnd_image *img, const double m[3][3]) {
   float *p0 = jnd_image_plane(img, 0), *p1 = jnd_image_plane(img, 1), *p2 = jnd_image_plane(img, 2);
   float a[9];
   for (int i = 0; i < 9; i++) a[i] = (float)m[i / 3][i % 3];
-  for (size_t i = 0; i < n; i++) {
+  const ptrdiff_t nn = (ptrdiff_t)n;
+#pragma omp parallel for schedule(static)
+  for (ptrdiff_t i = 0; i < nn; i++) {
     float x = p0[i], y = p1[i], z = p2[i];
     p0[i] = a[0] * x + a[1] * y + a[2] * z;
     p1[i] = a[3] * x + a[4] * y + a[5] * z;

@@ -2,6 +2,7 @@
  * linear RGB in cd/m², with the display's peak, black level and the ambient
  * light it reflects; and the viewing geometry as pixels per degree. */
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -86,7 +87,9 @@ jnd_status jnd_display_apply(const jnd_display *d, const jnd_image *in, jnd_enco
   for (int ch = 0; ch < 3; ch++) {
     const float *src = jnd_image_plane(in, colour ? ch : 0);
     float *dst = jnd_image_plane(&tmp, ch);
-    for (size_t i = 0; i < n; i++) {
+    const ptrdiff_t nn = (ptrdiff_t)n;
+#pragma omp parallel for schedule(static)
+    for (ptrdiff_t i = 0; i < nn; i++) {
       float a = alpha ? jnd_clampd(alpha[i], 0, 1) : 1.0f;
       float v;
       if (enc == JND_ENCODING_SRGB) {

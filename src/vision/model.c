@@ -620,7 +620,10 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
     float *tmp = jnd_alloc((size_t)fw * fh, sizeof(float));
     if (!tmp) { s = JND_ERR_NOMEM; goto done; }
     jnd_pyr_expand(Dlev[b], cw, ch, tmp, fw, fh, threads);
-    for (size_t i = 0; i < (size_t)fw * fh; i++) Dlev[b - 1][i] += fmaxf(tmp[i], 0.0f);
+    float *dst = Dlev[b - 1];
+    const ptrdiff_t nn = (ptrdiff_t)fw * fh;
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (ptrdiff_t i = 0; i < nn; i++) dst[i] += fmaxf(tmp[i], 0.0f);
     free(tmp);
     free(Dlev[b]);
     Dlev[b] = NULL;
