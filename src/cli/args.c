@@ -8,7 +8,7 @@
 
 #include "cli/cli.h"
 
-static void verror(const char *fmt, va_list ap) {
+__attribute__((format(printf, 1, 0))) static void verror(const char *fmt, va_list ap) {
   fputs("jnd: ", stderr);
   vfprintf(stderr, fmt, ap);
   fputc('\n', stderr);
