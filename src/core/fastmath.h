@@ -41,6 +41,9 @@ static inline float jnd_fast_exp2(float y) {
   return p * s * under;
 }
 
+/* max without fmaxf's NaN rules, so that loops using it vectorise */
+static inline float jnd_maxf(float a, float b) { return a > b ? a : b; }
+
 /* x^y for x > 0 (0 for x <= 0) */
 static inline float jnd_fast_pow(float x, float y) {
   float r = jnd_fast_exp2(y * jnd_fast_log2(x > 1e-30f ? x : 1e-30f));

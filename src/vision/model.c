@@ -364,7 +364,7 @@ static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, 
           for (int x = 0; x < w; x++) {
             float s1 = w0 * p0[x] + w1_ * p1[x] + w2 * p2[x];
             float s2 = w0 * q0[x] + w1_ * q1[x] + w2 * q2[x];
-            o[x] = (g0[x] - s1) / fmaxf(s2, CONTRAST_FLOOR);
+            o[x] = (g0[x] - s1) / jnd_maxf(s2, CONTRAST_FLOOR);
           }
         }
         /* 004 §3.1: Hunt's opponent channels */
@@ -385,12 +385,12 @@ static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, 
           ll[x] = (1 - ty) * ((1 - tx) * ar0[ax.i0[x]] + tx * ar0[ax.i1[x]]) +
                   ty * ((1 - tx) * ar1[ax.i0[x]] + tx * ar1[ax.i1[x]]);
         }
-        for (int x = 0; x < w; x++) ll[x] = jnd_fast_log2(fmaxf(ll[x], 1e-6f)) * 0.30103f;
+        for (int x = 0; x < w; x++) ll[x] = jnd_fast_log2(jnd_maxf(ll[x], 1e-6f)) * 0.30103f;
         /* CSF normalisation at the band's peak frequency (004 §3.1) */
         if (st->has_vel) {
           const float *vr = st->vel.plane[band] + (size_t)y * w;
           for (int x = 0; x < w; x++) {
-            float logv = jnd_fast_log2(fmaxf(vr[x], 1e-3f)) * 0.30103f;
+            float logv = jnd_fast_log2(jnd_maxf(vr[x], 1e-3f)) * 0.30103f;
             sens[0][x] = lut_lookup(lutA, ll[x], logv);
             sens[1][x] = lut_lookup(luta, ll[x], logv);
             sens[2][x] = lut_lookup(lutb, ll[x], logv);
@@ -447,13 +447,27 @@ static void box_pass(const float *src, float *dst, int w, int h, int r, int alon
       }
     }
   } else {
+    /* columns in chunks: each thread walks its chunk's rows in order, with a
+     * running sum per column (cache-friendly, vectorisable) */
+    const int chunk = 256;
+    const int nchunks = (w + chunk - 1) / chunk;
 #pragma omp parallel for num_threads(threads) schedule(static)
-    for (int x = 0; x < w; x++) {
-      double acc = 0;
-      for (int i = -r; i <= r; i++) acc += src[(size_t)jnd_mirror(i, h) * w + x];
+    for (int cb = 0; cb < nchunks; cb++) {
+      int x0 = cb * chunk, x1 = x0 + chunk < w ? x0 + chunk : w, cw = x1 - x0;
+      double acc[256];
+      for (int x = 0; x < cw; x++) acc[x] = 0;
+      for (int i = -r; i <= r; i++) {
+        const float *row = src + (size_t)jnd_mirror(i, h) * w + x0;
+        for (int x = 0; x < cw; x++) acc[x] += row[x];
+      }
       for (int y = 0; y < h; y++) {
-        dst[(size_t)y * w + x] = (float)(acc * inv);
-        acc += src[(size_t)jnd_mirror(y + r + 1, h) * w + x] - src[(size_t)jnd_mirror(y - r, h) * w + x];
+        float *d = dst + (size_t)y * w + x0;
+        const float *add = src + (size_t)jnd_mirror(y + r + 1, h) * w + x0;
+        const float *sub = src + (size_t)jnd_mirror(y - r, h) * w + x0;
+        for (int x = 0; x < cw; x++) {
+          d[x] = (float)(acc[x] * inv);
+          acc[x] += (double)add[x] - (double)sub[x];
+        }
       }
     }
   }
@@ -481,16 +495,17 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, int w,
   if (!tmp) return JND_ERR_NOMEM;
   const float up = (float)(beta / e), down = (float)(e / beta);
   const int threads = jnd_threads(m->p.threads);
-  for (size_t i = 0; i < (size_t)w * h; i++) D[i] = jnd_fast_pow(D[i], up);
+  const ptrdiff_t n = (ptrdiff_t)w * h;
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (ptrdiff_t i = 0; i < n; i++) D[i] = jnd_fast_pow(D[i], up);
   box_pass(D, tmp, w, h, r, 1, threads);
   box_pass(tmp, D, w, h, r, 0, threads);
   box_pass(D, tmp, w, h, r, 1, threads);
   box_pass(tmp, D, w, h, r, 0, threads);
   box_pass(D, tmp, w, h, r, 1, threads);
   box_pass(tmp, D, w, h, r, 0, threads);
-  for (size_t i = 0; i < (size_t)w * h; i++) {
-    D[i] = jnd_fast_pow(D[i] * gain, down);
-  }
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (ptrdiff_t i = 0; i < n; i++) D[i] = jnd_fast_pow(D[i] * gain, down);
   free(tmp);
   return JND_OK;
 }
@@ -623,7 +638,7 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
     float *dst = Dlev[b - 1];
     const ptrdiff_t nn = (ptrdiff_t)fw * fh;
 #pragma omp parallel for num_threads(threads) schedule(static)
-    for (ptrdiff_t i = 0; i < nn; i++) dst[i] += fmaxf(tmp[i], 0.0f);
+    for (ptrdiff_t i = 0; i < nn; i++) dst[i] += jnd_maxf(tmp[i], 0.0f);
     free(tmp);
     free(Dlev[b]);
     Dlev[b] = NULL;
@@ -640,7 +655,7 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
     for (size_t i = 0; i < npx; i++) {
       float v = jnd_fast_pow(out.data[i], inv);
       /* 004 §3.2: weights scale down the difference map */
-      if (wt) v *= fmaxf(wt[i], 0.0f);
+      if (wt) v *= jnd_maxf(wt[i], 0.0f);
       out.data[i] = v;
     }
   }
