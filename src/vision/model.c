@@ -492,10 +492,21 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, int w,
   /* the window's weights sum to its area in cycles²: 2π σ² / spc² */
   const float gain = (float)(2.0 * M_PI * sig_eff * sig_eff / (spc * spc));
   float *tmp = jnd_alloc((size_t)w * h, sizeof(float));
-  if (!tmp) return JND_ERR_NOMEM;
+  float *own = jnd_alloc((size_t)w * h, sizeof(float));
+  if (!tmp || !own) {
+    free(tmp);
+    free(own);
+    return JND_ERR_NOMEM;
+  }
   const float up = (float)(beta / e), down = (float)(e / beta);
+  /* a pixel's pooled value is at most the whole window's gain times its own:
+   * where this band has no difference, pooling must not bring in its
+   * neighbours' (it would smear low-frequency differences over degrees).
+   * At a local maximum — where thresholds are read — the bound never acts. */
+  const float bound = jnd_fast_pow(gain, down);
   const int threads = jnd_threads(m->p.threads);
   const ptrdiff_t n = (ptrdiff_t)w * h;
+  memcpy(own, D, sizeof(float) * (size_t)n);
 #pragma omp parallel for num_threads(threads) schedule(static)
   for (ptrdiff_t i = 0; i < n; i++) D[i] = jnd_fast_pow(D[i], up);
   box_pass(D, tmp, w, h, r, 1, threads);
@@ -505,7 +516,11 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, int w,
   box_pass(D, tmp, w, h, r, 1, threads);
   box_pass(tmp, D, w, h, r, 0, threads);
 #pragma omp parallel for num_threads(threads) schedule(static)
-  for (ptrdiff_t i = 0; i < n; i++) D[i] = jnd_fast_pow(D[i] * gain, down);
+  for (ptrdiff_t i = 0; i < n; i++) {
+    float pooled = jnd_fast_pow(D[i] * gain, down), cap = bound * own[i];
+    D[i] = pooled < cap ? pooled : cap;
+  }
+  free(own);
   free(tmp);
   return JND_OK;
 }
