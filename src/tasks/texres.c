@@ -570,6 +570,27 @@ static jnd_status run_matrix(ctx *c, int ia, int ib, const jnd_view *views, cons
   return s;
 }
 
+/* The renderer and the vision model of a run. On a CPU rasteriser (llvmpipe,
+ * softpipe) the model's OpenMP workers would spin against the rasteriser's
+ * threads between frames (8× slower on 2 cores): one model thread is faster
+ * there unless threads were asked for. */
+static jnd_status open_renderer_and_model(const jnd_texres_params *p, jnd_renderer **r, jnd_model **m) {
+  jnd_renderer_params rp;
+  jnd_renderer_defaults(&rp);
+  rp.width = p->width;
+  rp.height = p->height;
+  rp.samples = p->samples;
+  rp.anisotropy = p->anisotropy;
+  rp.env_path = p->env_path;
+  rp.platform = p->platform;
+  jnd_status s = jnd_renderer_create(&rp, r);
+  if (s != JND_OK) return s;
+  jnd_model_params mp = p->model;
+  const char *desc = jnd_renderer_description(*r);
+  if (mp.threads == 0 && (strstr(desc, "llvmpipe") || strstr(desc, "softpipe"))) mp.threads = 1;
+  return jnd_model_create(&mp, m);
+}
+
 jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *pp, jnd_texres_result *out) {
   memset(out, 0, sizeof *out);
   jnd_texres_params pd;
@@ -622,24 +643,8 @@ jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *pp, jnd_tex
   }
   out->ppd = p->model.display.ppd;
 
-  jnd_renderer_params rp;
-  jnd_renderer_defaults(&rp);
-  rp.width = p->width;
-  rp.height = p->height;
-  rp.samples = p->samples;
-  rp.anisotropy = p->anisotropy;
-  rp.env_path = p->env_path;
-  rp.platform = p->platform;
-  if ((s = jnd_renderer_create(&rp, &c.r)) != JND_OK) goto done;
+  if ((s = open_renderer_and_model(p, &c.r, &c.m)) != JND_OK) goto done;
   snprintf(out->renderer, sizeof out->renderer, "%s", jnd_renderer_description(c.r));
-  {
-    /* on a CPU rasteriser (llvmpipe) the model's OpenMP workers would spin
-     * against the rasteriser's threads between frames (8× slower on 2
-     * cores); one model thread is faster there unless threads were asked */
-    jnd_model_params mp = p->model;
-    if (mp.threads == 0 && (strstr(out->renderer, "llvmpipe") || strstr(out->renderer, "softpipe"))) mp.threads = 1;
-    if ((s = jnd_model_create(&mp, &c.m)) != JND_OK) goto done;
-  }
 
   /* views and their reference renderings (full resolution), mip levels */
   if ((s = sample_views(scene, p, N, p->seed, &views)) != JND_OK) goto done;
@@ -898,18 +903,7 @@ jnd_status jnd_texres_series_percentiles(jnd_scene *scene, const char *map, cons
   view_ref *refs = NULL;
   float *all = NULL;
   jnd_status s;
-  jnd_renderer_params rp;
-  jnd_renderer_defaults(&rp);
-  rp.width = p->width;
-  rp.height = p->height;
-  rp.samples = p->samples;
-  rp.anisotropy = p->anisotropy;
-  rp.env_path = p->env_path;
-  rp.platform = p->platform;
-  if ((s = jnd_renderer_create(&rp, &c.r)) != JND_OK) return s;
-  jnd_model_params mp = p->model;
-  if (mp.threads == 0 && strstr(jnd_renderer_description(c.r), "llvmpipe")) mp.threads = 1;
-  if ((s = jnd_model_create(&mp, &c.m)) != JND_OK) goto done;
+  if ((s = open_renderer_and_model(p, &c.r, &c.m)) != JND_OK) goto done;
   if ((s = sample_views(scene, p, p->views, p->seed, &views)) != JND_OK) goto done;
   refs = jnd_calloc((size_t)p->views, sizeof *refs);
   if (!refs) {
