@@ -29,6 +29,11 @@ static void help(void) {
       "                      override the model's fitted CSF multipliers\n"
       "  --fit               fit the three multipliers to the data (least squares in dB)\n"
       "                      and report them; predictions are then made with the fit\n"
+      "  --fit-rounds N      rounds of that fit (default 4; implies --fit)\n"
+      "  --min-band CPD, --summation CYCLES, --summation-beta B, --eye-velocity DPS,\n"
+      "  --chroma-sat TD, --rg-cutoff CPD, --yv-cutoff CPD\n"
+      "                      override the model's other fitted constants (docs/model.md;\n"
+      "                      scripts/fit-model.sh searches them)\n"
       "  --threads N         rows are predicted in parallel (results do not depend on it)\n"
       "  --quiet\n");
 }
