@@ -45,11 +45,9 @@ void jnd_csf_adaptation(double L, double *c0, double *c1) {
 
 /* 004 §3.1: Daly's (1998) refinement of Kelly's (1979) spatio-velocity CSF,
  *   csf_A(ρ, v) = (6.1 + 7.3 |log10(c2 v / 3)|³) c0 c2 v (2π c1 ρ)² exp(−4π c1 ρ (c2 v + 2) / 45.9)
- * with c2 = 1.7 and c0, c1 adapted to L through Barten's CSF. */
-double jnd_csf_achromatic(double rho, double v, double L) {
+ * with c2 = 1.7 and c0, c1 adapted to the luminance (jnd_csf_adaptation). */
+double jnd_csf_achromatic(double rho, double v, double c0, double c1) {
   const double c2 = 1.7;
-  double c0, c1;
-  jnd_csf_adaptation(L, &c0, &c1);
   double lv = fabs(log10(c2 * v / 3.0));
   double k = 6.1 + 7.3 * lv * lv * lv;
   double a = 2.0 * M_PI * c1 * rho;

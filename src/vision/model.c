@@ -82,15 +82,6 @@ int jnd_model_band_peaks(const jnd_model *m, double *cpd, int max) {
   return m->nbands;
 }
 
-/* Achromatic CSF with precomputed adaptation factors (004 §3.1, see csf.c). */
-static double csf_a(double rho, double v, double c0, double c1) {
-  const double c2 = 1.7;
-  double lv = fabs(log10(c2 * v / 3.0));
-  double k = 6.1 + 7.3 * lv * lv * lv;
-  double a = 2.0 * M_PI * c1 * rho;
-  return k * c0 * c2 * v * a * a * exp(-4.0 * M_PI * c1 * rho * (c2 * v + 2.0) / 45.9);
-}
-
 static float *lut_at(const jnd_model *m, int band, int ch) {
   return m->lut + ((size_t)band * NCH + ch) * LUT_NV * LUT_NL;
 }
@@ -164,7 +155,7 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
       double syv = p->sens_yv * jnd_csf_chromatic(rho, v, 35.0, 1, p->yv_cutoff_cpd, 0) / m->band_amp[b];
       for (int il = 0; il < LUT_NL; il++) {
         size_t k = (size_t)iv * LUT_NL + il;
-        lut_at(m, b, 0)[k] = (float)(p->sensitivity * csf_a(rho, v, c0[il], c1[il]) / m->band_amp[b]);
+        lut_at(m, b, 0)[k] = (float)(p->sensitivity * jnd_csf_achromatic(rho, v, c0[il], c1[il]) / m->band_amp[b]);
         lut_at(m, b, 1)[k] = (float)(srg * lumf[0][il]);
         lut_at(m, b, 2)[k] = (float)(syv * lumf[1][il]);
       }

@@ -179,8 +179,6 @@ static double band_amplitude(int band, double f) {
   return sqrt(2.0 * ss / cnt);
 }
 
-double jnd_band_gain(int band, double f_cpp) { return band_amplitude(band, f_cpp); }
-
 /* jnd_band_response's results for bands 0–5, kept so that models are cheap to
  * create; tests/unit/test_vision.c recomputes them from the filters. */
 const double jnd_band_table[6][2] = {

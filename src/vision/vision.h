@@ -56,15 +56,13 @@ static inline int jnd_mirror(int i, int n) {
 void jnd_band_response(int band, double *peak_cpp, double *peak_amp);
 /* jnd_band_response for bands 0–5 as a table: {peak cycles/pixel, amplitude} */
 extern const double jnd_band_table[6][2];
-/* the band's amplitude response at frequency f (cycles/pixel) */
-double jnd_band_gain(int band, double f_cpp);
 
 /* ---- CSFs (csf.c) ---- */
 /* Barten's spatial CSF (004 §3.1, Barten 2003) */
 double jnd_csf_barten(double rho_cpd, double lum_cdm2);
-/* Daly's refinement of Kelly's spatio-velocity CSF with Barten-based
- * luminance adaptation of c0 and c1 (004 §3.1) */
-double jnd_csf_achromatic(double rho_cpd, double vel_dps, double lum_cdm2);
+/* Daly's refinement of Kelly's spatio-velocity CSF (004 §3.1), with c0, c1
+ * from jnd_csf_adaptation for the luminance */
+double jnd_csf_achromatic(double rho_cpd, double vel_dps, double c0, double c1);
 /* c0(L), c1(L) of 004 §3.1 */
 void jnd_csf_adaptation(double lum_cdm2, double *c0, double *c1);
 /* Kelly's (1983) chromatic spatio-temporal CSF, centre + surround, scaled
