@@ -181,7 +181,8 @@ double jnd_ppd_from_geometry(double diagonal_in, int width_px, int height_px, do
  * reflectivity·ambient/π. sRGB inputs use the sRGB EOTF; linear inputs are
  * multiplied by exr_scale and get the reflected ambient added. Grey images
  * become three equal channels; alpha is composited over the display's black
- * (see docs/model.md). out is allocated (3 channels). */
+ * (see docs/model.md). out gets 3 channels; out may be in itself, which an
+ * RGB or RGBA image is then converted in place (no second image in memory). */
 jnd_status jnd_display_apply(const jnd_display *d, const jnd_image *in, jnd_encoding enc,
                              int has_alpha, jnd_image *out);
 

@@ -32,6 +32,15 @@ static void apply3(jnd_image *img, const double m[3][3]) {
 void jnd_rgb_to_xyz(jnd_image *img) { apply3(img, RGB2XYZ); }
 void jnd_xyz_to_lms(jnd_image *img) { apply3(img, XYZ2LMS); }
 
+/* both at once: one pass over the image with the product matrix */
+void jnd_rgb_to_lms(jnd_image *img) {
+  double m[3][3];
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++)
+      m[i][j] = XYZ2LMS[i][0] * RGB2XYZ[0][j] + XYZ2LMS[i][1] * RGB2XYZ[1][j] + XYZ2LMS[i][2] * RGB2XYZ[2][j];
+  apply3(img, m);
+}
+
 void jnd_lms_luminance_weights(double w[3]) {
   /* Y row of the inverse of XYZ2LMS, by cofactors */
   const double(*m)[3] = XYZ2LMS;

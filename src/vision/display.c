@@ -65,6 +65,27 @@ static float srgb_decode(float v) {
   return powf((v + 0.055f) / 1.055f, 2.4f);
 }
 
+/* one channel of the display model: signal → cd/m² (before reflection) */
+static void display_channel(const float *src, const float *alpha, jnd_encoding enc, const float table[256],
+                            float range, float black, float scale, float refl, float *dst, ptrdiff_t n) {
+  if (enc != JND_ENCODING_SRGB) {
+    /* OpenEXR colour is premultiplied by alpha: it already is the composite over black */
+#pragma omp parallel for schedule(static)
+    for (ptrdiff_t i = 0; i < n; i++) dst[i] = jnd_maxf(src[i], 0.0f) * scale + refl;
+    return;
+  }
+#pragma omp parallel for schedule(static)
+  for (ptrdiff_t i = 0; i < n; i++) {
+    float sv = src[i] < 0.0f ? 0.0f : src[i] > 1.0f ? 1.0f : src[i], q = sv * 255.0f;
+    int k = (int)(q + 0.5f);
+    /* 8-bit signals (most inputs) decode through the table */
+    float lin = fabsf(q - (float)k) < 1e-3f ? table[k] : srgb_decode(sv);
+    /* alpha composites the linear signal over the display's black */
+    float a = alpha ? (alpha[i] < 0.0f ? 0.0f : alpha[i] > 1.0f ? 1.0f : alpha[i]) : 1.0f;
+    dst[i] = range * lin * a + black + refl;
+  }
+}
+
 jnd_status jnd_display_apply(const jnd_display *d, const jnd_image *in, jnd_encoding enc, int has_alpha,
                              jnd_image *out) {
   if (!(d->peak_cdm2 > 0) || d->black_cdm2 < 0 || d->black_cdm2 >= d->peak_cdm2)
@@ -73,38 +94,29 @@ jnd_status jnd_display_apply(const jnd_display *d, const jnd_image *in, jnd_enco
   if (in->c < 1 || in->c > 4) return jnd_fail(JND_ERR_ARG, "display: images need 1–4 channels, not %d", in->c);
   int colour = in->c >= 3;
   int alpha_ch = has_alpha ? (in->c == 2 ? 1 : in->c == 4 ? 3 : -1) : -1;
-  size_t n = (size_t)in->w * in->h;
+  const ptrdiff_t n = (ptrdiff_t)in->w * in->h;
+  /* In place when the caller passes out == in and the colour planes can stay
+   * where they are (RGB, RGBA): the planes are rewritten one by one, alpha
+   * last, so no second full-size image is touched. */
+  const int in_place = out == in && in->c >= 3;
   jnd_image tmp;
-  jnd_status s = jnd_image_alloc(&tmp, in->w, in->h, 3);
-  if (s != JND_OK) return s;
-  double refl = d->reflectivity * d->ambient_lux / M_PI; /* Lambertian screen */
+  if (in_place) {
+    tmp = *in;
+  } else {
+    jnd_status s = jnd_image_alloc(&tmp, in->w, in->h, 3);
+    if (s != JND_OK) return s;
+  }
+  float refl = (float)(d->reflectivity * d->ambient_lux / M_PI); /* Lambertian screen */
   float range = (float)(d->peak_cdm2 - d->black_cdm2), black = (float)d->black_cdm2;
-  float scale = (float)d->exr_scale;
   const float *alpha = alpha_ch >= 0 ? jnd_image_plane(in, alpha_ch) : NULL;
-  /* 8-bit signals (most inputs) decode through a table */
   float table[256];
   for (int k = 0; k < 256; k++) table[k] = srgb_decode(k / 255.0f);
-  for (int ch = 0; ch < 3; ch++) {
-    const float *src = jnd_image_plane(in, colour ? ch : 0);
-    float *dst = jnd_image_plane(&tmp, ch);
-    const ptrdiff_t nn = (ptrdiff_t)n;
-#pragma omp parallel for schedule(static)
-    for (ptrdiff_t i = 0; i < nn; i++) {
-      float a = alpha ? jnd_clampd(alpha[i], 0, 1) : 1.0f;
-      float v;
-      if (enc == JND_ENCODING_SRGB) {
-        /* alpha composites the linear signal over the display's black */
-        float sv = (float)jnd_clampd(src[i], 0, 1), q = sv * 255.0f;
-        int k = (int)(q + 0.5f);
-        float lin = fabsf(q - (float)k) < 1e-3f ? table[k] : srgb_decode(sv);
-        v = range * lin * a + black;
-      } else {
-        /* OpenEXR colour is premultiplied by alpha: it already is the
-         * composite over black */
-        v = fmaxf(src[i], 0.0f) * scale;
-      }
-      dst[i] = v + (float)refl;
-    }
+  for (int ch = 0; ch < 3; ch++)
+    display_channel(jnd_image_plane(in, colour ? ch : 0), alpha, enc, table, range, black, (float)d->exr_scale,
+                    refl, jnd_image_plane(&tmp, ch), n);
+  if (in_place) {
+    out->c = 3; /* an alpha plane, if any, stays allocated behind the three colour planes */
+    return JND_OK;
   }
   if (out == in) jnd_image_free(out);
   *out = tmp;

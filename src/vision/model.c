@@ -657,12 +657,14 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
   {
     const float inv = (float)(1.0 / m->p.minkowski);
     const float *wt = in && in->weights ? in->weights->data : NULL;
+    float *o = out.data;
+    /* two loops, not one with a branch, so that both vectorise */
 #pragma omp parallel for num_threads(threads) schedule(static)
-    for (size_t i = 0; i < npx; i++) {
-      float v = jnd_fast_pow(out.data[i], inv);
-      /* 004 §3.2: weights scale down the difference map */
-      if (wt) v *= jnd_maxf(wt[i], 0.0f);
-      out.data[i] = v;
+    for (size_t i = 0; i < npx; i++) o[i] = jnd_fast_pow(o[i], inv);
+    /* 004 §3.2: weights scale down the difference map */
+    if (wt) {
+#pragma omp parallel for num_threads(threads) schedule(static)
+      for (size_t i = 0; i < npx; i++) o[i] *= jnd_maxf(wt[i], 0.0f);
     }
   }
   *jnd_out = out;
@@ -689,8 +691,10 @@ static jnd_status check_pair(const jnd_image *a, const jnd_image *b, const jnd_d
 
 /* converts a 3-channel image (RGB or XYZ) in place to HPE LMS */
 static jnd_status to_lms(jnd_image *img, int is_xyz) {
-  if (!is_xyz) jnd_rgb_to_xyz(img);
-  jnd_xyz_to_lms(img);
+  if (is_xyz)
+    jnd_xyz_to_lms(img);
+  else
+    jnd_rgb_to_lms(img);
   return JND_OK;
 }
 

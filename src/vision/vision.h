@@ -11,6 +11,7 @@
 void jnd_rgb_to_xyz(jnd_image *img);
 /* CIE XYZ → Hunt–Pointer–Estévez LMS (004 §3.1, matrix from Fairchild 2004), in place */
 void jnd_xyz_to_lms(jnd_image *img);
+void jnd_rgb_to_lms(jnd_image *img); /* the two above in one pass */
 /* luminance Y from HPE LMS (the second row of the inverse matrix) */
 void jnd_lms_luminance_weights(double w[3]);
 /* Hunt's opponent channels A, a, b from LMS contrasts (004 §3.1). A is
