@@ -42,6 +42,71 @@ jnd_status jnd_sort_floats(float *v, size_t n) {
   return JND_OK;
 }
 
+/* ---- order statistics without a full sort (radix select) ---- */
+
+/* a float's bits as an unsigned key that orders like the float (not NaN) */
+static uint32_t order_key(float f) {
+  uint32_t u;
+  memcpy(&u, &f, sizeof u);
+  return (u & 0x80000000u) ? ~u : u | 0x80000000u;
+}
+
+jnd_status jnd_order_stats(const float *v, size_t n, const size_t *ks, int nk, float *out) {
+  /* One pass counts the values per bin of their top 12 key bits (sign,
+   * exponent, 3 mantissa bits); the bins holding the wanted ranks are
+   * gathered in a second pass and sorted. Exact, O(n), and v is unchanged. */
+  enum { SHIFT = 20, NBIN = 1 << (32 - SHIFT) };
+  for (int i = 0; i < nk; i++)
+    if (ks[i] >= n || (i > 0 && ks[i] < ks[i - 1])) return jnd_fail(JND_ERR_INTERNAL, "order statistics: bad index");
+  size_t *start = jnd_calloc(NBIN + 1, sizeof *start);
+  int *slot = malloc(sizeof(int) * NBIN);
+  if (!start || !slot) {
+    free(start);
+    free(slot);
+    return JND_ERR_NOMEM;
+  }
+  for (size_t i = 0; i < n; i++) start[(order_key(v[i]) >> SHIFT) + 1]++;
+  for (int b = 0; b < NBIN; b++) start[b + 1] += start[b];
+  /* the bin of each wanted rank, and a gather buffer per distinct bin */
+  int bin_of[64], nbins = 0;
+  size_t off[65] = {0};
+  if (nk > 64) nk = 64;
+  for (int b = 0; b < NBIN; b++) slot[b] = -1;
+  for (int i = 0; i < nk; i++) {
+    int lo = 0, hi = NBIN - 1; /* the bin b with start[b] <= k < start[b + 1] */
+    while (lo < hi) {
+      int mid = (lo + hi + 1) / 2;
+      if (start[mid] <= ks[i]) lo = mid; else hi = mid - 1;
+    }
+    if (slot[lo] < 0) {
+      slot[lo] = nbins;
+      off[nbins + 1] = off[nbins] + (start[lo + 1] - start[lo]);
+      nbins++;
+    }
+    bin_of[i] = lo;
+  }
+  float *buf = jnd_alloc(off[nbins] ? off[nbins] : 1, sizeof *buf);
+  size_t fill[64];
+  jnd_status s = buf ? JND_OK : JND_ERR_NOMEM;
+  if (s == JND_OK) {
+    memcpy(fill, off, sizeof(size_t) * (size_t)nbins);
+    for (size_t i = 0; i < n; i++) {
+      int sl = slot[order_key(v[i]) >> SHIFT];
+      if (sl >= 0) buf[fill[sl]++] = v[i];
+    }
+    for (int j = 0; j < nbins && s == JND_OK; j++) s = jnd_sort_floats(buf + off[j], off[j + 1] - off[j]);
+  }
+  if (s == JND_OK)
+    for (int i = 0; i < nk; i++) {
+      int j = slot[bin_of[i]];
+      out[i] = buf[off[j] + (ks[i] - start[bin_of[i]])];
+    }
+  free(buf);
+  free(start);
+  free(slot);
+  return s;
+}
+
 double jnd_percentile_sorted(const float *s, size_t n, double p) {
   if (n == 0) return NAN;
   double pos = jnd_clampd(p, 0, 100) / 100.0 * (double)(n - 1);

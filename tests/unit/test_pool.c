@@ -1,0 +1,131 @@
+/* The pool layer: sorting, order statistics, percentiles and pooling. */
+#include "test.h"
+#include "core/core.h"
+#include "jnd.h"
+#include "pool/pool.h"
+
+static int cmp_float(const void *a, const void *b) {
+  float x = *(const float *)a, y = *(const float *)b;
+  return (x > y) - (x < y);
+}
+
+/* values like a JND map's: many exact zeros, ties, a long tail; and optionally
+ * negatives (order statistics must hold for any finite floats) */
+static void fill(float *v, size_t n, uint64_t seed, int negatives) {
+  jnd_rng r;
+  jnd_rng_seed(&r, seed);
+  for (size_t i = 0; i < n; i++) {
+    double u = jnd_rng_uniform(&r);
+    float x = u < 0.3 ? 0.0f : u < 0.4 ? 1.5f : (float)(exp(8 * jnd_rng_uniform(&r) - 4));
+    if (negatives && jnd_rng_uniform(&r) < 0.4) x = -x;
+    v[i] = x;
+  }
+}
+
+TEST(order_statistics_equal_the_sorted_values) {
+  const size_t sizes[] = {1, 2, 7, 100, 5000, 200000};
+  for (int neg = 0; neg < 2; neg++)
+    for (size_t si = 0; si < sizeof sizes / sizeof sizes[0]; si++) {
+      size_t n = sizes[si];
+      float *v = malloc(n * sizeof *v), *s = malloc(n * sizeof *s);
+      fill(v, n, 17 + n, neg);
+      memcpy(s, v, n * sizeof *s);
+      qsort(s, n, sizeof *s, cmp_float);
+      size_t ks[8] = {0, n / 3, n / 2, n / 2, (size_t)(0.93 * (n - 1)), (size_t)(0.99 * (n - 1)), n - 1, n - 1};
+      for (int i = 1; i < 8; i++) /* ascending, as the function wants */
+        for (int j = i; j > 0 && ks[j - 1] > ks[j]; j--) {
+          size_t t = ks[j];
+          ks[j] = ks[j - 1];
+          ks[j - 1] = t;
+        }
+      float out[8];
+      float *before = malloc(n * sizeof *before);
+      memcpy(before, v, n * sizeof *v);
+      CHECK_OK(jnd_order_stats(v, n, ks, 8, out));
+      for (int i = 0; i < 8; i++) CHECK(out[i] == s[ks[i]]);
+      CHECK(memcmp(before, v, n * sizeof *v) == 0); /* the input is left alone */
+      free(before);
+      free(v);
+      free(s);
+    }
+}
+
+TEST(order_statistics_of_a_constant_map) {
+  size_t n = 10000, ks[3] = {0, 9299, 9999};
+  float *v = malloc(n * sizeof *v), out[3];
+  for (size_t i = 0; i < n; i++) v[i] = 0.25f;
+  CHECK_OK(jnd_order_stats(v, n, ks, 3, out));
+  CHECK(out[0] == 0.25f && out[1] == 0.25f && out[2] == 0.25f);
+  free(v);
+}
+
+TEST(order_statistics_refuse_bad_indices) {
+  float v[4] = {1, 2, 3, 4}, out[2];
+  size_t past[1] = {4}, descending[2] = {3, 1};
+  CHECK_STATUS(jnd_order_stats(v, 4, past, 1, out), JND_ERR_INTERNAL);
+  CHECK_STATUS(jnd_order_stats(v, 4, descending, 2, out), JND_ERR_INTERNAL);
+}
+
+TEST(sort_matches_qsort_for_both_paths) {
+  /* small or signed arrays go through qsort, large non-negative ones through radix */
+  const size_t n = 50000;
+  for (int neg = 0; neg < 2; neg++) {
+    float *v = malloc(n * sizeof *v), *s = malloc(n * sizeof *s);
+    fill(v, n, 5, neg);
+    memcpy(s, v, n * sizeof *s);
+    qsort(s, n, sizeof *s, cmp_float);
+    CHECK_OK(jnd_sort_floats(v, n));
+    CHECK(memcmp(v, s, n * sizeof *v) == 0);
+    free(v);
+    free(s);
+  }
+}
+
+TEST(percentiles_interpolate_linearly) {
+  float s[5] = {0, 1, 2, 3, 10};
+  CHECK_NEAR(jnd_percentile_sorted(s, 5, 0), 0, 0);
+  CHECK_NEAR(jnd_percentile_sorted(s, 5, 50), 2, 0);
+  CHECK_NEAR(jnd_percentile_sorted(s, 5, 87.5), 6.5, 1e-12);
+  CHECK_NEAR(jnd_percentile_sorted(s, 5, 100), 10, 0);
+  CHECK_NEAR(jnd_percentile_sorted(s, 5, 250), 10, 0); /* clamped */
+}
+
+TEST(diff_summary_percentiles_match_a_full_sort) {
+  /* the summary reads percentiles by selection; a sort gives the same */
+  jnd_image map;
+  CHECK_OK(jnd_image_alloc(&map, 301, 203, 1));
+  size_t n = (size_t)map.w * map.h;
+  fill(map.data, n, 99, 0);
+  jnd_diff_stats st;
+  jnd_pooling p80 = {JND_POOL_PERCENTILE, 80.0};
+  CHECK_OK(jnd_diff_summarise(&map, 3.5, &p80, &st));
+  float *s = malloc(n * sizeof *s);
+  memcpy(s, map.data, n * sizeof *s);
+  qsort(s, n, sizeof *s, cmp_float);
+  CHECK_NEAR(st.jnd_p93, jnd_percentile_sorted(s, n, 93), 0);
+  CHECK_NEAR(st.jnd_max, s[n - 1], 0);
+  CHECK_NEAR(st.p_max, jnd_probability(s[n - 1], 3.5), 1e-5);
+  /* P is monotonic in JND: P's percentile lies between P of the neighbours */
+  double pos = 0.8 * (double)(n - 1);
+  size_t k = (size_t)pos;
+  CHECK(st.p_detect >= jnd_probability(s[k], 3.5) - 1e-5 && st.p_detect <= jnd_probability(s[k + 1], 3.5) + 1e-5);
+  CHECK(st.p_p50 <= st.p_p93 && st.p_p93 <= st.p_p99 && st.p_p99 <= st.p_max);
+  free(s);
+  jnd_image_free(&map);
+}
+
+TEST(pooling_names_parse_and_print) {
+  jnd_pooling p;
+  char buf[32];
+  CHECK_OK(jnd_pooling_parse("p93", &p));
+  CHECK(p.kind == JND_POOL_PERCENTILE && p.percentile == 93);
+  CHECK(strcmp(jnd_pooling_name(&p, buf, sizeof buf), "p93") == 0);
+  CHECK_OK(jnd_pooling_parse("max", &p));
+  CHECK(p.kind == JND_POOL_MAX);
+  CHECK_STATUS(jnd_pooling_parse("p101", &p), JND_ERR_ARG);
+  CHECK_STATUS(jnd_pooling_parse("median", &p), JND_ERR_ARG);
+}
+
+RUN_TESTS(order_statistics_equal_the_sorted_values, order_statistics_of_a_constant_map,
+          order_statistics_refuse_bad_indices, sort_matches_qsort_for_both_paths, percentiles_interpolate_linearly,
+          diff_summary_percentiles_match_a_full_sort, pooling_names_parse_and_print)
