@@ -28,6 +28,17 @@ uint64_t jnd_rng_next(jnd_rng *r);
 double jnd_rng_uniform(jnd_rng *r);   /* [0, 1) */
 double jnd_rng_normal(jnd_rng *r);    /* standard normal (Box–Muller) */
 
+/* Marks a function whose loops carry the model's arithmetic: it is compiled
+ * for AVX2 as well as for baseline x86-64 and the loader picks the version
+ * the CPU runs (GCC function multiversioning). Contraction to FMA is off
+ * (CMakeLists.txt) and the loops are element-wise, so every version
+ * computes the same bits. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && !defined(JND_NO_CLONES)
+#define JND_HOT __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define JND_HOT
+#endif
+
 static inline double jnd_clampd(double v, double lo, double hi) {
   return v < lo ? lo : v > hi ? hi : v;
 }

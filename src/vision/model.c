@@ -263,162 +263,214 @@ static const float *cached_row(row_cache *c, const float *coarse, int cw, int cr
   return dst;
 }
 
+/* What every row of one band reads. */
+typedef struct {
+  const jnd_model *m;
+  const diff_state *st;
+  int band, w, w1;
+  float *xexp[2][3];    /* EXPAND(G_{i+2}) at level i+1 */
+  const float *lut[NCH]; /* CSF tables over (velocity, luminance), with a motion map */
+  float lut1[NCH][LUT_NL]; /* the tables at the one retinal velocity, without */
+  interp_axis ax, ay;   /* bilinear sampling of the adaptation map */
+  double scale;         /* full-resolution pixels per pixel of this level */
+  double dist_px;       /* viewing distance in pixels (eccentricity on a flat screen) */
+  float e;              /* Minkowski exponent */
+} band_ctx;
+
+/* One thread's rows: caches of expanded coarse rows and the row stages. */
+typedef struct {
+  row_cache cache[2][3][2]; /* [image][cone][G_{i+1}, EXPAND(G_{i+2})] */
+  float *opp[2][3], *logl[2], *sens[NCH], *eccf;
+  float *mem;
+} row_scratch;
+
+static int scratch_init(row_scratch *r, int w) {
+  /* 12 caches × 3 rows; opponent values (2 × 3), adaptation (2), sensitivities (3), eccentricity */
+  r->mem = malloc(sizeof(float) * (size_t)w * (36 + 6 + 2 + 3 + 1));
+  if (!r->mem) return 0;
+  float *p = r->mem;
+  for (int a = 0; a < 2; a++)
+    for (int c = 0; c < 3; c++)
+      for (int k = 0; k < 2; k++) {
+        r->cache[a][c][k].buf = p;
+        p += (size_t)3 * w;
+        r->cache[a][c][k].row[0] = r->cache[a][c][k].row[1] = r->cache[a][c][k].row[2] = -1;
+      }
+  for (int a = 0; a < 2; a++)
+    for (int c = 0; c < 3; c++) r->opp[a][c] = p, p += w;
+  for (int a = 0; a < 2; a++) r->logl[a] = p, p += w;
+  for (int c = 0; c < NCH; c++) r->sens[c] = p, p += w;
+  r->eccf = p;
+  return 1;
+}
+
+/* one image's normalised, transduced responses on row y: opp[a][A, a, b] */
+JND_HOT static void image_row(const band_ctx *k, row_scratch *r, int a, int y, const int rows[3], const float wts[3]) {
+  const diff_state *st = k->st;
+  const int w = k->w, w1 = k->w1, band = k->band;
+  /* 004 §3.1: band-limited contrast (G_i − G_{i+1}) / G_{i+2} (Lubin 1995), per cone */
+  for (int c = 0; c < 3; c++) {
+    const float *g0 = st->g[a][c].plane[band] + (size_t)y * w;
+    const float *p0 = cached_row(&r->cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[0], w);
+    const float *p1 = cached_row(&r->cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[1], w);
+    const float *p2 = cached_row(&r->cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[2], w);
+    const float *q0 = cached_row(&r->cache[a][c][1], k->xexp[a][c], w1, rows[0], w);
+    const float *q1 = cached_row(&r->cache[a][c][1], k->xexp[a][c], w1, rows[1], w);
+    const float *q2 = cached_row(&r->cache[a][c][1], k->xexp[a][c], w1, rows[2], w);
+    float *o = r->opp[a][c];
+    const float w0 = wts[0], w1_ = wts[1], w2 = wts[2];
+#pragma omp simd
+    for (int x = 0; x < w; x++) {
+      float s1 = w0 * p0[x] + w1_ * p1[x] + w2 * p2[x];
+      float s2 = w0 * q0[x] + w1_ * q1[x] + w2 * q2[x];
+      o[x] = (g0[x] - s1) / jnd_maxf(s2, CONTRAST_FLOOR);
+    }
+  }
+  /* 004 §3.1: Hunt's opponent channels */
+  float *o0 = r->opp[a][0], *o1 = r->opp[a][1], *o2 = r->opp[a][2];
+#pragma omp simd
+  for (int x = 0; x < w; x++) {
+    float A, ca, cb;
+    jnd_opponent(o0[x], o1[x], o2[x], &A, &ca, &cb);
+    o0[x] = A;
+    o1[x] = ca;
+    o2[x] = cb;
+  }
+  /* adaptation luminance (log10) from the level where a pixel is ~1° */
+  const float *ar0 = st->adapt[a] + (size_t)k->ay.i0[y] * st->aw, *ar1 = st->adapt[a] + (size_t)k->ay.i1[y] * st->aw;
+  const float ty = k->ay.t[y];
+  float *ll = r->logl[a];
+  const int *i0 = k->ax.i0, *i1 = k->ax.i1;
+  const float *t = k->ax.t;
+  for (int x = 0; x < w; x++) {
+    float tx = t[x];
+    ll[x] = (1 - ty) * ((1 - tx) * ar0[i0[x]] + tx * ar0[i1[x]]) + ty * ((1 - tx) * ar1[i0[x]] + tx * ar1[i1[x]]);
+  }
+#pragma omp simd
+  for (int x = 0; x < w; x++) ll[x] = jnd_fast_log2(jnd_maxf(ll[x], 1e-6f)) * 0.30103f;
+  /* CSF normalisation at the band's peak frequency (004 §3.1) */
+  float *s0 = r->sens[0], *s1 = r->sens[1], *s2 = r->sens[2];
+  if (st->has_vel) {
+    const float *vr = st->vel.plane[band] + (size_t)y * w;
+    for (int x = 0; x < w; x++) {
+      float logv = jnd_fast_log2(jnd_maxf(vr[x], 1e-3f)) * 0.30103f;
+      s0[x] = lut_lookup(k->lut[0], ll[x], logv);
+      s1[x] = lut_lookup(k->lut[1], ll[x], logv);
+      s2[x] = lut_lookup(k->lut[2], ll[x], logv);
+    }
+  } else {
+    const float *l0 = k->lut1[0], *l1 = k->lut1[1], *l2 = k->lut1[2];
+    for (int x = 0; x < w; x++) {
+      float fl = (ll[x] - (float)LUT_LOGL0) * (float)(1.0 / LUT_DLOGL);
+      fl = fl < 0 ? 0 : fl > LUT_NL - 1.001f ? LUT_NL - 1.001f : fl;
+      int il = (int)fl;
+      float tl = fl - il;
+      s0[x] = l0[il] + tl * (l0[il + 1] - l0[il]);
+      s1[x] = l1[il] + tl * (l1[il + 1] - l1[il]);
+      s2[x] = l2[il] + tl * (l2[il + 1] - l2[il]);
+    }
+  }
+  if (k->m->p.has_gaze)
+    for (int c = 0; c < NCH; c++) {
+      float *sc = r->sens[c];
+      const float *ef = r->eccf;
+#pragma omp simd
+      for (int x = 0; x < w; x++) sc[x] *= ef[x];
+    }
+  /* 004 §3.1: the masking transducer on the normalised contrast */
+  for (int c = 0; c < NCH; c++) {
+    float *o = r->opp[a][c];
+    const float *sc = r->sens[c];
+#pragma omp simd
+    for (int x = 0; x < w; x++) o[x] = jnd_transducer(o[x] * sc[x]);
+  }
+}
+
+/* Row y of band i's difference, summed over channels: Σ_ch |T(test) − T(ref)|^e */
+JND_HOT static void band_row(const band_ctx *k, row_scratch *r, int y, float *drow) {
+  const diff_state *st = k->st;
+  const int w = k->w, h1 = st->g[0][0].h[k->band + 1];
+  int rows[3];
+  float wts[3] = {0, 0, 0};
+  int nr = jnd_pyr_expand_rows(y, h1, rows, wts);
+  if (nr == 2) rows[2] = rows[1]; /* weight 0: any valid row */
+  if (k->m->p.has_gaze) {
+    const jnd_model_params *p = &k->m->p;
+    for (int x = 0; x < w; x++) {
+      double fx = (x + 0.5) * k->scale - 0.5 - p->gaze_x, fy = (y + 0.5) * k->scale - 0.5 - p->gaze_y;
+      double ecc = atan(sqrt(fx * fx + fy * fy) / k->dist_px) * 180.0 / M_PI;
+      r->eccf[x] = (float)jnd_eccentricity_factor(k->m->band_cpd[k->band], ecc);
+    }
+  }
+  for (int a = 0; a < 2; a++) {
+    if (st->uniform[a]) {
+      /* a uniform image has no contrast: its response is 0 */
+      for (int c = 0; c < 3; c++) memset(r->opp[a][c], 0, sizeof(float) * (size_t)w);
+      continue;
+    }
+    image_row(k, r, a, y, rows, wts);
+  }
+  /* 004 §3.2: difference of the responses, Minkowski over channels */
+  const float e = k->e;
+  const float *r0 = r->opp[0][0], *r1 = r->opp[0][1], *r2 = r->opp[0][2];
+  const float *t0 = r->opp[1][0], *t1 = r->opp[1][1], *t2 = r->opp[1][2];
+#pragma omp simd
+  for (int x = 0; x < w; x++) {
+    float d0 = fabsf(t0[x] - r0[x]), d1 = fabsf(t1[x] - r1[x]), d2 = fabsf(t2[x] - r2[x]);
+    drow[x] = jnd_fast_pow(d0, e) + jnd_fast_pow(d1, e) + jnd_fast_pow(d2, e);
+  }
+}
+
 /* Difference of band i, summed over channels: D_i = Σ_ch |T(n_test) − T(n_ref)|^e. */
 static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, float *xexp[2][3],
                                   float *D) {
-  const int w = st->g[0][0].w[band], h = st->g[0][0].h[band];
-  const int w1 = st->g[0][0].w[band + 1], h1 = st->g[0][0].h[band + 1];
-  const float e = (float)m->p.minkowski;
-  const double ppd = m->p.display.ppd;
-  const float *lutA = lut_at(m, band, 0), *luta = lut_at(m, band, 1), *lutb = lut_at(m, band, 2);
+  band_ctx k;
+  memset(&k, 0, sizeof k);
+  k.m = m;
+  k.st = st;
+  k.band = band;
+  k.w = st->g[0][0].w[band];
+  k.w1 = st->g[0][0].w[band + 1];
+  const int h = st->g[0][0].h[band];
+  k.e = (float)m->p.minkowski;
+  for (int a = 0; a < 2; a++)
+    for (int c = 0; c < 3; c++) k.xexp[a][c] = xexp[a][c];
+  for (int c = 0; c < NCH; c++) k.lut[c] = lut_at(m, band, c);
   /* without a motion map every pixel has the same retinal velocity: the
    * CSF tables reduce to one dimension (adaptation luminance) */
-  float lut1[NCH][LUT_NL];
   if (!st->has_vel) {
     float fv = (log10f(st->uniform_v) - (float)LUT_LOGV0) * (float)(1.0 / LUT_DLOGV);
     fv = fv < 0 ? 0 : fv > LUT_NV - 1.001f ? LUT_NV - 1.001f : fv;
     int iv = (int)fv;
     float tv = fv - iv;
-    const float *tabs[NCH] = {lutA, luta, lutb};
     for (int c = 0; c < NCH; c++)
       for (int il = 0; il < LUT_NL; il++)
-        lut1[c][il] = (1 - tv) * tabs[c][(size_t)iv * LUT_NL + il] + tv * tabs[c][(size_t)(iv + 1) * LUT_NL + il];
+        k.lut1[c][il] = (1 - tv) * k.lut[c][(size_t)iv * LUT_NL + il] + tv * k.lut[c][(size_t)(iv + 1) * LUT_NL + il];
   }
   const int threads = jnd_threads(m->p.threads);
-  const double scale = ldexp(1.0, band); /* full-resolution pixels per pixel of this level */
-  /* viewing distance in pixels, for eccentricity on a flat screen */
-  const double dist_px = 1.0 / tan(M_PI / 180.0 / ppd);
+  k.scale = ldexp(1.0, band);
+  k.dist_px = 1.0 / tan(M_PI / 180.0 / m->p.display.ppd);
   int fail = 0;
-  interp_axis ax = {0}, ay = {0};
-  if (!axis_init(&ax, w, st->aw, ldexp(1.0, band - st->alev)) || !axis_init(&ay, h, st->ah, ldexp(1.0, band - st->alev))) {
-    axis_free(&ax);
-    axis_free(&ay);
+  if (!axis_init(&k.ax, k.w, st->aw, ldexp(1.0, band - st->alev)) ||
+      !axis_init(&k.ay, h, st->ah, ldexp(1.0, band - st->alev))) {
+    axis_free(&k.ax);
+    axis_free(&k.ay);
     return jnd_fail(JND_ERR_NOMEM, "model: out of memory");
   }
-
 #pragma omp parallel num_threads(threads)
   {
-    row_cache cache[2][3][2];
-    /* expanded-row caches (12 × 3 rows) and the row stages: opponent values
-     * (2 images × 3 channels), adaptation, sensitivities (3), eccentricity */
-    float *mem = malloc(sizeof(float) * (size_t)w * (36 + 6 + 2 + 3 + 1));
-    if (!mem) {
+    row_scratch r;
+    if (!scratch_init(&r, k.w)) {
 #pragma omp atomic write
       fail = 1;
     }
-    for (int a = 0; a < 2; a++)
-      for (int c = 0; c < 3; c++)
-        for (int k = 0; k < 2; k++) {
-          cache[a][c][k].buf = mem ? mem + (size_t)((a * 3 + c) * 2 + k) * 3 * w : NULL;
-          cache[a][c][k].row[0] = cache[a][c][k].row[1] = cache[a][c][k].row[2] = -1;
-        }
-    float *opp[2][3] = {{0}}, *logl[2] = {0}, *sens[3] = {0}, *eccf = NULL;
-    if (mem) {
-      float *p = mem + (size_t)36 * w;
-      for (int a = 0; a < 2; a++)
-        for (int c = 0; c < 3; c++) opp[a][c] = p, p += w;
-      for (int a = 0; a < 2; a++) logl[a] = p, p += w;
-      for (int c = 0; c < 3; c++) sens[c] = p, p += w;
-      eccf = p;
-    }
 #pragma omp for schedule(static)
-    for (int y = 0; y < h; y++) {
-      if (!mem) continue;
-      int rows[3];
-      float wts[3] = {0, 0, 0};
-      int nr = jnd_pyr_expand_rows(y, h1, rows, wts);
-      if (nr == 2) rows[2] = rows[1]; /* weight 0: any valid row */
-      if (m->p.has_gaze) {
-        for (int x = 0; x < w; x++) {
-          double fx = (x + 0.5) * scale - 0.5 - m->p.gaze_x, fy = (y + 0.5) * scale - 0.5 - m->p.gaze_y;
-          double ecc = atan(sqrt(fx * fx + fy * fy) / dist_px) * 180.0 / M_PI;
-          eccf[x] = (float)jnd_eccentricity_factor(m->band_cpd[band], ecc);
-        }
-      }
-      for (int a = 0; a < 2; a++) {
-        if (st->uniform[a]) {
-          /* a uniform image has no contrast: its response is 0 */
-          for (int c = 0; c < 3; c++) memset(opp[a][c], 0, sizeof(float) * (size_t)w);
-          continue;
-        }
-        /* 004 §3.1: band-limited contrast (G_i − G_{i+1}) / G_{i+2} (Lubin 1995), per cone */
-        for (int c = 0; c < 3; c++) {
-          const float *g0 = st->g[a][c].plane[band] + (size_t)y * w;
-          const float *p0 = cached_row(&cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[0], w);
-          const float *p1 = cached_row(&cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[1], w);
-          const float *p2 = cached_row(&cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[2], w);
-          const float *q0 = cached_row(&cache[a][c][1], xexp[a][c], w1, rows[0], w);
-          const float *q1 = cached_row(&cache[a][c][1], xexp[a][c], w1, rows[1], w);
-          const float *q2 = cached_row(&cache[a][c][1], xexp[a][c], w1, rows[2], w);
-          float *o = opp[a][c];
-          const float w0 = wts[0], w1_ = wts[1], w2 = wts[2];
-          for (int x = 0; x < w; x++) {
-            float s1 = w0 * p0[x] + w1_ * p1[x] + w2 * p2[x];
-            float s2 = w0 * q0[x] + w1_ * q1[x] + w2 * q2[x];
-            o[x] = (g0[x] - s1) / jnd_maxf(s2, CONTRAST_FLOOR);
-          }
-        }
-        /* 004 §3.1: Hunt's opponent channels */
-        float *o0 = opp[a][0], *o1 = opp[a][1], *o2 = opp[a][2];
-        for (int x = 0; x < w; x++) {
-          float A, ca, cb;
-          jnd_opponent(o0[x], o1[x], o2[x], &A, &ca, &cb);
-          o0[x] = A;
-          o1[x] = ca;
-          o2[x] = cb;
-        }
-        /* adaptation luminance (log10) from the level where a pixel is ~1° */
-        const float *ar0 = st->adapt[a] + (size_t)ay.i0[y] * st->aw, *ar1 = st->adapt[a] + (size_t)ay.i1[y] * st->aw;
-        const float ty = ay.t[y];
-        float *ll = logl[a];
-        for (int x = 0; x < w; x++) {
-          float tx = ax.t[x];
-          ll[x] = (1 - ty) * ((1 - tx) * ar0[ax.i0[x]] + tx * ar0[ax.i1[x]]) +
-                  ty * ((1 - tx) * ar1[ax.i0[x]] + tx * ar1[ax.i1[x]]);
-        }
-        for (int x = 0; x < w; x++) ll[x] = jnd_fast_log2(jnd_maxf(ll[x], 1e-6f)) * 0.30103f;
-        /* CSF normalisation at the band's peak frequency (004 §3.1) */
-        if (st->has_vel) {
-          const float *vr = st->vel.plane[band] + (size_t)y * w;
-          for (int x = 0; x < w; x++) {
-            float logv = jnd_fast_log2(jnd_maxf(vr[x], 1e-3f)) * 0.30103f;
-            sens[0][x] = lut_lookup(lutA, ll[x], logv);
-            sens[1][x] = lut_lookup(luta, ll[x], logv);
-            sens[2][x] = lut_lookup(lutb, ll[x], logv);
-          }
-        } else {
-          for (int x = 0; x < w; x++) {
-            float fl = (ll[x] - (float)LUT_LOGL0) * (float)(1.0 / LUT_DLOGL);
-            fl = fl < 0 ? 0 : fl > LUT_NL - 1.001f ? LUT_NL - 1.001f : fl;
-            int il = (int)fl;
-            float tl = fl - il;
-            sens[0][x] = lut1[0][il] + tl * (lut1[0][il + 1] - lut1[0][il]);
-            sens[1][x] = lut1[1][il] + tl * (lut1[1][il + 1] - lut1[1][il]);
-            sens[2][x] = lut1[2][il] + tl * (lut1[2][il + 1] - lut1[2][il]);
-          }
-        }
-        if (m->p.has_gaze)
-          for (int c = 0; c < 3; c++)
-            for (int x = 0; x < w; x++) sens[c][x] *= eccf[x];
-        /* 004 §3.1: the masking transducer on the normalised contrast */
-        for (int c = 0; c < 3; c++) {
-          float *o = opp[a][c];
-          const float *sc = sens[c];
-          for (int x = 0; x < w; x++) o[x] = jnd_transducer(o[x] * sc[x]);
-        }
-      }
-      /* 004 §3.2: difference of the responses, Minkowski over channels */
-      float *drow = D + (size_t)y * w;
-      for (int x = 0; x < w; x++) {
-        float d0 = fabsf(opp[1][0][x] - opp[0][0][x]), d1 = fabsf(opp[1][1][x] - opp[0][1][x]),
-              d2 = fabsf(opp[1][2][x] - opp[0][2][x]);
-        drow[x] = jnd_fast_pow(d0, e) + jnd_fast_pow(d1, e) + jnd_fast_pow(d2, e);
-      }
-    }
-    free(mem);
+    for (int y = 0; y < h; y++)
+      if (r.mem) band_row(&k, &r, y, D + (size_t)y * k.w);
+    free(r.mem);
   }
-  axis_free(&ax);
-  axis_free(&ay);
+  axis_free(&k.ax);
+  axis_free(&k.ay);
   return fail ? jnd_fail(JND_ERR_NOMEM, "model: out of memory") : JND_OK;
 }
 

@@ -43,20 +43,30 @@ void jnd_pyr_reduce(const float *src, int w, int h, float *dst, int dw, int dh, 
   free(tmp);
 }
 
-void jnd_pyr_expand_row(const float *src, int cw, float *dst, int fw) {
+/* fine sample x of EXPAND near the borders (mirrored coarse indices) */
+static float expand_at(const float *src, int cw, int x) {
+  if ((x & 1) == 0) {
+    int c = x / 2;
+    return 0.125f * src[jnd_mirror(c - 1, cw)] + 0.75f * src[jnd_mirror(c, cw)] + 0.125f * src[jnd_mirror(c + 1, cw)];
+  }
+  int c = (x - 1) / 2;
+  return 0.5f * (src[jnd_mirror(c, cw)] + src[jnd_mirror(c + 1, cw)]);
+}
+
+JND_HOT void jnd_pyr_expand_row(const float *src, int cw, float *dst, int fw) {
   /* fine sample x gets 2·Σ K[m] src[(x−m)/2] over m with x−m even:
    * even x: K0, K2, K4 on coarse x/2+1, x/2, x/2−1 → 1/8, 3/4, 1/8
    * odd x:  K1, K3 on coarse (x±1)/2 → 1/2, 1/2 */
-  for (int x = 0; x < fw; x++) {
-    if ((x & 1) == 0) {
-      int c = x / 2;
-      dst[x] = 0.125f * src[jnd_mirror(c - 1, cw)] + 0.75f * src[jnd_mirror(c, cw)] +
-               0.125f * src[jnd_mirror(c + 1, cw)];
-    } else {
-      int c = (x - 1) / 2;
-      dst[x] = 0.5f * (src[jnd_mirror(c, cw)] + src[jnd_mirror(c + 1, cw)]);
-    }
+  int c1 = cw - 1; /* coarse c in [1, c1) has both neighbours inside */
+  if (2 * c1 > fw) c1 = fw / 2;
+  if (c1 < 1) c1 = 1;
+  for (int x = 0; x < 2 && x < fw; x++) dst[x] = expand_at(src, cw, x);
+  for (int c = 1; c < c1; c++) {
+    float a = src[c - 1], b = src[c], n = src[c + 1];
+    dst[2 * c] = 0.125f * a + 0.75f * b + 0.125f * n;
+    dst[2 * c + 1] = 0.5f * (b + n);
   }
+  for (int x = 2 * c1; x < fw; x++) dst[x] = expand_at(src, cw, x);
 }
 
 int jnd_pyr_expand_rows(int y, int ch, int rows[3], float wts[3]) {
