@@ -1,6 +1,7 @@
 /* Argument parsing helpers and messages shared by the subcommands. */
 #include <errno.h>
 #include <math.h>
+#include <omp.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -77,6 +78,13 @@ double cli_double(const char *cmd, const char *opt, const char *v, double lo, do
     exit(EXIT_BAD);
   }
   return d;
+}
+
+int cli_threads(const char *cmd, const char *v) {
+  int n = cli_int(cmd, "--threads", v, 1, 1024);
+  /* every parallel region of the run, the library's included, uses n */
+  omp_set_num_threads(n);
+  return n;
 }
 
 int cli_int(const char *cmd, const char *opt, const char *v, int lo, int hi) {

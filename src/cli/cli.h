@@ -35,6 +35,8 @@ int cli_flag(char **argv, int i, const char *name);
 /* Parse numbers or exit 2 with "jnd CMD: --opt: ..." */
 double cli_double(const char *cmd, const char *opt, const char *v, double lo, double hi);
 int cli_int(const char *cmd, const char *opt, const char *v, int lo, int hi);
+/* --threads N (1..1024), made the default of every parallel region */
+int cli_threads(const char *cmd, const char *v);
 /* "A,B" pairs of numbers */
 void cli_pair(const char *cmd, const char *opt, const char *v, double *a, double *b);
 

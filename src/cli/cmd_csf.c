@@ -188,7 +188,7 @@ static int run(int argc, char **argv) {
     } else if (cli_flag(argv, i, "--fit")) {
       fit = 1;
     } else if (cli_opt(argc, argv, &i, "--threads", &v)) {
-      common.threads = cli_int("csf", "--threads", v, 1, 1024);
+      common.threads = cli_threads("csf", v);
     } else if (cli_flag(argv, i, "--quiet") || cli_flag(argv, i, "-q")) {
       common.quiet = 1;
     } else if (argv[i][0] == '-' && argv[i][1]) {

@@ -101,7 +101,7 @@ static int run(int argc, char **argv) {
     } else if (cli_opt(argc, argv, &i, "--fail-above", &v)) {
       fail_above = cli_double("diff", "--fail-above", v, 0, 1);
     } else if (cli_opt(argc, argv, &i, "--threads", &v)) {
-      mp.threads = common.threads = cli_int("diff", "--threads", v, 1, 1024);
+      mp.threads = common.threads = cli_threads("diff", v);
     } else if (cli_flag(argv, i, "--timings")) {
       timings = 1;
     } else if (cli_flag(argv, i, "--quiet") || cli_flag(argv, i, "-q")) {
@@ -140,7 +140,7 @@ static int run(int argc, char **argv) {
   cJSON *report = NULL;
   /* the two files decode at the same time */
   int ok[2];
-#pragma omp parallel sections num_threads(2)
+#pragma omp parallel sections num_threads(common.threads == 1 ? 1 : 2)
   {
 #pragma omp section
     ok[0] = jnd_image_read(paths[0], &ref, &ri) == JND_OK;

@@ -221,7 +221,7 @@ static int run(int argc, char **argv) {
     } else if (cli_opt(argc, argv, &i, "--json", &v)) {
       common.json_path = v;
     } else if (cli_opt(argc, argv, &i, "--threads", &v)) {
-      p.model.threads = common.threads = cli_int("texres", "--threads", v, 1, 1024);
+      p.model.threads = common.threads = cli_threads("texres", v);
     } else if (cli_flag(argv, i, "--timings")) {
       timings = 1;
     } else if (cli_flag(argv, i, "--quiet") || cli_flag(argv, i, "-q")) {
