@@ -75,6 +75,36 @@ static double p_pct(const order_stats *o, double pct, float beta) {
   return a + t * (b - a);
 }
 
+enum { SUM_BLOCK = 4096 };
+
+/* one block's Σ j, Σ j^2.4, Σ P and (for Minkowski pooling) Σ P^2.4: the
+ * values in vectorisable loops, then summed in order */
+JND_HOT static void block_sums(const float *j, size_t m, float beta, int minkowski, double out[4]) {
+  float a[SUM_BLOCK], b[SUM_BLOCK], c[SUM_BLOCK];
+#pragma omp simd
+  for (size_t i = 0; i < m; i++) {
+    a[i] = jnd_fast_pow(j[i], 2.4f);
+    b[i] = prob(j[i], beta);
+  }
+  if (minkowski) {
+#pragma omp simd
+    for (size_t i = 0; i < m; i++) c[i] = jnd_fast_pow(b[i], 2.4f);
+  } else {
+    memset(c, 0, sizeof(float) * m);
+  }
+  double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+  for (size_t i = 0; i < m; i++) {
+    s0 += j[i];
+    s1 += a[i];
+    s2 += b[i];
+    s3 += c[i];
+  }
+  out[0] = s0;
+  out[1] = s1;
+  out[2] = s2;
+  out[3] = s3;
+}
+
 jnd_status jnd_diff_summarise(const jnd_image *map, double beta, const jnd_pooling *pool,
                               jnd_diff_stats *st) {
   memset(st, 0, sizeof *st);
@@ -84,37 +114,14 @@ jnd_status jnd_diff_summarise(const jnd_image *map, double beta, const jnd_pooli
   if (!pool) pool = &p93;
   const float fb = (float)beta;
   const int minkowski = pool->kind == JND_POOL_MINKOWSKI;
-  /* sums in fixed blocks (the same order whatever the thread count), each
-   * block's values computed in a vectorisable loop */
-  enum { BLOCK = 4096 };
-  const size_t nblocks = (n + BLOCK - 1) / BLOCK;
+  /* sums in fixed blocks (the same order whatever the thread count) */
+  const size_t nblocks = (n + SUM_BLOCK - 1) / SUM_BLOCK;
   double *part = jnd_calloc(nblocks * 4, sizeof *part);
   if (!part) return JND_ERR_NOMEM;
 #pragma omp parallel for schedule(static)
   for (size_t bk = 0; bk < nblocks; bk++) {
-    float a[BLOCK], b[BLOCK], c[BLOCK];
-    size_t i0 = bk * BLOCK, m = n - i0 < BLOCK ? n - i0 : BLOCK;
-    const float *j = map->data + i0;
-    for (size_t i = 0; i < m; i++) {
-      a[i] = jnd_fast_pow(j[i], 2.4f);
-      b[i] = prob(j[i], fb);
-    }
-    /* the Minkowski mean of P is read only by that pooling */
-    if (minkowski)
-      for (size_t i = 0; i < m; i++) c[i] = jnd_fast_pow(b[i], 2.4f);
-    else
-      memset(c, 0, sizeof(float) * m);
-    double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
-    for (size_t i = 0; i < m; i++) {
-      s0 += j[i];
-      s1 += a[i];
-      s2 += b[i];
-      s3 += c[i];
-    }
-    part[bk * 4] = s0;
-    part[bk * 4 + 1] = s1;
-    part[bk * 4 + 2] = s2;
-    part[bk * 4 + 3] = s3;
+    size_t i0 = bk * SUM_BLOCK;
+    block_sums(map->data + i0, n - i0 < SUM_BLOCK ? n - i0 : SUM_BLOCK, fb, minkowski, part + bk * 4);
   }
   double sj = 0, sj24 = 0, sp = 0, sp24 = 0;
   for (size_t bk = 0; bk < nblocks; bk++) {

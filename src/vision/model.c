@@ -26,7 +26,8 @@
 #define LUT_LOGV0 (-1.0)      /* retinal velocity 0.1 .. 316 deg/s */
 #define LUT_NV 71
 #define LUT_DLOGV 0.05
-#define CONTRAST_FLOOR 1e-4f  /* cd/m²-scale floor of the contrast denominator */
+#define CONTRAST_FLOOR 1e-4f
+#define BOX_COLS 64            /* columns per block of the vertical box passes */  /* cd/m²-scale floor of the contrast denominator */
 
 struct jnd_model {
   jnd_model_params p;
@@ -474,45 +475,49 @@ static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, 
   return fail ? jnd_fail(JND_ERR_NOMEM, "model: out of memory") : JND_OK;
 }
 
-/* one box pass of odd width 2r+1 along rows (stride 1) or columns, mirrored ends */
-static void box_pass(const float *src, float *dst, int w, int h, int r, int along_rows, int threads) {
+/* one box pass of odd width 2r+1 along a row, mirrored ends */
+static void box_row(const float *s, float *d, int w, int r) {
   const float inv = 1.0f / (float)(2 * r + 1);
-  if (along_rows) {
-#pragma omp parallel for num_threads(threads) schedule(static)
-    for (int y = 0; y < h; y++) {
-      const float *s = src + (size_t)y * w;
-      float *d = dst + (size_t)y * w;
-      double acc = 0;
-      for (int i = -r; i <= r; i++) acc += s[jnd_mirror(i, w)];
-      for (int x = 0; x < w; x++) {
-        d[x] = (float)(acc * inv);
-        acc += s[jnd_mirror(x + r + 1, w)] - s[jnd_mirror(x - r, w)];
-      }
+  double acc = 0;
+  for (int i = -r; i <= r; i++) acc += s[jnd_mirror(i, w)];
+  for (int x = 0; x < w; x++) {
+    d[x] = (float)(acc * inv);
+    acc += s[jnd_mirror(x + r + 1, w)] - s[jnd_mirror(x - r, w)];
+  }
+}
+
+/* one box pass down cw columns (row strides ss and ds), mirrored ends: a
+ * running sum per column, the rows walked in order (vectorises across x) */
+JND_HOT static void box_cols(const float *src, size_t ss, float *dst, size_t ds, int cw, int h, int r) {
+  const float inv = 1.0f / (float)(2 * r + 1);
+  double acc[BOX_COLS];
+  for (int x = 0; x < cw; x++) acc[x] = 0;
+  for (int i = -r; i <= r; i++) {
+    const float *row = src + (size_t)jnd_mirror(i, h) * ss;
+    for (int x = 0; x < cw; x++) acc[x] += row[x];
+  }
+  for (int y = 0; y < h; y++) {
+    float *d = dst + (size_t)y * ds;
+    const float *add = src + (size_t)jnd_mirror(y + r + 1, h) * ss;
+    const float *sub = src + (size_t)jnd_mirror(y - r, h) * ss;
+    for (int x = 0; x < cw; x++) {
+      d[x] = (float)(acc[x] * inv);
+      acc[x] += (double)add[x] - (double)sub[x];
     }
-  } else {
-    /* columns in chunks: each thread walks its chunk's rows in order, with a
-     * running sum per column (cache-friendly, vectorisable) */
-    const int chunk = 256;
-    const int nchunks = (w + chunk - 1) / chunk;
-#pragma omp parallel for num_threads(threads) schedule(static)
-    for (int cb = 0; cb < nchunks; cb++) {
-      int x0 = cb * chunk, x1 = x0 + chunk < w ? x0 + chunk : w, cw = x1 - x0;
-      double acc[256];
-      for (int x = 0; x < cw; x++) acc[x] = 0;
-      for (int i = -r; i <= r; i++) {
-        const float *row = src + (size_t)jnd_mirror(i, h) * w + x0;
-        for (int x = 0; x < cw; x++) acc[x] += row[x];
-      }
-      for (int y = 0; y < h; y++) {
-        float *d = dst + (size_t)y * w + x0;
-        const float *add = src + (size_t)jnd_mirror(y + r + 1, h) * w + x0;
-        const float *sub = src + (size_t)jnd_mirror(y - r, h) * w + x0;
-        for (int x = 0; x < cw; x++) {
-          d[x] = (float)(acc[x] * inv);
-          acc[x] += (double)add[x] - (double)sub[x];
-        }
-      }
-    }
+  }
+}
+
+JND_HOT static void pow_span(const float *src, float *dst, size_t n, float e) {
+#pragma omp simd
+  for (size_t i = 0; i < n; i++) dst[i] = jnd_fast_pow(src[i], e);
+}
+
+/* pooled = (gain · sum)^down, at most bound × the pixel's own value */
+JND_HOT static void pool_cap_span(const float *sum, float *d, size_t n, float gain, float down, float bound) {
+#pragma omp simd
+  for (size_t i = 0; i < n; i++) {
+    float pooled = jnd_fast_pow(sum[i] * gain, down), cap = bound * d[i];
+    d[i] = pooled < cap ? pooled : cap;
   }
 }
 
@@ -522,7 +527,9 @@ static void box_pass(const float *src, float *dst, int w, int h, int r, int alon
  * cycles of the band (three box passes) with exponent summation_beta:
  *   j'(x) = (Σ_y g(x − y) j(y)^beta)^(1/beta),  g's area counted in cycles²,
  * which makes large stimuli more visible than small ones of equal contrast
- * (area summation, e.g. Rovamo et al. 1993). D holds j^e and is updated. */
+ * (area summation, e.g. Rovamo et al. 1993). D holds j^e and is updated.
+ * The three horizontal passes run on one row at a time and the three
+ * vertical ones on one block of columns at a time, in cache. */
 static jnd_status local_summation(const jnd_model *m, int band, float *D, int w, int h) {
   const double e = m->p.minkowski, beta = m->p.summation_beta;
   /* samples of this level per cycle of the band's peak frequency */
@@ -534,13 +541,6 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, int w,
   const double sig_eff = sqrt(3.0 * ((2.0 * r + 1) * (2.0 * r + 1) - 1.0) / 12.0);
   /* the window's weights sum to its area in cycles²: 2π σ² / spc² */
   const float gain = (float)(2.0 * M_PI * sig_eff * sig_eff / (spc * spc));
-  float *tmp = jnd_alloc((size_t)w * h, sizeof(float));
-  float *own = jnd_alloc((size_t)w * h, sizeof(float));
-  if (!tmp || !own) {
-    free(tmp);
-    free(own);
-    return JND_ERR_NOMEM;
-  }
   const float up = (float)(beta / e), down = (float)(e / beta);
   /* a pixel's pooled value is at most the whole window's gain times its own:
    * where this band has no difference, pooling must not bring in its
@@ -548,24 +548,43 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, int w,
    * At a local maximum — where thresholds are read — the bound never acts. */
   const float bound = jnd_fast_pow(gain, down);
   const int threads = jnd_threads(m->p.threads);
-  const ptrdiff_t n = (ptrdiff_t)w * h;
-  memcpy(own, D, sizeof(float) * (size_t)n);
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (ptrdiff_t i = 0; i < n; i++) D[i] = jnd_fast_pow(D[i], up);
-  box_pass(D, tmp, w, h, r, 1, threads);
-  box_pass(tmp, D, w, h, r, 0, threads);
-  box_pass(D, tmp, w, h, r, 1, threads);
-  box_pass(tmp, D, w, h, r, 0, threads);
-  box_pass(D, tmp, w, h, r, 1, threads);
-  box_pass(tmp, D, w, h, r, 0, threads);
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (ptrdiff_t i = 0; i < n; i++) {
-    float pooled = jnd_fast_pow(D[i] * gain, down), cap = bound * own[i];
-    D[i] = pooled < cap ? pooled : cap;
+  float *P = jnd_alloc((size_t)w * h, sizeof(float)); /* the windowed sums */
+  if (!P) return JND_ERR_NOMEM;
+  int fail = 0;
+#pragma omp parallel num_threads(threads)
+  {
+    /* two rows, then two column blocks, of scratch */
+    size_t need = (size_t)2 * w > (size_t)2 * BOX_COLS * h ? (size_t)2 * w : (size_t)2 * BOX_COLS * h;
+    float *a = malloc(sizeof(float) * need);
+    if (!a) {
+#pragma omp atomic write
+      fail = 1;
+    }
+#pragma omp for schedule(static)
+    for (int y = 0; y < h; y++) {
+      if (!a) continue;
+      float *t0 = a, *t1 = a + w, *out = P + (size_t)y * w;
+      pow_span(D + (size_t)y * w, t0, (size_t)w, up);
+      box_row(t0, t1, w, r);
+      box_row(t1, t0, w, r);
+      box_row(t0, out, w, r);
+    }
+    const int nblocks = (w + BOX_COLS - 1) / BOX_COLS;
+#pragma omp for schedule(static)
+    for (int bk = 0; bk < nblocks; bk++) {
+      if (!a) continue;
+      int x0 = bk * BOX_COLS, cw = w - x0 < BOX_COLS ? w - x0 : BOX_COLS;
+      float *b0 = a, *b1 = a + (size_t)BOX_COLS * h; /* row stride BOX_COLS */
+      box_cols(P + x0, (size_t)w, b0, BOX_COLS, cw, h, r);
+      box_cols(b0, BOX_COLS, b1, BOX_COLS, cw, h, r);
+      box_cols(b1, BOX_COLS, b0, BOX_COLS, cw, h, r);
+      for (int y = 0; y < h; y++)
+        pool_cap_span(b0 + (size_t)y * BOX_COLS, D + (size_t)y * w + x0, (size_t)cw, gain, down, bound);
+    }
+    free(a);
   }
-  free(own);
-  free(tmp);
-  return JND_OK;
+  free(P);
+  return fail ? jnd_fail(JND_ERR_NOMEM, "model: out of memory") : JND_OK;
 }
 
 static void state_free(diff_state *st) {
@@ -711,8 +730,9 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
     const float *wt = in && in->weights ? in->weights->data : NULL;
     float *o = out.data;
     /* two loops, not one with a branch, so that both vectorise */
+    const size_t span = 16384;
 #pragma omp parallel for num_threads(threads) schedule(static)
-    for (size_t i = 0; i < npx; i++) o[i] = jnd_fast_pow(o[i], inv);
+    for (size_t i = 0; i < npx; i += span) pow_span(o + i, o + i, npx - i < span ? npx - i : span, inv);
     /* 004 §3.2: weights scale down the difference map */
     if (wt) {
 #pragma omp parallel for num_threads(threads) schedule(static)
