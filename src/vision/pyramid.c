@@ -13,7 +13,7 @@ static const float K[5] = {1.0f / 16, 4.0f / 16, 6.0f / 16, 4.0f / 16, 1.0f / 16
 
 void jnd_pyr_reduce(const float *src, int w, int h, float *dst, int dw, int dh, int threads) {
   /* horizontal pass on the kept columns into a temporary of dw × h */
-  float *tmp = malloc(sizeof(float) * (size_t)dw * h);
+  float *tmp = jnd_alloc((size_t)dw * h, sizeof(float));
   if (!tmp) return; /* callers allocate far more than this; treated as fatal upstream */
 #pragma omp parallel for num_threads(threads) schedule(static)
   for (int y = 0; y < h; y++) {
