@@ -211,20 +211,25 @@ typedef struct {
 typedef struct {
   int *i0, *i1;
   float *t;
+  int nrun, *run; /* runs of equal (i0, i1): run[k] .. run[k + 1] − 1 */
 } interp_axis;
 
 static int axis_init(interp_axis *a, int n, int coarse_n, double scale) {
   a->i0 = malloc(sizeof(int) * (size_t)n);
   a->i1 = malloc(sizeof(int) * (size_t)n);
   a->t = malloc(sizeof(float) * (size_t)n);
-  if (!a->i0 || !a->i1 || !a->t) return 0;
+  a->run = malloc(sizeof(int) * ((size_t)n + 1));
+  if (!a->i0 || !a->i1 || !a->t || !a->run) return 0;
+  a->nrun = 0;
   for (int k = 0; k < n; k++) {
     double f = (k + 0.5) * scale - 0.5;
     int k0 = (int)floor(f);
     a->t[k] = (float)(f - k0);
     a->i0[k] = jnd_clampi(k0, 0, coarse_n - 1);
     a->i1[k] = jnd_clampi(k0 + 1, 0, coarse_n - 1);
+    if (k == 0 || a->i0[k] != a->i0[k - 1] || a->i1[k] != a->i1[k - 1]) a->run[a->nrun++] = k;
   }
+  a->run[a->nrun] = n;
   return 1;
 }
 
@@ -232,6 +237,7 @@ static void axis_free(interp_axis *a) {
   free(a->i0);
   free(a->i1);
   free(a->t);
+  free(a->run);
 }
 
 /* CSF look-up: bilinear in log luminance and log velocity. */
@@ -271,7 +277,7 @@ typedef struct {
   int band, w, w1;
   float *xexp[2][3];    /* EXPAND(G_{i+2}) at level i+1 */
   const float *lut[NCH]; /* CSF tables over (velocity, luminance), with a motion map */
-  float lut1[NCH][LUT_NL]; /* the tables at the one retinal velocity, without */
+  float lut1[LUT_NL][4];   /* the tables at the one retinal velocity, without: [iL][A, a, b, -] */
   interp_axis ax, ay;   /* bilinear sampling of the adaptation map */
   double scale;         /* full-resolution pixels per pixel of this level */
   double dist_px;       /* viewing distance in pixels (eccentricity on a flat screen) */
@@ -341,11 +347,17 @@ JND_HOT static void image_row(const band_ctx *k, row_scratch *r, int a, int y, c
   const float *ar0 = st->adapt[a] + (size_t)k->ay.i0[y] * st->aw, *ar1 = st->adapt[a] + (size_t)k->ay.i1[y] * st->aw;
   const float ty = k->ay.t[y];
   float *ll = r->logl[a];
-  const int *i0 = k->ax.i0, *i1 = k->ax.i1;
   const float *t = k->ax.t;
-  for (int x = 0; x < w; x++) {
-    float tx = t[x];
-    ll[x] = (1 - ty) * ((1 - tx) * ar0[i0[x]] + tx * ar0[i1[x]]) + ty * ((1 - tx) * ar1[i0[x]] + tx * ar1[i1[x]]);
+  /* along runs of pixels between the same two coarse columns, so that the
+   * inner loop has no indexed loads */
+  for (int q = 0; q < k->ax.nrun; q++) {
+    const int xa = k->ax.run[q], xb = k->ax.run[q + 1], j0 = k->ax.i0[xa], j1 = k->ax.i1[xa];
+    const float a00 = ar0[j0], a01 = ar0[j1], a10 = ar1[j0], a11 = ar1[j1];
+#pragma omp simd
+    for (int x = xa; x < xb; x++) {
+      float tx = t[x];
+      ll[x] = (1 - ty) * ((1 - tx) * a00 + tx * a01) + ty * ((1 - tx) * a10 + tx * a11);
+    }
   }
 #pragma omp simd
   for (int x = 0; x < w; x++) ll[x] = jnd_fast_log2(jnd_maxf(ll[x], 1e-6f)) * 0.30103f;
@@ -360,15 +372,17 @@ JND_HOT static void image_row(const band_ctx *k, row_scratch *r, int a, int y, c
       s2[x] = lut_lookup(k->lut[2], ll[x], logv);
     }
   } else {
-    const float *l0 = k->lut1[0], *l1 = k->lut1[1], *l2 = k->lut1[2];
+    /* the three channels' entries side by side: one row of lut1 per index */
+    const float(*l)[4] = k->lut1;
     for (int x = 0; x < w; x++) {
       float fl = (ll[x] - (float)LUT_LOGL0) * (float)(1.0 / LUT_DLOGL);
       fl = fl < 0 ? 0 : fl > LUT_NL - 1.001f ? LUT_NL - 1.001f : fl;
       int il = (int)fl;
       float tl = fl - il;
-      s0[x] = l0[il] + tl * (l0[il + 1] - l0[il]);
-      s1[x] = l1[il] + tl * (l1[il + 1] - l1[il]);
-      s2[x] = l2[il] + tl * (l2[il + 1] - l2[il]);
+      const float *e0 = l[il], *e1 = l[il + 1];
+      s0[x] = e0[0] + tl * (e1[0] - e0[0]);
+      s1[x] = e0[1] + tl * (e1[1] - e0[1]);
+      s2[x] = e0[2] + tl * (e1[2] - e0[2]);
     }
   }
   if (k->m->p.has_gaze)
@@ -446,7 +460,7 @@ static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, 
     float tv = fv - iv;
     for (int c = 0; c < NCH; c++)
       for (int il = 0; il < LUT_NL; il++)
-        k.lut1[c][il] = (1 - tv) * k.lut[c][(size_t)iv * LUT_NL + il] + tv * k.lut[c][(size_t)(iv + 1) * LUT_NL + il];
+        k.lut1[il][c] = (1 - tv) * k.lut[c][(size_t)iv * LUT_NL + il] + tv * k.lut[c][(size_t)(iv + 1) * LUT_NL + il];
   }
   const int threads = jnd_threads(m->p.threads);
   k.scale = ldexp(1.0, band);
@@ -475,12 +489,22 @@ static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, 
   return fail ? jnd_fail(JND_ERR_NOMEM, "model: out of memory") : JND_OK;
 }
 
-/* one box pass of odd width 2r+1 along a row, mirrored ends */
+/* one box pass of odd width 2r+1 along a row, mirrored ends; the running sum
+ * indexes without mirroring where the window lies inside the row */
 static void box_row(const float *s, float *d, int w, int r) {
   const float inv = 1.0f / (float)(2 * r + 1);
   double acc = 0;
   for (int i = -r; i <= r; i++) acc += s[jnd_mirror(i, w)];
-  for (int x = 0; x < w; x++) {
+  int x = 0;
+  for (; x < w && x - r < 0; x++) {
+    d[x] = (float)(acc * inv);
+    acc += s[jnd_mirror(x + r + 1, w)] - s[jnd_mirror(x - r, w)];
+  }
+  for (; x + r + 1 < w; x++) {
+    d[x] = (float)(acc * inv);
+    acc += s[x + r + 1] - s[x - r];
+  }
+  for (; x < w; x++) {
     d[x] = (float)(acc * inv);
     acc += s[jnd_mirror(x + r + 1, w)] - s[jnd_mirror(x - r, w)];
   }
