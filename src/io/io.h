@@ -24,6 +24,27 @@ jnd_status jnd_decode_exr(const char *name, const unsigned char *buf, size_t n,
  * and IEND last (stb_image does not check CRCs). */
 jnd_status jnd_png_validate(const char *name, const unsigned char *buf, size_t n);
 
+/* Whether a PNG that jnd_png_validate has passed is one jnd_png_decode reads:
+ * bit depth 8 or 16, grey, grey + alpha, RGB or RGBA, not interlaced, no
+ * tRNS chunk and no unknown critical chunk. The rest (palettes, depths 1–4,
+ * Adam7, transparency keys) is left to stb_image. */
+int jnd_png_plain(const unsigned char *buf, size_t n);
+
+/* Decodes a PNG for which jnd_png_plain holds: zlib inflates the IDAT chunks
+ * in place, a block of rows at a time (memory besides the image: about
+ * 64 KiB, or two rows where a row is longer), the rows are unfiltered and
+ * written to out as planar floats, sample / 255 or / 65535, bit for bit as
+ * the stb_image path gives them. *bits gets 8 or 16. A corrupt or short
+ * stream, or a filter type over 4, is JND_ERR_FORMAT naming the file; data
+ * after the last row is ignored (its Adler-32 is not checked: the chunks'
+ * CRCs are). out is empty on failure. */
+jnd_status jnd_png_decode(const char *name, const unsigned char *buf, size_t n, jnd_image *out, int *bits);
+
+/* jnd_decode_png through stb_image alone (the path for every other PNG),
+ * for comparing the two decoders in tests and the fuzzer. */
+jnd_status jnd_decode_png_stb(const char *name, const unsigned char *buf, size_t n,
+                              jnd_image *out, jnd_image_info *info);
+
 uint32_t jnd_crc32(const unsigned char *buf, size_t n);
 
 /* Refuses NaN and Inf samples. */

@@ -1,9 +1,11 @@
 /* io: image files in and out, and CSV. Every fixture is made here, in the
  * test's scratch folder: nothing is read from outside. */
+#include <dirent.h>
 #include <stdint.h>
 
 #include <OpenEXR/openexr.h>
 #include <stb_image_write.h>
+#include <zlib.h>
 
 #include "test.h"
 #include "core/core.h"
@@ -561,6 +563,302 @@ TEST(png_claiming_more_than_the_size_limit_is_refused) {
   free(buf);
 }
 
+/* ---- PNG: the zlib path against stb_image ---- */
+
+/* PNG files written here byte by byte (PNG spec §5, §9–§11), for layouts
+ * jnd_image_write_png never writes: every filter type, 16-bit alpha,
+ * palettes, 1-bit grey, Adam7. */
+typedef struct {
+  int w, h, colour, depth, interlace;
+  const unsigned char *plte; /* colour type 3: plte_n bytes */
+  size_t plte_n;
+} png_layout;
+
+static size_t png_samples(int colour) { return colour == 2 ? 3 : colour == 4 ? 2 : colour == 6 ? 4 : 1; }
+
+static size_t png_row_bytes(const png_layout *L, int w) {
+  return ((size_t)w * png_samples(L->colour) * L->depth + 7) / 8;
+}
+
+static int predict_paeth(int a, int b, int c) {
+  int pa = abs(b - c), pb = abs(a - c), pc = abs(a + b - 2 * c); /* |p − a|, |p − b|, |p − c| */
+  return pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
+}
+
+/* h rows of row bytes, row y filtered with type (first + y) % 5 (PNG spec
+ * §9.2): h × (1 + row) bytes. */
+static unsigned char *filter_rows(const unsigned char *raw, size_t row, int h, size_t bpp, int first) {
+  unsigned char *out = malloc((1 + row) * h);
+  for (int y = 0; y < h; y++) {
+    const unsigned char *x = raw + row * y, *b = y ? x - row : NULL;
+    unsigned char *f = out + (1 + row) * y;
+    f[0] = (unsigned char)((first + y) % 5);
+    for (size_t i = 0; i < row; i++) {
+      int a = i >= bpp ? x[i - bpp] : 0, up = b ? b[i] : 0, c = b && i >= bpp ? b[i - bpp] : 0;
+      int pred[5] = {0, a, up, (a + up) / 2, predict_paeth(a, up, c)};
+      f[1 + i] = (unsigned char)(x[i] - pred[f[0]]);
+    }
+  }
+  return out;
+}
+
+/* The file: signature, IHDR, PLTE if any, a tEXt, the zlib stream spread
+ * over IDAT chunks of 1 byte, half the rest, nothing, and the rest, then IEND. */
+static unsigned char *png_wrap(const png_layout *L, const unsigned char *z, size_t zn, size_t *n) {
+  unsigned char *out = malloc(8 + 25 + (12 + L->plte_n) + (12 + 11) + (4 * 12 + zn) + 12), ihdr[13];
+  size_t pos = 8, cut[5] = {0, zn ? 1 : 0, 0, 0, zn};
+  cut[2] = cut[3] = cut[1] + (zn - cut[1]) / 2;
+  memcpy(out, "\x89PNG\r\n\x1a\n", 8);
+  put_be32(ihdr, (uint32_t)L->w);
+  put_be32(ihdr + 4, (uint32_t)L->h);
+  ihdr[8] = (unsigned char)L->depth;
+  ihdr[9] = (unsigned char)L->colour;
+  ihdr[10] = ihdr[11] = 0;
+  ihdr[12] = (unsigned char)L->interlace;
+  const struct { const char *type; const unsigned char *data; size_t len; } chunks[] = {
+      {"IHDR", ihdr, 13},
+      {L->plte ? "PLTE" : NULL, L->plte, L->plte_n},
+      {"tEXt", (const unsigned char *)"Comment\0jnd", 11},
+      {"IDAT", z, cut[1]},
+      {"IDAT", z + cut[1], cut[2] - cut[1]},
+      {"IDAT", z + cut[2], 0},
+      {"IDAT", z + cut[3], cut[4] - cut[3]},
+      {"IEND", NULL, 0},
+  };
+  for (size_t k = 0; k < sizeof chunks / sizeof chunks[0]; k++) {
+    if (!chunks[k].type) continue;
+    put_be32(out + pos, (uint32_t)chunks[k].len);
+    memcpy(out + pos + 4, chunks[k].type, 4);
+    if (chunks[k].len) memcpy(out + pos + 8, chunks[k].data, chunks[k].len);
+    put_be32(out + pos + 8 + chunks[k].len, jnd_crc32(out + pos + 4, chunks[k].len + 4));
+    pos += chunks[k].len + 12;
+  }
+  *n = pos;
+  return out;
+}
+
+/* The file for the image data (filtered rows) data, deflated by zlib. */
+static unsigned char *png_from_image_data(const png_layout *L, const unsigned char *data, size_t len, size_t *n) {
+  uLongf zn = compressBound((uLong)len);
+  unsigned char *z = malloc(zn);
+  compress2(z, &zn, data, (uLong)len, 9);
+  unsigned char *file = png_wrap(L, z, zn, n);
+  free(z);
+  return file;
+}
+
+/* Random samples for a plain layout (8 or 16 bits), filtered from type first. */
+static unsigned char *plain_png(const png_layout *L, uint64_t seed, int first, unsigned char **raw, size_t *n) {
+  size_t row = png_row_bytes(L, L->w);
+  jnd_rng r;
+  jnd_rng_seed(&r, seed);
+  *raw = malloc(row * L->h);
+  for (size_t i = 0; i < row * L->h; i++) (*raw)[i] = (unsigned char)jnd_rng_next(&r);
+  unsigned char *data = filter_rows(*raw, row, L->h, png_samples(L->colour) * L->depth / 8, first);
+  unsigned char *file = png_from_image_data(L, data, (1 + row) * L->h, n);
+  free(data);
+  return file;
+}
+
+/* Both paths decode buf to the same floats, bit for bit, and the same info. */
+static int png_paths_agree(const char *name, const unsigned char *buf, size_t n) {
+  jnd_image a, b;
+  jnd_image_info ia, ib;
+  jnd_status sa = jnd_decode_png(name, buf, n, &a, &ia), sb = jnd_decode_png_stb(name, buf, n, &b, &ib);
+  int same = sa == JND_OK && sb == JND_OK && same_shape(&a, &b) &&
+             memcmp(a.data, b.data, sizeof(float) * a.w * a.h * a.c) == 0 && memcmp(&ia, &ib, sizeof ia) == 0;
+  if (!same) fprintf(stderr, "%s: the zlib path (%d) and stb_image (%d) differ: %s\n", name, sa, sb, jnd_last_error());
+  jnd_image_free(&a);
+  jnd_image_free(&b);
+  return same;
+}
+
+TEST(png_zlib_path_matches_stb_for_every_plain_layout_filter_and_odd_width) {
+  static const int colours[4] = {0, 2, 4, 6}, widths[3] = {1, 3, 17};
+  for (int k = 0; k < 4 * 2 * 3 * 5; k++) {
+    png_layout L = {widths[k / 5 % 3], 7, colours[k / 30], k / 15 % 2 ? 16 : 8, 0, NULL, 0};
+    unsigned char *raw;
+    size_t n;
+    unsigned char *buf = plain_png(&L, 100 + k, k % 5, &raw, &n);
+    char name[64];
+    snprintf(name, sizeof name, "c%d_d%d_w%d_f%d.png", L.colour, L.depth, L.w, k % 5);
+    CHECK(jnd_png_plain(buf, n));
+    CHECK(png_paths_agree(name, buf, n));
+    /* and the samples themselves, not only stb's reading of them */
+    jnd_image img;
+    jnd_image_info info;
+    CHECK_OK(jnd_decode_png(name, buf, n, &img, &info));
+    size_t c = png_samples(L.colour), bad = 0;
+    for (size_t i = 0; img.data && i < (size_t)L.w * L.h * c; i++) {
+      size_t px = i / c, ch = i % c;
+      unsigned v = L.depth == 8 ? raw[i] : (unsigned)(raw[2 * i] << 8 | raw[2 * i + 1]);
+      bad += jnd_image_plane(&img, (int)ch)[px] != (float)(v * (1.0 / (L.depth == 8 ? 255 : 65535)));
+    }
+    CHECK(img.data && bad == 0 && info.bits == L.depth && info.channels == (int)c);
+    jnd_image_free(&img);
+    free(raw);
+    free(buf);
+  }
+}
+
+TEST(png_zlib_path_matches_stb_on_the_kodak_photographs) {
+  const char *data = test_shared_data();
+  if (!data) return; /* no ../shared here */
+  char dir[1100];
+  snprintf(dir, sizeof dir, "%s/kodak", data);
+  DIR *d = opendir(dir);
+  if (!d) return;
+  struct dirent *e;
+  while ((e = readdir(d))) {
+    size_t len = strlen(e->d_name), n;
+    if (len < 4 || strcmp(e->d_name + len - 4, ".png") != 0) continue;
+    char path[1400];
+    snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+    unsigned char *buf = read_bytes(path, &n);
+    CHECK(buf && jnd_png_plain(buf, n));
+    CHECK(buf && png_paths_agree(path, buf, n));
+    free(buf);
+  }
+  closedir(d);
+}
+
+TEST(png_with_data_after_the_last_row_decodes) {
+  png_layout L = {5, 3, 2, 8, 0, NULL, 0};
+  unsigned char data[3 * 16 + 40] = {0};
+  for (size_t i = 0; i < sizeof data; i++) data[i] = i % 16 ? (unsigned char)(7 * i) : 0; /* filter None */
+  size_t n;
+  unsigned char *buf = png_from_image_data(&L, data, sizeof data, &n);
+  CHECK(png_paths_agree("extra.png", buf, n));
+  free(buf);
+}
+
+/* The filtered rows of a 9 × 4 RGB image. */
+static unsigned char *rgb_image_data(size_t *len) {
+  png_layout L = {9, 4, 2, 8, 0, NULL, 0};
+  unsigned char raw[27 * 4];
+  for (size_t i = 0; i < sizeof raw; i++) raw[i] = (unsigned char)(i * 37);
+  *len = (1 + 27) * 4;
+  return filter_rows(raw, png_row_bytes(&L, L.w), L.h, 3, 0);
+}
+
+TEST(png_with_a_truncated_deflate_stream_is_refused_naming_the_file) {
+  png_layout L = {9, 4, 2, 8, 0, NULL, 0};
+  size_t len, n;
+  unsigned char *data = rgb_image_data(&len);
+  for (size_t cut = 1; cut < len; cut += 7) { /* the rows cut short, each stream complete */
+    unsigned char *buf = png_from_image_data(&L, data, cut, &n);
+    jnd_image img;
+    CHECK_STATUS(jnd_decode_png("short.png", buf, n, &img, NULL), JND_ERR_FORMAT);
+    CHECK(img.data == NULL && strstr(jnd_last_error(), "short.png: truncated PNG ("));
+    free(buf);
+  }
+  uLongf zn = compressBound((uLong)len);
+  unsigned char *z = malloc(zn);
+  compress2(z, &zn, data, (uLong)len, 9);
+  unsigned char *rows = malloc(len);
+  for (size_t keep = 0; keep < zn; keep++) { /* the stream cut short, the CRCs valid */
+    uLongf got = len;
+    uLong used = keep;
+    uncompress2(rows, &got, z, &used);
+    unsigned char *buf = png_wrap(&L, z, keep, &n);
+    jnd_image img;
+    if (got == len) { /* only the end-of-stream marks are gone: every row is there */
+      CHECK_OK(jnd_decode_png("cut.png", buf, n, &img, NULL));
+    } else {
+      CHECK_STATUS(jnd_decode_png("cut.png", buf, n, &img, NULL), JND_ERR_FORMAT);
+      CHECK(img.data == NULL && strstr(jnd_last_error(), "cut.png: ") && strstr(jnd_last_error(), " PNG ("));
+    }
+    jnd_image_free(&img);
+    free(buf);
+  }
+  free(rows);
+  free(z);
+  free(data);
+}
+
+TEST(png_row_with_filter_type_5_is_refused_naming_the_file) {
+  png_layout L = {9, 4, 2, 8, 0, NULL, 0};
+  size_t len, n;
+  unsigned char *data = rgb_image_data(&len);
+  data[2 * 28] = 5; /* the third row's filter type */
+  unsigned char *buf = png_from_image_data(&L, data, len, &n);
+  jnd_image img;
+  CHECK_STATUS(jnd_decode_png("filter5.png", buf, n, &img, NULL), JND_ERR_FORMAT);
+  CHECK(img.data == NULL && strstr(jnd_last_error(), "filter5.png: corrupt PNG (row 3 has filter type 5"));
+  free(buf);
+  free(data);
+}
+
+TEST(png_with_garbage_deflate_data_is_refused_naming_the_file) {
+  png_layout L = {9, 4, 2, 8, 0, NULL, 0};
+  unsigned char z[64];
+  memset(z, 0xFF, sizeof z); /* after a valid zlib header, a block of the reserved type 3 */
+  z[0] = 0x78;
+  z[1] = 0xDA;
+  size_t n;
+  unsigned char *buf = png_wrap(&L, z, sizeof z, &n);
+  jnd_image img;
+  CHECK_STATUS(jnd_decode_png("garbage.png", buf, n, &img, NULL), JND_ERR_FORMAT);
+  CHECK(img.data == NULL && strstr(jnd_last_error(), "garbage.png: corrupt PNG ("));
+  free(buf);
+  jnd_rng r; /* nor any random bytes */
+  jnd_rng_seed(&r, 7);
+  for (int k = 0; k < 200; k++) {
+    for (size_t i = 0; i < sizeof z; i++) z[i] = (unsigned char)jnd_rng_next(&r);
+    buf = png_wrap(&L, z, sizeof z, &n);
+    CHECK_STATUS(jnd_decode_png("noise.png", buf, n, &img, NULL), JND_ERR_FORMAT);
+    CHECK(img.data == NULL && strstr(jnd_last_error(), "noise.png: "));
+    free(buf);
+  }
+}
+
+TEST(palette_1_bit_and_interlaced_pngs_still_decode_through_stb) {
+  jnd_image img;
+  jnd_image_info info;
+  size_t n;
+  /* palette: 3 × 2 indices into 3 colours */
+  static const unsigned char plte[9] = {255, 0, 0, 0, 128, 0, 10, 20, 30};
+  png_layout P = {3, 2, 3, 8, 0, plte, 9};
+  static const unsigned char pdata[8] = {0, 0, 1, 2, 0, 2, 2, 1};
+  unsigned char *buf = png_from_image_data(&P, pdata, sizeof pdata, &n);
+  CHECK(!jnd_png_plain(buf, n));
+  CHECK_OK(jnd_decode_png("palette.png", buf, n, &img, &info));
+  CHECK(img.c == 3 && info.bits == 8);
+  if (img.data) CHECK(jnd_image_plane(&img, 1)[4] == (float)(20 * (1.0 / 255))); /* pixel (1, 1): colour 2 */
+  jnd_image_free(&img);
+  free(buf);
+  /* 1-bit grey: 10 × 1, 1 0 1 1 0 0 0 0 1 0 */
+  png_layout B = {10, 1, 0, 1, 0, NULL, 0};
+  static const unsigned char bdata[3] = {0, 0xB0, 0x80};
+  buf = png_from_image_data(&B, bdata, sizeof bdata, &n);
+  CHECK(!jnd_png_plain(buf, n));
+  CHECK_OK(jnd_decode_png("bits.png", buf, n, &img, &info));
+  if (img.data) CHECK(img.data[0] == 1 && img.data[1] == 0 && img.data[3] == 1 && img.data[8] == 1 && img.data[9] == 0);
+  jnd_image_free(&img);
+  free(buf);
+  /* Adam7 (PNG spec §8.2): 5 × 5 RGB, each pass's rows unfiltered */
+  static const int x0[7] = {0, 4, 0, 2, 0, 1, 0}, y0[7] = {0, 0, 4, 0, 2, 0, 1};
+  static const int dx[7] = {8, 8, 4, 4, 2, 2, 1}, dy[7] = {8, 8, 8, 4, 4, 2, 2};
+  png_layout A = {5, 5, 2, 8, 1, NULL, 0};
+  unsigned char adata[200];
+  size_t len = 0;
+  for (int p = 0; p < 7; p++)
+    for (int y = y0[p]; x0[p] < A.w && y < A.h; y += dy[p]) {
+      adata[len++] = 0;
+      for (int x = x0[p]; x < A.w; x += dx[p])
+        for (int ch = 0; ch < 3; ch++) adata[len++] = (unsigned char)(10 * (y * A.w + x) + ch);
+    }
+  buf = png_from_image_data(&A, adata, len, &n);
+  CHECK(!jnd_png_plain(buf, n));
+  CHECK_OK(jnd_decode_png("adam7.png", buf, n, &img, &info));
+  int bad = !img.data;
+  for (int i = 0; img.data && i < 25; i++)
+    for (int ch = 0; ch < 3; ch++) bad += jnd_image_plane(&img, ch)[i] != (float)((10 * i + ch) * (1.0 / 255));
+  CHECK(bad == 0);
+  jnd_image_free(&img);
+  free(buf);
+}
+
 /* ---- any image ---- */
 
 TEST(empty_file_is_refused) {
@@ -732,7 +1030,13 @@ RUN_TESTS(exr_float_round_trips_exactly, exr_half_round_trips_within_half_precis
           exr_write_is_atomic_and_leaves_no_temporary_file, png_8_bit_round_trips_for_1_to_4_channels,
           png_16_bit_round_trips_to_within_one_code, png_with_bad_crc_is_refused,
           every_truncation_of_a_png_is_refused, png_without_iend_is_refused,
-          png_claiming_more_than_the_size_limit_is_refused, empty_file_is_refused,
+          png_claiming_more_than_the_size_limit_is_refused,
+          png_zlib_path_matches_stb_for_every_plain_layout_filter_and_odd_width,
+          png_zlib_path_matches_stb_on_the_kodak_photographs, png_with_data_after_the_last_row_decodes,
+          png_with_a_truncated_deflate_stream_is_refused_naming_the_file,
+          png_row_with_filter_type_5_is_refused_naming_the_file,
+          png_with_garbage_deflate_data_is_refused_naming_the_file,
+          palette_1_bit_and_interlaced_pngs_still_decode_through_stb, empty_file_is_refused,
           non_image_file_is_refused_naming_it, jpeg_reads_as_srgb_8_bit, radiance_hdr_reads_as_linear,
           jpeg_using_an_undefined_huffman_table_is_refused,
           radiance_hdr_with_truncated_runs_is_refused_not_hung, each_decoder_refuses_other_formats,
