@@ -11,34 +11,43 @@
 
 static const float K[5] = {1.0f / 16, 4.0f / 16, 6.0f / 16, 4.0f / 16, 1.0f / 16};
 
+/* REDUCE's horizontal pass on one row: the kept (even) columns */
+JND_HOT static void reduce_row(const float *r, int w, float *o, int dw) {
+  int x = 0;
+  for (; x < dw && 2 * x < 2; x++) { /* the left border, mirrored */
+    float s = 0;
+    for (int k = -2; k <= 2; k++) s += K[k + 2] * r[jnd_mirror(2 * x + k, w)];
+    o[x] = s;
+  }
+  for (; x < dw && 2 * x + 2 < w; x++) {
+    int c = 2 * x;
+    o[x] = K[0] * r[c - 2] + K[1] * r[c - 1] + K[2] * r[c] + K[3] * r[c + 1] + K[4] * r[c + 2];
+  }
+  for (; x < dw; x++) {
+    float s = 0;
+    for (int k = -2; k <= 2; k++) s += K[k + 2] * r[jnd_mirror(2 * x + k, w)];
+    o[x] = s;
+  }
+}
+
+/* REDUCE's vertical pass for one output row from five input rows */
+JND_HOT static void reduce_col(const float *r0, const float *r1, const float *r2, const float *r3, const float *r4,
+                               float *o, int dw) {
+  for (int x = 0; x < dw; x++) o[x] = K[0] * r0[x] + K[1] * r1[x] + K[2] * r2[x] + K[3] * r3[x] + K[4] * r4[x];
+}
+
 void jnd_pyr_reduce(const float *src, int w, int h, float *dst, int dw, int dh, int threads) {
   /* horizontal pass on the kept columns into a temporary of dw × h */
   float *tmp = jnd_alloc((size_t)dw * h, sizeof(float));
   if (!tmp) return; /* callers allocate far more than this; treated as fatal upstream */
 #pragma omp parallel for num_threads(threads) schedule(static)
-  for (int y = 0; y < h; y++) {
-    const float *r = src + (size_t)y * w;
-    float *o = tmp + (size_t)y * dw;
-    for (int x = 0; x < dw; x++) {
-      int c = 2 * x;
-      float s;
-      if (c >= 2 && c + 2 < w) {
-        s = K[0] * r[c - 2] + K[1] * r[c - 1] + K[2] * r[c] + K[3] * r[c + 1] + K[4] * r[c + 2];
-      } else {
-        s = 0;
-        for (int k = -2; k <= 2; k++) s += K[k + 2] * r[jnd_mirror(c + k, w)];
-      }
-      o[x] = s;
-    }
-  }
+  for (int y = 0; y < h; y++) reduce_row(src + (size_t)y * w, w, tmp + (size_t)y * dw, dw);
 #pragma omp parallel for num_threads(threads) schedule(static)
   for (int y = 0; y < dh; y++) {
     int c = 2 * y;
     const float *r[5];
     for (int k = -2; k <= 2; k++) r[k + 2] = tmp + (size_t)jnd_mirror(c + k, h) * dw;
-    float *o = dst + (size_t)y * dw;
-    for (int x = 0; x < dw; x++)
-      o[x] = K[0] * r[0][x] + K[1] * r[1][x] + K[2] * r[2][x] + K[3] * r[3][x] + K[4] * r[4][x];
+    reduce_col(r[0], r[1], r[2], r[3], r[4], dst + (size_t)y * dw, dw);
   }
   free(tmp);
 }
