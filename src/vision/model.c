@@ -148,9 +148,11 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
                      jnd_csf_chromatic(0, 0, 35.0, ch, 1, 0);
   }
   for (int iv = 0; iv < LUT_NV; iv++) vgrid[iv] = pow(10.0, LUT_LOGV0 + iv * LUT_DLOGV);
+  const int threads = jnd_threads(p->threads);
+#pragma omp parallel for collapse(2) num_threads(threads) schedule(static)
   for (int b = 0; b < n; b++) {
-    double rho = m->band_cpd[b];
     for (int iv = 0; iv < LUT_NV; iv++) {
+      double rho = m->band_cpd[b];
       double v = vgrid[iv];
       double srg = p->sens_rg * jnd_csf_chromatic(rho, v, 35.0, 0, p->rg_cutoff_cpd, 0) / m->band_amp[b];
       double syv = p->sens_yv * jnd_csf_chromatic(rho, v, 35.0, 1, p->yv_cutoff_cpd, 0) / m->band_amp[b];
@@ -169,17 +171,31 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
    * this restores natural viewing's low-frequency sensitivity while high
    * frequencies, best seen at low velocity, keep 004's values. */
   if (p->eye_velocity_dps > 0) {
-    float col[LUT_NV];
+    /* the sweep from velocity index iv reaches index jmax[iv] (nondecreasing
+     * in iv), so each column's window maxima come from one monotone deque */
+    int jmax[LUT_NV];
+    for (int iv = 0; iv < LUT_NV; iv++) {
+      double vmax = vgrid[iv] + p->eye_velocity_dps;
+      int j = iv;
+      while (j + 1 < LUT_NV && vgrid[j + 1] <= vmax * 1.0001) j++;
+      jmax[iv] = j;
+    }
+#pragma omp parallel for collapse(2) num_threads(threads) schedule(static)
     for (int b = 0; b < n; b++)
       for (int ch = 0; ch < NCH; ch++) {
+        float col[LUT_NV];
+        int dq[LUT_NV];
         float *t = lut_at(m, b, ch);
         for (int il = 0; il < LUT_NL; il++) {
           for (int iv = 0; iv < LUT_NV; iv++) col[iv] = t[(size_t)iv * LUT_NL + il];
+          int head = 0, tail = 0, next = 0; /* dq[head, tail): indices, values decreasing */
           for (int iv = 0; iv < LUT_NV; iv++) {
-            double vmax = vgrid[iv] + p->eye_velocity_dps;
-            float best = col[iv];
-            for (int j = iv + 1; j < LUT_NV && vgrid[j] <= vmax * 1.0001; j++) best = col[j] > best ? col[j] : best;
-            t[(size_t)iv * LUT_NL + il] = best;
+            for (; next <= jmax[iv]; next++) {
+              while (tail > head && col[dq[tail - 1]] <= col[next]) tail--;
+              dq[tail++] = next;
+            }
+            while (dq[head] < iv) head++;
+            t[(size_t)iv * LUT_NL + il] = col[dq[head]];
           }
         }
       }
