@@ -60,14 +60,35 @@ jnd_status jnd_display_preset(const char *name, jnd_display *d) {
   return JND_OK;
 }
 
-/* one span of sRGB signal → cd/m²: the sRGB EOTF (IEC 61966-2-1) with the fast pow (within 1e-5 of
- * libm's, and vectorised: a table would need a gather, which GCC does not
- * emit for generic x86 tuning); alpha composites the linear signal over the
- * display's black */
-JND_HOT static void srgb_span(const float *src, const float *alpha, float range, float black, float refl,
-                              float *dst, size_t n) {
-  /* two loops, not a conditional load of alpha in one: masked loads through
-   * a null pointer are very slow on some CPUs */
+/* sRGB EOTF (IEC 61966-2-1) */
+static float srgb_decode(float v) {
+  if (v <= 0.04045f) return v / 12.92f;
+  return powf((v + 0.055f) / 1.055f, 2.4f);
+}
+
+enum { SPAN = 8192 };
+
+/* One span of sRGB signal → cd/m². A span of 8-bit codes (most inputs) goes
+ * through a table of the 256 luminances: the codes in a vectorised loop, the
+ * look-ups in a scalar one (GCC emits no gathers for generic x86). Other
+ * signals take the EOTF with the fast pow (within 1e-5 of libm's). Alpha
+ * composites the linear signal over the display's black. */
+JND_HOT static void srgb_span(const float *src, const float *alpha, const float lum[256], float range,
+                              float black, float refl, float *dst, size_t n) {
+  int code[SPAN], inexact = 0;
+#pragma omp simd reduction(| : inexact)
+  for (size_t i = 0; i < n; i++) {
+    float q = (src[i] < 0.0f ? 0.0f : src[i] > 1.0f ? 1.0f : src[i]) * 255.0f;
+    int k = (int)(q + 0.5f);
+    code[i] = k;
+    inexact |= fabsf(q - (float)k) >= 1e-3f;
+  }
+  if (!inexact && !alpha) {
+    for (size_t i = 0; i < n; i++) dst[i] = lum[code[i]];
+    return;
+  }
+  /* separate loops, not a conditional load of alpha in one: masked loads
+   * through a null pointer are very slow on some CPUs */
   if (!alpha) {
 #pragma omp simd
     for (size_t i = 0; i < n; i++) {
@@ -87,18 +108,20 @@ JND_HOT static void srgb_span(const float *src, const float *alpha, float range,
 }
 
 /* one channel of the display model: signal → cd/m² */
-static void display_channel(const float *src, const float *alpha, jnd_encoding enc, float range, float black, float scale, float refl, float *dst, ptrdiff_t n) {
+static void display_channel(const float *src, const float *alpha, jnd_encoding enc, float range, float black,
+                            float scale, float refl, float *dst, ptrdiff_t n) {
   if (enc != JND_ENCODING_SRGB) {
     /* OpenEXR colour is premultiplied by alpha: it already is the composite over black */
 #pragma omp parallel for schedule(static)
     for (ptrdiff_t i = 0; i < n; i++) dst[i] = jnd_maxf(src[i], 0.0f) * scale + refl;
     return;
   }
-  const ptrdiff_t span = 8192;
+  float lum[256];
+  for (int k = 0; k < 256; k++) lum[k] = range * srgb_decode(k / 255.0f) + black + refl;
 #pragma omp parallel for schedule(static)
-  for (ptrdiff_t i = 0; i < n; i += span)
-    srgb_span(src + i, alpha ? alpha + i : NULL, range, black, refl, dst + i,
-              (size_t)(n - i < span ? n - i : span));
+  for (ptrdiff_t i = 0; i < n; i += SPAN)
+    srgb_span(src + i, alpha ? alpha + i : NULL, lum, range, black, refl, dst + i,
+              (size_t)(n - i < SPAN ? n - i : SPAN));
 }
 
 jnd_status jnd_display_apply(const jnd_display *d, const jnd_image *in, jnd_encoding enc, int has_alpha,

@@ -37,19 +37,30 @@ JND_HOT static void reduce_col(const float *r0, const float *r1, const float *r2
 }
 
 void jnd_pyr_reduce(const float *src, int w, int h, float *dst, int dw, int dh, int threads) {
-  /* horizontal pass on the kept columns into a temporary of dw × h */
-  float *tmp = jnd_alloc((size_t)dw * h, sizeof(float));
-  if (!tmp) return; /* callers allocate far more than this; treated as fatal upstream */
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (int y = 0; y < h; y++) reduce_row(src + (size_t)y * w, w, tmp + (size_t)y * dw, dw);
-#pragma omp parallel for num_threads(threads) schedule(static)
-  for (int y = 0; y < dh; y++) {
-    int c = 2 * y;
-    const float *r[5];
-    for (int k = -2; k <= 2; k++) r[k + 2] = tmp + (size_t)jnd_mirror(c + k, h) * dw;
-    reduce_col(r[0], r[1], r[2], r[3], r[4], dst + (size_t)y * dw, dw);
+  /* each output row blurs five input rows, each first reduced horizontally;
+   * a thread keeps its last five reduced rows (neighbouring output rows share
+   * three), so no intermediate image is needed */
+#pragma omp parallel num_threads(threads)
+  {
+    float *ring = malloc(sizeof(float) * (size_t)dw * 5);
+    int held[5] = {-1, -1, -1, -1, -1};
+#pragma omp for schedule(static)
+    for (int y = 0; y < dh; y++) {
+      if (!ring) continue; /* callers allocate far more than this; treated as fatal upstream */
+      const float *r[5];
+      for (int k = 0; k < 5; k++) {
+        int row = jnd_mirror(2 * y + k - 2, h), slot = row % 5;
+        float *buf = ring + (size_t)slot * dw;
+        if (held[slot] != row) {
+          reduce_row(src + (size_t)row * w, w, buf, dw);
+          held[slot] = row;
+        }
+        r[k] = buf;
+      }
+      reduce_col(r[0], r[1], r[2], r[3], r[4], dst + (size_t)y * dw, dw);
+    }
+    free(ring);
   }
-  free(tmp);
 }
 
 /* fine sample x of EXPAND near the borders (mirrored coarse indices) */
