@@ -2,6 +2,7 @@
  * value below which 93% of the map lies, which best predicted the measured
  * thresholds in 000 §6), maximum, mean and Minkowski mean. */
 #include <math.h>
+#include <omp.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -54,23 +55,36 @@ static uint32_t order_key(float f) {
 jnd_status jnd_order_stats(const float *v, size_t n, const size_t *ks, int nk, float *out) {
   /* One pass counts the values per bin of their top 12 key bits (sign,
    * exponent, 3 mantissa bits); the bins holding the wanted ranks are
-   * gathered in a second pass and sorted. Exact, O(n), and v is unchanged. */
+   * gathered in a second pass and sorted. Exact, O(n), and v is unchanged.
+   * Both passes split v into one static range per thread; each thread's
+   * counts place its values, so the result does not depend on timing. */
   enum { SHIFT = 20, NBIN = 1 << (32 - SHIFT) };
+  if (nk > 64) return jnd_fail(JND_ERR_INTERNAL, "order statistics: at most 64 ranks");
   for (int i = 0; i < nk; i++)
     if (ks[i] >= n || (i > 0 && ks[i] < ks[i - 1])) return jnd_fail(JND_ERR_INTERNAL, "order statistics: bad index");
+  const int nt = omp_get_max_threads() > 0 ? omp_get_max_threads() : 1;
+  size_t *hist = jnd_calloc((size_t)nt * NBIN, sizeof *hist); /* [thread][bin] */
   size_t *start = jnd_calloc(NBIN + 1, sizeof *start);
   int *slot = malloc(sizeof(int) * NBIN);
-  if (!start || !slot) {
+  if (!hist || !start || !slot) {
+    free(hist);
     free(start);
     free(slot);
     return JND_ERR_NOMEM;
   }
-  for (size_t i = 0; i < n; i++) start[(order_key(v[i]) >> SHIFT) + 1]++;
+#pragma omp parallel num_threads(nt)
+  {
+    int t = omp_get_thread_num(), tn = omp_get_num_threads();
+    size_t i0 = n * (size_t)t / (size_t)tn, i1 = n * (size_t)(t + 1) / (size_t)tn;
+    size_t *h = hist + (size_t)t * NBIN;
+    for (size_t i = i0; i < i1; i++) h[order_key(v[i]) >> SHIFT]++;
+  }
+  for (int t = 0; t < nt; t++)
+    for (int b = 0; b < NBIN; b++) start[b + 1] += hist[(size_t)t * NBIN + b];
   for (int b = 0; b < NBIN; b++) start[b + 1] += start[b];
   /* the bin of each wanted rank, and a gather buffer per distinct bin */
-  int bin_of[64], nbins = 0;
+  int bin_of[64], nbins = 0, bins[64];
   size_t off[65] = {0};
-  if (nk > 64) nk = 64;
   for (int b = 0; b < NBIN; b++) slot[b] = -1;
   for (int i = 0; i < nk; i++) {
     int lo = 0, hi = NBIN - 1; /* the bin b with start[b] <= k < start[b + 1] */
@@ -80,19 +94,29 @@ jnd_status jnd_order_stats(const float *v, size_t n, const size_t *ks, int nk, f
     }
     if (slot[lo] < 0) {
       slot[lo] = nbins;
+      bins[nbins] = lo;
       off[nbins + 1] = off[nbins] + (start[lo + 1] - start[lo]);
       nbins++;
     }
     bin_of[i] = lo;
   }
   float *buf = jnd_alloc(off[nbins] ? off[nbins] : 1, sizeof *buf);
-  size_t fill[64];
   jnd_status s = buf ? JND_OK : JND_ERR_NOMEM;
   if (s == JND_OK) {
-    memcpy(fill, off, sizeof(size_t) * (size_t)nbins);
-    for (size_t i = 0; i < n; i++) {
-      int sl = slot[order_key(v[i]) >> SHIFT];
-      if (sl >= 0) buf[fill[sl]++] = v[i];
+#pragma omp parallel num_threads(nt)
+    {
+      int t = omp_get_thread_num(), tn = omp_get_num_threads();
+      size_t i0 = n * (size_t)t / (size_t)tn, i1 = n * (size_t)(t + 1) / (size_t)tn;
+      /* this thread's place in each gathered bin: after the earlier threads' values */
+      size_t fill[64];
+      for (int j = 0; j < nbins; j++) {
+        fill[j] = off[j];
+        for (int u = 0; u < t; u++) fill[j] += hist[(size_t)u * NBIN + bins[j]];
+      }
+      for (size_t i = i0; i < i1; i++) {
+        int sl = slot[order_key(v[i]) >> SHIFT];
+        if (sl >= 0) buf[fill[sl]++] = v[i];
+      }
     }
     for (int j = 0; j < nbins && s == JND_OK; j++) s = jnd_sort_floats(buf + off[j], off[j + 1] - off[j]);
   }
@@ -102,6 +126,7 @@ jnd_status jnd_order_stats(const float *v, size_t n, const size_t *ks, int nk, f
       out[i] = buf[off[j] + (ks[i] - start[bin_of[i]])];
     }
   free(buf);
+  free(hist);
   free(start);
   free(slot);
   return s;
