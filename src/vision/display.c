@@ -75,15 +75,20 @@ enum { SPAN = 8192 };
  * composites the linear signal over the display's black. */
 JND_HOT static void srgb_span(const float *src, const float *alpha, const float lum[256], float range,
                               float black, float refl, float *dst, size_t n) {
-  int code[SPAN], inexact = 0;
-#pragma omp simd reduction(| : inexact)
+  int code[SPAN];
+  float worst = 0.0f; /* the largest distance of a signal from its nearest code */
+#pragma omp simd reduction(max : worst)
   for (size_t i = 0; i < n; i++) {
-    float q = (src[i] < 0.0f ? 0.0f : src[i] > 1.0f ? 1.0f : src[i]) * 255.0f;
-    int k = (int)(q + 0.5f);
-    code[i] = k;
-    inexact |= fabsf(q - (float)k) >= 1e-3f;
+    float v = src[i];
+    float q = (v < 0.0f ? 0.0f : v > 1.0f ? 1.0f : v) * 255.0f;
+    /* the nearest code by adding and subtracting 1.5·2^23: GCC turns
+     * (float)(int)(q + 0.5f) into a rounding call that stops vectorisation
+     * in the AVX2 version */
+    float k = (q + 12582912.0f) - 12582912.0f;
+    code[i] = (int)k;
+    worst = jnd_maxf(worst, fabsf(q - k));
   }
-  if (!inexact && !alpha) {
+  if (worst < 1e-3f && !alpha) {
     for (size_t i = 0; i < n; i++) dst[i] = lum[code[i]];
     return;
   }
