@@ -490,7 +490,7 @@ static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, 
   }
 #pragma omp parallel num_threads(threads)
   {
-    row_scratch r;
+    row_scratch r = {0};
     if (!scratch_init(&r, k.w)) {
 #pragma omp atomic write
       fail = 1;
