@@ -19,7 +19,9 @@ JND_HOT static void reduce_row(const float *r, int w, float *o, int dw) {
     for (int k = -2; k <= 2; k++) s += K[k + 2] * r[jnd_mirror(2 * x + k, w)];
     o[x] = s;
   }
-  for (; x < dw && 2 * x + 2 < w; x++) {
+  /* inside: 2x + 2 < w; one bound, so that the loop vectorises */
+  const int xe = dw < (w - 1) / 2 ? dw : (w - 1) / 2;
+  for (; x < xe; x++) {
     int c = 2 * x;
     o[x] = K[0] * r[c - 2] + K[1] * r[c - 1] + K[2] * r[c] + K[3] * r[c + 1] + K[4] * r[c + 2];
   }
@@ -107,6 +109,19 @@ int jnd_pyr_expand_rows(int y, int ch, int rows[3], float wts[3]) {
   return 2;
 }
 
+/* EXPAND's vertical step for one output row: the weighted sum of two or three
+ * horizontally expanded rows */
+JND_HOT static void expand_col(const float *const rb[3], const float wts[3], int n, float *o, int dw) {
+  const float w0 = wts[0], w1 = wts[1];
+  const float *r0 = rb[0], *r1 = rb[1];
+  if (n == 2) {
+    for (int x = 0; x < dw; x++) o[x] = w0 * r0[x] + w1 * r1[x];
+    return;
+  }
+  const float w2 = wts[2], *r2 = rb[2];
+  for (int x = 0; x < dw; x++) o[x] = w0 * r0[x] + w1 * r1[x] + w2 * r2[x];
+}
+
 void jnd_pyr_expand(const float *src, int w, int h, float *dst, int dw, int dh, int threads) {
 #pragma omp parallel num_threads(threads)
   {
@@ -117,17 +132,17 @@ void jnd_pyr_expand(const float *src, int w, int h, float *dst, int dw, int dh, 
       int rows[3];
       float wts[3];
       int n = jnd_pyr_expand_rows(y, h, rows, wts);
-      float *o = dst + (size_t)y * dw;
-      for (int x = 0; x < dw; x++) o[x] = 0;
+      const float *rb[3];
       for (int k = 0; k < n; k++) {
         int slot = rows[k] % 3;
-        float *rb = rowbuf + (size_t)slot * dw;
+        float *b = rowbuf + (size_t)slot * dw;
         if (cached[slot] != rows[k]) {
-          jnd_pyr_expand_row(src + (size_t)rows[k] * w, w, rb, dw);
+          jnd_pyr_expand_row(src + (size_t)rows[k] * w, w, b, dw);
           cached[slot] = rows[k];
         }
-        for (int x = 0; x < dw; x++) o[x] += wts[k] * rb[x];
+        rb[k] = b;
       }
+      expand_col(rb, wts, n, dst + (size_t)y * dw, dw);
     }
     free(rowbuf);
   }
