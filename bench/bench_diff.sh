@@ -7,7 +7,7 @@ set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 out=${BENCH_OUT:-$here/out}/diff
 mkdir -p "$out"
-RUNS=${BENCH_RUNS:-3}
+RUNS=${BENCH_RUNS:-5}
 W=1920 H=1080
 "$JND" example -o "$out" --size ${W}x${H} 2>/dev/null || exit 1
 px=$((W * H))
@@ -16,8 +16,13 @@ px=$((W * H))
 measure() {
   local times=() rss=0
   for _ in $(seq "$RUNS"); do
-    /usr/bin/time -f "%e %M" -o "$out/time.txt" "$@" >/dev/null 2>"$out/stderr.txt" || { cat "$out/stderr.txt"; return 1; }
-    read -r t m <"$out/time.txt"
+    # wall time in microseconds from bash's clock (time(1) rounds to 10 ms),
+    # peak resident memory from time(1)
+    local t0=$EPOCHREALTIME
+    /usr/bin/time -f "%M" -o "$out/time.txt" "$@" >/dev/null 2>"$out/stderr.txt" || { cat "$out/stderr.txt"; return 1; }
+    local t1=$EPOCHREALTIME
+    t=$(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.4f", b - a}')
+    read -r m <"$out/time.txt"
     times+=("$t")
     [ "$m" -gt "$rss" ] && rss=$m
   done
@@ -28,7 +33,7 @@ measure() {
 
 read -r jt jm < <(measure "$JND" diff "$out/reference.png" "$out/test.png" --json "$out/diff.json" --quiet) || exit 1
 awk -v t="$jt" -v m="$jm" -v px="$px" -v n="$RUNS" 'BEGIN{
-  printf "   jnd diff        1920x1080: %.3f s (median of %d), %.2f Mpixel/s, peak %.1f MB = %.1f bytes/pixel\n",
+  printf "   jnd diff         1920x1080: %.3f s (median of %d), %.2f Mpixel/s, peak %.1f MB = %.1f bytes/pixel\n",
          t, n, px / 1e6 / t, m / 1024, m * 1024 / px }'
 if command -v butteraugli_main >/dev/null 2>&1; then
   read -r bt bm < <(measure butteraugli_main "$out/reference.png" "$out/test.png") || exit 1
