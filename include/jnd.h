@@ -391,6 +391,9 @@ typedef struct {
   int orig_width, orig_height;  /* resolution in the file, pixels */
   int channels;          /* 1–4 */
   int uv_set;            /* texture coordinate set, 0 or 1 */
+  float uv_transform[6]; /* glTF KHR_texture_transform as an affine map of the uvs:
+                            u' = t[0]u + t[1]v + t[2], v' = t[3]u + t[4]v + t[5];
+                            {1, 0, 0, 0, 1, 0} without one */
 } jnd_map_info;
 
 /* Number of texture maps (material slots that have a texture), and the

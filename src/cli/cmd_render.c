@@ -580,8 +580,10 @@ static int run(int argc, char **argv) {
     for (int i = 0; i < jnd_scene_map_count(scene); i++) {
       jnd_map_info mi;
       jnd_scene_map_info(scene, i, &mi);
-      printf("%-48s %5d x %-5d %d channels, uv set %d\n", mi.name, mi.orig_width, mi.orig_height, mi.channels,
-             mi.uv_set);
+      const float *t = mi.uv_transform;
+      int moved = !(t[0] == 1 && t[1] == 0 && t[2] == 0 && t[3] == 0 && t[4] == 1 && t[5] == 0);
+      printf("%-48s %5d x %-5d %d channels, uv set %d%s\n", mi.name, mi.orig_width, mi.orig_height, mi.channels,
+             mi.uv_set, moved ? ", texture transform" : "");
     }
     rc = EXIT_OK;
     goto done;
@@ -699,6 +701,8 @@ static int run(int argc, char **argv) {
     cJSON_AddNumberToObject(m, "orig_width", mi.orig_width);
     cJSON_AddNumberToObject(m, "orig_height", mi.orig_height);
     cJSON_AddNumberToObject(m, "uv_set", mi.uv_set);
+    cJSON *uvt = cJSON_AddArrayToObject(m, "uv_transform");
+    for (int k = 0; k < 6; k++) cJSON_AddItemToArray(uvt, cJSON_CreateNumber(mi.uv_transform[k]));
     cJSON_AddItemToArray(jmaps, m);
     if (mip_min) mip_min[i] = INFINITY;
   }

@@ -410,7 +410,7 @@ static void set_material(jnd_renderer *r, const jnd_scene *s, const jnd_material
   glProgramUniform1i(p, U(p, "u_alpha_mode"), (int)m->alpha_mode);
   glProgramUniform1f(p, U(p, "u_alpha_cutoff"), m->alpha_cutoff);
   GLint has[5], uvset[5];
-  float size[10], levels[5];
+  float size[10], levels[5], uvxf[30];
   for (int k = 0; k < JND_MAP_SLOTS; k++) {
     int i = m->map[k];
     has[k] = i >= 0 && r->maps[i].tex;
@@ -418,12 +418,15 @@ static void set_material(jnd_renderer *r, const jnd_scene *s, const jnd_material
     size[2 * k] = has[k] ? (float)r->maps[i].w : 1;
     size[2 * k + 1] = has[k] ? (float)r->maps[i].h : 1;
     levels[k] = has[k] ? (float)r->maps[i].levels : 1;
+    static const float identity[6] = {1, 0, 0, 0, 1, 0};
+    memcpy(uvxf + 6 * k, has[k] ? s->maps[i].uvxf : identity, sizeof identity);
     glBindTextureUnit((GLuint)k, has[k] ? r->maps[i].tex : 0);
   }
   glProgramUniform1iv(p, U(p, "u_has"), 5, has);
   glProgramUniform1iv(p, U(p, "u_uvset"), 5, uvset);
   glProgramUniform2fv(p, U(p, "u_size"), 5, size);
   glProgramUniform1fv(p, U(p, "u_levels"), 5, levels);
+  glProgramUniform3fv(p, U(p, "u_uvxf"), 10, uvxf);
   if (m->double_sided) glDisable(GL_CULL_FACE);
   else glEnable(GL_CULL_FACE);
 }

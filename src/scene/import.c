@@ -103,9 +103,33 @@ static float get_float(const struct aiMaterial *m, const char *key, unsigned typ
   return dflt;
 }
 
+/* glTF's KHR_texture_transform (offset o, rotation r, scale s), as its
+ * extension text defines it: uv' = T(o) R(r) S(s) uv with R = [cos −sin;
+ * sin cos] on (u, v). assimp 5.2 (glTF2Importer) stores it re-expressed for
+ * its own uv convention — rotation about (0.5, 0.5), v flipped — and
+ * aiProcess_FlipUVs then negates the rotation and the v translation back:
+ *   rotation = r, scaling = s,
+ *   translation.x = s_x/2 (1 − cos r + sin r) + o_x,
+ *   translation.y = o_y − s_y/2 (sin r + cos r − 1) − 1 + s_y.
+ * Undone here into the affine map on our (glTF-convention) uvs.
+ * tests/unit/test_render.c renders a transformed quad against the same quad
+ * with the transform applied to its uvs, so a change of assimp's convention
+ * shows. */
+static int uv_transform_from_assimp(const struct aiUVTransform *t, float xf[6]) {
+  double r = t->mRotation, sx = t->mScaling.x, sy = t->mScaling.y, c = cos(r), sn = sin(r);
+  double ox = t->mTranslation.x - 0.5 * sx * (1.0 - c + sn);
+  double oy = t->mTranslation.y + 0.5 * sy * (sn + c - 1.0) + 1.0 - sy;
+  double m[6] = {c * sx, -sn * sy, ox, sn * sx, c * sy, oy};
+  for (int k = 0; k < 6; k++) {
+    if (!isfinite(m[k])) return 0;
+    xf[k] = (float)m[k];
+  }
+  return 1;
+}
+
 /* One slot: the first texture of the listed assimp types that exists. */
 static void import_slot(jnd_scene *s, const struct aiScene *sc, const struct aiMaterial *am, int mi,
-                        jnd_map_slot slot, const enum aiTextureType *types, int ntypes) {
+                        jnd_map_slot slot, const enum aiTextureType *types, int ntypes, int gltf) {
   for (int t = 0; t < ntypes; t++) {
     if (aiGetMaterialTextureCount(am, types[t]) == 0) continue;
     struct aiString path;
@@ -146,6 +170,19 @@ static void import_slot(jnd_scene *s, const struct aiScene *sc, const struct aiM
     if (aiGetMaterialIntegerArray(am, _AI_MATKEY_GLTF_MAPPINGFILTER_MIN_BASE, types[t], 0, &min, NULL) ==
         aiReturn_SUCCESS)
       m->min_nearest = min == 9728 || min == 9984 || min == 9986;    /* NEAREST* */
+    struct aiUVTransform uvt;
+    unsigned int nf = sizeof uvt / sizeof(ai_real);
+    if (aiGetMaterialFloatArray(am, _AI_MATKEY_UVTRANSFORM_BASE, types[t], 0, (ai_real *)&uvt, &nf) ==
+            aiReturn_SUCCESS && nf == sizeof uvt / sizeof(ai_real)) {
+      int identity = uvt.mRotation == 0 && uvt.mScaling.x == 1 && uvt.mScaling.y == 1 && uvt.mTranslation.x == 0 &&
+                     uvt.mTranslation.y == 0;
+      if (gltf && !uv_transform_from_assimp(&uvt, m->uvxf))
+        jnd_scene_add_warning(s, "%s: %s/%s: texture transform is not finite; ignored", s->path,
+                              s->materials[mi].name, jnd_map_slot_name(slot));
+      else if (!gltf && !identity)
+        jnd_scene_add_warning(s, "%s: %s/%s: texture transform of this format not supported; ignored", s->path,
+                              s->materials[mi].name, jnd_map_slot_name(slot));
+    }
     return;
   }
 }
@@ -224,11 +261,11 @@ static void import_material(jnd_scene *s, const struct aiScene *sc, int mi) {
   static const enum aiTextureType nrm[] = {aiTextureType_NORMALS, aiTextureType_NORMAL_CAMERA};
   static const enum aiTextureType occ[] = {aiTextureType_LIGHTMAP, aiTextureType_AMBIENT_OCCLUSION};
   static const enum aiTextureType emi[] = {aiTextureType_EMISSIVE, aiTextureType_EMISSION_COLOR};
-  import_slot(s, sc, am, mi, JND_MAP_BASE_COLOR, base, 2);
-  if (gltf) import_slot(s, sc, am, mi, JND_MAP_METALLIC_ROUGHNESS, mr, 3);
-  import_slot(s, sc, am, mi, JND_MAP_NORMAL, nrm, 2);
-  import_slot(s, sc, am, mi, JND_MAP_OCCLUSION, occ, 2);
-  import_slot(s, sc, am, mi, JND_MAP_EMISSIVE, emi, 2);
+  import_slot(s, sc, am, mi, JND_MAP_BASE_COLOR, base, 2, gltf);
+  if (gltf) import_slot(s, sc, am, mi, JND_MAP_METALLIC_ROUGHNESS, mr, 3, gltf);
+  import_slot(s, sc, am, mi, JND_MAP_NORMAL, nrm, 2, gltf);
+  import_slot(s, sc, am, mi, JND_MAP_OCCLUSION, occ, 2, gltf);
+  import_slot(s, sc, am, mi, JND_MAP_EMISSIVE, emi, 2, gltf);
   if (!gltf && aiGetMaterialTextureCount(am, aiTextureType_HEIGHT) > 0 && m->map[JND_MAP_NORMAL] < 0)
     jnd_scene_add_warning(s, "%s: %s: bump (height) maps are not used; give a normal map (norm)",
                           s->path, m->name);

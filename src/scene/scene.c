@@ -95,6 +95,7 @@ int jnd_scene_add_map(jnd_scene *s, int material, jnd_map_slot slot, jnd_image *
   memset(mp, 0, sizeof *mp);
   mp->orig = *img;
   memset(img, 0, sizeof *img);
+  mp->uvxf[0] = mp->uvxf[4] = 1.0f; /* no texture transform */
   mp->version = jnd_scene_next_version();
   s->materials[material].map[slot] = s->nmaps;
   return s->nmaps++;
@@ -297,6 +298,7 @@ jnd_status jnd_scene_map_info(const jnd_scene *s, int i, jnd_map_info *info) {
   info->orig_height = m->orig.h;
   info->channels = use->c;
   info->uv_set = m->uv_set;
+  memcpy(info->uv_transform, m->uvxf, sizeof info->uv_transform);
   return JND_OK;
 }
 

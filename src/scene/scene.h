@@ -22,6 +22,7 @@ typedef struct {
   jnd_image orig;         /* the file's map, values 0..1 in the slot's encoding */
   jnd_image now;          /* a replacement (resampled or set); data NULL = use orig */
   int uv_set;
+  float uvxf[6];          /* KHR_texture_transform on the uvs: u' = [0]u + [1]v + [2], v' = [3]u + [4]v + [5] */
   jnd_wrap wrap_s, wrap_t;
   int mag_nearest;        /* glTF sampler magFilter NEAREST */
   int min_nearest;        /* glTF sampler minFilter NEAREST* (mips still used) */

@@ -715,11 +715,118 @@ TEST(maps_keep_their_texture_coordinate_set) {
   jnd_scene_free(s);
 }
 
+/* A glTF quad facing +z with an asymmetric texture (red ramps along u, green
+ * along v, a blue checker), uvs uv[4][2], and `ext` as its baseColorTexture's
+ * "extensions" object ("" for none). */
+static jnd_scene *texture_quad(const char *name, const float uv[4][2], const char *ext) {
+  char dir[1100], path[1300];
+  snprintf(dir, sizeof dir, "%s", test_tmp_dir());
+  /* 512² so that the quad minifies it and the mip levels are not clamped at 0 */
+  enum { T = 512 };
+  jnd_image tex;
+  CHECK_OK(jnd_image_alloc(&tex, T, T, 3));
+  for (int y = 0; y < T; y++)
+    for (int x = 0; x < T; x++) {
+      size_t i = (size_t)y * T + x;
+      tex.data[i] = (x + 0.5f) / T;
+      tex.data[T * T + i] = (y + 0.5f) / T;
+      tex.data[2 * T * T + i] = ((x / 32 + y / 32) & 1) ? 0.9f : 0.1f;
+    }
+  snprintf(path, sizeof path, "%s/quad_tex.png", dir);
+  CHECK_OK(jnd_image_write_png(path, &tex, 8));
+  jnd_image_free(&tex);
+  float geo[4 * 3 + 4 * 3 + 4 * 2] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+  for (int k = 0; k < 4; k++) {
+    geo[24 + 2 * k] = uv[k][0];
+    geo[24 + 2 * k + 1] = uv[k][1];
+  }
+  const uint16_t idx[6] = {0, 1, 2, 0, 2, 3};
+  snprintf(path, sizeof path, "%s/%s.bin", dir, name);
+  FILE *f = fopen(path, "wb");
+  fwrite(geo, sizeof geo, 1, f);
+  fwrite(idx, sizeof idx, 1, f);
+  fclose(f);
+  snprintf(path, sizeof path, "%s/%s.gltf", dir, name);
+  f = fopen(path, "w");
+  fprintf(f,
+          "{\"asset\": {\"version\": \"2.0\"}, \"extensionsUsed\": [\"KHR_texture_transform\"],\n"
+          " \"buffers\": [{\"byteLength\": 140, \"uri\": \"%s.bin\"}],\n"
+          " \"bufferViews\": [{\"buffer\": 0, \"byteOffset\": 0, \"byteLength\": 48},\n"
+          "   {\"buffer\": 0, \"byteOffset\": 48, \"byteLength\": 48}, {\"buffer\": 0, \"byteOffset\": 96, \"byteLength\": 32},\n"
+          "   {\"buffer\": 0, \"byteOffset\": 128, \"byteLength\": 12}],\n"
+          " \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC3\",\n"
+          "     \"min\": [-1, -1, 0], \"max\": [1, 1, 0]},\n"
+          "   {\"bufferView\": 1, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC3\"},\n"
+          "   {\"bufferView\": 2, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC2\"},\n"
+          "   {\"bufferView\": 3, \"componentType\": 5123, \"count\": 6, \"type\": \"SCALAR\"}],\n"
+          " \"images\": [{\"uri\": \"quad_tex.png\"}], \"textures\": [{\"source\": 0}],\n"
+          " \"materials\": [{\"name\": \"Quad\", \"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0%s%s},\n"
+          "   \"metallicFactor\": 0, \"roughnessFactor\": 1}}],\n"
+          " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0, \"NORMAL\": 1, \"TEXCOORD_0\": 2},\n"
+          "   \"indices\": 3, \"material\": 0}]}],\n"
+          " \"nodes\": [{\"mesh\": 0}], \"scenes\": [{\"nodes\": [0]}], \"scene\": 0}\n",
+          name, ext[0] ? ", \"extensions\": " : "", ext);
+  fclose(f);
+  jnd_scene *s = NULL;
+  CHECK_OK(jnd_scene_load(path, &s));
+  return s;
+}
+
+TEST(gltf_texture_transform_is_applied_as_its_extension_defines) {
+  /* KHR_texture_transform: uv' = T(offset) R(rotation) S(scale) uv, with
+   * R = [cos −sin; sin cos]. The quad with the extension must look like the
+   * quad whose uvs carry the transform already (the map is affine, so per
+   * vertex is exact), and not like the untransformed quad. */
+  const double ox = 0.25, oy = 0.125, r = 0.3, sx = 2, sy = 3;
+  const float uv[4][2] = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  float moved[4][2];
+  for (int k = 0; k < 4; k++) {
+    double u = uv[k][0] * sx, v = uv[k][1] * sy;
+    moved[k][0] = (float)(cos(r) * u - sin(r) * v + ox);
+    moved[k][1] = (float)(sin(r) * u + cos(r) * v + oy);
+  }
+  jnd_scene *a = texture_quad("quad_xf", uv,
+                              "{\"KHR_texture_transform\": {\"offset\": [0.25, 0.125], \"rotation\": 0.3, "
+                              "\"scale\": [2, 3]}}");
+  jnd_scene *b = texture_quad("quad_moved", moved, "");
+  jnd_scene *c = texture_quad("quad_plain", uv, "");
+  if (!a || !b || !c) return;
+  jnd_map_info info;
+  CHECK_OK(jnd_scene_map_info(a, 0, &info));
+  const double want[6] = {cos(r) * sx, -sin(r) * sy, ox, sin(r) * sx, cos(r) * sy, oy};
+  for (int k = 0; k < 6; k++) CHECK_NEAR(info.uv_transform[k], want[k], 1e-5);
+  CHECK_OK(jnd_scene_map_info(c, 0, &info));
+  CHECK(info.uv_transform[0] == 1 && info.uv_transform[1] == 0 && info.uv_transform[4] == 1);
+  jnd_view v; /* from +z, as lit_by's */
+  jnd_view_defaults(&v);
+  v.outputs = JND_OUT_COLOR | JND_OUT_MIP;
+  jnd_frame fa = {0}, fb = {0}, fc = {0};
+  if (render(a, &v, &fa) && render(b, &v, &fb) && render(c, &v, &fc)) {
+    double same = mad(&fa.color, &fb.color), other = mad(&fa.color, &fc.color);
+    fprintf(stderr, "  transformed vs pre-transformed uvs %.5f, vs untransformed %.5f\n", same, other);
+    CHECK(same < 0.004);
+    CHECK(other > 0.03);
+    /* the mip estimate sees the transform: about log2(sqrt(2 × 3)) = 1.3 levels coarser */
+    double ma = 0, mc = 0;
+    int n = 0;
+    for (size_t i = 0; i < (size_t)SIZE * SIZE; i++)
+      if (fa.mip.data[i] >= 0 && fc.mip.data[i] >= 0) ma += fa.mip.data[i], mc += fc.mip.data[i], n++;
+    CHECK(n > 0);
+    if (n) CHECK_NEAR((ma - mc) / n, 0.5 * log2(sx * sy), 0.35);
+  }
+  jnd_frame_free(&fa);
+  jnd_frame_free(&fb);
+  jnd_frame_free(&fc);
+  jnd_scene_free(a);
+  jnd_scene_free(b);
+  jnd_scene_free(c);
+}
+
 static void close_renderer(void) {
   jnd_renderer_free(renderer());
 }
 
-RUN_TESTS(builtin_maps_are_addressable_by_material_and_slot, resampling_a_constant_map_keeps_it_constant,
+RUN_TESTS(gltf_texture_transform_is_applied_as_its_extension_defines, builtin_maps_are_addressable_by_material_and_slot, resampling_a_constant_map_keeps_it_constant,
           colour_maps_are_filtered_in_linear_light, resampled_normal_maps_hold_unit_vectors,
           broken_files_are_refused_as_malformed, truncated_glb_is_refused,
           obj_with_missing_texture_falls_back_to_the_factor_with_a_warning, object_fills_the_coverage_asked_for,

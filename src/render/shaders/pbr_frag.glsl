@@ -29,6 +29,7 @@ uniform sampler2D u_map3;
 uniform sampler2D u_map4;
 uniform int u_has[5];
 uniform int u_uvset[5];
+uniform vec3 u_uvxf[10];  // per map, KHR_texture_transform: u' = dot(row 0, (u, v, 1)), v' = dot(row 1, ...)
 uniform vec2 u_size[5];
 uniform float u_levels[5];
 uniform float u_max_aniso;
@@ -97,7 +98,8 @@ void main() {
   vec2 uv[5];
   float mip[5];
   for (int i = 0; i < 5; i++) {
-    uv[i] = u_uvset[i] == 1 ? v_uv1 : v_uv0;
+    vec3 t = vec3(u_uvset[i] == 1 ? v_uv1 : v_uv0, 1.0);
+    uv[i] = vec2(dot(u_uvxf[2 * i], t), dot(u_uvxf[2 * i + 1], t));
 #ifdef JND_AUX
     mip[i] = u_has[i] != 0 ? mip_level(uv[i], u_size[i], u_levels[i]) : -1.0;
 #endif
