@@ -56,8 +56,8 @@ jnd_status jnd_order_stats(const float *v, size_t n, const size_t *ks, int nk, f
   /* One pass counts the values per bin of their top 12 key bits (sign,
    * exponent, 3 mantissa bits); the bins holding the wanted ranks are
    * gathered in a second pass and sorted. Exact, O(n), and v is unchanged.
-   * Both passes split v into one static range per thread; each thread's
-   * counts place its values, so the result does not depend on timing. */
+   * Both passes split v into the same nt ranges; each range's counts place
+   * its values, so the result depends on neither timing nor team size. */
   enum { SHIFT = 20, NBIN = 1 << (32 - SHIFT) };
   if (nk > 64) return jnd_fail(JND_ERR_INTERNAL, "order statistics: at most 64 ranks");
   for (int i = 0; i < nk; i++)
@@ -72,10 +72,10 @@ jnd_status jnd_order_stats(const float *v, size_t n, const size_t *ks, int nk, f
     free(slot);
     return JND_ERR_NOMEM;
   }
-#pragma omp parallel num_threads(nt)
-  {
-    int t = omp_get_thread_num(), tn = omp_get_num_threads();
-    size_t i0 = n * (size_t)t / (size_t)tn, i1 = n * (size_t)(t + 1) / (size_t)tn;
+  /* nt fixed ranges, range t counted into hist row t (whatever the team size) */
+#pragma omp parallel for num_threads(nt) schedule(static)
+  for (int t = 0; t < nt; t++) {
+    size_t i0 = n * (size_t)t / (size_t)nt, i1 = n * (size_t)(t + 1) / (size_t)nt;
     size_t *h = hist + (size_t)t * NBIN;
     for (size_t i = i0; i < i1; i++) h[order_key(v[i]) >> SHIFT]++;
   }
@@ -103,11 +103,10 @@ jnd_status jnd_order_stats(const float *v, size_t n, const size_t *ks, int nk, f
   float *buf = jnd_alloc(off[nbins] ? off[nbins] : 1, sizeof *buf);
   jnd_status s = buf ? JND_OK : JND_ERR_NOMEM;
   if (s == JND_OK) {
-#pragma omp parallel num_threads(nt)
-    {
-      int t = omp_get_thread_num(), tn = omp_get_num_threads();
-      size_t i0 = n * (size_t)t / (size_t)tn, i1 = n * (size_t)(t + 1) / (size_t)tn;
-      /* this thread's place in each gathered bin: after the earlier threads' values */
+#pragma omp parallel for num_threads(nt) schedule(static)
+    for (int t = 0; t < nt; t++) {
+      size_t i0 = n * (size_t)t / (size_t)nt, i1 = n * (size_t)(t + 1) / (size_t)nt;
+      /* this range's place in each gathered bin: after the earlier ranges' values */
       size_t fill[64];
       for (int j = 0; j < nbins; j++) {
         fill[j] = off[j];
