@@ -725,9 +725,11 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
     for (int a = 0; a < 2 && s == JND_OK; a++)
       for (int c = 0; c < 3; c++) {
         xexp[a][c] = jnd_alloc((size_t)w1 * h1, sizeof(float));
-        if (!xexp[a][c]) { s = JND_ERR_NOMEM; break; }
-        jnd_pyr_expand(st.g[a][c].plane[b + 2], st.g[a][c].w[b + 2], st.g[a][c].h[b + 2], xexp[a][c], w1, h1,
-                       threads);
+        if (!xexp[a][c] || !jnd_pyr_expand(st.g[a][c].plane[b + 2], st.g[a][c].w[b + 2], st.g[a][c].h[b + 2],
+                                           xexp[a][c], w1, h1, threads)) {
+          s = jnd_fail(JND_ERR_NOMEM, "model: out of memory");
+          break;
+        }
       }
     if (s == JND_OK) {
       Dlev[b] = jnd_alloc((size_t)st.g[0][0].w[b] * st.g[0][0].h[b], sizeof(float));
@@ -750,8 +752,11 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
     for (int k = 0; k < b; k++) { cw = (cw + 1) / 2; ch = (ch + 1) / 2; }
     for (int k = 0; k < b - 1; k++) { fw = (fw + 1) / 2; fh = (fh + 1) / 2; }
     float *tmp = jnd_alloc((size_t)fw * fh, sizeof(float));
-    if (!tmp) { s = JND_ERR_NOMEM; goto done; }
-    jnd_pyr_expand(Dlev[b], cw, ch, tmp, fw, fh, threads);
+    if (!tmp || !jnd_pyr_expand(Dlev[b], cw, ch, tmp, fw, fh, threads)) {
+      free(tmp);
+      s = jnd_fail(JND_ERR_NOMEM, "model: out of memory");
+      goto done;
+    }
     float *dst = Dlev[b - 1];
     const ptrdiff_t nn = (ptrdiff_t)fw * fh;
 #pragma omp parallel for num_threads(threads) schedule(static)

@@ -38,17 +38,22 @@ JND_HOT static void reduce_col(const float *r0, const float *r1, const float *r2
   for (int x = 0; x < dw; x++) o[x] = K[0] * r0[x] + K[1] * r1[x] + K[2] * r2[x] + K[3] * r3[x] + K[4] * r4[x];
 }
 
-void jnd_pyr_reduce(const float *src, int w, int h, float *dst, int dw, int dh, int threads) {
+int jnd_pyr_reduce(const float *src, int w, int h, float *dst, int dw, int dh, int threads) {
   /* each output row blurs five input rows, each first reduced horizontally;
    * a thread keeps its last five reduced rows (neighbouring output rows share
    * three), so no intermediate image is needed */
+  int ok = 1;
 #pragma omp parallel num_threads(threads)
   {
     float *ring = malloc(sizeof(float) * (size_t)dw * 5);
+    if (!ring) {
+#pragma omp atomic write
+      ok = 0;
+    }
     int held[5] = {-1, -1, -1, -1, -1};
 #pragma omp for schedule(static)
     for (int y = 0; y < dh; y++) {
-      if (!ring) continue; /* callers allocate far more than this; treated as fatal upstream */
+      if (!ring) continue;
       const float *r[5];
       for (int k = 0; k < 5; k++) {
         int row = jnd_mirror(2 * y + k - 2, h), slot = row % 5;
@@ -63,6 +68,7 @@ void jnd_pyr_reduce(const float *src, int w, int h, float *dst, int dw, int dh, 
     }
     free(ring);
   }
+  return ok;
 }
 
 /* fine sample x of EXPAND near the borders (mirrored coarse indices) */
@@ -122,13 +128,19 @@ JND_HOT static void expand_col(const float *const rb[3], const float wts[3], int
   for (int x = 0; x < dw; x++) o[x] = w0 * r0[x] + w1 * r1[x] + w2 * r2[x];
 }
 
-void jnd_pyr_expand(const float *src, int w, int h, float *dst, int dw, int dh, int threads) {
+int jnd_pyr_expand(const float *src, int w, int h, float *dst, int dw, int dh, int threads) {
+  int ok = 1;
 #pragma omp parallel num_threads(threads)
   {
     float *rowbuf = malloc(sizeof(float) * (size_t)dw * 3);
+    if (!rowbuf) {
+#pragma omp atomic write
+      ok = 0;
+    }
     int cached[3] = {-1, -1, -1};
 #pragma omp for schedule(static)
     for (int y = 0; y < dh; y++) {
+      if (!rowbuf) continue;
       int rows[3];
       float wts[3];
       int n = jnd_pyr_expand_rows(y, h, rows, wts);
@@ -146,6 +158,7 @@ void jnd_pyr_expand(const float *src, int w, int h, float *dst, int dw, int dh, 
     }
     free(rowbuf);
   }
+  return ok;
 }
 
 jnd_status jnd_gauss_build(jnd_gauss *g, float *plane0, int w, int h, int levels, int threads) {
@@ -163,7 +176,10 @@ jnd_status jnd_gauss_build(jnd_gauss *g, float *plane0, int w, int h, int levels
       jnd_gauss_free(g);
       return JND_ERR_NOMEM;
     }
-    jnd_pyr_reduce(g->plane[i - 1], g->w[i - 1], g->h[i - 1], g->plane[i], g->w[i], g->h[i], threads);
+    if (!jnd_pyr_reduce(g->plane[i - 1], g->w[i - 1], g->h[i - 1], g->plane[i], g->w[i], g->h[i], threads)) {
+      jnd_gauss_free(g);
+      return jnd_fail(JND_ERR_NOMEM, "pyramid: out of memory");
+    }
   }
   return JND_OK;
 }

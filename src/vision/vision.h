@@ -36,9 +36,9 @@ typedef struct {
 jnd_status jnd_gauss_build(jnd_gauss *g, float *plane0, int w, int h, int levels, int threads);
 void jnd_gauss_free(jnd_gauss *g);
 /* one REDUCE step: blur with the binomial kernel and keep even samples */
-void jnd_pyr_reduce(const float *src, int w, int h, float *dst, int dw, int dh, int threads);
+int jnd_pyr_reduce(const float *src, int w, int h, float *dst, int dw, int dh, int threads); /* 0: out of memory */
 /* one EXPAND step: to (dw, dh) from (w, h), interpolating with 2× the kernel */
-void jnd_pyr_expand(const float *src, int w, int h, float *dst, int dw, int dh, int threads);
+int jnd_pyr_expand(const float *src, int w, int h, float *dst, int dw, int dh, int threads); /* 0: out of memory */
 /* horizontally expands one coarse row of width cw to width fw */
 void jnd_pyr_expand_row(const float *src, int cw, float *dst, int fw);
 /* weights and rows of the vertical EXPAND for fine row y: n (2 or 3) rows */
