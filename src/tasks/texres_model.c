@@ -29,7 +29,7 @@ typedef struct {
 } membuf;
 
 static void put(membuf *b, const void *data, size_t n) {
-  if (b->failed) return;
+  if (b->failed || n == 0) return;
   if (b->n + n > b->cap) {
     size_t cap = b->cap ? b->cap : 65536;
     while (cap < b->n + n) cap *= 2;
@@ -56,6 +56,21 @@ static const cJSON *item(const cJSON *o, const char *k) { return cJSON_GetObject
 static int int_of(const cJSON *o, const char *k, int dflt) {
   const cJSON *x = item(o, k);
   return cJSON_IsNumber(x) ? x->valueint : dflt;
+}
+
+/* sets o[k] = v, adding the member where o lacks it (glTF leaves out members
+ * at their defaults, byteOffset 0 above all) */
+static void set_number(cJSON *o, const char *k, double v) {
+  if (!cJSON_IsObject(o)) return;
+  if (item(o, k))
+    cJSON_ReplaceItemInObjectCaseSensitive(o, k, cJSON_CreateNumber(v));
+  else
+    cJSON_AddNumberToObject(o, k, v);
+}
+
+/* appends it to the array arr (which owns it then), or frees it */
+static void append(cJSON *arr, cJSON *it) {
+  if (!arr || !cJSON_AddItemToArray(arr, it)) cJSON_Delete(it);
 }
 
 /* the textureInfo object of a slot in a glTF material */
@@ -232,7 +247,7 @@ jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src, const
         cJSON *copy = cJSON_Duplicate(cJSON_GetArrayItem(images, u->img), 1);
         cJSON_DeleteItemFromObjectCaseSensitive(copy, "uri");
         cJSON_DeleteItemFromObjectCaseSensitive(copy, "bufferView");
-        cJSON_AddItemToArray(images, copy);
+        append(images, copy);
         u->target = cJSON_GetArraySize(images) - 1;
       }
       jnd_image im = {0};
@@ -253,9 +268,9 @@ jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src, const
     }
     if (u->target != u->img) { /* a texture for the new image */
       cJSON *tcopy = cJSON_Duplicate(cJSON_GetArrayItem(textures, u->tex), 1);
-      cJSON_ReplaceItemInObjectCaseSensitive(tcopy, "source", cJSON_CreateNumber(u->target));
-      cJSON_AddItemToArray(textures, tcopy);
-      cJSON_ReplaceItemInObjectCaseSensitive(u->info, "index", cJSON_CreateNumber(cJSON_GetArraySize(textures) - 1));
+      set_number(tcopy, "source", u->target);
+      append(textures, tcopy);
+      set_number(u->info, "index", cJSON_GetArraySize(textures) - 1);
     }
   }
   char path[4400];
@@ -263,26 +278,32 @@ jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src, const
   snprintf(path, sizeof path, "%s/%s", out_dir, name);
   if (glb) {
     /* the binary chunk rebuilt view by view; resized images replace their views' bytes */
+    if (!views) views = cJSON_AddArrayToObject(root, "bufferViews");
     membuf nb = {0};
     int nviews = cJSON_GetArraySize(views);
     for (int v = 0; v < nviews; v++) {
       cJSON *bv = cJSON_GetArrayItem(views, v);
       if (int_of(bv, "buffer", 0) != 0) continue;
-      size_t off = (size_t)int_of(bv, "byteOffset", 0), len = (size_t)int_of(bv, "byteLength", 0);
+      int off_i = int_of(bv, "byteOffset", 0), len_i = int_of(bv, "byteLength", 0);
+      if (off_i < 0 || len_i < 0) {
+        nb.failed = 1;
+        break;
+      }
+      size_t off = (size_t)off_i, len = (size_t)len_i;
       const unsigned char *data = NULL;
       for (int e = 0; e < nenc; e++)
         if (enc_img[e] < nimg0 && int_of(cJSON_GetArrayItem(images, enc_img[e]), "bufferView", -1) == v)
           data = enc[e].p, len = enc[e].n;
       if (!data) {
-        if (!bin || off + len > bin_n) {
+        if (!bin || off > bin_n || len > bin_n - off) {
           nb.failed = 1;
           break;
         }
         data = bin + off;
       }
       pad4(&nb, 0);
-      cJSON_ReplaceItemInObjectCaseSensitive(bv, "byteOffset", cJSON_CreateNumber((double)nb.n));
-      cJSON_ReplaceItemInObjectCaseSensitive(bv, "byteLength", cJSON_CreateNumber((double)len));
+      set_number(bv, "byteOffset", (double)nb.n);
+      set_number(bv, "byteLength", (double)len);
       put(&nb, data, len);
     }
     /* images that had no view of their own (new ones, or uri images) */
@@ -294,16 +315,20 @@ jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src, const
       cJSON_AddNumberToObject(bv, "buffer", 0);
       cJSON_AddNumberToObject(bv, "byteOffset", (double)nb.n);
       cJSON_AddNumberToObject(bv, "byteLength", (double)enc[e].n);
-      cJSON_AddItemToArray(views, bv);
+      append(views, bv);
       cJSON_DeleteItemFromObjectCaseSensitive(im, "uri");
-      cJSON_ReplaceItemInObjectCaseSensitive(im, "bufferView", cJSON_CreateNumber(cJSON_GetArraySize(views) - 1));
-      if (!item(im, "bufferView")) cJSON_AddNumberToObject(im, "bufferView", cJSON_GetArraySize(views) - 1);
+      set_number(im, "bufferView", cJSON_GetArraySize(views) - 1);
       if (!item(im, "mimeType")) cJSON_AddStringToObject(im, "mimeType", enc_jpeg[e] ? "image/jpeg" : "image/png");
       put(&nb, enc[e].p, enc[e].n);
     }
     pad4(&nb, 0);
     cJSON *b0 = cJSON_GetArrayItem(buffers, 0);
-    if (b0) cJSON_ReplaceItemInObjectCaseSensitive(b0, "byteLength", cJSON_CreateNumber((double)nb.n));
+    if (!b0 && nb.n) { /* the binary chunk needs its buffer */
+      if (!buffers) buffers = cJSON_AddArrayToObject(root, "buffers");
+      b0 = cJSON_CreateObject();
+      append(buffers, b0);
+    }
+    if (b0) set_number(b0, "byteLength", (double)nb.n);
     for (int b = 1; b < cJSON_GetArraySize(buffers) && s == JND_OK; b++)
       s = copy_uri(cJSON_GetArrayItem(buffers, b), src_dir, out_dir);
     for (int i = 0; i < cJSON_GetArraySize(images) && s == JND_OK; i++)

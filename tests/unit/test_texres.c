@@ -1,5 +1,9 @@
 /* Texture resolution (000 §4–§9): memory accounting, and properties of the
  * search on the built-in asset rendered small. */
+#include <cjson/cJSON.h>
+#include <stdint.h>
+
+#include "io/io.h"
 #include "jnd.h"
 #include "test.h"
 
@@ -101,5 +105,83 @@ TEST(unknown_map_names_are_refused_before_rendering) {
   jnd_scene_free(s);
 }
 
-RUN_TESTS(memory_of_a_mip_chain_counts_every_level, sizes_never_exceed_the_mip_bound_and_shrink_with_the_object,
+/* the GLB at path: its JSON (parsed) and binary chunk (a pointer into *file) */
+static cJSON *read_glb(const char *path, unsigned char **file, const unsigned char **bin, uint32_t *bin_n) {
+  size_t n = 0;
+  *file = NULL;
+  *bin = NULL;
+  *bin_n = 0;
+  if (jnd_read_file(path, 1 << 26, file, &n) != JND_OK || n < 20 || memcmp(*file, "glTF", 4) != 0) return NULL;
+  uint32_t jl;
+  memcpy(&jl, *file + 12, 4);
+  if (20 + (size_t)jl + 8 <= n) {
+    memcpy(bin_n, *file + 20 + jl, 4);
+    *bin = *file + 20 + jl + 8;
+  }
+  return cJSON_ParseWithLength((const char *)*file + 20, jl);
+}
+
+TEST(model_writer_gives_a_resized_data_uri_image_its_own_view_in_a_glb_that_had_none) {
+  /* found by fuzz_gltf: a GLB without bufferViews or buffers whose image is
+   * a data uri. The resized image moves into the binary chunk, so the copy
+   * needs a view and a buffer for it (the writer leaked them before). */
+  jnd_builtin_params bp;
+  jnd_builtin_defaults(&bp);
+  bp.map_size = 16;
+  jnd_scene *s = NULL;
+  CHECK_OK(jnd_scene_builtin(&bp, &s));
+  if (!s) return;
+  jnd_map_info mi;
+  CHECK_OK(jnd_scene_map_info(s, 0, &mi));
+  CHECK(mi.slot == JND_MAP_BASE_COLOR);
+  CHECK_OK(jnd_scene_map_resize(s, 0, 8, 8));
+  /* a 16² PNG as the data uri (its pixels do not matter: the writer re-encodes the map) */
+  const char *dir = test_tmp_dir();
+  char src[1200], out_dir[1200], out[4400];
+  snprintf(src, sizeof src, "%s/noviews.glb", dir);
+  snprintf(out_dir, sizeof out_dir, "%s/noviews_out", dir);
+  CHECK(system((snprintf(out, sizeof out, "mkdir -p '%s'", out_dir), out)) == 0);
+  const char *js = "{\"asset\": {\"version\": \"2.0\"}, \"images\": [{\"uri\": \"data:image/png;base64,AAAA\"}],"
+                   " \"textures\": [{\"source\": 0}],"
+                   " \"materials\": [{\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0}}}]}";
+  size_t jl = strlen(js), jp = (jl + 3) & ~(size_t)3;
+  unsigned char glb[1024] = {0};
+  uint32_t ver = 2, total = (uint32_t)(20 + jp), jlen = (uint32_t)jp, jtype = 0x4E4F534Au;
+  memcpy(glb, "glTF", 4);
+  memcpy(glb + 4, &ver, 4);
+  memcpy(glb + 8, &total, 4);
+  memcpy(glb + 12, &jlen, 4);
+  memcpy(glb + 16, &jtype, 4);
+  memset(glb + 20, ' ', jp);
+  memcpy(glb + 20, js, jl);
+  CHECK_OK(jnd_write_file_atomic(src, glb, total));
+  CHECK_OK(jnd_texres_write_model(s, src, out_dir, out, sizeof out));
+  unsigned char *file = NULL;
+  const unsigned char *bin = NULL;
+  uint32_t bin_n = 0;
+  cJSON *root = read_glb(out, &file, &bin, &bin_n);
+  CHECK(root != NULL && bin != NULL);
+  if (root && bin) {
+    const cJSON *img = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "images"), 0);
+    const cJSON *bv = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "bufferViews"),
+                                         cJSON_GetObjectItem(img, "bufferView")->valueint);
+    const cJSON *b0 = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "buffers"), 0);
+    CHECK(bv && b0 && cJSON_GetObjectItem(img, "uri") == NULL);
+    if (bv && b0) {
+      int off = cJSON_GetObjectItem(bv, "byteOffset")->valueint, len = cJSON_GetObjectItem(bv, "byteLength")->valueint;
+      CHECK(cJSON_GetObjectItem(b0, "byteLength")->valueint == (int)bin_n);
+      CHECK(off >= 0 && len > 0 && (uint32_t)(off + len) <= bin_n);
+      jnd_image im;
+      jnd_image_info info;
+      CHECK_OK(jnd_decode_png("view", bin + off, (size_t)len, &im, &info));
+      CHECK(im.w == 8 && im.h == 8);
+      jnd_image_free(&im);
+    }
+  }
+  cJSON_Delete(root);
+  free(file);
+  jnd_scene_free(s);
+}
+
+RUN_TESTS(model_writer_gives_a_resized_data_uri_image_its_own_view_in_a_glb_that_had_none, memory_of_a_mip_chain_counts_every_level, sizes_never_exceed_the_mip_bound_and_shrink_with_the_object,
           unknown_map_names_are_refused_before_rendering)
