@@ -579,6 +579,17 @@ void jnd_view_sampling_defaults(jnd_view_sampling *p);
  * field is from jnd_view_defaults. */
 jnd_status jnd_views_sample(const jnd_scene *scene, const jnd_view_sampling *p, jnd_view *views);
 
+/* Views from JSON text (what `jnd render --cameras` reads): a list of views,
+ * or {"views": [...]}; each view is a camera {"eye", "target" (default
+ * centre), "up" (default +Y), "fov_y_deg" or "fov" (default fov_y_deg),
+ * "znear", "zfar"} or {"camera": {...}, "prev": {...} (the previous frame's
+ * camera, for motion vectors), "lights": [{"type": "directional" | "point" |
+ * "spot", "position", "direction", "color", "intensity", "range",
+ * "inner_deg", "outer_deg"}]}. A view without "lights" gets nlights = −1 (the
+ * caller fills them). *out is allocated (free it); name is used in errors. */
+jnd_status jnd_views_parse(const char *name, const char *text, size_t n, const double centre[3], double fov_y_deg,
+                           jnd_view **out, int *count);
+
 /* The camera distance (object units) at which a sphere of radius r fills
  * fraction coverage of the image height with vertical field of view fov. */
 double jnd_camera_distance_for_coverage(double radius, double coverage, double fov_y_deg);

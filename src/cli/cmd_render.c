@@ -185,55 +185,6 @@ static cJSON *light_json(const jnd_light *L) {
   return o;
 }
 
-static int json_vec3(const cJSON *o, const char *key, double v[3]) {
-  const cJSON *a = cJSON_GetObjectItemCaseSensitive(o, key);
-  if (!a) return 0;
-  if (!cJSON_IsArray(a) || cJSON_GetArraySize(a) != 3) return -1;
-  for (int k = 0; k < 3; k++) {
-    const cJSON *x = cJSON_GetArrayItem(a, k);
-    if (!cJSON_IsNumber(x) || !isfinite(x->valuedouble)) return -1;
-    v[k] = x->valuedouble;
-  }
-  return 1;
-}
-
-static double json_num(const cJSON *o, const char *key, double dflt) {
-  const cJSON *x = cJSON_GetObjectItemCaseSensitive(o, key);
-  return cJSON_IsNumber(x) && isfinite(x->valuedouble) ? x->valuedouble : dflt;
-}
-
-/* A camera from {"eye", "target", "up", "fov_y_deg"|"fov", "znear", "zfar"}. */
-static int camera_from_json(const cJSON *o, const double centre[3], double fov, jnd_camera *c) {
-  memset(c, 0, sizeof *c);
-  for (int k = 0; k < 3; k++) c->target[k] = centre[k];
-  c->up[1] = 1;
-  if (!cJSON_IsObject(o) || json_vec3(o, "eye", c->eye) != 1) return 0;
-  if (json_vec3(o, "target", c->target) < 0 || json_vec3(o, "up", c->up) < 0) return 0;
-  c->fov_y_deg = json_num(o, "fov_y_deg", json_num(o, "fov", fov));
-  c->znear = json_num(o, "znear", 0);
-  c->zfar = json_num(o, "zfar", 0);
-  return c->fov_y_deg > 0 && c->fov_y_deg < 180;
-}
-
-static int light_from_json(const cJSON *o, jnd_light *L) {
-  memset(L, 0, sizeof *L);
-  const cJSON *t = cJSON_GetObjectItemCaseSensitive(o, "type");
-  if (!cJSON_IsString(t)) return 0;
-  if (strcmp(t->valuestring, "directional") == 0) L->type = JND_LIGHT_DIRECTIONAL;
-  else if (strcmp(t->valuestring, "point") == 0) L->type = JND_LIGHT_POINT;
-  else if (strcmp(t->valuestring, "spot") == 0) L->type = JND_LIGHT_SPOT;
-  else return 0;
-  L->color[0] = L->color[1] = L->color[2] = 1;
-  if (json_vec3(o, "position", L->position) < 0 || json_vec3(o, "direction", L->direction) < 0 ||
-      json_vec3(o, "color", L->color) < 0)
-    return 0;
-  L->intensity = json_num(o, "intensity", 1);
-  L->range = json_num(o, "range", 0);
-  L->inner_deg = json_num(o, "inner_deg", 20);
-  L->outer_deg = json_num(o, "outer_deg", 30);
-  return 1;
-}
-
 /* Reads --cameras: returns the number of views (views allocated), or -1. */
 static int read_cameras(const char *path, const jnd_scene *scene, double fov, jnd_view **out) {
   FILE *f = fopen(path, "rb");
@@ -259,62 +210,12 @@ static int read_cameras(const char *path, const jnd_scene *scene, double fov, jn
   fclose(f);
   if (!text) return cli_bad("%s: out of memory", path), -1;
   text[n] = 0;
-  cJSON *root = cJSON_Parse(text);
-  free(text);
-  const cJSON *list = root;
-  if (cJSON_IsObject(root)) list = cJSON_GetObjectItemCaseSensitive(root, "views");
-  if (!cJSON_IsArray(list) || cJSON_GetArraySize(list) < 1) {
-    cJSON_Delete(root);
-    return cli_bad("%s: %s", path, "not a JSON list of cameras (or {\"views\": [...]})"), -1;
-  }
-  int count = cJSON_GetArraySize(list);
-  jnd_view *views = calloc((size_t)count, sizeof *views);
-  if (!views) {
-    cJSON_Delete(root);
-    return -1;
-  }
   double centre[3], radius;
   jnd_scene_bounds(scene, centre, &radius);
-  for (int i = 0; i < count; i++) {
-    const cJSON *e = cJSON_GetArrayItem(list, i);
-    const cJSON *cam = cJSON_GetObjectItemCaseSensitive(e, "camera");
-    jnd_view *v = &views[i];
-    jnd_view_defaults(v);
-    char what[64];
-    snprintf(what, sizeof what, "camera %d is invalid", i);
-    if (!camera_from_json(cam ? cam : e, centre, fov, &v->camera)) {
-      free(views);
-      cJSON_Delete(root);
-      return cli_bad("%s: %s", path, what), -1;
-    }
-    v->prev_camera = v->camera;
-    const cJSON *prev = cJSON_GetObjectItemCaseSensitive(e, "prev");
-    if (!prev) prev = cJSON_GetObjectItemCaseSensitive(e, "prev_camera");
-    if (prev) {
-      if (!camera_from_json(prev, centre, fov, &v->prev_camera)) {
-        free(views);
-        cJSON_Delete(root);
-        return cli_bad("%s: %s", path, what), -1;
-      }
-      v->has_prev = 1;
-    }
-    const cJSON *lights = cJSON_GetObjectItemCaseSensitive(e, "lights");
-    v->nlights = -1;   /* not given: filled later */
-    if (cJSON_IsArray(lights)) {
-      v->nlights = 0;
-      const cJSON *l;
-      cJSON_ArrayForEach(l, lights) {
-        if (v->nlights >= JND_MAX_LIGHTS || !light_from_json(l, &v->lights[v->nlights])) {
-          free(views);
-          cJSON_Delete(root);
-          return cli_bad("%s: %s", path, "a light is invalid (or more than 8)"), -1;
-        }
-        v->nlights++;
-      }
-    }
-  }
-  cJSON_Delete(root);
-  *out = views;
+  int count = 0;
+  jnd_status st = jnd_views_parse(path, text, n, centre, fov, out, &count);
+  free(text);
+  if (st != JND_OK) return cli_bad("%s", jnd_last_error()), -1;
   return count;
 }
 

@@ -1,6 +1,9 @@
 /* Cameras and lights: matrices, and deterministic sampling of views around
  * an object. */
+#include <cjson/cJSON.h>
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/core.h"
@@ -185,5 +188,129 @@ jnd_status jnd_views_sample(const jnd_scene *scene, const jnd_view_sampling *p, 
       L->intensity = p->light_intensity;
     }
   }
+  return JND_OK;
+}
+
+/* ---- views from JSON (jnd render --cameras) ---- */
+
+static int json_vec3(const cJSON *o, const char *key, double v[3]) {
+  const cJSON *a = cJSON_GetObjectItemCaseSensitive(o, key);
+  if (!a) return 0;
+  if (!cJSON_IsArray(a) || cJSON_GetArraySize(a) != 3) return -1;
+  for (int k = 0; k < 3; k++) {
+    const cJSON *x = cJSON_GetArrayItem(a, k);
+    if (!cJSON_IsNumber(x) || !isfinite(x->valuedouble)) return -1;
+    v[k] = x->valuedouble;
+  }
+  return 1;
+}
+
+static double json_num(const cJSON *o, const char *key, double dflt) {
+  const cJSON *x = cJSON_GetObjectItemCaseSensitive(o, key);
+  return cJSON_IsNumber(x) && isfinite(x->valuedouble) ? x->valuedouble : dflt;
+}
+
+/* A camera from {"eye", "target", "up", "fov_y_deg"|"fov", "znear", "zfar"};
+ * 0 when it cannot make a view matrix (eye on the target, up along the line
+ * of sight) or a projection (field of view, clip planes). */
+static int camera_from_json(const cJSON *o, const double centre[3], double fov, jnd_camera *c) {
+  memset(c, 0, sizeof *c);
+  for (int k = 0; k < 3; k++) c->target[k] = centre[k];
+  c->up[1] = 1;
+  if (!cJSON_IsObject(o) || json_vec3(o, "eye", c->eye) != 1) return 0;
+  if (json_vec3(o, "target", c->target) < 0 || json_vec3(o, "up", c->up) < 0) return 0;
+  c->fov_y_deg = json_num(o, "fov_y_deg", json_num(o, "fov", fov));
+  c->znear = json_num(o, "znear", 0);
+  c->zfar = json_num(o, "zfar", 0);
+  double d[3], x[3];
+  for (int k = 0; k < 3; k++) d[k] = c->target[k] - c->eye[k];
+  x[0] = d[1] * c->up[2] - d[2] * c->up[1];
+  x[1] = d[2] * c->up[0] - d[0] * c->up[2];
+  x[2] = d[0] * c->up[1] - d[1] * c->up[0];
+  double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], uu = c->up[0] * c->up[0] + c->up[1] * c->up[1] + c->up[2] * c->up[2];
+  double xx = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+  if (!(dd > 0 && isfinite(dd) && uu > 0 && isfinite(uu) && xx > 1e-12 * dd * uu)) return 0;
+  if (c->znear < 0 || c->zfar < 0 || (c->zfar > 0 && c->zfar <= c->znear)) return 0;
+  return c->fov_y_deg > 0 && c->fov_y_deg < 180;
+}
+
+static int light_from_json(const cJSON *o, jnd_light *L) {
+  memset(L, 0, sizeof *L);
+  const cJSON *t = cJSON_GetObjectItemCaseSensitive(o, "type");
+  if (!cJSON_IsString(t)) return 0;
+  if (strcmp(t->valuestring, "directional") == 0) L->type = JND_LIGHT_DIRECTIONAL;
+  else if (strcmp(t->valuestring, "point") == 0) L->type = JND_LIGHT_POINT;
+  else if (strcmp(t->valuestring, "spot") == 0) L->type = JND_LIGHT_SPOT;
+  else return 0;
+  L->color[0] = L->color[1] = L->color[2] = 1;
+  if (json_vec3(o, "position", L->position) < 0 || json_vec3(o, "direction", L->direction) < 0 ||
+      json_vec3(o, "color", L->color) < 0)
+    return 0;
+  L->intensity = json_num(o, "intensity", 1);
+  L->range = json_num(o, "range", 0);
+  L->inner_deg = json_num(o, "inner_deg", 20);
+  L->outer_deg = json_num(o, "outer_deg", 30);
+  return 1;
+}
+
+jnd_status jnd_views_parse(const char *name, const char *text, size_t n, const double centre[3], double fov_y_deg,
+                           jnd_view **out, int *count) {
+  *out = NULL;
+  *count = 0;
+  cJSON *root = cJSON_ParseWithLength(text, n);
+  const cJSON *list = root;
+  if (cJSON_IsObject(root)) list = cJSON_GetObjectItemCaseSensitive(root, "views");
+  if (!cJSON_IsArray(list) || cJSON_GetArraySize(list) < 1) {
+    cJSON_Delete(root);
+    return jnd_fail(JND_ERR_FORMAT, "%s: not a JSON list of cameras (or {\"views\": [...]})", name);
+  }
+  int nv = cJSON_GetArraySize(list);
+  jnd_view *views = jnd_calloc((size_t)nv, sizeof *views);
+  if (!views) {
+    cJSON_Delete(root);
+    return JND_ERR_NOMEM;
+  }
+  jnd_status s = JND_OK;
+  for (int i = 0; i < nv && s == JND_OK; i++) {
+    const cJSON *e = cJSON_GetArrayItem(list, i);
+    const cJSON *cam = cJSON_GetObjectItemCaseSensitive(e, "camera");
+    jnd_view *v = &views[i];
+    jnd_view_defaults(v);
+    if (!camera_from_json(cam ? cam : e, centre, fov_y_deg, &v->camera)) {
+      s = jnd_fail(JND_ERR_FORMAT, "%s: camera %d is invalid", name, i);
+      break;
+    }
+    v->prev_camera = v->camera;
+    const cJSON *prev = cJSON_GetObjectItemCaseSensitive(e, "prev");
+    if (!prev) prev = cJSON_GetObjectItemCaseSensitive(e, "prev_camera");
+    if (prev) {
+      if (!camera_from_json(prev, centre, fov_y_deg, &v->prev_camera)) {
+        s = jnd_fail(JND_ERR_FORMAT, "%s: camera %d's previous camera is invalid", name, i);
+        break;
+      }
+      v->has_prev = 1;
+    }
+    const cJSON *lights = cJSON_GetObjectItemCaseSensitive(e, "lights");
+    v->nlights = -1; /* not given: the caller fills them */
+    if (cJSON_IsArray(lights)) {
+      v->nlights = 0;
+      const cJSON *l;
+      cJSON_ArrayForEach(l, lights) {
+        if (v->nlights >= JND_MAX_LIGHTS || !light_from_json(l, &v->lights[v->nlights])) {
+          s = jnd_fail(JND_ERR_FORMAT, "%s: camera %d: a light is invalid (or more than %d)", name, i,
+                       JND_MAX_LIGHTS);
+          break;
+        }
+        v->nlights++;
+      }
+    }
+  }
+  cJSON_Delete(root);
+  if (s != JND_OK) {
+    free(views);
+    return s;
+  }
+  *out = views;
+  *count = nv;
   return JND_OK;
 }

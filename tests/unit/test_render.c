@@ -822,11 +822,49 @@ TEST(gltf_texture_transform_is_applied_as_its_extension_defines) {
   jnd_scene_free(c);
 }
 
+TEST(views_json_is_parsed_and_impossible_cameras_are_refused) {
+  const double centre[3] = {0, 1, 0};
+  jnd_view *v = NULL;
+  int n = 0;
+  const char *ok = "{\"views\": [{\"eye\": [0, 1, 5]}, {\"camera\": {\"eye\": [3, 1, 0], \"fov\": 30},"
+                   " \"prev\": {\"eye\": [3, 1, 0.1]}, \"lights\": [{\"type\": \"point\", \"position\": [1, 2, 3]}]}]}";
+  CHECK_OK(jnd_views_parse("ok.json", ok, strlen(ok), centre, 45, &v, &n));
+  CHECK(n == 2);
+  if (v && n == 2) {
+    CHECK(v[0].camera.target[1] == 1 && v[0].camera.fov_y_deg == 45 && v[0].nlights == -1 && !v[0].has_prev);
+    CHECK(v[1].camera.fov_y_deg == 30 && v[1].has_prev && v[1].nlights == 1);
+    CHECK(v[1].lights[0].type == JND_LIGHT_POINT && v[1].lights[0].intensity == 1);
+  }
+  free(v);
+  const char *bad[] = {
+      "{\"views\": []}",                                             /* no views */
+      "[{\"eye\": [0, 1, 0]}]",                                      /* eye on the target (the centre) */
+      "[{\"eye\": [0, 5, 0]}]",                                      /* looking along up */
+      "[{\"eye\": [0, 0, 5], \"up\": [0, 0, 0]}]",                   /* no up */
+      "[{\"eye\": [0, 0, 5], \"znear\": 2, \"zfar\": 1}]",           /* clip planes */
+      "[{\"eye\": [0, 0, 5], \"fov\": 180}]",                        /* field of view */
+      "[{\"eye\": [0, 0]}]",                                         /* not a vector */
+      "[{\"eye\": [0, 0, 5], \"lights\": [{\"type\": \"area\"}]}]",  /* unknown light */
+      "not json",
+  };
+  for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+    v = NULL;
+    n = 7;
+    CHECK_STATUS(jnd_views_parse("bad.json", bad[i], strlen(bad[i]), centre, 45, &v, &n), JND_ERR_FORMAT);
+    CHECK(v == NULL && n == 0 && strstr(jnd_last_error(), "bad.json") != NULL);
+  }
+  /* nine lights: one more than JND_MAX_LIGHTS */
+  char many[2048] = "[{\"eye\": [0, 0, 5], \"lights\": [";
+  for (int i = 0; i < 9; i++) strcat(many, i ? ", {\"type\": \"directional\"}" : "{\"type\": \"directional\"}");
+  strcat(many, "]}]");
+  CHECK_STATUS(jnd_views_parse("many.json", many, strlen(many), centre, 45, &v, &n), JND_ERR_FORMAT);
+}
+
 static void close_renderer(void) {
   jnd_renderer_free(renderer());
 }
 
-RUN_TESTS(gltf_texture_transform_is_applied_as_its_extension_defines, builtin_maps_are_addressable_by_material_and_slot, resampling_a_constant_map_keeps_it_constant,
+RUN_TESTS(views_json_is_parsed_and_impossible_cameras_are_refused, gltf_texture_transform_is_applied_as_its_extension_defines, builtin_maps_are_addressable_by_material_and_slot, resampling_a_constant_map_keeps_it_constant,
           colour_maps_are_filtered_in_linear_light, resampled_normal_maps_hold_unit_vectors,
           broken_files_are_refused_as_malformed, truncated_glb_is_refused,
           obj_with_missing_texture_falls_back_to_the_factor_with_a_warning, object_fills_the_coverage_asked_for,
