@@ -26,8 +26,8 @@
 #define LUT_LOGV0 (-1.0)      /* retinal velocity 0.1 .. 316 deg/s */
 #define LUT_NV 71
 #define LUT_DLOGV 0.05
-#define CONTRAST_FLOOR 1e-4f
-#define BOX_COLS 64            /* columns per block of the vertical box passes */  /* cd/m²-scale floor of the contrast denominator */
+#define CONTRAST_FLOOR 1e-4f  /* cd/m²-scale floor of the contrast denominator */
+#define BOX_COLS 64           /* columns per block of the vertical box passes */
 
 struct jnd_model {
   jnd_model_params p;
