@@ -131,23 +131,76 @@ jnd_status jnd_order_stats(const float *v, size_t n, const size_t *ks, int nk, f
   return s;
 }
 
-double jnd_percentile_sorted(const float *s, size_t n, double p) {
-  if (n == 0) return NAN;
+/* ---- percentiles from order statistics ---- */
+
+/* where the p-th percentile lies: between order statistics k and k + 1, at
+ * weight t of k + 1 (linear interpolation; k = n − 1, t = 0 at the top) */
+static size_t percentile_rank(size_t n, double p, double *t) {
   double pos = jnd_clampd(p, 0, 100) / 100.0 * (double)(n - 1);
   size_t k = (size_t)floor(pos);
-  if (k >= n - 1) return s[n - 1];
-  double t = pos - (double)k;
-  return s[k] + t * ((double)s[k + 1] - s[k]);
+  if (k >= n - 1) {
+    *t = 0;
+    return n - 1;
+  }
+  *t = pos - (double)k;
+  return k;
+}
+
+void jnd_ranks_init(jnd_ranks *r, size_t n) {
+  memset(r, 0, sizeof *r);
+  r->n = n;
+}
+
+/* adds rank k, keeping r->k ascending and unique */
+static void ranks_add(jnd_ranks *r, size_t k) {
+  int i = r->nk;
+  while (i > 0 && r->k[i - 1] > k) i--;
+  if (i > 0 && r->k[i - 1] == k) return;
+  memmove(r->k + i + 1, r->k + i, sizeof r->k[0] * (size_t)(r->nk - i));
+  r->k[i] = k;
+  r->nk++;
+}
+
+jnd_status jnd_ranks_want(jnd_ranks *r, double p) {
+  if (r->n == 0) return jnd_fail(JND_ERR_ARG, "percentile of no values");
+  if (r->nk + 2 > JND_RANKS_MAX) return jnd_fail(JND_ERR_INTERNAL, "too many percentiles at once");
+  double t;
+  size_t k = percentile_rank(r->n, p, &t);
+  ranks_add(r, k);
+  if (k + 1 < r->n) ranks_add(r, k + 1);
+  return JND_OK;
+}
+
+jnd_status jnd_ranks_select(jnd_ranks *r, const float *v) { return jnd_order_stats(v, r->n, r->k, r->nk, r->v); }
+
+static double rank_value(const jnd_ranks *r, size_t k, double (*f)(double, const void *), const void *ctx) {
+  for (int i = 0; i < r->nk; i++)
+    if (r->k[i] == k) return f ? f(r->v[i], ctx) : r->v[i];
+  return NAN; /* a rank jnd_ranks_want was not given */
+}
+
+double jnd_ranks_percentile(const jnd_ranks *r, double p, double (*f)(double, const void *), const void *ctx) {
+  double t;
+  size_t k = percentile_rank(r->n, p, &t);
+  double a = rank_value(r, k, f, ctx);
+  if (k + 1 >= r->n) return a;
+  double b = rank_value(r, k + 1, f, ctx);
+  return a + t * (b - a);
+}
+
+jnd_status jnd_percentiles(const float *v, size_t n, const double *p, int np, double *out) {
+  jnd_ranks r;
+  jnd_ranks_init(&r, n);
+  jnd_status s = JND_OK;
+  for (int i = 0; i < np && s == JND_OK; i++) s = jnd_ranks_want(&r, p[i]);
+  if (s == JND_OK) s = jnd_ranks_select(&r, v);
+  for (int i = 0; i < np; i++) out[i] = s == JND_OK ? jnd_ranks_percentile(&r, p[i], NULL, NULL) : NAN;
+  return s;
 }
 
 double jnd_percentile(const float *values, size_t n, double p) {
-  if (n == 0) return NAN;
-  float *c = jnd_alloc(n, sizeof *c);
-  if (!c) return NAN;
-  memcpy(c, values, n * sizeof *c);
-  double r = jnd_sort_floats(c, n) == JND_OK ? jnd_percentile_sorted(c, n, p) : NAN;
-  free(c);
-  return r;
+  double r;
+  return jnd_percentiles(values, n, &p, 1, &r) == JND_OK ? r : NAN;
 }
 
 double jnd_pool(const float *values, size_t n, const jnd_pooling *pool, double e) {

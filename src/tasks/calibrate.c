@@ -143,11 +143,8 @@ double jnd_calibration_pool(const jnd_calibration *c, const jnd_image *map, cons
   if (!v) return NAN;
   for (size_t i = 0; i < n; i++)
     if (!mask || mask->data[i] > 0.5f) v[k++] = map->data[i];
-  double r = NAN;
-  if (k > 0 && jnd_sort_floats(v, k) == JND_OK) {
-    /* monotone transforms commute with order statistics */
-    r = calibrated_p(c, jnd_percentile_sorted(v, k, c->percentile));
-  }
+  /* monotone transforms commute with order statistics */
+  double r = k > 0 ? calibrated_p(c, jnd_percentile(v, k, c->percentile)) : NAN;
   free(v);
   return r;
 }
@@ -173,9 +170,10 @@ jnd_status jnd_calib_percentiles(const jnd_image *map, const jnd_image *mask, do
   if (!v) return JND_ERR_NOMEM;
   for (size_t i = 0; i < n; i++)
     if (!mask || mask->data[i] > 0.5f) v[k++] = map->data[i];
-  jnd_status s = k ? jnd_sort_floats(v, k) : jnd_fail(JND_ERR_ARG, "calibration: no pixel under the mask");
-  if (s == JND_OK)
-    for (int j = 0; j < JND_CALIB_NPCT; j++) out[j] = jnd_percentile_sorted(v, k, JND_CALIB_PCT_LO + j);
+  double pct[JND_CALIB_NPCT];
+  for (int j = 0; j < JND_CALIB_NPCT; j++) pct[j] = JND_CALIB_PCT_LO + j;
+  jnd_status s = k ? jnd_percentiles(v, k, pct, JND_CALIB_NPCT, out)
+                   : jnd_fail(JND_ERR_ARG, "calibration: no pixel under the mask");
   free(v);
   return s;
 }

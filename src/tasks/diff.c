@@ -13,67 +13,9 @@ static inline float prob(float j, float beta) {
   return j > 0 ? 1.0f - jnd_fast_exp2(-jnd_fast_pow(j, beta)) : 0.0f;
 }
 
-/* Percentiles of the JND map, and of P through it (P is monotonic in JND, so
- * the p-th percentile of P is interpolated between P of the JND map's order
- * statistics), from a handful of order statistics found by selection. */
-enum { NPCT = 5 };
-typedef struct {
-  size_t k[2 * NPCT]; /* the order statistics wanted, ascending, unique */
-  float v[2 * NPCT];
-  int nk;
-  size_t n;
-} order_stats;
-
-static void want(order_stats *o, size_t k) {
-  int i = o->nk;
-  while (i > 0 && o->k[i - 1] > k) i--;
-  if (i > 0 && o->k[i - 1] == k) return;
-  memmove(o->k + i + 1, o->k + i, sizeof o->k[0] * (size_t)(o->nk - i));
-  o->k[i] = k;
-  o->nk++;
-}
-
-static float stat_at(const order_stats *o, size_t k) {
-  for (int i = 0; i < o->nk; i++)
-    if (o->k[i] == k) return o->v[i];
-  return NAN; /* not reached: every index read was wanted */
-}
-
-/* the position of the p-th percentile between order statistics k and k + 1
- * (linear interpolation, as jnd_percentile_sorted) */
-static size_t pct_pos(size_t n, double pct, double *t) {
-  double pos = jnd_clampd(pct, 0, 100) / 100.0 * (double)(n - 1);
-  size_t k = (size_t)floor(pos);
-  if (k >= n - 1) {
-    *t = 0;
-    return n - 1;
-  }
-  *t = pos - (double)k;
-  return k;
-}
-
-static void want_pct(order_stats *o, double pct) {
-  double t;
-  size_t k = pct_pos(o->n, pct, &t);
-  want(o, k);
-  if (k + 1 < o->n) want(o, k + 1);
-}
-
-static double jnd_pct(const order_stats *o, double pct) {
-  double t;
-  size_t k = pct_pos(o->n, pct, &t);
-  if (k + 1 >= o->n) return stat_at(o, k);
-  float a = stat_at(o, k), b = stat_at(o, k + 1);
-  return a + t * ((double)b - a);
-}
-
-static double p_pct(const order_stats *o, double pct, float beta) {
-  double t;
-  size_t k = pct_pos(o->n, pct, &t);
-  if (k + 1 >= o->n) return prob(stat_at(o, k), beta);
-  double a = prob(stat_at(o, k), beta), b = prob(stat_at(o, k + 1), beta);
-  return a + t * (b - a);
-}
+/* P of a JND, for percentiles of P: P is monotonic in JND, so the p-th
+ * percentile of P interpolates P of the JND map's order statistics */
+static double prob_of(double j, const void *beta) { return prob((float)j, *(const float *)beta); }
 
 enum { SUM_BLOCK = 4096 };
 
@@ -134,22 +76,24 @@ jnd_status jnd_diff_summarise(const jnd_image *map, double beta, const jnd_pooli
   st->jnd_mean = sj / (double)n;
   st->jnd_minkowski = pow(sj24 / (double)n, 1.0 / 2.4);
   st->p_mean = sp / (double)n;
-  order_stats o = {.n = n};
-  const double pcts[NPCT] = {93, 50, 99, 100, pool->kind == JND_POOL_PERCENTILE ? pool->percentile : 93};
-  for (int i = 0; i < NPCT; i++) want_pct(&o, pcts[i]);
-  jnd_status s = jnd_order_stats(map->data, n, o.k, o.nk, o.v);
+  jnd_ranks r;
+  jnd_ranks_init(&r, n);
+  const double pcts[] = {93, 50, 99, 100, pool->kind == JND_POOL_PERCENTILE ? pool->percentile : 93};
+  jnd_status s = JND_OK;
+  for (size_t i = 0; i < sizeof pcts / sizeof pcts[0] && s == JND_OK; i++) s = jnd_ranks_want(&r, pcts[i]);
+  if (s == JND_OK) s = jnd_ranks_select(&r, map->data);
   if (s != JND_OK) return s;
-  st->jnd_p93 = jnd_pct(&o, 93);
-  st->jnd_max = stat_at(&o, n - 1);
-  st->p_p50 = p_pct(&o, 50, fb);
-  st->p_p93 = p_pct(&o, 93, fb);
-  st->p_p99 = p_pct(&o, 99, fb);
-  st->p_max = prob(stat_at(&o, n - 1), fb);
+  st->jnd_p93 = jnd_ranks_percentile(&r, 93, NULL, NULL);
+  st->jnd_max = jnd_ranks_percentile(&r, 100, NULL, NULL);
+  st->p_p50 = jnd_ranks_percentile(&r, 50, prob_of, &fb);
+  st->p_p93 = jnd_ranks_percentile(&r, 93, prob_of, &fb);
+  st->p_p99 = jnd_ranks_percentile(&r, 99, prob_of, &fb);
+  st->p_max = jnd_ranks_percentile(&r, 100, prob_of, &fb);
   switch (pool->kind) {
   case JND_POOL_MAX: st->p_detect = st->p_max; break;
   case JND_POOL_MEAN: st->p_detect = st->p_mean; break;
   case JND_POOL_MINKOWSKI: st->p_detect = pow(sp24 / (double)n, 1.0 / 2.4); break;
-  default: st->p_detect = p_pct(&o, pool->percentile, fb); break;
+  default: st->p_detect = jnd_ranks_percentile(&r, pool->percentile, prob_of, &fb); break;
   }
   return JND_OK;
 }

@@ -81,13 +81,41 @@ TEST(sort_matches_qsort_for_both_paths) {
   }
 }
 
+/* the reference: the p-th percentile of sorted values, linear interpolation */
+static double sorted_percentile(const float *s, size_t n, double p) {
+  double pos = (p < 0 ? 0 : p > 100 ? 100 : p) / 100.0 * (double)(n - 1);
+  size_t k = (size_t)floor(pos);
+  if (k >= n - 1) return s[n - 1];
+  return s[k] + (pos - (double)k) * ((double)s[k + 1] - s[k]);
+}
+
 TEST(percentiles_interpolate_linearly) {
-  float s[5] = {0, 1, 2, 3, 10};
-  CHECK_NEAR(jnd_percentile_sorted(s, 5, 0), 0, 0);
-  CHECK_NEAR(jnd_percentile_sorted(s, 5, 50), 2, 0);
-  CHECK_NEAR(jnd_percentile_sorted(s, 5, 87.5), 6.5, 1e-12);
-  CHECK_NEAR(jnd_percentile_sorted(s, 5, 100), 10, 0);
-  CHECK_NEAR(jnd_percentile_sorted(s, 5, 250), 10, 0); /* clamped */
+  float s[5] = {10, 2, 0, 3, 1}; /* unsorted: 0, 1, 2, 3, 10 */
+  CHECK_NEAR(jnd_percentile(s, 5, 0), 0, 0);
+  CHECK_NEAR(jnd_percentile(s, 5, 50), 2, 0);
+  CHECK_NEAR(jnd_percentile(s, 5, 87.5), 6.5, 1e-12);
+  CHECK_NEAR(jnd_percentile(s, 5, 100), 10, 0);
+  CHECK_NEAR(jnd_percentile(s, 5, 250), 10, 0); /* clamped */
+  CHECK(s[0] == 10 && s[4] == 1);               /* the values are left as they were */
+  const double p[3] = {0, 87.5, 100};
+  double out[3];
+  CHECK_OK(jnd_percentiles(s, 5, p, 3, out));
+  CHECK(out[0] == 0 && fabs(out[1] - 6.5) < 1e-12 && out[2] == 10);
+  CHECK(isnan(jnd_percentile(s, 0, 50)));
+}
+
+TEST(percentiles_of_a_large_map_match_a_full_sort) {
+  const size_t n = 100000;
+  float *v = malloc(n * sizeof *v), *s = malloc(n * sizeof *s);
+  fill(v, n, 3, 1);
+  memcpy(s, v, n * sizeof *s);
+  qsort(s, n, sizeof *s, cmp_float);
+  const double p[6] = {0, 12.5, 50, 93, 99.9, 100};
+  double out[6];
+  CHECK_OK(jnd_percentiles(v, n, p, 6, out));
+  for (int i = 0; i < 6; i++) CHECK(out[i] == sorted_percentile(s, n, p[i]));
+  free(v);
+  free(s);
 }
 
 TEST(diff_summary_percentiles_match_a_full_sort) {
@@ -102,7 +130,7 @@ TEST(diff_summary_percentiles_match_a_full_sort) {
   float *s = malloc(n * sizeof *s);
   memcpy(s, map.data, n * sizeof *s);
   qsort(s, n, sizeof *s, cmp_float);
-  CHECK_NEAR(st.jnd_p93, jnd_percentile_sorted(s, n, 93), 0);
+  CHECK_NEAR(st.jnd_p93, sorted_percentile(s, n, 93), 0);
   CHECK_NEAR(st.jnd_max, s[n - 1], 0);
   CHECK_NEAR(st.p_max, jnd_probability(s[n - 1], 3.5), 1e-5);
   /* P is monotonic in JND: P's percentile lies between P of the neighbours */
@@ -128,4 +156,5 @@ TEST(pooling_names_parse_and_print) {
 
 RUN_TESTS(order_statistics_equal_the_sorted_values, order_statistics_of_a_constant_map,
           order_statistics_refuse_bad_indices, sort_matches_qsort_for_both_paths, percentiles_interpolate_linearly,
+          percentiles_of_a_large_map_match_a_full_sort,
           diff_summary_percentiles_match_a_full_sort, pooling_names_parse_and_print)
