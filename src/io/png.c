@@ -110,18 +110,22 @@ static unsigned png_plain_channels(unsigned colour) {
   return colour <= 6 ? channels[colour] : 0;
 }
 
+/* The samples per pixel of an IHDR's data (§11.2.2) that png_decode reads:
+ * bit depth 8 or 16, colour type 0, 2, 4 or 6, compression, filter and
+ * interlace methods 0; 0 for any other layout. */
+static unsigned png_plain_layout(const unsigned char *ihdr) {
+  unsigned depth = ihdr[8];
+  if ((depth != 8 && depth != 16) || ihdr[10] || ihdr[11] || ihdr[12]) return 0;
+  return png_plain_channels(ihdr[9]);
+}
+
 int jnd_png_plain(const unsigned char *buf, size_t n) {
   size_t pos = 8;
   png_chunk c;
   int ihdr = 0;
   while (png_next_chunk(buf, n, &pos, &c)) {
     if (png_chunk_is(&c, "IHDR")) {
-      /* PNG spec §11.2.2: compression method 0, filter method 0, interlace
-       * method 0 (none) are the only ones read here */
-      if (ihdr++ || c.len != 13) return 0;
-      unsigned depth = c.data[8];
-      if ((depth != 8 && depth != 16) || !png_plain_channels(c.data[9]) || c.data[10] || c.data[11] || c.data[12])
-        return 0;
+      if (ihdr++ || c.len != 13 || !png_plain_layout(c.data)) return 0;
     } else if (png_chunk_is(&c, "PLTE")) {
       if (c.len % 3 || c.len > 3 * 256) return 0; /* stb_image refuses it */
     } else if (png_chunk_is(&c, "tRNS")) {
@@ -274,9 +278,9 @@ static jnd_status png_read_header(png_decoder *d, uint32_t *w, uint32_t *h, unsi
     return jnd_fail(JND_ERR_FORMAT, "%s: corrupt PNG (no IHDR)", d->name);
   *w = be32(c.data);
   *h = be32(c.data + 4);
-  *channels = png_plain_channels(c.data[9]);
+  *channels = png_plain_layout(c.data);
   d->depth = c.data[8];
-  if ((d->depth != 8 && d->depth != 16) || !*channels || c.data[10] || c.data[11] || c.data[12])
+  if (!*channels)
     return jnd_fail(JND_ERR_FORMAT, "%s: PNG layout not read here (bit depth %u, colour type %u, interlace %u)",
                     d->name, d->depth, c.data[9], c.data[12]);
   d->bpp = *channels * (d->depth / 8);
