@@ -270,22 +270,6 @@ static inline float lut_lookup(const float *t, float logL, float logv) {
   return (1 - tv) * ((1 - tl) * r0[0] + tl * r0[1]) + tv * ((1 - tl) * r1[0] + tl * r1[1]);
 }
 
-/* A small per-thread cache of horizontally expanded coarse rows. */
-typedef struct {
-  float *buf; /* 3 slots × width */
-  int row[3];
-} row_cache;
-
-static const float *cached_row(row_cache *c, const float *coarse, int cw, int crow, int fw) {
-  int slot = crow % 3;
-  float *dst = c->buf + (size_t)slot * fw;
-  if (c->row[slot] != crow) {
-    jnd_pyr_expand_row(coarse + (size_t)crow * cw, cw, dst, fw);
-    c->row[slot] = crow;
-  }
-  return dst;
-}
-
 /* What every row of one band reads. */
 typedef struct {
   const jnd_model *m;
@@ -302,7 +286,7 @@ typedef struct {
 
 /* One thread's rows: caches of expanded coarse rows and the row stages. */
 typedef struct {
-  row_cache cache[2][3][2]; /* [image][cone][G_{i+1}, EXPAND(G_{i+2})] */
+  jnd_row_cache cache[2][3][2]; /* [image][cone][G_{i+1}, EXPAND(G_{i+2})] */
   float *opp[2][3], *logl[2], *sens[NCH], *eccf;
   float *mem;
 } row_scratch;
@@ -334,12 +318,12 @@ JND_HOT static void image_row(const band_ctx *k, row_scratch *r, int a, int y, c
   /* 004 §3.1: band-limited contrast (G_i − G_{i+1}) / G_{i+2} (Lubin 1995), per cone */
   for (int c = 0; c < 3; c++) {
     const float *g0 = st->g[a][c].plane[band] + (size_t)y * w;
-    const float *p0 = cached_row(&r->cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[0], w);
-    const float *p1 = cached_row(&r->cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[1], w);
-    const float *p2 = cached_row(&r->cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[2], w);
-    const float *q0 = cached_row(&r->cache[a][c][1], k->xexp[a][c], w1, rows[0], w);
-    const float *q1 = cached_row(&r->cache[a][c][1], k->xexp[a][c], w1, rows[1], w);
-    const float *q2 = cached_row(&r->cache[a][c][1], k->xexp[a][c], w1, rows[2], w);
+    const float *p0 = jnd_pyr_cached_row(&r->cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[0], w);
+    const float *p1 = jnd_pyr_cached_row(&r->cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[1], w);
+    const float *p2 = jnd_pyr_cached_row(&r->cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[2], w);
+    const float *q0 = jnd_pyr_cached_row(&r->cache[a][c][1], k->xexp[a][c], w1, rows[0], w);
+    const float *q1 = jnd_pyr_cached_row(&r->cache[a][c][1], k->xexp[a][c], w1, rows[1], w);
+    const float *q2 = jnd_pyr_cached_row(&r->cache[a][c][1], k->xexp[a][c], w1, rows[2], w);
     float *o = r->opp[a][c];
     const float w0 = wts[0], w1_ = wts[1], w2 = wts[2];
 #pragma omp simd

@@ -128,35 +128,36 @@ JND_HOT static void expand_col(const float *const rb[3], const float wts[3], int
   for (int x = 0; x < dw; x++) o[x] = w0 * r0[x] + w1 * r1[x] + w2 * r2[x];
 }
 
+const float *jnd_pyr_cached_row(jnd_row_cache *c, const float *src, int cw, int crow, int fw) {
+  int slot = crow % 3;
+  float *dst = c->buf + (size_t)slot * fw;
+  if (c->row[slot] != crow) {
+    jnd_pyr_expand_row(src + (size_t)crow * cw, cw, dst, fw);
+    c->row[slot] = crow;
+  }
+  return dst;
+}
+
 int jnd_pyr_expand(const float *src, int w, int h, float *dst, int dw, int dh, int threads) {
   int ok = 1;
 #pragma omp parallel num_threads(threads)
   {
-    float *rowbuf = malloc(sizeof(float) * (size_t)dw * 3);
-    if (!rowbuf) {
+    jnd_row_cache cache = {malloc(sizeof(float) * (size_t)dw * 3), {-1, -1, -1}};
+    if (!cache.buf) {
 #pragma omp atomic write
       ok = 0;
     }
-    int cached[3] = {-1, -1, -1};
 #pragma omp for schedule(static)
     for (int y = 0; y < dh; y++) {
-      if (!rowbuf) continue;
+      if (!cache.buf) continue;
       int rows[3];
       float wts[3];
       int n = jnd_pyr_expand_rows(y, h, rows, wts);
       const float *rb[3];
-      for (int k = 0; k < n; k++) {
-        int slot = rows[k] % 3;
-        float *b = rowbuf + (size_t)slot * dw;
-        if (cached[slot] != rows[k]) {
-          jnd_pyr_expand_row(src + (size_t)rows[k] * w, w, b, dw);
-          cached[slot] = rows[k];
-        }
-        rb[k] = b;
-      }
+      for (int k = 0; k < n; k++) rb[k] = jnd_pyr_cached_row(&cache, src, w, rows[k], dw);
       expand_col(rb, wts, n, dst + (size_t)y * dw, dw);
     }
-    free(rowbuf);
+    free(cache.buf);
   }
   return ok;
 }

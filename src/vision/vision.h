@@ -43,6 +43,15 @@ int jnd_pyr_expand(const float *src, int w, int h, float *dst, int dw, int dh, i
 void jnd_pyr_expand_row(const float *src, int cw, float *dst, int fw);
 /* weights and rows of the vertical EXPAND for fine row y: n (2 or 3) rows */
 int jnd_pyr_expand_rows(int y, int ch, int rows[3], float wts[3]);
+/* The last three coarse rows expanded horizontally (EXPAND's vertical step
+ * reads rows c−1, c, c+1, and a row's neighbours share two of them): buf is
+ * 3 × the fine width, row[] the coarse row each slot holds (−1: none). */
+typedef struct {
+  float *buf;
+  int row[3];
+} jnd_row_cache;
+/* coarse row crow of src (cw wide) expanded to width fw, from the cache */
+const float *jnd_pyr_cached_row(jnd_row_cache *c, const float *src, int cw, int crow, int fw);
 static inline int jnd_mirror(int i, int n) {
   if (n == 1) return 0;
   while (i < 0 || i >= n) {
