@@ -133,6 +133,19 @@ const char *const cli_display_help =
     "  --reflectivity K    fraction of ambient light reflected (default 0.005)\n"
     "  --exr-scale S       cd/m2 per unit of EXR/HDR input values (default 1)\n";
 
+int cli_common_opt(int argc, char **argv, int *i, cli_common *c) {
+  const char *v;
+  if (cli_opt(argc, argv, i, "--json", &v)) {
+    c->json_path = v;
+    return 1;
+  }
+  if (cli_flag(argv, *i, "--quiet") || cli_flag(argv, *i, "-q")) {
+    c->quiet = 1;
+    return 1;
+  }
+  return 0;
+}
+
 int cli_display_opt(const char *cmd, int argc, char **argv, int *i, jnd_display *d) {
   const char *v;
   if (cli_opt(argc, argv, i, "--display", &v)) {

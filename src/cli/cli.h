@@ -49,6 +49,10 @@ int cli_unknown(const char *cmd, const char *arg);
 /* Human messages to stderr unless quiet. */
 void cli_info(const cli_common *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
+/* The options every subcommand has: --json FILE|- and --quiet (-q). Returns
+ * 1 if argv[*i] was one of them (advancing *i past a value). */
+int cli_common_opt(int argc, char **argv, int *i, cli_common *c);
+
 /* Display options: --display PRESET, --ppd, --peak, --black, --ambient,
  * --reflectivity, --exr-scale. Returns 1 if argv[*i] was one of them. */
 int cli_display_opt(const char *cmd, int argc, char **argv, int *i, jnd_display *d);

@@ -180,10 +180,7 @@ static int run(int argc, char **argv) {
       }
     } else if (cli_opt(argc, argv, &i, "--histogram", &v)) {
       hist_path = v;
-    } else if (cli_opt(argc, argv, &i, "--json", &v)) {
-      common.json_path = v;
-    } else if (cli_flag(argv, i, "--quiet") || cli_flag(argv, i, "-q")) {
-      common.quiet = 1;
+    } else if (cli_common_opt(argc, argv, &i, &common)) {
     } else if (a[0] == '-' && a[1]) {
       return cli_unknown("calibrate", a);
     } else if (!csv_path) {

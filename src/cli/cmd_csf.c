@@ -150,8 +150,6 @@ static int run(int argc, char **argv) {
       return EXIT_OK;
     } else if (cli_opt(argc, argv, &i, "-o", &v) || cli_opt(argc, argv, &i, "--output", &v)) {
       out_csv = v;
-    } else if (cli_opt(argc, argv, &i, "--json", &v)) {
-      common.json_path = v;
     } else if (cli_opt(argc, argv, &i, "--colors", &v)) {
       colors = v;
     } else if (cli_opt(argc, argv, &i, "--backgrounds", &v)) {
@@ -189,8 +187,7 @@ static int run(int argc, char **argv) {
       fit = 1;
     } else if (cli_opt(argc, argv, &i, "--threads", &v)) {
       common.threads = cli_threads("csf", v);
-    } else if (cli_flag(argv, i, "--quiet") || cli_flag(argv, i, "-q")) {
-      common.quiet = 1;
+    } else if (cli_common_opt(argc, argv, &i, &common)) {
     } else if (argv[i][0] == '-' && argv[i][1]) {
       return cli_unknown("csf", argv[i]);
     } else if (!data) {

@@ -90,8 +90,6 @@ static int run(int argc, char **argv) {
       pool_name = v;
     } else if (cli_opt(argc, argv, &i, "--calibration", &v)) {
       cal_path = v;
-    } else if (cli_opt(argc, argv, &i, "--json", &v)) {
-      common.json_path = v;
     } else if (cli_opt(argc, argv, &i, "--map", &v)) {
       map_path = v;
     } else if (cli_opt(argc, argv, &i, "--heatmap", &v)) {
@@ -104,8 +102,7 @@ static int run(int argc, char **argv) {
       mp.threads = common.threads = cli_threads("diff", v);
     } else if (cli_flag(argv, i, "--timings")) {
       timings = 1;
-    } else if (cli_flag(argv, i, "--quiet") || cli_flag(argv, i, "-q")) {
-      common.quiet = 1;
+    } else if (cli_common_opt(argc, argv, &i, &common)) {
     } else if (argv[i][0] == '-' && argv[i][1]) {
       return cli_unknown("diff", argv[i]);
     } else if (npaths < 2) {

@@ -264,10 +264,7 @@ static int run(int argc, char **argv) {
       timings = 1;
     } else if (cli_flag(argv, i, "--no-bc")) {
       no_bc = 1;
-    } else if (cli_opt(argc, argv, &i, "--json", &v)) {
-      common.json_path = v;
-    } else if (cli_flag(argv, i, "--quiet") || cli_flag(argv, i, "-q")) {
-      common.quiet = 1;
+    } else if (cli_common_opt(argc, argv, &i, &common)) {
     } else if (argv[i][0] == '-' && argv[i][1]) {
       return cli_unknown("pca", argv[i]);
     } else if (npaths < JND_PCA_MAX_MAPS) {

@@ -428,12 +428,9 @@ static int run(int argc, char **argv) {
       anisotropy = cli_int("render", "--anisotropy", v, 1, 16);
     } else if (cli_opt(argc, argv, &i, "--platform", &v)) {
       platform = v;
-    } else if (cli_opt(argc, argv, &i, "--json", &v)) {
-      common.json_path = v;
     } else if (cli_flag(argv, i, "--timings")) {
       timings = 1;
-    } else if (cli_flag(argv, i, "--quiet") || cli_flag(argv, i, "-q")) {
-      common.quiet = 1;
+    } else if (cli_common_opt(argc, argv, &i, &common)) {
     } else if (a[0] == '-' && a[1]) {
       return cli_unknown("render", a);
     } else if (!model) {

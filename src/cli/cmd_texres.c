@@ -218,14 +218,11 @@ static int run(int argc, char **argv) {
       p.platform = v;
     } else if (cli_opt(argc, argv, &i, "--map-size", &v)) {
       map_size = cli_int("texres", "--map-size", v, 8, 8192);
-    } else if (cli_opt(argc, argv, &i, "--json", &v)) {
-      common.json_path = v;
     } else if (cli_opt(argc, argv, &i, "--threads", &v)) {
       p.model.threads = common.threads = cli_threads("texres", v);
     } else if (cli_flag(argv, i, "--timings")) {
       timings = 1;
-    } else if (cli_flag(argv, i, "--quiet") || cli_flag(argv, i, "-q")) {
-      common.quiet = 1;
+    } else if (cli_common_opt(argc, argv, &i, &common)) {
     } else if (a[0] == '-' && a[1]) {
       return cli_unknown("texres", a);
     } else if (!model) {
