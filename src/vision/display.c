@@ -113,16 +113,14 @@ JND_HOT static void srgb_span(const float *src, const float *alpha, const float 
 }
 
 /* one channel of the display model: signal → cd/m² */
-static void display_channel(const float *src, const float *alpha, jnd_encoding enc, float range, float black,
-                            float scale, float refl, float *dst, ptrdiff_t n) {
+static void display_channel(const float *src, const float *alpha, jnd_encoding enc, const float lum[256],
+                            float range, float black, float scale, float refl, float *dst, ptrdiff_t n) {
   if (enc != JND_ENCODING_SRGB) {
     /* OpenEXR colour is premultiplied by alpha: it already is the composite over black */
 #pragma omp parallel for schedule(static)
     for (ptrdiff_t i = 0; i < n; i++) dst[i] = jnd_maxf(src[i], 0.0f) * scale + refl;
     return;
   }
-  float lum[256];
-  for (int k = 0; k < 256; k++) lum[k] = range * srgb_decode(k / 255.0f) + black + refl;
 #pragma omp parallel for schedule(static)
   for (ptrdiff_t i = 0; i < n; i += SPAN)
     srgb_span(src + i, alpha ? alpha + i : NULL, lum, range, black, refl, dst + i,
@@ -152,8 +150,10 @@ jnd_status jnd_display_apply(const jnd_display *d, const jnd_image *in, jnd_enco
   float refl = (float)(d->reflectivity * d->ambient_lux / M_PI); /* Lambertian screen */
   float range = (float)(d->peak_cdm2 - d->black_cdm2), black = (float)d->black_cdm2;
   const float *alpha = alpha_ch >= 0 ? jnd_image_plane(in, alpha_ch) : NULL;
+  float lum[256]; /* the luminance of each 8-bit sRGB code */
+  for (int k = 0; k < 256; k++) lum[k] = range * srgb_decode(k / 255.0f) + black + refl;
   for (int ch = 0; ch < 3; ch++)
-    display_channel(jnd_image_plane(in, colour ? ch : 0), alpha, enc, range, black, (float)d->exr_scale,
+    display_channel(jnd_image_plane(in, colour ? ch : 0), alpha, enc, lum, range, black, (float)d->exr_scale,
                     refl, jnd_image_plane(&tmp, ch), n);
   if (in_place) {
     out->c = 3; /* an alpha plane, if any, stays allocated behind the three colour planes */
