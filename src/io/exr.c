@@ -286,14 +286,7 @@ static jnd_status read_part(const char *name, exr_context_t ctx, exr_stream *st,
     jnd_image_free(out);
     return s;
   }
-  if (info) {
-    memset(info, 0, sizeof *info);
-    info->encoding = JND_ENCODING_LINEAR;
-    info->bits = bits;
-    info->channels = c;
-    info->has_alpha = has_alpha;
-    strcpy(info->format, "exr");
-  }
+  jnd_image_info_set(info, "exr", JND_ENCODING_LINEAR, bits, c, has_alpha);
   return JND_OK;
 }
 

@@ -4,6 +4,7 @@
  * (exr.c). Every decoder refuses sizes over the limits and non-finite
  * samples, and names the file in its one-line error. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -190,14 +191,19 @@ static jnd_status hdr_check_runs(const char *name, const unsigned char *buf, siz
   return JND_OK;
 }
 
-static void png_info(jnd_image_info *info, int bits, int c) {
+void jnd_image_info_set(jnd_image_info *info, const char *format, jnd_encoding enc, int bits, int channels,
+                        int has_alpha) {
   if (!info) return;
   memset(info, 0, sizeof *info);
-  info->encoding = JND_ENCODING_SRGB;
+  info->encoding = enc;
   info->bits = bits;
-  info->channels = c;
-  info->has_alpha = c == 2 || c == 4;
-  strcpy(info->format, "png");
+  info->channels = channels;
+  info->has_alpha = has_alpha;
+  snprintf(info->format, sizeof info->format, "%s", format);
+}
+
+static void png_info(jnd_image_info *info, int bits, int c) {
+  jnd_image_info_set(info, "png", JND_ENCODING_SRGB, bits, c, c == 2 || c == 4);
 }
 
 /* A PNG that jnd_png_validate has passed, through stb_image. */
@@ -260,13 +266,7 @@ jnd_status jnd_decode_jpeg(const char *name, const unsigned char *buf, size_t n,
   s = planar_from_interleaved(name, px, 8, w, h, c, 1.0 / 255, out);
   stbi_image_free(px);
   if (s != JND_OK) return s;
-  if (info) {
-    memset(info, 0, sizeof *info);
-    info->encoding = JND_ENCODING_SRGB;
-    info->bits = 8;
-    info->channels = c;
-    strcpy(info->format, "jpeg");
-  }
+  jnd_image_info_set(info, "jpeg", JND_ENCODING_SRGB, 8, c, 0);
   return JND_OK;
 }
 
@@ -291,13 +291,7 @@ jnd_status jnd_decode_hdr(const char *name, const unsigned char *buf, size_t n, 
     jnd_image_free(out);
     return s;
   }
-  if (info) {
-    memset(info, 0, sizeof *info);
-    info->encoding = JND_ENCODING_LINEAR;
-    info->bits = 32;
-    info->channels = 3;
-    strcpy(info->format, "hdr");
-  }
+  jnd_image_info_set(info, "hdr", JND_ENCODING_LINEAR, 32, 3, 0);
   return JND_OK;
 }
 

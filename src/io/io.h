@@ -45,6 +45,10 @@ jnd_status jnd_png_decode(const char *name, const unsigned char *buf, size_t n, 
 jnd_status jnd_decode_png_stb(const char *name, const unsigned char *buf, size_t n,
                               jnd_image *out, jnd_image_info *info);
 
+/* Fills *info (when not NULL) for a decoded image: every decoder's summary. */
+void jnd_image_info_set(jnd_image_info *info, const char *format, jnd_encoding enc, int bits, int channels,
+                        int has_alpha);
+
 uint32_t jnd_crc32(const unsigned char *buf, size_t n);
 
 /* Refuses NaN and Inf samples. */
