@@ -488,12 +488,7 @@ static int run(int argc, char **argv) {
   }
   if (!apply_edits(scene, edits, nedits)) goto done;
   double t_load = cli_now() - t0;
-  if (!mkdir_p(dir)) {
-    cli_error("%s: cannot create the folder (%s)", dir, strerror(errno));
-    goto done;
-  }
-
-  /* views */
+  /* views (read before the output folder exists, so that bad cameras leave nothing behind) */
   int nviews = 0;
   vs.aspect = (double)width / height;
   if (nlights_fixed) vs.lights = 0;
@@ -522,6 +517,10 @@ static int run(int argc, char **argv) {
       cli_error("render: %s", jnd_last_error());
       goto done;
     }
+  }
+  if (!mkdir_p(dir)) {
+    cli_error("%s: cannot create the folder (%s)", dir, strerror(errno));
+    goto done;
   }
   unsigned gl_outputs = JND_OUT_COLOR | JND_OUT_MASK;
   if (outputs & O_DEPTH) gl_outputs |= JND_OUT_DEPTH;

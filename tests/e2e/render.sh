@@ -81,5 +81,13 @@ if [ -d "$MODELS" ]; then
 fi
 check 'err "is not a number" builtin -o "$T/x" --coverage abc' "a bad option value: exit 2"
 check 'err "no such map" builtin --map-size 16 -o "$T/x" --scale nothing/normal=0.5' "an unknown map: exit 2"
+# --cameras: a camera that cannot make an image, and text that is not views
+echo '[{"eye": [0, 5, 0], "target": [0, 0, 0]}]' >"$T/upcam.json"
+check 'err "upcam.json: camera 0 is invalid" builtin --map-size 16 -o "$T/x" --cameras "$T/upcam.json"' \
+    "--cameras looking along up: exit 2, one line naming the file and camera"
+echo 'not json' >"$T/notjson.json"
+check 'err "notjson.json: not a JSON list of cameras" builtin --map-size 16 -o "$T/x" --cameras "$T/notjson.json"' \
+    "--cameras that is not JSON: exit 2, one line"
+check '[ ! -e "$T/x" ]' "nothing is written for bad cameras"
 check '"$JND" render --help | grep -q -- "--coverage"' "--help prints the usage"
 exit $fail
