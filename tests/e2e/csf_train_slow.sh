@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The model against the 349 static human thresholds of csf_train (issue: pooled RMSE <= 5 dB).
 . "$(dirname "$0")/lib.bash"
-if ! shared_data; then echo "skip: no shared data"; echo "0 passed, 0 failed"; exit 0; fi
+shared_data || skip "no shared data"
 D="$JND_SHARED/data/csf/csf_train.csv"
 expect_exit 0 csf_train_runs "$JND" csf "$D" --static-only -o "$T/pred.csv" --json "$T/r.json" --quiet
 jq '.result' "$T/r.json"

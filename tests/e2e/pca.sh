@@ -3,7 +3,7 @@
 # float reconstruction, the PSNR choice, determinism, and one-line errors
 # with exit 2 for bad input.
 . "$(dirname "$0")/lib.bash"
-command -v python3 >/dev/null || { echo "skip: needs python3"; exit 0; }
+command -v python3 >/dev/null || skip "needs python3"
 
 # three correlated maps (RGB albedo, grey height stored as RGB, a normal map
 # with a constant blue) and two odd ones, as PNG with the standard library only

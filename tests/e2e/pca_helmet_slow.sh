@@ -3,7 +3,7 @@
 # channels, energies summing to the total variance, ≥ 60 dB with every
 # component in float, 001's 5-component table, and albedo weighting.
 . "$(dirname "$0")/lib.bash"
-shared_data && [ -d "$JND_SHARED/data/texsets/damagedhelmet" ] || { echo "skip: no shared data"; exit 0; }
+shared_data && [ -d "$JND_SHARED/data/texsets/damagedhelmet" ] || skip "no shared data"
 H="$JND_SHARED/data/texsets/damagedhelmet"
 MAPS="$H/Default_AO.jpg $H/Default_albedo.jpg $H/Default_emissive.jpg $H/Default_metalRoughness.jpg $H/Default_normal.jpg"
 

@@ -8,7 +8,7 @@
 # the properties every calibration must keep.
 . "$(dirname "$0")/lib.bash"
 "$JND" render builtin -o "$T/probe" --views 1 --size 16x16 --map-size 16 --quiet 2>"$T/probe.txt" ||
-  { echo "skip: no renderer ($(head -c 200 "$T/probe.txt"))"; exit 0; }
+  skip "no renderer ($(head -c 200 "$T/probe.txt"))"
 R="--model builtin --map-size 128 --material builtin --views 4 --size 128x128"
 
 expect_exit 0 max_p_search_runs "$JND" pca $R -o "$T/mp" --max-p 0.2
@@ -45,7 +45,7 @@ OMP_NUM_THREADS=3 "$JND" pca $D -o "$T/d3"
 check rendered_report_is_identical_across_thread_counts cmp -s "$T/d1/pca.json" "$T/d3/pca.json"
 
 # map files replace the slots their names (or --slot) say
-command -v python3 >/dev/null || { echo "skip: the rest needs python3"; finish; }
+command -v python3 >/dev/null || skip "the rest needs python3"
 python3 - "$T" <<'PY'
 import math, struct, sys, zlib
 d = sys.argv[1]

@@ -7,9 +7,9 @@
 . "$(dirname "$0")/lib.bash"
 . "$(dirname "$0")/../../bench/webxr_assets.sh"
 ASSETS=$(webxr_assets "$(dirname "$JND")/webxr-cache") ||
-  { echo "skip: @webxr-input-profiles/assets not available (no npm or no network)"; exit 0; }
+  skip "@webxr-input-profiles/assets not available (no npm or no network)"
 "$JND" render builtin -o "$T/probe" --views 1 --size 16x16 --map-size 16 --quiet 2>/dev/null ||
-  { echo "skip: no renderer"; exit 0; }
+  skip "no renderer"
 F="$ASSETS/dist/profiles/oculus-touch-v3/left.glb"
 [ -f "$F" ] || { bad "oculus-touch-v3/left.glb is in the package"; finish; }
 # the first material with maps, as `jnd render --list-maps` names it

@@ -7,7 +7,7 @@ set -uo pipefail
 T=$JND_TMP
 rm -rf "$T" && mkdir -p "$T"
 . "$(dirname "$0")/../../bench/webxr_assets.sh"
-ASSETS=$(webxr_assets "$(dirname "$JND")/webxr-cache") || { echo "skip: @webxr-input-profiles/assets not available (no npm or no network)"; exit 0; }
+ASSETS=$(webxr_assets "$(dirname "$JND")/webxr-cache") || skip "@webxr-input-profiles/assets not available (no npm or no network)"
 fail=0
 check() { if ! eval "$1"; then echo "FAIL: $2"; fail=1; else echo "ok   $2"; fi; }
 for m in oculus-touch/left.glb generic-trigger/none.glb; do

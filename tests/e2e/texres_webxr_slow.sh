@@ -6,7 +6,7 @@
 set -uo pipefail
 . "$(dirname "$0")/lib.bash"
 . "$(dirname "$0")/../../bench/webxr_assets.sh"
-ASSETS=$(webxr_assets "$(dirname "$JND")/webxr-cache") || { echo "skip: @webxr-input-profiles/assets not available (no npm or no network)"; exit 0; }
+ASSETS=$(webxr_assets "$(dirname "$JND")/webxr-cache") || skip "@webxr-input-profiles/assets not available (no npm or no network)"
 M="$ASSETS/dist/profiles/generic-trigger-squeeze-thumbstick/left.glb"
 [ -f "$M" ] || { bad "the asset is in the package"; finish; }
 "$JND" texres "$M" -o "$T/a" --views 4 --size 256x256 --verify-views 8 --quiet

@@ -95,7 +95,7 @@ static double pooled(jnd_model *m, const jnd_image *ref, const jnd_image_info *i
 TEST(stronger_distortions_are_more_visible_on_every_photograph) {
   const char *data = test_shared_data();
   if (!data) {
-    fprintf(stderr, "skip: no shared data\n");
+    TEST_SKIP("no shared data");
     return;
   }
   jnd_model_params p;

@@ -359,7 +359,7 @@ static int open_builtin(jnd_pca_render **r, jnd_texset *set, jnd_map_slot *slots
   rp.width = rp.height = 64;
   rp.builtin_map_size = 64;
   if (jnd_pca_render_open("builtin", "builtin", &rp, r) != JND_OK) {
-    fprintf(stderr, "skip: no renderer (%s)\n", jnd_last_error());
+    TEST_SKIP("no renderer (%s)", jnd_last_error());
     return 0;
   }
   size_t orig = 0;
@@ -417,7 +417,7 @@ TEST(binding_two_maps_to_one_slot_is_refused) {
 static int helmet_set(jnd_texset *set) {
   const char *data = test_shared_data();
   if (!data) {
-    fprintf(stderr, "skip: no shared data\n");
+    TEST_SKIP("no shared data");
     return 0;
   }
   const char *files[5] = {"AO", "albedo", "emissive", "metalRoughness", "normal"};

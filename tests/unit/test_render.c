@@ -160,7 +160,7 @@ TEST(broken_files_are_refused_as_malformed) {
   };
   struct stat st;
   if (stat(ASSIMP_MODELS, &st) != 0) {
-    fprintf(stderr, "skip: %s not installed\n", ASSIMP_MODELS);
+    TEST_SKIP("%s not installed", ASSIMP_MODELS);
     return;
   }
   for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
@@ -473,7 +473,7 @@ TEST(golden_builtin_frame_matches) {
 TEST(golden_box_textured_frame_matches) {
   jnd_scene *s = NULL;
   if (jnd_scene_load(ASSIMP_MODELS "/glTF2/BoxTextured-glTF/BoxTextured.gltf", &s) != JND_OK) {
-    fprintf(stderr, "skip: %s\n", jnd_last_error());
+    TEST_SKIP("%s", jnd_last_error());
     return;
   }
   jnd_view v = front_view(s, 0.8);
@@ -561,7 +561,7 @@ TEST(assimp_test_models_render_with_plausible_coverage) {
   };
   struct stat st;
   if (stat(ASSIMP_MODELS, &st) != 0) {
-    fprintf(stderr, "skip: %s not installed\n", ASSIMP_MODELS);
+    TEST_SKIP("%s not installed", ASSIMP_MODELS);
     return;
   }
   for (size_t i = 0; i < sizeof good / sizeof good[0]; i++) {

@@ -50,7 +50,7 @@ static int longer(const int *wh) { return wh[0] > wh[1] ? wh[0] : wh[1]; }
 
 TEST(sizes_never_exceed_the_mip_bound_and_shrink_with_the_object) {
   if (!renderer_available()) {
-    fprintf(stderr, "skip: no OpenGL context\n");
+    TEST_SKIP("no OpenGL context");
     return;
   }
   jnd_builtin_params bp;
