@@ -29,7 +29,7 @@ one_line_error() {
 # a failed one fails the test.
 skip() {
   echo "skip: $*"
-  if [ -n "${JND_NO_SKIP:-}" ]; then echo "FAIL skipped, but JND_NO_SKIP is set"; fails=$((fails + 1)); fi
+  if [ -n "${JND_NO_SKIP:-}" ]; then bad "skipped, but JND_NO_SKIP is set"; fi
   echo "$((checks - fails)) passed, $fails failed, skipped"
   [ "$fails" -eq 0 ] && exit 77
   exit 1
