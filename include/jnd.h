@@ -299,6 +299,30 @@ typedef struct {
 jnd_status jnd_diff_summarise(const jnd_image *jnd_map, double beta, const jnd_pooling *pool,
                               jnd_diff_stats *stats);
 
+/* The view criterion (000 §9): a candidate passes when at most a fraction q
+ * of the sampled views have P above p (000: p = 0.2, q = 0.1). */
+typedef struct {
+  int views;             /* n, the number of views */
+  int above;             /* views with P > p */
+  int allowed;           /* floor(q·n): views that may be above p */
+  double statistic;      /* the (allowed + 1)-th largest P: passes exactly when statistic <= p */
+  int worst_view;        /* index of the largest P (the first of equals) */
+  int pass;              /* above <= allowed */
+  double fraction_above; /* above / n */
+  double fraction_upper; /* one-sided upper confidence bound (Clopper–Pearson, at the confidence asked)
+                            on the fraction of all possible views above p, given `above` of n */
+} jnd_criterion_result;
+
+/* Applies the criterion to the per-view probabilities p_views[0..n) (n >= 1,
+ * each in 0..1), threshold p (0..1), fraction q (0 <= q < 1) and confidence
+ * (0 < confidence < 1, e.g. 0.9) for the upper bound. */
+jnd_status jnd_criterion_eval(const double *p_views, int n, double p, double q, double confidence,
+                              jnd_criterion_result *out);
+
+/* The one-sided Clopper–Pearson upper bound on a binomial proportion: the
+ * largest u with P(X <= k | n, u) >= 1 − confidence (1 when k = n). */
+double jnd_binomial_upper(int k, int n, double confidence);
+
 /* ------------------------------------------------------------------------ */
 /* Scene                                                                    */
 /* ------------------------------------------------------------------------ */

@@ -1199,11 +1199,6 @@ jnd_status jnd_pca_render_bind(jnd_pca_render *r, const jnd_texset *set, const j
   return s;
 }
 
-static int cmp_desc(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return x < y ? 1 : x > y ? -1 : 0;
-}
-
 jnd_status jnd_pca_render_measure(jnd_pca_render *r, const jnd_image *channels, jnd_pca_visibility *out) {
   memset(out, 0, sizeof *out);
   if (!r->set || !r->nbound) return jnd_fail(JND_ERR_ARG, "%s: no texture set bound", r->path);
@@ -1222,14 +1217,12 @@ jnd_status jnd_pca_render_measure(jnd_pca_render *r, const jnd_image *channels, 
   }
   if (s != JND_OK) return s;
   out->views = r->nviews;
-  out->allowed = (int)floor(r->p.max_fraction * r->nviews + 1e-9);
-  if (out->allowed > r->nviews - 1) out->allowed = r->nviews - 1;
-  double desc[JND_PCA_MAX_VIEWS];
-  memcpy(desc, out->p, sizeof desc);
-  qsort(desc, (size_t)r->nviews, sizeof *desc, cmp_desc);
-  for (int v = 0; v < r->nviews; v++) out->above += out->p[v] > r->p.max_p;
-  out->p_criterion = desc[out->allowed];
-  out->pass = out->above <= out->allowed;
+  jnd_criterion_result cr;
+  if ((s = jnd_criterion_eval(out->p, r->nviews, r->p.max_p, r->p.max_fraction, 0.9, &cr)) != JND_OK) return s;
+  out->allowed = cr.allowed;
+  out->above = cr.above;
+  out->p_criterion = cr.statistic;
+  out->pass = cr.pass;
   return JND_OK;
 }
 

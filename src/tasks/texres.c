@@ -295,22 +295,12 @@ static jnd_status eval_view(ctx *c, const jnd_view *view, const view_ref *v, dou
   return JND_OK;
 }
 
-/* the criterion statistic: the (⌊q·n⌋ + 1)-th largest P, so that "at most a
- * fraction q of the views above p" is exactly "statistic <= p" */
-static double criterion_stat(const double *P, int n, double q) {
-  double *s = malloc((size_t)n * sizeof *s);
-  if (!s) return INFINITY;
-  memcpy(s, P, (size_t)n * sizeof *s);
-  for (int i = 1; i < n; i++)
-    for (int j = i; j > 0 && s[j] > s[j - 1]; j--) {
-      double t = s[j];
-      s[j] = s[j - 1];
-      s[j - 1] = t;
-    }
-  int k = (int)floor(q * n + 1e-9);
-  double r = s[k < n ? k : n - 1];
-  free(s);
-  return r;
+/* the criterion statistic (000 §9, jnd_criterion_eval): "statistic <= p" is
+ * exactly "at most a fraction q of the views above p" */
+static double criterion_stat(const ctx *c, const double *P, int n) {
+  jnd_criterion_result r;
+  if (jnd_criterion_eval(P, n, c->p->p_threshold, c->p->max_fraction, 0.9, &r) != JND_OK) return INFINITY;
+  return r.statistic;
 }
 
 /* all views with candidate sizes k[i] (−1: file's map); P[nviews] */
@@ -327,7 +317,7 @@ static jnd_status eval_combo(ctx *c, const int *k_in, const jnd_view *views, con
     for (int e = 0; e < c->ncache; e++)
       if (memcmp(c->cache_k + (size_t)e * nm, k, (size_t)nm * sizeof *k) == 0) {
         memcpy(P, c->cache_p + (size_t)e * nviews, (size_t)nviews * sizeof *P);
-        *stat = criterion_stat(P, nviews, c->p->max_fraction);
+        *stat = criterion_stat(c, P, nviews);
         return JND_OK;
       }
   for (int i = 0; i < nm; i++)
@@ -335,7 +325,7 @@ static jnd_status eval_combo(ctx *c, const int *k_in, const jnd_view *views, con
   c->res->evaluations++;
   for (int v = 0; v < nviews; v++)
     if ((s = eval_view(c, &views[v], &refs[v], &P[v], NULL)) != JND_OK) return s;
-  *stat = criterion_stat(P, nviews, c->p->max_fraction);
+  *stat = criterion_stat(c, P, nviews);
   if (use_cache) {
     if (c->ncache == c->capcache) {
       int cap = c->capcache ? 2 * c->capcache : 64;
@@ -799,14 +789,11 @@ jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *pp, jnd_tex
     goto done;
   }
   if ((s = eval_combo(&c, k, views, refs, N, out->view_p, &out->stat)) != JND_OK) goto done;
-  int above = 0;
-  out->worst_view = 0;
-  for (int v = 0; v < N; v++) {
-    above += out->view_p[v] > p->p_threshold;
-    if (out->view_p[v] > out->view_p[out->worst_view]) out->worst_view = v;
-  }
-  out->fraction_above = (double)above / N;
-  out->passes = out->fraction_above <= p->max_fraction + 1e-12;
+  jnd_criterion_result cr;
+  if ((s = jnd_criterion_eval(out->view_p, N, p->p_threshold, p->max_fraction, 0.9, &cr)) != JND_OK) goto done;
+  out->worst_view = cr.worst_view;
+  out->fraction_above = cr.fraction_above;
+  out->passes = cr.pass;
   {
     jnd_image map = {0};
     double pw;
@@ -839,10 +826,9 @@ jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *pp, jnd_tex
     }
     double st;
     if ((s = eval_combo(&c, k, vviews, vrefs, M, out->verify_p, &st)) != JND_OK) goto done;
-    int va = 0;
-    for (int v = 0; v < M; v++) va += out->verify_p[v] > p->p_threshold;
-    out->verify_fraction = (double)va / M;
-    out->verify_passes = out->verify_fraction <= p->max_fraction + 1e-12;
+    if ((s = jnd_criterion_eval(out->verify_p, M, p->p_threshold, p->max_fraction, 0.9, &cr)) != JND_OK) goto done;
+    out->verify_fraction = cr.fraction_above;
+    out->verify_passes = cr.pass;
   }
 
   /* memory before and after, with mip chains */

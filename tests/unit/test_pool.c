@@ -154,7 +154,69 @@ TEST(pooling_names_parse_and_print) {
   CHECK_STATUS(jnd_pooling_parse("median", &p), JND_ERR_ARG);
 }
 
-RUN_TESTS(order_statistics_equal_the_sorted_values, order_statistics_of_a_constant_map,
+/* 000 §9 on hand-made lists: the statistic is the (floor(q·n) + 1)-th largest P */
+TEST(criterion_allows_floor_q_n_views_above_p) {
+  jnd_criterion_result r;
+  /* n = 10, q = 0.1: one view may be above 0.2 */
+  double one_above[10] = {0.05, 0.9, 0.1, 0.0, 0.2, 0.15, 0.01, 0.02, 0.03, 0.04};
+  CHECK_OK(jnd_criterion_eval(one_above, 10, 0.2, 0.1, 0.9, &r));
+  CHECK(r.allowed == 1 && r.above == 1 && r.pass == 1);
+  CHECK_NEAR(r.statistic, 0.2, 0); /* second largest; P = p exactly is not above */
+  CHECK(r.worst_view == 1);
+  double two_above[10] = {0.05, 0.9, 0.1, 0.0, 0.21, 0.15, 0.01, 0.02, 0.03, 0.04};
+  CHECK_OK(jnd_criterion_eval(two_above, 10, 0.2, 0.1, 0.9, &r));
+  CHECK(r.above == 2 && r.pass == 0);
+  CHECK_NEAR(r.statistic, 0.21, 0);
+  CHECK_NEAR(r.fraction_above, 0.2, 1e-15);
+  /* n = 8, q = 0.1: q·n = 0.8, no view may be above */
+  double eight[8] = {0.1, 0.1, 0.1, 0.25, 0.1, 0.1, 0.1, 0.1};
+  CHECK_OK(jnd_criterion_eval(eight, 8, 0.2, 0.1, 0.9, &r));
+  CHECK(r.allowed == 0 && r.above == 1 && r.pass == 0);
+  CHECK_NEAR(r.statistic, 0.25, 0);
+  /* n = 20, q = 0.1: two may be above; ties at the statistic */
+  double twenty[20];
+  for (int i = 0; i < 20; i++) twenty[i] = 0.05;
+  twenty[3] = twenty[7] = twenty[11] = 0.5;
+  CHECK_OK(jnd_criterion_eval(twenty, 20, 0.2, 0.1, 0.9, &r));
+  CHECK(r.allowed == 2 && r.above == 3 && r.pass == 0 && r.worst_view == 3);
+  CHECK_NEAR(r.statistic, 0.5, 0);
+  twenty[11] = 0.2;
+  CHECK_OK(jnd_criterion_eval(twenty, 20, 0.2, 0.1, 0.9, &r));
+  CHECK(r.above == 2 && r.pass == 1);
+  CHECK_NEAR(r.statistic, 0.2, 0);
+  /* n = 1: the one view decides */
+  double single = 0.3;
+  CHECK_OK(jnd_criterion_eval(&single, 1, 0.2, 0.1, 0.9, &r));
+  CHECK(r.allowed == 0 && r.pass == 0);
+  CHECK_OK(jnd_criterion_eval(&single, 1, 0.3, 0.1, 0.9, &r));
+  CHECK(r.pass == 1);
+}
+
+TEST(criterion_refuses_bad_arguments) {
+  double v[2] = {0.1, 0.2}, bad[2] = {0.1, NAN};
+  jnd_criterion_result r;
+  CHECK_STATUS(jnd_criterion_eval(v, 0, 0.2, 0.1, 0.9, &r), JND_ERR_ARG);
+  CHECK_STATUS(jnd_criterion_eval(v, 2, 1.5, 0.1, 0.9, &r), JND_ERR_ARG);
+  CHECK_STATUS(jnd_criterion_eval(v, 2, 0.2, 1.0, 0.9, &r), JND_ERR_ARG);
+  CHECK_STATUS(jnd_criterion_eval(v, 2, 0.2, 0.1, 1.0, &r), JND_ERR_ARG);
+  CHECK_STATUS(jnd_criterion_eval(bad, 2, 0.2, 0.1, 0.9, &r), JND_ERR_ARG);
+}
+
+/* Clopper–Pearson: with k = 0 the bound solves (1 − u)^n = 1 − c, u = 1 − (1 − c)^(1/n) */
+TEST(binomial_upper_bound_matches_closed_forms) {
+  CHECK_NEAR(jnd_binomial_upper(0, 8, 0.9), 1 - pow(0.1, 1.0 / 8), 1e-9);
+  CHECK_NEAR(jnd_binomial_upper(0, 20, 0.95), 1 - pow(0.05, 1.0 / 20), 1e-9);
+  /* k = n − 1: P(X <= n − 1) = 1 − u^n = 1 − c, u = c^(1/n) */
+  CHECK_NEAR(jnd_binomial_upper(7, 8, 0.9), pow(0.9, 1.0 / 8), 1e-9);
+  CHECK_NEAR(jnd_binomial_upper(8, 8, 0.9), 1, 0);
+  /* k = 1, n = 10, c = 0.9: (1−u)^10 + 10u(1−u)^9 = 0.1 at u = 0.33684 (solved by hand, Newton) */
+  CHECK_NEAR(jnd_binomial_upper(1, 10, 0.9), 0.33684, 5e-5);
+  CHECK(jnd_binomial_upper(1, 10, 0.9) < jnd_binomial_upper(2, 10, 0.9));
+  CHECK(jnd_binomial_upper(1, 20, 0.9) < jnd_binomial_upper(1, 10, 0.9));
+}
+
+RUN_TESTS(criterion_allows_floor_q_n_views_above_p, criterion_refuses_bad_arguments,
+          binomial_upper_bound_matches_closed_forms, order_statistics_equal_the_sorted_values, order_statistics_of_a_constant_map,
           order_statistics_refuse_bad_indices, sort_matches_qsort_for_both_paths, percentiles_interpolate_linearly,
           percentiles_of_a_large_map_match_a_full_sort,
           diff_summary_percentiles_match_a_full_sort, pooling_names_parse_and_print)
