@@ -1,0 +1,106 @@
+/* Pictures a person reads: a raster canvas with anti-aliased shapes and text,
+ * and the plots built from them (line plots with labelled axes, colour bars,
+ * labelled grids). Every report picture of jnd — heatmap legends, Pareto
+ * curves, popping regions, gaze tables, texres matrices — is drawn with these,
+ * so that they look alike and none carries its own drawing code.
+ *
+ * A canvas is a jnd_image of 3 planes holding the display signal (sRGB-encoded
+ * 0..1), ready for jnd_image_write_png. Coordinates are pixels, x to the
+ * right, y down, pixel centres at +0.5. Text is DejaVu Sans (from Debian's
+ * fonts-dejavu-core, embedded at build time, so pictures do not depend on the
+ * fonts of the machine that draws them). */
+#ifndef JND_DRAW_H
+#define JND_DRAW_H
+
+#include "jnd.h"
+
+typedef struct {
+  float r, g, b; /* display signal, 0..1 */
+} jnd_rgb;
+
+/* Categorical colours for series (Okabe & Ito's colour-blind-safe set): i wraps. */
+jnd_rgb jnd_palette(int i);
+/* A sequential colour scale for t in 0..1 (dark blue → teal → yellow), monotone
+ * in lightness so that it reads in grey too; t is clamped. */
+jnd_rgb jnd_colour_scale(double t);
+
+/* A new canvas w × h filled with bg. */
+jnd_status jnd_canvas_new(jnd_image *img, int w, int h, jnd_rgb bg);
+
+/* Filled axis-aligned rectangle [x0, x1) × [y0, y1), blended with opacity alpha. */
+void jnd_draw_rect(jnd_image *img, double x0, double y0, double x1, double y1, jnd_rgb c, double alpha);
+/* Rectangle outline of the given line width. */
+void jnd_draw_frame(jnd_image *img, double x0, double y0, double x1, double y1, double width, jnd_rgb c);
+/* Anti-aliased segment of the given width (pixels). */
+void jnd_draw_line(jnd_image *img, double x0, double y0, double x1, double y1, double width, jnd_rgb c);
+/* Anti-aliased disc (filled) or ring of radius r. */
+void jnd_draw_circle(jnd_image *img, double cx, double cy, double r, int filled, jnd_rgb c);
+
+typedef enum { JND_ALIGN_LEFT = 0, JND_ALIGN_CENTRE, JND_ALIGN_RIGHT } jnd_align;
+/* Text (UTF-8; characters the font lacks show as '?') of height size_px
+ * (the font's em), its baseline's anchor at (x, y), aligned left, centred or
+ * right of x; rotated by 90° counter-clockwise when vertical (for y-axis
+ * labels: it then runs upwards from the anchor). */
+void jnd_draw_text(jnd_image *img, double x, double y, const char *text, double size_px, jnd_rgb c, jnd_align align,
+                   int vertical);
+/* The advance width of text at size_px. */
+double jnd_text_width(const char *text, double size_px);
+
+/* Copies src (3 planes of display signal, or 1 grey plane) into img with its
+ * top-left corner at (x, y), scaled by an integer factor (nearest pixel),
+ * clipped to img. */
+void jnd_draw_image(jnd_image *img, int x, int y, const jnd_image *src, int scale);
+
+/* ---- plots ---- */
+
+typedef struct {
+  const double *x, *y; /* n points; NaN y values break the line */
+  int n;
+  const char *label;   /* legend entry (NULL: none) */
+  jnd_rgb colour;
+  int line;            /* draw the polyline */
+  int markers;         /* 0 none, 1 discs, 2 rings */
+  double width;        /* line width in pixels (0: 2) */
+} jnd_plot_series;
+
+typedef struct {
+  double x;            /* a vertical marker at this x (NaN: none) */
+  const char *label;
+  jnd_rgb colour;
+} jnd_plot_mark;
+
+typedef struct {
+  const char *title, *xlabel, *ylabel;
+  int log_x, log_y;            /* logarithmic axes (values <= 0 are not drawn) */
+  double xmin, xmax, ymin, ymax; /* NaN: from the data, widened to round ticks */
+  int width, height;           /* pixels (0: 800 × 500) */
+  const jnd_plot_mark *marks;  /* vertical markers, e.g. a chosen level */
+  int nmarks;
+} jnd_plot_axes;
+
+/* Line plot of series on labelled axes with ticks, grid and a legend. */
+jnd_status jnd_plot_lines(const jnd_plot_axes *axes, const jnd_plot_series *series, int nseries, jnd_image *out);
+
+/* A vertical colour bar into img at (x, y), w × h, mapping vmin (bottom) to
+ * vmax (top) through map (NULL: jnd_colour_scale), with ticks at the given
+ * values and their labels (NULL: printed with %g), and a title above it. */
+void jnd_draw_colour_bar(jnd_image *img, int x, int y, int w, int h, double vmin, double vmax,
+                         jnd_rgb (*map)(double t), const double *ticks, const char *const *tick_labels, int nticks,
+                         const char *title);
+
+/* A labelled grid: rows × cols cells coloured by value through the colour
+ * scale over [vmin, vmax] (NaN cells grey), each cell's text (NULL: the value
+ * with %.3g), row and column labels, axis titles and a colour bar. For
+ * texres's size matrices, gaze's L(distance, eccentricity) and similar. */
+typedef struct {
+  int rows, cols;
+  const double *value;            /* rows × cols, row-major */
+  const char *const *cell_text;   /* rows × cols or NULL */
+  const char *const *row_labels, *const *col_labels;
+  const char *title, *row_title, *col_title, *scale_title;
+  double vmin, vmax;              /* NaN: the values' range */
+  int cell_px;                    /* 0: 56 */
+} jnd_plot_grid_spec;
+jnd_status jnd_plot_grid(const jnd_plot_grid_spec *g, jnd_image *out);
+
+#endif
