@@ -379,6 +379,7 @@ TEST(the_set_itself_renders_invisibly_and_its_mean_visibly) {
   jnd_pca_visibility v;
   CHECK_OK(jnd_pca_render_measure(r, &own, &v));
   CHECK(v.views == 2 && v.pass && v.above == 0);
+  CHECK(v.allowed == 0); /* 000 §9: ⌊0.1 · 2⌋ = 0 views may be above P = 0.2 */
   for (int i = 0; i < v.views; i++) CHECK(v.p[i] == 0);
   /* every channel at its mean (K = 0): the detail is gone */
   jnd_pca p;
@@ -393,7 +394,12 @@ TEST(the_set_itself_renders_invisibly_and_its_mean_visibly) {
   jnd_pca_visibility m;
   CHECK_OK(jnd_pca_render_measure(r, &rec, &m));
   for (int i = 0; i < m.views; i++) CHECK(m.p[i] > v.p[i]);
-  CHECK(m.p_criterion >= m.p[0] && m.p_criterion >= m.p[1]);   /* no view allowed above with 2 views */
+  /* 000 §9 with the defaults p = 0.2, q = 0.1 and 2 views: none may be above,
+   * the statistic is the larger P, and it passes exactly when that is <= 0.2 */
+  double larger = m.p[0] > m.p[1] ? m.p[0] : m.p[1];
+  CHECK(m.allowed == 0 && m.p_criterion == larger);
+  CHECK(m.above == (m.p[0] > 0.2) + (m.p[1] > 0.2));
+  CHECK(m.pass == (larger <= 0.2));
   jnd_image_free(&rec);
   jnd_pca_encoded_free(&enc);
   jnd_pca_render_free(r);
@@ -498,6 +504,40 @@ TEST(helmet_albedo_weighting_raises_albedo_psnr_at_five_components) {
   jnd_texset_free(&set);
 }
 
+/* PSNR from its definition, 10·log10(peak² / MSE) with peak 1, on a hand
+ * pair: channel a {0, 0.5, 1, 0.25} against {0.1, 0.5, 0.9, 0.25} has MSE
+ * (0.01 + 0 + 0.01 + 0)/4 = 0.005, 10·log10(200) = 23.0103000 dB; channel b
+ * off by ±0.01 everywhere has MSE 1e-4, 40 dB; an exact channel is infinite. */
+TEST(psnr_follows_its_definition_on_a_hand_computed_pair) {
+  const float a[4] = {0, 0.5f, 1, 0.25f}, b[4] = {0.2f, 0.4f, 0.6f, 0.8f};
+  const float ra[4] = {0.1f, 0.5f, 0.9f, 0.25f}, rb[4] = {0.21f, 0.39f, 0.61f, 0.79f};
+  jnd_image maps[2];
+  jnd_image_alloc(&maps[0], 2, 2, 1);
+  jnd_image_alloc(&maps[1], 2, 2, 1);
+  memcpy(maps[0].data, a, sizeof a);
+  memcpy(maps[1].data, b, sizeof b);
+  const char *names[2] = {"a", "b"};
+  jnd_texset set;
+  CHECK_OK(jnd_texset_from_images(maps, names, 2, NULL, &set));
+  CHECK(set.c == 2 && set.w == 2 && set.h == 2);
+  jnd_image rec;
+  jnd_image_alloc(&rec, 2, 2, 2);
+  memcpy(rec.data, ra, sizeof ra);
+  memcpy(rec.data + 4, rb, sizeof rb);
+  double psnr[2], mse[2];
+  CHECK_OK(jnd_texset_psnr(&set, &rec, psnr, mse));
+  CHECK_NEAR(mse[0], 0.005, 1e-8);
+  CHECK_NEAR(psnr[0], 23.0103000, 1e-5);
+  CHECK_NEAR(mse[1], 1e-4, 1e-8);
+  CHECK_NEAR(psnr[1], 40.0, 1e-4);
+  memcpy(rec.data + 4, b, sizeof b);
+  CHECK_OK(jnd_texset_psnr(&set, &rec, psnr, mse));
+  CHECK(isinf(psnr[1]) && psnr[1] > 0 && mse[1] == 0);
+  jnd_image_free(&rec);
+  free_maps(maps, 2);
+  jnd_texset_free(&set);
+}
+
 RUN_TESTS(energies_sum_to_total_variance, basis_is_orthonormal_with_deterministic_signs,
           keeping_all_components_reconstructs_in_float, fewer_components_lose_quality,
           reconstruction_matrix_maps_stored_values_to_channels, weighting_a_channel_raises_its_psnr,
@@ -508,4 +548,5 @@ RUN_TESTS(energies_sum_to_total_variance, basis_is_orthonormal_with_deterministi
           slot_guess_reads_common_map_names, the_set_itself_renders_invisibly_and_its_mean_visibly,
           binding_two_maps_to_one_slot_is_refused,
           helmet_set_has_13_informative_channels_and_full_reconstruction,
-          helmet_albedo_weighting_raises_albedo_psnr_at_five_components)
+          helmet_albedo_weighting_raises_albedo_psnr_at_five_components,
+          psnr_follows_its_definition_on_a_hand_computed_pair)

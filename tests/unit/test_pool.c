@@ -215,8 +215,139 @@ TEST(binomial_upper_bound_matches_closed_forms) {
   CHECK(jnd_binomial_upper(1, 20, 0.9) < jnd_binomial_upper(1, 10, 0.9));
 }
 
+/* 000 §9 with q·N integral and not: ⌊q·N⌋ views may lie above p and the
+ * statistic is the (⌊q·N⌋ + 1)-th largest P. On P = (j + 0.5)/N, j = 0..N−1
+ * (distinct, stored shuffled) the (k + 1)-th largest is (N − k − 0.5)/N. A
+ * threshold equal to the statistic passes (P = p is not above); one just
+ * below it fails with one view too many above. */
+TEST(criterion_counts_floor_q_n_views_whether_q_n_is_integral_or_not) {
+  static const struct {
+    int n;
+    double q;
+    int allowed; /* ⌊q·N⌋ by hand */
+  } cases[] = {
+      {10, 0.1, 1},  {10, 0.15, 1}, {10, 0.2, 2},  {10, 0.25, 2},  {10, 0.3, 3},   {10, 0.05, 0},
+      {8, 0.1, 0},   {8, 0.125, 1}, {8, 0.25, 2},  {20, 0.05, 1},  {20, 0.04, 0},  {20, 0.1, 2},
+      {20, 0.15, 3}, {3, 0.34, 1},  {3, 0.33, 0},  {1, 0.5, 0},    {100, 0.29, 29}, /* 0.29·100 = 28.999999999999996 in binary */
+      {100, 0.57, 57}, {100, 0.07, 7},
+  };
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+    int n = cases[c].n, k = cases[c].allowed;
+    double P[100];
+    for (int j = 0; j < n; j++) P[(j * 7) % n] = (j + 0.5) / n;
+    double stat = (n - k - 0.5) / n;
+    jnd_criterion_result r;
+    CHECK_OK(jnd_criterion_eval(P, n, stat, cases[c].q, 0.9, &r));
+    if (r.allowed != k || r.statistic != stat || !r.pass || r.above != k)
+      fprintf(stderr, "case n = %d, q = %g: allowed %d (want %d), statistic %g (want %g), above %d, pass %d\n", n,
+              cases[c].q, r.allowed, k, r.statistic, stat, r.above, r.pass);
+    CHECK(r.allowed == k && r.above == k && r.pass == 1);
+    CHECK(r.statistic == stat);
+    CHECK_NEAR(r.fraction_above, (double)k / n, 1e-15);
+    CHECK(r.worst_view == (((n - 1) * 7) % n));
+    CHECK_OK(jnd_criterion_eval(P, n, stat - 1e-9, cases[c].q, 0.9, &r));
+    CHECK(r.above == k + 1 && r.pass == 0 && r.statistic == stat);
+  }
+}
+
+/* 000 eq. 4 makes one JND P = 0.5 whatever the slope β, and pins β elsewhere:
+ * a map at 1.2 JND everywhere is P = 1 − 0.5^(1.2^3.5) = 0.73074018 with β = 3.5,
+ * a map at 2 JND is 1 − 0.5^(2²) = 0.9375 with β = 2. */
+TEST(summary_of_constant_maps_follows_000_eq4) {
+  jnd_image map;
+  CHECK_OK(jnd_image_alloc(&map, 37, 23, 1));
+  size_t n = (size_t)map.w * map.h;
+  const double betas[3] = {3.5, 2, 0.8};
+  for (int b = 0; b < 3; b++) {
+    for (size_t i = 0; i < n; i++) map.data[i] = 1.0f;
+    jnd_diff_stats st;
+    CHECK_OK(jnd_diff_summarise(&map, betas[b], NULL, &st));
+    CHECK_NEAR(st.p_detect, 0.5, 1e-6);
+    CHECK_NEAR(st.p_mean, 0.5, 1e-6);
+    CHECK_NEAR(st.p_max, 0.5, 1e-6);
+    CHECK_NEAR(st.p_p50, 0.5, 1e-6);
+    CHECK_NEAR(st.jnd_minkowski, 1, 1e-6);
+    CHECK_NEAR(st.jnd_mean, 1, 1e-12);
+  }
+  for (size_t i = 0; i < n; i++) map.data[i] = 1.2f;
+  jnd_diff_stats st;
+  CHECK_OK(jnd_diff_summarise(&map, 3.5, NULL, &st));
+  CHECK_NEAR(st.p_detect, 0.73074018, 2e-5);
+  CHECK_NEAR(st.p_mean, 0.73074018, 2e-5);
+  for (size_t i = 0; i < n; i++) map.data[i] = 2.0f;
+  CHECK_OK(jnd_diff_summarise(&map, 2, NULL, &st));
+  CHECK_NEAR(st.p_detect, 0.9375, 2e-5);
+  jnd_image_free(&map);
+}
+
+/* Every number jnd diff reports, on ten hand-made JND values (β = 3.5):
+ * JND 1.5, 0, 1, 0.25, 0.8, 0.5, 1.2, 0.1, 1, 0.5 give P = 1 − 0.5^(JND^3.5):
+ * sorted 0, 0.00021917, 0.00540058, 0.05942711, 0.05942711, 0.27197834, 0.5,
+ * 0.5, 0.73074018, 0.94302448. Percentile p lies at rank p/100 · 9:
+ * p50 (4.5) = (0.05942711 + 0.27197834)/2 = 0.16570273;
+ * p93 (8.37) = 0.73074018 + 0.37 · 0.21228430 = 0.80928537;
+ * p99 (8.91) = 0.73074018 + 0.91 · 0.21228430 = 0.92391889;
+ * mean 0.30702170; max 0.94302448; Minkowski (mean P^2.4)^(1/2.4) = 0.48543071.
+ * JND: mean 0.685, p93 (8.37) = 1.2 + 0.37 · 0.3 = 1.311, max 1.5,
+ * Minkowski (mean JND^2.4)^(1/2.4) = 0.87204125. */
+TEST(summary_of_a_hand_made_map_gives_every_pooling_by_hand) {
+  const float v[10] = {1.5f, 0, 1, 0.25f, 0.8f, 0.5f, 1.2f, 0.1f, 1, 0.5f};
+  jnd_image map;
+  CHECK_OK(jnd_image_alloc(&map, 5, 2, 1));
+  memcpy(map.data, v, sizeof v);
+  static const struct {
+    const char *name;
+    double p_detect;
+  } want[] = {{"p93", 0.80928537}, {"p50", 0.16570273}, {"p99", 0.92391889},
+              {"max", 0.94302448}, {"mean", 0.30702170}, {"minkowski", 0.48543071}};
+  for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
+    jnd_pooling pool;
+    jnd_diff_stats st;
+    CHECK_OK(jnd_pooling_parse(want[i].name, &pool));
+    CHECK_OK(jnd_diff_summarise(&map, 3.5, &pool, &st));
+    if (fabs(st.p_detect - want[i].p_detect) > 2e-5) fprintf(stderr, "pooling %s:\n", want[i].name);
+    CHECK_NEAR(st.p_detect, want[i].p_detect, 2e-5);
+    CHECK_NEAR(st.p_p50, 0.16570273, 2e-5);
+    CHECK_NEAR(st.p_p93, 0.80928537, 2e-5);
+    CHECK_NEAR(st.p_p99, 0.92391889, 2e-5);
+    CHECK_NEAR(st.p_max, 0.94302448, 2e-5);
+    CHECK_NEAR(st.p_mean, 0.30702170, 2e-5);
+    CHECK_NEAR(st.jnd_mean, 0.685, 1e-6);
+    CHECK_NEAR(st.jnd_p93, 1.311, 1e-6);
+    CHECK_NEAR(st.jnd_max, 1.5, 0);
+    CHECK_NEAR(st.jnd_minkowski, 0.87204125, 2e-5);
+  }
+  /* no pooling asked for is P93 (000 §6) */
+  jnd_diff_stats st;
+  CHECK_OK(jnd_diff_summarise(&map, 3.5, NULL, &st));
+  CHECK_NEAR(st.p_detect, 0.80928537, 2e-5);
+  jnd_image_free(&map);
+}
+
+/* jnd_pool on {4, 1, 3, 2}: max 4, mean 2.5, Minkowski with e = 2 √7.5 = 2.73861279,
+ * with e = 2.4 (mean x^2.4)^(1/2.4) = 2.81866819; percentiles at rank p/100 · 3:
+ * p50 = 2.5, p93 (2.79) = 3.79, p0 = 1, p100 = 4. */
+TEST(pool_of_a_hand_made_map_gives_each_pooling_by_hand) {
+  const float v[4] = {4, 1, 3, 2};
+  jnd_pooling mx = {JND_POOL_MAX, 0}, mean = {JND_POOL_MEAN, 0}, mink = {JND_POOL_MINKOWSKI, 0};
+  jnd_pooling p50 = {JND_POOL_PERCENTILE, 50}, p93 = {JND_POOL_PERCENTILE, 93}, p0 = {JND_POOL_PERCENTILE, 0},
+              p100 = {JND_POOL_PERCENTILE, 100};
+  CHECK_NEAR(jnd_pool(v, 4, &mx, 2.4), 4, 0);
+  CHECK_NEAR(jnd_pool(v, 4, &mean, 2.4), 2.5, 1e-12);
+  CHECK_NEAR(jnd_pool(v, 4, &mink, 2), 2.73861279, 1e-8);
+  CHECK_NEAR(jnd_pool(v, 4, &mink, 2.4), 2.81866819, 1e-8);
+  CHECK_NEAR(jnd_pool(v, 4, &p50, 2.4), 2.5, 1e-12);
+  CHECK_NEAR(jnd_pool(v, 4, &p93, 2.4), 3.79, 1e-12);
+  CHECK_NEAR(jnd_pool(v, 4, &p0, 2.4), 1, 0);
+  CHECK_NEAR(jnd_pool(v, 4, &p100, 2.4), 4, 0);
+  const float neg[3] = {-2, -5, -1}; /* the maximum of negative values is the largest, not 0 */
+  CHECK_NEAR(jnd_pool(neg, 3, &mx, 2.4), -1, 0);
+}
+
 RUN_TESTS(criterion_allows_floor_q_n_views_above_p, criterion_refuses_bad_arguments,
           binomial_upper_bound_matches_closed_forms, order_statistics_equal_the_sorted_values, order_statistics_of_a_constant_map,
           order_statistics_refuse_bad_indices, sort_matches_qsort_for_both_paths, percentiles_interpolate_linearly,
           percentiles_of_a_large_map_match_a_full_sort,
-          diff_summary_percentiles_match_a_full_sort, pooling_names_parse_and_print)
+          diff_summary_percentiles_match_a_full_sort, pooling_names_parse_and_print,
+          criterion_counts_floor_q_n_views_whether_q_n_is_integral_or_not, summary_of_constant_maps_follows_000_eq4,
+          summary_of_a_hand_made_map_gives_every_pooling_by_hand, pool_of_a_hand_made_map_gives_each_pooling_by_hand)

@@ -72,6 +72,19 @@ TEST(bad_input_is_refused) {
   CHECK_STATUS(jnd_psychometric_fit(rn, p, 2, 1, &f), JND_ERR_ARG);
 }
 
-RUN_TESTS(eval_is_one_half_at_mu_and_falls_with_resolution, fit_recovers_mu_and_sigma_of_synthetic_data_in_pixels,
+/* 000 eq. 1, P(r) = 1 − ½(1 + erf((r − µ)/(σ√2))), at hand values of the
+ * normal distribution: 1 − Θ(1) = 0.15865525, 1 − Θ(−1) = 0.84134475,
+ * 1 − Θ(2) = 0.02275013; in the log2 domain r = 512 is x = 9. */
+TEST(eval_follows_000_eq1_at_hand_values) {
+  jnd_psychometric f = {500, 100, 0, 0}, g = {8, 1, 1, 0};
+  CHECK_NEAR(jnd_psychometric_eval(&f, 600), 0.15865525, 1e-8);
+  CHECK_NEAR(jnd_psychometric_eval(&f, 400), 0.84134475, 1e-8);
+  CHECK_NEAR(jnd_psychometric_eval(&f, 700), 0.02275013, 1e-8);
+  CHECK_NEAR(jnd_psychometric_eval(&g, 512), 0.15865525, 1e-8);
+  CHECK_NEAR(jnd_psychometric_resolution(&f, 0.15865525), 600, 1e-4);
+  CHECK_NEAR(jnd_psychometric_resolution(&g, 0.84134475), 128, 1e-4);
+}
+
+RUN_TESTS(eval_is_one_half_at_mu_and_falls_with_resolution, eval_follows_000_eq1_at_hand_values, fit_recovers_mu_and_sigma_of_synthetic_data_in_pixels,
           fit_recovers_parameters_in_log2_domain_from_six_powers_of_two, fit_is_robust_to_noise,
           flat_data_gives_a_threshold_outside_the_range, bad_input_is_refused)

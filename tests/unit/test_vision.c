@@ -149,15 +149,23 @@ TEST(barten_csf_peaks_near_a_few_cycles_per_degree) {
   CHECK(best > 100 && best < 1000);
 }
 
+/* 004 §3.1, Le Grand: d(L) = 5 − 3 tanh(0.4 log10 L) mm.
+ * d(100) = 5 − 3 tanh(0.8) = 5 − 3 · 0.6640368 = 3.0078897;
+ * d(0.01) = 5 + 3 tanh(0.8) = 6.9921103 */
 TEST(pupil_follows_le_grand) {
   CHECK_NEAR(jnd_pupil_diameter_mm(1.0), 5.0, 1e-9);
-  CHECK(jnd_pupil_diameter_mm(1000) < jnd_pupil_diameter_mm(1));
+  CHECK_NEAR(jnd_pupil_diameter_mm(100), 3.0078897, 1e-6);
+  CHECK_NEAR(jnd_pupil_diameter_mm(0.01), 6.9921103, 1e-6);
 }
 
 TEST(daly_eye_movement_leaves_drift_on_static_images) {
   CHECK_NEAR(jnd_retinal_velocity(0), 0.15, 1e-12);
   CHECK_NEAR(jnd_retinal_velocity(10), 10 - (0.82 * 10 + 0.15), 1e-9);
   CHECK_NEAR(jnd_retinal_velocity(200), 120, 1e-9); /* pursuit saturates at 80 deg/s */
+  /* v = |v_s − min(0.82 v_s + 0.15, 80)|: 50 → |50 − 41.15| = 8.85; 97.5 → 0.82 · 97.5 + 0.15 = 80.1, so 17.5 */
+  CHECK_NEAR(jnd_retinal_velocity(50), 8.85, 1e-9);
+  CHECK_NEAR(jnd_retinal_velocity(97.5), 17.5, 1e-9);
+  CHECK_NEAR(jnd_retinal_velocity(-50), 8.85, 1e-9); /* a speed: the direction does not matter */
 }
 
 TEST(chromatic_csf_is_low_pass_and_rises_with_velocity_at_low_frequency) {
@@ -308,6 +316,386 @@ TEST(display_model_maps_white_to_peak_and_black_to_black_level) {
   jnd_image_free(&img);
 }
 
+/* ---- the formulas of 004 §3.1 and 000 eq. 4 at hand-computed values ---- */
+
+/* 000 eq. 4: P = 1 − exp(ln 0.5 · j^β) = 1 − 0.5^(j^β).
+ * j = 2, β = 3.5: 2^3.5 = 11.313708, 0.5^11.313708 = 3.928569e-4 → 0.99960714;
+ * j = 0.5: 0.5^3.5 = 0.088388, 1 − 0.5^0.088388 = 0.05942711;
+ * j = 1.2: 1.2^3.5 = 1.893056, 1 − 0.5^1.893056 = 0.73074018;
+ * j = 2, β = 2: 1 − 0.5^4 = 0.9375. */
+TEST(psychometric_function_follows_000_eq4_at_hand_values) {
+  CHECK_NEAR(jnd_probability(2, 3.5), 0.99960714, 1e-8);
+  CHECK_NEAR(jnd_probability(0.5, 3.5), 0.05942711, 1e-8);
+  CHECK_NEAR(jnd_probability(1.2, 3.5), 0.73074018, 1e-8);
+  CHECK_NEAR(jnd_probability(2, 2), 0.9375, 1e-12);
+  CHECK_NEAR(jnd_probability(1, 0.7), 0.5, 1e-12); /* one JND is P = 0.5 whatever the slope */
+  CHECK_NEAR(jnd_probability_inverse(0.73074018, 3.5), 1.2, 1e-6);
+  CHECK_NEAR(jnd_probability_inverse(0.9375, 2), 2, 1e-9);
+}
+
+/* 004 §3.1: T(c) = sign(c)·|c| / (1 + (|c|^0.3)^10)^0.1 = c / (1 + |c|³)^0.1.
+ * T(1) = 2^−0.1 = 0.93303299; T(2) = 2 / 9^0.1 = 1.60548312;
+ * T(10) = 10 / 1001^0.1 = 5.01137142; T(0.5) = 0.5 / 1.125^0.1 = 0.49414539.
+ * The fast exp2/log2 are within 1e-5 relative. */
+TEST(transducer_follows_004_at_hand_values) {
+  CHECK_NEAR(jnd_transducer(1.0f), 0.93303299, 2e-5);
+  CHECK_NEAR(jnd_transducer(2.0f), 1.60548312, 3e-5);
+  CHECK_NEAR(jnd_transducer(-2.0f), -1.60548312, 3e-5);
+  CHECK_NEAR(jnd_transducer(10.0f), 5.01137142, 1e-4);
+  CHECK_NEAR(jnd_transducer(0.5f), 0.49414539, 1e-5);
+  CHECK(jnd_transducer(0.0f) == 0.0f);
+}
+
+/* A grating of Weber contrast c (vertical bars, cosine phase at the centre)
+ * in a Gaussian window on a grey of lum cd/m². */
+static jnd_image centred_grating(int n, double lum, double c, double f, double sigma) {
+  jnd_image img;
+  jnd_image_alloc(&img, n, n, 3);
+  for (int y = 0; y < n; y++)
+    for (int x = 0; x < n; x++) {
+      double dx = x - n / 2.0, dy = y - n / 2.0;
+      double v = lum * (1 + c * exp(-(dx * dx + dy * dy) / (2 * sigma * sigma)) * cos(2 * M_PI * f * dx));
+      for (int ch = 0; ch < 3; ch++) jnd_image_plane(&img, ch)[(size_t)y * n + x] = (float)v;
+    }
+  return img;
+}
+
+/* the largest JND between pedestal contrast cp and cp + dc */
+static double increment_jnd(jnd_model *m, double cp, double dc, double f) {
+  jnd_image a = centred_grating(128, 50, cp, f, 16), b = centred_grating(128, 50, cp + dc, f, 16);
+  double j = jnd_of(m, &a, &b, NULL);
+  jnd_image_free(&a);
+  jnd_image_free(&b);
+  return j;
+}
+
+/* the increment over pedestal cp that is one JND at its peak (bisection in log contrast) */
+static double increment_threshold(jnd_model *m, double cp, double f) {
+  double lo = 1e-5, hi = 1;
+  for (int i = 0; i < 30; i++) {
+    double mid = sqrt(lo * hi);
+    if (increment_jnd(m, cp, mid, f) > 1) hi = mid;
+    else lo = mid;
+  }
+  return sqrt(lo * hi);
+}
+
+/* 004 §3.1: masking by the transducer. With normalised contrast u = S·c the
+ * map is |T(u_test) − T(u_ref)|, so alone a grating is at threshold when
+ * T(u0) = 1 (u0 = 1.085938, by bisection by hand on u/(1 + u³)^0.1), and on a
+ * pedestal of k detection thresholds (u = k·u0) the increment x at threshold
+ * solves T(k·u0 + x) − T(k·u0) = 1. Solved by hand (bisection), the threshold
+ * elevation x / u0 is 1.8234 for k = 2, 2.1862 for k = 4 and 2.7950 for k = 10.
+ * An 8 cpd grating (one band dominates) with 004's per-pixel map (no local
+ * summation) shows these ratios; the exponent 0.2 in place of 0.1 would give
+ * 5.36, 7.51 and 11.8. */
+TEST(suprathreshold_pedestal_raises_the_threshold_as_the_transducer_implies) {
+  jnd_model_params p;
+  jnd_model_defaults(&p);
+  p.display.ppd = 40;
+  p.summation_cycles = 0; /* 004's per-pixel map */
+  jnd_model *m;
+  CHECK_OK(jnd_model_create(&p, &m));
+  const double f = 0.2; /* cycles per pixel: 8 cpd */
+  double t0 = increment_threshold(m, 0, f);
+  CHECK(t0 > 1e-4 && t0 < 0.1);
+  const double k[3] = {2, 4, 10}, want[3] = {1.8234, 2.1862, 2.7950};
+  for (int i = 0; i < 3; i++) {
+    double ratio = increment_threshold(m, k[i] * t0, f) / t0;
+    CHECK_NEAR(ratio, want[i], 0.02 * want[i]);
+  }
+  jnd_model_free(m);
+}
+
+/* 004 §3.1: Hunt–Pointer–Estévez LMS from XYZ; tests build their stimuli from
+ * the paper's matrix and its inverse (Cramer's rule), not from the library's. */
+static const double HPE[3][3] = {{0.40024, 0.70760, -0.08081}, {-0.22630, 1.16532, 0.04570}, {0.0, 0.0, 0.91822}};
+
+static void inverse3(const double m[3][3], double r[3][3]) {
+  double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+               m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      int a = (j + 1) % 3, b = (j + 2) % 3, c = (i + 1) % 3, d = (i + 2) % 3;
+      r[i][j] = (m[a][c] * m[b][d] - m[a][d] * m[b][c]) / det;
+    }
+}
+
+/* An XYZ image whose cone excitations are a D65 grey of Y = 50 cd/m² times
+ * (1 + c_k·g), g a windowed cosine grating: cone contrasts (cl, cm, cs). */
+static jnd_image cone_grating(int n, double cl, double cm, double cs, double f, double sigma) {
+  const double xyz0[3] = {0.95047 * 50, 50, 1.08883 * 50};
+  double lms0[3], inv[3][3];
+  for (int i = 0; i < 3; i++) lms0[i] = HPE[i][0] * xyz0[0] + HPE[i][1] * xyz0[1] + HPE[i][2] * xyz0[2];
+  inverse3(HPE, inv);
+  jnd_image img;
+  jnd_image_alloc(&img, n, n, 3);
+  for (int y = 0; y < n; y++)
+    for (int x = 0; x < n; x++) {
+      double dx = x - n / 2.0, dy = y - n / 2.0;
+      double g = exp(-(dx * dx + dy * dy) / (2 * sigma * sigma)) * cos(2 * M_PI * f * dx);
+      double lms[3] = {lms0[0] * (1 + cl * g), lms0[1] * (1 + cm * g), lms0[2] * (1 + cs * g)};
+      for (int c = 0; c < 3; c++)
+        jnd_image_plane(&img, c)[(size_t)y * n + x] = (float)(inv[c][0] * lms[0] + inv[c][1] * lms[1] + inv[c][2] * lms[2]);
+    }
+  return img;
+}
+
+/* 004 §3.2: differences are combined across channels (and bands) by
+ * Minkowski summation with exponent 2.4. Equal cone contrasts (c, c, c) move
+ * only Hunt's A; cone contrasts (d, −2d, 0) move only a and b (A's row
+ * 2, 1, 1/20 gives 2d − 2d = 0); together (c + d, c − 2d, c) they move A as
+ * the first and a, b as the second. So at every pixel of 004's per-pixel map
+ * J_both^2.4 = J_A^2.4 + J_ab^2.4 (with exponent 2 the sum of squares would be
+ * 5% off where the two are alike). */
+TEST(channels_combine_by_minkowski_summation_with_exponent_2_4) {
+  jnd_model_params p;
+  jnd_model_defaults(&p);
+  p.display.ppd = 40;
+  p.summation_cycles = 0;
+  jnd_model *m;
+  CHECK_OK(jnd_model_create(&p, &m));
+  const double c = 0.01, d = 0.003, f = 0.05;
+  jnd_image bg = cone_grating(128, 0, 0, 0, f, 16), ach = cone_grating(128, c, c, c, f, 16),
+            chr = cone_grating(128, d, -2 * d, 0, f, 16), both = cone_grating(128, c + d, c - 2 * d, c, f, 16);
+  jnd_image ja, jc, jb;
+  CHECK_OK(jnd_model_diff_xyz(m, &bg, &ach, NULL, &ja));
+  CHECK_OK(jnd_model_diff_xyz(m, &bg, &chr, NULL, &jc));
+  CHECK_OK(jnd_model_diff_xyz(m, &bg, &both, NULL, &jb));
+  double peak_a = max_of(&ja), peak_c = max_of(&jc), peak_b = max_of(&jb);
+  CHECK(peak_a > 0.5 && peak_c > 0.5); /* both parts matter */
+  double worst = 0;
+  for (int i = 0; i < 128 * 128; i++) {
+    if (jb.data[i] < 0.2 * peak_b) continue;
+    double want = pow(pow(ja.data[i], 2.4) + pow(jc.data[i], 2.4), 1 / 2.4);
+    worst = fmax(worst, fabs(jb.data[i] / want - 1));
+  }
+  CHECK_LT(worst, 0.01);
+  jnd_image *all[6] = {&bg, &ach, &chr, &both, &ja, &jc};
+  for (int i = 0; i < 6; i++) jnd_image_free(all[i]);
+  jnd_image_free(&jb);
+  jnd_model_free(m);
+}
+
+/* 004 §3.1: the pixel displacement map through the viewing setup and Daly's
+ * model. 20 pixels a frame (12 across, 16 down) at 60 frames/s and 40 pixels
+ * per degree is v_s = 30 deg/s; v = |30 − min(0.82 · 30 + 0.15, 80)| = 5.25
+ * deg/s. A constant map must give what a retinal velocity of 5.25 gives. */
+TEST(motion_map_becomes_retinal_velocity_through_fps_ppd_and_daly) {
+  jnd_model_params p;
+  jnd_model_defaults(&p);
+  p.display.ppd = 40;
+  p.fps = 60;
+  jnd_model *m;
+  CHECK_OK(jnd_model_create(&p, &m));
+  jnd_image a = centred_grating(128, 50, 0, 0.2, 16), b = centred_grating(128, 50, 0.05, 0.2, 16), motion;
+  jnd_image_alloc(&motion, 128, 128, 2);
+  for (int i = 0; i < 128 * 128; i++) {
+    motion.data[i] = 12.0f;
+    motion.data[128 * 128 + i] = 16.0f;
+  }
+  jnd_diff_inputs by_map = {&motion, NULL, 0}, by_speed = {NULL, NULL, 5.25};
+  double jm = jnd_of(m, &a, &b, &by_map), js = jnd_of(m, &a, &b, &by_speed), still = jnd_of(m, &a, &b, NULL);
+  CHECK(jm > 0);
+  CHECK_NEAR(jm, js, 0.01 * js);
+  CHECK(jm < 0.5 * still);
+  jnd_image_free(&motion);
+  jnd_image_free(&a);
+  jnd_image_free(&b);
+  jnd_model_free(m);
+}
+
+/* 004 §3.1, Barten (2003):
+ *   csf_B(ρ, L) = 5200 e^(−0.0016 ρ² (1 + 100/L)^0.08) / √((2 + 0.64 ρ²)(63/L^0.83 + 1/(1 − e^(−0.02 ρ²))))
+ * ρ = 4, L = 100: numerator 5200 e^(−0.0256 · 2^0.08) = 5200 · 0.973303 = 5061.18;
+ *   (2 + 10.24) · (63/45.7088 + 1/(1 − e^(−0.32))) = 12.24 · (1.378290 + 3.651621) = 61.5661;
+ *   5061.18 / √61.5661 = 645.031.
+ * ρ = 4, L = 1: 5200 e^(−0.0256 · 101^0.08) = 5200 · 0.963645; (2 + 10.24) · (63 + 3.651621);
+ *   → 175.438.   ρ = 1, L = 10 → 412.987. */
+TEST(barten_csf_follows_004_at_hand_values) {
+  CHECK_NEAR(jnd_csf_barten(4, 100), 645.031, 0.01);
+  CHECK_NEAR(jnd_csf_barten(4, 1), 175.438, 0.01);
+  CHECK_NEAR(jnd_csf_barten(1, 10), 412.987, 0.01);
+}
+
+/* 004 §3.1, Daly's form of Kelly's CSF with c2 = 1.7:
+ *   csf_A(ρ, v) = (6.1 + 7.3 |log10(c2 v/3)|³) c0 c2 v (2π c1 ρ)² exp(−4π c1 ρ (c2 v + 2)/45.9)
+ * ρ = 4, v = 0.15, c0 = 1.14, c1 = 0.67: log10(0.085) = −1.070581, k = 6.1 + 7.3 · 1.227040
+ *   = 15.057391; c0 c2 v = 0.29070; (2π · 2.68)² = 283.5498; exp(−4π · 2.68 · 2.255 / 45.9)
+ *   = 0.191179 → 237.282.
+ * ρ = 1, v = 10: log10(5.6667) = 0.753328 → 97.0597.  ρ = 8, v = 2 → 9.70617. */
+TEST(achromatic_csf_follows_004_at_hand_values) {
+  CHECK_NEAR(jnd_csf_achromatic(4, 0.15, 1.14, 0.67), 237.282, 0.01);
+  CHECK_NEAR(jnd_csf_achromatic(1, 10, 1.14, 0.67), 97.0597, 0.001);
+  CHECK_NEAR(jnd_csf_achromatic(8, 2, 1.14, 0.67), 9.70617, 0.0005);
+}
+
+/* 004 §3.1: c0(L) = 1.14 · max_ρ csf_B(ρ, L) / max_ρ csf_B(ρ, 100) and
+ * c1(L) = 0.67 · argmax csf_B(ρ, 100) / argmax csf_B(ρ, L). The maxima, found
+ * by hand on a dense grid of 200001 log-spaced frequencies over 0.01..100 cpd:
+ * c0(1) = 0.517775, c1(1) = 1.56248; c0(10) = 0.865148, c1(10) = 0.987267. */
+TEST(csf_adaptation_follows_barten_peaks_at_hand_values) {
+  double c0, c1;
+  jnd_csf_adaptation(1, &c0, &c1);
+  CHECK_NEAR(c0, 0.517775, 2e-5);
+  CHECK_NEAR(c1, 1.56248, 2e-4);
+  jnd_csf_adaptation(10, &c0, &c1);
+  CHECK_NEAR(c0, 0.865148, 2e-5);
+  CHECK_NEAR(c1, 0.987267, 2e-4);
+}
+
+/* 004 §3.1: the chromatic CSF scales with the square root of the ratio of the
+ * retinal illuminances (L·π d(L)²/4, Le Grand's d) at L and at 35 cd/m²:
+ * d(200) = 5 − 3 tanh(0.4 · 2.30103) = 2.821723, d(35) = 3.351579;
+ * √(200 · 2.821723² / (35 · 3.351579²)) = 2.012547, whatever the
+ * frequency and velocity (004's pure square-root law: saturation 0). */
+TEST(chromatic_csf_scales_with_the_square_root_of_retinal_illuminance) {
+  for (int ch = 0; ch < 2; ch++) {
+    CHECK_NEAR(jnd_csf_chromatic(1, 0.15, 200, ch, 2.6, 0) / jnd_csf_chromatic(1, 0.15, 35, ch, 2.6, 0), 2.012547, 1e-5);
+    CHECK_NEAR(jnd_csf_chromatic(0.3, 4, 200, ch, 1.5, 0) / jnd_csf_chromatic(0.3, 4, 35, ch, 1.5, 0), 2.012547, 1e-5);
+  }
+}
+
+/* docs/model.md (Geisler & Perry 1998): sensitivity × exp(−α ρ e / e2), α = 0.106,
+ * e2 = 2.3°: ρ = 4 cpd at 10° is exp(−1.843478) = 0.1582660; at the fovea 1. */
+TEST(eccentricity_factor_follows_geisler_perry_at_hand_values) {
+  CHECK_NEAR(jnd_eccentricity_factor(4, 10), 0.1582660, 1e-7);
+  CHECK_NEAR(jnd_eccentricity_factor(4, 0), 1.0, 0);
+  CHECK(jnd_eccentricity_factor(8, 10) < jnd_eccentricity_factor(4, 10));
+}
+
+/* 004 §3.1 (Fairchild): XYZ (30, 40, 50) → L = 0.40024·30 + 0.70760·40 − 0.08081·50
+ * = 36.27070, M = −0.22630·30 + 1.16532·40 + 0.04570·50 = 42.10880, S = 0.91822·50
+ * = 45.91100. IEC 61966-2-1: linear RGB white (1, 1, 1) is D65, X = 0.9504700,
+ * Y = 1, Z = 1.0888300 (the sums of the matrix rows). */
+TEST(colour_matrices_follow_004_and_srgb_at_hand_values) {
+  jnd_image img;
+  jnd_image_alloc(&img, 1, 1, 3);
+  img.data[0] = 30;
+  img.data[1] = 40;
+  img.data[2] = 50;
+  jnd_xyz_to_lms(&img);
+  CHECK_NEAR(img.data[0], 36.27070, 1e-4);
+  CHECK_NEAR(img.data[1], 42.10880, 1e-4);
+  CHECK_NEAR(img.data[2], 45.91100, 1e-4);
+  img.data[0] = img.data[1] = img.data[2] = 1;
+  jnd_rgb_to_xyz(&img);
+  CHECK_NEAR(img.data[0], 0.9504700, 1e-6);
+  CHECK_NEAR(img.data[1], 1.0, 1e-6);
+  CHECK_NEAR(img.data[2], 1.0888300, 1e-6);
+  img.data[0] = img.data[1] = img.data[2] = 1;
+  jnd_rgb_to_lms(&img); /* the two in one pass: white's LMS by hand from the D65 XYZ above */
+  CHECK_NEAR(img.data[0], 0.40024 * 0.95047 + 0.70760 - 0.08081 * 1.08883, 1e-5);
+  CHECK_NEAR(img.data[1], -0.22630 * 0.95047 + 1.16532 + 0.04570 * 1.08883, 1e-5);
+  CHECK_NEAR(img.data[2], 0.91822 * 1.08883, 1e-5);
+  jnd_image_free(&img);
+}
+
+/* 004 §3.1, Hunt's opponent channels (A divided by 3.05, docs/model.md):
+ * (cl, cm, cs) = (0.02, −0.01, 0.03): A = (0.04 − 0.01 + 0.0015)/3.05 = 0.01032787;
+ * a = 0.02 + 12/11 · 0.01 + 0.03/11 = 0.03363636; b = (0.02 − 0.01 − 0.06)/9 = −0.00555556 */
+TEST(opponent_channels_follow_hunt_at_hand_values) {
+  float A, a, b;
+  jnd_opponent(0.02f, -0.01f, 0.03f, &A, &a, &b);
+  CHECK_NEAR(A, 0.01032787, 1e-7);
+  CHECK_NEAR(a, 0.03363636, 1e-7);
+  CHECK_NEAR(b, -0.00555556, 1e-7);
+}
+
+/* the sRGB EOTF (IEC 61966-2-1), from its definition */
+static double srgb_eotf(double v) { return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4); }
+
+/* one grey channel of n values (and alpha when given) through the display model */
+static void display_of(const jnd_display *d, const float *v, const float *alpha, int n, jnd_encoding enc, double *out) {
+  jnd_image img, lin;
+  jnd_image_alloc(&img, n, 1, alpha ? 2 : 1);
+  for (int i = 0; i < n; i++) {
+    img.data[i] = v[i];
+    if (alpha) img.data[n + i] = alpha[i];
+  }
+  CHECK_OK(jnd_display_apply(d, &img, enc, alpha != NULL, &lin));
+  for (int i = 0; i < n; i++) {
+    out[i] = jnd_image_plane(&lin, 1)[i];
+    /* a grey image becomes three equal channels */
+    CHECK(jnd_image_plane(&lin, 0)[i] == jnd_image_plane(&lin, 1)[i] && jnd_image_plane(&lin, 2)[i] == out[i]);
+  }
+  jnd_image_free(&lin);
+  jnd_image_free(&img);
+}
+
+/* The display model of docs/model.md with ambient light:
+ *   L = (peak − black)·EOTF(V) + black + reflectivity·E_amb/π
+ * peak 200, black 0.2, 500 lux on a screen reflecting 0.005: the reflection adds
+ * 0.005 · 500 / π = 0.7957747 cd/m². The sRGB EOTF by hand: 0.04045/12.92 =
+ * 0.0031308 at the breakpoint, both segments; EOTF(0.5) = 0.21404114;
+ * EOTF(128/255) = 0.21586050; EOTF(10/255) = 0.039215686/12.92 = 0.0030352698.
+ * 8-bit codes (a table) and other signals (the formula) are checked apart, on
+ * both sides of the breakpoint, with and without alpha, and linear (EXR) input. */
+TEST(display_model_with_ambient_light_follows_its_formula) {
+  CHECK_NEAR(srgb_eotf(0.5), 0.21404114, 1e-8); /* the reference itself, by hand */
+  CHECK_NEAR(srgb_eotf(128 / 255.0), 0.21586050, 1e-8);
+  CHECK_NEAR(srgb_eotf(0.04045), 0.0031308050, 1e-10);
+  CHECK_NEAR(pow((0.04045 + 0.055) / 1.055, 2.4), 0.0031308050, 2e-7); /* the two segments meet */
+  jnd_display d;
+  jnd_display_defaults(&d);
+  d.peak_cdm2 = 200;
+  d.black_cdm2 = 0.2;
+  d.ambient_lux = 500;
+  d.reflectivity = 0.005;
+  d.exr_scale = 2;
+  const double refl = 0.7957747, range = 199.8;
+  /* 8-bit codes: 0, 10 (below the breakpoint), 11, 128, 255 */
+  const float codes[5] = {0, 10 / 255.0f, 11 / 255.0f, 128 / 255.0f, 1};
+  double got[8];
+  display_of(&d, codes, NULL, 5, JND_ENCODING_SRGB, got);
+  CHECK_NEAR(got[0], 0.2 + refl, 1e-5);
+  CHECK_NEAR(got[1], range * 0.0030352698 + 0.2 + refl, 1e-4);
+  CHECK_NEAR(got[2], range * srgb_eotf(11 / 255.0) + 0.2 + refl, 1e-4);
+  CHECK_NEAR(got[3], range * 0.21586050 + 0.2 + refl, 1e-3);
+  CHECK_NEAR(got[4], 200 + refl, 1e-3);
+  /* other signals: just below and above the breakpoint, and well above it */
+  const float sig[5] = {0.0404f, 0.0406f, 0.2f, 0.5f, 0.03f};
+  display_of(&d, sig, NULL, 5, JND_ENCODING_SRGB, got);
+  for (int i = 0; i < 5; i++) CHECK_NEAR(got[i], range * srgb_eotf(sig[i]) + 0.2 + refl, 1e-3);
+  CHECK_NEAR(got[0], range * 0.0404 / 12.92 + 0.2 + refl, 1e-4);
+  CHECK_NEAR(got[3], range * 0.21404114 + 0.2 + refl, 1e-3);
+  /* alpha composites the linear signal over black: (peak − black)·EOTF·α + black + reflection */
+  const float av[3] = {128 / 255.0f, 1, 0.3f}, aa[3] = {0.5f, 0.25f, 1};
+  display_of(&d, av, aa, 3, JND_ENCODING_SRGB, got);
+  CHECK_NEAR(got[0], range * 0.21586050 * 0.5 + 0.2 + refl, 1e-3);
+  CHECK_NEAR(got[1], range * 0.25 + 0.2 + refl, 1e-3);
+  CHECK_NEAR(got[2], range * srgb_eotf(0.3) + 0.2 + refl, 1e-3);
+  /* linear input: value × exr_scale + reflection (the light itself has no black level) */
+  const float lin[3] = {10, 0, -1};
+  display_of(&d, lin, NULL, 3, JND_ENCODING_LINEAR, got);
+  CHECK_NEAR(got[0], 20 + refl, 1e-4);
+  CHECK_NEAR(got[1], refl, 1e-6);
+  CHECK_NEAR(got[2], refl, 1e-6);
+}
+
+/* The default slope as the model uses it: jnd_diff_files turns the JND map into
+ * P with β = 3.5 (000 eq. 4), so the reported largest P is 1 − 0.5^(jnd_max^3.5). */
+TEST(default_beta_of_3_5_is_what_diff_uses) {
+  jnd_model_params p;
+  jnd_model_defaults(&p);
+  p.display.ppd = 40;
+  jnd_model *m;
+  CHECK_OK(jnd_model_create(&p, &m));
+  for (int k = 0; k < 2; k++) {
+    /* sRGB signals of a faint and a clearer grating (JND around 1) */
+    double c = k ? 0.004 : 0.002;
+    jnd_image a = centred_grating(96, 0.5, 0, 0.1, 12), b = centred_grating(96, 0.5, c, 0.1, 12);
+    jnd_image_info info = {JND_ENCODING_SRGB, 8, 3, 0, "png"};
+    jnd_image map;
+    jnd_diff_stats st;
+    CHECK_OK(jnd_diff_files(m, &a, &info, &b, &info, NULL, NULL, &map, &st));
+    CHECK(st.jnd_max > 0.5 && st.jnd_max < 2);
+    CHECK_NEAR(st.p_max, 1 - pow(0.5, pow(st.jnd_max, 3.5)), 1e-4);
+    jnd_image_free(&map);
+  }
+  jnd_model_free(m);
+}
+
 RUN_TESTS(identical_images_have_zero_jnd, band_table_matches_the_filters, finest_band_peaks_near_nyquist_and_four_times_the_next,
           with_004s_limit_the_coarsest_band_peaks_at_or_above_half_a_cycle_per_degree, reduce_and_expand_keep_a_constant_image_constant,
           lms_luminance_weights_recover_y, opponent_channels_separate_luminance_from_colour,
@@ -317,4 +705,13 @@ RUN_TESTS(identical_images_have_zero_jnd, band_table_matches_the_filters, finest
           same_weber_contrast_is_about_equally_visible_at_100_and_200_but_not_at_0_1, jnd_grows_with_contrast,
           results_do_not_depend_on_thread_count, motion_hides_fine_detail, eccentricity_lowers_sensitivity,
           zero_weights_remove_differences, mismatched_sizes_are_refused, probability_is_half_at_one_jnd,
-          display_presets_have_sensible_ppd, display_model_maps_white_to_peak_and_black_to_black_level)
+          display_presets_have_sensible_ppd, display_model_maps_white_to_peak_and_black_to_black_level,
+          psychometric_function_follows_000_eq4_at_hand_values, transducer_follows_004_at_hand_values,
+          suprathreshold_pedestal_raises_the_threshold_as_the_transducer_implies,
+          channels_combine_by_minkowski_summation_with_exponent_2_4,
+          motion_map_becomes_retinal_velocity_through_fps_ppd_and_daly, barten_csf_follows_004_at_hand_values,
+          achromatic_csf_follows_004_at_hand_values, csf_adaptation_follows_barten_peaks_at_hand_values,
+          chromatic_csf_scales_with_the_square_root_of_retinal_illuminance,
+          eccentricity_factor_follows_geisler_perry_at_hand_values, colour_matrices_follow_004_and_srgb_at_hand_values,
+          opponent_channels_follow_hunt_at_hand_values, display_model_with_ambient_light_follows_its_formula,
+          default_beta_of_3_5_is_what_diff_uses)
