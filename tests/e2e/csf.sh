@@ -18,15 +18,17 @@ luminance,s_frequency,col_dir_id,bkg_id,ge_sigma,area,N,log_cone_contrast,datase
 50,1,3,1,0.5,0.785,1,-2.5,chromatic,0,0,0,180,gabor,300
 20,4,1,1,1,4,1,-1.8,moving,8,0,0,180,grating,60
 20,4,1,1,1,4,1,-1.5,peripheral,0,0,10,180,grating,30
+20,4,1,1,1,4,1,-1.5,foveal,0,0,0,180,grating,60
 CSV
 expect_exit 0 help_exits_zero "$JND" csf --help
 expect_exit 0 csf_runs_on_a_small_set "$JND" csf "$T/data.csv" -o "$T/pred.csv" --json "$T/csf.json" --quiet
 check output_has_every_input_column_plus_the_prediction bash -c "head -1 '$T/pred.csv' | grep -q '^luminance,s_frequency,.*,sensitivity,predicted_sensitivity'"
-check output_has_a_row_per_input test "$(wc -l <"$T/pred.csv")" -eq 6
+check output_has_a_row_per_input test "$(wc -l <"$T/pred.csv")" -eq 7
 check every_row_is_predicted bash -c "! grep -q NaN,NaN '$T/pred.csv'"
-check report_has_pooled_rmse jq -e '.result.rmse_db_static > 0 and .result.rows == 5' "$T/csf.json"
+check report_has_pooled_rmse jq -e '.result.rmse_db_static > 0 and .result.rows == 6' "$T/csf.json"
 check higher_frequency_is_less_visible bash -c "awk -F, 'NR==2{a=\$16} NR==3{b=\$16} END{exit !(a>b)}' '$T/pred.csv'"
-check periphery_is_less_visible_than_the_same_grating_moving_or_not bash -c "awk -F, 'NR==6{p=\$16} END{exit !(p>0)}' '$T/pred.csv'"
+# rows 6 and 7: the same static 4 cpd grating at 10 degrees and at the fovea
+check periphery_is_less_visible_than_the_same_grating_in_the_fovea bash -c "awk -F, 'NR==6{p=\$16} NR==7{f=\$16} END{exit !(p>0 && p<f)}' '$T/pred.csv'"
 
 # bad input
 printf 'luminance,s_frequency\n1,2\n' >"$T/bad.csv"

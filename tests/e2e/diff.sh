@@ -21,7 +21,56 @@ check json_is_byte_identical_across_thread_counts cmp -s "$T/t1.json" "$T/t2.jso
 
 expect_exit 0 json_to_stdout "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --json - --quiet
 check stdout_is_json jq -e '.result.p_detect' "$T/out.txt"
-expect_exit 0 every_pooling_parses "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --pool p50 --display phone --gaze 10,10 --quiet
+expect_exit 0 display_and_gaze_run "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --display phone --gaze 10,10 --json "$T/phone.json" --quiet
+check display_and_gaze_are_the_ones_asked_for \
+  jq -e '.parameters.display.name == "phone" and .parameters.display.peak_cdm2 == 500 and .parameters.gaze == [10, 10]' "$T/phone.json"
+
+# A faint pair (16-bit PNG: three windowed 4 cpd gratings of 0.06, 0.10 and
+# 0.14% of the signal on grey) whose JNDs lie around 1, where P depends on
+# the slope β and the percentiles differ: the defaults as used, not only as
+# written in the report.
+command -v python3 >/dev/null || skip "needs python3"
+python3 - "$T" <<'PY'
+import math, struct, sys, zlib
+d = sys.argv[1]
+def png16(path, w, h, f):
+    raw = bytearray()
+    for y in range(h):
+        raw.append(0)
+        for x in range(w):
+            v = max(0, min(65535, int(round(f(x, y) * 65535))))
+            raw.extend(struct.pack('>HHH', v, v, v))
+    def chunk(t, b): return struct.pack('>I', len(b)) + t + b + struct.pack('>I', zlib.crc32(t + b) & 0xffffffff)
+    open(path, 'wb').write(b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', w, h, 16, 2, 0, 0, 0))
+                           + chunk(b'IDAT', zlib.compress(bytes(raw))) + chunk(b'IEND', b''))
+blobs = [(48, 48, 0.0006), (128, 48, 0.0010), (208, 48, 0.0014)]
+def test(x, y):
+    return 0.5 + sum(a * math.exp(-((x - cx) ** 2 + (y - cy) ** 2) / (2 * 14 ** 2)) * math.cos(2 * math.pi * 0.1 * (x - cx))
+                     for cx, cy, a in blobs)
+png16(f'{d}/faint_ref.png', 256, 96, lambda x, y: 0.5)
+png16(f'{d}/faint_test.png', 256, 96, test)
+PY
+F=("$T/faint_ref.png" "$T/faint_test.png")
+expect_exit 0 faint_pair_runs "$JND" diff "${F[@]}" --json "$T/faint.json" --quiet
+check faint_pair_has_jnds_around_one jq -e '.result.jnd_max > 0.5 and .result.jnd_max < 2 and .result.p_p93 > 0.02 and .result.p_p93 < 0.98' "$T/faint.json"
+check default_pooling_p93_and_beta_3_5_are_reported \
+  jq -e '.parameters.pooling == "p93" and .result.pooling == "p93" and .parameters.beta == 3.5' "$T/faint.json"
+check default_pooling_is_p93_as_used jq -e '.result.p_detect == .result.p_p93' "$T/faint.json"
+# 000 eq. 4: P = 1 − 0.5^(JND^β); P is monotonic in JND, so P's p93 is P of the JND p93 (to interpolation)
+check p_follows_000_eq4_with_beta_3_5 jq -e '
+  ((.result.p_max - (1 - pow(0.5; pow(.result.jnd_max; 3.5)))) | fabs) < 1e-4 and
+  ((.result.p_p93 - (1 - pow(0.5; pow(.result.jnd_p93; 3.5)))) | fabs) < 1e-3' "$T/faint.json"
+# every pooling: the reported name and the value of that pooling
+for pool in p50:p_p50 p93:p_p93 p99:p_p99 max:p_max mean:p_mean; do
+  "$JND" diff "${F[@]}" --pool "${pool%%:*}" --json "$T/pool.json" --quiet
+  check "pooling_${pool%%:*}_reports_its_name_and_value" jq -e --slurpfile d "$T/faint.json" \
+    --arg name "${pool%%:*}" --arg field "${pool#*:}" \
+    '.parameters.pooling == $name and .result.p_detect == $d[0].result[$field]' "$T/pool.json"
+done
+"$JND" diff "${F[@]}" --pool minkowski --json "$T/pool.json" --quiet
+# the Minkowski (2.4) mean of P lies strictly between the mean and the maximum of a non-constant map
+check pooling_minkowski_lies_between_mean_and_max jq -e --slurpfile d "$T/faint.json" \
+  '.parameters.pooling == "minkowski" and .result.p_detect > $d[0].result.p_mean and .result.p_detect < $d[0].result.p_max' "$T/pool.json"
 
 # float outputs and inputs: the JND map as EXR; a rendered motion map (EXR, X and Y) and weights
 expect_exit 0 map_is_written "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --map "$T/jnd.exr" --quiet

@@ -11,7 +11,8 @@
   skip "no renderer ($(head -c 200 "$T/probe.txt"))"
 R="--model builtin --map-size 128 --material builtin --views 4 --size 128x128"
 
-expect_exit 0 max_p_search_runs "$JND" pca $R -o "$T/mp" --max-p 0.2
+# with a model and no criterion, --max-p 0.2 (000 §9, with q = 0.1) is the default
+expect_exit 0 max_p_search_runs "$JND" pca $R -o "$T/mp"
 J="$T/mp/pca.json"
 check human_summary_lists_p_per_view grep -q "chosen .*P per view:" "$T/err.txt"
 check the_set_is_the_materials_own_maps \
@@ -25,6 +26,18 @@ check lists_pooled_p_for_every_view \
 check chosen_encoding_meets_the_criterion \
   jq -e '.parameters.criterion == "max_p" and .result.rendered.pass
          and ([.result.rendered.p_per_view[] | select(. > 0.2)] | length) <= .result.rendered.criterion.views_allowed_above' "$J"
+check default_criterion_is_000s_p_0_2_q_0_1_with_p93_pooling \
+  jq -e '.result.rendered.criterion.max_p == 0.2 and .result.rendered.criterion.max_fraction == 0.1
+         and .result.rendered.pooling == "p93"' "$J"
+# 000 §9 recomputed from the reported P per view: floor(0.1 n) views may be
+# above 0.2, the statistic is the (floor(0.1 n) + 1)-th largest P
+criterion_as_used='(.p_per_view | length) as $n | ((0.1 * $n + 1e-9) | floor) as $k
+  | ([.p_per_view[] | select(. > 0.2)] | length) as $above
+  | .views_above == $above and .pass == ($above <= $k) and .p_criterion == (.p_per_view | sort | reverse)[$k]'
+check criterion_is_applied_as_000_s9_says jq -e ".result.rendered | ($criterion_as_used)
+  and .criterion.views_allowed_above == (((0.1 * (.p_per_view | length)) + 1e-9) | floor)" "$J"
+check block_compressed_variants_are_judged_the_same_way \
+  jq -e "[.result.rendered.block_compressed[] | ($criterion_as_used)] | all" "$J"
 check chosen_encoding_stores_less_than_the_original_maps \
   jq -e '.result.storage_bytes < .result.storage_maps_8bit_bytes' "$J"
 check cheaper_candidates_tried_all_fail \

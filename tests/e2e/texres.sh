@@ -6,7 +6,7 @@ set -uo pipefail
 MODELS=/usr/share/assimp/models/glTF2
 SMALL=(--map-size 128 --size 96x96 --samples 1 --anisotropy 4 --quiet)
 
-expect_exit 0 "builtin runs" "$JND" texres builtin -o "$T/a" --views 3 --verify-views 3 --coverage 0.9 "${SMALL[@]}"
+expect_exit 0 "builtin runs" "$JND" texres builtin -o "$T/a" --views 5 --verify-views 3 --coverage 0.9 "${SMALL[@]}"
 check "texres.json has the stable fields" python3 - "$T/a/texres.json" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
@@ -21,10 +21,52 @@ for m in maps:
 mem = res["memory"]
 assert 0 < mem["after_bytes"] <= mem["before_bytes"], mem
 assert res["verify"]["views"] == 3 and 0 <= res["verify"]["fraction_above"] <= 1
-assert len(res["views"]["p"]) == 3
+assert len(res["views"]["p"]) == 5
 mx = res["matrices"][0]
 assert mx["columns"].endswith("/baseColor") and mx["rows"].endswith("/normal")
-assert len(mx["p"]) == 3 and len(mx["stat"]) == len(mx["row_sizes"]) and len(mx["stat"][0]) == len(mx["column_sizes"])
+assert len(mx["p"]) == 5 and len(mx["stat"]) == len(mx["row_sizes"]) and len(mx["stat"][0]) == len(mx["column_sizes"])
+PY
+# 000 §9 as texres uses it, recomputed from the per-view P it reports: with
+# the defaults p = 0.2 and q = 0.1, floor(0.1 * 5) = 0 of 5 views may be above
+# (with q = 0.2 one could), and a cell's statistic is the largest P
+check "the criterion of 000 §9 (p = 0.2, q = 0.1) as reported and as used" python3 - "$T/a/texres.json" <<'PY'
+import json, math, sys
+r = json.load(open(sys.argv[1]))
+par, res = r["parameters"], r["result"]
+assert par["p"] == 0.2 and par["q"] == 0.1, (par["p"], par["q"])
+p, q = 0.2, 0.1
+def allowed(n): return math.floor(q * n + 1e-9)
+def statistic(P): return sorted(P, reverse=True)[allowed(len(P))]
+for name, part in (("views", res["views"]), ("verify", res["verify"])):
+    P = part["p"]
+    above = sum(x > p for x in P)
+    assert part["passes"] == (above <= allowed(len(P))), (name, P, part["passes"])
+    assert abs(part["fraction_above"] - above / len(P)) < 1e-12, (name, part["fraction_above"])
+mx = res["matrices"][0]
+nv = len(mx["p"])
+for b, row in enumerate(mx["stat"]):
+    for a, st in enumerate(row):
+        assert st == statistic([mx["p"][v][b][a] for v in range(nv)]), (b, a, st)
+# the best cell passes, and every cell with both maps no larger fails
+bx, by = mx["best"]
+ca, cb = mx["column_sizes"].index(bx), mx["row_sizes"].index(by)
+assert mx["stat"][cb][ca] <= p
+for b, rs in enumerate(mx["row_sizes"]):
+    for a, cs in enumerate(mx["column_sizes"]):
+        if rs <= by and cs <= bx and (rs, cs) != (by, bx):
+            assert mx["stat"][b][a] > p, ("a cheaper cell passes", cs, rs, mx["stat"][b][a])
+# each map's series stops at the first candidate above p; its fitted 000 eq. 1
+# is read at P = p: log2 r = mu + sigma * Θ⁻¹(1 − 0.2), Θ⁻¹(0.8) = 0.8416212
+for m in res["maps"]:
+    vals = [v for v in m["series"] if v is not None]
+    first = next(i for i, v in enumerate(m["series"]) if v is not None)
+    assert all(v is not None for v in m["series"][first:first + len(vals)]), m["series"]
+    assert all(v <= p for v in vals[:-1]), m["series"]
+    assert vals[-1] > p or first + len(vals) == len(m["series"]), m["series"]
+    f = m.get("psychometric")
+    if f:
+        want = 2 ** (f["mu_log2"] + f["sigma_log2"] * 0.8416212)
+        assert abs(f["resolution_at_p"] / want - 1) < 1e-6, (m["name"], f, want)
 PY
 check "the worst view's heatmap and the matrix picture are written" test -s "$T/a/worst_view.png" -a -s "$T/a/matrix_0.png"
 check "the builtin asset's resized maps are written as PNG at their chosen sizes" python3 - "$T/a" <<'PY'
@@ -49,8 +91,8 @@ for a, b in zip(near, far):
 PY
 
 # the same command gives the same report
-"$JND" texres builtin -o "$T/c" --views 3 --verify-views 3 --coverage 0.9 "${SMALL[@]}"
-check "deterministic" cmp -s "$T/a/texres.json" "$T/c/texres.json"
+"$JND" texres builtin -o "$T/c" --views 3 --coverage 0.25 --no-matrix "${SMALL[@]}"
+check "deterministic" cmp -s "$T/b/texres.json" "$T/c/texres.json"
 
 # glTF models: a copy points at the resized maps; the input is untouched
 if [ -d "$MODELS" ]; then
