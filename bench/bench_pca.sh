@@ -41,7 +41,7 @@ print(f\"   --psnr 35: choice {t['choice']:.2f} s, K={r['components_kept']}, {r[
 webxr() {
   . "$here/webxr_assets.sh"
   local assets model mat
-  assets=$(webxr_assets "$(dirname "$JND")/webxr-cache") ||
+  assets=$(webxr_assets_fetch && webxr_assets) ||
     { echo "   skip: @webxr-input-profiles/assets not available (npm/network)"; return 0; }
   for model in oculus-touch-v3/left.glb generic-trigger/none.glb; do
     local f="$assets/dist/profiles/$model"

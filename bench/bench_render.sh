@@ -8,7 +8,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 . "$here/webxr_assets.sh"
 out=${BENCH_OUT:-$here/out}/render
 mkdir -p "$out"
-ASSETS=$(webxr_assets "$(dirname "$JND")/webxr-cache") || { echo "   skipped: @webxr-input-profiles/assets not available (npm/network)"; exit 0; }
+ASSETS=$(webxr_assets_fetch && webxr_assets) || { echo "   skipped: @webxr-input-profiles/assets not available (npm/network)"; exit 0; }
 MODEL=${BENCH_RENDER_MODEL:-$ASSETS/dist/profiles/oculus-touch/left.glb}
 VIEWS=${BENCH_RENDER_VIEWS:-8}
 for aniso in 8 1; do

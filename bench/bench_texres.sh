@@ -9,7 +9,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 . "$here/webxr_assets.sh"
 out=${BENCH_OUT:-$here/out}/texres
 mkdir -p "$out"
-ASSETS=$(webxr_assets "$(dirname "$JND")/webxr-cache") || { echo "   skipped: @webxr-input-profiles/assets not available (npm/network)"; exit 0; }
+ASSETS=$(webxr_assets_fetch && webxr_assets) || { echo "   skipped: @webxr-input-profiles/assets not available (npm/network)"; exit 0; }
 for m in ${BENCH_TEXRES_MODELS:-generic-trigger-squeeze-thumbstick/left.glb oculus-touch/left.glb}; do
   f="$ASSETS/dist/profiles/$m"
   d="$out/$(echo "$m" | tr / _)"

@@ -27,13 +27,21 @@ done
 # npm only where no node toolchain is present (Debian's npm conflicts with other node installs)
 if ! command -v npm >/dev/null 2>&1; then missing+=(npm); fi
 
-if [ ${#missing[@]} -eq 0 ]; then
-  exit 0
+if [ ${#missing[@]} -ne 0 ]; then
+  SUDO=""
+  if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+  echo "install-deps: installing ${missing[*]}" >&2
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
 fi
 
-SUDO=""
-if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-echo "install-deps: installing ${missing[*]}" >&2
-export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
+# The pinned npm package of real controller models that the webxr tests and
+# the benchmarks render (bench/webxr_assets.sh): fetched once into a cache
+# outside the build folder, so that the tests make no network request.
+# Without a network the webxr tests skip (and CI, where a skip fails, fails).
+. "$(dirname "$0")/../bench/webxr_assets.sh"
+if ! webxr_assets >/dev/null; then
+  echo "install-deps: fetching @webxr-input-profiles/assets@$WEBXR_ASSETS_VERSION into $(webxr_assets_cache)" >&2
+  webxr_assets_fetch || echo "install-deps: warning: without it the webxr tests skip" >&2
+fi

@@ -5,6 +5,7 @@
 set -uo pipefail
 . "$(dirname "$0")/lib.bash"
 SMALL=(--map-size 128 --views 2 --size 96x96 --quiet)
+command -v python3 >/dev/null || skip "needs python3"
 
 # scenes from the builtin asset's maps, thresholds as per-resolution rates
 cat >"$T/rates.csv" <<'CSV'

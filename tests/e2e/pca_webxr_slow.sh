@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # jnd pca --max-p on a real asset: the oculus-touch-v3 controller of the
-# MIT-licensed npm package @webxr-input-profiles/assets (fetched once into the
-# build folder's cache, never committed), its material's own maps as the set.
-# The chosen encoding must store less than the original maps and the report
-# must list rendered P per view for it. Skips cleanly without npm or network.
+# MIT-licensed npm package @webxr-input-profiles/assets (pinned and cached by
+# scripts/install-deps.sh, never fetched by the test), its material's own maps
+# as the set. The chosen encoding must store less than the original maps and
+# the report must list rendered P per view for it. Skips (exit 77) when the
+# cache is missing.
 . "$(dirname "$0")/lib.bash"
 . "$(dirname "$0")/../../bench/webxr_assets.sh"
-ASSETS=$(webxr_assets "$(dirname "$JND")/webxr-cache") ||
-  skip "@webxr-input-profiles/assets not available (no npm or no network)"
+ASSETS=$(webxr_assets) ||
+  skip "@webxr-input-profiles/assets $WEBXR_ASSETS_VERSION is not in $(webxr_assets_cache) (scripts/install-deps.sh fetches it)"
 "$JND" render builtin -o "$T/probe" --views 1 --size 16x16 --map-size 16 --quiet 2>/dev/null ||
   skip "no renderer"
 F="$ASSETS/dist/profiles/oculus-touch-v3/left.glb"

@@ -1,13 +1,16 @@
 #!/usr/bin/env bash
 # jnd texres on a real asset (a controller of the npm package
-# @webxr-input-profiles/assets, MIT, fetched once into the build folder's
-# cache): sizes within the mip bound, the base colour x normal matrix, memory,
-# the held-out check, and the model copy. Skips without npm or network.
+# @webxr-input-profiles/assets, MIT, pinned and cached by
+# scripts/install-deps.sh): sizes within the mip bound, the base colour x
+# normal matrix, memory, the held-out check, and the model copy. Skips (exit 77)
+# when the cache is missing.
 set -uo pipefail
 . "$(dirname "$0")/lib.bash"
 . "$(dirname "$0")/../../bench/webxr_assets.sh"
-ASSETS=$(webxr_assets "$(dirname "$JND")/webxr-cache") || skip "@webxr-input-profiles/assets not available (no npm or no network)"
+ASSETS=$(webxr_assets) ||
+  skip "@webxr-input-profiles/assets $WEBXR_ASSETS_VERSION is not in $(webxr_assets_cache) (scripts/install-deps.sh fetches it)"
 M="$ASSETS/dist/profiles/generic-trigger-squeeze-thumbstick/left.glb"
+command -v python3 >/dev/null || skip "needs python3"
 [ -f "$M" ] || { bad "the asset is in the package"; finish; }
 "$JND" texres "$M" -o "$T/a" --views 4 --size 256x256 --verify-views 8 --quiet
 rc=$?

@@ -177,7 +177,10 @@ TEST(broken_files_are_refused_as_malformed) {
 TEST(truncated_glb_is_refused) {
   const char *src = ASSIMP_MODELS "/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb";
   FILE *f = fopen(src, "rb");
-  if (!f) return;
+  if (!f) {
+    TEST_SKIP("%s not installed", src);
+    return;
+  }
   unsigned char buf[4096];
   size_t n = fread(buf, 1, sizeof buf, f);
   fclose(f);
@@ -699,7 +702,14 @@ TEST(point_and_spot_lights_light_the_side_they_are_on) {
 
 TEST(maps_keep_their_texture_coordinate_set) {
   jnd_scene *s = NULL;
-  if (jnd_scene_load(ASSIMP_MODELS "/glTF2/BoxTexcoords-glTF/boxTexcoords.gltf", &s) != JND_OK) return;
+  const char *path = ASSIMP_MODELS "/glTF2/BoxTexcoords-glTF/boxTexcoords.gltf";
+  struct stat st;
+  if (stat(path, &st) != 0) {
+    TEST_SKIP("%s not installed", path);
+    return;
+  }
+  CHECK_OK(jnd_scene_load(path, &s));
+  if (!s) return;
   jnd_map_info info;
   int i = jnd_scene_map_find(s, "Material/metallicRoughness");
   CHECK(i >= 0);
