@@ -375,7 +375,11 @@ TEST(motion_vectors_follow_the_camera) {
     CHECK_LT(m, 1e-3);
     jnd_frame_free(&still);
   }
-  /* the previous camera was 0.5 pixel-widths of fov to the right: content moves left */
+  /* the previous camera was 0.05 units to the right (right = view × up): the
+   * camera moved left, so the content moved right on screen. A point at depth
+   * z moves 0.05·f/z pixels (f = 64 / tan(fov/2), the focal length in pixels),
+   * and the object's pixels lie between the target's depth d and d − r, r the
+   * bounding radius (1.549 for the builtin asset, view_sampling's test) */
   v.has_prev = 1;
   v.prev_camera = v.camera;
   double tx = v.camera.target[0] - v.camera.eye[0], tz = v.camera.target[2] - v.camera.eye[2];
@@ -385,13 +389,20 @@ TEST(motion_vectors_follow_the_camera) {
   v.prev_camera.eye[2] += 0.05 * tx / l;
   v.prev_camera.target[0] += 0.05 * -tz / l;
   v.prev_camera.target[2] += 0.05 * tx / l;
+  double d = 0, f = (SIZE / 2.0) / tan(v.camera.fov_y_deg * M_PI / 360.0);
+  for (int k = 0; k < 3; k++) d += (v.camera.target[k] - v.camera.eye[k]) * (v.camera.target[k] - v.camera.eye[k]);
+  d = sqrt(d);
   if (render(s, &v, &moved)) {
-    double mx = 0;
+    double mx = 0, my = 0;
     int n = 0;
     for (size_t k = 0; k < (size_t)SIZE * SIZE; k++)
-      if (moved.mask.data[k] > 0.99) mx += moved.motion.data[k], n++;
+      if (moved.mask.data[k] > 0.99) mx += moved.motion.data[k], my += moved.motion.data[SIZE * SIZE + k], n++;
     CHECK(n > 0);
-    if (n) CHECK_LT(0.2, fabs(mx / n));
+    if (n) {
+      CHECK_LT(0.05 * f / d, mx / n); /* rightwards, at least as far as the target plane moves */
+      CHECK_LT(mx / n, 0.05 * f / (d - 1.549));
+      CHECK_LT(fabs(my / n), 0.1 * mx / n); /* and sideways only */
+    }
     jnd_frame_free(&moved);
   }
   jnd_scene_free(s);

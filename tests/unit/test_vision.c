@@ -653,12 +653,16 @@ TEST(display_model_with_ambient_light_follows_its_formula) {
   CHECK_NEAR(got[2], range * srgb_eotf(11 / 255.0) + 0.2 + refl, 1e-4);
   CHECK_NEAR(got[3], range * 0.21586050 + 0.2 + refl, 1e-3);
   CHECK_NEAR(got[4], 200 + refl, 1e-3);
-  /* other signals: just below and above the breakpoint, and well above it */
-  const float sig[5] = {0.0404f, 0.0406f, 0.2f, 0.5f, 0.03f};
+  /* other signals, each between two codes (0.30 to 0.45 of a code from the
+   * nearest, so that none may be taken for a code): just below and above the
+   * breakpoint, and well above it */
+  const float sig[5] = {0.0404f, 0.0406f, 0.21f, 0.61f, 0.03f};
   display_of(&d, sig, NULL, 5, JND_ENCODING_SRGB, got);
   for (int i = 0; i < 5; i++) CHECK_NEAR(got[i], range * srgb_eotf(sig[i]) + 0.2 + refl, 1e-3);
   CHECK_NEAR(got[0], range * 0.0404 / 12.92 + 0.2 + refl, 1e-4);
-  CHECK_NEAR(got[3], range * 0.21404114 + 0.2 + refl, 1e-3);
+  const float half[1] = {0.5f}; /* 127.5: half-way between two codes */
+  display_of(&d, half, NULL, 1, JND_ENCODING_SRGB, got);
+  CHECK_NEAR(got[0], range * 0.21404114 + 0.2 + refl, 1e-3);
   /* alpha composites the linear signal over black: (peak − black)·EOTF·α + black + reflection */
   const float av[3] = {128 / 255.0f, 1, 0.3f}, aa[3] = {0.5f, 0.25f, 1};
   display_of(&d, av, aa, 3, JND_ENCODING_SRGB, got);
