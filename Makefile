@@ -5,17 +5,20 @@
 #   make bench  speed and memory figures, with peer tools where present
 #   make fuzz   build the libFuzzer targets and run each for FUZZ_SECONDS
 #   make asan   the suite under AddressSanitizer + UndefinedBehaviorSanitizer
+#   make mutants  each mutation of tests/mutants.txt applied to a scratch copy,
+#               rebuilt and tested: fails unless the suite catches every one
 #   make install PREFIX=/usr/local
 SHELL := /bin/bash
 BUILD ?= build
 ASAN_BUILD ?= build-asan
 FUZZ_BUILD ?= build-fuzz
+MUTANTS_BUILD ?= build-mutants
 JOBS ?= $(shell nproc)
 PREFIX ?= /usr/local
 FUZZ_SECONDS ?= 20
 CMAKE_FLAGS ?=
 
-.PHONY: all deps build demo test unit asan fuzz fuzz-build bench install clean
+.PHONY: all deps build demo test unit asan fuzz fuzz-build bench install clean mutants
 
 all: build
 
@@ -54,6 +57,9 @@ fuzz-build: deps
 fuzz: fuzz-build
 	@bash fuzz/run.sh $(FUZZ_BUILD) $(FUZZ_SECONDS)
 
+mutants: deps
+	@MUTANTS_DIR=$(MUTANTS_BUILD) JOBS=$(JOBS) bash scripts/mutants.sh
+
 bench: build
 	@bash bench/run.sh $(BUILD)
 
@@ -61,4 +67,4 @@ install: build
 	@cmake --install $(BUILD) --prefix $(PREFIX)
 
 clean:
-	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD)
+	rm -rf $(BUILD) $(ASAN_BUILD) $(FUZZ_BUILD) $(MUTANTS_BUILD)
