@@ -30,25 +30,17 @@ check display_and_gaze_are_the_ones_asked_for \
 # the slope β and the percentiles differ: the defaults as used, not only as
 # written in the report.
 command -v python3 >/dev/null || skip "needs python3"
-python3 - "$T" <<'PY'
-import math, struct, sys, zlib
+PYTHONPATH="$(dirname "$0")" python3 - "$T" <<'PY'
+import math, sys
+from pngwrite import png
 d = sys.argv[1]
-def png16(path, w, h, f):
-    raw = bytearray()
-    for y in range(h):
-        raw.append(0)
-        for x in range(w):
-            v = max(0, min(65535, int(round(f(x, y) * 65535))))
-            raw.extend(struct.pack('>HHH', v, v, v))
-    def chunk(t, b): return struct.pack('>I', len(b)) + t + b + struct.pack('>I', zlib.crc32(t + b) & 0xffffffff)
-    open(path, 'wb').write(b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', w, h, 16, 2, 0, 0, 0))
-                           + chunk(b'IDAT', zlib.compress(bytes(raw))) + chunk(b'IEND', b''))
 blobs = [(48, 48, 0.0006), (128, 48, 0.0010), (208, 48, 0.0014)]
 def test(x, y):
-    return 0.5 + sum(a * math.exp(-((x - cx) ** 2 + (y - cy) ** 2) / (2 * 14 ** 2)) * math.cos(2 * math.pi * 0.1 * (x - cx))
-                     for cx, cy, a in blobs)
-png16(f'{d}/faint_ref.png', 256, 96, lambda x, y: 0.5)
-png16(f'{d}/faint_test.png', 256, 96, test)
+    v = 0.5 + sum(a * math.exp(-((x - cx) ** 2 + (y - cy) ** 2) / (2 * 14 ** 2)) * math.cos(2 * math.pi * 0.1 * (x - cx))
+                  for cx, cy, a in blobs)
+    return (v, v, v)
+png(f'{d}/faint_ref.png', 256, 96, 3, lambda x, y: (0.5, 0.5, 0.5), bits=16)
+png(f'{d}/faint_test.png', 256, 96, 3, test, bits=16)
 PY
 F=("$T/faint_ref.png" "$T/faint_test.png")
 expect_exit 0 faint_pair_runs "$JND" diff "${F[@]}" --json "$T/faint.json" --quiet

@@ -7,19 +7,10 @@ command -v python3 >/dev/null || skip "needs python3"
 
 # three correlated maps (RGB albedo, grey height stored as RGB, a normal map
 # with a constant blue) and two odd ones, as PNG with the standard library only
-python3 - "$T" <<'PY'
-import math, struct, sys, zlib
+PYTHONPATH="$(dirname "$0")" python3 - "$T" <<'PY'
+import math, sys
+from pngwrite import png
 d = sys.argv[1]
-def png(path, w, h, ch, f):
-    raw = bytearray()
-    for y in range(h):
-        raw.append(0)
-        for x in range(w):
-            raw.extend(max(0, min(255, int(round(v * 255)))) for v in f(x, y))
-    colour = {1: 0, 3: 2, 4: 6}[ch]
-    def chunk(t, b): return struct.pack('>I', len(b)) + t + b + struct.pack('>I', zlib.crc32(t + b) & 0xffffffff)
-    open(path, 'wb').write(b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', w, h, 8, colour, 0, 0, 0))
-                           + chunk(b'IDAT', zlib.compress(bytes(raw))) + chunk(b'IEND', b''))
 def a(x, y): return 0.5 + 0.3 * math.sin(x * 0.1) * math.cos(y * 0.13)
 def b(x, y): return 0.5 + 0.2 * math.sin((x + y) * 0.07)
 png(f'{d}/mat_albedo.png', 96, 64, 3, lambda x, y: (a(x, y), 0.8 * a(x, y) + 0.1 * b(x, y), 0.3 + 0.4 * b(x, y)))

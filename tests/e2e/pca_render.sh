@@ -59,22 +59,14 @@ check rendered_report_is_identical_across_thread_counts cmp -s "$T/d1/pca.json" 
 
 # map files replace the slots their names (or --slot) say
 command -v python3 >/dev/null || skip "the rest needs python3"
-python3 - "$T" <<'PY'
-import math, struct, sys, zlib
+PYTHONPATH="$(dirname "$0")" python3 - "$T" <<'PY'
+import math, sys
+from pngwrite import png
 d = sys.argv[1]
-def png(path, w, h, f):
-    raw = bytearray()
-    for y in range(h):
-        raw.append(0)
-        for x in range(w):
-            raw.extend(max(0, min(255, int(round(v * 255)))) for v in f(x, y))
-    def chunk(t, b): return struct.pack('>I', len(b)) + t + b + struct.pack('>I', zlib.crc32(t + b) & 0xffffffff)
-    open(path, 'wb').write(b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', w, h, 8, 2, 0, 0, 0))
-                           + chunk(b'IDAT', zlib.compress(bytes(raw))) + chunk(b'IEND', b''))
 def a(x, y): return 0.5 + 0.3 * math.sin(x * 0.3) * math.cos(y * 0.2)
-png(f'{d}/mat_albedo.png', 64, 64, lambda x, y: (a(x, y), 0.8 * a(x, y), 0.3))
-png(f'{d}/mat_normal.png', 64, 64, lambda x, y: (0.5 + 0.2 * math.sin(x * 0.3), 0.5, 1.0))
-png(f'{d}/mat_height.png', 64, 64, lambda x, y: (0.6 * a(x, y) + 0.2,) * 3)
+png(f'{d}/mat_albedo.png', 64, 64, 3, lambda x, y: (a(x, y), 0.8 * a(x, y), 0.3))
+png(f'{d}/mat_normal.png', 64, 64, 3, lambda x, y: (0.5 + 0.2 * math.sin(x * 0.3), 0.5, 1.0))
+png(f'{d}/mat_height.png', 64, 64, 3, lambda x, y: (0.6 * a(x, y) + 0.2,) * 3)
 PY
 expect_exit 0 map_files_bound_by_name_and_slot "$JND" pca "$T/mat_albedo.png" "$T/mat_normal.png" "$T/mat_height.png" \
   $R --slot mat_height.png=occlusion -o "$T/files" --components 2 --no-bc --quiet

@@ -129,7 +129,11 @@ TEST(opponent_channels_separate_luminance_from_colour) {
   CHECK_NEAR(b, 0.0, 1e-7);
 }
 
-TEST(csf_adaptation_is_identity_at_100_cdm2) {
+/* 004 §3.1: c0(L) = 1.14 · max_ρ csf_B(ρ, L) / max_ρ csf_B(ρ, 100) and
+ * c1(L) = 0.67 · argmax csf_B(ρ, 100) / argmax csf_B(ρ, L). The maxima, found
+ * by hand on a dense grid of 200001 log-spaced frequencies over 0.01..100 cpd:
+ * c0(1) = 0.517775, c1(1) = 1.56248; c0(10) = 0.865148, c1(10) = 0.987267. */
+TEST(csf_adaptation_is_identity_at_100_cdm2_and_follows_barten_peaks_elsewhere) {
   double c0, c1;
   jnd_csf_adaptation(100, &c0, &c1);
   CHECK_NEAR(c0, 1.14, 1e-6);
@@ -137,6 +141,12 @@ TEST(csf_adaptation_is_identity_at_100_cdm2) {
   jnd_csf_adaptation(0.1, &c0, &c1);
   CHECK(c0 < 1.14 * 0.5); /* less sensitive in the dark */
   CHECK(c1 > 0.67);       /* peak moves to lower frequencies */
+  jnd_csf_adaptation(1, &c0, &c1);
+  CHECK_NEAR(c0, 0.517775, 2e-5);
+  CHECK_NEAR(c1, 1.56248, 2e-4);
+  jnd_csf_adaptation(10, &c0, &c1);
+  CHECK_NEAR(c0, 0.865148, 2e-5);
+  CHECK_NEAR(c1, 0.987267, 2e-4);
 }
 
 TEST(barten_csf_peaks_near_a_few_cycles_per_degree) {
@@ -360,6 +370,17 @@ static jnd_image centred_grating(int n, double lum, double c, double f, double s
   return img;
 }
 
+/* a model with 004's per-pixel map: no local summation (docs/model.md) */
+static jnd_model *model_of_004(double ppd) {
+  jnd_model_params p;
+  jnd_model_defaults(&p);
+  p.display.ppd = ppd;
+  p.summation_cycles = 0;
+  jnd_model *m = NULL;
+  CHECK_OK(jnd_model_create(&p, &m));
+  return m;
+}
+
 /* the largest JND between pedestal contrast cp and cp + dc */
 static double increment_jnd(jnd_model *m, double cp, double dc, double f) {
   jnd_image a = centred_grating(128, 50, cp, f, 16), b = centred_grating(128, 50, cp + dc, f, 16);
@@ -390,12 +411,7 @@ static double increment_threshold(jnd_model *m, double cp, double f) {
  * summation) shows these ratios; the exponent 0.2 in place of 0.1 would give
  * 5.36, 7.51 and 11.8. */
 TEST(suprathreshold_pedestal_raises_the_threshold_as_the_transducer_implies) {
-  jnd_model_params p;
-  jnd_model_defaults(&p);
-  p.display.ppd = 40;
-  p.summation_cycles = 0; /* 004's per-pixel map */
-  jnd_model *m;
-  CHECK_OK(jnd_model_create(&p, &m));
+  jnd_model *m = model_of_004(40);
   const double f = 0.2; /* cycles per pixel: 8 cpd */
   double t0 = increment_threshold(m, 0, f);
   CHECK(t0 > 1e-4 && t0 < 0.1);
@@ -449,12 +465,7 @@ static jnd_image cone_grating(int n, double cl, double cm, double cs, double f, 
  * J_both^2.4 = J_A^2.4 + J_ab^2.4 (with exponent 2 the sum of squares would be
  * 5% off where the two are alike). */
 TEST(channels_combine_by_minkowski_summation_with_exponent_2_4) {
-  jnd_model_params p;
-  jnd_model_defaults(&p);
-  p.display.ppd = 40;
-  p.summation_cycles = 0;
-  jnd_model *m;
-  CHECK_OK(jnd_model_create(&p, &m));
+  jnd_model *m = model_of_004(40);
   const double c = 0.01, d = 0.003, f = 0.05;
   jnd_image bg = cone_grating(128, 0, 0, 0, f, 16), ach = cone_grating(128, c, c, c, f, 16),
             chr = cone_grating(128, d, -2 * d, 0, f, 16), both = cone_grating(128, c + d, c - 2 * d, c, f, 16);
@@ -482,12 +493,8 @@ TEST(channels_combine_by_minkowski_summation_with_exponent_2_4) {
  * per degree is v_s = 30 deg/s; v = |30 − min(0.82 · 30 + 0.15, 80)| = 5.25
  * deg/s. A constant map must give what a retinal velocity of 5.25 gives. */
 TEST(motion_map_becomes_retinal_velocity_through_fps_ppd_and_daly) {
-  jnd_model_params p;
-  jnd_model_defaults(&p);
-  p.display.ppd = 40;
-  p.fps = 60;
-  jnd_model *m;
-  CHECK_OK(jnd_model_create(&p, &m));
+  jnd_model *m = model_with(40, 0);
+  CHECK(jnd_model_get_params(m)->fps == 60);
   jnd_image a = centred_grating(128, 50, 0, 0.2, 16), b = centred_grating(128, 50, 0.05, 0.2, 16), motion;
   jnd_image_alloc(&motion, 128, 128, 2);
   for (int i = 0; i < 128 * 128; i++) {
@@ -528,20 +535,6 @@ TEST(achromatic_csf_follows_004_at_hand_values) {
   CHECK_NEAR(jnd_csf_achromatic(4, 0.15, 1.14, 0.67), 237.282, 0.01);
   CHECK_NEAR(jnd_csf_achromatic(1, 10, 1.14, 0.67), 97.0597, 0.001);
   CHECK_NEAR(jnd_csf_achromatic(8, 2, 1.14, 0.67), 9.70617, 0.0005);
-}
-
-/* 004 §3.1: c0(L) = 1.14 · max_ρ csf_B(ρ, L) / max_ρ csf_B(ρ, 100) and
- * c1(L) = 0.67 · argmax csf_B(ρ, 100) / argmax csf_B(ρ, L). The maxima, found
- * by hand on a dense grid of 200001 log-spaced frequencies over 0.01..100 cpd:
- * c0(1) = 0.517775, c1(1) = 1.56248; c0(10) = 0.865148, c1(10) = 0.987267. */
-TEST(csf_adaptation_follows_barten_peaks_at_hand_values) {
-  double c0, c1;
-  jnd_csf_adaptation(1, &c0, &c1);
-  CHECK_NEAR(c0, 0.517775, 2e-5);
-  CHECK_NEAR(c1, 1.56248, 2e-4);
-  jnd_csf_adaptation(10, &c0, &c1);
-  CHECK_NEAR(c0, 0.865148, 2e-5);
-  CHECK_NEAR(c1, 0.987267, 2e-4);
 }
 
 /* 004 §3.1: the chromatic CSF scales with the square root of the ratio of the
@@ -680,11 +673,7 @@ TEST(display_model_with_ambient_light_follows_its_formula) {
 /* The default slope as the model uses it: jnd_diff_files turns the JND map into
  * P with β = 3.5 (000 eq. 4), so the reported largest P is 1 − 0.5^(jnd_max^3.5). */
 TEST(default_beta_of_3_5_is_what_diff_uses) {
-  jnd_model_params p;
-  jnd_model_defaults(&p);
-  p.display.ppd = 40;
-  jnd_model *m;
-  CHECK_OK(jnd_model_create(&p, &m));
+  jnd_model *m = model_with(40, 0);
   for (int k = 0; k < 2; k++) {
     /* sRGB signals of a faint and a clearer grating (JND around 1) */
     double c = k ? 0.004 : 0.002;
@@ -703,7 +692,7 @@ TEST(default_beta_of_3_5_is_what_diff_uses) {
 RUN_TESTS(identical_images_have_zero_jnd, band_table_matches_the_filters, finest_band_peaks_near_nyquist_and_four_times_the_next,
           with_004s_limit_the_coarsest_band_peaks_at_or_above_half_a_cycle_per_degree, reduce_and_expand_keep_a_constant_image_constant,
           lms_luminance_weights_recover_y, opponent_channels_separate_luminance_from_colour,
-          csf_adaptation_is_identity_at_100_cdm2, barten_csf_peaks_near_a_few_cycles_per_degree,
+          csf_adaptation_is_identity_at_100_cdm2_and_follows_barten_peaks_elsewhere, barten_csf_peaks_near_a_few_cycles_per_degree,
           pupil_follows_le_grand, daly_eye_movement_leaves_drift_on_static_images,
           chromatic_csf_is_low_pass_and_rises_with_velocity_at_low_frequency,
           same_weber_contrast_is_about_equally_visible_at_100_and_200_but_not_at_0_1, jnd_grows_with_contrast,
@@ -714,7 +703,7 @@ RUN_TESTS(identical_images_have_zero_jnd, band_table_matches_the_filters, finest
           suprathreshold_pedestal_raises_the_threshold_as_the_transducer_implies,
           channels_combine_by_minkowski_summation_with_exponent_2_4,
           motion_map_becomes_retinal_velocity_through_fps_ppd_and_daly, barten_csf_follows_004_at_hand_values,
-          achromatic_csf_follows_004_at_hand_values, csf_adaptation_follows_barten_peaks_at_hand_values,
+          achromatic_csf_follows_004_at_hand_values,
           chromatic_csf_scales_with_the_square_root_of_retinal_illuminance,
           eccentricity_factor_follows_geisler_perry_at_hand_values, colour_matrices_follow_004_and_srgb_at_hand_values,
           opponent_channels_follow_hunt_at_hand_values, display_model_with_ambient_light_follows_its_formula,
