@@ -41,6 +41,8 @@ while [ $# -gt 0 ]; do
   esac
 done
 [ -f "$list" ] || { echo "mutants: $list: no such file" >&2; exit 2; }
+git -C "$here" rev-parse --git-dir >/dev/null 2>&1 ||
+  { echo "mutants: $here is not a git checkout (git ls-files says what to copy)" >&2; exit 2; }
 command -v python3 >/dev/null || { echo "mutants: needs python3" >&2; exit 2; }
 work=${MUTANTS_DIR:-$here/build-mutants}
 mkdir -p "$work" && work=$(cd "$work" && pwd)
