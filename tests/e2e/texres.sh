@@ -6,7 +6,7 @@ set -uo pipefail
 MODELS=/usr/share/assimp/models/glTF2
 SMALL=(--map-size 128 --size 96x96 --samples 1 --anisotropy 4 --quiet)
 
-expect_exit 0 "builtin runs" "$JND" texres builtin -o "$T/a" --views 3 --verify-views 3 --coverage 0.9 "${SMALL[@]}"
+expect_exit 0 "builtin runs" "$JND" texres builtin -o "$T/a" --views 3 --verify-views 3 --coverage 0.9 --matrix "${SMALL[@]}"
 check "texres.json has the stable fields" python3 - "$T/a/texres.json" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
@@ -39,7 +39,12 @@ for f, m in zip(r["map_files"], changed):
 PY
 
 # a smaller object on screen never gets larger maps (000 §4, §9)
-expect_exit 0 "builtin runs far away" "$JND" texres builtin -o "$T/b" --views 3 --coverage 0.25 --no-matrix "${SMALL[@]}"
+expect_exit 0 "builtin runs far away" "$JND" texres builtin -o "$T/b" --views 3 --coverage 0.25 "${SMALL[@]}"
+check "the matrices (000 Fig. 13) are an illustration: only on request" python3 - "$T/b/texres.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r["result"]["matrices"] == [] and r["parameters"]["matrix"] is False, r["result"]["matrices"]
+PY
 check "sizes are monotone in the viewing condition" python3 - "$T/a/texres.json" "$T/b/texres.json" <<'PY'
 import json, sys
 near, far = (json.load(open(p))["result"]["maps"] for p in sys.argv[1:3])
@@ -49,7 +54,7 @@ for a, b in zip(near, far):
 PY
 
 # the same command gives the same report
-"$JND" texres builtin -o "$T/c" --views 3 --verify-views 3 --coverage 0.9 "${SMALL[@]}"
+"$JND" texres builtin -o "$T/c" --views 3 --verify-views 3 --coverage 0.9 --matrix "${SMALL[@]}"
 check "deterministic" cmp -s "$T/a/texres.json" "$T/c/texres.json"
 
 # glTF models: a copy points at the resized maps; the input is untouched

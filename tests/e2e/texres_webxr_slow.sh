@@ -9,7 +9,7 @@ set -uo pipefail
 ASSETS=$(webxr_assets "$(dirname "$JND")/webxr-cache") || skip "@webxr-input-profiles/assets not available (no npm or no network)"
 M="$ASSETS/dist/profiles/generic-trigger-squeeze-thumbstick/left.glb"
 [ -f "$M" ] || { bad "the asset is in the package"; finish; }
-"$JND" texres "$M" -o "$T/a" --views 4 --size 256x256 --verify-views 8 --quiet
+"$JND" texres "$M" -o "$T/a" --views 4 --size 256x256 --verify-views 8 --matrix --quiet
 rc=$?
 check "texres runs on a webxr controller (exit 0, or 1 with the failure reported)" [ $rc -le 1 ]
 check "the report: sizes within the mip bound, the matrix, memory, the held-out check" python3 - "$T/a/texres.json" "$rc" <<'PY'
