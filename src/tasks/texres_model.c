@@ -115,6 +115,8 @@ static jnd_status material_map(const cJSON *root, const jnd_scene *scene, const 
   const cJSON *scenes = item(root, "scenes"), *sc = cJSON_GetArrayItem(scenes, int_of(root, "scene", 0)), *nd;
   cJSON_ArrayForEach(nd, item(sc, "nodes")) if (cJSON_IsNumber(nd)) walk_node(root, nd->valueint, 0, out, &n, nm);
   const cJSON *materials = item(root, "materials");
+  if (n == 0)   /* no scene to walk (not a file assimp loaded): the file's own order */
+    for (int j = 0; j < nm && j < cJSON_GetArraySize(materials); j++) out[j] = j;
   for (int j = 0; j < nm; j++) {
     const cJSON *mat = cJSON_GetArrayItem(materials, out[j]);
     const char *name = jnd_scene_material_name(scene, j);
@@ -124,10 +126,14 @@ static jnd_status material_map(const cJSON *root, const jnd_scene *scene, const 
       size_t l = strlen(gname->valuestring);
       ok = strncmp(name, gname->valuestring, l) == 0 && (name[l] == 0 || name[l] == '#');
     }
+    /* every map the copy changes must have its slot there */
     for (int k = 0; k < JND_MAP_SLOTS && ok; k++) {
       char full[256];
       snprintf(full, sizeof full, "%s/%s", name, jnd_map_slot_name((jnd_map_slot)k));
-      if (jnd_scene_map_find(scene, full) >= 0) ok = texture_info((cJSON *)mat, (jnd_map_slot)k) != NULL;
+      jnd_map_info mi;
+      int i = jnd_scene_map_find(scene, full);
+      if (i >= 0 && jnd_scene_map_info(scene, i, &mi) == JND_OK && (mi.width != mi.orig_width || mi.height != mi.orig_height))
+        ok = texture_info((cJSON *)mat, (jnd_map_slot)k) != NULL;
     }
     if (!ok)
       return jnd_fail(JND_ERR_FORMAT, "%s: cannot tell which glTF material '%s' is (the model copy would not match)",
