@@ -7,15 +7,12 @@
 #include "core/core.h"
 #include "core/fastmath.h"
 #include "pool/pool.h"
+#include "vision/vision.h"
 
-/* P from JND, 000 eq. 4: 1 − exp(ln 0.5 · jnd^beta) = 1 − 2^(−jnd^beta) */
-static inline float prob(float j, float beta) {
-  return j > 0 ? 1.0f - jnd_fast_exp2(-jnd_fast_pow(j, beta)) : 0.0f;
-}
 
 /* P of a JND, for percentiles of P: P is monotonic in JND, so the p-th
  * percentile of P interpolates P of the JND map's order statistics */
-static double prob_of(double j, const void *beta) { return prob((float)j, *(const float *)beta); }
+static double prob_of(double j, const void *beta) { return jnd_prob_of_jnd((float)j, *(const float *)beta); }
 
 enum { SUM_BLOCK = 4096 };
 
@@ -26,7 +23,7 @@ JND_HOT static void block_sums(const float *j, size_t m, float beta, int minkows
 #pragma omp simd
   for (size_t i = 0; i < m; i++) {
     a[i] = jnd_fast_pow(j[i], 2.4f);
-    b[i] = prob(j[i], beta);
+    b[i] = jnd_prob_of_jnd(j[i], beta);
   }
   if (minkowski) {
 #pragma omp simd
