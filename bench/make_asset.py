@@ -60,7 +60,7 @@ def make_maps(folder, k, S, seed):
     base_rows, mr_rows, occ_rows = [], [], []
     for y in range(S):
         ly, gy, cy = lowy[y], (y * tiles) % S < max(2, S // 128), min(cells - 1, y // period) * cells
-        hrow = [0.25 * lowx[x] * ly + 0.25 * lat[cy + cx[x]] - 0.5 * (gy or groove_x[x]) for x in range(S)]
+        hrow = [0.25 * lowx[x] * ly + 0.04 * lat[cy + cx[x]] - 0.5 * (gy or groove_x[x]) for x in range(S)]
         height.append(hrow)
         b = bytearray(3 * S)
         m = bytearray(3 * S)

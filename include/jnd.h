@@ -853,6 +853,12 @@ jnd_status jnd_judge_eval(jnd_judge *j, int first, int n, unsigned flags, double
 jnd_status jnd_judge_view_images(jnd_judge *j, int v, jnd_image *jmap, jnd_image *frame, jnd_image *mask,
                                  jnd_image *heatmap, int crop[4]);
 
+/* Where the difference of the current state is in view v (which must have
+ * been judged in this state): counts[m] (caller's, one per material) gets
+ * the number of the object's pixels of material m whose P exceeds the
+ * criterion's p (material from the reference's pixel centres). */
+jnd_status jnd_judge_material_counts(jnd_judge *j, int v, int *counts);
+
 /* The finest mip level map `map` is sampled at in the references of views
  * [first, first + n) (000 §4's bound; fractional), or −1 if never. */
 double jnd_judge_mip_min(const jnd_judge *j, int map, int first, int n);
@@ -972,6 +978,9 @@ typedef struct {
   double margin;             /* the choice must pass with P threshold p·(1 − margin) on its views,
                                 so that it holds on views it was not chosen on (docs/texres.md
                                 "Held-out views"; default 0.5) */
+  int confirm_rounds;        /* then up to this many fresh sets of as many views must agree: a set
+                                where the choice fails joins the choice's views and the choice
+                                grows (default 2; 0: none) */
   int min_size;              /* floor of the power-of-two candidates, pixels (32) */
   const int *sizes;          /* explicit candidate sizes (longer side, pixels) or NULL */
   int nsizes;

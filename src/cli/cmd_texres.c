@@ -30,6 +30,8 @@ static void help(void) {
       "\n"
       "%s"
       "  --margin F          choose with P x (1 - F) on the views (0.5; 0 = P itself)\n"
+      "  --confirm R         the choice must then hold on up to R fresh sets of views;\n"
+      "                      a set where it fails joins the views and the choice grows (2)\n"
       "\n"
       "%s"
       "\n"
@@ -125,6 +127,8 @@ static int run(int argc, char **argv) {
       p.verify_views = cli_int(ap, "--verify-views", v, 0, 4096);
     } else if (cli_opt(ap, "--margin", &v)) {
       p.margin = cli_double(ap, "--margin", v, 0, 0.99);
+    } else if (cli_opt(ap, "--confirm", &v)) {
+      p.confirm_rounds = cli_int(ap, "--confirm", v, 0, 16);
     } else if (cli_opt(ap, "--sizes", &v)) {
       p.nsizes = cli_int_list(ap, "--sizes", v, 1, 32768, sizes, 64);
       p.sizes = sizes;
@@ -243,6 +247,7 @@ static int run(int argc, char **argv) {
   cJSON_AddNumberToObject(par, "verify_views", p.verify_views);
   cJSON_AddItemToObject(par, "criterion", cli_criterion_json(&p.judge.criterion, NULL));
   cJSON_AddNumberToObject(par, "margin", p.margin);
+  cJSON_AddNumberToObject(par, "confirm_rounds", p.confirm_rounds);
   cJSON_AddNumberToObject(par, "choice_p", R.choice_p);
   cJSON_AddNumberToObject(par, "min_size", p.min_size);
   cJSON *calj = cJSON_AddObjectToObject(par, "calibration");

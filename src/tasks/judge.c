@@ -42,6 +42,7 @@ typedef struct {
   jnd_image ref_cdm2;    /* reference as seen, cd/m², crop */
   jnd_image mask;        /* object coverage (the ground left out), crop */
   jnd_image motion;      /* screen displacement, crop (only for a view that moves) */
+  short *material;       /* material index per crop pixel (-1: none), from the reference */
   unsigned depth;        /* the reference's multisampled depth (0: none) */
   mat_part *part;        /* per material (partial mode) */
   double *mip_min;       /* per map: the finest level sampled, INFINITY if none */
@@ -51,7 +52,20 @@ typedef struct {
   uint64_t sum;          /* hash of the key, to compare cheaply first */
   uint64_t *key;         /* nkey */
   double *p;             /* P per view, NaN where not judged */
+  int *above;            /* per view × material: object pixels with P > p (where p[v] is known) */
 } jstate;
+
+/* A material's samples rendered in one view under one state of its maps:
+ * a state of the scene is the reference plus, per changed material, such a
+ * rendering, so a material is rendered again only when its own maps change
+ * (a descent that enlarges one map re-renders one material). */
+typedef struct {
+  uint64_t key;          /* the material's maps' state */
+  int view, material;
+  jnd_image img;         /* over the material's rectangle (mat_part), 3 channels */
+} mat_render;
+
+#define RENDER_CACHE_BYTES ((size_t)256 << 20)   /* kept material renderings, oldest dropped first */
 
 struct jnd_judge {
   jnd_scene *scene;
@@ -68,6 +82,10 @@ struct jnd_judge {
   jnd_image *ref_maps;   /* per map: its reference image when that was not the file's */
   jstate *st;
   int nst, capst;
+  mat_render *mr;        /* a ring of kept material renderings */
+  int nmr, capmr, nextmr;
+  size_t mr_bytes;
+  uint64_t *mat_key;     /* per material: the state of its maps now */
   jnd_judge_counts counts;
 };
 
@@ -126,6 +144,9 @@ static void update_key(jnd_judge *j) {
       j->hashed_version[i] = s->maps[i].version;
     }
   for (int k = 0; k < s->nmeshes; k++) j->cur_key[j->nmaps + k] = mesh_key(&s->meshes[k]);
+  for (int m = 0; m < s->nmaterials; m++) j->mat_key[m] = 0x51ED270B2F2BF7A5ULL ^ (uint64_t)m;
+  for (int i = 0; i < j->nmaps; i++)
+    if (j->map_material[i] >= 0) j->mat_key[j->map_material[i]] = jnd_mix64(j->mat_key[j->map_material[i]] ^ j->cur_key[i]) + (uint64_t)i;
 }
 
 static uint64_t key_sum(const uint64_t *key, int n) {
@@ -151,9 +172,11 @@ static jstate *find_state(jnd_judge *j) {
   e->sum = sum;
   e->key = jnd_alloc((size_t)j->nkey, sizeof *e->key);
   e->p = jnd_alloc((size_t)(j->capv ? j->capv : 1), sizeof *e->p);
-  if (!e->key || !e->p) {
+  e->above = jnd_calloc((size_t)(j->capv ? j->capv : 1) * (size_t)(j->scene->nmaterials + 1), sizeof *e->above);
+  if (!e->key || !e->p || !e->above) {
     free(e->key);
     free(e->p);
+    free(e->above);
     return NULL;
   }
   memcpy(e->key, j->cur_key, (size_t)j->nkey * sizeof *e->key);
@@ -167,6 +190,7 @@ static void forget_states(jnd_judge *j) {
   for (int e = 0; e < j->nst; e++) {
     free(j->st[e].key);
     free(j->st[e].p);
+    free(j->st[e].above);
   }
   j->nst = 0;
 }
@@ -230,6 +254,8 @@ static void view_free(jnd_judge *j, jview *v) {
   jnd_image_free(&v->ref_cdm2);
   jnd_image_free(&v->mask);
   jnd_image_free(&v->motion);
+  free(v->material);
+  v->material = NULL;
   if (v->depth) jnd_render_drop_depth(j->r, v->depth);
   v->depth = 0;
   if (v->part)
@@ -277,6 +303,10 @@ static jnd_status render_reference(jnd_judge *j, jview *jv) {
   if (st == JND_OK) st = seen(j, &jv->ref_lin, &jv->ref_cdm2, NULL);
   if (st == JND_OK) st = crop(&f.mask, jv->x0, jv->y0, jv->w, jv->h, &jv->mask);
   if (st == JND_OK && vv.has_prev) st = crop(&f.motion, jv->x0, jv->y0, jv->w, jv->h, &jv->motion);
+  if (st == JND_OK && !(jv->material = jnd_alloc((size_t)jv->w * jv->h, sizeof *jv->material))) st = JND_ERR_NOMEM;
+  for (int y = 0; st == JND_OK && y < jv->h; y++)
+    for (int x = 0; x < jv->w; x++)
+      jv->material[(size_t)y * jv->w + x] = (short)lroundf(f.material.data[(size_t)(y + jv->y0) * W + x + jv->x0]);
   /* 000 §4: the finest mip level of each map, pooled per map through the
    * material each pixel shows */
   jv->mip_min = jnd_alloc((size_t)(j->nmaps ? j->nmaps : 1), sizeof *jv->mip_min);
@@ -339,6 +369,64 @@ static jnd_status render_reference(jnd_judge *j, jview *jv) {
   return st;
 }
 
+/* Material m's samples in view v under the current state of its maps, from
+ * the kept renderings or rendered now over its rectangle. *out stays owned
+ * by the judge. */
+static jnd_status material_render(jnd_judge *j, int v, int m, const jnd_image **out) {
+  uint64_t key = j->mat_key[m];
+  for (int e = 0; e < j->nmr; e++)
+    if (j->mr[e].key == key && j->mr[e].view == v && j->mr[e].material == m) {
+      *out = &j->mr[e].img;
+      return JND_OK;
+    }
+  const mat_part *pt = &j->v[v].part[m];
+  unsigned char *only = jnd_calloc((size_t)j->scene->nmaterials, 1);
+  if (!only) return JND_ERR_NOMEM;
+  only[m] = 1;
+  jnd_image img = {0};
+  jnd_status st = jnd_render_materials(j->r, j->scene, &j->v[v].view, j->v[v].depth, only, pt->x0, pt->y0, pt->w,
+                                       pt->h, &img);
+  free(only);
+  if (st != JND_OK) return st;
+  img.c = 3;   /* the coverage plane stays allocated behind the colour */
+  j->counts.partial_renderings++;
+  progress(j);
+  /* keep it: in a ring, the oldest dropped first once over the budget */
+  size_t bytes = (size_t)img.w * img.h * 4 * sizeof(float);
+  while (j->nmr > 0 && j->mr_bytes + bytes > RENDER_CACHE_BYTES) {
+    int e = j->nextmr % j->nmr;
+    j->mr_bytes -= (size_t)j->mr[e].img.w * j->mr[e].img.h * 4 * sizeof(float);
+    jnd_image_free(&j->mr[e].img);
+    j->mr[e] = j->mr[--j->nmr];
+    j->nextmr = j->nmr ? (e + 1) % j->nmr : 0;
+  }
+  if (j->nmr == j->capmr) {
+    int cap = j->capmr ? 2 * j->capmr : 64;
+    mat_render *n = realloc(j->mr, (size_t)cap * sizeof *n);
+    if (!n) {
+      jnd_image_free(&img);
+      return jnd_fail(JND_ERR_NOMEM, "judge: out of memory");
+    }
+    j->mr = n;
+    j->capmr = cap;
+  }
+  mat_render *e = &j->mr[j->nmr++];
+  e->key = key;
+  e->view = v;
+  e->material = m;
+  e->img = img;
+  j->mr_bytes += bytes;
+  *out = &e->img;
+  return JND_OK;
+}
+
+static void forget_renders(jnd_judge *j) {
+  for (int e = 0; e < j->nmr; e++) jnd_image_free(&j->mr[e].img);
+  j->nmr = 0;
+  j->nextmr = 0;
+  j->mr_bytes = 0;
+}
+
 /* Images of the current state in view v: test in cd/m² (crop), and when
  * srgb is not NULL the display signal. Returns with *unchanged = 1 (and no
  * image) when the view cannot differ from its reference. */
@@ -353,44 +441,32 @@ static jnd_status render_state(jnd_judge *j, int v, const change_set *c, jnd_ima
   }
   jnd_status st;
   if (c->partial_ok && jv->part) {
-    int rx0 = INT32_MAX, ry0 = INT32_MAX, rx1 = -1, ry1 = -1;
-    for (int m = 0; m < s->nmaterials; m++) {
-      const mat_part *pt = &jv->part[m];
-      if (!c->changed[m] || pt->w == 0) continue;
-      rx0 = pt->x0 < rx0 ? pt->x0 : rx0, ry0 = pt->y0 < ry0 ? pt->y0 : ry0;
-      rx1 = pt->x0 + pt->w - 1 > rx1 ? pt->x0 + pt->w - 1 : rx1;
-      ry1 = pt->y0 + pt->h - 1 > ry1 ? pt->y0 + pt->h - 1 : ry1;
-    }
-    if (rx1 < 0) {   /* none of the changed materials is seen in this view */
+    int any = 0;
+    for (int m = 0; m < s->nmaterials; m++) any |= c->changed[m] && jv->part[m].w > 0;
+    if (!any) {   /* none of the changed materials is seen in this view */
       *unchanged = 1;
       return JND_OK;
     }
-    int rw = rx1 - rx0 + 1, rh = ry1 - ry0 + 1;
-    jnd_image now = {0}, lin = {0};
-    if ((st = jnd_render_materials(j->r, s, &jv->view, jv->depth, c->changed, rx0, ry0, rw, rh, &now)) != JND_OK)
-      return st;
-    j->counts.partial_renderings++;
-    progress(j);
     /* the reference minus the changed materials' old samples plus their new ones */
-    if ((st = jnd_image_alloc(&lin, jv->w, jv->h, 3)) == JND_OK) memcpy(lin.data, jv->ref_lin.data, (size_t)jv->w * jv->h * 3 * sizeof(float));
-    for (int ch = 0; st == JND_OK && ch < 3; ch++) {
-      float *d = lin.data + (size_t)ch * jv->w * jv->h;
-      for (int y = ry0; y <= ry1; y++) {
-        if (y < jv->y0 || y >= jv->y0 + jv->h) continue;
-        for (int x = rx0; x <= rx1; x++) {
-          if (x < jv->x0 || x >= jv->x0 + jv->w) continue;
-          float add = now.data[((size_t)ch * rh + (y - ry0)) * rw + (x - rx0)];
-          for (int m = 0; m < s->nmaterials; m++) {
-            const mat_part *pt = &jv->part[m];
-            if (!c->changed[m] || pt->w == 0 || x < pt->x0 || y < pt->y0 || x >= pt->x0 + pt->w || y >= pt->y0 + pt->h)
-              continue;
-            add -= pt->old.data[((size_t)ch * pt->h + (y - pt->y0)) * pt->w + (x - pt->x0)];
-          }
-          d[(size_t)(y - jv->y0) * jv->w + (x - jv->x0)] += add;
+    jnd_image lin = {0};
+    if ((st = jnd_image_alloc(&lin, jv->w, jv->h, 3)) != JND_OK) return st;
+    memcpy(lin.data, jv->ref_lin.data, (size_t)jv->w * jv->h * 3 * sizeof(float));
+    for (int m = 0; m < s->nmaterials && st == JND_OK; m++) {
+      const mat_part *pt = &jv->part[m];
+      if (!c->changed[m] || pt->w == 0) continue;
+      const jnd_image *now = NULL;
+      if ((st = material_render(j, v, m, &now)) != JND_OK) break;
+      for (int ch = 0; ch < 3; ch++) {
+        float *d = lin.data + (size_t)ch * jv->w * jv->h;
+        for (int y = pt->y0; y < pt->y0 + pt->h; y++) {
+          if (y < jv->y0 || y >= jv->y0 + jv->h) continue;
+          const float *nw = now->data + ((size_t)ch * pt->h + (y - pt->y0)) * pt->w;
+          const float *od = pt->old.data + ((size_t)ch * pt->h + (y - pt->y0)) * pt->w;
+          for (int x = pt->x0; x < pt->x0 + pt->w; x++)
+            if (x >= jv->x0 && x < jv->x0 + jv->w) d[(size_t)(y - jv->y0) * jv->w + (x - jv->x0)] += nw[x - pt->x0] - od[x - pt->x0];
         }
       }
     }
-    jnd_image_free(&now);
     if (st == JND_OK) st = seen(j, &lin, test, srgb);
     jnd_image_free(&lin);
     return st;
@@ -409,9 +485,23 @@ static jnd_status render_state(jnd_judge *j, int v, const change_set *c, jnd_ima
   return st;
 }
 
-/* P of view v in the current state; jnd_keep (may be NULL) receives the JND map. */
+/* The object's pixels of each material whose P exceeds p (counts has
+ * nmaterials entries): where in the view the difference is. P > p is
+ * JND > the JND the calibration maps to p, a monotone threshold. */
+static void count_above(const jnd_judge *j, const jview *jv, const jnd_image *map, int *counts) {
+  const jnd_calibration *cal = &j->p.calibration;
+  double jt = (jnd_probability_inverse(j->p.criterion.p, cal->beta) - cal->bias) / cal->scale;
+  int nm = j->scene->nmaterials;
+  memset(counts, 0, (size_t)nm * sizeof *counts);
+  for (size_t q = 0; q < (size_t)jv->w * jv->h; q++)
+    if (jv->mask.data[q] > 0.5f && map->data[q] > jt && jv->material[q] >= 0 && jv->material[q] < nm)
+      counts[jv->material[q]]++;
+}
+
+/* P of view v in the current state; jnd_keep (may be NULL) receives the JND
+ * map, counts (may be NULL) the pixels above p per material. */
 static jnd_status judge_view(jnd_judge *j, int v, const change_set *c, double *P, jnd_image *jnd_keep,
-                             jnd_image *srgb) {
+                             jnd_image *srgb, int *counts) {
   jview *jv = &j->v[v];
   jnd_image test = {0}, map = {0};
   int unchanged;
@@ -420,6 +510,7 @@ static jnd_status judge_view(jnd_judge *j, int v, const change_set *c, double *P
   j->counts.view_judgements++;
   if (unchanged) {
     *P = 0;
+    if (counts) memset(counts, 0, (size_t)j->scene->nmaterials * sizeof *counts);
     if (jnd_keep) st = jnd_image_alloc(jnd_keep, jv->w, jv->h, 1);
     if (st == JND_OK && srgb) st = jnd_render_to_srgb(&jv->ref_lin, srgb);
     return st;
@@ -431,6 +522,7 @@ static jnd_status judge_view(jnd_judge *j, int v, const change_set *c, double *P
   if (st != JND_OK) return st;
   *P = jnd_calibration_pool(&j->p.calibration, &map, &jv->mask);
   if (!isfinite(*P)) *P = 0;   /* no pixel of the object: nothing to see */
+  if (counts) count_above(j, jv, &map, counts);
   if (jnd_keep) *jnd_keep = map;
   else jnd_image_free(&map);
   return JND_OK;
@@ -451,6 +543,11 @@ static jnd_status grow_views(jnd_judge *j, int n) {
     if (!p) return jnd_fail(JND_ERR_NOMEM, "judge: out of memory");
     for (int v = j->capv; v < cap; v++) p[v] = NAN;
     j->st[e].p = p;
+    size_t per = (size_t)j->scene->nmaterials + 1;
+    int *ab = realloc(j->st[e].above, (size_t)cap * per * sizeof *ab);
+    if (!ab) return jnd_fail(JND_ERR_NOMEM, "judge: out of memory");
+    memset(ab + (size_t)j->capv * per, 0, (size_t)(cap - j->capv) * per * sizeof *ab);
+    j->st[e].above = ab;
   }
   j->capv = cap;
   return JND_OK;
@@ -519,6 +616,9 @@ void jnd_judge_free(jnd_judge *j) {
   if (j->ref_maps)
     for (int i = 0; i < j->nmaps; i++) jnd_image_free(&j->ref_maps[i]);
   free(j->ref_maps);
+  forget_renders(j);
+  free(j->mr);
+  free(j->mat_key);
   free(j->map_material);
   free(j->ref_key);
   free(j->cur_key);
@@ -553,8 +653,10 @@ jnd_status jnd_judge_create(jnd_scene *scene, const jnd_judge_params *p, jnd_jud
   j->hashed_version = jnd_calloc(nm, sizeof *j->hashed_version);
   j->ref_maps = jnd_calloc(nm, sizeof *j->ref_maps);
   j->map_material = jnd_calloc(nm, sizeof *j->map_material);
-  jnd_status st = j->ref_key && j->cur_key && j->hashed_version && j->ref_maps && j->map_material ? JND_OK
-                                                                                                 : JND_ERR_NOMEM;
+  j->mat_key = jnd_calloc((size_t)scene->nmaterials + 1, sizeof *j->mat_key);
+  jnd_status st = j->ref_key && j->cur_key && j->hashed_version && j->ref_maps && j->map_material && j->mat_key
+                      ? JND_OK
+                      : JND_ERR_NOMEM;
   for (int i = 0; i < j->nmaps && st == JND_OK; i++) {
     jnd_map_info mi;
     jnd_scene_map_info(scene, i, &mi);
@@ -606,6 +708,7 @@ jnd_status jnd_judge_add_views(jnd_judge *j, const jnd_view *views, int n, int *
 }
 
 jnd_status jnd_judge_set_reference(jnd_judge *j) {
+  forget_renders(j);
   jnd_status st = take_reference(j);
   if (st != JND_OK) return st;
   for (int v = 0; v < j->nv; v++) {
@@ -677,7 +780,7 @@ jnd_status jnd_judge_eval(jnd_judge *j, int first, int n, unsigned flags, double
     int v = order[k];
     if (isnan(e->p[v])) {
       double P;
-      if ((st = judge_view(j, v, &c, &P, NULL, NULL)) != JND_OK) break;
+      if ((st = judge_view(j, v, &c, &P, NULL, NULL, e->above + (size_t)v * (j->scene->nmaterials + 1))) != JND_OK) break;
       e->p[v] = P;
     } else {
       j->counts.reused++;
@@ -717,7 +820,7 @@ jnd_status jnd_judge_view_images(jnd_judge *j, int v, jnd_image *jmap, jnd_image
   if (st != JND_OK) return st;
   jnd_image map = {0}, srgb = {0};
   double P;
-  st = judge_view(j, v, &c, &P, &map, &srgb);
+  st = judge_view(j, v, &c, &P, &map, &srgb, NULL);
   free(c.changed);
   if (st == JND_OK && heatmap) {
     jnd_image ref_srgb = {0};
@@ -732,4 +835,14 @@ jnd_status jnd_judge_view_images(jnd_judge *j, int v, jnd_image *jmap, jnd_image
   if (st == JND_OK && frame) *frame = srgb;
   else jnd_image_free(&srgb);
   return st;
+}
+
+jnd_status jnd_judge_material_counts(jnd_judge *j, int v, int *counts) {
+  if (v < 0 || v >= j->nv) return jnd_fail(JND_ERR_ARG, "judge: view %d of %d", v, j->nv);
+  update_key(j);
+  jstate *e = find_state(j);
+  if (!e) return jnd_fail(JND_ERR_NOMEM, "judge: out of memory");
+  if (isnan(e->p[v])) return jnd_fail(JND_ERR_ARG, "judge: view %d is not judged in this state", v);
+  memcpy(counts, e->above + (size_t)v * (j->scene->nmaterials + 1), (size_t)j->scene->nmaterials * sizeof *counts);
+  return JND_OK;
 }
