@@ -816,6 +816,13 @@ jnd_status jnd_judge_add_views(jnd_judge *j, const jnd_view *views, int n, int *
  * reference is rendered again and everything judged is forgotten. */
 jnd_status jnd_judge_set_reference(jnd_judge *j);
 
+/* Moves the fixation point (pixels of the rendered image; 002's eccentricity
+ * is measured from it) of a judge made with model.has_gaze: what was judged
+ * is forgotten, the references are kept. With a fixation point the judge
+ * compares whole frames, not crops, so that the point means the same in
+ * every view. JND_ERR_ARG for a judge made without one. */
+jnd_status jnd_judge_set_gaze(jnd_judge *j, int has_gaze, double x, double y);
+
 /* Views held, and view v as rendered (owned by the judge). */
 int jnd_judge_view_count(const jnd_judge *j);
 const jnd_view *jnd_judge_view(const jnd_judge *j, int v);

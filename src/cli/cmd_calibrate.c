@@ -348,6 +348,9 @@ static int run(int argc, char **argv) {
     for (int i = 0; i < n; i++) sc[k].pct_res[i] = ss[i];
     sc[k].npct = n;
     cli_progress_step(&prog, k + 1);
+    char line[512];
+    snprintf(line, sizeof line, "scene %d/%d %s: %s at %d resolutions", k + 1, nsc, sc[k].name, sc[k].map, n);
+    cli_progress_line(&prog, line);
   }
   cli_progress_end(&prog);
   cs = calloc((size_t)nsc, sizeof *cs);

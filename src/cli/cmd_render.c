@@ -57,6 +57,8 @@ static void help(void) {
       "%s"
       "\n"
       "The same command on the same machine writes identical images.\n"
+      "Paper numbers: 000 is Wolski et al. 2019 (texture resolution); include/jnd.h\n"
+      "lists them all.\n"
       "Exit status: 0, 2 for bad input (one line: jnd: FILE: problem).\n",
       cli_views_help, cli_common_help);
 }

@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "io/io.h"
 #include "pool/pool.h"
 
 void jnd_calibration_defaults(jnd_calibration *c) {
@@ -34,31 +35,6 @@ void jnd_calibration_defaults(jnd_calibration *c) {
   c->threshold_p = cr.p;   /* 000 §6 reads thresholds where the criterion does */
 }
 
-static long read_file_text(const char *path, char **out) {
-  FILE *f = fopen(path, "rb");
-  if (!f) return -1;
-  size_t cap = 1 << 16, n = 0;
-  char *t = malloc(cap + 1);
-  while (t) {
-    size_t k = fread(t + n, 1, cap - n, f);
-    n += k;
-    if (n < cap || cap >= ((size_t)1 << 24)) break;
-    cap *= 2;
-    char *u = realloc(t, cap + 1);
-    if (!u) {
-      free(t);
-      t = NULL;
-    } else {
-      t = u;
-    }
-  }
-  fclose(f);
-  if (!t) return -1;
-  t[n] = 0;
-  *out = t;
-  return (long)n;
-}
-
 static int json_number(const cJSON *o, const char *key, double *v) {
   const cJSON *x = cJSON_GetObjectItemCaseSensitive(o, key);
   if (!x) return 0;
@@ -69,9 +45,11 @@ static int json_number(const cJSON *o, const char *key, double *v) {
 
 jnd_status jnd_calibration_load(const char *path, jnd_calibration *c) {
   jnd_calibration_defaults(c);
-  char *text = NULL;
-  if (read_file_text(path, &text) < 0) return jnd_fail(JND_ERR_IO, "%s: cannot read the calibration file", path);
-  cJSON *root = cJSON_Parse(text);
+  unsigned char *text = NULL;
+  size_t n = 0;
+  jnd_status st = jnd_read_file(path, (size_t)16 << 20, &text, &n);
+  if (st != JND_OK) return st;
+  cJSON *root = cJSON_ParseWithLength((const char *)text, n);
   free(text);
   if (!root) return jnd_fail(JND_ERR_FORMAT, "%s: not JSON", path);
   const cJSON *o = cJSON_GetObjectItemCaseSensitive(root, "calibration");

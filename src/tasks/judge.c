@@ -294,7 +294,9 @@ static jnd_status render_reference(jnd_judge *j, jview *jv) {
         ay0 = y < ay0 ? y : ay0, ay1 = y > ay1 ? y : ay1;
       }
     }
-  if (x1 < 0) x0 = y0 = 0, x1 = W - 1, y1 = H - 1;   /* nothing on screen: the whole frame */
+  /* nothing on screen, or a fixation point given in the frame's pixels
+   * (eccentricity is measured from it): the whole frame */
+  if (x1 < 0 || j->p.model.has_gaze) x0 = y0 = 0, x1 = W - 1, y1 = H - 1;
   jv->x0 = jnd_clampi(x0 - CROP_MARGIN, 0, W - 1);
   jv->y0 = jnd_clampi(y0 - CROP_MARGIN, 0, H - 1);
   jv->w = jnd_clampi(x1 + CROP_MARGIN, 0, W - 1) - jv->x0 + 1;
@@ -628,6 +630,8 @@ void jnd_judge_free(jnd_judge *j) {
   free(j);
 }
 
+static jnd_status make_model(jnd_judge *j);
+
 jnd_status jnd_judge_create(jnd_scene *scene, const jnd_judge_params *p, jnd_judge **out) {
   *out = NULL;
   const jnd_criterion *cr = &p->criterion;
@@ -666,16 +670,7 @@ jnd_status jnd_judge_create(jnd_scene *scene, const jnd_judge_params *p, jnd_jud
   int n = 0;
   if (st == JND_OK) st = jnd_view_set_make(scene, &p->views, &views, &n);
   if (st == JND_OK) st = jnd_renderer_create(&p->views.render, &j->r);
-  if (st == JND_OK) {
-    /* On a CPU rasteriser the model's OpenMP workers would spin against the
-     * rasteriser's threads between frames (8× slower on 2 cores): one model
-     * thread is faster there unless threads were asked for. */
-    jnd_model_params mp = p->model;
-    mp.beta = p->calibration.beta;
-    const char *desc = jnd_renderer_description(j->r);
-    if (mp.threads == 0 && (strstr(desc, "llvmpipe") || strstr(desc, "softpipe"))) mp.threads = 1;
-    st = jnd_model_create(&mp, &j->m);
-  }
+  if (st == JND_OK) st = make_model(j);
   if (st == JND_OK) st = take_reference(j);
   if (st == JND_OK) st = jnd_judge_add_views(j, views, n, NULL);
   free(views);
@@ -719,6 +714,30 @@ jnd_status jnd_judge_set_reference(jnd_judge *j) {
   }
   view_range r = {0, j->nv};
   return render_references(j, &r);
+}
+
+/* the vision model for the judge's parameters */
+static jnd_status make_model(jnd_judge *j) {
+  jnd_model_free(j->m);
+  j->m = NULL;
+  /* On a CPU rasteriser the model's OpenMP workers would spin against the
+   * rasteriser's threads between frames (8× slower on 2 cores): one model
+   * thread is faster there unless threads were asked for. */
+  jnd_model_params mp = j->p.model;
+  mp.beta = j->p.calibration.beta;
+  const char *desc = jnd_renderer_description(j->r);
+  if (mp.threads == 0 && (strstr(desc, "llvmpipe") || strstr(desc, "softpipe"))) mp.threads = 1;
+  return jnd_model_create(&mp, &j->m);
+}
+
+jnd_status jnd_judge_set_gaze(jnd_judge *j, int has_gaze, double x, double y) {
+  if (has_gaze != j->p.model.has_gaze)
+    return jnd_fail(JND_ERR_ARG, "judge: a fixation point is set when the judge is made (model.has_gaze)");
+  if (!has_gaze) return JND_OK;
+  j->p.model.gaze_x = x;
+  j->p.model.gaze_y = y;
+  forget_states(j);   /* every P depends on where the viewer looks */
+  return make_model(j);
 }
 
 int jnd_judge_view_count(const jnd_judge *j) { return j->nv; }

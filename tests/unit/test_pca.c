@@ -218,6 +218,30 @@ TEST(psnr_choice_meets_the_target_with_less_storage) {
   jnd_texset_free(&set);
 }
 
+TEST(a_map_with_one_informative_channel_is_named_after_the_map) {
+  /* issue 9: a map whose other channels are constant was named "X.r",
+   * although grey maps are named "X"; a constant map too */
+  jnd_image rough, flat;
+  jnd_image_alloc(&rough, 8, 8, 3);
+  jnd_image_alloc(&flat, 8, 8, 3);
+  for (int i = 0; i < 64; i++) {
+    rough.data[i] = (float)(i % 7) / 7;       /* R varies */
+    rough.data[64 + i] = 0.5f;               /* G, B constant */
+    rough.data[128 + i] = 1.0f;
+    for (int c = 0; c < 3; c++) flat.data[c * 64 + i] = 0.25f * (c + 1);
+  }
+  jnd_image in[2] = {rough, flat};
+  const char *names[2] = {"rough", "flat"};
+  jnd_texset set;
+  CHECK_OK(jnd_texset_from_images(in, names, 2, NULL, &set));
+  CHECK(set.c == 2);
+  CHECK(strcmp(set.names[0], "rough") == 0);
+  CHECK(strcmp(set.names[1], "flat") == 0);
+  jnd_texset_free(&set);
+  jnd_image_free(&rough);
+  jnd_image_free(&flat);
+}
+
 TEST(grey_map_stored_as_rgb_counts_once) {
   jnd_image maps[2];
   const int ch[2] = {1, 3};
@@ -511,7 +535,7 @@ TEST(helmet_albedo_weighting_raises_albedo_psnr_at_five_components) {
   jnd_texset_free(&set);
 }
 
-RUN_TESTS(energies_sum_to_total_variance, basis_is_orthonormal_with_deterministic_signs,
+RUN_TESTS(a_map_with_one_informative_channel_is_named_after_the_map, energies_sum_to_total_variance, basis_is_orthonormal_with_deterministic_signs,
           keeping_all_components_reconstructs_in_float, fewer_components_lose_quality,
           reconstruction_matrix_maps_stored_values_to_channels, weighting_a_channel_raises_its_psnr,
           smaller_components_cost_less_and_keep_quality, psnr_choice_meets_the_target_with_less_storage,
