@@ -111,8 +111,28 @@ typedef struct {
   map_state *ms;
   int total;              /* progress estimate (renderings) */
   int nviews;             /* the choice views: judge views [0, nviews) */
+  int set_size;           /* they come in sets of this many (the first, then confirmation sets) */
   double choice_p;        /* p·(1 − margin) */
 } ctx;
+
+/* The choice holds when every set of views passes the criterion on its own:
+ * views joining from a confirmation set must not loosen it (with more views
+ * in one set, ⌊q·n⌋ would allow more above p). */
+static int sets_pass(const ctx *c, const double *P, unsigned char *fail) {
+  int all = 1;
+  for (int first = 0; first < c->nviews; first += c->set_size) {
+    jnd_criterion_result r;
+    int n = c->nviews - first < c->set_size ? c->nviews - first : c->set_size;
+    const jnd_criterion *cr = &c->p->judge.criterion;
+    if (jnd_criterion_eval(P + first, n, c->choice_p, cr->q, cr->confidence, &r) != JND_OK || !r.pass) {
+      all = 0;
+      for (int v = first; fail && v < first + n; v++) fail[v] = P[v] > c->choice_p;
+    } else if (fail) {
+      memset(fail + first, 0, (size_t)n);
+    }
+  }
+  return all;
+}
 
 static int renderings(const ctx *c) {
   jnd_judge_counts k;
@@ -474,13 +494,15 @@ static jnd_status descend(ctx *c, int *k, const int *start) {
   int nm = c->res->nmaps, N = c->nviews, nmat = jnd_scene_material_count(c->scene), rounds = 0;
   double *P = jnd_calloc((size_t)N, sizeof *P), *score = jnd_calloc((size_t)nmat + 1, sizeof *score);
   int *cnt = jnd_calloc((size_t)nmat + 1, sizeof *cnt);
-  jnd_status s = P && score && cnt ? JND_OK : JND_ERR_NOMEM;
+  unsigned char *fail = jnd_calloc((size_t)N, 1);
+  jnd_status s = P && score && cnt && fail ? JND_OK : JND_ERR_NOMEM;
   int pass = 0;
-  if (s == JND_OK) s = judge_combo(c, k, 0, N, 0, P, NULL, &pass, NULL);
+  if (s == JND_OK) s = judge_combo(c, k, 0, N, 0, P, NULL, NULL, NULL);
+  if (s == JND_OK) pass = sets_pass(c, P, fail);
   for (; s == JND_OK && !pass && rounds < 16 * nm; rounds++) {
     memset(score, 0, (size_t)nmat * sizeof *score);
     for (int v = 0; v < N && s == JND_OK; v++) {
-      if (!(P[v] > c->choice_p)) continue;
+      if (!fail[v]) continue;
       if ((s = jnd_judge_material_counts(c->j, v, cnt)) != JND_OK) break;
       for (int m = 0; m < nmat; m++) score[m] += cnt[m];
     }
@@ -494,19 +516,22 @@ static jnd_status descend(ctx *c, int *k, const int *start) {
     }
     if (s != JND_OK || best_i < 0) break; /* every map at its bound */
     k[best_i]--;
-    s = judge_combo(c, k, 0, N, 0, P, NULL, &pass, NULL);
+    s = judge_combo(c, k, 0, N, 0, P, NULL, NULL, NULL);
+    if (s == JND_OK) pass = sets_pass(c, P, fail);
   }
   if (s == JND_OK) stage(c, "together: %d map(s) enlarged one step, %s", rounds, pass ? "passes" : "still fails");
   free(P);
   free(score);
   free(cnt);
+  free(fail);
   return s;
 }
 
 /* Views the choice was not made on (another seed: another rotation of the
- * spiral and other lights): the combination must pass them too, or they
- * join the choice's views and the descent goes on (docs/texres.md
- * "Held-out views"). Seeds differ from the held-out check's. */
+ * spiral and other lights): the combination must pass them too, as a set of
+ * their own, or they join the choice's views (each set judged on its own)
+ * and the descent goes on (docs/texres.md "Held-out views"). Seeds differ
+ * from the held-out check's. */
 static jnd_status confirm(ctx *c, int *k, const int *start) {
   const jnd_texres_params *p = c->p;
   int N0 = c->nviews;
@@ -579,7 +604,7 @@ jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *pp, jnd_tex
   jnd_status s = check_list(scene, p->maps);
   if (s != JND_OK) return s;
 
-  ctx c = {scene, p, NULL, out, NULL, 0, 0, cr->p * (1 - p->margin)};
+  ctx c = {scene, p, NULL, out, NULL, 0, 0, 0, cr->p * (1 - p->margin)};
   int *k = NULL, *start = NULL;
   int nsearch = 0;
   out->nmaps = nall;
@@ -620,6 +645,7 @@ jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *pp, jnd_tex
   jp.progress = on_render;
   jp.progress_user = &c;
   c.nviews = p->judge.views.cameras ? p->judge.views.ncameras : p->judge.views.sampling.count;
+  c.set_size = c.nviews;
   c.total = c.nviews * (2 + 3 * nsearch) + 2 * p->verify_views;
   if ((s = jnd_judge_create(scene, &jp, &c.j)) != JND_OK) goto done;
   snprintf(out->renderer, sizeof out->renderer, "%s", jnd_judge_renderer(c.j));
