@@ -35,6 +35,7 @@ static void small_params(jnd_texres_params *p, double coverage) {
   p->matrix = 0;
   p->judge.views.render.anisotropy = 1;
   p->judge.views.render.samples = 1;
+  p->confirm_rounds = 0;   /* the properties here are of the search on its views */
 }
 
 static int longer(const int *wh) { return wh[0] > wh[1] ? wh[0] : wh[1]; }

@@ -277,7 +277,8 @@ TEST(mismatched_sizes_are_refused) {
 TEST(probability_is_half_at_one_jnd) {
   CHECK_NEAR(jnd_probability(1.0, 3.5), 0.5, 1e-12);
   CHECK(jnd_probability(0, 3.5) == 0);
-  CHECK_NEAR(jnd_probability_inverse(jnd_probability(1.7, 3.5), 3.5), 1.7, 1e-9);
+  /* one definition of 000 eq. 4 for every pooling, in the model's float arithmetic */
+  CHECK_NEAR(jnd_probability_inverse(jnd_probability(1.7, 3.5), 3.5), 1.7, 1e-6);
 }
 
 TEST(display_presets_have_sensible_ppd) {
