@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # jnd pca: the decomposition of the DamagedHelmet set (2048² × 13 channels)
 # on 2 threads — target ≤ 2 s — and the whole run with block compression
-# (MB/s = MB of float32 channel data per second); then --max-p with rendered
+# (MB/s = MB of float32 channel data per second); then --p with rendered
 # visibility on webxr controllers (their material's own maps, 8 views at
 # 512², llvmpipe without a GPU): seconds, renderings, the chosen storage.
 set -uo pipefail
@@ -47,13 +47,13 @@ webxr() {
     local f="$assets/dist/profiles/$model"
     mat=$("$JND" render "$f" -o "$OUT/list" --list-maps 2>/dev/null | awk 'NR == 1 { sub("/[^/]*$", "", $1); print $1 }')
     [ -n "$mat" ] || { echo "   $model: no material with maps"; continue; }
-    OMP_NUM_THREADS=2 "$JND" pca --model "$f" --material "$mat" -o "$OUT/webxr" --max-p 0.2 --timings --quiet || return 1
+    OMP_NUM_THREADS=2 "$JND" pca --model "$f" --material "$mat" -o "$OUT/webxr" --p 0.2 --timings --quiet || return 1
     python3 - "$OUT/webxr/pca.json" "$model" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))["result"]; rd = r["rendered"]; t = r["timings_s"]
-print(f"   --max-p 0.2 on {sys.argv[2]} ({rd['material']}, {r['width']}x{r['height']} x {r['channel_count']} channels), "
+print(f"   --p 0.2 on {sys.argv[2]} ({rd['material']}, {r['width']}x{r['height']} x {r['channel_count']} channels), "
       f"{rd['views']} views at {rd['width']}x{rd['height']} on {rd['renderer']}:")
-print(f"     K={r['components_kept']}, {r['storage_bytes']/1e3:.0f} KB of {r['storage_maps_8bit_bytes']/1e3:.0f} KB; "
+print(f"     K={r['components_kept']}, {r['storage_bytes']/1e3:.0f} KB of {r['original_bytes']/1e3:.0f} KB; "
       f"{rd['search']['rendered']} of {rd['search']['candidates']} candidates rendered (+ reference, 3 BC variants); "
       f"P per view {' '.join(f'{p:.3f}' for p in rd['p_per_view'])}")
 print(f"     {t['total']:.1f} s total, rendering and comparison {t['rendering']:.1f} s")

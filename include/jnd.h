@@ -25,6 +25,22 @@
  * library are linear: after a display model, values are cd/m².
  * Limits: images of at most JND_MAX_SIDE pixels a side and JND_MAX_PIXELS
  * pixels; larger inputs are refused with JND_ERR_LIMIT.
+ *
+ * The header reads by layer: errors; images and files; the display and the
+ * vision model; pooling and psychometrics; the scene; the renderer and
+ * views; the judge (render, show, compare, pool, apply the criterion);
+ * tasks. Comments cite the papers the project implements by number and
+ * section ("000 §9" is section 9 of paper 000):
+ *   000  Wolski et al., "Selecting texture resolution using a task-specific
+ *        visibility metric", Pacific Graphics 2019 (pooling, criterion, texres)
+ *   001  Wronski, "Dimensionality reduction for image and texture set
+ *        compression" (texture-set PCA)
+ *   002  Surace et al., "Gaze-contingent perceptual level of detail
+ *        prediction", EGSR 2023
+ *   003  Wu, Agu & Lindsay, "Pareto-based perceptual metric for imperceptible
+ *        simplification on mobile displays", Eurographics 2007
+ *   004  Schwarz & Stamminger, "On predicting visual popping in dynamic
+ *        scenes", APGV 2009 (the vision model)
  */
 #ifndef JND_H
 #define JND_H
@@ -59,7 +75,7 @@ const char *jnd_last_error(void);
 const char *jnd_version(void);
 
 /* ------------------------------------------------------------------------ */
-/* Images                                                                   */
+/* Images and image files                                                   */
 /* ------------------------------------------------------------------------ */
 
 #define JND_MAX_SIDE 32768
@@ -81,9 +97,6 @@ void jnd_image_free(jnd_image *img);
 /* A pointer to channel ch. */
 float *jnd_image_plane(const jnd_image *img, int ch);
 
-/* ------------------------------------------------------------------------ */
-/* Image files                                                              */
-/* ------------------------------------------------------------------------ */
 
 typedef enum {
   JND_ENCODING_SRGB = 0, /* values 0..1 are sRGB-encoded display signal (PNG, JPEG) */
@@ -145,8 +158,12 @@ jnd_status jnd_heatmap(const jnd_image *ref, const jnd_image *jnd_map, double ma
  * rename, so path is either the old file or the complete new one. */
 jnd_status jnd_write_file_atomic(const char *path, const void *data, size_t n);
 
+/* Creates folder path and any missing parents (like mkdir -p); an existing
+ * folder is fine. JND_ERR_IO "PATH: cannot create the folder (reason)". */
+jnd_status jnd_make_dirs(const char *path);
+
 /* ------------------------------------------------------------------------ */
-/* Display model (Schwarz & Stamminger 2009 §3.1, first stage)              */
+/* Display model (004 §3.1, first stage)                                    */
 /* ------------------------------------------------------------------------ */
 
 typedef struct {
@@ -187,7 +204,7 @@ jnd_status jnd_display_apply(const jnd_display *d, const jnd_image *in, jnd_enco
                              int has_alpha, jnd_image *out);
 
 /* ------------------------------------------------------------------------ */
-/* The vision model (Schwarz & Stamminger 2009 §3.1–3.2)                    */
+/* The vision model (004 §3.1–3.2)                                          */
 /* ------------------------------------------------------------------------ */
 
 typedef struct {
@@ -263,7 +280,7 @@ double jnd_probability_inverse(double p, double beta);
 int jnd_model_band_peaks(const jnd_model *m, double *cpd, int max);
 
 /* ------------------------------------------------------------------------ */
-/* Pooling (000 §6)                                                         */
+/* Pooling and psychometrics (000 §6–§7, §9)                                */
 /* ------------------------------------------------------------------------ */
 
 /* How a map becomes one number. */
@@ -323,6 +340,64 @@ jnd_status jnd_criterion_eval(const double *p_views, int n, double p, double q, 
  * largest u with P(X <= k | n, u) >= 1 − confidence (1 when k = n). */
 double jnd_binomial_upper(int k, int n, double confidence);
 
+/* The cross-population psychometric function of 000 eq. 1 over texture
+ * resolution r (pixels): P_det(r) = 1 − Θ(x; µ, σ), Θ the cumulative normal,
+ * x = r (domain 0, pixels, as 000) or x = log2 r (domain 1, octaves). */
+typedef struct {
+  double mu, sigma;          /* in the domain's units (pixels or log2 pixels) */
+  int log2_domain;           /* 0: x = r; 1: x = log2 r */
+  double rmse;               /* root mean squared error of the fit in probability */
+} jnd_psychometric;
+
+/* P_det at resolution r (pixels) for f. */
+double jnd_psychometric_eval(const jnd_psychometric *f, double r);
+
+/* The resolution (pixels) where P_det = p (0 < p < 1). */
+double jnd_psychometric_resolution(const jnd_psychometric *f, double p);
+
+/* Fits µ and σ (σ > 0) of 000 eq. 1 to n >= 2 points (r[i] pixels > 0,
+ * p[i] in 0..1) by least squares on probability: a small grid over (µ, log σ)
+ * refined by Nelder–Mead from a probit-analysis start. Detection must fall as r grows; data that never
+ * change (all 0 or all 1) give the nearest step function (σ small, µ just
+ * outside the data's range). log2_domain picks the domain (see above).
+ * JND_ERR_ARG for n < 2 or values out of range. */
+jnd_status jnd_psychometric_fit(const double *r, const double *p, int n, int log2_domain,
+                                jnd_psychometric *out);
+
+/* A calibration of the model to a task (000 §6–§7): the per-pixel JND is
+ * transformed to max(0, scale·JND + bias) before the psychometric function
+ * P = 1 − exp(ln 0.5 · x^beta) (000 eq. 4), and the P map is pooled with the
+ * given percentile. The identity is scale 1, bias 0, p93. */
+typedef struct {
+  double percentile;         /* pooling percentile, 0..100 (93) */
+  double scale, bias;        /* linear transform of the JND map (1, 0) */
+  double beta;               /* psychometric slope (3.5) */
+  double threshold_p;        /* the P at which thresholds are read (0.2, 000 §6) */
+  double mae_px;             /* fitted: cross-validated mean absolute error, pixels (0 unknown) */
+} jnd_calibration;
+
+/* Fills c with the identity calibration above. */
+void jnd_calibration_defaults(jnd_calibration *c);
+
+/* Reads a calibration file written by jnd_calibration_save / `jnd
+ * calibrate` (JSON with "calibration": {"percentile", "scale", "bias",
+ * "beta", ...}). JND_ERR_IO / JND_ERR_FORMAT "PATH: problem". */
+jnd_status jnd_calibration_load(const char *path, jnd_calibration *c);
+
+/* Writes c as JSON to path (atomic). */
+jnd_status jnd_calibration_save(const char *path, const jnd_calibration *c);
+
+/* The calibrated pooled probability of a JND map: JND → max(0, scale·JND +
+ * bias) → P (eq. 4, c->beta) → c->percentile over the pixels where mask >
+ * 0.5 (mask NULL: every pixel). NaN when no pixel counts. */
+double jnd_calibration_pool(const jnd_calibration *c, const jnd_image *jnd_map, const jnd_image *mask);
+
+/* Summarises a JND map as jnd_diff_summarise does, but through the
+ * calibration: the JND statistics are of the transformed map, the P map uses
+ * c->beta and p_detect is its c->percentile. */
+jnd_status jnd_diff_summarise_calibrated(const jnd_image *jnd_map, const jnd_calibration *c,
+                                         jnd_diff_stats *stats);
+
 /* ------------------------------------------------------------------------ */
 /* Scene                                                                    */
 /* ------------------------------------------------------------------------ */
@@ -372,6 +447,8 @@ typedef struct {
   int map_size;          /* side of the square texture maps, pixels (default 2048) */
   int shape;             /* 0: rounded box (default), 1: sphere */
   uint64_t seed;         /* seed of the procedural detail (default 1) */
+  int parts;             /* objects, each with its own material and maps (1..8; default 1) */
+  int ground;            /* 1: they stand on a plain ground plane (material "ground", no maps) */
 } jnd_builtin_params;
 
 /* Fills p with the defaults above. */
@@ -381,8 +458,22 @@ void jnd_builtin_defaults(jnd_builtin_params *p);
  * sphere of radius 1) in object units, centred at the origin, with one
  * material "builtin" carrying baseColor (fine albedo detail), normal (from
  * a height field), metallicRoughness (roughness variation) and occlusion
- * maps of map_size² pixels. p may be NULL (defaults). */
+ * maps of map_size² pixels. With parts = N > 1: N boxes and spheres in
+ * turn on a grid 2.6 units apart, materials "part0".."partN-1", each with
+ * its own four maps (finer or coarser detail, other tints). With ground: a
+ * horizontal square under them. p may be NULL (defaults). */
 jnd_status jnd_scene_builtin(const jnd_builtin_params *p, jnd_scene **out);
+
+/* Parses a built-in asset's name into p (other fields kept): "builtin", or
+ * "builtin:" and a comma list of box, sphere, parts=N, ground (e.g.
+ * "builtin:sphere,ground", "builtin:parts=6"). Returns 1 for such a name,
+ * 0 for any other name (a file), −1 for a malformed option. */
+int jnd_builtin_parse(const char *name, jnd_builtin_params *p);
+
+/* Opens a model by name, the one way every command does: a built-in asset
+ * (jnd_builtin_parse; maps of map_size² pixels, 0 for the default) or a
+ * file (jnd_scene_load). *out is the caller's (jnd_scene_free). */
+jnd_status jnd_scene_open(const char *name, int map_size, jnd_scene **out);
 
 /* Frees a scene and all its maps; safe on NULL. A renderer that drew it
  * forgets it on its next rendering of another scene. */
@@ -399,6 +490,13 @@ const char *jnd_scene_material_name(const jnd_scene *s, int material);
 
 /* The bounding sphere of the scene (object units): centre[3] and radius. */
 void jnd_scene_bounds(const jnd_scene *s, double centre[3], double *radius);
+
+/* The bounding sphere of what stands on the ground: without a ground plane
+ * in the scene (a mesh that is flat, horizontal, lowest and wider than
+ * everything else), the same as jnd_scene_bounds. ground (may be NULL)
+ * receives the ground's material index, or −1 when there is none. Views are
+ * framed on this sphere (docs/render.md). */
+void jnd_scene_subject_bounds(const jnd_scene *s, double centre[3], double *radius, int *ground);
 
 /* Warnings recorded while loading (missing textures, ...): count, and the
  * i-th one-line message (owned by the scene). */
@@ -456,7 +554,7 @@ jnd_status jnd_resample_map(const jnd_image *in, int w, int h, jnd_map_kind kind
                             jnd_image *out);
 
 /* ------------------------------------------------------------------------ */
-/* Renderer                                                                 */
+/* Renderer and views                                                       */
 /* ------------------------------------------------------------------------ */
 /* A headless OpenGL 4.5 core renderer (EGL, no window system: a GPU through
  * the EGL device platform when there is one, else Mesa's surfaceless
@@ -579,6 +677,8 @@ jnd_status jnd_render(jnd_renderer *r, const jnd_scene *scene, const jnd_view *v
 jnd_status jnd_render_to_srgb(const jnd_image *linear, jnd_image *out);
 
 /* How views are sampled around an object. */
+#define JND_ELEVATION_MIN_DEG (-60.0)  /* default band of camera elevations without a ground plane */
+#define JND_ELEVATION_MAX_DEG 75.0
 typedef struct {
   int count;                 /* number of views (default 8) */
   uint64_t seed;             /* seed of the rotation of the point set and of the lights (default 1) */
@@ -586,7 +686,8 @@ typedef struct {
   double distance;           /* > 0: camera distance from the centre in object units, overriding coverage */
   double fov_y_deg;          /* vertical field of view, degrees (default 45) */
   double aspect;             /* width / height of the image (default 1) */
-  double min_elevation_deg;  /* lowest camera elevation, degrees (default −60) */
+  double min_elevation_deg;  /* lowest camera elevation, degrees; NaN (default): −60, or +10 when the
+                                scene has a ground plane (jnd_scene_subject_bounds) */
   double max_elevation_deg;  /* highest (default 75) */
   int lights;                /* directional key lights sampled per view (default 1) */
   double light_intensity;    /* their illuminance (default 2) */
@@ -596,12 +697,30 @@ typedef struct {
 void jnd_view_sampling_defaults(jnd_view_sampling *p);
 
 /* Fills views[0..count-1] (caller-allocated) with cameras on a sphere around
- * the scene's bounding sphere: a Fibonacci spiral over the allowed band of
+ * what stands on the ground (jnd_scene_subject_bounds; the whole scene when
+ * it has no ground plane): a Fibonacci spiral over the allowed band of
  * elevations, rotated about +Y by a seeded angle, looking at the centre;
  * each gets p->lights directional lights from the seeded generator, coming
  * from above and from the camera's side. Deterministic in p. Every other
  * field is from jnd_view_defaults. */
 jnd_status jnd_views_sample(const jnd_scene *scene, const jnd_view_sampling *p, jnd_view *views);
+
+/* A set of views and how they are rendered: what every rendering command
+ * takes (`--views --seed --size --coverage/--distance --fov --lights
+ * --cameras`, docs/render.md). */
+typedef struct {
+  jnd_view_sampling sampling;  /* sampled views (jnd_view_sampling_defaults; aspect comes from render) */
+  const jnd_view *cameras;     /* explicit views instead (NULL: sampled); a view with nlights < 0
+                                  gets the sampled lights of its index */
+  int ncameras;
+  jnd_renderer_params render;  /* image size, MSAA, anisotropy, environment, EGL platform */
+} jnd_view_set;
+
+/* Fills vs with the defaults of jnd_view_sampling_defaults and jnd_renderer_defaults. */
+void jnd_view_set_defaults(jnd_view_set *vs);
+
+/* The views of a set for scene: *out is allocated (free it), *count views. */
+jnd_status jnd_view_set_make(const jnd_scene *scene, const jnd_view_set *vs, jnd_view **out, int *count);
 
 /* Views from JSON text (what `jnd render --cameras` reads): a list of views,
  * or {"views": [...]}; each view is a camera {"eye", "target" (default
@@ -614,12 +733,439 @@ jnd_status jnd_views_sample(const jnd_scene *scene, const jnd_view_sampling *p, 
 jnd_status jnd_views_parse(const char *name, const char *text, size_t n, const double centre[3], double fov_y_deg,
                            jnd_view **out, int *count);
 
+/* Reads a cameras file (at most 64 MiB of JSON as jnd_views_parse takes)
+ * for scene: "target" defaults to the centre of jnd_scene_subject_bounds.
+ * JND_ERR_IO / JND_ERR_FORMAT "PATH: problem". *out is allocated (free it). */
+jnd_status jnd_views_read(const char *path, const jnd_scene *scene, double fov_y_deg, jnd_view **out, int *count);
+
 /* The camera distance (object units) at which a sphere of radius r fills
  * fraction coverage of the image height with vertical field of view fov. */
 double jnd_camera_distance_for_coverage(double radius, double coverage, double fov_y_deg);
 
 /* ------------------------------------------------------------------------ */
-/* Texture-set PCA (001)                                                    */
+/* The judge: one rendered judgement for every task (000 §6, §9)            */
+/* ------------------------------------------------------------------------ */
+/* Every decision is the same loop: render the asset from a set of views,
+ * show the frames as a display shows them, compare each with the reference
+ * rendering in the vision model, pool per view over the object, and apply
+ * the criterion "at most a fraction q of the views above P = p". The judge
+ * is that loop, once. It is made from a scene (its state at creation is the
+ * reference), a view set, a display and the model's parameters, a
+ * calibration (JND transform and pooling percentile) and the criterion. It
+ * renders and keeps each view's reference once; asked about the scene's
+ * current state (maps replaced or resized, and — for later tasks — mesh
+ * levels), it returns each view's P, the criterion and, on request, the JND
+ * map, the frame and a heatmap. A state it has judged on a view is never
+ * rendered again (states are recognised by the content of their maps). When
+ * only maps changed, only the pixels of the materials using them are
+ * rendered again (the rest is the reference's), which equals a full
+ * rendering. See docs/texres.md "The judge".
+ *
+ *     jnd_judge_params jp;  jnd_judge_defaults(&jp);          // 8 views, 384², p93, p 0.2, q 0.1
+ *     jnd_judge *j;  jnd_judge_create(scene, &jp, &j);         // renders the references
+ *     jnd_scene_map_resize(scene, 0, 256, 256);                // a candidate state
+ *     double P[8];  jnd_judgement r;
+ *     jnd_judge_eval(j, 0, 8, 0, P, &r);                       // r.criterion.pass, P per view
+ *     jnd_judge_free(j);
+ */
+
+/* The view criterion's parameters (000 §9). */
+typedef struct {
+  double p;              /* a view is above when its pooled P > p (0.2) */
+  double q;              /* a state passes when at most a fraction q of the views are above (0.1) */
+  double confidence;     /* confidence of the reported upper bound on the fraction above p (0.9) */
+} jnd_criterion;
+
+/* Fills c with 000 §9's criterion: p = 0.2, q = 0.1; confidence 0.9. */
+void jnd_criterion_defaults(jnd_criterion *c);
+
+typedef struct jnd_judge jnd_judge;
+
+typedef struct {
+  jnd_view_set views;          /* the views (8 sampled) and their rendering (384 × 384, 4× MSAA) */
+  jnd_model_params model;      /* display and model constants (jnd_model_defaults); threads 0 on a
+                                  CPU rasteriser (llvmpipe) means 1, as the rasteriser needs the cores */
+  jnd_calibration calibration; /* JND transform and pooling percentile (identity, p93; 000 §6–§7) */
+  jnd_criterion criterion;     /* p 0.2, q 0.1 (000 §9) */
+  int partial;                 /* 1 (default): re-render only the pixels of materials whose maps
+                                  changed; 0: render every view whole (same results, slower) */
+  void (*progress)(void *user, int renderings); /* NULL or called after each rendering */
+  void *progress_user;
+} jnd_judge_params;
+
+/* Fills p with the defaults above. */
+void jnd_judge_defaults(jnd_judge_params *p);
+
+/* Makes a judge for scene, whose state now is the reference: samples (or
+ * takes) the views, opens a renderer and the vision model, and renders each
+ * view's reference. The scene must outlive the judge; the caller changes
+ * its maps between judgements. JND_ERR_GL without an OpenGL context,
+ * JND_ERR_ARG for bad parameters. *out is the caller's (jnd_judge_free). */
+jnd_status jnd_judge_create(jnd_scene *scene, const jnd_judge_params *p, jnd_judge **out);
+
+/* Frees the judge (not the scene); safe on NULL. */
+void jnd_judge_free(jnd_judge *j);
+
+/* Adds n more views (e.g. held-out views from another seed, or the same
+ * views at another distance): their references are rendered now, in the
+ * reference state (the scene's maps are put back for it and restored).
+ * *first (may be NULL) receives the index of the first. */
+jnd_status jnd_judge_add_views(jnd_judge *j, const jnd_view *views, int n, int *first);
+
+/* Takes the scene's current state as the new reference: every view's
+ * reference is rendered again and everything judged is forgotten. */
+jnd_status jnd_judge_set_reference(jnd_judge *j);
+
+/* Moves the fixation point (pixels of the rendered image; 002's eccentricity
+ * is measured from it) of a judge made with model.has_gaze: what was judged
+ * is forgotten, the references are kept. With a fixation point the judge
+ * compares whole frames, not crops, so that the point means the same in
+ * every view. JND_ERR_ARG for a judge made without one. */
+jnd_status jnd_judge_set_gaze(jnd_judge *j, int has_gaze, double x, double y);
+
+/* Views held, and view v as rendered (owned by the judge). */
+int jnd_judge_view_count(const jnd_judge *j);
+const jnd_view *jnd_judge_view(const jnd_judge *j, int v);
+
+/* What a judgement found on a range of views. */
+typedef struct {
+  int views;                       /* n, the views asked about */
+  int judged;                      /* views whose P is known: n, or fewer when decided early */
+  jnd_criterion_result criterion;  /* over the n views; views not judged count as P = 0, so
+                                      when decided early the statistic is a lower bound and
+                                      pass is 0 */
+} jnd_judgement;
+
+/* Flags of jnd_judge_eval. */
+enum {
+  JND_JUDGE_DECIDE = 1   /* stop once the state fails: views are judged in the order most likely to
+                            fail first (most pixels of the changed materials), the rest get NaN */
+};
+
+/* Judges the scene's current state on views [first, first + n): the pooled
+ * probability of detection of each view into p[0..n) (caller's; NaN for a
+ * view not judged), and the criterion into out (may be NULL). P of a view
+ * is its JND map (the state against the reference, both cropped to the
+ * object's bounding box and shown on the display), through the
+ * calibration, pooled with its percentile over the object's pixels (mask
+ * > 0.5, without a ground plane); 0 when nothing of the object is seen. */
+jnd_status jnd_judge_eval(jnd_judge *j, int first, int n, unsigned flags, double *p, jnd_judgement *out);
+
+/* Images of view v in the current state, each allocated when asked for
+ * (NULL: not wanted), all of the crop around the object: the JND map (1
+ * channel), the frame as shown (sRGB-encoded 0..1, 3 channels), the
+ * object mask (1 channel) and the heatmap of the JND map over the
+ * reference (jnd_heatmap, 1 JND full scale). crop (may be NULL) receives
+ * x, y, w, h of the crop in the rendered image. */
+jnd_status jnd_judge_view_images(jnd_judge *j, int v, jnd_image *jmap, jnd_image *frame, jnd_image *mask,
+                                 jnd_image *heatmap, int crop[4]);
+
+/* Where the difference of the current state is in view v (which must have
+ * been judged in this state): counts[m] (caller's, one per material) gets
+ * the number of the object's pixels of material m whose P exceeds the
+ * criterion's p (material from the reference's pixel centres). */
+jnd_status jnd_judge_material_counts(jnd_judge *j, int v, int *counts);
+
+/* The finest mip level map `map` is sampled at in the references of views
+ * [first, first + n) (000 §4's bound; fractional), or −1 if never. */
+double jnd_judge_mip_min(const jnd_judge *j, int map, int first, int n);
+
+/* What a judge has done so far. */
+typedef struct {
+  int references;          /* reference renderings (with depth, mask and mip levels) */
+  int renderings;          /* renderings of judged states: whole frames */
+  int partial_renderings;  /* renderings of judged states: only the changed materials' pixels */
+  int view_judgements;     /* views judged (rendered or known to be unchanged) */
+  int states;              /* distinct states judged */
+  int reused;              /* view judgements answered from what was judged before */
+} jnd_judge_counts;
+void jnd_judge_get_counts(const jnd_judge *j, jnd_judge_counts *out);
+
+/* "GL_RENDERER (platform)" of the judge's renderer. */
+const char *jnd_judge_renderer(const jnd_judge *j);
+
+/* ------------------------------------------------------------------------ */
+/* Tasks: images                                                            */
+/* ------------------------------------------------------------------------ */
+
+/* The built-in example pair (no files needed): a synthetic sRGB reference
+ * (gradients, gratings, edges, colour, texture) and a test with four known
+ * distortions, one per quadrant — 3×3 blur (top left), 1% noise (top right), a
+ * colour shift (bottom left), a faint 1% luminance step (bottom right).
+ * Both are allocated: w × h × 3, sRGB-encoded 0..1. w, h >= 64. */
+jnd_status jnd_example_pair(int w, int h, jnd_image *ref, jnd_image *test);
+
+/* A contrast-detection stimulus in castleCSF's terms (`jnd csf`). */
+typedef enum { JND_STIM_GABOR = 0, JND_STIM_GRATING, JND_STIM_DISK } jnd_stim_kind;
+typedef struct {
+  jnd_stim_kind kind;
+  double luminance;       /* background luminance, cd/m² */
+  double s_frequency;     /* cycles per degree (0 for discs) */
+  double t_frequency;     /* Hz; > 0: a drifting grating, seen under fixation */
+  double area;            /* deg² (gratings: a square aperture; discs: a disc) */
+  double ge_sigma;        /* Gabor envelope sigma, degrees */
+  double eccentricity;    /* degrees from fixation */
+  double orientation;     /* degrees */
+  double bkg_lms[3];      /* background, CIE 2006 LMS (luminance = L + M) */
+  double dir_lms[3];      /* colour direction of the modulation, CIE 2006 LMS */
+} jnd_csf_stimulus;
+
+typedef struct {
+  double ppd;             /* sampling density used */
+  int side_px;            /* image side */
+  int evaluations;        /* model runs in the search */
+} jnd_csf_detail;
+
+/* A context for many threshold searches with one set of model constants: it
+ * keeps the models it builds (one per sampling density and fixation) for
+ * reuse. Not for concurrent use: give each thread its own. */
+typedef struct jnd_csf_context jnd_csf_context;
+jnd_status jnd_csf_context_create(const jnd_model_params *base, jnd_csf_context **out);
+void jnd_csf_context_free(jnd_csf_context *ctx);
+
+/* The model's sensitivity (1 / threshold RMS cone contrast) for a stimulus:
+ * the contrast where the max-pooled probability of detection is 0.5, found in
+ * log contrast. The context's constants are used; the display's ppd is
+ * replaced by one suited to the stimulus (docs/csf.md). detail may be NULL. */
+jnd_status jnd_csf_threshold(jnd_csf_context *ctx, const jnd_csf_stimulus *s, double *sensitivity,
+                             jnd_csf_detail *detail);
+
+/* The sampling chosen for a stimulus: pixels per degree, half-extent and edge taper in degrees. */
+void jnd_csf_sampling(const jnd_csf_stimulus *s, double *ppd, double *half_deg, double *taper_deg);
+
+/* `jnd diff` as a call: applies the model's display to two decoded files
+ * (infos from jnd_image_read; alpha composited over the display's black),
+ * compares them and summarises. ref and test are consumed (freed) to keep
+ * memory low. jnd_out may be NULL when only the statistics are wanted. */
+jnd_status jnd_diff_files(jnd_model *m, jnd_image *ref, const jnd_image_info *ref_info,
+                          jnd_image *test, const jnd_image_info *test_info,
+                          const jnd_diff_inputs *in, const jnd_pooling *pool,
+                          jnd_image *jnd_out, jnd_diff_stats *stats);
+
+/* ------------------------------------------------------------------------ */
+/* Tasks: texture resolution (000)                                          */
+/* ------------------------------------------------------------------------ */
+/* Which texture resolution nobody notices (Wolski et al. 2019, 000 §4–§9):
+ * every map of an asset is shrunk to candidate sizes, the asset is rendered
+ * from sampled views, each view is compared with the full-resolution
+ * rendering, and the smallest maps are kept for which at most a fraction q
+ * of the views have a pooled probability of detection above p. Also: memory
+ * accounting of maps with their mip chains (000 Table 2). The rendered
+ * judgement is the judge's (above). See docs/texres.md. */
+
+/* Texture storage formats of the memory accounting (000 Table 2). */
+typedef enum {
+  JND_TEX_RGBA8 = 0,   /* uncompressed, 32 bits per texel */
+  JND_TEX_BC1,         /* 4 bits per texel (8-byte 4×4 blocks) */
+  JND_TEX_BC4,         /* 4 bits per texel, one channel */
+  JND_TEX_BC5,         /* 8 bits per texel, two channels */
+  JND_TEX_BC7,         /* 8 bits per texel (16-byte 4×4 blocks) */
+  JND_TEX_ASTC4,       /* ASTC 4×4: 8 bits per texel */
+  JND_TEX_ASTC6,       /* ASTC 6×6: 3.56 bits per texel (16-byte 6×6 blocks) */
+  JND_TEX_FORMATS
+} jnd_tex_format;
+
+/* The format's name ("rgba8", "bc1", "bc4", "bc5", "bc7", "astc4x4", "astc6x6"). */
+const char *jnd_tex_format_name(jnd_tex_format f);
+
+/* Bytes of a w × h texture in format f; with mips = 1, of its full mip chain
+ * (levels down to 1 × 1, each side halved and rounded down, at least 1; block
+ * formats round each level up to whole blocks). */
+size_t jnd_texture_bytes(jnd_tex_format f, int w, int h, int mips);
+
+/* The block format engines usually pick for a slot: baseColor BC7 (BC1 for
+ * channels <= 3 is smaller but BC7 is the quality default), normal BC5,
+ * occlusion BC4, metallicRoughness BC1, emissive BC1. */
+jnd_tex_format jnd_slot_block_format(jnd_map_slot slot, int channels);
+
+/* Parameters of a texture resolution search. */
+typedef struct {
+  jnd_judge_params judge;    /* views (8 sampled at 384²), display, model, calibration, criterion p, q */
+  int verify_views;          /* M held-out views for a check of the choice (0: none) */
+  double margin;             /* the choice must pass with P threshold p·(1 − margin) on its views,
+                                so that it holds on views it was not chosen on (docs/texres.md
+                                "Held-out views"; default 0.5) */
+  int confirm_rounds;        /* then up to this many fresh sets of as many views must agree: a set
+                                where the choice fails joins the choice's views and the choice
+                                grows (default 2; 0: none) */
+  int min_size;              /* floor of the power-of-two candidates, pixels (32) */
+  const int *sizes;          /* explicit candidate sizes (longer side, pixels) or NULL */
+  int nsizes;
+  const char *maps;          /* NULL: every map; else a comma list of MATERIAL/SLOT names or
+                                bare slot names (that slot of every material) to search;
+                                the others stay at their size */
+  int matrix;                /* baseColor × normal matrix of each material that has both
+                                (000 Fig. 13), an illustration: 0 (default) none; 1 the candidates
+                                down to each map's first failure on its own; 2 every candidate */
+  /* NULL or called after each rendering (line NULL) and at the end of each
+   * stage with a one-line summary of it; done counts renderings, total is
+   * an estimate */
+  void (*progress)(void *user, const char *line, int done, int total);
+  void *progress_user;
+} jnd_texres_params;
+
+/* Fills p with the defaults above. */
+void jnd_texres_defaults(jnd_texres_params *p);
+
+#define JND_TEXRES_MAX_CAND 16
+/* The outcome for one map. */
+typedef struct {
+  char name[128];            /* MATERIAL/SLOT */
+  int map, material;
+  jnd_map_slot slot;
+  int channels;
+  int searched;              /* 0: not in --maps; kept at its size */
+  int orig[2], chosen[2];    /* width, height in pixels */
+  int mip_bound[2];          /* finest mip level any pixel of any view samples (000 §4) */
+  double mip_min;            /* that level (fractional); −1: never sampled */
+  int eye_bound[2];          /* texel density the eye can resolve at the condition */
+  int ncand;                 /* candidates (descending), the first the original */
+  int cand[JND_TEXRES_MAX_CAND][2];
+  double series[JND_TEXRES_MAX_CAND]; /* the criterion statistic (the view quantile of pooled P)
+                                with only this map at candidate k; NaN where not evaluated; a
+                                lower bound where series_partial is set */
+  unsigned char series_partial[JND_TEXRES_MAX_CAND]; /* 1: judged until it failed, not on every view */
+  jnd_psychometric fit;      /* 000 eq. 1 fitted to series (log2 domain) */
+  int fit_ok;
+  double fit_res;            /* continuous resolution at P = p (longer side, pixels) */
+  int fit_cand[2];           /* rounded up to a candidate */
+  size_t bytes_before[JND_TEX_FORMATS], bytes_after[JND_TEX_FORMATS]; /* with mip chains */
+} jnd_texres_map;
+
+/* A full two-map matrix (000 Fig. 13): p[(v·na + a)·nb + b], v a view,
+ * a the first map's candidate, b the second's. */
+typedef struct {
+  int map_a, map_b;          /* indices into the result's maps */
+  int na, nb, nviews;
+  int size_a[JND_TEXRES_MAX_CAND], size_b[JND_TEXRES_MAX_CAND]; /* longer sides */
+  double *p;                 /* owned */
+  double *stat;              /* na × nb: the criterion statistic per cell */
+  int best_a, best_b;        /* the passing cell with the least memory (−1: none) */
+  int complete;              /* 1: every candidate of both maps; 0: smaller ones fail alone */
+} jnd_texres_matrix;
+
+/* The outcome of a search. */
+typedef struct {
+  int nmaps;
+  jnd_texres_map *maps;      /* owned */
+  int nviews;
+  double *view_p;            /* pooled P per view of the chosen combination */
+  jnd_criterion_result views; /* the criterion (p, q) over them, with its upper bound */
+  double choice_p;           /* the threshold the choice was made with: p·(1 − margin) */
+  int verify_views;          /* M (0: not run) */
+  double *verify_p;          /* pooled P per held-out view */
+  jnd_criterion_result verify; /* the criterion (p, q) over the held-out views */
+  int worst_view;            /* the view with the highest P (choice) */
+  jnd_image worst_heatmap;   /* its heatmap (jnd_heatmap), sRGB 0..1 */
+  int nmatrix;
+  jnd_texres_matrix *matrix; /* owned */
+  size_t before_bytes[JND_TEX_FORMATS], after_bytes[JND_TEX_FORMATS]; /* all maps, mip chains */
+  double ppd;                /* the display's pixels per degree */
+  int evaluations;           /* states judged */
+  int renderings;            /* all renderings: references, whole frames, partial re-renders */
+  jnd_judge_counts counts;   /* the judge's counts, in detail */
+  char renderer[160];
+} jnd_texres_result;
+
+/* Runs the search of docs/texres.md on scene (loaded by the caller; its
+ * maps are left at the chosen sizes on return) with a judge on its views:
+ * mip-usage bound, per-map series from the bound down searched by bisection
+ * (detection never falls as a map shrinks), coordinate descent over the maps
+ * until the combination passes, the optional matrices, and the
+ * verification on held-out views. out owns arrays (jnd_texres_result_free).
+ * JND_ERR_ARG for a scene without texture maps or an unknown map name. */
+jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *p, jnd_texres_result *out);
+
+/* Frees a result's arrays; safe on a zeroed struct. */
+void jnd_texres_result_free(jnd_texres_result *r);
+
+/* Writes a copy of the glTF/GLB model at src_path under out_dir whose maps
+ * are the scene's maps at the sizes in use now (jnd_scene_map_get of each
+ * resized map, encoded as the file had it: PNG or JPEG), and which points
+ * at them; unchanged maps and buffers are copied. A .glb stays one .glb
+ * file; a .gltf gets its images and buffers as files beside it. The model
+ * file's name is kept. The input is never modified. out_path (NULL or
+ * caller's, n bytes) receives the written model's path. */
+jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src_path, const char *out_dir,
+                                  char *out_path, size_t n);
+
+/* ------------------------------------------------------------------------ */
+/* Tasks: calibration to measured thresholds (000 §6–§7)                    */
+/* ------------------------------------------------------------------------ */
+/* Retunes the pooling percentile and a linear transform of the JND map to
+ * threshold data (docs/calibrate.md); the result is a jnd_calibration
+ * (above, under pooling). */
+
+/* Calibration data: one scene (an asset's map, or a series of image pairs)
+ * with the model's JND percentiles per tested resolution and the measured
+ * cross-population threshold (000 eq. 1, pixels). */
+#define JND_CALIB_PCT_LO 90   /* percentiles tested: 90 .. 99 (000 §6) */
+#define JND_CALIB_NPCT 10
+typedef struct {
+  char name[128];            /* scene name; folds group by it */
+  int nres;                  /* resolutions of the series (>= 2) */
+  const double *res;         /* nres resolutions, pixels */
+  const double *jnd_pct;     /* nres × JND_CALIB_NPCT: percentile 90 + k of the model's JND map
+                                at res[i] (jnd_calib_percentiles) */
+  double mu, sigma;          /* measured threshold distribution, pixels (000 eq. 1) */
+} jnd_calib_scene;
+
+/* The JND percentiles 90..99 of a map over the pixels where mask > 0.5 (mask
+ * NULL: all), into out[JND_CALIB_NPCT]. */
+jnd_status jnd_calib_percentiles(const jnd_image *jnd_map, const jnd_image *mask, double *out);
+
+typedef struct {
+  int folds;                 /* k of k-fold cross-validation by scene (5; at most the scenes) */
+  double beta;               /* psychometric slope (3.5) */
+  double threshold_p;        /* P at which threshold resolutions are compared (0.2) */
+  double bias_min, bias_max; /* exhaustive bias range, JND (−2 .. 2) */
+  int bias_steps;            /* grid steps over it (21) */
+  double scale_min, scale_max; /* scale range (0.05 .. 20), searched in log */
+} jnd_calibrate_params;
+
+/* Fills p with the defaults above. */
+void jnd_calibrate_defaults(jnd_calibrate_params *p);
+
+/* What a calibration fit found. */
+typedef struct {
+  jnd_calibration cal;       /* fitted on all scenes */
+  double mae_px;             /* training error on all scenes, pixels */
+  int folds;
+  double fold_mae_px[32];    /* held-out error of each fold, pixels */
+  double cv_mae_px;          /* mean held-out absolute error over scenes, pixels */
+  double *errors_px;         /* per scene: predicted − measured threshold, held out (pixels);
+                                owned, jnd_calibrate_result_free */
+  double *predicted_px;      /* per scene: predicted threshold with the final calibration */
+  int nscenes;
+  double pct_mae_px[JND_CALIB_NPCT]; /* best training error per percentile */
+} jnd_calibrate_result;
+
+/* The model's JND percentiles 90..99 of map `map` (MATERIAL/SLOT) of scene
+ * at nres sizes (longer side in pixels, aspect kept; the other maps as they
+ * are), over the object's pixels of the judge's views together, each
+ * against the rendering with the file's map (the judge's JND maps, before
+ * any calibration): the image series of `jnd calibrate` for an asset. out
+ * holds nres × JND_CALIB_NPCT doubles (caller's). The map is restored on
+ * return. */
+jnd_status jnd_calib_series_percentiles(jnd_scene *scene, const char *map, const int *sizes, int nres,
+                                        const jnd_judge_params *p, double *out);
+
+/* Fits percentile (90..99), scale and bias minimising the mean absolute
+ * error between predicted and measured threshold resolution (at P =
+ * threshold_p) over the scenes, 000 §6–§7.1: per percentile, an exhaustive
+ * search over bias with the best scale for each (golden section in log
+ * scale), then a local refinement; the predicted threshold of a scene is
+ * read from 000 eq. 1 fitted to the calibrated pooled P over its series,
+ * in pixels as 000. Then k-fold cross-validation by scene (000 §7.3).
+ * Deterministic. out owns arrays (jnd_calibrate_result_free). */
+jnd_status jnd_calibrate_fit(const jnd_calib_scene *scenes, int n, const jnd_calibrate_params *p,
+                             jnd_calibrate_result *out);
+
+/* Frees the arrays of a result; safe on a zeroed struct. */
+void jnd_calibrate_result_free(jnd_calibrate_result *r);
+
+/* ------------------------------------------------------------------------ */
+/* Tasks: texture-set PCA (001)                                             */
 /* ------------------------------------------------------------------------ */
 /* A material's maps (albedo, normal, roughness, ...) packed as one (w·h) × C
  * matrix and decorrelated by a principal component analysis (Wronski, 001):
@@ -788,12 +1334,12 @@ void jnd_pca_encoded_free(jnd_pca_encoded *enc);
 jnd_status jnd_pca_choose_psnr(const jnd_texset *set, const jnd_pca *pca, double min_psnr_db,
                                int max_scale, jnd_pca_encoding *out);
 
-/* Rendered visibility (001 + the renderer + the vision model): the material
- * of a model is rendered from sampled views with its maps replaced by a
- * reconstruction of the set, and with the set itself (the reference), and
- * each view's JND map is pooled into a probability of detection P. An
- * encoding passes when at most a fraction max_fraction of the views has
- * P > max_p. See docs/pca.md "Rendered visibility". Typical use:
+/* Rendered visibility (001 + the judge): the material of a model is
+ * rendered from sampled views with its maps replaced by a reconstruction of
+ * the set, against the set itself (the reference), and each view's P is the
+ * judge's (pooled over the object, calibrated, as texres's). An encoding
+ * passes the judge's criterion: at most a fraction q of the views with
+ * P > p. See docs/pca.md "Rendered visibility". Typical use:
  *
  *     jnd_pca_render_params rp;  jnd_pca_render_defaults(&rp);
  *     jnd_pca_render *r;  jnd_pca_render_open("ctrl.glb", "body", &rp, &r);
@@ -810,16 +1356,10 @@ jnd_status jnd_pca_choose_psnr(const jnd_texset *set, const jnd_pca *pca, double
 #define JND_PCA_MAX_TRIED 32    /* candidates a rendered search records */
 
 typedef struct {
-  int views;                  /* sampled views (default 8), 1..JND_PCA_MAX_VIEWS */
-  int width, height;          /* rendered image size, pixels (default 512 × 512) */
-  double coverage;            /* fraction of the image height the bounding sphere fills (0.8) */
-  uint64_t seed;              /* seed of the view sampling (1) */
-  const char *platform;       /* EGL platform: NULL/"auto", "device", "surfaceless" */
+  jnd_judge_params judge;     /* views (8 sampled at 384², at most JND_PCA_MAX_VIEWS), display,
+                                 model, calibration (pooling) and criterion (p 0.2, q 0.1): the
+                                 same judgement as every task's */
   int builtin_map_size;       /* map side of the "builtin" asset, pixels (2048) */
-  jnd_model_params model;     /* vision model and display (jnd_model_defaults) */
-  jnd_pooling pool;           /* per-view pooling of the P map (p93, 000 §6) */
-  double max_p;               /* a view is above when its pooled P > max_p (0.2) */
-  double max_fraction;        /* at most this fraction of the views may be above (0.1) */
 } jnd_pca_render_params;
 
 /* Fills p with the defaults above. */
@@ -829,11 +1369,10 @@ void jnd_pca_render_defaults(jnd_pca_render_params *p);
  * views, kept for any number of measurements. Not thread-safe. */
 typedef struct jnd_pca_render jnd_pca_render;
 
-/* Loads model_path (glTF/GLB/OBJ, or "builtin", "builtin:sphere"), finds
- * material (JND_ERR_ARG "PATH: no material 'NAME' (...)" listing them),
- * opens a renderer of width × height (JND_ERR_GL without a context),
- * creates the vision model and samples the views. *out is the caller's
- * (jnd_pca_render_free). */
+/* Loads model_path (jnd_scene_open: glTF/GLB/OBJ or a built-in asset) and
+ * finds material (JND_ERR_ARG "PATH: no material 'NAME' (...)" listing
+ * them). The judge (renderer, model, views) is made when a set is bound.
+ * *out is the caller's (jnd_pca_render_free). */
 jnd_status jnd_pca_render_open(const char *model_path, const char *material, const jnd_pca_render_params *p,
                                jnd_pca_render **out);
 
@@ -863,25 +1402,25 @@ jnd_status jnd_pca_render_material_set(const jnd_pca_render *r, const char *chan
 int jnd_pca_slot_guess(const char *name, jnd_map_slot *slot);
 
 /* Binds map i of set to slot slots[i] of the material (that slot must have
- * a texture in the model), and renders the reference: every view with the
- * set's own values in those slots (maps resampled to the set's size go
- * back to their file's size). The set must outlive the binding's use. */
+ * a texture in the model), and makes the judge whose reference is every
+ * view with the set's own values in those slots (maps resampled to the
+ * set's size go back to their file's size): JND_ERR_GL without an OpenGL
+ * context. The set must outlive the binding's use. */
 jnd_status jnd_pca_render_bind(jnd_pca_render *r, const jnd_texset *set, const jnd_map_slot *slots);
 
 /* Pooled probability of detection per view and the criterion. */
 typedef struct {
   int views;
   double p[JND_PCA_MAX_VIEWS];   /* pooled P of each view, 0..1 */
-  int above;                     /* views with P > max_p */
-  int allowed;                   /* views allowed above: floor(max_fraction · views) */
+  int above;                     /* views with P > p */
+  int allowed;                   /* views allowed above: floor(q · views) */
   double p_criterion;            /* the (allowed + 1)-th largest P: passes iff <= max_p */
   int pass;                      /* above <= allowed */
 } jnd_pca_visibility;
 
-/* Renders every view with the bound maps rebuilt from channels (w × h × C
+/* Judges every view with the bound maps rebuilt from channels (w × h × C
  * in the set's channel order: a reconstruction, e.g. jnd_pca_reconstruct)
- * and compares with the reference. The maps stay replaced until the next
- * call. */
+ * against the reference. The maps stay replaced until the next call. */
 jnd_status jnd_pca_render_measure(jnd_pca_render *r, const jnd_image *channels, jnd_pca_visibility *out);
 
 /* What a rendered search tried, in the order tried. */
@@ -959,340 +1498,88 @@ typedef struct {
 jnd_status jnd_pca_block_compression(const jnd_texset *set, const jnd_pca_encoded *enc,
                                      jnd_pca_bc_report *out);
 
-/* ------------------------------------------------------------------------ */
-/* Texture resolution (000)                                                 */
-/* ------------------------------------------------------------------------ */
-/* Which texture resolution nobody notices (Wolski et al. 2019, 000 §4–§9):
- * every map of an asset is shrunk to candidate sizes, the asset is rendered
- * from sampled views, each view is compared with the full-resolution
- * rendering, and the smallest maps are kept for which at most a fraction q
- * of the views have a pooled probability of detection above p. Also: the
- * cross-population psychometric function of 000 eq. 1 and its fit, memory
- * accounting of maps with their mip chains (000 Table 2), and calibration of
- * the model to measured thresholds (000 §6–§7). See docs/texres.md and
- * docs/calibrate.md. */
-
-/* The cross-population psychometric function of 000 eq. 1 over texture
- * resolution r (pixels): P_det(r) = 1 − Θ(x; µ, σ), Θ the cumulative normal,
- * x = r (domain 0, pixels, as 000) or x = log2 r (domain 1, octaves). */
-typedef struct {
-  double mu, sigma;          /* in the domain's units (pixels or log2 pixels) */
-  int log2_domain;           /* 0: x = r; 1: x = log2 r */
-  double rmse;               /* root mean squared error of the fit in probability */
-} jnd_psychometric;
-
-/* P_det at resolution r (pixels) for f. */
-double jnd_psychometric_eval(const jnd_psychometric *f, double r);
-
-/* The resolution (pixels) where P_det = p (0 < p < 1). */
-double jnd_psychometric_resolution(const jnd_psychometric *f, double p);
-
-/* Fits µ and σ (σ > 0) of 000 eq. 1 to n >= 2 points (r[i] pixels > 0,
- * p[i] in 0..1) by least squares on probability: a small grid over (µ, log σ)
- * refined by Nelder–Mead from a probit-analysis start. Detection must fall as r grows; data that never
- * change (all 0 or all 1) give the nearest step function (σ small, µ just
- * outside the data's range). log2_domain picks the domain (see above).
- * JND_ERR_ARG for n < 2 or values out of range. */
-jnd_status jnd_psychometric_fit(const double *r, const double *p, int n, int log2_domain,
-                                jnd_psychometric *out);
-
-/* Texture storage formats of the memory accounting (000 Table 2). */
+/* `jnd pca` as one call: which rule chooses the encoding (docs/pca.md). */
 typedef enum {
-  JND_TEX_RGBA8 = 0,   /* uncompressed, 32 bits per texel */
-  JND_TEX_BC1,         /* 4 bits per texel (8-byte 4×4 blocks) */
-  JND_TEX_BC4,         /* 4 bits per texel, one channel */
-  JND_TEX_BC5,         /* 8 bits per texel, two channels */
-  JND_TEX_BC7,         /* 8 bits per texel (16-byte 4×4 blocks) */
-  JND_TEX_ASTC4,       /* ASTC 4×4: 8 bits per texel */
-  JND_TEX_ASTC6,       /* ASTC 6×6: 3.56 bits per texel (16-byte 6×6 blocks) */
-  JND_TEX_FORMATS
-} jnd_tex_format;
-
-/* The format's name ("rgba8", "bc1", "bc4", "bc5", "bc7", "astc4x4", "astc6x6"). */
-const char *jnd_tex_format_name(jnd_tex_format f);
-
-/* Bytes of a w × h texture in format f; with mips = 1, of its full mip chain
- * (levels down to 1 × 1, each side halved and rounded down, at least 1; block
- * formats round each level up to whole blocks). */
-size_t jnd_texture_bytes(jnd_tex_format f, int w, int h, int mips);
-
-/* The block format engines usually pick for a slot: baseColor BC7 (BC1 for
- * channels <= 3 is smaller but BC7 is the quality default), normal BC5,
- * occlusion BC4, metallicRoughness BC1, emissive BC1. */
-jnd_tex_format jnd_slot_block_format(jnd_map_slot slot, int channels);
-
-/* A calibration of the model to a task (000 §6–§7): the per-pixel JND is
- * transformed to max(0, scale·JND + bias) before the psychometric function
- * P = 1 − exp(ln 0.5 · x^beta) (000 eq. 4), and the P map is pooled with the
- * given percentile. The identity is scale 1, bias 0, p93. */
-typedef struct {
-  double percentile;         /* pooling percentile, 0..100 (93) */
-  double scale, bias;        /* linear transform of the JND map (1, 0) */
-  double beta;               /* psychometric slope (3.5) */
-  double threshold_p;        /* the P at which thresholds are read (0.2, 000 §6) */
-  double mae_px;             /* fitted: cross-validated mean absolute error, pixels (0 unknown) */
-} jnd_calibration;
-
-/* Fills c with the identity calibration above. */
-void jnd_calibration_defaults(jnd_calibration *c);
-
-/* Reads a calibration file written by jnd_calibration_save / `jnd
- * calibrate` (JSON with "calibration": {"percentile", "scale", "bias",
- * "beta", ...}). JND_ERR_IO / JND_ERR_FORMAT "PATH: problem". */
-jnd_status jnd_calibration_load(const char *path, jnd_calibration *c);
-
-/* Writes c as JSON to path (atomic). */
-jnd_status jnd_calibration_save(const char *path, const jnd_calibration *c);
-
-/* The calibrated pooled probability of a JND map: JND → max(0, scale·JND +
- * bias) → P (eq. 4, c->beta) → c->percentile over the pixels where mask >
- * 0.5 (mask NULL: every pixel). NaN when no pixel counts. */
-double jnd_calibration_pool(const jnd_calibration *c, const jnd_image *jnd_map, const jnd_image *mask);
-
-/* Summarises a JND map as jnd_diff_summarise does, but through the
- * calibration: the JND statistics are of the transformed map, the P map uses
- * c->beta and p_detect is its c->percentile. */
-jnd_status jnd_diff_summarise_calibrated(const jnd_image *jnd_map, const jnd_calibration *c,
-                                         jnd_diff_stats *stats);
-
-/* Calibration data: one scene (an asset's map, or a series of image pairs)
- * with the model's JND percentiles per tested resolution and the measured
- * cross-population threshold (000 eq. 1, pixels). */
-#define JND_CALIB_PCT_LO 90   /* percentiles tested: 90 .. 99 (000 §6) */
-#define JND_CALIB_NPCT 10
-typedef struct {
-  char name[128];            /* scene name; folds group by it */
-  int nres;                  /* resolutions of the series (>= 2) */
-  const double *res;         /* nres resolutions, pixels */
-  const double *jnd_pct;     /* nres × JND_CALIB_NPCT: percentile 90 + k of the model's JND map
-                                at res[i] (jnd_calib_percentiles) */
-  double mu, sigma;          /* measured threshold distribution, pixels (000 eq. 1) */
-} jnd_calib_scene;
-
-/* The JND percentiles 90..99 of a map over the pixels where mask > 0.5 (mask
- * NULL: all), into out[JND_CALIB_NPCT]. */
-jnd_status jnd_calib_percentiles(const jnd_image *jnd_map, const jnd_image *mask, double *out);
+  JND_PCA_RULE_AUTO = 0,     /* RENDERED with a model, else ENERGY */
+  JND_PCA_RULE_RENDERED,     /* the cheapest encoding whose rendering passes the judge's criterion */
+  JND_PCA_RULE_ENERGY,       /* the fewest components holding a fraction of the total variance
+                                (full size, 8 bits) */
+  JND_PCA_RULE_PSNR,         /* the smallest storage whose every channel reaches psnr_db */
+  JND_PCA_RULE_COMPONENTS    /* as given: components, scale, bits */
+} jnd_pca_rule;
 
 typedef struct {
-  int folds;                 /* k of k-fold cross-validation by scene (5; at most the scenes) */
-  double beta;               /* psychometric slope (3.5) */
-  double threshold_p;        /* P at which threshold resolutions are compared (0.2) */
-  double bias_min, bias_max; /* exhaustive bias range, JND (−2 .. 2) */
-  int bias_steps;            /* grid steps over it (21) */
-  double scale_min, scale_max; /* scale range (0.05 .. 20), searched in log */
-} jnd_calibrate_params;
-
-/* Fills p with the defaults above. */
-void jnd_calibrate_defaults(jnd_calibrate_params *p);
-
-/* What a calibration fit found. */
-typedef struct {
-  jnd_calibration cal;       /* fitted on all scenes */
-  double mae_px;             /* training error on all scenes, pixels */
-  int folds;
-  double fold_mae_px[32];    /* held-out error of each fold, pixels */
-  double cv_mae_px;          /* mean held-out absolute error over scenes, pixels */
-  double *errors_px;         /* per scene: predicted − measured threshold, held out (pixels);
-                                owned, jnd_calibrate_result_free */
-  double *predicted_px;      /* per scene: predicted threshold with the final calibration */
-  int nscenes;
-  double pct_mae_px[JND_CALIB_NPCT]; /* best training error per percentile */
-} jnd_calibrate_result;
-
-/* Fits percentile (90..99), scale and bias minimising the mean absolute
- * error between predicted and measured threshold resolution (at P =
- * threshold_p) over the scenes, 000 §6–§7.1: per percentile, an exhaustive
- * search over bias with the best scale for each (golden section in log
- * scale), then a local refinement; the predicted threshold of a scene is
- * read from 000 eq. 1 fitted to the calibrated pooled P over its series,
- * in pixels as 000. Then k-fold cross-validation by scene (000 §7.3).
- * Deterministic. out owns arrays (jnd_calibrate_result_free). */
-jnd_status jnd_calibrate_fit(const jnd_calib_scene *scenes, int n, const jnd_calibrate_params *p,
-                             jnd_calibrate_result *out);
-
-/* Frees the arrays of a result; safe on a zeroed struct. */
-void jnd_calibrate_result_free(jnd_calibrate_result *r);
-
-/* Parameters of a texture resolution search. */
-typedef struct {
-  int views;                 /* N sampled views for the choice (8) */
-  int verify_views;          /* M further views for a held-out check (0: none) */
-  uint64_t seed;             /* view sampling seed (1); held-out views use another seed */
-  int width, height;         /* rendering size, pixels (384 × 384) */
-  double coverage;           /* fraction of the image height the bounding sphere fills (0.8) */
-  double distance;           /* > 0: camera distance in object units instead of coverage */
-  double fov_y_deg;          /* vertical field of view (45) */
-  int lights;                /* directional lights per view (1) */
-  int anisotropy;            /* renderer anisotropy (8) */
-  int samples;               /* MSAA samples (4) */
-  const char *env_path;      /* environment (NULL: the studio) */
-  const char *platform;      /* EGL platform (NULL: auto) */
-  double p_threshold;        /* p: a view is "above" when its pooled P > p (0.2) */
-  double max_fraction;       /* q: at most this fraction of views above p (0.1) */
-  int min_size;              /* floor of the power-of-two candidates, pixels (32) */
-  const int *sizes;          /* explicit candidate sizes (longer side, pixels) or NULL */
-  int nsizes;
-  const char *maps;          /* NULL: every map; else a comma list of MATERIAL/SLOT names or
-                                bare slot names (that slot of every material) to search;
-                                the others stay at their size */
-  int matrix;                /* baseColor × normal matrix of each material that has both
-                                (000 Fig. 13): 0 none; 1 the candidates down to each map's
-                                first failure on its own; 2 (default) every candidate */
-  jnd_calibration calibration; /* transform and pooling (identity p93 by default) */
-  jnd_model_params model;    /* display and model constants */
-  void (*progress)(void *user, int done, int total); /* NULL or called after each rendering */
-  void *progress_user;
-} jnd_texres_params;
-
-/* Fills p with the defaults above. */
-void jnd_texres_defaults(jnd_texres_params *p);
-
-#define JND_TEXRES_MAX_CAND 16
-/* The outcome for one map. */
-typedef struct {
-  char name[128];            /* MATERIAL/SLOT */
-  int map, material;
-  jnd_map_slot slot;
-  int channels;
-  int searched;              /* 0: not in --maps; kept at its size */
-  int orig[2], chosen[2];    /* width, height in pixels */
-  int mip_bound[2];          /* finest mip level any pixel of any view samples (000 §4) */
-  double mip_min;            /* that level (fractional); −1: never sampled */
-  int eye_bound[2];          /* texel density the eye can resolve at the condition */
-  int ncand;                 /* candidates (descending), the first the original */
-  int cand[JND_TEXRES_MAX_CAND][2];
-  double series[JND_TEXRES_MAX_CAND]; /* the criterion statistic (the view quantile of pooled P)
-                                with only this map at candidate k; NaN where not evaluated */
-  jnd_psychometric fit;      /* 000 eq. 1 fitted to series (log2 domain) */
-  int fit_ok;
-  double fit_res;            /* continuous resolution at P = p (longer side, pixels) */
-  int fit_cand[2];           /* rounded up to a candidate */
-  size_t bytes_before[JND_TEX_FORMATS], bytes_after[JND_TEX_FORMATS]; /* with mip chains */
-} jnd_texres_map;
-
-/* A full two-map matrix (000 Fig. 13): p[(v·na + a)·nb + b], v a view,
- * a the first map's candidate, b the second's. */
-typedef struct {
-  int map_a, map_b;          /* indices into the result's maps */
-  int na, nb, nviews;
-  int size_a[JND_TEXRES_MAX_CAND], size_b[JND_TEXRES_MAX_CAND]; /* longer sides */
-  double *p;                 /* owned */
-  double *stat;              /* na × nb: the criterion statistic per cell */
-  int best_a, best_b;        /* the passing cell with the least memory (−1: none) */
-  int complete;              /* 1: every candidate of both maps; 0: smaller ones fail alone */
-} jnd_texres_matrix;
-
-/* The outcome of a search. */
-typedef struct {
+  const char *const *maps;   /* map files (PNG, JPEG, HDR, EXR); none: the model material's own maps */
   int nmaps;
-  jnd_texres_map *maps;      /* owned */
-  int nviews;
-  double *view_p;            /* pooled P per view of the chosen combination */
-  double stat;               /* the criterion statistic of the choice */
-  double fraction_above;     /* fraction of the views with P > p */
-  int passes;                /* 1: fraction_above <= q */
-  int verify_views;          /* M (0: not run) */
-  double *verify_p;          /* pooled P per held-out view */
-  double verify_fraction;    /* fraction of the held-out views above p */
-  int verify_passes;
-  int worst_view;            /* the view with the highest P (choice) */
-  jnd_image worst_heatmap;   /* its heatmap (jnd_heatmap), sRGB 0..1 */
-  int nmatrix;
-  jnd_texres_matrix *matrix; /* owned */
-  size_t before_bytes[JND_TEX_FORMATS], after_bytes[JND_TEX_FORMATS]; /* all maps, mip chains */
-  double ppd;                /* the display's pixels per degree */
-  int evaluations, renderings;
+  const char *channels;      /* per-map channel picks "normal=rg,..." (NULL: the informative ones) */
+  const char *weights;       /* importance weights "albedo=2,..." (NULL: all 1) */
+  const char *model;         /* the model of a rendered measurement (glTF/GLB/OBJ/builtin; NULL: none) */
+  const char *material;      /* its material using the set */
+  const char *const *slots;  /* "FILE=SLOT": the slot a map file replaces (default: from its name) */
+  int nslots;
+  jnd_pca_render_params render; /* the judgement: views, display, calibration, criterion */
+  jnd_pca_rule rule;         /* AUTO */
+  double energy;             /* ENERGY: fraction of the total variance kept (0.99) */
+  double psnr_db;            /* PSNR: the floor, dB */
+  int max_scale;             /* PSNR, RENDERED: coarsest component size 1/2^max_scale (2) */
+  int components;            /* COMPONENTS: K (−1: all) */
+  int scale[JND_PCA_MAX_CHANNELS]; /* COMPONENTS: per component, the last repeating (none: 0) */
+  int nscale;
+  int bits[JND_PCA_MAX_CHANNELS];  /* COMPONENTS: 8 or 16 per component, the last repeating (none: 8) */
+  int nbits;
+  int block_compression;     /* 1 (default): PSNR, and P with a model, under block compression */
+  /* NULL or called with a one-line summary at the end of each stage */
+  void (*progress)(void *user, const char *line, int done, int total);
+  void *progress_user;
+} jnd_pca_params;
+
+/* Fills p with the defaults above. */
+void jnd_pca_defaults(jnd_pca_params *p);
+
+typedef struct {
+  jnd_texset set;                          /* the set (owned) */
+  char labels[JND_PCA_MAX_MAPS][160];      /* per map: its file, or MATERIAL/SLOT */
+  double weights[JND_PCA_MAX_CHANNELS];
+  jnd_pca pca;
+  jnd_pca_rule rule;                       /* the rule applied (AUTO resolved) */
+  jnd_pca_encoded enc;                     /* the chosen encoding, encoded (owned) */
+  jnd_pca_encoded enc_float;               /* the same K at full size without quantisation (owned) */
+  int has_bc;
+  jnd_pca_bc_report bc;
+  size_t original_bytes;                   /* the baseline: the distinct original images at 8 bits
+                                              per channel as their files have them */
+  int rendered;                            /* 1: measured on the model */
+  jnd_map_slot slots[JND_PCA_MAX_MAPS];
   char renderer[160];
-} jnd_texres_result;
+  jnd_pca_visibility vis;                  /* the chosen encoding, judged (with a model) */
+  jnd_pca_visibility vis_bc[3];            /* pca_bc4, pca_bc1, plain_bc */
+  size_t bytes_bc[3];
+  jnd_pca_search_log *log;                 /* RENDERED: what was tried (owned) */
+  double seconds[6];                       /* read, decomposition, choice, encoding, block
+                                              compression, rendering */
+} jnd_pca_result;
 
-/* Runs the search of docs/texres.md on scene (loaded by the caller; its
- * maps are left at the chosen sizes on return): mip-usage bound, per-map
- * series from the bound down (stopping one candidate after the criterion
- * fails), coordinate descent over the maps until the combination passes,
- * the optional matrices, and the verification on held-out views. out owns
- * arrays (jnd_texres_result_free). JND_ERR_ARG for a scene without texture
- * maps or an unknown map name. */
-jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *p, jnd_texres_result *out);
+/* Runs `jnd pca`: reads the set, analyses it, chooses the encoding by the
+ * rule, encodes it, measures block compression and, with a model, the
+ * judge's P of the encoding and of its block-compressed variants. out owns
+ * its arrays (jnd_pca_result_free). Errors name the file or option. */
+jnd_status jnd_pca_run(const jnd_pca_params *p, jnd_pca_result *out);
 
-/* Frees a result's arrays; safe on a zeroed struct. */
-void jnd_texres_result_free(jnd_texres_result *r);
+/* Frees a result; safe on a zeroed struct. */
+void jnd_pca_result_free(jnd_pca_result *r);
 
-/* The model's JND percentiles 90..99 of map `map` (MATERIAL/SLOT) of scene
- * at nres sizes (longer side in pixels, aspect kept; the other maps as they
- * are), over the object's pixels of p->views sampled views together, each
- * against the rendering with the file's map: the image series of `jnd
- * calibrate` for an asset. out holds nres × JND_CALIB_NPCT doubles
- * (caller's). The map is restored on return. */
-jnd_status jnd_texres_series_percentiles(jnd_scene *scene, const char *map, const int *sizes, int nres,
-                                         const jnd_texres_params *p, double *out);
-
-/* Writes a copy of the glTF/GLB model at src_path under out_dir whose maps
- * are the scene's maps at the sizes in use now (jnd_scene_map_get of each
- * resized map, encoded as the file had it: PNG or JPEG), and which points
- * at them; unchanged maps and buffers are copied. A .glb stays one .glb
- * file; a .gltf gets its images and buffers as files beside it. The model
- * file's name is kept. The input is never modified. out_path (NULL or
- * caller's, n bytes) receives the written model's path. */
-jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src_path, const char *out_dir,
-                                  char *out_path, size_t n);
-
-/* ------------------------------------------------------------------------ */
-/* Tasks                                                                    */
-/* ------------------------------------------------------------------------ */
-
-/* The built-in example pair (no files needed): a synthetic sRGB reference
- * (gradients, gratings, edges, colour, texture) and a test with four known
- * distortions, one per quadrant — 3×3 blur (top left), 1% noise (top right), a
- * colour shift (bottom left), a faint 1% luminance step (bottom right).
- * Both are allocated: w × h × 3, sRGB-encoded 0..1. w, h >= 64. */
-jnd_status jnd_example_pair(int w, int h, jnd_image *ref, jnd_image *test);
-
-/* A contrast-detection stimulus in castleCSF's terms (`jnd csf`). */
-typedef enum { JND_STIM_GABOR = 0, JND_STIM_GRATING, JND_STIM_DISK } jnd_stim_kind;
+/* One texture of packed components, as an engine samples them. */
 typedef struct {
-  jnd_stim_kind kind;
-  double luminance;       /* background luminance, cd/m² */
-  double s_frequency;     /* cycles per degree (0 for discs) */
-  double t_frequency;     /* Hz; > 0: a drifting grating, seen under fixation */
-  double area;            /* deg² (gratings: a square aperture; discs: a disc) */
-  double ge_sigma;        /* Gabor envelope sigma, degrees */
-  double eccentricity;    /* degrees from fixation */
-  double orientation;     /* degrees */
-  double bkg_lms[3];      /* background, CIE 2006 LMS (luminance = L + M) */
-  double dir_lms[3];      /* colour direction of the modulation, CIE 2006 LMS */
-} jnd_csf_stimulus;
+  jnd_image image;           /* 1–4 channels (R, G, B, A), values 0..1 */
+  int bits;                  /* 8 or 16 */
+  int ncomp, comp[4];        /* the components in its channels */
+} jnd_pca_texture;
 
-typedef struct {
-  double ppd;             /* sampling density used */
-  int side_px;            /* image side */
-  int evaluations;        /* model runs in the search */
-} jnd_csf_detail;
-
-/* A context for many threshold searches with one set of model constants: it
- * keeps the models it builds (one per sampling density and fixation) for
- * reuse. Not for concurrent use: give each thread its own. */
-typedef struct jnd_csf_context jnd_csf_context;
-jnd_status jnd_csf_context_create(const jnd_model_params *base, jnd_csf_context **out);
-void jnd_csf_context_free(jnd_csf_context *ctx);
-
-/* The model's sensitivity (1 / threshold RMS cone contrast) for a stimulus:
- * the contrast where the max-pooled probability of detection is 0.5, found in
- * log contrast. The context's constants are used; the display's ppd is
- * replaced by one suited to the stimulus (docs/csf.md). detail may be NULL. */
-jnd_status jnd_csf_threshold(jnd_csf_context *ctx, const jnd_csf_stimulus *s, double *sensitivity,
-                             jnd_csf_detail *detail);
-
-/* The sampling chosen for a stimulus: pixels per degree, half-extent and edge taper in degrees. */
-void jnd_csf_sampling(const jnd_csf_stimulus *s, double *ppd, double *half_deg, double *taper_deg);
-
-/* `jnd diff` as a call: applies the model's display to two decoded files
- * (infos from jnd_image_read; alpha composited over the display's black),
- * compares them and summarises. ref and test are consumed (freed) to keep
- * memory low. jnd_out may be NULL when only the statistics are wanted. */
-jnd_status jnd_diff_files(jnd_model *m, jnd_image *ref, const jnd_image_info *ref_info,
-                          jnd_image *test, const jnd_image_info *test_info,
-                          const jnd_diff_inputs *in, const jnd_pooling *pool,
-                          jnd_image *jnd_out, jnd_diff_stats *stats);
+/* Packs the components of enc into textures: components of one size and
+ * bit depth, in order, four to an RGBA texture (the last of a group may
+ * have 1–3 channels). tex (caller's, JND_PCA_MAX_CHANNELS entries) receives
+ * *n textures; the caller frees their images. */
+jnd_status jnd_pca_pack(const jnd_pca_encoded *enc, jnd_pca_texture *tex, int *n);
 
 #ifdef __cplusplus
 }

@@ -68,6 +68,19 @@ static inline const char *test_shared_data(void) {
   return path;
 }
 
+/* Whether an OpenGL context can be had here (tests that render skip without). */
+#ifdef JND_H
+static inline int test_renderer_available(void) {
+  jnd_renderer_params rp;
+  jnd_renderer_defaults(&rp);
+  rp.width = rp.height = 16;
+  jnd_renderer *r;
+  if (jnd_renderer_create(&rp, &r) != JND_OK) return 0;
+  jnd_renderer_free(r);
+  return 1;
+}
+#endif
+
 /* A scratch directory for this test binary (created on demand). */
 static inline const char *test_tmp_dir(void) {
   static char path[1024];

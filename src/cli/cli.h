@@ -1,6 +1,11 @@
-/* The command-line tool's shared pieces: the subcommand table, argument
- * parsing helpers, the JSON report envelope, progress and messages.
- * The CLI uses only include/jnd.h from the library. */
+/* The command-line tool's shared pieces: the subcommand table, the option
+ * parsers every command shares (one per option group: common, display,
+ * views, criterion), the JSON report envelope, progress and messages.
+ * The CLI uses only include/jnd.h from the library.
+ *
+ * Parsers never exit: a bad value prints one line ("jnd: ...") and sets the
+ * parse state's `bad`; the command then returns EXIT_BAD. So a batch that
+ * runs commands in one process survives a bad asset. */
 #ifndef JND_CLI_H
 #define JND_CLI_H
 
@@ -18,62 +23,127 @@ typedef struct {
   int (*run)(int argc, char **argv);        /* argv[0] is the subcommand name */
 } jnd_command;
 
-/* ---- options shared by many subcommands ---- */
+/* ---- parsing ---- */
+
+/* Where parsing is: argv[i] is the argument at hand. */
 typedef struct {
-  int quiet;
-  const char *json_path;   /* NULL: none; "-": stdout */
-  int threads;
-} cli_common;
+  int argc;
+  char **argv;
+  int i;
+  const char *cmd;   /* the subcommand, for messages */
+  int bad;           /* 1 once an error has been printed */
+} cli_args;
 
-/* Matches "--name VALUE" or "--name=VALUE" at argv[*i]; advances *i past the
- * value. Returns 1 on a match (value in *val), 0 otherwise; a missing value
- * prints an error and exits 2. */
-int cli_opt(int argc, char **argv, int *i, const char *name, const char **val);
+cli_args cli_args_start(int argc, char **argv, const char *cmd);
+
+/* Matches "--name VALUE" or "--name=VALUE" at argv[i]; advances i past the
+ * value. Returns 1 on a match (value in *val); a missing value is an error
+ * (bad set, *val = ""). */
+int cli_opt(cli_args *a, const char *name, const char **val);
 /* Matches a flag "--name". */
-int cli_flag(char **argv, int i, const char *name);
+int cli_flag(const cli_args *a, const char *name);
 
-/* Parse numbers or exit 2 with "jnd CMD: --opt: ..." */
-double cli_double(const char *cmd, const char *opt, const char *v, double lo, double hi);
-int cli_int(const char *cmd, const char *opt, const char *v, int lo, int hi);
-/* --threads N (1..1024), made the default of every parallel region */
-int cli_threads(const char *cmd, const char *v);
-/* "A,B" pairs of numbers */
-void cli_pair(const char *cmd, const char *opt, const char *v, double *a, double *b);
+/* Numbers: the value, or after an error (printed, bad set) lo. Messages are
+ * "jnd: OPT: ..." naming the option, the same from every command. */
+double cli_double(cli_args *a, const char *opt, const char *v, double lo, double hi);
+int cli_int(cli_args *a, const char *opt, const char *v, int lo, int hi);
+/* "A,B": two numbers */
+void cli_pair(cli_args *a, const char *opt, const char *v, double *x, double *y);
+/* "WxH": two integers in lo..hi */
+void cli_size(cli_args *a, const char *opt, const char *v, int lo, int hi, int *w, int *h);
+/* "1024,512,256": integers in lo..hi, at most max; returns the count */
+int cli_int_list(cli_args *a, const char *opt, const char *v, int lo, int hi, int *out, int max);
 
 /* Prints "jnd: MSG" to stderr (one line). */
 void cli_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* The same, returning EXIT_BAD: `return cli_bad("%s: problem", path);` */
 int cli_bad(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-/* Prints an error for an unknown option and the hint to use --help; returns EXIT_BAD. */
-int cli_unknown(const char *cmd, const char *arg);
+/* Prints an error for an unknown option or argument and the hint to use --help; returns EXIT_BAD. */
+int cli_unknown(cli_args *a);
+/* Prints "jnd: MESSAGE" with the library's last error; returns EXIT_BAD. */
+int cli_lib_error(void);
+
+/* ---- option groups ---- */
+
+/* --json FILE|-, --quiet (-q), --threads N, --timings */
+typedef struct {
+  int quiet;
+  const char *json_path;   /* NULL: none; "-": stdout */
+  int threads;             /* 0: OpenMP's default; else made the default of every parallel region */
+  int timings;
+} cli_common;
+int cli_common_opt(cli_args *a, cli_common *c);
+extern const char *const cli_common_help;
+
+/* --display PRESET, --ppd, --peak, --black, --ambient, --reflectivity,
+ * --exr-scale. A quantity given explicitly wins over the preset's,
+ * whatever the order of the options: cli_display_get applies them last. */
+typedef struct {
+  jnd_display preset;
+  double value[6];   /* ppd, peak, black, ambient, reflectivity, exr scale */
+  unsigned given;    /* bit k: value[k] was given */
+} cli_display;
+void cli_display_init(cli_display *d);
+int cli_display_opt(cli_args *a, cli_display *d);
+jnd_display cli_display_get(const cli_display *d);
+extern const char *const cli_display_help;
+
+/* The views of every rendering command: --views --seed --size --coverage
+ * --distance --fov --elevation --lights --light-intensity --cameras
+ * --samples --anisotropy --env --platform --map-size, one set of limits. */
+typedef struct {
+  jnd_view_set set;
+  const char *cameras;     /* --cameras FILE (read by cli_views_make) */
+  int map_size;            /* --map-size: side of the built-in asset's maps */
+} cli_views;
+/* Defaults: jnd_view_set_defaults at width × height pixels. */
+void cli_views_init(cli_views *v, int width, int height);
+int cli_views_opt(cli_args *a, cli_views *v);
+/* The views for scene: the cameras file read (jnd_views_read) or the sampled
+ * views. *out is allocated; the count goes to v->set (explicit cameras). */
+jnd_status cli_views_make(cli_views *v, const jnd_scene *scene, jnd_view **out, int *count);
+extern const char *const cli_views_help;
+
+/* --p P and --q Q: the view criterion (000 §9) */
+int cli_criterion_opt(cli_args *a, jnd_criterion *c);
+extern const char *const cli_criterion_help;
+
+/* --pool pNN and --calibration FILE: the pooling of P per view. The file is
+ * loaded by cli_calibration_get (its percentile unless --pool is given). */
+typedef struct {
+  const char *path;
+  const char *pool;
+} cli_calibration;
+int cli_calibration_opt(cli_args *a, cli_calibration *c);
+int cli_calibration_get(const cli_calibration *c, jnd_calibration *out);   /* 0 after an error */
+
+/* ---- output ---- */
+
 /* Human messages to stderr unless quiet. */
 void cli_info(const cli_common *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-
-/* The options every subcommand has: --json FILE|- and --quiet (-q). Returns
- * 1 if argv[*i] was one of them (advancing *i past a value). */
-int cli_common_opt(int argc, char **argv, int *i, cli_common *c);
-
-/* Display options: --display PRESET, --ppd, --peak, --black, --ambient,
- * --reflectivity, --exr-scale. Returns 1 if argv[*i] was one of them. */
-int cli_display_opt(const char *cmd, int argc, char **argv, int *i, jnd_display *d);
-extern const char *const cli_display_help;
 
 /* The JSON report: {"jnd_version", "command", "inputs", "parameters", "result"}. */
 cJSON *cli_report_new(const char *command);
 cJSON *cli_report_section(cJSON *report, const char *name);
 cJSON *cli_display_json(const jnd_display *d);
+cJSON *cli_views_json(const cli_views *v);
+cJSON *cli_criterion_json(const jnd_criterion *c, const jnd_criterion_result *r);
 /* Writes the report to path ("-" = stdout) atomically; returns EXIT_OK or EXIT_BAD. */
 int cli_report_write(cJSON *report, const char *path);
 
-/* A progress bar on stderr when it is a terminal and not quiet. */
+/* Progress on stderr unless quiet: a bar when stderr is a terminal; else a
+ * line per stage (cli_progress_line), with the elapsed time. */
 typedef struct {
-  int enabled, total, done;
+  int enabled, tty, total, done;
   const char *label;
   double t0;
 } cli_progress;
 void cli_progress_start(cli_progress *p, const cli_common *c, const char *label, int total);
 void cli_progress_step(cli_progress *p, int done);
+void cli_progress_line(cli_progress *p, const char *line);
 void cli_progress_end(cli_progress *p);
+/* The library's progress callback shape: line NULL after a step, else a stage summary. */
+void cli_progress_callback(void *user, const char *line, int done, int total);
 
 double cli_now(void);   /* monotonic seconds */
 

@@ -32,9 +32,10 @@ static void help(void) {
       "                      pairs (paths relative to that CSV), one per resolution\n"
       "  --sizes LIST        resolutions rendered for model/map scenes given as mu, sigma\n"
       "                      (default: 11 steps from the original down to 1/6 of it)\n"
-      "  --views N           views per rendered scene (4); --size WxH (256x256);\n"
-      "  --coverage F        fraction of the image height the object fills (0.8)\n"
-      "  --map-size N        side of the maps when model is `builtin` (2048)\n"
+      "\n"
+      "%s"
+      "  (calibrate renders 4 views at 256x256 unless told otherwise)\n"
+      "\n"
       "%s"
       "\n"
       "fit:\n"
@@ -45,11 +46,11 @@ static void help(void) {
       "outputs:\n"
       "  -o, --output FILE   the calibration (a JSON report with result.calibration)\n"
       "  --histogram FILE    PNG histogram of held-out signed errors (000 Fig. 9/11)\n"
-      "  --json FILE|-       the report there too\n"
-      "  --quiet             nothing on stderr but errors\n"
+      "%s"
       "\n"
+      "Paper numbers: 000 is Wolski et al. 2019 (include/jnd.h lists them all).\n"
       "Exit status: 0, 2 for bad input (one line: jnd: FILE: problem).\n",
-      cli_display_help);
+      cli_views_help, cli_display_help, cli_common_help);
 }
 
 typedef struct {
@@ -123,72 +124,48 @@ static int run(int argc, char **argv) {
   cli_common common = {0};
   jnd_calibrate_params cp;
   jnd_calibrate_defaults(&cp);
-  jnd_texres_params tp;
-  jnd_texres_defaults(&tp);
-  tp.views = 4;
-  tp.width = tp.height = 256;
-  int sizes[64], nsizes = 0, map_size = 2048;
-  for (int i = 1; i < argc; i++) {
-    const char *a = argv[i];
-    if (cli_flag(argv, i, "--help") || cli_flag(argv, i, "-h")) {
+  jnd_judge_params jp;
+  jnd_judge_defaults(&jp);
+  cli_views vo;
+  cli_views_init(&vo, 256, 256);
+  vo.set.sampling.count = 4;
+  cli_display disp;
+  cli_display_init(&disp);
+  int sizes[64], nsizes = 0;
+  cli_args args = cli_args_start(argc, argv, "calibrate"), *ap = &args;
+  for (; args.i < argc && !args.bad; args.i++) {
+    const char *a = argv[args.i];
+    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
       help();
       return EXIT_OK;
-    } else if (cli_display_opt("calibrate", argc, argv, &i, &tp.model.display)) {
-    } else if (cli_opt(argc, argv, &i, "-o", &v) || cli_opt(argc, argv, &i, "--output", &v)) {
+    } else if (cli_views_opt(ap, &vo) || cli_display_opt(ap, &disp) || cli_common_opt(ap, &common)) {
+    } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
       out_path = v;
-    } else if (cli_opt(argc, argv, &i, "--pairs", &v)) {
+    } else if (cli_opt(ap, "--pairs", &v)) {
       pairs_path = v;
-    } else if (cli_opt(argc, argv, &i, "--sizes", &v)) {
-      const char *s = v;
-      nsizes = 0;
-      while (*s && nsizes < 64) {
-        char *e;
-        errno = 0;
-        long x = strtol(s, &e, 10);
-        if (e == s || errno || x < 1 || x > 32768 || (*e && *e != ',')) {
-          cli_error("calibrate: --sizes: '%s' is not a list of sizes like 1024,896,768", v);
-          return EXIT_BAD;
-        }
-        sizes[nsizes++] = (int)x;
-        if (!*e) break;
-        s = e + 1;
-      }
-    } else if (cli_opt(argc, argv, &i, "--views", &v)) {
-      tp.views = cli_int("calibrate", "--views", v, 1, 1024);
-    } else if (cli_opt(argc, argv, &i, "--size", &v)) {
-      double w, h;
-      cli_pair("calibrate", "--size", v, &w, &h);
-      if (w < 16 || h < 16 || w > 8192 || h > 8192 || w != floor(w) || h != floor(h)) {
-        cli_error("calibrate: --size: '%s' is not WxH with 16..8192 pixels", v);
-        return EXIT_BAD;
-      }
-      tp.width = (int)w;
-      tp.height = (int)h;
-    } else if (cli_opt(argc, argv, &i, "--coverage", &v)) {
-      tp.coverage = cli_double("calibrate", "--coverage", v, 0.01, 10);
-    } else if (cli_opt(argc, argv, &i, "--map-size", &v)) {
-      map_size = cli_int("calibrate", "--map-size", v, 8, 8192);
-    } else if (cli_opt(argc, argv, &i, "--folds", &v)) {
-      cp.folds = cli_int("calibrate", "--folds", v, 1, 32);
-    } else if (cli_opt(argc, argv, &i, "--p", &v)) {
-      cp.threshold_p = cli_double("calibrate", "--p", v, 0.01, 0.99);
-    } else if (cli_opt(argc, argv, &i, "--bias-range", &v)) {
-      cli_pair("calibrate", "--bias-range", v, &cp.bias_min, &cp.bias_max);
-      if (!(cp.bias_max > cp.bias_min)) {
+    } else if (cli_opt(ap, "--sizes", &v)) {
+      nsizes = cli_int_list(ap, "--sizes", v, 1, 32768, sizes, 64);
+    } else if (cli_opt(ap, "--folds", &v)) {
+      cp.folds = cli_int(ap, "--folds", v, 1, 32);
+    } else if (cli_opt(ap, "--p", &v)) {
+      cp.threshold_p = cli_double(ap, "--p", v, 0.01, 0.99);
+    } else if (cli_opt(ap, "--bias-range", &v)) {
+      cli_pair(ap, "--bias-range", v, &cp.bias_min, &cp.bias_max);
+      if (!args.bad && !(cp.bias_max > cp.bias_min)) {
         cli_error("calibrate: --bias-range: '%s' needs A < B", v);
         return EXIT_BAD;
       }
-    } else if (cli_opt(argc, argv, &i, "--histogram", &v)) {
+    } else if (cli_opt(ap, "--histogram", &v)) {
       hist_path = v;
-    } else if (cli_common_opt(argc, argv, &i, &common)) {
     } else if (a[0] == '-' && a[1]) {
-      return cli_unknown("calibrate", a);
+      return cli_unknown(ap);
     } else if (!csv_path) {
       csv_path = a;
     } else {
-      return cli_unknown("calibrate", a);
+      return cli_unknown(ap);
     }
   }
+  if (args.bad) return EXIT_BAD;
   if (!csv_path) {
     cli_error("calibrate: give a THRESHOLDS.csv (jnd calibrate --help)");
     return EXIT_BAD;
@@ -197,7 +174,10 @@ static int run(int argc, char **argv) {
     cli_error("calibrate: give the calibration file to write with -o CAL.json");
     return EXIT_BAD;
   }
-  tp.model.beta = cp.beta;
+  jp.model.display = cli_display_get(&disp);
+  jp.model.threads = common.threads;
+  jp.model.beta = cp.beta;
+  jp.views = vo.set;
 
   int rc = EXIT_BAD, nsc = 0;
   jnd_csv csv = {0}, pairs = {0};
@@ -246,7 +226,9 @@ static int run(int argc, char **argv) {
       snprintf(sc[k].map, sizeof sc[k].map, "%s", map);
       if (c_model >= 0) {
         const char *m = csv.cells[r][c_model];
-        if (strcmp(m, "builtin") == 0 || strcmp(m, "builtin:sphere") == 0) snprintf(sc[k].model, sizeof sc[k].model, "%s", m);
+        jnd_builtin_params bp;
+        jnd_builtin_defaults(&bp);
+        if (jnd_builtin_parse(m, &bp) != 0) snprintf(sc[k].model, sizeof sc[k].model, "%s", m);
         else rel_path(csv_path, m, sc[k].model, sizeof sc[k].model);
       }
     }
@@ -299,7 +281,7 @@ static int run(int argc, char **argv) {
       cli_error("%s: missing column (need scene, resolution, reference, test)", pairs_path);
       goto out;
     }
-    jnd_model_params mp = tp.model;
+    jnd_model_params mp = jp.model;
     mp.threads = 1;
     if (jnd_model_create(&mp, &model) != JND_OK) {
       cli_error("calibrate: %s", jnd_last_error());
@@ -336,17 +318,7 @@ static int run(int argc, char **argv) {
   for (int k = 0; k < nsc; k++) {
     if (!sc[k].model[0]) continue;
     jnd_scene *scene = NULL;
-    jnd_status ls;
-    if (strncmp(sc[k].model, "builtin", 7) == 0) {
-      jnd_builtin_params bp;
-      jnd_builtin_defaults(&bp);
-      bp.map_size = map_size;
-      bp.shape = strcmp(sc[k].model, "builtin:sphere") == 0;
-      ls = jnd_scene_builtin(&bp, &scene);
-    } else {
-      ls = jnd_scene_load(sc[k].model, &scene);
-    }
-    if (ls != JND_OK) {
+    if (jnd_scene_open(sc[k].model, vo.map_size, &scene) != JND_OK) {
       cli_error("%s", jnd_last_error());
       goto out;
     }
@@ -367,7 +339,7 @@ static int run(int argc, char **argv) {
     } else {
       for (int i = 1; i <= 11; i++) ss[n++] = (int)lround(L * (1.0 - i * (5.0 / 6.0) / 11.0));
     }
-    jnd_status st = jnd_texres_series_percentiles(scene, sc[k].map, ss, n, &tp, sc[k].pct);
+    jnd_status st = jnd_calib_series_percentiles(scene, sc[k].map, ss, n, &jp, sc[k].pct);
     jnd_scene_free(scene);
     if (st != JND_OK) {
       cli_error("%s", jnd_last_error());
@@ -376,6 +348,9 @@ static int run(int argc, char **argv) {
     for (int i = 0; i < n; i++) sc[k].pct_res[i] = ss[i];
     sc[k].npct = n;
     cli_progress_step(&prog, k + 1);
+    char line[512];
+    snprintf(line, sizeof line, "scene %d/%d %s: %s at %d resolutions", k + 1, nsc, sc[k].name, sc[k].map, n);
+    cli_progress_line(&prog, line);
   }
   cli_progress_end(&prog);
   cs = calloc((size_t)nsc, sizeof *cs);
@@ -408,7 +383,8 @@ static int run(int argc, char **argv) {
   cJSON_AddNumberToObject(par, "beta", cp.beta);
   cJSON_AddNumberToObject(par, "bias_min", cp.bias_min);
   cJSON_AddNumberToObject(par, "bias_max", cp.bias_max);
-  cJSON_AddItemToObject(par, "display", cli_display_json(&tp.model.display));
+  cJSON_AddItemToObject(par, "display", cli_display_json(&jp.model.display));
+  cJSON_AddItemToObject(par, "views", cli_views_json(&vo));
   cJSON *cal = cJSON_AddObjectToObject(res, "calibration");
   cJSON_AddNumberToObject(cal, "percentile", R.cal.percentile);
   cJSON_AddNumberToObject(cal, "scale", R.cal.scale);

@@ -143,59 +143,59 @@ static int run(int argc, char **argv) {
   const char *data = NULL, *out_csv = NULL, *colors = NULL, *bkgs = NULL;
   const char *only[16];
   int nonly = 0, static_only = 0, every = 1, fit = 0, fit_rounds = 4;
-  for (int i = 1; i < argc; i++) {
+  cli_args args = cli_args_start(argc, argv, "csf"), *ap = &args;
+  for (; args.i < argc && !args.bad; args.i++) {
     const char *v;
-    if (cli_flag(argv, i, "--help") || cli_flag(argv, i, "-h")) {
+    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
       help();
       return EXIT_OK;
-    } else if (cli_opt(argc, argv, &i, "-o", &v) || cli_opt(argc, argv, &i, "--output", &v)) {
+    } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
       out_csv = v;
-    } else if (cli_opt(argc, argv, &i, "--colors", &v)) {
+    } else if (cli_opt(ap, "--colors", &v)) {
       colors = v;
-    } else if (cli_opt(argc, argv, &i, "--backgrounds", &v)) {
+    } else if (cli_opt(ap, "--backgrounds", &v)) {
       bkgs = v;
-    } else if (cli_opt(argc, argv, &i, "--dataset", &v)) {
+    } else if (cli_opt(ap, "--dataset", &v)) {
       if (nonly < 16) only[nonly++] = v;
-    } else if (cli_flag(argv, i, "--static-only")) {
+    } else if (cli_flag(ap, "--static-only")) {
       static_only = 1;
-    } else if (cli_opt(argc, argv, &i, "--every", &v)) {
-      every = cli_int("csf", "--every", v, 1, 1000000);
-    } else if (cli_opt(argc, argv, &i, "--sensitivity", &v)) {
-      mp.sensitivity = cli_double("csf", "--sensitivity", v, 1e-6, 1e6);
-    } else if (cli_opt(argc, argv, &i, "--sens-rg", &v)) {
-      mp.sens_rg = cli_double("csf", "--sens-rg", v, 0, 1e6);
-    } else if (cli_opt(argc, argv, &i, "--sens-yv", &v)) {
-      mp.sens_yv = cli_double("csf", "--sens-yv", v, 0, 1e6);
-    } else if (cli_opt(argc, argv, &i, "--min-band", &v)) {
-      mp.min_band_cpd = cli_double("csf", "--min-band", v, 0.02, 10);
-    } else if (cli_opt(argc, argv, &i, "--summation", &v)) {
-      mp.summation_cycles = cli_double("csf", "--summation", v, 0, 20);
-    } else if (cli_opt(argc, argv, &i, "--summation-beta", &v)) {
-      mp.summation_beta = cli_double("csf", "--summation-beta", v, 1, 20);
-    } else if (cli_opt(argc, argv, &i, "--eye-velocity", &v)) {
-      mp.eye_velocity_dps = cli_double("csf", "--eye-velocity", v, 0, 300);
-    } else if (cli_opt(argc, argv, &i, "--chroma-sat", &v)) {
-      mp.chroma_sat_td = cli_double("csf", "--chroma-sat", v, 0, 1e7);
-    } else if (cli_opt(argc, argv, &i, "--rg-cutoff", &v)) {
-      mp.rg_cutoff_cpd = cli_double("csf", "--rg-cutoff", v, 0.1, 100);
-    } else if (cli_opt(argc, argv, &i, "--yv-cutoff", &v)) {
-      mp.yv_cutoff_cpd = cli_double("csf", "--yv-cutoff", v, 0.1, 100);
-    } else if (cli_opt(argc, argv, &i, "--fit-rounds", &v)) {
-      fit_rounds = cli_int("csf", "--fit-rounds", v, 1, 20);
+    } else if (cli_opt(ap, "--every", &v)) {
+      every = cli_int(ap, "--every", v, 1, 1000000);
+    } else if (cli_opt(ap, "--sensitivity", &v)) {
+      mp.sensitivity = cli_double(ap, "--sensitivity", v, 1e-6, 1e6);
+    } else if (cli_opt(ap, "--sens-rg", &v)) {
+      mp.sens_rg = cli_double(ap, "--sens-rg", v, 0, 1e6);
+    } else if (cli_opt(ap, "--sens-yv", &v)) {
+      mp.sens_yv = cli_double(ap, "--sens-yv", v, 0, 1e6);
+    } else if (cli_opt(ap, "--min-band", &v)) {
+      mp.min_band_cpd = cli_double(ap, "--min-band", v, 0.02, 10);
+    } else if (cli_opt(ap, "--summation", &v)) {
+      mp.summation_cycles = cli_double(ap, "--summation", v, 0, 20);
+    } else if (cli_opt(ap, "--summation-beta", &v)) {
+      mp.summation_beta = cli_double(ap, "--summation-beta", v, 1, 20);
+    } else if (cli_opt(ap, "--eye-velocity", &v)) {
+      mp.eye_velocity_dps = cli_double(ap, "--eye-velocity", v, 0, 300);
+    } else if (cli_opt(ap, "--chroma-sat", &v)) {
+      mp.chroma_sat_td = cli_double(ap, "--chroma-sat", v, 0, 1e7);
+    } else if (cli_opt(ap, "--rg-cutoff", &v)) {
+      mp.rg_cutoff_cpd = cli_double(ap, "--rg-cutoff", v, 0.1, 100);
+    } else if (cli_opt(ap, "--yv-cutoff", &v)) {
+      mp.yv_cutoff_cpd = cli_double(ap, "--yv-cutoff", v, 0.1, 100);
+    } else if (cli_opt(ap, "--fit-rounds", &v)) {
+      fit_rounds = cli_int(ap, "--fit-rounds", v, 1, 20);
       fit = 1;
-    } else if (cli_flag(argv, i, "--fit")) {
+    } else if (cli_flag(ap, "--fit")) {
       fit = 1;
-    } else if (cli_opt(argc, argv, &i, "--threads", &v)) {
-      common.threads = cli_threads("csf", v);
-    } else if (cli_common_opt(argc, argv, &i, &common)) {
-    } else if (argv[i][0] == '-' && argv[i][1]) {
-      return cli_unknown("csf", argv[i]);
+    } else if (cli_common_opt(ap, &common)) {
+    } else if (argv[args.i][0] == '-' && argv[args.i][1]) {
+      return cli_unknown(ap);
     } else if (!data) {
-      data = argv[i];
+      data = argv[args.i];
     } else {
-      return cli_unknown("csf", argv[i]);
+      return cli_unknown(ap);
     }
   }
+  if (args.bad) return EXIT_BAD;
   if (!data) {
     cli_error("csf: needs a CSV of thresholds (jnd csf --help)");
     return EXIT_BAD;

@@ -21,23 +21,22 @@ static void help(void) {
       "  --motion FILE.exr   per-pixel screen displacement, pixels per frame (2 channels)\n"
       "  --fps N             frames per second for --motion (default 60)\n"
       "  --weights FILE      per-pixel weights (first channel) multiplying the difference map\n"
-      "  --gaze X,Y          fixation point in pixels: sensitivity falls with eccentricity\n"
-      "                      (default: every pixel is seen foveally)\n"
+      "  --gaze X,Y          fixation point in pixels, inside the image: sensitivity falls\n"
+      "                      with eccentricity (default: every pixel is seen foveally)\n"
       "\n"
       "outputs:\n"
-      "  --json FILE|-       JSON report (- for stdout)\n"
       "  --map FILE.exr      float JND per pixel\n"
       "  --heatmap FILE.png  JND over a dimmed grey copy of REF, with a legend\n"
       "  --heatmap-max J     JND at the top of the heatmap's scale (default 1)\n"
       "  --pool P            pooling for p_detect: p93 (default), pNN, max, mean, minkowski\n"
       "  --calibration FILE  a `jnd calibrate` file: its JND transform, slope and percentile\n"
       "  --fail-above P      exit 1 when the pooled probability exceeds P (render gating)\n"
-      "  --timings           add wall-clock timings to the JSON (they differ run to run)\n"
-      "  --threads N         worker threads (results do not depend on it)\n"
-      "  --quiet             nothing on stderr but errors\n"
+      "%s"
       "\n"
+      "Paper numbers: 000 is Wolski et al. 2019 (pooling, psychometric function); the\n"
+      "model is Schwarz & Stamminger 2009 (004); include/jnd.h lists them all.\n"
       "Exit status: 0, 1 when above --fail-above, 2 for bad input.\n",
-      cli_display_help);
+      cli_display_help, cli_common_help);
 }
 
 static int load(const char *path, jnd_image *img, jnd_image_info *info) {
@@ -48,16 +47,21 @@ static int load(const char *path, jnd_image *img, jnd_image_info *info) {
   return 1;
 }
 
-/* the reference as a display signal for the heatmap's grey backdrop */
+/* the reference as a display signal for the heatmap's grey backdrop: a
+ * linear file as the display shows it (scaled to its peak, sRGB-encoded) */
 static int heatmap_backdrop(const char *path, const jnd_display *d, jnd_image *out) {
   jnd_image_info info;
   if (!load(path, out, &info)) return 0;
   if (info.encoding == JND_ENCODING_LINEAR) {
     size_t n = (size_t)out->w * out->h * out->c;
-    for (size_t i = 0; i < n; i++) {
-      double v = out->data[i] * d->exr_scale / d->peak_cdm2;
-      out->data[i] = (float)pow(v > 0 ? (v < 1 ? v : 1) : 0, 1 / 2.2);
+    for (size_t i = 0; i < n; i++) out->data[i] = (float)(out->data[i] * d->exr_scale / d->peak_cdm2);
+    jnd_image enc = {0};
+    if (jnd_render_to_srgb(out, &enc) != JND_OK) {
+      cli_error("%s", jnd_last_error());
+      return 0;
     }
+    jnd_image_free(out);
+    *out = enc;
   }
   return 1;
 }
@@ -70,51 +74,53 @@ static int run(int argc, char **argv) {
   const char *pool_name = "p93", *cal_path = NULL;
   jnd_calibration cal;
   double fail_above = -1, heat_max = 1;
-  int npaths = 0, timings = 0;
-  for (int i = 1; i < argc; i++) {
+  int npaths = 0;
+  cli_display disp;
+  cli_display_init(&disp);
+  cli_args args = cli_args_start(argc, argv, "diff"), *ap = &args;
+  for (; args.i < argc && !args.bad; args.i++) {
     const char *v;
-    if (cli_flag(argv, i, "--help") || cli_flag(argv, i, "-h")) {
+    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
       help();
       return EXIT_OK;
-    } else if (cli_display_opt("diff", argc, argv, &i, &mp.display)) {
-    } else if (cli_opt(argc, argv, &i, "--motion", &v)) {
+    } else if (cli_display_opt(ap, &disp)) {
+    } else if (cli_opt(ap, "--motion", &v)) {
       motion_path = v;
-    } else if (cli_opt(argc, argv, &i, "--fps", &v)) {
-      mp.fps = cli_double("diff", "--fps", v, 1, 1000);
-    } else if (cli_opt(argc, argv, &i, "--weights", &v)) {
+    } else if (cli_opt(ap, "--fps", &v)) {
+      mp.fps = cli_double(ap, "--fps", v, 1, 1000);
+    } else if (cli_opt(ap, "--weights", &v)) {
       weights_path = v;
-    } else if (cli_opt(argc, argv, &i, "--gaze", &v)) {
-      cli_pair("diff", "--gaze", v, &mp.gaze_x, &mp.gaze_y);
+    } else if (cli_opt(ap, "--gaze", &v)) {
+      cli_pair(ap, "--gaze", v, &mp.gaze_x, &mp.gaze_y);
       mp.has_gaze = 1;
-    } else if (cli_opt(argc, argv, &i, "--pool", &v)) {
+    } else if (cli_opt(ap, "--pool", &v)) {
       pool_name = v;
-    } else if (cli_opt(argc, argv, &i, "--calibration", &v)) {
+    } else if (cli_opt(ap, "--calibration", &v)) {
       cal_path = v;
-    } else if (cli_opt(argc, argv, &i, "--map", &v)) {
+    } else if (cli_opt(ap, "--map", &v)) {
       map_path = v;
-    } else if (cli_opt(argc, argv, &i, "--heatmap", &v)) {
+    } else if (cli_opt(ap, "--heatmap", &v)) {
       heat_path = v;
-    } else if (cli_opt(argc, argv, &i, "--heatmap-max", &v)) {
-      heat_max = cli_double("diff", "--heatmap-max", v, 1e-3, 1e6);
-    } else if (cli_opt(argc, argv, &i, "--fail-above", &v)) {
-      fail_above = cli_double("diff", "--fail-above", v, 0, 1);
-    } else if (cli_opt(argc, argv, &i, "--threads", &v)) {
-      mp.threads = common.threads = cli_threads("diff", v);
-    } else if (cli_flag(argv, i, "--timings")) {
-      timings = 1;
-    } else if (cli_common_opt(argc, argv, &i, &common)) {
-    } else if (argv[i][0] == '-' && argv[i][1]) {
-      return cli_unknown("diff", argv[i]);
+    } else if (cli_opt(ap, "--heatmap-max", &v)) {
+      heat_max = cli_double(ap, "--heatmap-max", v, 1e-3, 1e6);
+    } else if (cli_opt(ap, "--fail-above", &v)) {
+      fail_above = cli_double(ap, "--fail-above", v, 0, 1);
+    } else if (cli_common_opt(ap, &common)) {
+    } else if (argv[args.i][0] == '-' && argv[args.i][1]) {
+      return cli_unknown(ap);
     } else if (npaths < 2) {
-      paths[npaths++] = argv[i];
+      paths[npaths++] = argv[args.i];
     } else {
-      return cli_unknown("diff", argv[i]);
+      return cli_unknown(ap);
     }
   }
+  if (args.bad) return EXIT_BAD;
   if (npaths != 2) {
     cli_error("diff: needs two images, REF and TEST (jnd diff --help)");
     return EXIT_BAD;
   }
+  mp.display = cli_display_get(&disp);
+  mp.threads = common.threads;
   jnd_pooling pool;
   if (jnd_pooling_parse(pool_name, &pool) != JND_OK) {
     cli_error("diff: --pool: %s", jnd_last_error());
@@ -137,20 +143,31 @@ static int run(int argc, char **argv) {
   cJSON *report = NULL;
   /* the two files decode at the same time */
   int ok[2];
+  char msg[2][1024] = {"", ""};
 #pragma omp parallel sections num_threads(common.threads == 1 ? 1 : 2)
   {
 #pragma omp section
-    ok[0] = jnd_image_read(paths[0], &ref, &ri) == JND_OK;
+    {
+      ok[0] = jnd_image_read(paths[0], &ref, &ri) == JND_OK;
+      /* the message lives on the thread that failed: take it along */
+      if (!ok[0]) snprintf(msg[0], sizeof msg[0], "%s", jnd_last_error());
+    }
 #pragma omp section
-    ok[1] = jnd_image_read(paths[1], &test, &ti) == JND_OK;
+    {
+      ok[1] = jnd_image_read(paths[1], &test, &ti) == JND_OK;
+      if (!ok[1]) snprintf(msg[1], sizeof msg[1], "%s", jnd_last_error());
+    }
   }
   if (!ok[0] || !ok[1]) {
-    /* the first failing file's message: re-read it on this thread for the error text */
-    load(paths[ok[0] ? 1 : 0], ok[0] ? &test : &ref, ok[0] ? &ti : &ri);
+    cli_error("%s", msg[ok[0] ? 1 : 0]);
     goto out;
   }
   if (ref.w != test.w || ref.h != test.h) {
     cli_error("%s: size %d x %d differs from %s (%d x %d)", paths[1], test.w, test.h, paths[0], ref.w, ref.h);
+    goto out;
+  }
+  if (mp.has_gaze && !(mp.gaze_x >= 0 && mp.gaze_x < ref.w && mp.gaze_y >= 0 && mp.gaze_y < ref.h)) {
+    cli_error("diff: --gaze: %g,%g is outside the %d x %d image", mp.gaze_x, mp.gaze_y, ref.w, ref.h);
     goto out;
   }
   jnd_diff_inputs in = {0};
@@ -251,7 +268,7 @@ static int run(int argc, char **argv) {
   cJSON *ba = cJSON_AddArrayToObject(res, "bands_cpd");
   for (int b = 0; b < nb && b < 16; b++) cJSON_AddItemToArray(ba, cJSON_CreateNumber(round(bands[b] * 1e4) / 1e4));
   if (fail_above >= 0) cJSON_AddBoolToObject(res, "above_threshold", above);
-  if (timings) {
+  if (common.timings) {
     cJSON *t = cJSON_AddObjectToObject(res, "timings");
     cJSON_AddNumberToObject(t, "load_s", t_load);
     cJSON_AddNumberToObject(t, "model_s", t_model);

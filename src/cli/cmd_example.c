@@ -1,17 +1,16 @@
 /* jnd example -o DIR — writes the built-in synthetic image pair. */
-#include <errno.h>
 #include <stdio.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "cli/cli.h"
 
 static int run(int argc, char **argv) {
   const char *dir = NULL;
   int w = 768, h = 512;
-  for (int i = 1; i < argc; i++) {
+  cli_args args = cli_args_start(argc, argv, "example"), *ap = &args;
+  for (; args.i < argc && !args.bad; args.i++) {
     const char *v;
-    if (cli_flag(argv, i, "--help") || cli_flag(argv, i, "-h")) {
+    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
       printf("usage: jnd example -o DIR [--size WxH]\n\n"
              "Writes the built-in synthetic pair DIR/reference.png and DIR/test.png (default\n"
              "768x512): a reference with gradients, gratings, edges, colour and texture, and\n"
@@ -19,29 +18,20 @@ static int run(int argc, char **argv) {
              "1%% noise (top right), a colour shift (bottom left), a faint 1%% luminance step\n"
              "(bottom right). Try: jnd diff DIR/reference.png DIR/test.png --heatmap where.png\n");
       return EXIT_OK;
-    } else if (cli_opt(argc, argv, &i, "-o", &v) || cli_opt(argc, argv, &i, "--output", &v)) {
+    } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
       dir = v;
-    } else if (cli_opt(argc, argv, &i, "--size", &v)) {
-      double a, b;
-      cli_pair("example", "--size", v, &a, &b);
-      if (a < 64 || b < 64 || a > 8192 || b > 8192) {
-        cli_error("example: --size: each side must be 64..8192");
-        return EXIT_BAD;
-      }
-      w = (int)a;
-      h = (int)b;
+    } else if (cli_opt(ap, "--size", &v)) {
+      cli_size(ap, "--size", v, 64, 8192, &w, &h);
     } else {
-      return cli_unknown("example", argv[i]);
+      return cli_unknown(ap);
     }
   }
+  if (args.bad) return EXIT_BAD;
   if (!dir) {
     cli_error("example: needs -o DIR (jnd example --help)");
     return EXIT_BAD;
   }
-  if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
-    cli_error("%s: cannot create: %s", dir, strerror(errno));
-    return EXIT_BAD;
-  }
+  if (jnd_make_dirs(dir) != JND_OK) return cli_lib_error();
   jnd_image ref, test;
   if (jnd_example_pair(w, h, &ref, &test) != JND_OK) {
     cli_error("example: %s", jnd_last_error());

@@ -21,27 +21,14 @@ static void help(void) {
       "`builtin` (a rounded box with a procedural 2048^2 PBR material, no files\n"
       "needed) or `builtin:sphere`. See docs/render.md.\n"
       "\n"
-      "views:\n"
-      "  --views N           number of views on a Fibonacci spiral around the object (8)\n"
-      "  --seed S            seed of the spiral's rotation and of the lights (1)\n"
-      "  --size WxH          image size in pixels (512x512)\n"
-      "  --coverage F        fraction of the image height the bounding sphere fills (0.8)\n"
-      "  --distance D        camera distance from the centre in object units (overrides --coverage)\n"
-      "  --fov DEG           vertical field of view, degrees (45)\n"
-      "  --cameras FILE      explicit cameras from JSON: a list (or {\"views\": [...]}, e.g. a\n"
-      "                      views.json) of {\"eye\":[x,y,z], \"target\":[..], \"up\":[..],\n"
-      "                      \"fov_y_deg\":45, \"prev\":{...}, \"lights\":[...]}\n"
+      "%s"
       "  --motion-orbit DEG  the previous pose for motion vectors: the camera orbited by DEG\n"
       "                      degrees about the vertical axis through the centre (0.5)\n"
       "\n"
       "lighting:\n"
-      "  --env FILE          equirectangular environment (.hdr or .exr, linear); default: a\n"
-      "                      built-in neutral studio\n"
       "  --env-intensity K   multiplier on the environment (1; 0 turns IBL off)\n"
       "  --env-rotation DEG  rotation of the environment about +Y (0)\n"
       "  --background MODE   black (default) or env (the environment behind the object)\n"
-      "  --lights N          directional key lights sampled per view (1)\n"
-      "  --light-intensity E their illuminance (2)\n"
       "  --light SPEC        a fixed light instead of the sampled ones (repeatable, <= 8):\n"
       "                        dir:DX,DY,DZ[:INTENSITY[:R,G,B]]      (direction of travel)\n"
       "                        point:X,Y,Z[:INTENSITY[:R,G,B]]\n"
@@ -54,7 +41,6 @@ static void help(void) {
       "  --scale MAP=F       resample the map by factor F with Lanczos-3 (000 §4)\n"
       "  --scale MAP=WxH     resample the map to W x H pixels\n"
       "  --replace MAP=FILE  use an image file instead (PNG/JPEG in the slot's encoding)\n"
-      "  --map-size N        side of the builtin asset's maps (2048)\n"
       "  --strict            a texture that cannot be loaded is an error (default: the slot\n"
       "                      falls back to its factor with a warning, as engines do)\n"
       "\n"
@@ -68,16 +54,13 @@ static void help(void) {
       "                        motion view_NNN_motion.png, 16-bit RGB, 0.5 + d / (2 motion_scale)\n"
       "                        mip    view_NNN_mip.png, 16-bit RGBA, (level + 1) / 64 for\n"
       "                               baseColor, metallicRoughness, normal, occlusion\n"
-      "  --samples N         MSAA samples (4)\n"
-      "  --anisotropy N      maximum anisotropic filtering (8; 1 = trilinear only, much faster\n"
-      "                      on llvmpipe)\n"
-      "  --platform P        EGL platform: auto (default), device, surfaceless\n"
-      "  --json FILE|-       also write the manifest there (- for stdout)\n"
-      "  --timings           add load and render times to the manifest (they vary run to run)\n"
-      "  --quiet             nothing on stderr but errors\n"
+      "%s"
       "\n"
       "The same command on the same machine writes identical images.\n"
-      "Exit status: 0, 2 for bad input (one line: jnd: FILE: problem).\n");
+      "Paper numbers: 000 is Wolski et al. 2019 (texture resolution); include/jnd.h\n"
+      "lists them all.\n"
+      "Exit status: 0, 2 for bad input (one line: jnd: FILE: problem).\n",
+      cli_views_help, cli_common_help);
 }
 
 typedef struct {
@@ -185,40 +168,6 @@ static cJSON *light_json(const jnd_light *L) {
   return o;
 }
 
-/* Reads --cameras: returns the number of views (views allocated), or -1. */
-static int read_cameras(const char *path, const jnd_scene *scene, double fov, jnd_view **out) {
-  FILE *f = fopen(path, "rb");
-  if (!f) return cli_bad("%s: cannot open (%s)", path, strerror(errno)), -1;
-  char *text = NULL;
-  size_t n = 0, cap = 0;
-  for (;;) {
-    if (n + 65536 > cap) {
-      cap = cap ? cap * 2 : 131072;
-      if (cap > ((size_t)64 << 20)) {
-        free(text);
-        fclose(f);
-        return cli_bad("%s: too large", path), -1;
-      }
-      char *t = realloc(text, cap + 1);
-      if (!t) break;
-      text = t;
-    }
-    size_t k = fread(text + n, 1, cap - n, f);
-    n += k;
-    if (k == 0) break;
-  }
-  fclose(f);
-  if (!text) return cli_bad("%s: out of memory", path), -1;
-  text[n] = 0;
-  double centre[3], radius;
-  jnd_scene_bounds(scene, centre, &radius);
-  int count = 0;
-  jnd_status st = jnd_views_parse(path, text, n, centre, fov, out, &count);
-  free(text);
-  if (st != JND_OK) return cli_bad("%s", jnd_last_error()), -1;
-  return count;
-}
-
 /* The camera orbited by deg about the vertical axis through the target. */
 static void orbit(const jnd_camera *c, double deg, jnd_camera *out) {
   *out = *c;
@@ -250,20 +199,6 @@ static int write_exr(const char *dir, const char *name, const jnd_image *img, co
   }
   cJSON_AddStringToObject(view, key, name);
   return 1;
-}
-
-static int mkdir_p(const char *dir) {
-  char buf[4096];
-  snprintf(buf, sizeof buf, "%s", dir);
-  for (char *p = buf + 1; *p; p++)
-    if (*p == '/') {
-      *p = 0;
-      if (mkdir(buf, 0777) != 0 && errno != EEXIST) return 0;
-      *p = '/';
-    }
-  if (mkdir(buf, 0777) != 0 && errno != EEXIST) return 0;
-  struct stat st;
-  return stat(buf, &st) == 0 && S_ISDIR(st.st_mode);
 }
 
 enum { O_COLOR = 1, O_DEPTH = 2, O_MASK = 4, O_MOTION = 8, O_MIP = 16, O_EXR = 32 };
@@ -331,69 +266,46 @@ static int apply_edits(jnd_scene *scene, const map_edit *edits, int nedits) {
 }
 
 static int run(int argc, char **argv) {
-  const char *model = NULL, *dir = NULL, *env = NULL, *cameras = NULL, *platform = NULL, *v;
+  const char *model = NULL, *dir = NULL, *v;
   cli_common common = {0};
-  jnd_view_sampling vs;
-  jnd_view_sampling_defaults(&vs);
-  int width = 512, height = 512, samples = 4, anisotropy = 8, map_size = 2048, list_maps = 0, strict = 0, timings = 0;
+  cli_views vo;
+  cli_views_init(&vo, 512, 512);
+  int list_maps = 0, strict = 0;
   int background_env = 0, nlights_fixed = 0;
   double env_intensity = 1, env_rotation = 0, exposure = 1, motion_orbit = 0.5;
   unsigned outputs = O_COLOR | O_MASK;
   jnd_light fixed[JND_MAX_LIGHTS];
   map_edit edits[MAX_EDITS];
   int nedits = 0;
-  for (int i = 1; i < argc; i++) {
-    const char *a = argv[i];
-    if (cli_flag(argv, i, "--help") || cli_flag(argv, i, "-h")) {
+  cli_args args = cli_args_start(argc, argv, "render"), *ap = &args;
+  for (; args.i < argc && !args.bad; args.i++) {
+    const char *a = argv[args.i];
+    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
       help();
       return EXIT_OK;
-    } else if (cli_opt(argc, argv, &i, "-o", &v) || cli_opt(argc, argv, &i, "--output", &v)) {
+    } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
       dir = v;
-    } else if (cli_opt(argc, argv, &i, "--views", &v)) {
-      vs.count = cli_int("render", "--views", v, 1, 100000);
-    } else if (cli_opt(argc, argv, &i, "--seed", &v)) {
-      vs.seed = (uint64_t)cli_double("render", "--seed", v, 0, 9007199254740992.0);
-    } else if (cli_opt(argc, argv, &i, "--size", &v)) {
-      double w, h;
-      cli_pair("render", "--size", v, &w, &h);
-      if (w != floor(w) || h != floor(h) || w < 1 || h < 1 || w > 16384 || h > 16384)
-        return cli_bad("render: --size: '%s' is not WxH with 1..16384 pixels", v);
-      width = (int)w;
-      height = (int)h;
-    } else if (cli_opt(argc, argv, &i, "--coverage", &v)) {
-      vs.coverage = cli_double("render", "--coverage", v, 0.01, 10);
-    } else if (cli_opt(argc, argv, &i, "--distance", &v)) {
-      vs.distance = cli_double("render", "--distance", v, 1e-9, 1e12);
-    } else if (cli_opt(argc, argv, &i, "--fov", &v)) {
-      vs.fov_y_deg = cli_double("render", "--fov", v, 0.1, 179);
-    } else if (cli_opt(argc, argv, &i, "--cameras", &v)) {
-      cameras = v;
-    } else if (cli_opt(argc, argv, &i, "--motion-orbit", &v)) {
-      motion_orbit = cli_double("render", "--motion-orbit", v, -180, 180);
-    } else if (cli_opt(argc, argv, &i, "--env", &v)) {
-      env = v;
-    } else if (cli_opt(argc, argv, &i, "--env-intensity", &v)) {
-      env_intensity = cli_double("render", "--env-intensity", v, 0, 1e6);
-    } else if (cli_opt(argc, argv, &i, "--env-rotation", &v)) {
-      env_rotation = cli_double("render", "--env-rotation", v, -3600, 3600);
-    } else if (cli_opt(argc, argv, &i, "--background", &v)) {
+    } else if (cli_views_opt(ap, &vo) || cli_common_opt(ap, &common)) {
+    } else if (cli_opt(ap, "--motion-orbit", &v)) {
+      motion_orbit = cli_double(ap, "--motion-orbit", v, -180, 180);
+    } else if (cli_opt(ap, "--env-intensity", &v)) {
+      env_intensity = cli_double(ap, "--env-intensity", v, 0, 1e6);
+    } else if (cli_opt(ap, "--env-rotation", &v)) {
+      env_rotation = cli_double(ap, "--env-rotation", v, -3600, 3600);
+    } else if (cli_opt(ap, "--background", &v)) {
       if (strcmp(v, "env") == 0) background_env = 1;
       else if (strcmp(v, "black") == 0) background_env = 0;
       else return cli_bad("render: --background: '%s' is not black or env", v);
-    } else if (cli_opt(argc, argv, &i, "--lights", &v)) {
-      vs.lights = cli_int("render", "--lights", v, 0, JND_MAX_LIGHTS);
-    } else if (cli_opt(argc, argv, &i, "--light-intensity", &v)) {
-      vs.light_intensity = cli_double("render", "--light-intensity", v, 0, 1e9);
-    } else if (cli_opt(argc, argv, &i, "--light", &v)) {
+    } else if (cli_opt(ap, "--light", &v)) {
       if (nlights_fixed >= JND_MAX_LIGHTS) return cli_bad("render: --light: more than 8 lights");
       if (!parse_light(v, &fixed[nlights_fixed]))
         return cli_bad("render: --light: '%s' is not dir:DX,DY,DZ[:I[:R,G,B]], point:X,Y,Z[:I[:R,G,B]] "
                    "or spot:X,Y,Z:DX,DY,DZ[:I[:OUTER_DEG]]",
                    v);
       nlights_fixed++;
-    } else if (cli_opt(argc, argv, &i, "--exposure", &v)) {
-      exposure = cli_double("render", "--exposure", v, 0, 1e9);
-    } else if (cli_opt(argc, argv, &i, "--scale", &v) || cli_opt(argc, argv, &i, "--replace", &v)) {
+    } else if (cli_opt(ap, "--exposure", &v)) {
+      exposure = cli_double(ap, "--exposure", v, 0, 1e9);
+    } else if (cli_opt(ap, "--scale", &v) || cli_opt(ap, "--replace", &v)) {
       int replace = strncmp(a, "--replace", 9) == 0;
       const char *eq = strrchr(v, '=');
       if (!eq || eq == v || !eq[1] || nedits >= MAX_EDITS)
@@ -404,40 +316,28 @@ static int run(int argc, char **argv) {
       if (replace) {
         e->file = eq + 1;
       } else if (strchr(eq + 1, 'x')) {
-        double w, h;
-        cli_pair("render", "--scale", eq + 1, &w, &h);
-        if (w < 1 || h < 1 || w > 32768 || h > 32768 || w != floor(w) || h != floor(h))
-          return cli_bad("render: --scale: '%s' is not a size WxH", eq + 1);
-        e->w = (int)w;
-        e->h = (int)h;
+        cli_size(ap, "--scale", eq + 1, 1, 32768, &e->w, &e->h);
       } else {
-        e->factor = cli_double("render", "--scale", eq + 1, 1e-6, 16);
+        e->factor = cli_double(ap, "--scale", eq + 1, 1e-6, 16);
       }
-    } else if (cli_opt(argc, argv, &i, "--map-size", &v)) {
-      map_size = cli_int("render", "--map-size", v, 8, 8192);
-    } else if (cli_flag(argv, i, "--list-maps")) {
+    } else if (cli_flag(ap, "--list-maps")) {
       list_maps = 1;
-    } else if (cli_flag(argv, i, "--strict")) {
+    } else if (cli_flag(ap, "--strict")) {
       strict = 1;
-    } else if (cli_opt(argc, argv, &i, "--outputs", &v)) {
+    } else if (cli_opt(ap, "--outputs", &v)) {
       if (!parse_outputs(v, &outputs))
         return cli_bad("render: --outputs: '%s' is not a list of color,depth,mask,motion,mip,exr", v);
-    } else if (cli_opt(argc, argv, &i, "--samples", &v)) {
-      samples = cli_int("render", "--samples", v, 1, 64);
-    } else if (cli_opt(argc, argv, &i, "--anisotropy", &v)) {
-      anisotropy = cli_int("render", "--anisotropy", v, 1, 16);
-    } else if (cli_opt(argc, argv, &i, "--platform", &v)) {
-      platform = v;
-    } else if (cli_flag(argv, i, "--timings")) {
-      timings = 1;
-    } else if (cli_common_opt(argc, argv, &i, &common)) {
     } else if (a[0] == '-' && a[1]) {
-      return cli_unknown("render", a);
+      return cli_unknown(ap);
     } else if (!model) {
       model = a;
     } else {
-      return cli_unknown("render", a);
+      return cli_unknown(ap);
     }
+  }
+  if (args.bad) {
+    for (int e = 0; e < nedits; e++) free((char *)edits[e].map);
+    return EXIT_BAD;
   }
   if (!model) {
     cli_error("render: give a MODEL (a .gltf/.glb/.obj file or builtin); jnd render --help");
@@ -454,16 +354,7 @@ static int run(int argc, char **argv) {
   cJSON *report = NULL;
   double t0 = cli_now();
   jnd_status st;
-  if (strcmp(model, "builtin") == 0 || strcmp(model, "builtin:box") == 0 || strcmp(model, "builtin:sphere") == 0) {
-    jnd_builtin_params bp;
-    jnd_builtin_defaults(&bp);
-    bp.map_size = map_size;
-    bp.shape = strcmp(model, "builtin:sphere") == 0;
-    st = jnd_scene_builtin(&bp, &scene);
-  } else {
-    st = jnd_scene_load(model, &scene);
-  }
-  if (st != JND_OK) {
+  if ((st = jnd_scene_open(model, vo.map_size, &scene)) != JND_OK) {
     cli_error("%s", jnd_last_error());
     goto done;
   }
@@ -490,36 +381,13 @@ static int run(int argc, char **argv) {
   double t_load = cli_now() - t0;
   /* views (read before the output folder exists, so that bad cameras leave nothing behind) */
   int nviews = 0;
-  vs.aspect = (double)width / height;
-  if (nlights_fixed) vs.lights = 0;
-  if (cameras) {
-    nviews = read_cameras(cameras, scene, vs.fov_y_deg, &views);
-    if (nviews < 0) goto done;
-    /* views without lights get the sampled ones of the same index */
-    jnd_view_sampling ls = vs;
-    ls.count = nviews;
-    jnd_view *sampled = calloc((size_t)nviews, sizeof *sampled);
-    if (!sampled || jnd_views_sample(scene, &ls, sampled) != JND_OK) {
-      free(sampled);
-      cli_error("render: %s", jnd_last_error());
-      goto done;
-    }
-    for (int i = 0; i < nviews; i++)
-      if (views[i].nlights < 0) {
-        views[i].nlights = sampled[i].nlights;
-        memcpy(views[i].lights, sampled[i].lights, sizeof views[i].lights);
-      }
-    free(sampled);
-  } else {
-    nviews = vs.count;
-    views = calloc((size_t)nviews, sizeof *views);
-    if (!views || jnd_views_sample(scene, &vs, views) != JND_OK) {
-      cli_error("render: %s", jnd_last_error());
-      goto done;
-    }
+  if (nlights_fixed) vo.set.sampling.lights = 0;
+  if (cli_views_make(&vo, scene, &views, &nviews) != JND_OK) {
+    cli_error("%s", jnd_last_error());
+    goto done;
   }
-  if (!mkdir_p(dir)) {
-    cli_error("%s: cannot create the folder (%s)", dir, strerror(errno));
+  if (jnd_make_dirs(dir) != JND_OK) {
+    cli_error("%s", jnd_last_error());
     goto done;
   }
   unsigned gl_outputs = JND_OUT_COLOR | JND_OUT_MASK;
@@ -544,15 +412,8 @@ static int run(int argc, char **argv) {
   }
 
   double t1 = cli_now();
-  jnd_renderer_params rp;
-  jnd_renderer_defaults(&rp);
-  rp.width = width;
-  rp.height = height;
-  rp.samples = samples;
-  rp.anisotropy = anisotropy;
-  rp.env_path = env;
-  rp.platform = platform;
-  if (jnd_renderer_create(&rp, &r) != JND_OK) {
+  int width = vo.set.render.width, height = vo.set.render.height;
+  if (jnd_renderer_create(&vo.set.render, &r) != JND_OK) {
     cli_error("%s", jnd_last_error());
     goto done;
   }
@@ -561,22 +422,22 @@ static int run(int argc, char **argv) {
   report = cli_report_new("render");
   cJSON *in = cli_report_section(report, "inputs");
   cJSON_AddStringToObject(in, "model", model);
-  if (env) cJSON_AddStringToObject(in, "env", env);
-  if (cameras) cJSON_AddStringToObject(in, "cameras", cameras);
+  if (vo.set.render.env_path) cJSON_AddStringToObject(in, "env", vo.set.render.env_path);
+  if (vo.cameras) cJSON_AddStringToObject(in, "cameras", vo.cameras);
   cJSON *par = cli_report_section(report, "parameters");
   cJSON_AddNumberToObject(par, "views", nviews);
-  cJSON_AddNumberToObject(par, "seed", (double)vs.seed);
+  cJSON_AddNumberToObject(par, "seed", (double)vo.set.sampling.seed);
   cJSON_AddNumberToObject(par, "width", width);
   cJSON_AddNumberToObject(par, "height", height);
-  cJSON_AddNumberToObject(par, "coverage", vs.coverage);
-  if (vs.distance > 0) cJSON_AddNumberToObject(par, "distance", vs.distance);
-  cJSON_AddNumberToObject(par, "fov_y_deg", vs.fov_y_deg);
+  cJSON_AddNumberToObject(par, "coverage", vo.set.sampling.coverage);
+  if (vo.set.sampling.distance > 0) cJSON_AddNumberToObject(par, "distance", vo.set.sampling.distance);
+  cJSON_AddNumberToObject(par, "fov_y_deg", vo.set.sampling.fov_y_deg);
   cJSON_AddNumberToObject(par, "env_intensity", env_intensity);
   cJSON_AddNumberToObject(par, "env_rotation_deg", env_rotation);
   cJSON_AddNumberToObject(par, "exposure", exposure);
   cJSON_AddStringToObject(par, "background", background_env ? "env" : "black");
-  cJSON_AddNumberToObject(par, "samples", samples);
-  cJSON_AddNumberToObject(par, "anisotropy", anisotropy);
+  cJSON_AddNumberToObject(par, "samples", vo.set.render.samples);
+  cJSON_AddNumberToObject(par, "anisotropy", vo.set.render.anisotropy);
   cJSON *res = cli_report_section(report, "result");
   cJSON_AddStringToObject(res, "renderer", jnd_renderer_description(r));
   double centre[3], radius;
@@ -719,7 +580,7 @@ static int run(int argc, char **argv) {
     }
   }
   free(mip_min);
-  if (ok && timings) {
+  if (ok && common.timings) {
     cJSON *t = cJSON_AddObjectToObject(res, "timings");
     cJSON_AddNumberToObject(t, "load_s", t_load);
     cJSON_AddNumberToObject(t, "renderer_s", t_renderer);

@@ -14,26 +14,25 @@ static void help(void) {
       "usage: jnd texres MODEL -o OUTDIR [options]\n"
       "\n"
       "Chooses, for every texture map of MODEL (glTF 2.0 .gltf/.glb, OBJ, or `builtin`),\n"
-      "the smallest resolution a viewer does not notice (Wolski et al. 2019, 000 §4-§9):\n"
-      "candidates are the original and its power-of-two reductions, each rendered from N\n"
-      "sampled views and compared with the full-resolution rendering by the vision model;\n"
-      "a combination passes when at most a fraction Q of the views have a pooled\n"
-      "probability of detection above P. Sizes never exceed the mip-usage bound (the\n"
-      "finest mip level any pixel samples, 000 §4). Writes OUTDIR/texres.json, the resized\n"
-      "maps and a copy of the model pointing at them (inputs are never touched), the\n"
-      "worst view's heatmap, and the baseColor x normal matrices (000 Fig. 13).\n"
+      "the smallest resolution a viewer does not notice (Wolski et al. 2019: paper 000,\n"
+      "sections 4-9): candidates are the original and its power-of-two reductions, each\n"
+      "rendered from N sampled views and compared with the full-resolution rendering by\n"
+      "the vision model; a combination passes when at most a fraction Q of the views\n"
+      "have a pooled probability of detection above P. Each map's candidates are searched\n"
+      "by bisection; the choice is made with P x (1 - margin) so that it holds on views\n"
+      "it was not chosen on. Sizes never exceed the mip-usage bound (the finest mip level\n"
+      "any pixel samples). Writes OUTDIR/texres.json, the resized maps and a copy of the\n"
+      "model pointing at them (inputs are never touched) and the worst view's heatmap.\n"
       "See docs/texres.md.\n"
       "\n"
-      "viewing condition:\n"
-      "  --views N           sampled views for the choice (8)\n"
+      "%s"
       "  --verify-views M    then check the choice on M other views (held out; 0)\n"
-      "  --coverage F        fraction of the image height the object fills (0.8)\n"
-      "  --distance D        camera distance in object units (instead of --coverage)\n"
-      "  --size WxH          rendering size in pixels (384x384)\n"
-      "  --fov DEG           vertical field of view (45)\n"
-      "  --lights N          directional lights per view (1)\n"
-      "  --seed S            view and light sampling seed (1)\n"
-      "  --env FILE          environment map (.hdr/.exr; default the built-in studio)\n"
+      "\n"
+      "%s"
+      "  --margin F          choose with P x (1 - F) on the views (0.5; 0 = P itself)\n"
+      "  --confirm R         the choice must then hold on up to R fresh sets of views;\n"
+      "                      a set where it fails joins the views and the choice grows (2)\n"
+      "\n"
       "%s"
       "\n"
       "search:\n"
@@ -41,44 +40,21 @@ static void help(void) {
       "                      (default: the original and its halvings down to --min-size)\n"
       "  --min-size N        floor of the halvings (32)\n"
       "  --maps LIST         maps to search: MATERIAL/SLOT or slot names (default all)\n"
-      "  --p P               a view is above when its pooled P exceeds P (0.2, 000 §9)\n"
-      "  --q Q               at most this fraction of views above P (0.1, 000 §9)\n"
-      "  --pool pNN          pooling percentile (p93, 000 §6)\n"
-      "  --calibration FILE  a `jnd calibrate` file: pooling and JND transform (000 §7)\n"
-      "  --no-matrix         skip the baseColor x normal matrices\n"
-      "  --quick-matrix      only candidates down to each map's first size that fails on\n"
-      "                      its own (smaller ones fail anyway; default: every pair)\n"
-      "  --anisotropy N      renderer anisotropic filtering (8)\n"
-      "  --samples N         MSAA samples (4)\n"
-      "  --platform P        EGL platform: auto, device, surfaceless\n"
-      "  --map-size N        side of the builtin asset's maps (2048)\n"
+      "  --matrix            also render the baseColor x normal matrix of each material\n"
+      "                      (000 Fig. 13; every pair of candidates: slow)\n"
+      "  --quick-matrix      the matrix down to each map's first size that fails on its own\n"
       "\n"
       "outputs:\n"
       "  -o, --output DIR    the folder (created): texres.json, worst_view.png,\n"
       "                      matrix_N.png, model/ (a glTF/GLB copy with resized maps) or\n"
       "                      maps/ (OBJ, builtin: the resized maps as PNG)\n"
-      "  --json FILE|-       also write the report there\n"
-      "  --timings           add wall-clock times to the report\n"
-      "  --threads N         model worker threads\n"
-      "  --quiet             nothing on stderr but errors\n"
+      "%s"
       "\n"
+      "Paper numbers: 000 is Wolski et al. 2019, texture resolution (include/jnd.h lists\n"
+      "them all).\n"
       "Exit status: 0; 1 when the choice fails the criterion on the views (or the\n"
       "held-out views); 2 for bad input (one line: jnd: FILE: problem).\n",
-      cli_display_help);
-}
-
-static int mkdir_p(const char *dir) {
-  char buf[4096];
-  snprintf(buf, sizeof buf, "%s", dir);
-  for (char *p = buf + 1; *p; p++)
-    if (*p == '/') {
-      *p = 0;
-      if (mkdir(buf, 0777) != 0 && errno != EEXIST) return 0;
-      *p = '/';
-    }
-  if (mkdir(buf, 0777) != 0 && errno != EEXIST) return 0;
-  struct stat st;
-  return stat(buf, &st) == 0 && S_ISDIR(st.st_mode);
+      cli_views_help, cli_criterion_help, cli_display_help, cli_common_help);
 }
 
 static cJSON *pair(const int *wh) {
@@ -92,12 +68,6 @@ static cJSON *bytes_json(const size_t *b) {
   cJSON *o = cJSON_CreateObject();
   for (int f = 0; f < JND_TEX_FORMATS; f++) cJSON_AddNumberToObject(o, jnd_tex_format_name(f), (double)b[f]);
   return o;
-}
-
-static void on_progress(void *user, int done, int total) {
-  cli_progress *p = user;
-  p->total = total;
-  cli_progress_step(p, done);
 }
 
 /* 000 Fig. 13: per view a table, columns the baseColor candidates, rows the
@@ -132,163 +102,92 @@ static int write_matrix_png(const char *path, const jnd_texres_matrix *mx, int c
   return ok;
 }
 
-static int parse_sizes(const char *v, int *sizes, int max) {
-  int n = 0;
-  const char *s = v;
-  while (*s && n < max) {
-    char *e;
-    errno = 0;
-    long x = strtol(s, &e, 10);
-    if (e == s || errno || x < 1 || x > 32768) return -1;
-    sizes[n++] = (int)x;
-    if (*e == 0) break;
-    if (*e != ',') return -1;
-    s = e + 1;
-  }
-  return n;
-}
-
 static int run(int argc, char **argv) {
-  const char *model = NULL, *dir = NULL, *v, *cal_path = NULL, *pool_name = NULL;
+  const char *model = NULL, *dir = NULL, *v;
   cli_common common = {0};
+  cli_views vo;
+  cli_display disp;
+  cli_calibration cal = {0};
   jnd_texres_params p;
   jnd_texres_defaults(&p);
-  int sizes[64], map_size = 2048, timings = 0;
-  for (int i = 1; i < argc; i++) {
-    const char *a = argv[i];
-    if (cli_flag(argv, i, "--help") || cli_flag(argv, i, "-h")) {
+  cli_views_init(&vo, p.judge.views.render.width, p.judge.views.render.height);
+  cli_display_init(&disp);
+  int sizes[64];
+  cli_args args = cli_args_start(argc, argv, "texres"), *ap = &args;
+  for (; args.i < argc && !args.bad; args.i++) {
+    const char *a = argv[args.i];
+    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
       help();
       return EXIT_OK;
-    } else if (cli_display_opt("texres", argc, argv, &i, &p.model.display)) {
-    } else if (cli_opt(argc, argv, &i, "-o", &v) || cli_opt(argc, argv, &i, "--output", &v)) {
+    } else if (cli_views_opt(ap, &vo) || cli_display_opt(ap, &disp) || cli_criterion_opt(ap, &p.judge.criterion) ||
+               cli_calibration_opt(ap, &cal) || cli_common_opt(ap, &common)) {
+    } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
       dir = v;
-    } else if (cli_opt(argc, argv, &i, "--views", &v)) {
-      p.views = cli_int("texres", "--views", v, 1, 4096);
-    } else if (cli_opt(argc, argv, &i, "--verify-views", &v)) {
-      p.verify_views = cli_int("texres", "--verify-views", v, 0, 4096);
-    } else if (cli_opt(argc, argv, &i, "--coverage", &v)) {
-      p.coverage = cli_double("texres", "--coverage", v, 0.01, 10);
-    } else if (cli_opt(argc, argv, &i, "--distance", &v)) {
-      p.distance = cli_double("texres", "--distance", v, 1e-9, 1e12);
-    } else if (cli_opt(argc, argv, &i, "--size", &v)) {
-      double w, h;
-      cli_pair("texres", "--size", v, &w, &h);
-      if (w != floor(w) || h != floor(h) || w < 16 || h < 16 || w > 8192 || h > 8192) {
-        cli_error("texres: --size: '%s' is not WxH with 16..8192 pixels", v);
-        return EXIT_BAD;
-      }
-      p.width = (int)w;
-      p.height = (int)h;
-    } else if (cli_opt(argc, argv, &i, "--fov", &v)) {
-      p.fov_y_deg = cli_double("texres", "--fov", v, 0.1, 179);
-    } else if (cli_opt(argc, argv, &i, "--lights", &v)) {
-      p.lights = cli_int("texres", "--lights", v, 0, JND_MAX_LIGHTS);
-    } else if (cli_opt(argc, argv, &i, "--seed", &v)) {
-      p.seed = (uint64_t)cli_double("texres", "--seed", v, 0, 9007199254740992.0);
-    } else if (cli_opt(argc, argv, &i, "--env", &v)) {
-      p.env_path = v;
-    } else if (cli_opt(argc, argv, &i, "--sizes", &v)) {
-      p.nsizes = parse_sizes(v, sizes, 64);
-      if (p.nsizes < 1) {
-        cli_error("texres: --sizes: '%s' is not a list of sizes in pixels like 1024,512,256", v);
-        return EXIT_BAD;
-      }
+    } else if (cli_opt(ap, "--verify-views", &v)) {
+      p.verify_views = cli_int(ap, "--verify-views", v, 0, 4096);
+    } else if (cli_opt(ap, "--margin", &v)) {
+      p.margin = cli_double(ap, "--margin", v, 0, 0.99);
+    } else if (cli_opt(ap, "--confirm", &v)) {
+      p.confirm_rounds = cli_int(ap, "--confirm", v, 0, 16);
+    } else if (cli_opt(ap, "--sizes", &v)) {
+      p.nsizes = cli_int_list(ap, "--sizes", v, 1, 32768, sizes, 64);
       p.sizes = sizes;
-    } else if (cli_opt(argc, argv, &i, "--min-size", &v)) {
-      p.min_size = cli_int("texres", "--min-size", v, 1, 32768);
-    } else if (cli_opt(argc, argv, &i, "--maps", &v)) {
+    } else if (cli_opt(ap, "--min-size", &v)) {
+      p.min_size = cli_int(ap, "--min-size", v, 1, 32768);
+    } else if (cli_opt(ap, "--maps", &v)) {
       p.maps = v;
-    } else if (cli_opt(argc, argv, &i, "--p", &v)) {
-      p.p_threshold = cli_double("texres", "--p", v, 1e-6, 1 - 1e-6);
-    } else if (cli_opt(argc, argv, &i, "--q", &v)) {
-      p.max_fraction = cli_double("texres", "--q", v, 0, 0.999);
-    } else if (cli_opt(argc, argv, &i, "--pool", &v)) {
-      pool_name = v;
-    } else if (cli_opt(argc, argv, &i, "--calibration", &v)) {
-      cal_path = v;
-    } else if (cli_flag(argv, i, "--no-matrix")) {
-      p.matrix = 0;
-    } else if (cli_flag(argv, i, "--quick-matrix")) {
+    } else if (cli_flag(ap, "--matrix")) {
+      p.matrix = 2;
+    } else if (cli_flag(ap, "--quick-matrix")) {
       p.matrix = 1;
-    } else if (cli_opt(argc, argv, &i, "--anisotropy", &v)) {
-      p.anisotropy = cli_int("texres", "--anisotropy", v, 1, 16);
-    } else if (cli_opt(argc, argv, &i, "--samples", &v)) {
-      p.samples = cli_int("texres", "--samples", v, 1, 64);
-    } else if (cli_opt(argc, argv, &i, "--platform", &v)) {
-      p.platform = v;
-    } else if (cli_opt(argc, argv, &i, "--map-size", &v)) {
-      map_size = cli_int("texres", "--map-size", v, 8, 8192);
-    } else if (cli_opt(argc, argv, &i, "--threads", &v)) {
-      p.model.threads = common.threads = cli_threads("texres", v);
-    } else if (cli_flag(argv, i, "--timings")) {
-      timings = 1;
-    } else if (cli_common_opt(argc, argv, &i, &common)) {
+    } else if (cli_flag(ap, "--no-matrix")) {
+      p.matrix = 0;   /* the default; kept so that older command lines work */
     } else if (a[0] == '-' && a[1]) {
-      return cli_unknown("texres", a);
+      return cli_unknown(ap);
     } else if (!model) {
       model = a;
     } else {
-      return cli_unknown("texres", a);
+      return cli_unknown(ap);
     }
   }
-  if (!model) {
-    cli_error("texres: give a MODEL (a .gltf/.glb/.obj file or builtin); jnd texres --help");
-    return EXIT_BAD;
-  }
-  if (!dir) {
-    cli_error("texres: give an output folder with -o OUTDIR; jnd texres --help");
-    return EXIT_BAD;
-  }
-  if (cal_path && jnd_calibration_load(cal_path, &p.calibration) != JND_OK) {
-    cli_error("%s", jnd_last_error());
-    return EXIT_BAD;
-  }
-  if (pool_name) {
-    jnd_pooling pool;
-    if (jnd_pooling_parse(pool_name, &pool) != JND_OK || pool.kind != JND_POOL_PERCENTILE) {
-      cli_error("texres: --pool: '%s' is not a percentile like p93", pool_name);
-      return EXIT_BAD;
-    }
-    p.calibration.percentile = pool.percentile;
-  }
-  p.model.beta = p.calibration.beta;
+  if (args.bad) return EXIT_BAD;
+  if (!model) return cli_bad("texres: give a MODEL (a .gltf/.glb/.obj file or builtin); jnd texres --help");
+  if (!dir) return cli_bad("texres: give an output folder with -o OUTDIR; jnd texres --help");
+  if (!cli_calibration_get(&cal, &p.judge.calibration)) return EXIT_BAD;
+  p.judge.model.display = cli_display_get(&disp);
+  p.judge.model.threads = common.threads;
 
   double t0 = cli_now();
   jnd_scene *scene = NULL;
-  jnd_status st;
-  int is_builtin = strncmp(model, "builtin", 7) == 0 && (!model[7] || model[7] == ':');
-  if (is_builtin) {
-    jnd_builtin_params bp;
-    jnd_builtin_defaults(&bp);
-    bp.map_size = map_size;
-    bp.shape = strcmp(model, "builtin:sphere") == 0;
-    st = jnd_scene_builtin(&bp, &scene);
-  } else {
-    st = jnd_scene_load(model, &scene);
-  }
-  if (st != JND_OK) {
-    cli_error("%s", jnd_last_error());
-    return EXIT_BAD;
-  }
+  jnd_view *views = NULL;
+  int nviews = 0;
+  if (jnd_scene_open(model, vo.map_size, &scene) != JND_OK) return cli_lib_error();
   for (int i = 0; i < jnd_scene_warning_count(scene); i++) cli_info(&common, "jnd: warning: %s\n", jnd_scene_warning(scene, i));
-  if (jnd_scene_map_count(scene) == 0) {
-    cli_error("%s: the asset has no texture maps (nothing to choose)", model);
-    jnd_scene_free(scene);
-    return EXIT_BAD;
-  }
   int rc = EXIT_BAD;
   cJSON *report = NULL, *written = NULL;
   jnd_texres_result R = {0};
   cli_progress prog;
-  cli_progress_start(&prog, &common, "texres", 1);
-  p.progress = on_progress;
-  p.progress_user = &prog;
-  /* bad --maps before creating anything */
-  if (!mkdir_p(dir)) {
-    cli_error("%s: cannot create the folder (%s)", dir, strerror(errno));
+  if (jnd_scene_map_count(scene) == 0) {
+    cli_error("%s: the asset has no texture maps (nothing to choose)", model);
     goto out;
   }
-  st = jnd_texres_run(scene, &p, &R);
+  if (cli_views_make(&vo, scene, &views, &nviews) != JND_OK) {
+    cli_error("%s", jnd_last_error());
+    goto out;
+  }
+  p.judge.views = vo.set;
+  if (vo.cameras) {
+    p.judge.views.cameras = views;
+    p.judge.views.ncameras = nviews;
+  }
+  cli_progress_start(&prog, &common, "texres", 1);
+  p.progress = cli_progress_callback;
+  p.progress_user = &prog;
+  if (jnd_make_dirs(dir) != JND_OK) {
+    cli_error("%s", jnd_last_error());
+    goto out;
+  }
+  jnd_status st = jnd_texres_run(scene, &p, &R);
   cli_progress_end(&prog);
   if (st != JND_OK) {
     cli_error("%s", jnd_last_error());
@@ -299,10 +198,10 @@ static int run(int argc, char **argv) {
   char path[4400], model_out[4400] = "";
   const char *ext = strrchr(model, '.');
   int gltf = ext && (strcasecmp(ext, ".gltf") == 0 || strcasecmp(ext, ".glb") == 0);
-  if (!is_builtin && gltf) {
+  if (gltf) {
     char mdir[4200];
     snprintf(mdir, sizeof mdir, "%s/model", dir);
-    if (!mkdir_p(mdir) || jnd_texres_write_model(scene, model, mdir, model_out, sizeof model_out) != JND_OK) {
+    if (jnd_make_dirs(mdir) != JND_OK || jnd_texres_write_model(scene, model, mdir, model_out, sizeof model_out) != JND_OK) {
       cli_error("%s", jnd_last_error());
       goto out;
     }
@@ -321,7 +220,7 @@ static int run(int argc, char **argv) {
         if (*q == '/' || *q == ' ' || *q == '#') *q = '_';
       snprintf(path, sizeof path, "%s/%s", mdir, name);
       jnd_image im = {0};
-      int ok = mkdir_p(mdir) && jnd_scene_map_get(scene, m->map, 0, &im) == JND_OK &&
+      int ok = jnd_make_dirs(mdir) == JND_OK && jnd_scene_map_get(scene, m->map, 0, &im) == JND_OK &&
                jnd_image_write_png(path, &im, 8) == JND_OK;
       jnd_image_free(&im);
       if (!ok) {
@@ -343,27 +242,21 @@ static int run(int argc, char **argv) {
   cJSON *in = cli_report_section(report, "inputs"), *par = cli_report_section(report, "parameters"),
         *res = cli_report_section(report, "result");
   cJSON_AddStringToObject(in, "model", model);
-  if (cal_path) cJSON_AddStringToObject(in, "calibration", cal_path);
-  cJSON_AddNumberToObject(par, "views", p.views);
+  if (cal.path) cJSON_AddStringToObject(in, "calibration", cal.path);
+  cJSON_AddItemToObject(par, "views", cli_views_json(&vo));
   cJSON_AddNumberToObject(par, "verify_views", p.verify_views);
-  cJSON_AddNumberToObject(par, "seed", (double)p.seed);
-  cJSON_AddNumberToObject(par, "width", p.width);
-  cJSON_AddNumberToObject(par, "height", p.height);
-  cJSON_AddNumberToObject(par, "coverage", p.coverage);
-  if (p.distance > 0) cJSON_AddNumberToObject(par, "distance", p.distance);
-  cJSON_AddNumberToObject(par, "fov_y_deg", p.fov_y_deg);
-  cJSON_AddNumberToObject(par, "lights", p.lights);
-  cJSON_AddNumberToObject(par, "p", p.p_threshold);
-  cJSON_AddNumberToObject(par, "q", p.max_fraction);
+  cJSON_AddItemToObject(par, "criterion", cli_criterion_json(&p.judge.criterion, NULL));
+  cJSON_AddNumberToObject(par, "margin", p.margin);
+  cJSON_AddNumberToObject(par, "confirm_rounds", p.confirm_rounds);
+  cJSON_AddNumberToObject(par, "choice_p", R.choice_p);
   cJSON_AddNumberToObject(par, "min_size", p.min_size);
-  cJSON *cal = cJSON_AddObjectToObject(par, "calibration");
-  cJSON_AddNumberToObject(cal, "percentile", p.calibration.percentile);
-  cJSON_AddNumberToObject(cal, "scale", p.calibration.scale);
-  cJSON_AddNumberToObject(cal, "bias", p.calibration.bias);
-  cJSON_AddNumberToObject(cal, "beta", p.calibration.beta);
-  cJSON_AddItemToObject(par, "display", cli_display_json(&p.model.display));
-  cJSON_AddNumberToObject(par, "anisotropy", p.anisotropy);
-  cJSON_AddNumberToObject(par, "samples", p.samples);
+  cJSON *calj = cJSON_AddObjectToObject(par, "calibration");
+  cJSON_AddNumberToObject(calj, "percentile", p.judge.calibration.percentile);
+  cJSON_AddNumberToObject(calj, "scale", p.judge.calibration.scale);
+  cJSON_AddNumberToObject(calj, "bias", p.judge.calibration.bias);
+  cJSON_AddNumberToObject(calj, "beta", p.judge.calibration.beta);
+  cJSON_AddItemToObject(par, "display", cli_display_json(&p.judge.model.display));
+  cJSON_AddBoolToObject(par, "matrix", p.matrix != 0);
 
   cJSON_AddStringToObject(res, "renderer", R.renderer);
   cJSON *jm = cJSON_AddArrayToObject(res, "maps");
@@ -379,10 +272,12 @@ static int run(int argc, char **argv) {
     cJSON_AddItemToObject(o, "mip_bound", pair(m->mip_bound));
     cJSON_AddNumberToObject(o, "mip_min", m->mip_min);
     cJSON_AddItemToObject(o, "eye_bound", pair(m->eye_bound));
-    cJSON *cand = cJSON_AddArrayToObject(o, "candidates"), *ser = cJSON_AddArrayToObject(o, "series");
+    cJSON *cand = cJSON_AddArrayToObject(o, "candidates"), *ser = cJSON_AddArrayToObject(o, "series"),
+          *part = cJSON_AddArrayToObject(o, "series_decided_early");
     for (int j = 0; j < m->ncand; j++) {
       cJSON_AddItemToArray(cand, pair(m->cand[j]));
       cJSON_AddItemToArray(ser, isfinite(m->series[j]) ? cJSON_CreateNumber(m->series[j]) : cJSON_CreateNull());
+      cJSON_AddItemToArray(part, cJSON_CreateBool(m->series_partial[j]));
     }
     if (m->fit_ok) {
       cJSON *f = cJSON_AddObjectToObject(o, "psychometric");
@@ -431,17 +326,19 @@ static int run(int argc, char **argv) {
   cJSON_AddNumberToObject(jv, "count", R.nviews);
   cJSON *pv = cJSON_AddArrayToObject(jv, "p");
   for (int i = 0; i < R.nviews; i++) cJSON_AddItemToArray(pv, cJSON_CreateNumber(R.view_p[i]));
-  cJSON_AddNumberToObject(jv, "fraction_above", R.fraction_above);
-  cJSON_AddBoolToObject(jv, "passes", R.passes);
+  cJSON_AddNumberToObject(jv, "fraction_above", R.views.fraction_above);
+  cJSON_AddBoolToObject(jv, "passes", R.views.pass);
   cJSON_AddNumberToObject(jv, "worst_view", R.worst_view);
   cJSON_AddStringToObject(jv, "heatmap", "worst_view.png");
+  cJSON_AddItemToObject(jv, "criterion", cli_criterion_json(&p.judge.criterion, &R.views));
   if (R.verify_views > 0) {
     cJSON *vv = cJSON_AddObjectToObject(res, "verify");
     cJSON_AddNumberToObject(vv, "views", R.verify_views);
-    cJSON_AddNumberToObject(vv, "fraction_above", R.verify_fraction);
-    cJSON_AddBoolToObject(vv, "passes", R.verify_passes);
+    cJSON_AddNumberToObject(vv, "fraction_above", R.verify.fraction_above);
+    cJSON_AddBoolToObject(vv, "passes", R.verify.pass);
     cJSON *vp = cJSON_AddArrayToObject(vv, "p");
     for (int i = 0; i < R.verify_views; i++) cJSON_AddItemToArray(vp, cJSON_CreateNumber(R.verify_p[i]));
+    cJSON_AddItemToObject(vv, "criterion", cli_criterion_json(&p.judge.criterion, &R.verify));
   }
   cJSON *jmx = cJSON_AddArrayToObject(res, "matrices");
   for (int t = 0; t < R.nmatrix; t++) {
@@ -491,7 +388,13 @@ static int run(int argc, char **argv) {
   cJSON_AddNumberToObject(res, "ppd", R.ppd);
   cJSON_AddNumberToObject(res, "evaluations", R.evaluations);
   cJSON_AddNumberToObject(res, "renderings", R.renderings);
-  if (timings) {
+  cJSON *rc2 = cJSON_AddObjectToObject(res, "rendering_counts");
+  cJSON_AddNumberToObject(rc2, "references", R.counts.references);
+  cJSON_AddNumberToObject(rc2, "whole", R.counts.renderings);
+  cJSON_AddNumberToObject(rc2, "partial", R.counts.partial_renderings);
+  cJSON_AddNumberToObject(rc2, "view_judgements", R.counts.view_judgements);
+  cJSON_AddNumberToObject(rc2, "reused", R.counts.reused);
+  if (common.timings) {
     cJSON *t = cJSON_AddObjectToObject(res, "timings");
     cJSON_AddNumberToObject(t, "search_s", t_search);
     cJSON_AddNumberToObject(t, "total_s", cli_now() - t0);
@@ -516,18 +419,19 @@ static int run(int argc, char **argv) {
   cli_info(&common, "memory (RGBA8 + mips): %.2f MB -> %.2f MB (-%.0f%%); block-compressed %.2f MB -> %.2f MB\n",
            bb / 1048576.0, ba / 1048576.0, bb ? 100.0 * (1.0 - (double)ba / bb) : 0, blk_b / 1048576.0,
            blk_a / 1048576.0);
-  cli_info(&common, "views above P=%.2f: %.0f%% of %d (criterion <= %.0f%%)%s", p.p_threshold, 100 * R.fraction_above,
-           R.nviews, 100 * p.max_fraction, R.passes ? "" : "  FAILS");
+  cli_info(&common, "views above P=%.2f: %.0f%% of %d (criterion <= %.0f%%; chosen with P=%.3f)%s", p.judge.criterion.p,
+           100 * R.views.fraction_above, R.nviews, 100 * p.judge.criterion.q, R.choice_p, R.views.pass ? "" : "  FAILS");
   if (R.verify_views)
-    cli_info(&common, "; held out: %.0f%% of %d%s", 100 * R.verify_fraction, R.verify_views,
-             R.verify_passes ? "" : "  FAILS the criterion");
+    cli_info(&common, "; held out: %.0f%% of %d%s", 100 * R.verify.fraction_above, R.verify_views,
+             R.verify.pass ? "" : "  FAILS the criterion");
   cli_info(&common, "\n%d evaluations, %d renderings, %.1f s on %s\n", R.evaluations, R.renderings,
            cli_now() - t0, R.renderer);
-  rc = (R.passes && (R.verify_views == 0 || R.verify_passes)) ? EXIT_OK : EXIT_ABOVE;
+  rc = (R.views.pass && (R.verify_views == 0 || R.verify.pass)) ? EXIT_OK : EXIT_ABOVE;
 out:
   cJSON_Delete(report);
   cJSON_Delete(written);
   jnd_texres_result_free(&R);
+  free(views);
   jnd_scene_free(scene);
   return rc;
 }

@@ -69,16 +69,19 @@ int cli_report_write(cJSON *report, const char *path) {
 }
 
 void cli_progress_start(cli_progress *p, const cli_common *c, const char *label, int total) {
-  p->enabled = !(c && c->quiet) && isatty(2);
+  p->enabled = !(c && c->quiet);
+  p->tty = isatty(2);
   p->total = total > 0 ? total : 1;
   p->done = 0;
   p->label = label;
   p->t0 = cli_now();
 }
 
+/* a bar on a terminal only: a log gets the stage lines instead */
 void cli_progress_step(cli_progress *p, int done) {
   p->done = done;
-  if (!p->enabled) return;
+  if (!p->enabled || !p->tty) return;
+  if (done > p->total) p->total = done;
   int width = 30, filled = (int)((double)width * done / p->total);
   double el = cli_now() - p->t0;
   double eta = done > 0 ? el * (p->total - done) / done : 0;
@@ -88,6 +91,25 @@ void cli_progress_step(cli_progress *p, int done) {
   fflush(stderr);
 }
 
+void cli_progress_line(cli_progress *p, const char *line) {
+  if (!p->enabled) return;
+  if (p->tty) fprintf(stderr, "\r%*s\r", 80, "");
+  fprintf(stderr, "jnd %s: %s (%.1f s)\n", p->label, line, cli_now() - p->t0);
+  fflush(stderr);
+  if (p->tty) cli_progress_step(p, p->done);
+}
+
 void cli_progress_end(cli_progress *p) {
-  if (p->enabled) fprintf(stderr, "\r%*s\r", 80, "");
+  if (p->enabled && p->tty) fprintf(stderr, "\r%*s\r", 80, "");
+}
+
+void cli_progress_callback(void *user, const char *line, int done, int total) {
+  cli_progress *p = user;
+  if (total > p->total) p->total = total;
+  if (line) {
+    p->done = done;
+    cli_progress_line(p, line);
+  } else {
+    cli_progress_step(p, done);
+  }
 }

@@ -39,6 +39,18 @@ double jnd_rng_normal(jnd_rng *r);    /* standard normal (Box–Muller) */
 #define JND_HOT
 #endif
 
+/* The 64-bit finaliser of MurmurHash3 (fmix64): every input bit moves every
+ * output bit. The procedural textures' noise and the judge's state
+ * digests mix with it. */
+static inline uint64_t jnd_mix64(uint64_t x) {
+  x ^= x >> 33;
+  x *= 0xff51afd7ed558ccdULL;
+  x ^= x >> 33;
+  x *= 0xc4ceb9fe1a85ec53ULL;
+  x ^= x >> 33;
+  return x;
+}
+
 static inline double jnd_clampd(double v, double lo, double hi) {
   return v < lo ? lo : v > hi ? hi : v;
 }

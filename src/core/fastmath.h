@@ -52,4 +52,15 @@ static inline float jnd_fast_pow(float x, float y) {
   float r = jnd_fast_exp2(y * jnd_fast_log2(x > 1e-30f ? x : 1e-30f));
   return x > 0.0f ? r : 0.0f;
 }
+/* The sRGB transfer curves (IEC 61966-2-1), written once for all of jnd:
+ * decode (display signal 0..1 → linear light) and encode (linear → signal,
+ * clamped to 0..1; NaN gives 0), with the fast pow. */
+static inline float jnd_srgb_decode(float v) {
+  v = v < 0.0f ? 0.0f : v > 1.0f ? 1.0f : v;
+  return v <= 0.04045f ? v * (1.0f / 12.92f) : jnd_fast_pow((v + 0.055f) * (1.0f / 1.055f), 2.4f);
+}
+static inline float jnd_srgb_encode(float v) {
+  v = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;   /* NaN fails v > 0 */
+  return v <= 0.0031308f ? 12.92f * v : 1.055f * jnd_fast_pow(v, 1.0f / 2.4f) - 0.055f;
+}
 #endif

@@ -1,4 +1,5 @@
-/* Whole-file reads and atomic writes: outputs go to a temporary file in the
+/* Whole-file reads, folder creation and atomic writes (the one place for
+ * each): outputs go to a temporary file in the
  * same folder and are renamed over the target, so a reader never sees half a
  * file and an interrupted run leaves the old file intact. */
 #include <errno.h>
@@ -78,5 +79,21 @@ jnd_status jnd_write_file_atomic(const char *path, const void *data, size_t n) {
     return s;
   }
   free(tmp);
+  return JND_OK;
+}
+
+jnd_status jnd_make_dirs(const char *dir) {
+  char buf[4096];
+  if (!dir || !*dir || strlen(dir) >= sizeof buf) return jnd_fail(JND_ERR_ARG, "%s: not a folder name", dir ? dir : "");
+  snprintf(buf, sizeof buf, "%s", dir);
+  for (char *p = buf + 1; *p; p++)
+    if (*p == '/') {
+      *p = 0;
+      if (mkdir(buf, 0777) != 0 && errno != EEXIST) return jnd_fail(JND_ERR_IO, "%s: cannot create the folder (%s)", dir, strerror(errno));
+      *p = '/';
+    }
+  if (mkdir(buf, 0777) != 0 && errno != EEXIST) return jnd_fail(JND_ERR_IO, "%s: cannot create the folder (%s)", dir, strerror(errno));
+  struct stat st;
+  if (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode)) return jnd_fail(JND_ERR_IO, "%s: cannot create the folder (not a folder)", dir);
   return JND_OK;
 }

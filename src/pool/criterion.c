@@ -16,6 +16,18 @@
 #include "core/core.h"
 #include "jnd.h"
 
+/* 000 §9: "at most 10% of the sampled views have the probability of
+ * detection greater than 0.2". The confidence of the upper bound is ours. */
+#define CRITERION_P 0.2
+#define CRITERION_Q 0.1
+#define CRITERION_CONFIDENCE 0.9
+
+void jnd_criterion_defaults(jnd_criterion *c) {
+  c->p = CRITERION_P;
+  c->q = CRITERION_Q;
+  c->confidence = CRITERION_CONFIDENCE;
+}
+
 /* P(X <= k) for X ~ Binomial(n, u), summed in log space */
 static double binomial_cdf(int k, int n, double u) {
   if (u <= 0) return 1;

@@ -101,6 +101,13 @@ jnd_status jnd_gl_open(const char *platform, jnd_gl_context *ctx) {
   return JND_OK;
 }
 
+void jnd_gl_use(const jnd_gl_context *ctx) {
+  /* several renderers in one thread (a judge and a held-out judge, two tests'
+   * renderers) each draw in their own context */
+  if (ctx->context && eglGetCurrentContext() != ctx->context)
+    eglMakeCurrent(ctx->display, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx->context);
+}
+
 void jnd_gl_close(jnd_gl_context *ctx) {
   if (!ctx->display) return;
   eglMakeCurrent(ctx->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);

@@ -25,6 +25,8 @@ typedef struct {
  * core context current without a surface. */
 jnd_status jnd_gl_open(const char *platform, jnd_gl_context *ctx);
 void jnd_gl_close(jnd_gl_context *ctx);
+/* Makes the context current on this thread if it is not. */
+void jnd_gl_use(const jnd_gl_context *ctx);
 
 /* ---- environment lighting (environment.c) ---- */
 enum { JND_ENV_W = 256, JND_ENV_H = 128, JND_ENV_LEVELS = 6, JND_BRDF_LUT = 32 };
@@ -46,6 +48,20 @@ jnd_status jnd_env_studio(jnd_image *out);
 /* Prepares the lighting of an equirectangular linear RGB image. */
 jnd_status jnd_env_prepare(const jnd_image *equirect, jnd_environment *env);
 void jnd_env_free(jnd_environment *env);
+
+/* ---- partial re-rendering (renderer.c), for the judge ---- */
+/* Keeps the multisampled depth of the last jnd_render (a handle to free with
+ * jnd_render_drop_depth). */
+jnd_status jnd_render_keep_depth(jnd_renderer *r, unsigned *handle);
+void jnd_render_drop_depth(jnd_renderer *r, unsigned handle);
+/* Re-renders the rectangle (x0, y0, w, h) (pixels, row 0 at the top) of view
+ * with that view's kept depth, drawing only the meshes whose material has
+ * only[material] set, depth test GL_EQUAL: out (allocated, w × h × 4) gets
+ * their resolved samples, linear RGB premultiplied by coverage, and the
+ * coverage in channel 3; zero where they have no sample. Opaque and
+ * alpha-masked materials only (a blended one would need what is behind it). */
+jnd_status jnd_render_materials(jnd_renderer *r, const jnd_scene *scene, const jnd_view *view, unsigned depth,
+                                const unsigned char *only, int x0, int y0, int w, int h, jnd_image *out);
 
 /* ---- small matrix helpers (views.c); column-major 4 × 4 ---- */
 void jnd_mat4_identity(double m[16]);

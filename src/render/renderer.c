@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "core/fastmath.h"
 #include "render/render.h"
 #include "scene/scene.h"
 
@@ -262,6 +263,7 @@ static void drop_scene(jnd_renderer *r) {
 void jnd_renderer_free(jnd_renderer *r) {
   if (!r) return;
   if (r->gl.context) {
+    jnd_gl_use(&r->gl);
     drop_scene(r);
     delete_targets(r);
     for (int a = 0; a < 2; a++)
@@ -280,6 +282,7 @@ jnd_status jnd_renderer_resize(jnd_renderer *r, int width, int height) {
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     return jnd_fail(JND_ERR_ARG, "renderer: size %d × %d outside 1..16384", width, height);
   if (width == r->w && height == r->h) return JND_OK;
+  jnd_gl_use(&r->gl);
   delete_targets(r);
   r->w = width;
   r->h = height;
@@ -440,9 +443,11 @@ static int by_key(const void *a, const void *b) {
   return 0;
 }
 
-/* Draws every mesh: opaque and masked first, blended ones after. aux selects
- * the auxiliary-pass programs. */
-static void draw_meshes(jnd_renderer *r, const jnd_scene *s, const double eye[3], int aux) {
+/* Draws every mesh (or, with only != NULL, those whose material has
+ * only[material] set): opaque and masked first, blended ones after. aux
+ * selects the auxiliary-pass programs. */
+static void draw_meshes(jnd_renderer *r, const jnd_scene *s, const double eye[3], int aux,
+                        const unsigned char *only) {
   double (*order)[3] = jnd_alloc(r->nmeshes ? (size_t)r->nmeshes : 1, sizeof *order);
   if (!order) return;
   for (int i = 0; i < r->nmeshes; i++) {
@@ -458,6 +463,7 @@ static void draw_meshes(jnd_renderer *r, const jnd_scene *s, const double eye[3]
   for (int j = 0; j < r->nmeshes; j++) {
     const gpu_mesh *g = &r->meshes[(int)order[j][2]];
     const jnd_material *m = &s->materials[g->material];
+    if (only && !only[g->material]) continue;
     if (order[j][0] > 0 && !blending && !aux) {
       glEnablei(GL_BLEND, 0);
       glBlendFunci(0, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);   /* premultiplied */
@@ -491,15 +497,17 @@ static void read_back(jnd_renderer *r, GLuint fbo, GLenum buf, const int *src_ch
     }
 }
 
-jnd_status jnd_render(jnd_renderer *r, const jnd_scene *scene, const jnd_view *view, jnd_frame *frame) {
-  memset(frame, 0, sizeof *frame);
+/* Everything of a view the programs read (matrices, lights, environment),
+ * and the fixed-function state of the PBR passes. vp receives the
+ * view-projection matrix. */
+static jnd_status setup_view(jnd_renderer *r, const jnd_scene *scene, const jnd_view *view, double vp[16]) {
   if (view->nlights < 0 || view->nlights > JND_MAX_LIGHTS)
     return jnd_fail(JND_ERR_ARG, "render: %d lights (at most %d)", view->nlights, JND_MAX_LIGHTS);
+  jnd_gl_use(&r->gl);
   jnd_status st = sync_scene(r, scene);
   if (st) return st;
-  unsigned outs = view->outputs ? view->outputs : JND_OUT_COLOR;
   double aspect = (double)r->w / r->h;
-  double vmat[16], proj[16], vp[16], pv[16], pp[16], pvp[16], prev_mvp[16], nrm[9];
+  double vmat[16], proj[16], pv[16], pp[16], pvp[16], prev_mvp[16], nrm[9];
   camera_matrices(scene, &view->camera, aspect, vmat, proj);
   jnd_mat4_mul(proj, vmat, vp);
   const jnd_camera *pc = view->has_prev ? &view->prev_camera : &view->camera;
@@ -566,6 +574,17 @@ jnd_status jnd_render(jnd_renderer *r, const jnd_scene *scene, const jnd_view *v
   glDepthFunc(GL_LESS);
   glCullFace(GL_BACK);
   glFrontFace(GL_CCW);
+  return JND_OK;
+}
+
+jnd_status jnd_render(jnd_renderer *r, const jnd_scene *scene, const jnd_view *view, jnd_frame *frame) {
+  memset(frame, 0, sizeof *frame);
+  double vp[16];
+  jnd_status st = setup_view(r, scene, view, vp);
+  if (st) return st;
+  unsigned outs = view->outputs ? view->outputs : JND_OUT_COLOR;
+  float rot[9];
+  env_rotation(view->env_rotation_deg, rot);
 
   /* pass 1: colour and coverage with MSAA */
   glBindFramebuffer(GL_FRAMEBUFFER, r->msaa_fbo);
@@ -593,7 +612,7 @@ jnd_status jnd_render(jnd_renderer *r, const jnd_scene *scene, const jnd_view *v
     glEnable(GL_DEPTH_TEST);
     glDepthMask(GL_TRUE);
   }
-  draw_meshes(r, scene, view->camera.eye, 0);
+  draw_meshes(r, scene, view->camera.eye, 0, NULL);
   glBlitNamedFramebuffer(r->msaa_fbo, r->resolve_fbo, 0, 0, r->w, r->h, 0, 0, r->w, r->h,
                          GL_COLOR_BUFFER_BIT, GL_NEAREST);
   if ((st = gl_check("colour pass"))) return st;
@@ -607,7 +626,7 @@ jnd_status jnd_render(jnd_renderer *r, const jnd_scene *scene, const jnd_view *v
     glClearNamedFramebufferfv(r->aux_fbo, GL_COLOR, 2, none);
     glClearNamedFramebufferfv(r->aux_fbo, GL_COLOR, 3, none);
     glClearNamedFramebufferfi(r->aux_fbo, GL_DEPTH_STENCIL, 0, 1.0f, 0);
-    draw_meshes(r, scene, view->camera.eye, 1);
+    draw_meshes(r, scene, view->camera.eye, 1, NULL);
     if ((st = gl_check("auxiliary pass"))) return st;
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -656,6 +675,86 @@ fail:
   return st;
 }
 
+/* ---- re-rendering some materials of a view (the judge's partial renders) ----
+ *
+ * A candidate that changes only texture maps changes only the samples of the
+ * materials using them; depth, coverage and every other material's samples
+ * are the reference's. So the reference's multisampled depth is kept, and a
+ * re-render restores it, clears colour to zero and draws only the changed
+ * materials with the depth test GL_EQUAL: exactly their visible samples are
+ * shaded, with the same fragments (same primitives, same derivatives) as in
+ * a full render. Resolving averages samples linearly, so the full rendering
+ * is the reference minus these materials' resolved samples under the old
+ * maps plus those under the new ones (docs/render.md). Blended materials and
+ * alpha-masked coverage changes break this; the caller falls back to a full
+ * rendering then. */
+
+jnd_status jnd_render_keep_depth(jnd_renderer *r, unsigned *handle) {
+  jnd_gl_use(&r->gl);
+  GLuint rb = 0;
+  glCreateRenderbuffers(1, &rb);
+  glNamedRenderbufferStorageMultisample(rb, r->samples, GL_DEPTH_COMPONENT32F, r->w, r->h);
+  glCopyImageSubData(r->msaa_depth, GL_RENDERBUFFER, 0, 0, 0, 0, rb, GL_RENDERBUFFER, 0, 0, 0, 0, r->w, r->h, 1);
+  jnd_status st = gl_check("keeping the depth of a rendering");
+  if (st) {
+    glDeleteRenderbuffers(1, &rb);
+    return st;
+  }
+  *handle = rb;
+  return JND_OK;
+}
+
+void jnd_render_drop_depth(jnd_renderer *r, unsigned handle) {
+  if (r && handle) {
+    jnd_gl_use(&r->gl);
+    GLuint rb = handle;
+    glDeleteRenderbuffers(1, &rb);
+  }
+}
+
+jnd_status jnd_render_materials(jnd_renderer *r, const jnd_scene *scene, const jnd_view *view, unsigned depth,
+                                const unsigned char *only, int x0, int y0, int w, int h, jnd_image *out) {
+  memset(out, 0, sizeof *out);
+  if (x0 < 0 || y0 < 0 || w < 1 || h < 1 || x0 + w > r->w || y0 + h > r->h)
+    return jnd_fail(JND_ERR_ARG, "render: rectangle %d,%d %d × %d outside the %d × %d image", x0, y0, w, h, r->w, r->h);
+  double vp[16];
+  jnd_status st = setup_view(r, scene, view, vp);
+  if (st) return st;
+  int gy = r->h - y0 - h;   /* GL rows count from the bottom */
+  glBindFramebuffer(GL_FRAMEBUFFER, r->msaa_fbo);
+  glEnable(GL_MULTISAMPLE);
+  glCopyImageSubData((GLuint)depth, GL_RENDERBUFFER, 0, x0, gy, 0, r->msaa_depth, GL_RENDERBUFFER, 0, x0, gy, 0, w, h, 1);
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(x0, gy, w, h);
+  const float zero[4] = {0, 0, 0, 0};
+  glClearNamedFramebufferfv(r->msaa_fbo, GL_COLOR, 0, zero);
+  glDepthFunc(GL_EQUAL);
+  glDepthMask(GL_FALSE);
+  draw_meshes(r, scene, view->camera.eye, 0, only);
+  glDepthMask(GL_TRUE);
+  glDepthFunc(GL_LESS);
+  glBlitNamedFramebuffer(r->msaa_fbo, r->resolve_fbo, x0, gy, x0 + w, gy + h, x0, gy, x0 + w, gy + h,
+                         GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  glDisable(GL_SCISSOR_TEST);
+  if ((st = gl_check("partial colour pass"))) return st;
+  if ((st = jnd_image_alloc(out, w, h, 4))) return st;
+  glNamedFramebufferReadBuffer(r->resolve_fbo, GL_COLOR_ATTACHMENT0);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, r->resolve_fbo);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glReadPixels(x0, gy, w, h, GL_RGBA, GL_FLOAT, r->readbuf);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  size_t P = (size_t)w * h;
+  for (int c = 0; c < 4; c++)
+    for (int y = 0; y < h; y++) {
+      const float *row = r->readbuf + (size_t)(h - 1 - y) * w * 4;
+      float *d = out->data + c * P + (size_t)y * w;
+      for (int x = 0; x < w; x++) d[x] = row[x * 4 + c];
+    }
+  if ((st = gl_check("partial read-back"))) jnd_image_free(out);
+  return st;
+}
+
 void jnd_frame_free(jnd_frame *f) {
   jnd_image_free(&f->color);
   jnd_image_free(&f->depth);
@@ -670,9 +769,7 @@ jnd_status jnd_render_to_srgb(const jnd_image *linear, jnd_image *out) {
   if (st) return st;
   size_t n = (size_t)linear->w * linear->h * linear->c;
   for (size_t i = 0; i < n; i++) {
-    float v = linear->data[i];
-    v = v != v ? 0 : v < 0 ? 0 : v > 1 ? 1 : v;
-    out->data[i] = v <= 0.0031308f ? 12.92f * v : 1.055f * powf(v, 1 / 2.4f) - 0.055f;
+    out->data[i] = jnd_srgb_encode(linear->data[i]);
   }
   return JND_OK;
 }

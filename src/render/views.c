@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "io/io.h"
 #include "render/render.h"
 #include "scene/scene.h"
 
@@ -126,8 +127,8 @@ void jnd_view_sampling_defaults(jnd_view_sampling *p) {
   p->coverage = 0.8;
   p->fov_y_deg = 45;
   p->aspect = 1;
-  p->min_elevation_deg = -60;
-  p->max_elevation_deg = 75;
+  p->min_elevation_deg = NAN;   /* automatic: JND_ELEVATION_MIN_DEG, or above the ground */
+  p->max_elevation_deg = JND_ELEVATION_MAX_DEG;
   p->lights = 1;
   p->light_intensity = 2;
 }
@@ -139,6 +140,12 @@ double jnd_camera_distance_for_coverage(double radius, double coverage, double f
   return radius / sin(atan(t));
 }
 
+/* The band of elevations sampled views come from: from 60° below the
+ * horizon to 75° above it (a player rarely looks straight down on an object
+ * or from right under it); with a ground plane, from 10° above the ground's
+ * horizon, since nobody looks at it from below the floor. */
+#define JND_ELEVATION_MIN_GROUND_DEG 10.0
+
 jnd_status jnd_views_sample(const jnd_scene *scene, const jnd_view_sampling *p, jnd_view *views) {
   if (p->count < 1) return jnd_fail(JND_ERR_ARG, "views: count %d is not positive", p->count);
   if (!(p->fov_y_deg > 0 && p->fov_y_deg < 180))
@@ -147,15 +154,22 @@ jnd_status jnd_views_sample(const jnd_scene *scene, const jnd_view_sampling *p, 
     return jnd_fail(JND_ERR_ARG, "views: coverage %g is outside (0, 10]", p->coverage);
   if (p->lights < 0 || p->lights > JND_MAX_LIGHTS)
     return jnd_fail(JND_ERR_ARG, "views: %d lights (at most %d)", p->lights, JND_MAX_LIGHTS);
-  double c[3], r;
-  jnd_scene_bounds(scene, c, &r);
+  double c[3], r, call[3], rall;
+  int ground;
+  jnd_scene_subject_bounds(scene, c, &r, &ground);
+  jnd_scene_bounds(scene, call, &rall);
+  double el0 = isnan(p->min_elevation_deg) ? (ground >= 0 ? JND_ELEVATION_MIN_GROUND_DEG : JND_ELEVATION_MIN_DEG)
+                                           : p->min_elevation_deg;
+  double el1 = isnan(p->max_elevation_deg) ? JND_ELEVATION_MAX_DEG : p->max_elevation_deg;
+  if (!(el0 >= -90 && el1 <= 90 && el0 <= el1))
+    return jnd_fail(JND_ERR_ARG, "views: elevations %g..%g are not within -90..90 and in order", el0, el1);
   double dist = p->distance > 0 ? p->distance : jnd_camera_distance_for_coverage(r, p->coverage, p->fov_y_deg);
   if (dist <= r * 1.0001 && p->distance <= 0) dist = r * 1.0001;
   jnd_rng rng;
   jnd_rng_seed(&rng, p->seed);
   double rot = 2 * M_PI * jnd_rng_uniform(&rng);
   /* Fibonacci spiral on the band of elevations: equal areas per view */
-  double z0 = sin(p->min_elevation_deg * M_PI / 180), z1 = sin(p->max_elevation_deg * M_PI / 180);
+  double z0 = sin(el0 * M_PI / 180), z1 = sin(el1 * M_PI / 180);
   const double golden = M_PI * (3 - sqrt(5.0));
   for (int i = 0; i < p->count; i++) {
     jnd_view *v = &views[i];
@@ -172,6 +186,12 @@ jnd_status jnd_views_sample(const jnd_scene *scene, const jnd_view_sampling *p, 
     v->camera.fov_y_deg = p->fov_y_deg;
     v->camera.znear = fmax(dist - 1.5 * r, dist * 1e-3);
     v->camera.zfar = dist + 1.5 * r;
+    if (ground >= 0) {   /* the floor runs towards the camera and far behind the object */
+      double e = 0;
+      for (int k = 0; k < 3; k++) e += (v->camera.eye[k] - call[k]) * (v->camera.eye[k] - call[k]);
+      v->camera.znear = dist * 0.02;
+      v->camera.zfar = sqrt(e) + 1.01 * rall;
+    }
     v->prev_camera = v->camera;
     v->nlights = p->lights;
     for (int l = 0; l < p->lights; l++) {
@@ -188,6 +208,45 @@ jnd_status jnd_views_sample(const jnd_scene *scene, const jnd_view_sampling *p, 
       L->intensity = p->light_intensity;
     }
   }
+  return JND_OK;
+}
+
+void jnd_view_set_defaults(jnd_view_set *vs) {
+  memset(vs, 0, sizeof *vs);
+  jnd_view_sampling_defaults(&vs->sampling);
+  jnd_renderer_defaults(&vs->render);
+}
+
+jnd_status jnd_view_set_make(const jnd_scene *scene, const jnd_view_set *vs, jnd_view **out, int *count) {
+  *out = NULL;
+  *count = 0;
+  if (vs->render.width < 1 || vs->render.height < 1)
+    return jnd_fail(JND_ERR_ARG, "views: image size %d × %d", vs->render.width, vs->render.height);
+  jnd_view_sampling s = vs->sampling;
+  s.aspect = (double)vs->render.width / vs->render.height;
+  int n = vs->cameras ? vs->ncameras : s.count;
+  if (n < 1) return jnd_fail(JND_ERR_ARG, "views: no views (%d)", n);
+  jnd_view *v = jnd_calloc((size_t)n, sizeof *v);
+  if (!v) return JND_ERR_NOMEM;
+  s.count = n;
+  jnd_status st = jnd_views_sample(scene, &s, v);
+  if (st == JND_OK && vs->cameras) {
+    /* explicit cameras; those without lights get the sampled ones of the same index */
+    for (int i = 0; i < n; i++) {
+      jnd_view sampled = v[i];
+      v[i] = vs->cameras[i];
+      if (v[i].nlights < 0) {
+        v[i].nlights = sampled.nlights;
+        memcpy(v[i].lights, sampled.lights, sizeof v[i].lights);
+      }
+    }
+  }
+  if (st != JND_OK) {
+    free(v);
+    return st;
+  }
+  *out = v;
+  *count = n;
   return JND_OK;
 }
 
@@ -313,4 +372,16 @@ jnd_status jnd_views_parse(const char *name, const char *text, size_t n, const d
   *out = views;
   *count = nv;
   return JND_OK;
+}
+
+jnd_status jnd_views_read(const char *path, const jnd_scene *scene, double fov_y_deg, jnd_view **out, int *count) {
+  unsigned char *text = NULL;
+  size_t n = 0;
+  jnd_status st = jnd_read_file(path, (size_t)64 << 20, &text, &n);
+  if (st != JND_OK) return st;
+  double centre[3], radius;
+  jnd_scene_subject_bounds(scene, centre, &radius, NULL);
+  st = jnd_views_parse(path, (const char *)text, n, centre, fov_y_deg, out, count);
+  free(text);
+  return st;
 }

@@ -1,6 +1,10 @@
-/* The built-in asset: a rounded box (or a sphere) with a procedural PBR
- * material, so that the renderer and the tasks can run without any file. */
+/* The built-in asset: a rounded box (or a sphere), or several of them each
+ * with its own material, optionally standing on a ground plane, with
+ * procedural PBR materials, so that the renderer and the tasks can run
+ * without any file. Also where a model name is resolved: `builtin...` here,
+ * anything else a file (jnd_scene_open). */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -12,18 +16,13 @@ void jnd_builtin_defaults(jnd_builtin_params *p) {
   p->map_size = 2048;
   p->shape = 0;
   p->seed = 1;
+  p->parts = 1;
+  p->ground = 0;
 }
 
 /* ---- tileable value noise ---- */
 
-static double hash01(uint64_t x) {
-  x ^= x >> 33;
-  x *= 0xff51afd7ed558ccdULL;
-  x ^= x >> 33;
-  x *= 0xc4ceb9fe1a85ec53ULL;
-  x ^= x >> 33;
-  return (double)(x >> 11) * (1.0 / 9007199254740992.0);
-}
+static double hash01(uint64_t x) { return (double)(jnd_mix64(x) >> 11) * (1.0 / 9007199254740992.0); }
 
 static double lattice(uint64_t seed, int octave, int x, int y) {
   return hash01(seed * 0x9E3779B97F4A7C15ULL + (uint64_t)octave * 0x632BE59BD9B4E019ULL +
@@ -56,7 +55,10 @@ static double fbm(uint64_t seed, int first_octave, int cells0, int max_cells, do
   return norm > 0 ? sum / norm : 0.5;
 }
 
-static jnd_status make_maps(jnd_scene *s, int S, uint64_t seed) {
+/* The four maps of material mat. variant 0 is the original asset's; others
+ * move the finest detail an octave or two coarser (so that parts differ in
+ * what their maps can lose) and tint the paints. */
+static jnd_status make_maps(jnd_scene *s, int mat, int S, uint64_t seed, int variant) {
   jnd_image base = {0}, mr = {0}, nrm = {0}, occ = {0};
   float *height = jnd_alloc((size_t)S * S, sizeof(float));
   jnd_status st = height ? JND_OK : JND_ERR_NOMEM;
@@ -73,7 +75,8 @@ static jnd_status make_maps(jnd_scene *s, int S, uint64_t seed) {
     return st;
   }
   size_t P = (size_t)S * S;
-  int fine = S / 4 > 8 ? S / 4 : 8;   /* finest octave: a period of 4 pixels */
+  int fine = S / (4 << (variant % 3)) > 8 ? S / (4 << (variant % 3)) : 8;   /* finest octave: a period of 4 pixels */
+  double tint = 0.12 * (variant % 4);
   const int tiles = 4;                /* a 4 × 4 grid of panels with rivets */
 #pragma omp parallel for schedule(static)
   for (int y = 0; y < S; y++) {
@@ -93,7 +96,7 @@ static jnd_status make_maps(jnd_scene *s, int S, uint64_t seed) {
       size_t i = (size_t)y * S + x;
       /* albedo: two paints mixed by the low noise, fine speckle on top */
       double t = jnd_clampd((low - 0.35) * 3.0, 0, 1);
-      double c1[3] = {0.62, 0.30, 0.18}, c2[3] = {0.20, 0.34, 0.52}, metal[3] = {0.85, 0.80, 0.70};
+      double c1[3] = {0.62 - tint, 0.30 + tint, 0.18}, c2[3] = {0.20, 0.34, 0.52 - tint}, metal[3] = {0.85, 0.80, 0.70};
       double speck = 0.75 + 0.5 * detail;
       for (int k = 0; k < 3; k++) {
         double a = (c1[k] + (c2[k] - c1[k]) * t) * speck;
@@ -126,10 +129,10 @@ static jnd_status make_maps(jnd_scene *s, int S, uint64_t seed) {
     }
   }
   free(height);
-  if (jnd_scene_add_map(s, 0, JND_MAP_BASE_COLOR, &base) < 0 ||
-      jnd_scene_add_map(s, 0, JND_MAP_METALLIC_ROUGHNESS, &mr) < 0 ||
-      jnd_scene_add_map(s, 0, JND_MAP_NORMAL, &nrm) < 0 ||
-      jnd_scene_add_map(s, 0, JND_MAP_OCCLUSION, &occ) < 0) {
+  if (jnd_scene_add_map(s, mat, JND_MAP_BASE_COLOR, &base) < 0 ||
+      jnd_scene_add_map(s, mat, JND_MAP_METALLIC_ROUGHNESS, &mr) < 0 ||
+      jnd_scene_add_map(s, mat, JND_MAP_NORMAL, &nrm) < 0 ||
+      jnd_scene_add_map(s, mat, JND_MAP_OCCLUSION, &occ) < 0) {
     jnd_image_free(&base);
     jnd_image_free(&mr);
     jnd_image_free(&nrm);
@@ -223,6 +226,34 @@ static jnd_status make_sphere(jnd_mesh *m) {
   return JND_OK;
 }
 
+/* Moves a mesh by (dx, 0, dz). */
+static void translate(jnd_mesh *m, double dx, double dz) {
+  for (size_t v = 0; v < m->nverts; v++) {
+    m->vertices[v * JND_VTX_FLOATS + 0] += (float)dx;
+    m->vertices[v * JND_VTX_FLOATS + 2] += (float)dz;
+  }
+}
+
+/* A flat square at height y, half-side h, facing up, one uv square. */
+static jnd_status make_ground(jnd_mesh *m, double y, double h) {
+  m->nverts = 4;
+  m->ntris = 2;
+  m->vertices = jnd_alloc(4, JND_VTX_FLOATS * sizeof(float));
+  m->indices = jnd_alloc(6, sizeof(uint32_t));
+  if (!m->vertices || !m->indices) return JND_ERR_NOMEM;
+  const double up[3] = {0, 1, 0};
+  for (int i = 0; i < 4; i++) {
+    double p[3] = {(i & 1) ? h : -h, y, (i & 2) ? h : -h};
+    put_vertex(m->vertices + (size_t)i * JND_VTX_FLOATS, p, up, (i & 1) ? 1 : 0, (i & 2) ? 1 : 0);
+  }
+  static const uint32_t tri[6] = {0, 2, 1, 1, 2, 3};   /* counter-clockwise seen from above */
+  memcpy(m->indices, tri, sizeof tri);
+  return JND_OK;
+}
+
+enum { BUILTIN_MAX_PARTS = 8 };
+#define PART_SPACING 2.6   /* object units between part centres (parts are 2 across) */
+
 jnd_status jnd_scene_builtin(const jnd_builtin_params *p, jnd_scene **out) {
   jnd_builtin_params d;
   if (!p) {
@@ -232,28 +263,84 @@ jnd_status jnd_scene_builtin(const jnd_builtin_params *p, jnd_scene **out) {
   *out = NULL;
   if (p->map_size < 8 || p->map_size > 8192)
     return jnd_fail(JND_ERR_ARG, "builtin: map size %d outside [8, 8192]", p->map_size);
+  if (p->parts < 1 || p->parts > BUILTIN_MAX_PARTS)
+    return jnd_fail(JND_ERR_ARG, "builtin: %d parts outside [1, %d]", p->parts, BUILTIN_MAX_PARTS);
   jnd_scene *s = jnd_scene_new("builtin");
   if (!s) return JND_ERR_NOMEM;
-  s->materials = jnd_calloc(1, sizeof *s->materials);
-  s->meshes = jnd_calloc(1, sizeof *s->meshes);
+  int n = p->parts, cols = (int)ceil(sqrt((double)n)), rows = (n + cols - 1) / cols;
+  s->materials = jnd_calloc((size_t)n + 1, sizeof *s->materials);
+  s->meshes = jnd_calloc((size_t)n + 1, sizeof *s->meshes);
   jnd_status st = s->materials && s->meshes ? JND_OK : JND_ERR_NOMEM;
-  if (!st) {
-    s->nmaterials = 1;
-    s->nmeshes = 1;
-    jnd_material_defaults(&s->materials[0], "builtin");
-    s->materials[0].metallic = 1;   /* the maps carry the values */
-    s->materials[0].roughness = 1;
-    st = p->shape == 1 ? make_sphere(&s->meshes[0]) : make_rounded_box(&s->meshes[0]);
+  for (int k = 0; k < n && !st; k++) {
+    char name[32];
+    if (n == 1) snprintf(name, sizeof name, "builtin");
+    else snprintf(name, sizeof name, "part%d", k);
+    jnd_material_defaults(&s->materials[k], name);
+    s->materials[k].metallic = 1;   /* the maps carry the values */
+    s->materials[k].roughness = 1;
+    s->nmaterials++;
+    jnd_mesh *m = &s->meshes[s->nmeshes++];
+    m->material = k;
+    /* one shape, or boxes and spheres in turn */
+    int sphere = n == 1 ? p->shape == 1 : (k + (p->shape == 1)) % 2 == 1;
+    st = sphere ? make_sphere(m) : make_rounded_box(m);
+    if (!st) {
+      jnd_mesh_compute_tangents(m);
+      translate(m, (k % cols - 0.5 * (cols - 1)) * PART_SPACING, (k / cols - 0.5 * (rows - 1)) * PART_SPACING);
+      st = make_maps(s, k, p->map_size, p->seed + (uint64_t)k, k);
+    }
   }
-  if (!st) {
-    jnd_mesh_compute_tangents(&s->meshes[0]);
-    st = make_maps(s, p->map_size, p->seed);
+  if (!st && p->ground) {
+    /* a plain floor under the parts, three times as wide: no maps */
+    jnd_material *g = &s->materials[s->nmaterials];
+    jnd_material_defaults(g, "ground");
+    for (int k = 0; k < 3; k++) g->base_color[k] = 0.45f;
+    g->metallic = 0;
+    g->roughness = 0.9f;
+    jnd_mesh *m = &s->meshes[s->nmeshes++];
+    m->material = s->nmaterials++;
+    st = make_ground(m, -1.0, 1.5 * PART_SPACING * (cols > rows ? cols : rows));
+    if (!st) jnd_mesh_compute_tangents(m);
   }
   if (st) {
     jnd_scene_free(s);
-    return jnd_fail(st, "builtin: out of memory");
+    return st == JND_ERR_NOMEM ? jnd_fail(st, "builtin: out of memory") : st;
   }
   jnd_scene_compute_bounds(s);
   *out = s;
+  return JND_OK;
+}
+
+/* "builtin" alone, or followed by ":" and a comma list of box, sphere,
+ * parts=N, ground; p keeps its other fields. 0: not a builtin name. */
+int jnd_builtin_parse(const char *name, jnd_builtin_params *p) {
+  if (strncmp(name, "builtin", 7) != 0 || (name[7] && name[7] != ':')) return 0;
+  if (!name[7]) return 1;
+  char buf[128];
+  snprintf(buf, sizeof buf, "%s", name + 8);
+  char *save = NULL;
+  for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+    char *end;
+    if (strcmp(t, "box") == 0) p->shape = 0;
+    else if (strcmp(t, "sphere") == 0) p->shape = 1;
+    else if (strcmp(t, "ground") == 0) p->ground = 1;
+    else if (strncmp(t, "parts=", 6) == 0 && (p->parts = (int)strtol(t + 6, &end, 10), end != t + 6 && !*end)) continue;
+    else return -1;
+  }
+  return 1;
+}
+
+jnd_status jnd_scene_open(const char *name, int map_size, jnd_scene **out) {
+  *out = NULL;
+  if (!name) return jnd_fail(JND_ERR_ARG, "no model given");
+  jnd_builtin_params bp;
+  jnd_builtin_defaults(&bp);
+  if (map_size > 0) bp.map_size = map_size;
+  int b = jnd_builtin_parse(name, &bp);
+  if (b < 0)
+    return jnd_fail(JND_ERR_ARG, "%s: not a built-in asset (builtin[:box|sphere][,parts=N][,ground])", name);
+  if (b == 0) return jnd_scene_load(name, out);
+  jnd_status st = jnd_scene_builtin(&bp, out);
+  if (st != JND_OK) return jnd_fail(st, "%s: %s", name, jnd_last_error());
   return JND_OK;
 }

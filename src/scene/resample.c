@@ -6,6 +6,8 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "core/fastmath.h"
+#include "scene/scene.h"
 
 #define LANCZOS_A 3.0   /* 000 §4: Lanczos-3 */
 
@@ -32,8 +34,12 @@ static void taps_free(taps1d *t) {
   free(t->w);
 }
 
-static jnd_status taps_make(int in, int out, int wrap, taps1d *t) {
-  double scale = (double)out / in;
+/* The taps of out outputs over in inputs, output o sitting at input
+ * coordinate (o + 0.5)·ratio − 0.5 (ratio: input samples per output
+ * sample; in/out for a whole image, 2^s for the coarse level of a box
+ * reduction, whose samples sit at the centres of their boxes). */
+static jnd_status taps_make(int in, int out, int wrap, double ratio, taps1d *t) {
+  double scale = 1.0 / ratio;
   double support = scale < 1 ? LANCZOS_A / scale : LANCZOS_A;   /* widened when shrinking */
   double fscale = scale < 1 ? scale : 1.0;
   t->taps = (int)ceil(2 * support) + 2;
@@ -72,13 +78,90 @@ static jnd_status taps_make(int in, int out, int wrap, taps1d *t) {
   return JND_OK;
 }
 
-static float srgb_to_linear(float v) {
-  return v <= 0.04045f ? v / 12.92f : powf((v + 0.055f) / 1.055f, 2.4f);
+jnd_status jnd_resample_plane(const float *src, int sw, int sh, float *dst, int dw, int dh, double rx, double ry,
+                              int wrap) {
+  taps1d tx = {0}, ty = {0};
+  jnd_status st;
+  if ((st = taps_make(sw, dw, wrap, rx, &tx)) || (st = taps_make(sh, dh, wrap, ry, &ty))) {
+    taps_free(&tx);
+    return jnd_fail(st, "out of memory");
+  }
+  float *mid = jnd_alloc((size_t)dw * sh, sizeof(float));   /* horizontal pass */
+  if (!mid) {
+    taps_free(&tx);
+    taps_free(&ty);
+    return JND_ERR_NOMEM;
+  }
+#pragma omp parallel for schedule(static)
+  for (int row = 0; row < sh; row++) {
+    const float *s = src + (size_t)row * sw;
+    float *d = mid + (size_t)row * dw;
+    for (int x = 0; x < dw; x++) {
+      const int *ix = tx.idx + (size_t)x * tx.taps;
+      const float *wt = tx.w + (size_t)x * tx.taps;
+      double acc = 0;
+      for (int k = 0; k < tx.count[x]; k++) acc += wt[k] * s[ix[k]];
+      d[x] = (float)acc;
+    }
+  }
+#pragma omp parallel for schedule(static)
+  for (int y = 0; y < dh; y++) {
+    const int *iy = ty.idx + (size_t)y * ty.taps;
+    const float *wt = ty.w + (size_t)y * ty.taps;
+    float *d = dst + (size_t)y * dw;
+    for (int x = 0; x < dw; x++) {
+      double acc = 0;
+      for (int k = 0; k < ty.count[y]; k++) acc += wt[k] * mid[(size_t)iy[k] * dw + x];
+      d[x] = (float)acc;
+    }
+  }
+  free(mid);
+  taps_free(&tx);
+  taps_free(&ty);
+  return JND_OK;
 }
-static float linear_to_srgb(float v) {
-  if (v <= 0) return 0;
-  if (v >= 1) return 1;
-  return v <= 0.0031308f ? v * 12.92f : 1.055f * powf(v, 1 / 2.4f) - 0.055f;
+
+static int coarse_side(int n, int s) { return (n + (1 << s) - 1) >> s; }
+
+void jnd_box_down_plane(const float *src, int w, int h, int s, float *dst) {
+  int d = 1 << s, cw = coarse_side(w, s), ch = coarse_side(h, s);
+#pragma omp parallel for schedule(static)
+  for (int cy = 0; cy < ch; cy++) {
+    for (int cx = 0; cx < cw; cx++) {
+      double acc = 0;
+      int n = 0;
+      for (int y = cy * d; y < cy * d + d && y < h; y++)
+        for (int x = cx * d; x < cx * d + d && x < w; x++) {
+          acc += src[(size_t)y * w + x];
+          n++;
+        }
+      dst[(size_t)cy * cw + cx] = (float)(acc / n);
+    }
+  }
+}
+
+jnd_status jnd_box_reduce_map(const jnd_image *orig, int lev, jnd_map_kind kind, jnd_image *out) {
+  int w = coarse_side(orig->w, lev), h = coarse_side(orig->h, lev);
+  jnd_status s = jnd_image_alloc(out, w, h, orig->c);
+  if (s != JND_OK) return s;
+  size_t n = (size_t)orig->w * orig->h;
+  float *tmp = jnd_alloc(n, sizeof *tmp);
+  if (!tmp) {
+    jnd_image_free(out);
+    return JND_ERR_NOMEM;
+  }
+  for (int ch = 0; ch < orig->c; ch++) {
+    /* sRGB colour is averaged in linear light, as GL does for sRGB textures */
+    int colour = kind == JND_MAP_KIND_COLOR && ch < 3;
+    const float *src = orig->data + (size_t)ch * n;
+    for (size_t i = 0; i < n; i++) tmp[i] = colour ? jnd_srgb_decode(src[i]) : src[i];
+    float *dst = out->data + (size_t)ch * w * h;
+    jnd_box_down_plane(tmp, orig->w, orig->h, lev, dst);
+    if (colour)
+      for (size_t i = 0; i < (size_t)w * h; i++) dst[i] = jnd_srgb_encode(dst[i]);
+  }
+  free(tmp);
+  return JND_OK;
 }
 
 jnd_status jnd_resample_map(const jnd_image *in, int w, int h, jnd_map_kind kind, int wrap,
@@ -98,50 +181,24 @@ jnd_status jnd_resample_map(const jnd_image *in, int w, int h, jnd_map_kind kind
     float *q = src + ch * inpix;
     for (size_t i = 0; i < inpix; i++) {
       float v = p[i];
-      if (ch < ncol) v = kind == JND_MAP_KIND_COLOR ? srgb_to_linear(v) : 2 * v - 1;
+      if (ch < ncol) v = kind == JND_MAP_KIND_COLOR ? jnd_srgb_decode(v) : 2 * v - 1;
       q[i] = v;
     }
   }
-  taps1d tx = {0}, ty = {0};
-  if ((st = taps_make(in->w, w, wrap, &tx)) || (st = taps_make(in->h, h, wrap, &ty))) {
+  if ((st = jnd_image_alloc(out, w, h, c))) {
     free(src);
-    taps_free(&tx);
-    return jnd_fail(st, "out of memory");
+    return st;
   }
-  float *mid = jnd_alloc((size_t)w * in->h * c, sizeof(float));   /* horizontal pass */
-  if (!mid || (st = jnd_image_alloc(out, w, h, c))) {
-    free(src);
-    free(mid);
-    taps_free(&tx);
-    taps_free(&ty);
-    return st ? st : JND_ERR_NOMEM;
-  }
-  int ih = in->h, iw = in->w;
-#pragma omp parallel for schedule(static)
-  for (int row = 0; row < c * ih; row++) {
-    const float *s = src + (size_t)row * iw;
-    float *d = mid + (size_t)row * w;
-    for (int x = 0; x < w; x++) {
-      const int *ix = tx.idx + (size_t)x * tx.taps;
-      const float *wt = tx.w + (size_t)x * tx.taps;
-      double acc = 0;
-      for (int k = 0; k < tx.count[x]; k++) acc += wt[k] * s[ix[k]];
-      d[x] = (float)acc;
-    }
+  for (int ch = 0; ch < c && st == JND_OK; ch++)
+    st = jnd_resample_plane(src + ch * inpix, in->w, in->h, out->data + (size_t)ch * w * h, w, h,
+                            (double)in->w / w, (double)in->h / h, wrap);
+  free(src);
+  if (st) {
+    jnd_image_free(out);
+    return st;
   }
 #pragma omp parallel for schedule(static)
   for (int y = 0; y < h; y++) {
-    const int *iy = ty.idx + (size_t)y * ty.taps;
-    const float *wt = ty.w + (size_t)y * ty.taps;
-    for (int ch = 0; ch < c; ch++) {
-      float *d = out->data + ((size_t)ch * h + y) * w;
-      const float *m = mid + (size_t)ch * ih * w;
-      for (int x = 0; x < w; x++) {
-        double acc = 0;
-        for (int k = 0; k < ty.count[y]; k++) acc += wt[k] * m[(size_t)iy[k] * w + x];
-        d[x] = (float)acc;
-      }
-    }
     /* back to the map's encoding */
     size_t plane = (size_t)w * h;
     for (int x = 0; x < w; x++) {
@@ -160,15 +217,11 @@ jnd_status jnd_resample_map(const jnd_image *in, int w, int h, jnd_map_kind kind
       } else {
         for (int ch = 0; ch < c; ch++) {
           float v = out->data[ch * plane + i];
-          if (ch < ncol) v = kind == JND_MAP_KIND_COLOR ? linear_to_srgb(v) : 0.5f * v + 0.5f;
+          if (ch < ncol) v = kind == JND_MAP_KIND_COLOR ? jnd_srgb_encode(v) : 0.5f * v + 0.5f;
           out->data[ch * plane + i] = (float)jnd_clampd(v, 0, 1);
         }
       }
     }
   }
-  free(src);
-  free(mid);
-  taps_free(&tx);
-  taps_free(&ty);
   return JND_OK;
 }

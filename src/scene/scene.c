@@ -36,6 +36,7 @@ jnd_scene *jnd_scene_new(const char *path) {
   if (!s) return NULL;
   snprintf(s->path, sizeof s->path, "%s", path);
   s->id = jnd_scene_next_version();
+  s->ground_mesh = -1;
   return s;
 }
 
@@ -125,9 +126,16 @@ const char *jnd_scene_warning(const jnd_scene *s, int i) {
   return i >= 0 && i < s->nwarnings ? s->warnings[i] : "";
 }
 
-void jnd_scene_compute_bounds(jnd_scene *s) {
+static void sub3(const float *a, const float *b, double *o);
+static double dot3(const double *a, const double *b);
+
+/* The sphere around the vertices of the meshes with use[i] set (all when
+ * use is NULL): the centre of their box, the radius to the farthest. 0 when
+ * there are none. */
+static int sphere_of(const jnd_scene *s, const unsigned char *use, double centre[3], double *radius) {
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (int i = 0; i < s->nmeshes; i++)
+  for (int i = 0; i < s->nmeshes; i++) {
+    if (use && !use[i]) continue;
     for (size_t v = 0; v < s->meshes[i].nverts; v++) {
       const float *p = s->meshes[i].vertices + v * JND_VTX_FLOATS;
       for (int k = 0; k < 3; k++) {
@@ -135,21 +143,96 @@ void jnd_scene_compute_bounds(jnd_scene *s) {
         if (p[k] > hi[k]) hi[k] = p[k];
       }
     }
-  if (!(lo[0] <= hi[0])) {
-    s->centre[0] = s->centre[1] = s->centre[2] = 0;
-    s->radius = 1;
-    return;
   }
-  for (int k = 0; k < 3; k++) s->centre[k] = 0.5 * (lo[k] + hi[k]);
+  if (!(lo[0] <= hi[0])) return 0;
+  for (int k = 0; k < 3; k++) centre[k] = 0.5 * (lo[k] + hi[k]);
   double r2 = 0;
-  for (int i = 0; i < s->nmeshes; i++)
+  for (int i = 0; i < s->nmeshes; i++) {
+    if (use && !use[i]) continue;
     for (size_t v = 0; v < s->meshes[i].nverts; v++) {
       const float *p = s->meshes[i].vertices + v * JND_VTX_FLOATS;
       double d2 = 0;
-      for (int k = 0; k < 3; k++) d2 += (p[k] - s->centre[k]) * (p[k] - s->centre[k]);
+      for (int k = 0; k < 3; k++) d2 += (p[k] - centre[k]) * (p[k] - centre[k]);
       if (d2 > r2) r2 = d2;
     }
-  s->radius = r2 > 0 ? sqrt(r2) : 1;
+  }
+  *radius = r2 > 0 ? sqrt(r2) : 1;
+  return 1;
+}
+
+/* A ground plane: a mesh whose area faces straight up or down (99%), whose
+ * heights lie within 0.1% of the scene's size of each other and at or below
+ * every other mesh, and whose horizontal extent covers all the others'. The
+ * lowest such mesh, or -1. Only with at least one other mesh. */
+static int find_ground(const jnd_scene *s) {
+  if (s->nmeshes < 2) return -1;
+  double eps = 1e-3 * 2 * s->radius;
+  int best = -1;
+  double best_y = INFINITY;
+  for (int i = 0; i < s->nmeshes; i++) {
+    const jnd_mesh *m = &s->meshes[i];
+    double flat = 0, all = 0, ylo = INFINITY, yhi = -INFINITY, box[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY};
+    for (size_t t = 0; t < m->ntris; t++) {
+      const float *a = m->vertices + (size_t)m->indices[3 * t] * JND_VTX_FLOATS;
+      const float *b = m->vertices + (size_t)m->indices[3 * t + 1] * JND_VTX_FLOATS;
+      const float *c = m->vertices + (size_t)m->indices[3 * t + 2] * JND_VTX_FLOATS;
+      double e1[3], e2[3];
+      sub3(b, a, e1);
+      sub3(c, a, e2);
+      double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+      double area = sqrt(dot3(n, n));
+      all += area;
+      if (area > 0 && fabs(n[1]) > 0.999 * area) flat += area;
+    }
+    for (size_t v = 0; v < m->nverts; v++) {
+      const float *p = m->vertices + v * JND_VTX_FLOATS;
+      ylo = fmin(ylo, p[1]);
+      yhi = fmax(yhi, p[1]);
+      box[0] = fmin(box[0], p[0]), box[1] = fmax(box[1], p[0]);
+      box[2] = fmin(box[2], p[2]), box[3] = fmax(box[3], p[2]);
+    }
+    if (!(all > 0) || flat < 0.99 * all || yhi - ylo > eps || !(ylo < best_y)) continue;
+    int ok = 1;
+    for (int j = 0; j < s->nmeshes && ok; j++) {
+      if (j == i) continue;
+      for (size_t v = 0; v < s->meshes[j].nverts && ok; v++) {
+        const float *p = s->meshes[j].vertices + v * JND_VTX_FLOATS;
+        ok = p[1] >= yhi - eps && p[0] >= box[0] && p[0] <= box[1] && p[2] >= box[2] && p[2] <= box[3];
+      }
+    }
+    if (ok) best = i, best_y = ylo;
+  }
+  return best;
+}
+
+void jnd_scene_compute_bounds(jnd_scene *s) {
+  if (!sphere_of(s, NULL, s->centre, &s->radius)) {
+    s->centre[0] = s->centre[1] = s->centre[2] = 0;
+    s->radius = 1;
+  }
+  memcpy(s->subject_centre, s->centre, sizeof s->centre);
+  s->subject_radius = s->radius;
+  s->ground_mesh = find_ground(s);
+  if (s->ground_mesh < 0) return;
+  unsigned char *use = calloc((size_t)s->nmeshes, 1);
+  if (!use) {
+    s->ground_mesh = -1;
+    return;
+  }
+  for (int i = 0; i < s->nmeshes; i++) use[i] = i != s->ground_mesh;
+  if (!sphere_of(s, use, s->subject_centre, &s->subject_radius)) s->ground_mesh = -1;
+  free(use);
+}
+
+void jnd_scene_subject_bounds(const jnd_scene *s, double centre[3], double *radius, int *ground) {
+  for (int k = 0; k < 3; k++) centre[k] = s->subject_centre[k];
+  *radius = s->subject_radius;
+  if (ground) {
+    *ground = s->ground_mesh >= 0 ? s->meshes[s->ground_mesh].material : -1;
+    /* a material the ground shares with the subject is no ground material */
+    for (int i = 0; i < s->nmeshes && *ground >= 0; i++)
+      if (i != s->ground_mesh && s->meshes[i].material == *ground) *ground = -1;
+  }
 }
 
 /* ---- tangents ---- */

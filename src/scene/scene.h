@@ -52,6 +52,8 @@ struct jnd_scene {
   char **warnings;
   int nwarnings;
   double centre[3], radius;
+  double subject_centre[3], subject_radius;   /* bounds without the ground plane */
+  int ground_mesh;         /* the ground plane's mesh, or -1 (jnd_scene_compute_bounds) */
   uint64_t id;             /* unique per scene object, so a renderer knows what it uploaded */
 };
 
@@ -70,8 +72,22 @@ void jnd_material_defaults(jnd_material *m, const char *name);
  * normals and uv0: per-triangle tangents weighted by the corner angle,
  * Gram–Schmidt orthogonalised to the normal. */
 void jnd_mesh_compute_tangents(jnd_mesh *m);
-/* Bounding sphere of all meshes (centre of the box, radius to the farthest vertex). */
+/* Bounding sphere of all meshes (centre of the box, radius to the farthest
+ * vertex), the ground plane if there is one, and the sphere of the rest. */
 void jnd_scene_compute_bounds(jnd_scene *s);
 uint64_t jnd_scene_next_version(void);
+
+/* ---- resample.c: the one resampler of planes and maps ---- */
+/* Lanczos-3 (000 §4) of a sw × sh plane to dw × dh: output x sits at input
+ * (x + 0.5)·rx − 0.5 (rx input samples per output sample), the kernel
+ * widened by rx when shrinking; edges clamped (wrap 0) or wrapped. */
+jnd_status jnd_resample_plane(const float *src, int sw, int sh, float *dst, int dw, int dh, double rx, double ry,
+                              int wrap);
+/* Averages 2^s × 2^s boxes (partial boxes at the edge average what they
+ * cover): dst is ceil(w/2^s) × ceil(h/2^s). */
+void jnd_box_down_plane(const float *src, int w, int h, int s, float *dst);
+/* Mip level lev of a map as a driver builds it: 2^lev boxes, sRGB colour
+ * averaged in linear light, other channels as stored. out is allocated. */
+jnd_status jnd_box_reduce_map(const jnd_image *orig, int lev, jnd_map_kind kind, jnd_image *out);
 
 #endif

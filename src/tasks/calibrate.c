@@ -21,40 +21,18 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "io/io.h"
 #include "pool/pool.h"
 
 void jnd_calibration_defaults(jnd_calibration *c) {
   memset(c, 0, sizeof *c);
-  c->percentile = 93; /* 000 §6 */
+  jnd_criterion cr;
+  jnd_criterion_defaults(&cr);
+  c->percentile = 93; /* 000 §6: P93 pools best */
   c->scale = 1;
   c->bias = 0;
   c->beta = 3.5;      /* 000 eq. 4 */
-  c->threshold_p = 0.2;
-}
-
-static long read_file_text(const char *path, char **out) {
-  FILE *f = fopen(path, "rb");
-  if (!f) return -1;
-  size_t cap = 1 << 16, n = 0;
-  char *t = malloc(cap + 1);
-  while (t) {
-    size_t k = fread(t + n, 1, cap - n, f);
-    n += k;
-    if (n < cap || cap >= ((size_t)1 << 24)) break;
-    cap *= 2;
-    char *u = realloc(t, cap + 1);
-    if (!u) {
-      free(t);
-      t = NULL;
-    } else {
-      t = u;
-    }
-  }
-  fclose(f);
-  if (!t) return -1;
-  t[n] = 0;
-  *out = t;
-  return (long)n;
+  c->threshold_p = cr.p;   /* 000 §6 reads thresholds where the criterion does */
 }
 
 static int json_number(const cJSON *o, const char *key, double *v) {
@@ -67,9 +45,11 @@ static int json_number(const cJSON *o, const char *key, double *v) {
 
 jnd_status jnd_calibration_load(const char *path, jnd_calibration *c) {
   jnd_calibration_defaults(c);
-  char *text = NULL;
-  if (read_file_text(path, &text) < 0) return jnd_fail(JND_ERR_IO, "%s: cannot read the calibration file", path);
-  cJSON *root = cJSON_Parse(text);
+  unsigned char *text = NULL;
+  size_t n = 0;
+  jnd_status st = jnd_read_file(path, (size_t)16 << 20, &text, &n);
+  if (st != JND_OK) return st;
+  cJSON *root = cJSON_ParseWithLength((const char *)text, n);
   free(text);
   if (!root) return jnd_fail(JND_ERR_FORMAT, "%s: not JSON", path);
   const cJSON *o = cJSON_GetObjectItemCaseSensitive(root, "calibration");
@@ -178,11 +158,62 @@ jnd_status jnd_calib_percentiles(const jnd_image *map, const jnd_image *mask, do
   return s;
 }
 
+/* The rendered series of one map for calibration (000 §6–§7): the judge's
+ * JND maps (its views, display and model; before any calibration, which is
+ * what is being fitted) of the map at each size against the file's map,
+ * the object's pixels of every view pooled together. */
+jnd_status jnd_calib_series_percentiles(jnd_scene *scene, const char *map, const int *sizes, int nres,
+                                        const jnd_judge_params *p, double *out) {
+  int mi_idx = jnd_scene_map_find(scene, map);
+  if (mi_idx < 0) return jnd_fail(JND_ERR_ARG, "%s: no map %s", jnd_scene_path(scene), map);
+  if (nres < 1 || !sizes) return jnd_fail(JND_ERR_ARG, "%s: no sizes", map);
+  jnd_map_info mi;
+  jnd_scene_map_info(scene, mi_idx, &mi);
+  jnd_scene_map_restore(scene, mi_idx);
+  jnd_judge *j = NULL;
+  jnd_status s = jnd_judge_create(scene, p, &j);
+  if (s != JND_OK) return s;
+  int nv = jnd_judge_view_count(j), L = mi.orig_width > mi.orig_height ? mi.orig_width : mi.orig_height;
+  float *all = NULL;
+  size_t cap = 0;
+  for (int r = 0; r < nres && s == JND_OK; r++) {
+    int w = (int)lround((double)sizes[r] * mi.orig_width / L), h = (int)lround((double)sizes[r] * mi.orig_height / L);
+    if ((s = jnd_scene_map_resize(scene, mi_idx, w < 1 ? 1 : w, h < 1 ? 1 : h)) != JND_OK) break;
+    size_t n = 0;
+    for (int v = 0; v < nv && s == JND_OK; v++) {
+      jnd_image jm = {0}, mask = {0};
+      s = jnd_judge_view_images(j, v, &jm, NULL, &mask, NULL, NULL);
+      size_t px = (size_t)jm.w * jm.h;
+      if (s == JND_OK && n + px > cap) {
+        cap = 2 * (n + px);
+        float *a = realloc(all, cap * sizeof *a);
+        if (!a) s = jnd_fail(JND_ERR_NOMEM, "calibration: out of memory");
+        else all = a;
+      }
+      for (size_t q = 0; s == JND_OK && q < px; q++)
+        if (mask.data[q] > 0.5f) all[n++] = jm.data[q];
+      jnd_image_free(&jm);
+      jnd_image_free(&mask);
+    }
+    if (s != JND_OK) break;
+    /* percentiles over the object's pixels of every view together */
+    float zero = 0;
+    jnd_image pooled = {(int)(n ? n : 1), 1, 1, n ? all : &zero};
+    s = jnd_calib_percentiles(&pooled, NULL, out + (size_t)r * JND_CALIB_NPCT);
+  }
+  jnd_scene_map_restore(scene, mi_idx);
+  free(all);
+  jnd_judge_free(j);
+  return s;
+}
+
 void jnd_calibrate_defaults(jnd_calibrate_params *p) {
   memset(p, 0, sizeof *p);
+  jnd_calibration cal;
+  jnd_calibration_defaults(&cal);
   p->folds = 5;
-  p->beta = 3.5;
-  p->threshold_p = 0.2;
+  p->beta = cal.beta;
+  p->threshold_p = cal.threshold_p;
   p->bias_min = -2;
   p->bias_max = 2;
   p->bias_steps = 21;

@@ -7,15 +7,12 @@
 #include "core/core.h"
 #include "core/fastmath.h"
 #include "pool/pool.h"
+#include "vision/vision.h"
 
-/* P from JND, 000 eq. 4: 1 − exp(ln 0.5 · jnd^beta) = 1 − 2^(−jnd^beta) */
-static inline float prob(float j, float beta) {
-  return j > 0 ? 1.0f - jnd_fast_exp2(-jnd_fast_pow(j, beta)) : 0.0f;
-}
 
 /* P of a JND, for percentiles of P: P is monotonic in JND, so the p-th
  * percentile of P interpolates P of the JND map's order statistics */
-static double prob_of(double j, const void *beta) { return prob((float)j, *(const float *)beta); }
+static double prob_of(double j, const void *beta) { return jnd_prob_of_jnd((float)j, *(const float *)beta); }
 
 enum { SUM_BLOCK = 4096 };
 
@@ -26,7 +23,7 @@ JND_HOT static void block_sums(const float *j, size_t m, float beta, int minkows
 #pragma omp simd
   for (size_t i = 0; i < m; i++) {
     a[i] = jnd_fast_pow(j[i], 2.4f);
-    b[i] = prob(j[i], beta);
+    b[i] = jnd_prob_of_jnd(j[i], beta);
   }
   if (minkowski) {
 #pragma omp simd
@@ -52,8 +49,10 @@ jnd_status jnd_diff_summarise(const jnd_image *map, double beta, const jnd_pooli
   memset(st, 0, sizeof *st);
   size_t n = (size_t)map->w * map->h;
   if (n == 0) return jnd_fail(JND_ERR_ARG, "summary of an empty map");
-  jnd_pooling p93 = {JND_POOL_PERCENTILE, 93.0};
-  if (!pool) pool = &p93;
+  jnd_calibration cal;   /* the default pooling is the calibration's (P93, 000 §6) */
+  jnd_calibration_defaults(&cal);
+  jnd_pooling dflt = {JND_POOL_PERCENTILE, cal.percentile};
+  if (!pool) pool = &dflt;
   const float fb = (float)beta;
   const int minkowski = pool->kind == JND_POOL_MINKOWSKI;
   /* sums in fixed blocks (the same order whatever the thread count) */
@@ -78,7 +77,7 @@ jnd_status jnd_diff_summarise(const jnd_image *map, double beta, const jnd_pooli
   st->p_mean = sp / (double)n;
   jnd_ranks r;
   jnd_ranks_init(&r, n);
-  const double pcts[] = {93, 50, 99, 100, pool->kind == JND_POOL_PERCENTILE ? pool->percentile : 93};
+  const double pcts[] = {93, 50, 99, 100, pool->kind == JND_POOL_PERCENTILE ? pool->percentile : 93};   /* p_p93 etc. are named statistics */
   jnd_status s = JND_OK;
   for (size_t i = 0; i < sizeof pcts / sizeof pcts[0] && s == JND_OK; i++) s = jnd_ranks_want(&r, pcts[i]);
   if (s == JND_OK) s = jnd_ranks_select(&r, map->data);

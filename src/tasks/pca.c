@@ -8,11 +8,11 @@
  * compared with the original by the vision model, P pooled per view, and
  * the cheapest encoding whose views pass (docs/pca.md).
  *
- * Resampling: components are shrunk by averaging 2^s × 2^s boxes (as mip
- * levels are made) and enlarged with Lanczos-3; maps of different sizes are
- * brought to the largest with Lanczos-3 (widened when shrinking). 001 used
- * a box filter with nearest-neighbour enlargement and notes that a better
- * filter would do better. */
+ * Resampling (the scene layer's): components are shrunk by averaging
+ * 2^s × 2^s boxes (as mip levels are made) and enlarged with Lanczos-3; maps
+ * of different sizes are brought to the largest with Lanczos-3 (widened when
+ * shrinking). 001 used a box filter with nearest-neighbour enlargement and
+ * notes that a better filter would do better. */
 #include <ctype.h>
 #include <stddef.h>
 #include <math.h>
@@ -21,141 +21,26 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "scene/scene.h"
 #include "tasks/tasks.h"
 
 #define MAXC JND_PCA_MAX_CHANNELS
 
 /* ------------------------------------------------------------------------ */
-/* Resampling                                                               */
+/* Resampling: the scene layer's (jnd_resample_plane, jnd_box_down_plane)    */
 /* ------------------------------------------------------------------------ */
-
-static double lanczos3(double x) {
-  x = fabs(x);
-  if (x < 1e-9) return 1.0;
-  if (x >= 3.0) return 0.0;
-  double px = M_PI * x;
-  return 3.0 * sin(px) * sin(px / 3.0) / (px * px);
-}
-
-/* For each of dn outputs: the taps into a source of sn samples, where
- * output i sits at source coordinate (i + 0.5)·ratio − 0.5 + shift. */
-typedef struct {
-  int n, taps;
-  int *first;      /* n */
-  float *w;        /* n × taps */
-} axis_weights;
-
-static jnd_status axis_make(int sn, int dn, double ratio, axis_weights *a) {
-  double scale = ratio > 1 ? ratio : 1;   /* widen the kernel when shrinking */
-  double support = 3.0 * scale;
-  int taps = (int)ceil(2 * support) + 1;
-  a->n = dn;
-  a->taps = taps;
-  a->first = jnd_alloc((size_t)dn, sizeof *a->first);
-  a->w = jnd_calloc((size_t)dn * taps, sizeof *a->w);
-  if (!a->first || !a->w) {
-    free(a->first);
-    free(a->w);
-    return JND_ERR_NOMEM;
-  }
-  for (int i = 0; i < dn; i++) {
-    double centre = (i + 0.5) * ratio - 0.5;
-    int lo = (int)floor(centre - support) + 1;
-    a->first[i] = lo;
-    double sum = 0;
-    float *w = a->w + (size_t)i * taps;
-    for (int t = 0; t < taps; t++) {
-      double v = lanczos3((lo + t - centre) / scale);
-      w[t] = (float)v;
-      sum += v;
-    }
-    for (int t = 0; t < taps; t++) w[t] = (float)(w[t] / sum);
-  }
-  (void)sn;
-  return JND_OK;
-}
-
-static void axis_free(axis_weights *a) {
-  free(a->first);
-  free(a->w);
-}
-
-/* separable filter: horizontal into tmp (dw × sh), then vertical */
-static jnd_status resample(const float *src, int sw, int sh, float *dst, int dw, int dh, double rx, double ry) {
-  axis_weights ax = {0}, ay = {0};
-  jnd_status s = axis_make(sw, dw, rx, &ax);
-  if (s == JND_OK) s = axis_make(sh, dh, ry, &ay);
-  float *tmp = s == JND_OK ? jnd_alloc((size_t)dw * sh, sizeof *tmp) : NULL;
-  if (!tmp) {
-    axis_free(&ax);
-    axis_free(&ay);
-    return s == JND_OK ? JND_ERR_NOMEM : s;
-  }
-#pragma omp parallel for schedule(static)
-  for (int y = 0; y < sh; y++) {
-    const float *row = src + (size_t)y * sw;
-    float *out = tmp + (size_t)y * dw;
-    for (int x = 0; x < dw; x++) {
-      const float *w = ax.w + (size_t)x * ax.taps;
-      int lo = ax.first[x];
-      float acc = 0;
-      if (lo >= 0 && lo + ax.taps <= sw) {
-        for (int t = 0; t < ax.taps; t++) acc += w[t] * row[lo + t];
-      } else {
-        for (int t = 0; t < ax.taps; t++) acc += w[t] * row[jnd_clampi(lo + t, 0, sw - 1)];
-      }
-      out[x] = acc;
-    }
-  }
-#pragma omp parallel for schedule(static)
-  for (int y = 0; y < dh; y++) {
-    const float *w = ay.w + (size_t)y * ay.taps;
-    int lo = ay.first[y];
-    float *out = dst + (size_t)y * dw;
-    for (int x = 0; x < dw; x++) out[x] = 0;
-    for (int t = 0; t < ay.taps; t++) {
-      const float *row = tmp + (size_t)jnd_clampi(lo + t, 0, sh - 1) * dw;
-      float wt = w[t];
-      #pragma omp simd
-      for (int x = 0; x < dw; x++) out[x] += wt * row[x];
-    }
-  }
-  free(tmp);
-  axis_free(&ax);
-  axis_free(&ay);
-  return JND_OK;
-}
-
-jnd_status pca_resample_lanczos3(const float *src, int w, int h, float *dst, int dw, int dh) {
-  return resample(src, w, h, dst, dw, dh, (double)w / dw, (double)h / dh);
-}
 
 static int coarse_side(int n, int s) { return (n + (1 << s) - 1) >> s; }
 
-void pca_box_down(const float *src, int w, int h, int s, float *dst) {
-  int d = 1 << s, cw = coarse_side(w, s), ch = coarse_side(h, s);
-#pragma omp parallel for schedule(static)
-  for (int cy = 0; cy < ch; cy++) {
-    for (int cx = 0; cx < cw; cx++) {
-      double acc = 0;
-      int n = 0;
-      for (int y = cy * d; y < cy * d + d && y < h; y++)
-        for (int x = cx * d; x < cx * d + d && x < w; x++) {
-          acc += src[(size_t)y * w + x];
-          n++;
-        }
-      dst[(size_t)cy * cw + cx] = (float)(acc / n);
-    }
-  }
-}
-
-jnd_status pca_upsample(const float *coarse, int w, int h, int s, float *dst) {
+/* a plane made by jnd_box_down_plane(src, w, h, s, ...) back to w × h with
+ * Lanczos-3, the coarse samples sitting at the centres of their boxes */
+static jnd_status upsample(const float *coarse, int w, int h, int s, float *dst) {
   if (s == 0) {
     memcpy(dst, coarse, (size_t)w * h * sizeof *dst);
     return JND_OK;
   }
   double r = 1.0 / (1 << s);
-  return resample(coarse, coarse_side(w, s), coarse_side(h, s), dst, w, h, r, r);
+  return jnd_resample_plane(coarse, coarse_side(w, s), coarse_side(h, s), dst, w, h, r, r, 0);
 }
 
 /* ------------------------------------------------------------------------ */
@@ -293,7 +178,10 @@ static jnd_status texset_build(const jnd_image *maps, const char *const *names, 
   for (int i = 0; i < n; i++) {
     jnd_texset_map *m = &out->maps[i];
     /* a grey file (with or without alpha), or grey stored as RGB(A) */
-    int grey = m->count == 1 && m->src[0] == 0 && !picks[i][0] && (m->file_channels <= 2 || m->duplicates >= 1);
+    /* a grey file (with or without alpha), grey stored as RGB(A), or a
+     * constant map (one channel kept for it): named after the map */
+    int grey = m->count == 1 && m->src[0] == 0 && !picks[i][0] &&
+               (m->file_channels <= 2 || m->duplicates >= 1 || m->constants == m->file_channels - 1);
     for (int k = 0; k < m->count; k++) {
       int c = m->first + k;
       out->map_of[c] = i;
@@ -304,7 +192,7 @@ static jnd_status texset_build(const jnd_image *maps, const char *const *names, 
       const float *p = jnd_image_plane(&maps[i], m->src[k]);
       float *d = out->data + (size_t)c * np;
       if (m->resampled) {
-        s = pca_resample_lanczos3(p, maps[i].w, maps[i].h, d, W, H);
+        s = jnd_resample_plane(p, maps[i].w, maps[i].h, d, W, H, (double)maps[i].w / W, (double)maps[i].h / H, 0);
         if (s != JND_OK) {
           jnd_texset_free(out);
           return s;
@@ -550,7 +438,7 @@ static jnd_status store_component(const float *u, int w, int h, int s, int bits,
   if (s == 0)
     memcpy(img->data, u, (size_t)w * h * sizeof *u);
   else
-    pca_box_down(u, w, h, s, img->data);
+    jnd_box_down_plane(u, w, h, s, img->data);
   ptrdiff_t n = (ptrdiff_t)cw * ch;
   float lo = img->data[0], hi = img->data[0];
   float *d = img->data;
@@ -645,7 +533,7 @@ jnd_status jnd_pca_reconstruct(const jnd_pca_encoded *enc, const jnd_image *comp
       s = jnd_fail(JND_ERR_ARG, "reconstruct: component %d is %d × %d, wanted %d × %d", k, comp[k].w, comp[k].h,
                    coarse_side(w, sc), coarse_side(h, sc));
     else
-      s = pca_upsample(comp[k].data, w, h, sc, up + (size_t)k * np);
+      s = upsample(comp[k].data, w, h, sc, up + (size_t)k * np);
   }
   if (s != JND_OK) {
     free(up);
@@ -795,7 +683,7 @@ static jnd_status measure_options(const jnd_texset *set, const jnd_pca *pca, con
       jnd_image img = {0};
       double scale, offset;
       s = store_component(u, w, h, S->opt[o].scale, S->opt[o].bits, &img, &scale, &offset);
-      if (s == JND_OK) s = pca_upsample(img.data, w, h, S->opt[o].scale, up);
+      if (s == JND_OK) s = upsample(img.data, w, h, S->opt[o].scale, up);
       if (s == JND_OK) {
         /* per-row sums added in row order: the same on any thread count */
 #pragma omp parallel for schedule(static)
@@ -931,21 +819,16 @@ jnd_status jnd_pca_choose_psnr(const jnd_texset *set, const jnd_pca *pca, double
 /* Rendered visibility (the renderer's part)                                */
 /* ------------------------------------------------------------------------ */
 
-/* The loop of DESIGN.md for a texture set: the material rendered with its
- * maps rebuilt from a candidate, shown on the display, compared with the
- * rendering of the set itself by the vision model, pooled per view. One
- * renderer and one vision model stay open; the reference is rendered once
- * per view and kept in cd/m². */
+/* The loop of DESIGN.md for a texture set, asked of the judge: the
+ * material rendered with its maps rebuilt from a candidate, against the
+ * rendering of the set itself (the judge's reference), P per view pooled
+ * over the object as every task pools it (judge.c). */
 struct jnd_pca_render {
   char path[1024];
   jnd_pca_render_params p;
   jnd_scene *scene;
-  jnd_renderer *renderer;
-  jnd_model *model;
+  jnd_judge *judge;                        /* made when a set is bound: its state is the reference */
   int material;
-  int nviews;
-  jnd_view views[JND_PCA_MAX_VIEWS];
-  jnd_image ref[JND_PCA_MAX_VIEWS];        /* reference per view, linear RGB cd/m² */
   const jnd_texset *set;                   /* bound set (the caller's) */
   int nbound;
   int scene_map[JND_PCA_MAX_MAPS];         /* scene map of each set map */
@@ -954,57 +837,37 @@ struct jnd_pca_render {
 
 void jnd_pca_render_defaults(jnd_pca_render_params *p) {
   memset(p, 0, sizeof *p);
-  p->views = 8;
-  p->width = p->height = 512;
-  p->coverage = 0.8;
-  p->seed = 1;
+  jnd_judge_defaults(&p->judge);
   p->builtin_map_size = 2048;
-  jnd_model_defaults(&p->model);
-  p->pool.kind = JND_POOL_PERCENTILE;
-  p->pool.percentile = 93;   /* 000 §6 */
-  p->max_p = 0.2;
-  p->max_fraction = 0.1;
 }
 
 void jnd_pca_render_free(jnd_pca_render *r) {
   if (!r) return;
-  for (int v = 0; v < JND_PCA_MAX_VIEWS; v++) jnd_image_free(&r->ref[v]);
-  jnd_model_free(r->model);
-  jnd_renderer_free(r->renderer);
+  jnd_judge_free(r->judge);
   jnd_scene_free(r->scene);
   free(r);
 }
 
 const char *jnd_pca_render_description(const jnd_pca_render *r) {
-  return r && r->renderer ? jnd_renderer_description(r->renderer) : "";
+  return r && r->judge ? jnd_judge_renderer(r->judge) : "";
 }
 
-static jnd_status load_scene(const char *path, int map_size, jnd_scene **out) {
-  if (strcmp(path, "builtin") == 0 || strcmp(path, "builtin:box") == 0 || strcmp(path, "builtin:sphere") == 0) {
-    jnd_builtin_params bp;
-    jnd_builtin_defaults(&bp);
-    bp.map_size = map_size;
-    bp.shape = strcmp(path, "builtin:sphere") == 0;
-    return jnd_scene_builtin(&bp, out);
-  }
-  return jnd_scene_load(path, out);
+static int render_views(const jnd_pca_render_params *p) {
+  return p->judge.views.cameras ? p->judge.views.ncameras : p->judge.views.sampling.count;
 }
 
 jnd_status jnd_pca_render_open(const char *model_path, const char *material, const jnd_pca_render_params *p,
                                jnd_pca_render **out) {
   *out = NULL;
   if (!model_path || !material) return jnd_fail(JND_ERR_ARG, "rendered visibility needs a model and a material");
-  if (p->views < 1 || p->views > JND_PCA_MAX_VIEWS)
-    return jnd_fail(JND_ERR_ARG, "%s: %d views (1 to %d)", model_path, p->views, JND_PCA_MAX_VIEWS);
-  if (!(p->max_p >= 0 && p->max_p <= 1) || !(p->max_fraction >= 0 && p->max_fraction < 1))
-    return jnd_fail(JND_ERR_ARG, "%s: criterion P <= %g in all but %g of the views", model_path, p->max_p,
-                    p->max_fraction);
+  int nv = render_views(p);
+  if (nv < 1 || nv > JND_PCA_MAX_VIEWS)
+    return jnd_fail(JND_ERR_ARG, "%s: %d views (1 to %d)", model_path, nv, JND_PCA_MAX_VIEWS);
   jnd_pca_render *r = jnd_calloc(1, sizeof *r);
   if (!r) return JND_ERR_NOMEM;
   snprintf(r->path, sizeof r->path, "%s", model_path);
   r->p = *p;
-  r->nviews = p->views;
-  jnd_status s = load_scene(model_path, p->builtin_map_size, &r->scene);
+  jnd_status s = jnd_scene_open(model_path, p->builtin_map_size, &r->scene);
   if (s != JND_OK) goto fail;
   r->material = -1;
   int nm = jnd_scene_material_count(r->scene);
@@ -1019,21 +882,6 @@ jnd_status jnd_pca_render_open(const char *model_path, const char *material, con
     s = jnd_fail(JND_ERR_ARG, "%s: no material '%s' (it has %s)", model_path, material, nm ? list : "none");
     goto fail;
   }
-  jnd_renderer_params rp;
-  jnd_renderer_defaults(&rp);
-  rp.width = p->width;
-  rp.height = p->height;
-  rp.platform = p->platform;
-  if ((s = jnd_renderer_create(&rp, &r->renderer)) != JND_OK) goto fail;
-  if ((s = jnd_model_create(&p->model, &r->model)) != JND_OK) goto fail;
-  jnd_view_sampling vs;
-  jnd_view_sampling_defaults(&vs);
-  vs.count = p->views;
-  vs.seed = p->seed;
-  vs.coverage = p->coverage;
-  vs.aspect = (double)p->width / p->height;
-  if ((s = jnd_views_sample(r->scene, &vs, r->views)) != JND_OK) goto fail;
-  for (int v = 0; v < r->nviews; v++) r->views[v].outputs = JND_OUT_COLOR;
   *out = r;
   return JND_OK;
 fail:
@@ -1154,19 +1002,6 @@ static jnd_status set_map(jnd_pca_render *r, const jnd_image *channels, int i) {
   return s;
 }
 
-/* renders view v and applies the display: out in cd/m² (allocated) */
-static jnd_status render_view(jnd_pca_render *r, int v, jnd_image *out) {
-  jnd_frame f;
-  memset(&f, 0, sizeof f);
-  jnd_image srgb = {0};
-  jnd_status s = jnd_render(r->renderer, r->scene, &r->views[v], &f);
-  if (s == JND_OK) s = jnd_render_to_srgb(&f.color, &srgb);
-  jnd_frame_free(&f);
-  if (s == JND_OK) s = jnd_display_apply(&r->p.model.display, &srgb, JND_ENCODING_SRGB, 0, out);
-  jnd_image_free(&srgb);
-  return s;
-}
-
 jnd_status jnd_pca_render_bind(jnd_pca_render *r, const jnd_texset *set, const jnd_map_slot *slots) {
   if (!set || !set->data || set->nmaps < 1) return jnd_fail(JND_ERR_ARG, "%s: no texture set to bind", r->path);
   const char *mname = jnd_scene_material_name(r->scene, r->material);
@@ -1192,37 +1027,25 @@ jnd_status jnd_pca_render_bind(jnd_pca_render *r, const jnd_texset *set, const j
   jnd_image own = {set->w, set->h, set->c, set->data};
   jnd_status s = JND_OK;
   for (int i = 0; i < r->nbound && s == JND_OK; i++) s = set_map(r, &own, i);
-  for (int v = 0; v < r->nviews && s == JND_OK; v++) {
-    jnd_image_free(&r->ref[v]);
-    s = render_view(r, v, &r->ref[v]);
-  }
+  /* the set itself in its slots is the reference */
+  if (s == JND_OK) s = r->judge ? jnd_judge_set_reference(r->judge) : jnd_judge_create(r->scene, &r->p.judge, &r->judge);
   return s;
 }
 
 jnd_status jnd_pca_render_measure(jnd_pca_render *r, const jnd_image *channels, jnd_pca_visibility *out) {
   memset(out, 0, sizeof *out);
-  if (!r->set || !r->nbound) return jnd_fail(JND_ERR_ARG, "%s: no texture set bound", r->path);
+  if (!r->set || !r->nbound || !r->judge) return jnd_fail(JND_ERR_ARG, "%s: no texture set bound", r->path);
   jnd_status s = JND_OK;
   for (int i = 0; i < r->nbound && s == JND_OK; i++) s = set_map(r, channels, i);
-  double beta = jnd_model_get_params(r->model)->beta;
-  for (int v = 0; v < r->nviews && s == JND_OK; v++) {
-    jnd_image test = {0}, map = {0};
-    jnd_diff_stats st;
-    s = render_view(r, v, &test);
-    if (s == JND_OK) s = jnd_model_diff(r->model, &r->ref[v], &test, NULL, &map);
-    if (s == JND_OK) s = jnd_diff_summarise(&map, beta, &r->p.pool, &st);
-    if (s == JND_OK) out->p[v] = st.p_detect;
-    jnd_image_free(&test);
-    jnd_image_free(&map);
-  }
+  int n = jnd_judge_view_count(r->judge);
+  jnd_judgement j;
+  if (s == JND_OK) s = jnd_judge_eval(r->judge, 0, n, 0, out->p, &j);
   if (s != JND_OK) return s;
-  out->views = r->nviews;
-  jnd_criterion_result cr;
-  if ((s = jnd_criterion_eval(out->p, r->nviews, r->p.max_p, r->p.max_fraction, 0.9, &cr)) != JND_OK) return s;
-  out->allowed = cr.allowed;
-  out->above = cr.above;
-  out->p_criterion = cr.statistic;
-  out->pass = cr.pass;
+  out->views = n;
+  out->allowed = j.criterion.allowed;
+  out->above = j.criterion.above;
+  out->p_criterion = j.criterion.statistic;
+  out->pass = j.criterion.pass;
   return JND_OK;
 }
 
@@ -1380,7 +1203,7 @@ jnd_status jnd_pca_choose_rendered(jnd_pca_render *r, const jnd_texset *set, con
   if (s != JND_OK) return s;
   if (best < 0)
     return jnd_fail(JND_ERR_ARG, "%s: no encoding keeps P <= %g in all but %g of the views, not even all components at 16 bits",
-                    r->path, r->p.max_p, r->p.max_fraction);
+                    r->path, r->p.judge.criterion.p, r->p.judge.criterion.q);
   if (log)
     for (int t = 0; t < log->tried; t++)
       if (same_encoding(&log->enc[t], &best_enc)) log->chosen = t;

@@ -29,19 +29,7 @@ int linalg_knee(const double *values, int n);
 
 /* ---- linalg.c (end) ---- */
 
-/* ---- pca.c: resampling of single planes (begin) ---- */
-
-/* Resamples a w × h plane to dw × dh with a separable Lanczos-3 filter,
- * widened by the scale factor when shrinking; edges are clamped. */
-jnd_status pca_resample_lanczos3(const float *src, int w, int h, float *dst, int dw, int dh);
-
-/* Averages 2^s × 2^s boxes (partial boxes at the edge average what they
- * cover): the coarse plane is ceil(w/2^s) × ceil(h/2^s). */
-void pca_box_down(const float *src, int w, int h, int s, float *dst);
-
-/* Upsamples a plane made by pca_box_down(src, w, h, s, ...) back to w × h
- * with Lanczos-3, the coarse samples sitting at the centres of their boxes. */
-jnd_status pca_upsample(const float *coarse, int w, int h, int s, float *dst);
+/* ---- pca.c (begin) ---- */
 
 /* Rendered visibility hook: see jnd_pca_rendered_visibility (jnd.h). */
 jnd_status pca_rendered_visibility(const jnd_texset *set, const jnd_pca_encoded *enc,

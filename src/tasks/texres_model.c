@@ -86,6 +86,62 @@ static cJSON *texture_info(cJSON *mat, jnd_map_slot slot) {
   }
 }
 
+/* Which glTF material each of the scene's materials is. assimp loads a
+ * glTF's materials lazily, in the order meshes first reference them while
+ * the default scene's nodes are read (a node's children before its own
+ * mesh, a mesh's primitives in order), and leaves out the ones no mesh
+ * uses (an unused material, or one only a KHR_materials_variants mapping
+ * names): so the scene's material j is the j-th distinct material of that
+ * walk. out[j] (scene materials) receives its glTF index, or -1 for a
+ * material the file does not have (assimp's default). The walk is checked
+ * against what the scene kept (names, textured slots); a mismatch is an
+ * error, not a copy whose maps differ from the report. */
+static void walk_node(const cJSON *root, int node, int depth, int *order, int *n, int cap) {
+  const cJSON *nd = cJSON_GetArrayItem(item(root, "nodes"), node);
+  if (!nd || depth > 64) return;
+  const cJSON *ch;
+  cJSON_ArrayForEach(ch, item(nd, "children")) if (cJSON_IsNumber(ch)) walk_node(root, ch->valueint, depth + 1, order, n, cap);
+  const cJSON *mesh = cJSON_GetArrayItem(item(root, "meshes"), int_of(nd, "mesh", -1)), *prim;
+  cJSON_ArrayForEach(prim, item(mesh, "primitives")) {
+    int m = int_of(prim, "material", -1), seen = m < 0;
+    for (int k = 0; k < *n && !seen; k++) seen = order[k] == m;
+    if (!seen && *n < cap) order[(*n)++] = m;
+  }
+}
+
+static jnd_status material_map(const cJSON *root, const jnd_scene *scene, const char *src, int *out) {
+  int nm = jnd_scene_material_count(scene), n = 0;
+  for (int j = 0; j < nm; j++) out[j] = -1;
+  const cJSON *scenes = item(root, "scenes"), *sc = cJSON_GetArrayItem(scenes, int_of(root, "scene", 0)), *nd;
+  cJSON_ArrayForEach(nd, item(sc, "nodes")) if (cJSON_IsNumber(nd)) walk_node(root, nd->valueint, 0, out, &n, nm);
+  const cJSON *materials = item(root, "materials");
+  if (n == 0)   /* no scene to walk (not a file assimp loaded): the file's own order */
+    for (int j = 0; j < nm && j < cJSON_GetArraySize(materials); j++) out[j] = j;
+  for (int j = 0; j < nm; j++) {
+    const cJSON *mat = cJSON_GetArrayItem(materials, out[j]);
+    const char *name = jnd_scene_material_name(scene, j);
+    const cJSON *gname = item(mat, "name");
+    int ok = 1;
+    if (mat && cJSON_IsString(gname) && gname->valuestring[0]) {
+      size_t l = strlen(gname->valuestring);
+      ok = strncmp(name, gname->valuestring, l) == 0 && (name[l] == 0 || name[l] == '#');
+    }
+    /* every map the copy changes must have its slot there */
+    for (int k = 0; k < JND_MAP_SLOTS && ok; k++) {
+      char full[256];
+      snprintf(full, sizeof full, "%s/%s", name, jnd_map_slot_name((jnd_map_slot)k));
+      jnd_map_info mi;
+      int i = jnd_scene_map_find(scene, full);
+      if (i >= 0 && jnd_scene_map_info(scene, i, &mi) == JND_OK && (mi.width != mi.orig_width || mi.height != mi.orig_height))
+        ok = texture_info((cJSON *)mat, (jnd_map_slot)k) != NULL;
+    }
+    if (!ok)
+      return jnd_fail(JND_ERR_FORMAT, "%s: cannot tell which glTF material '%s' is (the model copy would not match)",
+                      src, name);
+  }
+  return JND_OK;
+}
+
 /* image i is JPEG (by mimeType or the uri's extension) */
 static int is_jpeg(const cJSON *img) {
   const cJSON *m = item(img, "mimeType"), *u = item(img, "uri");
@@ -195,18 +251,40 @@ jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src, const
   slot_use *use = jnd_calloc((size_t)nmaps + 1, sizeof *use);
   int *used_orig = jnd_calloc((size_t)nimg0 + 1, sizeof *used_orig);
   int *replaced = jnd_calloc((size_t)nimg0 + 1, sizeof *replaced);
+  int *gmat = jnd_calloc((size_t)jnd_scene_material_count(scene) + 1, sizeof *gmat);
   membuf *enc = NULL;
   int nuse = 0, nenc = 0;
   char src_dir[4096];
   dir_of(src, src_dir, sizeof src_dir);
-  if (!use || !used_orig || !replaced) {
+  if (!use || !used_orig || !replaced || !gmat) {
     s = JND_ERR_NOMEM;
     goto done;
   }
+  if ((s = material_map(root, scene, src, gmat)) != JND_OK) goto done;
+  /* an image that any material's slot uses at its own size (a material the
+   * scene does not have, an unchanged slot) stays as it is */
+  int ngm = cJSON_GetArraySize(materials);
+  for (int g = 0; g < ngm; g++)
+    for (int k = 0; k < JND_MAP_SLOTS; k++) {
+      const cJSON *info = texture_info(cJSON_GetArrayItem(materials, g), (jnd_map_slot)k);
+      int img = int_of(cJSON_GetArrayItem(textures, int_of(info, "index", -1)), "source", -1);
+      if (!info || img < 0 || img >= nimg0) continue;
+      int changed = 0;
+      for (int j = 0; j < jnd_scene_material_count(scene) && !changed; j++) {
+        if (gmat[j] != g) continue;
+        char full[256];
+        snprintf(full, sizeof full, "%s/%s", jnd_scene_material_name(scene, j), jnd_map_slot_name((jnd_map_slot)k));
+        jnd_map_info mi;
+        int i = jnd_scene_map_find(scene, full);
+        changed = i >= 0 && jnd_scene_map_info(scene, i, &mi) == JND_OK &&
+                  (mi.width != mi.orig_width || mi.height != mi.orig_height);
+      }
+      if (!changed) used_orig[img] = 1;
+    }
   for (int i = 0; i < nmaps; i++) {
     jnd_map_info mi;
     jnd_scene_map_info(scene, i, &mi);
-    cJSON *info = texture_info(cJSON_GetArrayItem(materials, mi.material), mi.slot);
+    cJSON *info = mi.material >= 0 ? texture_info(cJSON_GetArrayItem(materials, gmat[mi.material]), mi.slot) : NULL;
     int t = int_of(info, "index", -1);
     int img = int_of(cJSON_GetArrayItem(textures, t), "source", -1);
     if (!info || img < 0 || img >= nimg0) continue;
@@ -219,7 +297,6 @@ jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src, const
     u->h = mi.height;
     u->changed = mi.width != mi.orig_width || mi.height != mi.orig_height;
     u->target = img;
-    if (!u->changed) used_orig[img] = 1;
   }
   /* one encoded image per (image, size) */
   enc = jnd_calloc((size_t)nuse + 1, sizeof *enc);
@@ -398,6 +475,7 @@ done:
   free(use);
   free(used_orig);
   free(replaced);
+  free(gmat);
   cJSON_Delete(root);
   free(file);
   return s;

@@ -60,12 +60,6 @@ jnd_status jnd_display_preset(const char *name, jnd_display *d) {
   return JND_OK;
 }
 
-/* sRGB EOTF (IEC 61966-2-1) */
-static float srgb_decode(float v) {
-  if (v <= 0.04045f) return v / 12.92f;
-  return powf((v + 0.055f) / 1.055f, 2.4f);
-}
-
 enum { SPAN = 8192 };
 
 /* One span of sRGB signal → cd/m². A span of 8-bit codes (most inputs) goes
@@ -97,16 +91,13 @@ JND_HOT static void srgb_span(const float *src, const float *alpha, const float 
   if (!alpha) {
 #pragma omp simd
     for (size_t i = 0; i < n; i++) {
-      float v = src[i] < 0.0f ? 0.0f : src[i] > 1.0f ? 1.0f : src[i];
-      float lin = v <= 0.04045f ? v / 12.92f : jnd_fast_pow((v + 0.055f) / 1.055f, 2.4f);
-      dst[i] = range * lin + black + refl;
+      dst[i] = range * jnd_srgb_decode(src[i]) + black + refl;
     }
     return;
   }
 #pragma omp simd
   for (size_t i = 0; i < n; i++) {
-    float v = src[i] < 0.0f ? 0.0f : src[i] > 1.0f ? 1.0f : src[i];
-    float lin = v <= 0.04045f ? v / 12.92f : jnd_fast_pow((v + 0.055f) / 1.055f, 2.4f);
+    float lin = jnd_srgb_decode(src[i]);
     float a = alpha[i] < 0.0f ? 0.0f : alpha[i] > 1.0f ? 1.0f : alpha[i];
     dst[i] = range * lin * a + black + refl;
   }
@@ -151,7 +142,7 @@ jnd_status jnd_display_apply(const jnd_display *d, const jnd_image *in, jnd_enco
   float range = (float)(d->peak_cdm2 - d->black_cdm2), black = (float)d->black_cdm2;
   const float *alpha = alpha_ch >= 0 ? jnd_image_plane(in, alpha_ch) : NULL;
   float lum[256]; /* the luminance of each 8-bit sRGB code */
-  for (int k = 0; k < 256; k++) lum[k] = range * srgb_decode(k / 255.0f) + black + refl;
+  for (int k = 0; k < 256; k++) lum[k] = range * jnd_srgb_decode(k / 255.0f) + black + refl;
   for (int ch = 0; ch < 3; ch++)
     display_channel(jnd_image_plane(in, colour ? ch : 0), alpha, enc, lum, range, black, (float)d->exr_scale,
                     refl, jnd_image_plane(&tmp, ch), n);

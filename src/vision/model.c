@@ -44,7 +44,7 @@ struct jnd_model {
 
 double jnd_probability(double jnd, double beta) {
   if (!(jnd > 0)) return 0.0;
-  return 1.0 - exp(log(0.5) * pow(jnd, beta));
+  return jnd_prob_of_jnd((float)jnd, (float)beta);
 }
 
 double jnd_probability_inverse(double p, double beta) {

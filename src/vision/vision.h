@@ -23,6 +23,13 @@ static inline void jnd_opponent(float cl, float cm, float cs, float *A, float *a
   *b = (cl + cm - 2.0f * cs) * (1.0f / 9.0f);
 }
 
+/* ---- the psychometric function (000 eq. 4), the one definition ---- */
+/* P = 1 − exp(ln 0.5 · jnd^β) = 1 − 2^(−jnd^β), with the fast pow so that
+ * per-pixel loops vectorise; jnd_probability and every pooling call it. */
+static inline float jnd_prob_of_jnd(float j, float beta) {
+  return j > 0 ? 1.0f - jnd_fast_exp2(-jnd_fast_pow(j, beta)) : 0.0f;
+}
+
 /* ---- pyramids (pyramid.c) ---- */
 typedef struct {
   int levels;

@@ -64,6 +64,16 @@ done
 check pooling_minkowski_lies_between_mean_and_max jq -e --slurpfile d "$T/faint.json" \
   '.parameters.pooling == "minkowski" and .result.p_detect > $d[0].result.p_mean and .result.p_detect < $d[0].result.p_max' "$T/pool.json"
 
+# an explicit quantity wins over the preset, whatever the order (issue 9:
+# --ppd 40 --display phone reported the phone's 94.26)
+for order in "--ppd 40 --display phone" "--display phone --ppd 40"; do
+  "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" $order --peak 300 --json "$T/order.json" --quiet
+  check "explicit_ppd_and_peak_win_over_the_preset: $order" jq -e '.parameters.display.ppd == 40 and .parameters.display.peak_cdm2 == 300
+    and .parameters.display.name == "phone"' "$T/order.json"
+done
+expect_exit 2 gaze_outside_the_image_is_refused "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --gaze 400,10
+check gaze_refusal_is_one_line one_line_error
+
 # float outputs and inputs: the JND map as EXR; a rendered motion map (EXR, X and Y) and weights
 expect_exit 0 map_is_written "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --map "$T/jnd.exr" --quiet
 check map_is_an_exr bash -c "head -c 4 '$T/jnd.exr' | od -An -tx1 | grep -q '76 2f 31 01'"

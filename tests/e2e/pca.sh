@@ -24,9 +24,25 @@ M="$T/mat_albedo.png $T/mat_height.png $T/mat_normal.png"
 expect_exit 0 help_exits_zero "$JND" pca --help
 check help_names_the_stable_flags grep -q -- "--components K" "$T/out.txt"
 
+# without a rule: the energy target, and the report says so (issue 9: the
+# default used to keep every component, which saves nothing)
+expect_exit 0 default_rule_runs "$JND" pca $M -o "$T/dflt" --quiet
+check default_keeps_99_percent_of_the_energy_with_fewer_components \
+  jq -e '.parameters.criterion == "energy" and .parameters.energy == 0.99
+         and .result.components_kept < .result.channel_count
+         and .result.cumulative_energy[.result.components_kept - 1] >= 0.99
+         and (.result.components_kept == 1 or .result.cumulative_energy[.result.components_kept - 2] < 0.99)' "$T/dflt/pca.json"
+check one_baseline_for_sizes jq -e '.result.original_bytes == 3 * 96 * 64 * 3 and .result.storage_bytes < .result.original_bytes' "$T/dflt/pca.json"
+
 # all components: float reconstruction, energies summing to the total variance
-expect_exit 0 all_components_run "$JND" pca $M -o "$T/all" --quiet
-check writes_json_components_and_plot test -s "$T/all/pca.json" -a -s "$T/all/component_00.png" -a -s "$T/all/contribution.png"
+expect_exit 0 all_components_run "$JND" pca $M -o "$T/all" --components all --quiet
+check writes_json_components_and_plot test -s "$T/all/pca.json" -a -s "$T/all/components_0.png" -a -s "$T/all/contribution.png"
+check components_are_packed_four_to_an_rgba_texture \
+  jq -e '[.result.textures[] | .components | length] == [4, 2] and .result.textures[0].components == [0, 1, 2, 3]' "$T/all/pca.json"
+check packed_texture_is_an_rgba_png python3 -c "
+import struct, sys
+b = open('$T/all/components_0.png', 'rb').read(26)
+assert struct.unpack('>II', b[16:24]) == (96, 64) and b[24] == 8 and b[25] == 6, b[16:26]"
 check grey_stored_as_rgb_counts_once_and_constant_blue_is_left_out \
   jq -e '[.result.channels[].name] == ["albedo.r","albedo.g","albedo.b","height","normal.r","normal.g"]' "$T/all/pca.json"
 check energies_descend_and_sum_to_total_variance \
@@ -45,7 +61,8 @@ expect_exit 0 two_components_at_16_bits_run "$JND" pca $M -o "$T/k2" --component
 check keeps_k_components_with_a_c_by_k_plus_1_matrix \
   jq -e '.result.components_kept == 2 and (.result.reconstruction[0] | length) == 3 and all(.result.components[]; .bits == 16)' "$T/k2/pca.json"
 check fewer_components_store_less jq -e --slurpfile a "$T/all/pca.json" '.result.storage_bytes < $a[0].result.storage_bytes' "$T/k2/pca.json"
-check writes_no_extra_component test ! -e "$T/k2/component_02.png"
+check two_components_share_one_16_bit_texture jq -e '.result.textures == [{"file":"components_0.png","width":96,"height":64,"bits":16,"components":[0,1]}]' "$T/k2/pca.json"
+check writes_no_extra_texture test ! -e "$T/k2/components_1.png"
 check json_flag_writes_the_same_report cmp -s "$T/k2/pca.json" "$T/k2.json"
 check write_maps_rebuilds_every_map test -s "$T/k2/albedo.png" -a -s "$T/k2/height.png" -a -s "$T/k2/normal.png"
 
@@ -81,7 +98,8 @@ bad_input map_of_another_shape_is_refused "mat_square.png" $M "$T/mat_square.png
 bad_input unknown_weight_name_is_refused "roughness" $M -o "$T/x" --weight roughness=2
 bad_input bad_channel_pick_is_refused "channels" $M -o "$T/x" --channels albedo=q
 bad_input odd_bits_are_refused "bits" $M -o "$T/x" --bits 12
-bad_input max_p_without_a_model_is_refused "max-p needs --model" $M -o "$T/x" --max-p 0.1
-bad_input missing_model_is_refused "m.glb" $M -o "$T/x" --max-p 0.1 --model "$T/m.glb" --material m
+bad_input criterion_without_a_model_is_refused "need --model" $M -o "$T/x" --p 0.1
+bad_input missing_model_is_refused "m.glb" $M -o "$T/x" --p 0.1 --model "$T/m.glb" --material m
+check bad_input_leaves_no_output_folder test ! -e "$T/x"
 bad_input no_maps_is_refused "needs maps" -o "$T/x"
 finish

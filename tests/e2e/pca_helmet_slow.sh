@@ -7,7 +7,7 @@ shared_data && [ -d "$JND_SHARED/data/texsets/damagedhelmet" ] || skip "no share
 H="$JND_SHARED/data/texsets/damagedhelmet"
 MAPS="$H/Default_AO.jpg $H/Default_albedo.jpg $H/Default_emissive.jpg $H/Default_metalRoughness.jpg $H/Default_normal.jpg"
 
-expect_exit 0 all_components_run "$JND" pca $MAPS -o "$T/all" --no-bc --quiet
+expect_exit 0 all_components_run "$JND" pca $MAPS -o "$T/all" --components all --no-bc --quiet
 check helmet_has_13_informative_channels jq -e '.result.channel_count == 13 and .result.channels[0].name == "AO"' "$T/all/pca.json"
 check energies_sum_to_total_variance \
   jq -e '((.result.energy | add) - .result.total_variance | fabs) <= 1e-9 * .result.total_variance' "$T/all/pca.json"

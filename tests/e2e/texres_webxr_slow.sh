@@ -12,7 +12,7 @@ ASSETS=$(webxr_assets) ||
 M="$ASSETS/dist/profiles/generic-trigger-squeeze-thumbstick/left.glb"
 command -v python3 >/dev/null || skip "needs python3"
 [ -f "$M" ] || { bad "the asset is in the package"; finish; }
-"$JND" texres "$M" -o "$T/a" --views 4 --size 256x256 --verify-views 8 --quiet
+"$JND" texres "$M" -o "$T/a" --views 4 --size 256x256 --verify-views 8 --matrix --quiet
 rc=$?
 check "texres runs on a webxr controller (exit 0, or 1 with the failure reported)" [ $rc -le 1 ]
 check "the report: sizes within the mip bound, the matrix, memory, the held-out check" python3 - "$T/a/texres.json" "$rc" <<'PY'

@@ -26,30 +26,22 @@ TEST(memory_of_a_mip_chain_counts_every_level) {
   CHECK(jnd_slot_block_format(JND_MAP_NORMAL, 3) == JND_TEX_BC5);
 }
 
-static int renderer_available(void) {
-  jnd_renderer_params rp;
-  jnd_renderer_defaults(&rp);
-  rp.width = rp.height = 16;
-  jnd_renderer *r;
-  if (jnd_renderer_create(&rp, &r) != JND_OK) return 0;
-  jnd_renderer_free(r);
-  return 1;
-}
 
 static void small_params(jnd_texres_params *p, double coverage) {
   jnd_texres_defaults(p);
-  p->views = 3;
-  p->width = p->height = 96;
-  p->coverage = coverage;
+  p->judge.views.sampling.count = 3;
+  p->judge.views.render.width = p->judge.views.render.height = 96;
+  p->judge.views.sampling.coverage = coverage;
   p->matrix = 0;
-  p->anisotropy = 4;
-  p->samples = 1;
+  p->judge.views.render.anisotropy = 1;
+  p->judge.views.render.samples = 1;
+  p->confirm_rounds = 0;   /* the properties here are of the search on its views */
 }
 
 static int longer(const int *wh) { return wh[0] > wh[1] ? wh[0] : wh[1]; }
 
 TEST(sizes_never_exceed_the_mip_bound_and_shrink_with_the_object) {
-  if (!renderer_available()) {
+  if (!test_renderer_available()) {
     TEST_SKIP("no OpenGL context");
     return;
   }

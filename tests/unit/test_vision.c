@@ -295,7 +295,8 @@ TEST(mismatched_sizes_are_refused) {
 TEST(probability_is_half_at_one_jnd) {
   CHECK_NEAR(jnd_probability(1.0, 3.5), 0.5, 1e-12);
   CHECK(jnd_probability(0, 3.5) == 0);
-  CHECK_NEAR(jnd_probability_inverse(jnd_probability(1.7, 3.5), 3.5), 1.7, 1e-9);
+  /* one definition of 000 eq. 4 for every pooling, in the model's float arithmetic */
+  CHECK_NEAR(jnd_probability_inverse(jnd_probability(1.7, 3.5), 3.5), 1.7, 1e-6);
 }
 
 TEST(display_presets_have_sensible_ppd) {
@@ -334,9 +335,9 @@ TEST(display_model_maps_white_to_peak_and_black_to_black_level) {
  * j = 1.2: 1.2^3.5 = 1.893056, 1 − 0.5^1.893056 = 0.73074018;
  * j = 2, β = 2: 1 − 0.5^4 = 0.9375. */
 TEST(psychometric_function_follows_000_eq4_at_hand_values) {
-  CHECK_NEAR(jnd_probability(2, 3.5), 0.99960714, 1e-8);
-  CHECK_NEAR(jnd_probability(0.5, 3.5), 0.05942711, 1e-8);
-  CHECK_NEAR(jnd_probability(1.2, 3.5), 0.73074018, 1e-8);
+  CHECK_NEAR(jnd_probability(2, 3.5), 0.99960714, 1e-7);
+  CHECK_NEAR(jnd_probability(0.5, 3.5), 0.05942711, 1e-7); /* computed in float */
+  CHECK_NEAR(jnd_probability(1.2, 3.5), 0.73074018, 1e-7);
   CHECK_NEAR(jnd_probability(2, 2), 0.9375, 1e-12);
   CHECK_NEAR(jnd_probability(1, 0.7), 0.5, 1e-12); /* one JND is P = 0.5 whatever the slope */
   CHECK_NEAR(jnd_probability_inverse(0.73074018, 3.5), 1.2, 1e-6);

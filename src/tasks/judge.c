@@ -1,0 +1,867 @@
+/* The judge: the one rendered judgement every task asks for (DESIGN.md, "the
+ * one idea"). Per view, in order:
+ *   1. the reference: the scene as it was when the judge was made, rendered
+ *      once with its coverage mask, mip levels (000 §4) and, when the view
+ *      moves, its motion; the crop is the object's bounding box (a ground
+ *      plane excluded) plus a margin for the model's pyramid;
+ *   2. a state: the scene as it is now, recognised by the content of its
+ *      maps and the identity of its meshes, so that a state judged before
+ *      is answered from memory;
+ *   3. its rendering: whole, or only the samples of the materials whose
+ *      maps changed, composed with the reference (renderer.c explains why
+ *      this equals the whole rendering);
+ *   4. as the viewer sees it: clamped, sRGB-encoded and through the display
+ *      model to cd/m² (004 §3.1, first stage);
+ *   5. the JND map of the vision model against the reference (004 §3.1–3.2);
+ *   6. the calibration's JND transform and psychometric function (000 §7.1,
+ *      eq. 4), pooled with its percentile (000 §6: P93) over the object's
+ *      pixels: the view's P;
+ *   7. the criterion over the views (000 §9, jnd_criterion_eval). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/core.h"
+#include "render/render.h"
+#include "scene/scene.h"
+
+#define CROP_MARGIN 16   /* pixels kept around the object for the model's pyramid */
+
+/* One material's samples in a view's reference, for partial re-renders. */
+typedef struct {
+  int x0, y0, w, h;      /* rectangle of its samples in the frame (w = 0: none) */
+  jnd_image old;         /* w × h × 4: resolved samples under the reference maps, coverage */
+  double weight;         /* its coverage in pixels: how much a change of it can show */
+} mat_part;
+
+typedef struct {
+  jnd_view view;
+  int x0, y0, w, h;      /* the crop in the frame */
+  jnd_image ref_lin;     /* reference, linear RGB, crop */
+  jnd_image ref_cdm2;    /* reference as seen, cd/m², crop */
+  jnd_image mask;        /* object coverage (the ground left out), crop */
+  jnd_image motion;      /* screen displacement, crop (only for a view that moves) */
+  short *material;       /* material index per crop pixel (-1: none), from the reference */
+  unsigned depth;        /* the reference's multisampled depth (0: none) */
+  mat_part *part;        /* per material (partial mode) */
+  double *mip_min;       /* per map: the finest level sampled, INFINITY if none */
+} jview;
+
+typedef struct {
+  uint64_t sum;          /* hash of the key, to compare cheaply first */
+  uint64_t *key;         /* nkey */
+  double *p;             /* P per view, NaN where not judged */
+  int *above;            /* per view × material: object pixels with P > p (where p[v] is known) */
+} jstate;
+
+/* A material's samples rendered in one view under one state of its maps:
+ * a state of the scene is the reference plus, per changed material, such a
+ * rendering, so a material is rendered again only when its own maps change
+ * (a descent that enlarges one map re-renders one material). */
+typedef struct {
+  uint64_t key;          /* the material's maps' state */
+  int view, material;
+  jnd_image img;         /* over the material's rectangle (mat_part), 3 channels */
+} mat_render;
+
+#define RENDER_CACHE_BYTES ((size_t)256 << 20)   /* kept material renderings, oldest dropped first */
+
+struct jnd_judge {
+  jnd_scene *scene;
+  jnd_judge_params p;
+  jnd_renderer *r;
+  jnd_model *m;
+  int ground;            /* the ground plane's material or -1 */
+  int blend_any;         /* a blended material: no partial re-renders */
+  jview *v;
+  int nv, capv;
+  int nmaps, nkey;       /* key: a hash per map, then one per mesh */
+  int *map_material;     /* per map: its material */
+  uint64_t *ref_key, *cur_key, *hashed_version;
+  jnd_image *ref_maps;   /* per map: its reference image when that was not the file's */
+  jstate *st;
+  int nst, capst;
+  mat_render *mr;        /* a ring of kept material renderings */
+  int nmr, capmr, nextmr;
+  size_t mr_bytes;
+  uint64_t *mat_key;     /* per material: the state of its maps now */
+  jnd_judge_counts counts;
+};
+
+void jnd_judge_defaults(jnd_judge_params *p) {
+  memset(p, 0, sizeof *p);
+  jnd_view_set_defaults(&p->views);
+  p->views.render.width = p->views.render.height = 384;
+  jnd_model_defaults(&p->model);
+  jnd_calibration_defaults(&p->calibration);
+  jnd_criterion_defaults(&p->criterion);
+  p->partial = 1;
+}
+
+/* ---- states ---- */
+
+/* A 64-bit digest of an image's size and samples. */
+static uint64_t image_hash(const jnd_image *img) {
+  uint64_t h = jnd_mix64(((uint64_t)img->w << 40) ^ ((uint64_t)img->h << 16) ^ (uint64_t)img->c);
+  size_t n = (size_t)img->w * img->h * img->c, i = 0;
+  const float *d = img->data;
+  for (; i + 2 <= n; i += 2) {
+    uint64_t w;
+    memcpy(&w, d + i, sizeof w);
+    h = (h ^ w) * 0x9E3779B97F4A7C15ULL;
+    h ^= h >> 29;
+  }
+  if (i < n) {
+    uint32_t w;
+    memcpy(&w, d + i, sizeof w);
+    h = (h ^ w) * 0x9E3779B97F4A7C15ULL;
+  }
+  return jnd_mix64(h);
+}
+
+/* A mesh's identity: its sizes, material, arrays and a few vertices. A level
+ * swapped in (issue 11's mesh levels) changes it; with a version counter
+ * on meshes, that counter belongs here. */
+static uint64_t mesh_key(const jnd_mesh *m) {
+  uint64_t h = jnd_mix64(m->nverts * 0x100000001B3ULL ^ m->ntris ^ ((uint64_t)m->material << 48));
+  h = jnd_mix64(h ^ (uint64_t)(uintptr_t)m->vertices) ^ jnd_mix64((uint64_t)(uintptr_t)m->indices);
+  for (size_t v = 0; v < m->nverts && v < 16; v++) {
+    uint32_t w;
+    memcpy(&w, m->vertices + v * (m->nverts / 16 + 1) % (m->nverts ? m->nverts : 1) * JND_VTX_FLOATS, sizeof w);
+    h = jnd_mix64(h ^ w);
+  }
+  return h;
+}
+
+/* the key of the scene's current state into cur_key (maps hashed again only
+ * when their version moved) */
+static void update_key(jnd_judge *j) {
+  const jnd_scene *s = j->scene;
+  for (int i = 0; i < j->nmaps; i++)
+    if (j->hashed_version[i] != s->maps[i].version) {
+      j->cur_key[i] = image_hash(jnd_map_image(&s->maps[i]));
+      j->hashed_version[i] = s->maps[i].version;
+    }
+  for (int k = 0; k < s->nmeshes; k++) j->cur_key[j->nmaps + k] = mesh_key(&s->meshes[k]);
+  for (int m = 0; m < s->nmaterials; m++) j->mat_key[m] = 0x51ED270B2F2BF7A5ULL ^ (uint64_t)m;
+  for (int i = 0; i < j->nmaps; i++)
+    if (j->map_material[i] >= 0) j->mat_key[j->map_material[i]] = jnd_mix64(j->mat_key[j->map_material[i]] ^ j->cur_key[i]) + (uint64_t)i;
+}
+
+static uint64_t key_sum(const uint64_t *key, int n) {
+  uint64_t h = 0x243F6A8885A308D3ULL;
+  for (int i = 0; i < n; i++) h = jnd_mix64(h ^ key[i]) + (uint64_t)i;
+  return h;
+}
+
+/* the entry of the current state (cur_key), made when new */
+static jstate *find_state(jnd_judge *j) {
+  uint64_t sum = key_sum(j->cur_key, j->nkey);
+  for (int e = 0; e < j->nst; e++)
+    if (j->st[e].sum == sum && memcmp(j->st[e].key, j->cur_key, (size_t)j->nkey * sizeof *j->cur_key) == 0)
+      return &j->st[e];
+  if (j->nst == j->capst) {
+    int cap = j->capst ? 2 * j->capst : 32;
+    jstate *ns = realloc(j->st, (size_t)cap * sizeof *ns);
+    if (!ns) return NULL;
+    j->st = ns;
+    j->capst = cap;
+  }
+  jstate *e = &j->st[j->nst];
+  e->sum = sum;
+  e->key = jnd_alloc((size_t)j->nkey, sizeof *e->key);
+  e->p = jnd_alloc((size_t)(j->capv ? j->capv : 1), sizeof *e->p);
+  e->above = jnd_calloc((size_t)(j->capv ? j->capv : 1) * (size_t)(j->scene->nmaterials + 1), sizeof *e->above);
+  if (!e->key || !e->p || !e->above) {
+    free(e->key);
+    free(e->p);
+    free(e->above);
+    return NULL;
+  }
+  memcpy(e->key, j->cur_key, (size_t)j->nkey * sizeof *e->key);
+  for (int v = 0; v < j->capv; v++) e->p[v] = NAN;
+  j->nst++;
+  j->counts.states++;
+  return e;
+}
+
+static void forget_states(jnd_judge *j) {
+  for (int e = 0; e < j->nst; e++) {
+    free(j->st[e].key);
+    free(j->st[e].p);
+    free(j->st[e].above);
+  }
+  j->nst = 0;
+}
+
+/* What differs from the reference: changed[m] per material (a map of it
+ * differs), *geometry (a mesh differs), *any. *partial_ok: the changes can
+ * be rendered as only the changed materials' samples. */
+typedef struct {
+  unsigned char *changed;   /* per material */
+  int geometry, any, partial_ok;
+} change_set;
+
+static void find_changes(const jnd_judge *j, change_set *c) {
+  const jnd_scene *s = j->scene;
+  memset(c->changed, 0, (size_t)s->nmaterials);
+  c->geometry = c->any = 0;
+  for (int i = 0; i < j->nmaps; i++)
+    if (j->cur_key[i] != j->ref_key[i] && j->map_material[i] >= 0) c->changed[j->map_material[i]] = 1, c->any = 1;
+  for (int k = j->nmaps; k < j->nkey; k++)
+    if (j->cur_key[k] != j->ref_key[k]) c->geometry = c->any = 1;
+  c->partial_ok = j->p.partial && !c->geometry && !j->blend_any;
+  /* an alpha-masked material whose base colour (its alpha) changed may cover
+   * other samples than in the reference */
+  for (int m = 0; m < s->nmaterials && c->partial_ok; m++) {
+    int bc = s->materials[m].map[JND_MAP_BASE_COLOR];
+    if (c->changed[m] && s->materials[m].alpha_mode == JND_ALPHA_MASK && bc >= 0 && j->cur_key[bc] != j->ref_key[bc])
+      c->partial_ok = 0;
+  }
+}
+
+/* ---- images of a view ---- */
+
+static jnd_status crop(const jnd_image *in, int x0, int y0, int w, int h, jnd_image *out) {
+  jnd_status s = jnd_image_alloc(out, w, h, in->c);
+  if (s != JND_OK) return s;
+  for (int ch = 0; ch < in->c; ch++)
+    for (int y = 0; y < h; y++)
+      memcpy(out->data + ((size_t)ch * h + y) * w, in->data + ((size_t)ch * in->h + y + y0) * in->w + x0,
+             (size_t)w * sizeof(float));
+  return JND_OK;
+}
+
+/* linear RGB as the viewer sees it: display signal (clamped, sRGB) → the
+ * display model → cd/m²; srgb_out (may be NULL) keeps the display signal */
+static jnd_status seen(const jnd_judge *j, const jnd_image *linear, jnd_image *cdm2, jnd_image *srgb_out) {
+  jnd_image srgb = {0};
+  jnd_status s = jnd_render_to_srgb(linear, &srgb);
+  if (s == JND_OK) s = jnd_display_apply(&j->p.model.display, &srgb, JND_ENCODING_SRGB, 0, cdm2);
+  if (s == JND_OK && srgb_out) *srgb_out = srgb;
+  else jnd_image_free(&srgb);
+  return s;
+}
+
+static void progress(jnd_judge *j) {
+  if (j->p.progress)
+    j->p.progress(j->p.progress_user, j->counts.references + j->counts.renderings + j->counts.partial_renderings);
+}
+
+static void view_free(jnd_judge *j, jview *v) {
+  jnd_image_free(&v->ref_lin);
+  jnd_image_free(&v->ref_cdm2);
+  jnd_image_free(&v->mask);
+  jnd_image_free(&v->motion);
+  free(v->material);
+  v->material = NULL;
+  if (v->depth) jnd_render_drop_depth(j->r, v->depth);
+  v->depth = 0;
+  if (v->part)
+    for (int m = 0; m < j->scene->nmaterials; m++) jnd_image_free(&v->part[m].old);
+  free(v->part);
+  free(v->mip_min);
+  v->part = NULL;
+  v->mip_min = NULL;
+}
+
+/* Renders the reference of view jv (the scene must be in its reference state). */
+static jnd_status render_reference(jnd_judge *j, jview *jv) {
+  const jnd_scene *s = j->scene;
+  jnd_view vv = jv->view;
+  vv.outputs = JND_OUT_COLOR | JND_OUT_MASK | JND_OUT_MIP | (vv.has_prev ? JND_OUT_MOTION : 0);
+  jnd_frame f;
+  jnd_status st = jnd_render(j->r, s, &vv, &f);
+  if (st != JND_OK) return st;
+  j->counts.references++;
+  int W = f.mask.w, H = f.mask.h;
+  size_t P = (size_t)W * H;
+  /* the object's pixels: coverage, without the ground plane */
+  if (j->ground >= 0)
+    for (size_t q = 0; q < P; q++)
+      if ((int)lroundf(f.material.data[q]) == j->ground) f.mask.data[q] = 0;
+  int x0 = W, y0 = H, x1 = -1, y1 = -1, ax0 = W, ay0 = H, ax1 = -1, ay1 = -1;
+  for (int y = 0; y < H; y++)
+    for (int x = 0; x < W; x++) {
+      float c = f.mask.data[(size_t)y * W + x];
+      if (c > 0.5f) {
+        x0 = x < x0 ? x : x0, x1 = x > x1 ? x : x1;
+        y0 = y < y0 ? y : y0, y1 = y > y1 ? y : y1;
+      }
+      if (c > 0) {
+        ax0 = x < ax0 ? x : ax0, ax1 = x > ax1 ? x : ax1;
+        ay0 = y < ay0 ? y : ay0, ay1 = y > ay1 ? y : ay1;
+      }
+    }
+  /* nothing on screen, or a fixation point given in the frame's pixels
+   * (eccentricity is measured from it): the whole frame */
+  if (x1 < 0 || j->p.model.has_gaze) x0 = y0 = 0, x1 = W - 1, y1 = H - 1;
+  jv->x0 = jnd_clampi(x0 - CROP_MARGIN, 0, W - 1);
+  jv->y0 = jnd_clampi(y0 - CROP_MARGIN, 0, H - 1);
+  jv->w = jnd_clampi(x1 + CROP_MARGIN, 0, W - 1) - jv->x0 + 1;
+  jv->h = jnd_clampi(y1 + CROP_MARGIN, 0, H - 1) - jv->y0 + 1;
+  st = crop(&f.color, jv->x0, jv->y0, jv->w, jv->h, &jv->ref_lin);
+  if (st == JND_OK) st = seen(j, &jv->ref_lin, &jv->ref_cdm2, NULL);
+  if (st == JND_OK) st = crop(&f.mask, jv->x0, jv->y0, jv->w, jv->h, &jv->mask);
+  if (st == JND_OK && vv.has_prev) st = crop(&f.motion, jv->x0, jv->y0, jv->w, jv->h, &jv->motion);
+  if (st == JND_OK && !(jv->material = jnd_alloc((size_t)jv->w * jv->h, sizeof *jv->material))) st = JND_ERR_NOMEM;
+  for (int y = 0; st == JND_OK && y < jv->h; y++)
+    for (int x = 0; x < jv->w; x++)
+      jv->material[(size_t)y * jv->w + x] = (short)lroundf(f.material.data[(size_t)(y + jv->y0) * W + x + jv->x0]);
+  /* 000 §4: the finest mip level of each map, pooled per map through the
+   * material each pixel shows */
+  jv->mip_min = jnd_alloc((size_t)(j->nmaps ? j->nmaps : 1), sizeof *jv->mip_min);
+  if (st == JND_OK && !jv->mip_min) st = JND_ERR_NOMEM;
+  for (int i = 0; st == JND_OK && i < j->nmaps; i++) {
+    jnd_map_info mi;
+    jnd_scene_map_info(s, i, &mi);
+    const float *lv = f.mip.data + (size_t)mi.slot * P;
+    double lo = INFINITY;
+    for (size_t q = 0; q < P; q++)
+      if (lv[q] >= 0 && lv[q] < lo && (int)lroundf(f.material.data[q]) == mi.material) lo = lv[q];
+    jv->mip_min[i] = lo;
+  }
+  jnd_frame_free(&f);
+  progress(j);
+  if (st != JND_OK || !j->p.partial || j->blend_any || ax1 < 0) return st;
+
+  /* partial re-renders: the depth, and each textured material's samples
+   * under the reference maps, over the rectangle of every covered pixel */
+  if ((st = jnd_render_keep_depth(j->r, &jv->depth)) != JND_OK) return st;
+  jv->part = jnd_calloc((size_t)s->nmaterials, sizeof *jv->part);
+  unsigned char *only = jnd_calloc((size_t)s->nmaterials, 1);
+  if (!jv->part || !only) {
+    free(only);
+    return JND_ERR_NOMEM;
+  }
+  for (int m = 0; m < s->nmaterials && st == JND_OK; m++) {
+    int textured = 0;
+    for (int k = 0; k < JND_MAP_SLOTS; k++) textured |= s->materials[m].map[k] >= 0;
+    if (!textured) continue;
+    memset(only, 0, (size_t)s->nmaterials);
+    only[m] = 1;
+    jnd_image full = {0};
+    int rw = ax1 - ax0 + 1, rh = ay1 - ay0 + 1;
+    if ((st = jnd_render_materials(j->r, s, &jv->view, jv->depth, only, ax0, ay0, rw, rh, &full)) != JND_OK) break;
+    j->counts.references++;
+    const float *a = full.data + (size_t)3 * rw * rh;
+    int bx0 = rw, by0 = rh, bx1 = -1, by1 = -1;
+    double weight = 0;
+    for (int y = 0; y < rh; y++)
+      for (int x = 0; x < rw; x++)
+        if (a[(size_t)y * rw + x] > 0) {
+          weight += a[(size_t)y * rw + x];
+          bx0 = x < bx0 ? x : bx0, bx1 = x > bx1 ? x : bx1;
+          by0 = y < by0 ? y : by0, by1 = y > by1 ? y : by1;
+        }
+    mat_part *pt = &jv->part[m];
+    if (bx1 >= 0) {
+      pt->x0 = ax0 + bx0;
+      pt->y0 = ay0 + by0;
+      pt->w = bx1 - bx0 + 1;
+      pt->h = by1 - by0 + 1;
+      pt->weight = weight;
+      st = crop(&full, bx0, by0, pt->w, pt->h, &pt->old);
+    }
+    jnd_image_free(&full);
+    progress(j);
+  }
+  free(only);
+  return st;
+}
+
+/* Material m's samples in view v under the current state of its maps, from
+ * the kept renderings or rendered now over its rectangle. *out stays owned
+ * by the judge. */
+static jnd_status material_render(jnd_judge *j, int v, int m, const jnd_image **out) {
+  uint64_t key = j->mat_key[m];
+  for (int e = 0; e < j->nmr; e++)
+    if (j->mr[e].key == key && j->mr[e].view == v && j->mr[e].material == m) {
+      *out = &j->mr[e].img;
+      return JND_OK;
+    }
+  const mat_part *pt = &j->v[v].part[m];
+  unsigned char *only = jnd_calloc((size_t)j->scene->nmaterials, 1);
+  if (!only) return JND_ERR_NOMEM;
+  only[m] = 1;
+  jnd_image img = {0};
+  jnd_status st = jnd_render_materials(j->r, j->scene, &j->v[v].view, j->v[v].depth, only, pt->x0, pt->y0, pt->w,
+                                       pt->h, &img);
+  free(only);
+  if (st != JND_OK) return st;
+  img.c = 3;   /* the coverage plane stays allocated behind the colour */
+  j->counts.partial_renderings++;
+  progress(j);
+  /* keep it: in a ring, the oldest dropped first once over the budget */
+  size_t bytes = (size_t)img.w * img.h * 4 * sizeof(float);
+  while (j->nmr > 0 && j->mr_bytes + bytes > RENDER_CACHE_BYTES) {
+    int e = j->nextmr % j->nmr;
+    j->mr_bytes -= (size_t)j->mr[e].img.w * j->mr[e].img.h * 4 * sizeof(float);
+    jnd_image_free(&j->mr[e].img);
+    j->mr[e] = j->mr[--j->nmr];
+    j->nextmr = j->nmr ? (e + 1) % j->nmr : 0;
+  }
+  if (j->nmr == j->capmr) {
+    int cap = j->capmr ? 2 * j->capmr : 64;
+    mat_render *n = realloc(j->mr, (size_t)cap * sizeof *n);
+    if (!n) {
+      jnd_image_free(&img);
+      return jnd_fail(JND_ERR_NOMEM, "judge: out of memory");
+    }
+    j->mr = n;
+    j->capmr = cap;
+  }
+  mat_render *e = &j->mr[j->nmr++];
+  e->key = key;
+  e->view = v;
+  e->material = m;
+  e->img = img;
+  j->mr_bytes += bytes;
+  *out = &e->img;
+  return JND_OK;
+}
+
+static void forget_renders(jnd_judge *j) {
+  for (int e = 0; e < j->nmr; e++) jnd_image_free(&j->mr[e].img);
+  j->nmr = 0;
+  j->nextmr = 0;
+  j->mr_bytes = 0;
+}
+
+/* Images of the current state in view v: test in cd/m² (crop), and when
+ * srgb is not NULL the display signal. Returns with *unchanged = 1 (and no
+ * image) when the view cannot differ from its reference. */
+static jnd_status render_state(jnd_judge *j, int v, const change_set *c, jnd_image *test, jnd_image *srgb,
+                               int *unchanged) {
+  jview *jv = &j->v[v];
+  const jnd_scene *s = j->scene;
+  *unchanged = 0;
+  if (!c->any) {
+    *unchanged = 1;
+    return JND_OK;
+  }
+  jnd_status st;
+  if (c->partial_ok && jv->part) {
+    int any = 0;
+    for (int m = 0; m < s->nmaterials; m++) any |= c->changed[m] && jv->part[m].w > 0;
+    if (!any) {   /* none of the changed materials is seen in this view */
+      *unchanged = 1;
+      return JND_OK;
+    }
+    /* the reference minus the changed materials' old samples plus their new ones */
+    jnd_image lin = {0};
+    if ((st = jnd_image_alloc(&lin, jv->w, jv->h, 3)) != JND_OK) return st;
+    memcpy(lin.data, jv->ref_lin.data, (size_t)jv->w * jv->h * 3 * sizeof(float));
+    for (int m = 0; m < s->nmaterials && st == JND_OK; m++) {
+      const mat_part *pt = &jv->part[m];
+      if (!c->changed[m] || pt->w == 0) continue;
+      const jnd_image *now = NULL;
+      if ((st = material_render(j, v, m, &now)) != JND_OK) break;
+      for (int ch = 0; ch < 3; ch++) {
+        float *d = lin.data + (size_t)ch * jv->w * jv->h;
+        for (int y = pt->y0; y < pt->y0 + pt->h; y++) {
+          if (y < jv->y0 || y >= jv->y0 + jv->h) continue;
+          const float *nw = now->data + ((size_t)ch * pt->h + (y - pt->y0)) * pt->w;
+          const float *od = pt->old.data + ((size_t)ch * pt->h + (y - pt->y0)) * pt->w;
+          for (int x = pt->x0; x < pt->x0 + pt->w; x++)
+            if (x >= jv->x0 && x < jv->x0 + jv->w) d[(size_t)(y - jv->y0) * jv->w + (x - jv->x0)] += nw[x - pt->x0] - od[x - pt->x0];
+        }
+      }
+    }
+    if (st == JND_OK) st = seen(j, &lin, test, srgb);
+    jnd_image_free(&lin);
+    return st;
+  }
+  jnd_view vv = jv->view;
+  vv.outputs = JND_OUT_COLOR;
+  jnd_frame f;
+  if ((st = jnd_render(j->r, s, &vv, &f)) != JND_OK) return st;
+  j->counts.renderings++;
+  progress(j);
+  jnd_image lin = {0};
+  st = crop(&f.color, jv->x0, jv->y0, jv->w, jv->h, &lin);
+  jnd_frame_free(&f);
+  if (st == JND_OK) st = seen(j, &lin, test, srgb);
+  jnd_image_free(&lin);
+  return st;
+}
+
+/* The object's pixels of each material whose P exceeds p (counts has
+ * nmaterials entries): where in the view the difference is. P > p is
+ * JND > the JND the calibration maps to p, a monotone threshold. */
+static void count_above(const jnd_judge *j, const jview *jv, const jnd_image *map, int *counts) {
+  const jnd_calibration *cal = &j->p.calibration;
+  double jt = (jnd_probability_inverse(j->p.criterion.p, cal->beta) - cal->bias) / cal->scale;
+  int nm = j->scene->nmaterials;
+  memset(counts, 0, (size_t)nm * sizeof *counts);
+  for (size_t q = 0; q < (size_t)jv->w * jv->h; q++)
+    if (jv->mask.data[q] > 0.5f && map->data[q] > jt && jv->material[q] >= 0 && jv->material[q] < nm)
+      counts[jv->material[q]]++;
+}
+
+/* P of view v in the current state; jnd_keep (may be NULL) receives the JND
+ * map, counts (may be NULL) the pixels above p per material. */
+static jnd_status judge_view(jnd_judge *j, int v, const change_set *c, double *P, jnd_image *jnd_keep,
+                             jnd_image *srgb, int *counts) {
+  jview *jv = &j->v[v];
+  jnd_image test = {0}, map = {0};
+  int unchanged;
+  jnd_status st = render_state(j, v, c, &test, srgb, &unchanged);
+  if (st != JND_OK) return st;
+  j->counts.view_judgements++;
+  if (unchanged) {
+    *P = 0;
+    if (counts) memset(counts, 0, (size_t)j->scene->nmaterials * sizeof *counts);
+    if (jnd_keep) st = jnd_image_alloc(jnd_keep, jv->w, jv->h, 1);
+    if (st == JND_OK && srgb) st = jnd_render_to_srgb(&jv->ref_lin, srgb);
+    return st;
+  }
+  jnd_diff_inputs in = {0};
+  if (jv->motion.data) in.motion = &jv->motion;
+  st = jnd_model_diff(j->m, &jv->ref_cdm2, &test, &in, &map);
+  jnd_image_free(&test);
+  if (st != JND_OK) return st;
+  *P = jnd_calibration_pool(&j->p.calibration, &map, &jv->mask);
+  if (!isfinite(*P)) *P = 0;   /* no pixel of the object: nothing to see */
+  if (counts) count_above(j, jv, &map, counts);
+  if (jnd_keep) *jnd_keep = map;
+  else jnd_image_free(&map);
+  return JND_OK;
+}
+
+/* ---- the judge ---- */
+
+static jnd_status grow_views(jnd_judge *j, int n) {
+  if (j->nv + n <= j->capv) return JND_OK;
+  int cap = j->capv ? j->capv : 8;
+  while (cap < j->nv + n) cap *= 2;
+  jview *nv = realloc(j->v, (size_t)cap * sizeof *nv);
+  if (!nv) return jnd_fail(JND_ERR_NOMEM, "judge: out of memory");
+  j->v = nv;
+  memset(j->v + j->capv, 0, (size_t)(cap - j->capv) * sizeof *nv);
+  for (int e = 0; e < j->nst; e++) {
+    double *p = realloc(j->st[e].p, (size_t)cap * sizeof *p);
+    if (!p) return jnd_fail(JND_ERR_NOMEM, "judge: out of memory");
+    for (int v = j->capv; v < cap; v++) p[v] = NAN;
+    j->st[e].p = p;
+    size_t per = (size_t)j->scene->nmaterials + 1;
+    int *ab = realloc(j->st[e].above, (size_t)cap * per * sizeof *ab);
+    if (!ab) return jnd_fail(JND_ERR_NOMEM, "judge: out of memory");
+    memset(ab + (size_t)j->capv * per, 0, (size_t)(cap - j->capv) * per * sizeof *ab);
+    j->st[e].above = ab;
+  }
+  j->capv = cap;
+  return JND_OK;
+}
+
+/* Puts the scene's maps in their reference state for fn, then back. */
+static jnd_status with_reference_maps(jnd_judge *j, jnd_status (*fn)(jnd_judge *, void *), void *arg) {
+  update_key(j);
+  jnd_scene *s = j->scene;
+  jnd_image *saved = jnd_calloc((size_t)(j->nmaps ? j->nmaps : 1), sizeof *saved);
+  if (!saved) return JND_ERR_NOMEM;
+  jnd_status st = JND_OK;
+  for (int i = 0; i < j->nmaps && st == JND_OK; i++) {
+    if (j->cur_key[i] == j->ref_key[i]) continue;
+    if ((st = jnd_scene_map_get(s, i, 0, &saved[i])) != JND_OK) break;
+    if (j->ref_maps[i].data) st = jnd_scene_map_set(s, i, &j->ref_maps[i]);
+    else jnd_scene_map_restore(s, i);
+  }
+  if (st == JND_OK) st = fn(j, arg);
+  for (int i = 0; i < j->nmaps; i++) {
+    if (!saved[i].data) continue;
+    jnd_status s2 = jnd_scene_map_set(s, i, &saved[i]);
+    if (st == JND_OK) st = s2;
+    jnd_image_free(&saved[i]);
+  }
+  free(saved);
+  return st;
+}
+
+typedef struct {
+  int first, n;
+} view_range;
+
+static jnd_status render_references(jnd_judge *j, void *arg) {
+  const view_range *r = arg;
+  for (int v = r->first; v < r->first + r->n; v++) {
+    jnd_status st = render_reference(j, &j->v[v]);
+    if (st != JND_OK) return st;
+  }
+  return JND_OK;
+}
+
+/* records the scene's current state as the reference */
+static jnd_status take_reference(jnd_judge *j) {
+  jnd_scene *s = j->scene;
+  for (int i = 0; i < j->nmaps; i++) {
+    jnd_image_free(&j->ref_maps[i]);
+    j->hashed_version[i] = 0;
+    if (s->maps[i].now.data) {
+      jnd_status st = jnd_scene_map_get(s, i, 0, &j->ref_maps[i]);
+      if (st != JND_OK) return st;
+    }
+  }
+  update_key(j);
+  memcpy(j->ref_key, j->cur_key, (size_t)j->nkey * sizeof *j->ref_key);
+  forget_states(j);
+  return JND_OK;
+}
+
+void jnd_judge_free(jnd_judge *j) {
+  if (!j) return;
+  for (int v = 0; v < j->nv; v++) view_free(j, &j->v[v]);
+  free(j->v);
+  forget_states(j);
+  free(j->st);
+  if (j->ref_maps)
+    for (int i = 0; i < j->nmaps; i++) jnd_image_free(&j->ref_maps[i]);
+  free(j->ref_maps);
+  forget_renders(j);
+  free(j->mr);
+  free(j->mat_key);
+  free(j->map_material);
+  free(j->ref_key);
+  free(j->cur_key);
+  free(j->hashed_version);
+  jnd_model_free(j->m);
+  jnd_renderer_free(j->r);
+  free(j);
+}
+
+static jnd_status make_model(jnd_judge *j);
+
+jnd_status jnd_judge_create(jnd_scene *scene, const jnd_judge_params *p, jnd_judge **out) {
+  *out = NULL;
+  const jnd_criterion *cr = &p->criterion;
+  if (!(cr->p > 0 && cr->p < 1) || !(cr->q >= 0 && cr->q < 1) || !(cr->confidence > 0 && cr->confidence < 1))
+    return jnd_fail(JND_ERR_ARG, "judge: criterion p %g, q %g, confidence %g out of range", cr->p, cr->q,
+                    cr->confidence);
+  if (!(p->calibration.percentile >= 0 && p->calibration.percentile <= 100) || !(p->calibration.beta > 0))
+    return jnd_fail(JND_ERR_ARG, "judge: calibration out of range");
+  jnd_judge *j = jnd_calloc(1, sizeof *j);
+  if (!j) return JND_ERR_NOMEM;
+  j->scene = scene;
+  j->p = *p;
+  j->p.views.cameras = NULL;   /* made into views below; the caller's array is not kept */
+  j->nmaps = scene->nmaps;
+  j->nkey = scene->nmaps + scene->nmeshes;
+  double c[3], rad;
+  jnd_scene_subject_bounds(scene, c, &rad, &j->ground);
+  for (int k = 0; k < scene->nmeshes; k++)
+    j->blend_any |= scene->materials[scene->meshes[k].material].alpha_mode == JND_ALPHA_BLEND;
+  size_t nk = (size_t)(j->nkey ? j->nkey : 1), nm = (size_t)(j->nmaps ? j->nmaps : 1);
+  j->ref_key = jnd_calloc(nk, sizeof *j->ref_key);
+  j->cur_key = jnd_calloc(nk, sizeof *j->cur_key);
+  j->hashed_version = jnd_calloc(nm, sizeof *j->hashed_version);
+  j->ref_maps = jnd_calloc(nm, sizeof *j->ref_maps);
+  j->map_material = jnd_calloc(nm, sizeof *j->map_material);
+  j->mat_key = jnd_calloc((size_t)scene->nmaterials + 1, sizeof *j->mat_key);
+  jnd_status st = j->ref_key && j->cur_key && j->hashed_version && j->ref_maps && j->map_material && j->mat_key
+                      ? JND_OK
+                      : JND_ERR_NOMEM;
+  for (int i = 0; i < j->nmaps && st == JND_OK; i++) {
+    jnd_map_info mi;
+    jnd_scene_map_info(scene, i, &mi);
+    j->map_material[i] = mi.material;
+  }
+  jnd_view *views = NULL;
+  int n = 0;
+  if (st == JND_OK) st = jnd_view_set_make(scene, &p->views, &views, &n);
+  if (st == JND_OK) st = jnd_renderer_create(&p->views.render, &j->r);
+  if (st == JND_OK) st = make_model(j);
+  if (st == JND_OK) st = take_reference(j);
+  if (st == JND_OK) st = jnd_judge_add_views(j, views, n, NULL);
+  free(views);
+  if (st != JND_OK) {
+    jnd_judge_free(j);
+    return st;
+  }
+  *out = j;
+  return JND_OK;
+}
+
+jnd_status jnd_judge_add_views(jnd_judge *j, const jnd_view *views, int n, int *first) {
+  if (n < 1 || !views) return jnd_fail(JND_ERR_ARG, "judge: no views to add");
+  jnd_status st = grow_views(j, n);
+  if (st != JND_OK) return st;
+  view_range r = {j->nv, n};
+  for (int v = 0; v < n; v++) {
+    memset(&j->v[j->nv + v], 0, sizeof j->v[0]);
+    j->v[j->nv + v].view = views[v];
+  }
+  j->nv += n;
+  st = with_reference_maps(j, render_references, &r);
+  if (st != JND_OK) {
+    for (int v = r.first; v < j->nv; v++) view_free(j, &j->v[v]);
+    j->nv = r.first;
+    return st;
+  }
+  if (first) *first = r.first;
+  return JND_OK;
+}
+
+jnd_status jnd_judge_set_reference(jnd_judge *j) {
+  forget_renders(j);
+  jnd_status st = take_reference(j);
+  if (st != JND_OK) return st;
+  for (int v = 0; v < j->nv; v++) {
+    jnd_view keep = j->v[v].view;
+    view_free(j, &j->v[v]);
+    memset(&j->v[v], 0, sizeof j->v[v]);
+    j->v[v].view = keep;
+  }
+  view_range r = {0, j->nv};
+  return render_references(j, &r);
+}
+
+/* the vision model for the judge's parameters */
+static jnd_status make_model(jnd_judge *j) {
+  jnd_model_free(j->m);
+  j->m = NULL;
+  /* On a CPU rasteriser the model's OpenMP workers would spin against the
+   * rasteriser's threads between frames (8× slower on 2 cores): one model
+   * thread is faster there unless threads were asked for. */
+  jnd_model_params mp = j->p.model;
+  mp.beta = j->p.calibration.beta;
+  const char *desc = jnd_renderer_description(j->r);
+  if (mp.threads == 0 && (strstr(desc, "llvmpipe") || strstr(desc, "softpipe"))) mp.threads = 1;
+  return jnd_model_create(&mp, &j->m);
+}
+
+jnd_status jnd_judge_set_gaze(jnd_judge *j, int has_gaze, double x, double y) {
+  if (has_gaze != j->p.model.has_gaze)
+    return jnd_fail(JND_ERR_ARG, "judge: a fixation point is set when the judge is made (model.has_gaze)");
+  if (!has_gaze) return JND_OK;
+  j->p.model.gaze_x = x;
+  j->p.model.gaze_y = y;
+  forget_states(j);   /* every P depends on where the viewer looks */
+  return make_model(j);
+}
+
+int jnd_judge_view_count(const jnd_judge *j) { return j->nv; }
+const jnd_view *jnd_judge_view(const jnd_judge *j, int v) { return v >= 0 && v < j->nv ? &j->v[v].view : NULL; }
+const char *jnd_judge_renderer(const jnd_judge *j) { return jnd_renderer_description(j->r); }
+void jnd_judge_get_counts(const jnd_judge *j, jnd_judge_counts *out) { *out = j->counts; }
+
+double jnd_judge_mip_min(const jnd_judge *j, int map, int first, int n) {
+  if (map < 0 || map >= j->nmaps) return -1;
+  double lo = INFINITY;
+  for (int v = first; v < first + n && v < j->nv; v++)
+    if (v >= 0 && j->v[v].mip_min[map] < lo) lo = j->v[v].mip_min[map];
+  return isfinite(lo) ? lo : -1;
+}
+
+static jnd_status changes_now(jnd_judge *j, change_set *c) {
+  c->changed = jnd_calloc((size_t)(j->scene->nmaterials ? j->scene->nmaterials : 1), 1);
+  if (!c->changed) return JND_ERR_NOMEM;
+  update_key(j);
+  find_changes(j, c);
+  return JND_OK;
+}
+
+jnd_status jnd_judge_eval(jnd_judge *j, int first, int n, unsigned flags, double *p, jnd_judgement *out) {
+  if (first < 0 || n < 1 || first + n > j->nv)
+    return jnd_fail(JND_ERR_ARG, "judge: views %d..%d of %d", first, first + n - 1, j->nv);
+  change_set c;
+  jnd_status st = changes_now(j, &c);
+  if (st != JND_OK) return st;
+  jstate *e = find_state(j);
+  int *order = jnd_alloc((size_t)n, sizeof *order);
+  double *w = jnd_alloc((size_t)n, sizeof *w);
+  if (!e || !order || !w) {
+    free(c.changed);
+    free(order);
+    free(w);
+    return jnd_fail(JND_ERR_NOMEM, "judge: out of memory");
+  }
+  /* with DECIDE, the views where the changed materials cover most first:
+   * where a failure is likeliest (stable: ties keep their index order) */
+  for (int k = 0; k < n; k++) {
+    order[k] = first + k;
+    w[k] = 0;
+    const jview *jv = &j->v[first + k];
+    if ((flags & JND_JUDGE_DECIDE) && jv->part)
+      for (int m = 0; m < j->scene->nmaterials; m++)
+        if (c.changed[m]) w[k] += jv->part[m].weight;
+  }
+  if (flags & JND_JUDGE_DECIDE)
+    for (int a = 1; a < n; a++)
+      for (int b = a; b > 0 && w[b] > w[b - 1]; b--) {
+        double tw = w[b];
+        w[b] = w[b - 1], w[b - 1] = tw;
+        int to = order[b];
+        order[b] = order[b - 1], order[b - 1] = to;
+      }
+  int allowed = (int)floor(j->p.criterion.q * n + 1e-9), above = 0, judged = 0;
+  for (int k = 0; k < n && st == JND_OK; k++) {
+    int v = order[k];
+    if (isnan(e->p[v])) {
+      double P;
+      if ((st = judge_view(j, v, &c, &P, NULL, NULL, e->above + (size_t)v * (j->scene->nmaterials + 1))) != JND_OK) break;
+      e->p[v] = P;
+    } else {
+      j->counts.reused++;
+    }
+    judged++;
+    above += e->p[v] > j->p.criterion.p;
+    if ((flags & JND_JUDGE_DECIDE) && above > allowed) break;
+  }
+  free(order);
+  free(w);
+  free(c.changed);
+  if (st != JND_OK) return st;
+  double *q = p ? p : jnd_alloc((size_t)n, sizeof *q);
+  if (!q) return JND_ERR_NOMEM;
+  for (int k = 0; k < n; k++) q[k] = e->p[first + k];
+  if (out) {
+    out->views = n;
+    out->judged = judged;
+    double *z = jnd_alloc((size_t)n, sizeof *z);
+    if (!z) st = JND_ERR_NOMEM;
+    for (int k = 0; z && k < n; k++) z[k] = isnan(q[k]) ? 0 : q[k];
+    if (st == JND_OK)
+      st = jnd_criterion_eval(z, n, j->p.criterion.p, j->p.criterion.q, j->p.criterion.confidence, &out->criterion);
+    if (st == JND_OK && judged < n) out->criterion.pass = 0;
+    free(z);
+  }
+  if (!p) free(q);
+  return st;
+}
+
+jnd_status jnd_judge_view_images(jnd_judge *j, int v, jnd_image *jmap, jnd_image *frame, jnd_image *mask,
+                                 jnd_image *heatmap, int crop_out[4]) {
+  if (v < 0 || v >= j->nv) return jnd_fail(JND_ERR_ARG, "judge: view %d of %d", v, j->nv);
+  const jview *jv = &j->v[v];
+  change_set c;
+  jnd_status st = changes_now(j, &c);
+  if (st != JND_OK) return st;
+  jnd_image map = {0}, srgb = {0};
+  double P;
+  st = judge_view(j, v, &c, &P, &map, &srgb, NULL);
+  free(c.changed);
+  if (st == JND_OK && heatmap) {
+    jnd_image ref_srgb = {0};
+    st = jnd_render_to_srgb(&jv->ref_lin, &ref_srgb);
+    if (st == JND_OK) st = jnd_heatmap(&ref_srgb, &map, 1, heatmap);
+    jnd_image_free(&ref_srgb);
+  }
+  if (st == JND_OK && mask) st = crop(&jv->mask, 0, 0, jv->w, jv->h, mask);
+  if (st == JND_OK && crop_out) crop_out[0] = jv->x0, crop_out[1] = jv->y0, crop_out[2] = jv->w, crop_out[3] = jv->h;
+  if (st == JND_OK && jmap) *jmap = map;
+  else jnd_image_free(&map);
+  if (st == JND_OK && frame) *frame = srgb;
+  else jnd_image_free(&srgb);
+  return st;
+}
+
+jnd_status jnd_judge_material_counts(jnd_judge *j, int v, int *counts) {
+  if (v < 0 || v >= j->nv) return jnd_fail(JND_ERR_ARG, "judge: view %d of %d", v, j->nv);
+  update_key(j);
+  jstate *e = find_state(j);
+  if (!e) return jnd_fail(JND_ERR_NOMEM, "judge: out of memory");
+  if (isnan(e->p[v])) return jnd_fail(JND_ERR_ARG, "judge: view %d is not judged in this state", v);
+  memcpy(counts, e->above + (size_t)v * (j->scene->nmaterials + 1), (size_t)j->scene->nmaterials * sizeof *counts);
+  return JND_OK;
+}

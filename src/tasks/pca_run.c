@@ -1,0 +1,240 @@
+/* `jnd pca` as one call (001; docs/pca.md): the set (map files, or a model
+ * material's own maps), the decomposition, the choice of an encoding by the
+ * rule asked for — rendered visibility through the judge when there is a
+ * model, else an energy target, or a PSNR floor, or as given — its encoding,
+ * block-compression measurements and, with a model, the judge's P for the
+ * chosen encoding and its block-compressed variants. Also the packing of
+ * the components into textures as an engine samples them. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "core/core.h"
+
+/* the default energy target: the fewest components keeping 99% of the
+ * variance (001 reads the knee of the same curve; the knee is reported) */
+#define PCA_ENERGY 0.99
+
+void jnd_pca_defaults(jnd_pca_params *p) {
+  memset(p, 0, sizeof *p);
+  jnd_pca_render_defaults(&p->render);
+  p->rule = JND_PCA_RULE_AUTO;
+  p->energy = PCA_ENERGY;
+  p->max_scale = 2;
+  p->components = -1;
+  p->block_compression = 1;
+}
+
+void jnd_pca_result_free(jnd_pca_result *r) {
+  jnd_texset_free(&r->set);
+  jnd_pca_encoded_free(&r->enc);
+  jnd_pca_encoded_free(&r->enc_float);
+  free(r->log);
+  memset(r, 0, sizeof *r);
+}
+
+static double now(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+__attribute__((format(printf, 2, 3))) static void stage(const jnd_pca_params *p, const char *fmt, ...) {
+  if (!p->progress) return;
+  char line[512];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(line, sizeof line, fmt, ap);
+  va_end(ap);
+  p->progress(p->progress_user, line, 0, 0);
+}
+
+/* "FILE=SLOT" bindings (or the slot each map's name suggests) */
+static jnd_status slots_for_maps(const jnd_pca_params *p, const jnd_texset *set, jnd_map_slot *slots) {
+  for (int i = 0; i < set->nmaps; i++) {
+    int found = 0;
+    const char *path = p->maps[i], *base = strrchr(path, '/');
+    base = base ? base + 1 : path;
+    for (int k = 0; k < p->nslots && !found; k++) {
+      const char *eq = strrchr(p->slots[k], '=');
+      if (!eq) return jnd_fail(JND_ERR_ARG, "--slot: '%s' is not FILE=SLOT", p->slots[k]);
+      size_t n = (size_t)(eq - p->slots[k]);
+      if (!((strlen(path) == n && strncmp(path, p->slots[k], n) == 0) ||
+            (strlen(base) == n && strncmp(base, p->slots[k], n) == 0)))
+        continue;
+      int s = 0;
+      while (s < JND_MAP_SLOTS && strcmp(jnd_map_slot_name((jnd_map_slot)s), eq + 1) != 0) s++;
+      if (s == JND_MAP_SLOTS)
+        return jnd_fail(JND_ERR_ARG, "--slot: '%s' is not a slot (baseColor, metallicRoughness, normal, occlusion, emissive)",
+                        eq + 1);
+      slots[i] = (jnd_map_slot)s;
+      found = 1;
+    }
+    if (!found && !jnd_pca_slot_guess(set->maps[i].name, &slots[i]))
+      return jnd_fail(JND_ERR_ARG, "%s: no material slot fits this map's name (give --slot FILE=SLOT)", path);
+  }
+  return JND_OK;
+}
+
+/* the distinct images of a set's maps at 8 bits per channel as their files had them */
+static size_t maps_8bit_bytes(const jnd_texset *set) {
+  size_t b = 0;
+  for (int i = 0; i < set->nmaps; i++) b += (size_t)set->maps[i].file_w * set->maps[i].file_h * set->maps[i].file_channels;
+  return b;
+}
+
+jnd_status jnd_pca_run(const jnd_pca_params *p, jnd_pca_result *out) {
+  memset(out, 0, sizeof *out);
+  if (p->nmaps > JND_PCA_MAX_MAPS) return jnd_fail(JND_ERR_LIMIT, "pca: at most %d maps", JND_PCA_MAX_MAPS);
+  if (p->nmaps == 0 && !p->model) return jnd_fail(JND_ERR_ARG, "pca: needs maps or a model");
+  if (p->model && !p->material) return jnd_fail(JND_ERR_ARG, "pca: a model needs a material");
+  if (p->nslots && !(p->model && p->nmaps)) return jnd_fail(JND_ERR_ARG, "pca: --slot needs map files and a model");
+  jnd_pca_rule rule = p->rule == JND_PCA_RULE_AUTO ? (p->model ? JND_PCA_RULE_RENDERED : JND_PCA_RULE_ENERGY) : p->rule;
+  if (rule == JND_PCA_RULE_RENDERED && !p->model)
+    return jnd_fail(JND_ERR_ARG, "pca: a rendered choice needs a model and a material");
+  if (rule == JND_PCA_RULE_ENERGY && !(p->energy > 0 && p->energy <= 1))
+    return jnd_fail(JND_ERR_ARG, "pca: energy target %g is outside (0, 1]", p->energy);
+  out->rule = rule;
+  double t0 = now();
+  jnd_pca_render *rr = NULL;
+  jnd_status s = JND_OK;
+  size_t orig_bytes = 0;
+  if (p->model && (s = jnd_pca_render_open(p->model, p->material, &p->render, &rr)) != JND_OK) return s;
+  s = p->nmaps ? jnd_texset_read(p->maps, p->nmaps, p->channels, &out->set)
+               : jnd_pca_render_material_set(rr, p->channels, &out->set, out->slots, &orig_bytes);
+  for (int i = 0; s == JND_OK && i < out->set.nmaps; i++) {
+    if (p->nmaps) snprintf(out->labels[i], sizeof out->labels[i], "%s", p->maps[i]);
+    else snprintf(out->labels[i], sizeof out->labels[i], "%s/%s", p->material, out->set.maps[i].name);
+  }
+  if (s == JND_OK && p->model && p->nmaps) s = slots_for_maps(p, &out->set, out->slots);
+  out->original_bytes = p->nmaps ? maps_8bit_bytes(&out->set) : orig_bytes;
+  out->seconds[0] = now() - t0;
+  /* every input checked before the first progress line or rendering */
+  double t1 = now();
+  if (s == JND_OK) s = jnd_texset_parse_weights(&out->set, p->weights, out->weights);
+  if (s == JND_OK) s = jnd_pca_analyse(&out->set, out->weights, &out->pca);
+  out->seconds[1] = now() - t1;
+  if (s == JND_OK && p->model) {
+    double tr = now();
+    s = jnd_pca_render_bind(rr, &out->set, out->slots);
+    out->seconds[5] += now() - tr;
+    if (s == JND_OK) {
+      out->rendered = 1;
+      snprintf(out->renderer, sizeof out->renderer, "%s", jnd_pca_render_description(rr));
+    }
+  }
+  if (s != JND_OK) goto done;
+  stage(p, "set: %d maps, %d x %d, %d channels, knee at %d%s%s", out->set.nmaps, out->set.w, out->set.h, out->set.c,
+        out->pca.knee, out->rendered ? "; references rendered on " : "", out->rendered ? out->renderer : "");
+
+  /* the rule */
+  int C = out->set.c;
+  jnd_pca_encoding e;
+  jnd_pca_encoding_default(&out->pca, &e);
+  double t2 = now();
+  switch (rule) {
+  case JND_PCA_RULE_COMPONENTS:
+    e.components = p->components < 0 || p->components > C ? C : p->components;
+    for (int k = 0; k < C; k++) {
+      e.bits[k] = p->nbits ? p->bits[k < p->nbits ? k : p->nbits - 1] : 8;
+      e.scale[k] = p->nscale ? p->scale[k < p->nscale ? k : p->nscale - 1] : 0;
+    }
+    break;
+  case JND_PCA_RULE_ENERGY: {
+    double acc = 0;
+    e.components = C;
+    for (int k = 0; k < C; k++) {
+      acc += out->pca.energy[k];
+      if (acc >= p->energy * out->pca.total_variance * (1 - 1e-12)) {
+        e.components = k + 1;
+        break;
+      }
+    }
+    break;
+  }
+  case JND_PCA_RULE_PSNR:
+    s = jnd_pca_choose_psnr(&out->set, &out->pca, p->psnr_db, p->max_scale, &e);
+    break;
+  default: {
+    double tr = now();
+    out->log = jnd_calloc(1, sizeof *out->log);
+    s = out->log ? jnd_pca_choose_rendered(rr, &out->set, &out->pca, p->max_scale, &e, &out->vis, out->log)
+                 : JND_ERR_NOMEM;
+    out->seconds[5] += now() - tr;
+    break;
+  }
+  }
+  out->seconds[2] = now() - t2;
+  if (s != JND_OK) goto done;
+  double t3 = now();
+  if ((s = jnd_pca_encode(&out->set, &out->pca, &e, &out->enc)) != JND_OK) goto done;
+  /* the same K without resizing or quantisation: PSNR "in float" */
+  jnd_pca_encoding ef = e;
+  for (int k = 0; k < C; k++) ef.scale[k] = ef.bits[k] = 0;
+  if ((s = jnd_pca_encode(&out->set, &out->pca, &ef, &out->enc_float)) != JND_OK) goto done;
+  out->seconds[3] = now() - t3;
+  stage(p, "chose %d of %d components (%s), %zu bytes", out->enc.enc.components, C,
+        rule == JND_PCA_RULE_RENDERED ? "rendered" : rule == JND_PCA_RULE_ENERGY ? "energy"
+                                    : rule == JND_PCA_RULE_PSNR                  ? "psnr"
+                                                                                 : "components",
+        out->enc.storage_bytes);
+  if (p->model) {
+    double tr = now();
+    jnd_image rec = {0};
+    if (rule != JND_PCA_RULE_RENDERED) {   /* the encoding chosen otherwise, measured as it is */
+      s = jnd_pca_reconstruct(&out->enc, NULL, &rec);
+      if (s == JND_OK) s = jnd_pca_render_measure(rr, &rec, &out->vis);
+      jnd_image_free(&rec);
+    }
+    for (int v = 0; v < 3 && p->block_compression && s == JND_OK; v++) {
+      s = jnd_pca_block_compressed(&out->set, &out->enc, (jnd_pca_bc_variant)v, &rec, &out->bytes_bc[v]);
+      if (s == JND_OK) s = jnd_pca_render_measure(rr, &rec, &out->vis_bc[v]);
+      jnd_image_free(&rec);
+    }
+    out->seconds[5] += now() - tr;
+    if (s != JND_OK) goto done;
+    stage(p, "rendered: %d of %d views above P = %g", out->vis.above, out->vis.views, p->render.judge.criterion.p);
+  }
+  double t4 = now();
+  if (p->block_compression) {
+    if ((s = jnd_pca_block_compression(&out->set, &out->enc, &out->bc)) != JND_OK) goto done;
+    out->has_bc = 1;
+  }
+  out->seconds[4] = now() - t4;
+done:
+  jnd_pca_render_free(rr);
+  if (s != JND_OK) jnd_pca_result_free(out);
+  return s;
+}
+
+/* ---- packing ---- */
+
+jnd_status jnd_pca_pack(const jnd_pca_encoded *enc, jnd_pca_texture *tex, int *n) {
+  *n = 0;
+  int K = enc->enc.components, used[JND_PCA_MAX_CHANNELS] = {0};
+  jnd_status s = JND_OK;
+  for (int k = 0; k < K && s == JND_OK; k++) {
+    if (used[k]) continue;
+    /* the next components of the same size and depth share the texture */
+    jnd_pca_texture *t = &tex[(*n)++];
+    memset(t, 0, sizeof *t);
+    t->bits = enc->enc.bits[k] == 16 ? 16 : 8;
+    for (int j = k; j < K && t->ncomp < 4; j++)
+      if (!used[j] && enc->enc.scale[j] == enc->enc.scale[k] && (enc->enc.bits[j] == 16 ? 16 : 8) == t->bits) {
+        used[j] = 1;
+        t->comp[t->ncomp++] = j;
+      }
+    const jnd_image *c0 = &enc->comp[t->comp[0]];
+    if ((s = jnd_image_alloc(&t->image, c0->w, c0->h, t->ncomp)) != JND_OK) break;
+    size_t np = (size_t)c0->w * c0->h;
+    for (int q = 0; q < t->ncomp; q++) memcpy(t->image.data + q * np, enc->comp[t->comp[q]].data, np * sizeof(float));
+  }
+  if (s != JND_OK) {
+    for (int i = 0; i < *n; i++) jnd_image_free(&tex[i].image);
+    *n = 0;
+  }
+  return s;
+}

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Every command that renders (render, texres, calibrate, pca) reads the view
+# options through one parser: the same out-of-range value gets the same
+# refusal from each (exit 2, one identical line), before anything is loaded
+# or written; and a size is described as WxH.
+. "$(dirname "$0")/lib.bash"
+echo "scene,mu,sigma,model,map" >"$T/t.csv"
+echo "a,100,20,builtin,builtin/baseColor" >>"$T/t.csv"
+cmds=("render builtin -o $T/x" "texres builtin -o $T/x" "calibrate $T/t.csv -o $T/x.json" "pca --model builtin --material builtin -o $T/x")
+bad=("--views 0" "--views 5000" "--size 0x0" "--size 8x8" "--size 20,20" "--coverage 0" "--distance 0" "--fov 180"
+     "--elevation 10,-10" "--lights 9" "--light-intensity -1" "--seed -1" "--samples 0" "--anisotropy 17"
+     "--map-size 4" "--platform x" "--views")
+for b in "${bad[@]}"; do
+  ref=""
+  for c in "${cmds[@]}"; do
+    name="${c%% *} $b"
+    expect_exit 2 "$name: exit 2" "$JND" $c $b
+    check "$name: one line" one_line_error
+    if [ -z "$ref" ]; then ref=$(cat "$T/err.txt"); else
+      check "$name: the same refusal as ${cmds[0]%% *}" [ "$(cat "$T/err.txt")" = "$ref" ]; fi
+  done
+  check "no output written for $b" [ ! -e "$T/x" -a ! -e "$T/x.json" ]
+done
+"$JND" render builtin -o "$T/x" --size 0x0 2>"$T/err.txt"
+check "a bad size names its format WxH" grep -q "is not WxH" "$T/err.txt"
+finish

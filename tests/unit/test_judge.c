@@ -1,0 +1,251 @@
+/* The judge: the rendered judgement every task shares. Partial re-renders
+ * equal full ones, states are recognised by content, the reference state is
+ * invisible by definition, early decisions stop at a failure, views added
+ * later are referenced in the reference state, ground planes are framed out.
+ * Renders are small (96²) so that the suite stays fast on llvmpipe. */
+#include <math.h>
+#include <stdio.h>
+
+#include "jnd.h"
+#include "test.h"
+
+
+static jnd_scene *parts_scene(int parts, int ground) {
+  jnd_builtin_params bp;
+  jnd_builtin_defaults(&bp);
+  bp.map_size = 64;
+  bp.parts = parts;
+  bp.ground = ground;
+  jnd_scene *s = NULL;
+  CHECK_OK(jnd_scene_builtin(&bp, &s));
+  return s;
+}
+
+static void small(jnd_judge_params *p, int views, int partial) {
+  jnd_judge_defaults(p);
+  p->views.sampling.count = views;
+  p->views.render.width = p->views.render.height = 96;
+  p->views.render.anisotropy = 1;   /* llvmpipe: anisotropic filtering of tiny frames is slow */
+  p->partial = partial;
+}
+
+static int map_of(const jnd_scene *s, const char *name) {
+  int i = jnd_scene_map_find(s, name);
+  CHECK(i >= 0);
+  return i;
+}
+
+TEST(partial_rendering_equals_the_full_rendering) {
+  if (!test_renderer_available()) {
+    TEST_SKIP("no OpenGL context");
+    return;
+  }
+  jnd_scene *s = parts_scene(3, 0);
+  jnd_judge_params pp, pf;
+  small(&pp, 4, 1);
+  small(&pf, 4, 0);
+  jnd_judge *jp = NULL, *jf = NULL;
+  CHECK_OK(jnd_judge_create(s, &pp, &jp));
+  CHECK_OK(jnd_judge_create(s, &pf, &jf));
+  if (!jp || !jf) goto done;
+  /* two materials change at once, one of them a normal map */
+  CHECK_OK(jnd_scene_map_resize(s, map_of(s, "part1/baseColor"), 8, 8));
+  CHECK_OK(jnd_scene_map_resize(s, map_of(s, "part0/normal"), 16, 16));
+  double P1[4], P2[4];
+  jnd_judgement r1, r2;
+  CHECK_OK(jnd_judge_eval(jp, 0, 4, 0, P1, &r1));
+  CHECK_OK(jnd_judge_eval(jf, 0, 4, 0, P2, &r2));
+  jnd_judge_counts cp, cf;
+  jnd_judge_get_counts(jp, &cp);
+  jnd_judge_get_counts(jf, &cf);
+  CHECK(cp.partial_renderings >= 1 && cp.renderings == 0);
+  CHECK(cf.partial_renderings == 0 && cf.renderings == 4);
+  int visible = 0;
+  for (int v = 0; v < 4; v++) {
+    CHECK_NEAR(P1[v], P2[v], 1e-4);
+    visible += P2[v] > 0.01;
+    jnd_image a = {0}, b = {0};
+    int ca[4], cb[4];
+    CHECK_OK(jnd_judge_view_images(jp, v, NULL, &a, NULL, NULL, ca));
+    CHECK_OK(jnd_judge_view_images(jf, v, NULL, &b, NULL, NULL, cb));
+    CHECK(ca[0] == cb[0] && ca[1] == cb[1] && a.w == b.w && a.h == b.h);
+    double worst = 0;
+    if (a.w == b.w && a.h == b.h)
+      for (size_t i = 0; i < (size_t)a.w * a.h * 3; i++) worst = fmax(worst, fabs(a.data[i] - b.data[i]));
+    CHECK(worst <= 1.0 / 255);
+    jnd_image_free(&a);
+    jnd_image_free(&b);
+  }
+  CHECK(visible >= 1);   /* the candidate is not the reference in disguise */
+done:
+  jnd_judge_free(jp);
+  jnd_judge_free(jf);
+  jnd_scene_free(s);
+}
+
+TEST(the_reference_state_is_invisible_and_never_rendered) {
+  if (!test_renderer_available()) {
+    TEST_SKIP("no OpenGL context");
+    return;
+  }
+  jnd_scene *s = parts_scene(2, 0);
+  jnd_judge_params p;
+  small(&p, 3, 1);
+  jnd_judge *j = NULL;
+  CHECK_OK(jnd_judge_create(s, &p, &j));
+  if (!j) goto done;
+  double P[3];
+  jnd_judgement r;
+  /* a map resized to its own size is the reference again */
+  int i = map_of(s, "part0/baseColor");
+  CHECK_OK(jnd_scene_map_resize(s, i, 64, 64));
+  CHECK_OK(jnd_judge_eval(j, 0, 3, 0, P, &r));
+  jnd_judge_counts c;
+  jnd_judge_get_counts(j, &c);
+  CHECK(c.renderings == 0 && c.partial_renderings == 0);
+  for (int v = 0; v < 3; v++) CHECK(P[v] == 0);
+  CHECK(r.criterion.pass && r.criterion.statistic == 0 && r.judged == 3);
+done:
+  jnd_judge_free(j);
+  jnd_scene_free(s);
+}
+
+TEST(a_state_judged_before_is_answered_from_memory) {
+  if (!test_renderer_available()) {
+    TEST_SKIP("no OpenGL context");
+    return;
+  }
+  jnd_scene *s = parts_scene(2, 0);
+  jnd_judge_params p;
+  small(&p, 3, 1);
+  jnd_judge *j = NULL;
+  CHECK_OK(jnd_judge_create(s, &p, &j));
+  if (!j) goto done;
+  int i = map_of(s, "part1/baseColor");
+  double P[3], Q[3];
+  CHECK_OK(jnd_scene_map_resize(s, i, 16, 16));
+  CHECK_OK(jnd_judge_eval(j, 0, 3, 0, P, NULL));
+  jnd_judge_counts a, b;
+  jnd_judge_get_counts(j, &a);
+  /* another state, then the first again by a new resize (same content, new version) */
+  CHECK_OK(jnd_scene_map_resize(s, i, 32, 32));
+  CHECK_OK(jnd_judge_eval(j, 0, 3, 0, Q, NULL));
+  CHECK_OK(jnd_scene_map_resize(s, i, 16, 16));
+  jnd_judge_get_counts(j, &a);
+  CHECK_OK(jnd_judge_eval(j, 0, 3, 0, Q, NULL));
+  jnd_judge_get_counts(j, &b);
+  CHECK(b.renderings + b.partial_renderings == a.renderings + a.partial_renderings);
+  CHECK(b.reused == a.reused + 3 && b.states == 2);
+  for (int v = 0; v < 3; v++) CHECK(P[v] == Q[v]);
+done:
+  jnd_judge_free(j);
+  jnd_scene_free(s);
+}
+
+TEST(deciding_stops_at_the_first_failing_view) {
+  if (!test_renderer_available()) {
+    TEST_SKIP("no OpenGL context");
+    return;
+  }
+  jnd_scene *s = parts_scene(1, 0);
+  jnd_judge_params p;
+  small(&p, 6, 1);
+  p.criterion.q = 0;   /* no view may be above */
+  jnd_judge *j = NULL;
+  CHECK_OK(jnd_judge_create(s, &p, &j));
+  if (!j) goto done;
+  /* one texel of base colour: visible from everywhere */
+  CHECK_OK(jnd_scene_map_resize(s, map_of(s, "builtin/baseColor"), 1, 1));
+  double P[6];
+  jnd_judgement r;
+  CHECK_OK(jnd_judge_eval(j, 0, 6, JND_JUDGE_DECIDE, P, &r));
+  CHECK(r.judged == 1 && !r.criterion.pass);
+  int known = 0;
+  for (int v = 0; v < 6; v++) known += !isnan(P[v]);
+  CHECK(known == 1);
+  /* without the flag every view is judged; the one known is not judged again */
+  jnd_judge_counts a, b;
+  jnd_judge_get_counts(j, &a);
+  CHECK_OK(jnd_judge_eval(j, 0, 6, 0, P, &r));
+  jnd_judge_get_counts(j, &b);
+  CHECK(r.judged == 6 && b.view_judgements == a.view_judgements + 5 && b.reused == a.reused + 1);
+  for (int v = 0; v < 6; v++) CHECK(P[v] > 0.2);
+done:
+  jnd_judge_free(j);
+  jnd_scene_free(s);
+}
+
+TEST(views_added_later_are_referenced_in_the_reference_state) {
+  if (!test_renderer_available()) {
+    TEST_SKIP("no OpenGL context");
+    return;
+  }
+  jnd_scene *s = parts_scene(2, 0);
+  jnd_judge_params p;
+  small(&p, 2, 1);
+  jnd_judge *j = NULL, *k = NULL;
+  CHECK_OK(jnd_judge_create(s, &p, &j));
+  if (!j) goto done;
+  int i = map_of(s, "part0/baseColor");
+  CHECK_OK(jnd_scene_map_resize(s, i, 8, 8));
+  /* held-out views from another seed, added while the candidate is in place */
+  jnd_view_set vs = p.views;
+  vs.sampling.seed = 99;
+  jnd_view *extra = NULL;
+  int n = 0, first = -1;
+  CHECK_OK(jnd_view_set_make(s, &vs, &extra, &n));
+  CHECK_OK(jnd_judge_add_views(j, extra, n, &first));
+  CHECK(first == 2 && jnd_judge_view_count(j) == 4);
+  jnd_map_info mi;
+  jnd_scene_map_info(s, i, &mi);
+  CHECK(mi.width == 8);   /* the candidate is back in place */
+  double P[2], Q[2];
+  CHECK_OK(jnd_judge_eval(j, first, 2, 0, P, NULL));
+  /* a judge made on those views from the start agrees */
+  jnd_scene_map_restore(s, i);
+  jnd_judge_params q = p;
+  q.views.sampling.seed = 99;
+  CHECK_OK(jnd_judge_create(s, &q, &k));
+  CHECK_OK(jnd_scene_map_resize(s, i, 8, 8));
+  if (k) CHECK_OK(jnd_judge_eval(k, 0, 2, 0, Q, NULL));
+  for (int v = 0; v < 2 && k; v++) CHECK_NEAR(P[v], Q[v], 1e-9);
+  CHECK(P[0] > 0 || P[1] > 0);
+  free(extra);
+done:
+  jnd_judge_free(j);
+  jnd_judge_free(k);
+  jnd_scene_free(s);
+}
+
+TEST(views_of_an_asset_on_the_ground_come_from_above_and_frame_the_asset) {
+  jnd_scene *plain = parts_scene(1, 0), *grounded = parts_scene(1, 1);
+  double c0[3], r0, c1[3], r1, call[3], rall;
+  int g0, g1;
+  jnd_scene_subject_bounds(plain, c0, &r0, &g0);
+  jnd_scene_subject_bounds(grounded, c1, &r1, &g1);
+  jnd_scene_bounds(grounded, call, &rall);
+  CHECK(g0 == -1 && g1 == 1);
+  CHECK_NEAR(r1, r0, 1e-6);   /* the floor does not enlarge what is framed */
+  CHECK(rall > 2 * r1);
+  jnd_view_sampling vs;
+  jnd_view_sampling_defaults(&vs);
+  vs.count = 16;
+  jnd_view v0[16], v1[16];
+  CHECK_OK(jnd_views_sample(plain, &vs, v0));
+  CHECK_OK(jnd_views_sample(grounded, &vs, v1));
+  int below = 0;
+  for (int i = 0; i < 16; i++) {
+    below += v0[i].camera.eye[1] < c0[1];
+    double d[3], len = 0;
+    for (int k = 0; k < 3; k++) d[k] = v1[i].camera.eye[k] - c1[k], len += d[k] * d[k];
+    CHECK(asin(d[1] / sqrt(len)) * 180 / M_PI >= 10 - 1e-9);   /* above the ground's horizon */
+  }
+  CHECK(below > 0);   /* without a ground, views come from below too */
+  jnd_scene_free(plain);
+  jnd_scene_free(grounded);
+}
+
+RUN_TESTS(partial_rendering_equals_the_full_rendering, the_reference_state_is_invisible_and_never_rendered,
+          a_state_judged_before_is_answered_from_memory, deciding_stops_at_the_first_failing_view,
+          views_added_later_are_referenced_in_the_reference_state,
+          views_of_an_asset_on_the_ground_come_from_above_and_frame_the_asset)
