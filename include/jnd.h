@@ -319,6 +319,21 @@ typedef struct {
 jnd_status jnd_criterion_eval(const double *p_views, int n, double p, double q, double confidence,
                               jnd_criterion_result *out);
 
+/* Which side of its chord a curve bends to: a cumulative curve that rises
+ * fast then flattens lies ABOVE its chord (pca's energy, 001); an error
+ * curve that stays flat then rises sharply lies BELOW it (lod's Pareto
+ * curve, 003 §3). */
+typedef enum { JND_KNEE_ABOVE = 0, JND_KNEE_BELOW } jnd_knee_side;
+
+/* The knee of the curve (x[i], y[i]), i = 0..n−1, x monotone: with both axes
+ * scaled to 0..1 between the first and the last point, the point farthest
+ * from the chord joining them on the given side ("maximum distance to the
+ * chord"). Returns its index; 0 when no point lies strictly on that side of
+ * the chord (a straight line, or a curve bent the other way) or n < 3; −1
+ * for n < 1 or a value that is not finite. The first of equally far points
+ * wins. See src/pool/knee.c. */
+int jnd_knee(const double *x, const double *y, int n, jnd_knee_side side);
+
 /* The one-sided Clopper–Pearson upper bound on a binomial proportion: the
  * largest u with P(X <= k | n, u) >= 1 − confidence (1 when k = n). */
 double jnd_binomial_upper(int k, int n, double confidence);

@@ -23,10 +23,6 @@ jnd_status linalg_weighted_covariance(const float *const *planes, int n, size_t 
  * largest-magnitude entry positive. LAPACKE dsyev. */
 jnd_status linalg_symmetric_eigen(const double *a, int n, double *eigval, double *vec);
 
-/* Index of the knee of a descending sequence's cumulative curve: the point
- * farthest from the chord from (0, 0) to (n, total); returns a count 1..n. */
-int linalg_knee(const double *values, int n);
-
 /* ---- linalg.c (end) ---- */
 
 /* ---- pca.c: resampling of single planes (begin) ---- */
@@ -42,6 +38,11 @@ void pca_box_down(const float *src, int w, int h, int s, float *dst);
 /* Upsamples a plane made by pca_box_down(src, w, h, s, ...) back to w × h
  * with Lanczos-3, the coarse samples sitting at the centres of their boxes. */
 jnd_status pca_upsample(const float *coarse, int w, int h, int s, float *dst);
+
+/* The knee of the cumulative energy of n descending values (001): the
+ * component count 1..n where the curve from (0, 0) to (n, total) lies
+ * farthest above its chord (jnd_knee). */
+int pca_energy_knee(const double *energy, int n);
 
 /* Rendered visibility hook: see jnd_pca_rendered_visibility (jnd.h). */
 jnd_status pca_rendered_visibility(const jnd_texset *set, const jnd_pca_encoded *enc,
