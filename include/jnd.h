@@ -471,6 +471,111 @@ jnd_status jnd_resample_map(const jnd_image *in, int w, int h, jnd_map_kind kind
                             jnd_image *out);
 
 /* ------------------------------------------------------------------------ */
+/* Levels of detail (scene)                                                 */
+/* ------------------------------------------------------------------------ */
+/* A scene can hold a chain of levels of detail: level 0 is the file's meshes;
+ * level k > 0 is a simpler version of every mesh, made with meshoptimizer
+ * (jnd_scene_lod_build) or taken from another file or a glTF MSFT_lod node
+ * (jnd_scene_lod_add, jnd_scene_load). Mesh i of every level has mesh i's
+ * material. One level is in use at a time (jnd_scene_lod_select): the
+ * renderer draws it, and uploads a mesh again only when its level changed,
+ * so a task can measure level after level with one renderer. Typical use:
+ *
+ *     jnd_scene *s;  jnd_scene_load("bunny.obj", &s);
+ *     jnd_lod_params lp;  jnd_lod_defaults(&lp);          // error targets 1/4096 .. 1/16
+ *     jnd_scene_lod_build(s, &lp);
+ *     for (int k = 0; k < jnd_scene_lod_count(s); k++) {
+ *       jnd_lod_level_info li;  jnd_scene_lod_info(s, k, &li);
+ *       jnd_scene_lod_select(s, k);                        // the next jnd_render draws level k
+ *       ...
+ *     }
+ *     jnd_scene_lod_select(s, 0);
+ * See docs/lod.md. */
+
+/* How a level was made. */
+typedef enum {
+  JND_LOD_INPUT = 0,      /* level 0: the file's meshes */
+  JND_LOD_SIMPLIFIED,     /* meshopt_simplify, keeping the mesh's topology and attribute seams */
+  JND_LOD_SLOPPY,         /* at least one mesh needed the fallback meshopt_simplifySloppy, which
+                             ignores topology and seams (docs/lod.md says when) */
+  JND_LOD_IMPORTED        /* from another file or a glTF MSFT_lod node */
+} jnd_lod_method;
+
+/* One level of a chain. */
+typedef struct {
+  size_t triangles;        /* of all meshes */
+  size_t vertices;         /* distinct vertices its triangles use */
+  double target_error;     /* the error target that made it, relative to the scene's extent
+                              (0: level 0; NaN: imported, or made for a triangle ratio) */
+  double target_ratio;     /* the triangle ratio that made it (NaN: made for an error target) */
+  double error;            /* meshoptimizer's result error relative to the scene's extent (the
+                              largest side of the bounding box of level 0, meshopt_simplifyScale's
+                              unit), the largest over the meshes; a level simplified from a
+                              simpler one carries the sum of both steps' errors, an upper bound
+                              (docs/lod.md). 0 for level 0, NaN for imported levels */
+  double error_abs;        /* the same in object units */
+  jnd_lod_method method;
+  int sloppy_meshes;       /* meshes of this level made with meshopt_simplifySloppy */
+  char source[256];        /* where an imported level came from ("FILE" or "FILE#node N") */
+} jnd_lod_level_info;
+
+/* Parameters of a chain made with meshoptimizer (0.18: meshopt_simplify with
+ * a target error and no target count; docs/lod.md). */
+typedef struct {
+  const double *errors;    /* error targets relative to the scene's extent (0.01 = 1% of the largest
+                              side of its bounding box), ascending; NULL: the default list, 1/4096,
+                              1/2048, ... 1/16 (9 levels) */
+  int nerrors;
+  const double *ratios;    /* used when errors is NULL and ratios is not: triangle ratios (0..1),
+                              descending, each level aiming at ratio × the mesh's triangles */
+  int nratios;
+  int lock_border;         /* −1 (default): lock the open borders of every mesh when the scene has
+                              more than one mesh (so that meshes that meet do not part); 0: never;
+                              1: always (meshopt_SimplifyLockBorder) */
+  int allow_sloppy;        /* 1 (default): where meshopt_simplify cannot collapse any further edge
+                              before a level's target (its topology or seams stop it),
+                              meshopt_simplifySloppy makes that mesh's level if it gets fewer
+                              triangles within the target; 0: never */
+  int threads;             /* 0: OpenMP's default; the chain is the same for every count */
+} jnd_lod_params;
+
+/* Fills p with the defaults above. */
+void jnd_lod_defaults(jnd_lod_params *p);
+
+/* Replaces the scene's levels 1.. by a chain made from level 0 with
+ * meshoptimizer, one level per target (a target that gives no fewer
+ * triangles than the level before it adds no level). Attribute seams (uv
+ * and vertex colour) are kept as meshopt_simplify keeps them; normals are
+ * taken back per corner from the input's vertices (hard edges stay hard
+ * where the surface still bends there). Each level is simplified from the
+ * coarsest earlier level whose target is at most a quarter of its own (from
+ * level 0 for the first ones), so that a 1 M-triangle mesh costs two passes
+ * over the input. Level 0 is selected on return. JND_ERR_FORMAT "PATH:
+ * problem" for a scene whose triangles all have zero area; JND_ERR_ARG for
+ * bad targets. */
+jnd_status jnd_scene_lod_build(jnd_scene *s, const jnd_lod_params *p);
+
+/* Appends the meshes of another scene as the next level (an artist's LOD
+ * file): its meshes are matched to this scene's by material name (all of a
+ * material's triangles become that mesh's level; a mesh with no match is
+ * empty at that level). level is consumed (freed) whatever the outcome;
+ * source names it in jnd_lod_level_info. JND_ERR_ARG "SOURCE: ..." when it
+ * has a material this scene lacks. */
+jnd_status jnd_scene_lod_add(jnd_scene *s, jnd_scene *level, const char *source);
+
+/* Number of levels (1: the file's meshes only), and the description of level k. */
+int jnd_scene_lod_count(const jnd_scene *s);
+jnd_status jnd_scene_lod_info(const jnd_scene *s, int level, jnd_lod_level_info *out);
+
+/* Makes level k (0 ≤ k < count) the one in use: jnd_scene_triangle_count,
+ * jnd_render and jnd_scene_write_lod_gltf's level 0 see it. The renderer
+ * notices which meshes changed and uploads only those. */
+jnd_status jnd_scene_lod_select(jnd_scene *s, int level);
+
+/* The level in use. */
+int jnd_scene_lod_selected(const jnd_scene *s);
+
+/* ------------------------------------------------------------------------ */
 /* Renderer                                                                 */
 /* ------------------------------------------------------------------------ */
 /* A headless OpenGL 4.5 core renderer (EGL, no window system: a GPU through
@@ -559,6 +664,8 @@ typedef struct {
   double env_rotation_deg;   /* rotation of the environment about +Y, degrees */
   double exposure;           /* multiplier on the linear result (default 1) */
   int background_env;        /* 1: the environment is visible behind the object; 0: black */
+  int unlit;                 /* 1: colour is the material's base colour (factor × map × vertex
+                                colour) × exposure, without any light (003 §4.1) */
   unsigned outputs;          /* JND_OUT_* (default colour) */
 } jnd_view;
 

@@ -14,7 +14,26 @@ typedef struct {
   uint32_t *indices;      /* 3 × ntris */
   size_t nverts, ntris;
   int material;
+  uint64_t version;       /* changes whenever vertices or indices change (a level of detail is
+                             selected), so that a renderer knows what to upload again */
 } jnd_mesh;
+
+/* One mesh at one level of detail (lod.c). */
+typedef struct {
+  float *vertices;        /* owned; NULL: level 0's vertices of the mesh (a simplified level
+                             indexes the input's vertices) */
+  size_t nverts;
+  uint32_t *indices;      /* owned, 3 × ntris */
+  size_t ntris;
+  double error_abs;       /* meshoptimizer's error bound, object units */
+  int sloppy;             /* made by meshopt_simplifySloppy */
+  uint64_t version;       /* the jnd_mesh version it gets when selected */
+} jnd_lod_mesh;
+
+typedef struct {
+  jnd_lod_mesh *mesh;     /* one per scene mesh */
+  jnd_lod_level_info info;
+} jnd_lod_level;
 
 typedef enum { JND_WRAP_REPEAT = 0, JND_WRAP_CLAMP, JND_WRAP_MIRROR } jnd_wrap;
 
@@ -52,6 +71,10 @@ struct jnd_scene {
   char **warnings;
   int nwarnings;
   double centre[3], radius;
+  /* levels of detail (lod.c): none until a chain is built or added; then
+   * lod[0] owns the file's arrays and meshes[i] points at lod[lod_now]'s */
+  jnd_lod_level *lod;
+  int nlod, lod_now;
   uint64_t id;             /* unique per scene object, so a renderer knows what it uploaded */
 };
 
@@ -73,5 +96,7 @@ void jnd_mesh_compute_tangents(jnd_mesh *m);
 /* Bounding sphere of all meshes (centre of the box, radius to the farthest vertex). */
 void jnd_scene_compute_bounds(jnd_scene *s);
 uint64_t jnd_scene_next_version(void);
+/* Frees the level storage (lod.c); the meshes then own nothing. */
+void jnd_scene_lod_free(jnd_scene *s);
 
 #endif
