@@ -575,6 +575,23 @@ jnd_status jnd_scene_lod_select(jnd_scene *s, int level);
 /* The level in use. */
 int jnd_scene_lod_selected(const jnd_scene *s);
 
+/* How far a level's surface lies from level 0's, in object units: points
+ * sampled on level 0 uniformly by area (stratified, seeded), each taken to
+ * the nearest point of the level's surface (003 eq. 1's l^p(T_i, S2)). */
+typedef struct {
+  int samples;
+  double mean;             /* mean distance */
+  double rms;              /* root mean square (p = 2) */
+  double max;              /* largest sampled distance (a one-sided Hausdorff estimate) */
+} jnd_surface_distance;
+
+/* Samples `samples` points on level 0 (seed fixes them) and measures their
+ * distance to level `level` (a bounding-volume hierarchy over its
+ * triangles; exact point–triangle distances). Deterministic whatever the
+ * thread count. JND_ERR_FORMAT when level 0 has no area. */
+jnd_status jnd_scene_lod_distance(const jnd_scene *s, int level, int samples, uint64_t seed,
+                                  jnd_surface_distance *out);
+
 /* ------------------------------------------------------------------------ */
 /* Renderer                                                                 */
 /* ------------------------------------------------------------------------ */

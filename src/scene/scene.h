@@ -96,6 +96,12 @@ void jnd_mesh_compute_tangents(jnd_mesh *m);
 /* Bounding sphere of all meshes (centre of the box, radius to the farthest vertex). */
 void jnd_scene_compute_bounds(jnd_scene *s);
 uint64_t jnd_scene_next_version(void);
+/* Points sampled on level 0's surface, uniformly by area and stratified
+ * (distance.c): *out gets samples × 3 doubles (caller frees). */
+jnd_status jnd_scene_surface_samples(const jnd_scene *s, int samples, uint64_t seed, double **out);
+/* Distances from n points to the nearest point of level `level`'s surface. */
+jnd_status jnd_scene_points_distance(const jnd_scene *s, int level, const double *pts, int n,
+                                     jnd_surface_distance *out);
 /* Frees the level storage (lod.c); the meshes then own nothing. */
 void jnd_scene_lod_free(jnd_scene *s);
 

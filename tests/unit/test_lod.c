@@ -425,6 +425,110 @@ TEST(the_bunny_chain_follows_its_error_targets) {
   jnd_scene_free(s);
 }
 
+/* ---- distances between levels ---- */
+
+/* squared distance from p to segment ab */
+static double seg_d2(const double *p, const double *a, const double *b) {
+  double ab[3], ap[3], t = 0, l = 0;
+  for (int k = 0; k < 3; k++) ab[k] = b[k] - a[k], ap[k] = p[k] - a[k], t += ab[k] * ap[k], l += ab[k] * ab[k];
+  t = l > 0 ? fmin(1, fmax(0, t / l)) : 0;
+  double d = 0;
+  for (int k = 0; k < 3; k++) d += (ap[k] - t * ab[k]) * (ap[k] - t * ab[k]);
+  return d;
+}
+
+/* brute force: the plane's distance where p projects inside, else the nearest edge */
+static double tri_d2(const double *p, const double *a, const double *b, const double *c) {
+  double e1[3], e2[3], n[3], ap[3];
+  for (int k = 0; k < 3; k++) e1[k] = b[k] - a[k], e2[k] = c[k] - a[k], ap[k] = p[k] - a[k];
+  n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2], n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2], best = fmin(seg_d2(p, a, b), fmin(seg_d2(p, b, c), seg_d2(p, c, a)));
+  if (nn > 0) {
+    double h = (ap[0] * n[0] + ap[1] * n[1] + ap[2] * n[2]) / nn, q[3];
+    for (int k = 0; k < 3; k++) q[k] = p[k] - h * n[k];
+    /* inside when the three sub-triangles have the normal's orientation */
+    const double *v[3] = {a, b, c};
+    int inside = 1;
+    for (int e = 0; e < 3; e++) {
+      const double *x = v[e], *y = v[(e + 1) % 3];
+      double u[3] = {y[0] - x[0], y[1] - x[1], y[2] - x[2]}, w[3] = {q[0] - x[0], q[1] - x[1], q[2] - x[2]};
+      double cr[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+      if (cr[0] * n[0] + cr[1] * n[1] + cr[2] * n[2] < 0) inside = 0;
+    }
+    if (inside) best = fmin(best, h * h * nn);
+  }
+  return best;
+}
+
+TEST(level_distances_match_a_brute_force_search) {
+  jnd_scene *s = seam_sheet(24);
+  CHECK_OK(jnd_scene_lod_build(s, NULL));
+  int n = jnd_scene_lod_count(s), N = 400;
+  double *pts = NULL;
+  CHECK_OK(jnd_scene_surface_samples(s, N, 7, &pts));
+  for (int k = 0; k < n; k += 3) {
+    jnd_surface_distance d;
+    CHECK_OK(jnd_scene_points_distance(s, k, pts, N, &d));
+    CHECK_OK(jnd_scene_lod_select(s, k));
+    const jnd_mesh *m = &s->meshes[0];
+    double s2 = 0, mx = 0;
+    for (int q = 0; q < N; q++) {
+      double best = INFINITY;
+      for (size_t t = 0; t < m->ntris; t++) {
+        double c[3][3];
+        for (int v = 0; v < 3; v++)
+          for (int a = 0; a < 3; a++) c[v][a] = m->vertices[(size_t)m->indices[3 * t + v] * JND_VTX_FLOATS + a];
+        best = fmin(best, tri_d2(pts + 3 * q, c[0], c[1], c[2]));
+      }
+      s2 += best;
+      mx = fmax(mx, sqrt(best));
+    }
+    CHECK_NEAR(d.rms, sqrt(s2 / N), 1e-9);
+    CHECK_NEAR(d.max, mx, 1e-9);
+    if (k == 0) CHECK(d.max < 1e-6);   /* level 0 to itself */
+    if (k > 0) CHECK(d.rms > 0);
+  }
+  free(pts);
+  jnd_scene_free(s);
+}
+
+TEST(distance_to_a_parallel_surface_is_its_offset) {
+  jnd_scene *s = seam_sheet(8), *up = empty_scene(1);
+  /* a flat sheet as level 0 and, as level 1, a larger one 0.25 above it */
+  for (size_t v = 0; v < s->meshes[0].nverts; v++) s->meshes[0].vertices[v * JND_VTX_FLOATS + 2] = 0;
+  jnd_mesh *m = add_mesh(up, 4, 2, 0);
+  vtx(m->vertices, -1, -1, 0.25, 0, 0, 1, 0, 0);
+  vtx(m->vertices + JND_VTX_FLOATS, 2, -1, 0.25, 0, 0, 1, 0, 0);
+  vtx(m->vertices + 2 * JND_VTX_FLOATS, 2, 2, 0.25, 0, 0, 1, 0, 0);
+  vtx(m->vertices + 3 * JND_VTX_FLOATS, -1, 2, 0.25, 0, 0, 1, 0, 0);
+  uint32_t q[6] = {0, 1, 2, 0, 2, 3};
+  memcpy(m->indices, q, sizeof q);
+  CHECK_OK(jnd_scene_lod_add(s, up, "up"));
+  jnd_surface_distance d;
+  CHECK_OK(jnd_scene_lod_distance(s, 1, 1000, 1, &d));
+  CHECK_NEAR(d.mean, 0.25, 1e-6);
+  CHECK_NEAR(d.rms, 0.25, 1e-6);
+  CHECK_NEAR(d.max, 0.25, 1e-6);
+  CHECK(d.samples == 1000);
+  jnd_scene_free(s);
+}
+
+TEST(surface_samples_spread_by_area) {
+  /* two triangles of areas 1 and 3: a quarter of the samples on the first */
+  jnd_scene *s = empty_scene(1);
+  jnd_mesh *m = add_mesh(s, 6, 2, 0);
+  double c[6][2] = {{0, 0}, {1, 0}, {0, 2}, {5, 0}, {8, 0}, {5, 2}};
+  for (int v = 0; v < 6; v++) vtx(m->vertices + v * JND_VTX_FLOATS, c[v][0], c[v][1], 0, 0, 0, 1, 0, 0);
+  for (uint32_t i = 0; i < 6; i++) m->indices[i] = i;
+  double *pts = NULL;
+  CHECK_OK(jnd_scene_surface_samples(s, 1000, 3, &pts));
+  int first = 0;
+  for (int k = 0; k < 1000; k++) first += pts[3 * k] < 2;
+  CHECK(first == 250);   /* stratified: exactly the share, to one sample */
+  free(pts);
+  jnd_scene_free(s);
+}
+
 /* ---- the renderer sees the level in use ---- */
 
 static jnd_renderer *renderer(void) {
@@ -515,4 +619,5 @@ RUN_TESTS(chain_levels_lose_triangles_and_stay_within_their_targets, uv_seams_ar
           every_mesh_of_a_multi_material_scene_gets_its_levels, the_chain_does_not_depend_on_the_thread_count,
           bad_chains_are_refused, a_level_from_another_file_is_matched_by_material,
           the_bunny_chain_follows_its_error_targets, selecting_a_level_changes_what_the_renderer_draws,
-          an_unlit_rendering_shows_the_base_colour)
+          an_unlit_rendering_shows_the_base_colour, level_distances_match_a_brute_force_search,
+          distance_to_a_parallel_surface_is_its_offset, surface_samples_spread_by_area)
