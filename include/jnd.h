@@ -1376,6 +1376,138 @@ jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src_path, 
                                   char *out_path, size_t n);
 
 /* ------------------------------------------------------------------------ */
+/* Point of Imperceptibility of a level-of-detail chain (003)              */
+/* ------------------------------------------------------------------------ */
+/* Wu, Agu & Lindsay (2007), 003: per target screen, an error for every level
+ * of a chain — the object-space term (1 − F2/F1) × the area-weighted L2
+ * distance between the surfaces plus the screen-space term E_p of the level
+ * rendered on a large virtual screen M1 and minified to the screen M2
+ * (eq. 1), and that times the perceptual term M_p, the difference of the
+ * lit renderings' Haar bands weighted by the Mannos–Sakrison CSF (eqs.
+ * 3–4) — and the knee of each Pareto curve as the Point of
+ * Imperceptibility; the same for each texture map over its mip chain
+ * (003 §4.3). Beside it, two rules of thumb. What 003 leaves open and how it
+ * is decided here: docs/lod.md. Typical use:
+ *
+ *     jnd_scene *s;  jnd_scene_load("bunny.obj", &s);
+ *     jnd_scene_lod_build(s, NULL);                       // the chain
+ *     jnd_poi_params pp;  jnd_poi_defaults(&pp);          // 4 screens, 2 views
+ *     jnd_poi_result r;  jnd_poi_analyse(s, &pp, &r);
+ *     for (int i = 0; i < r.nscreens; i++)
+ *       printf("%s: level %d\n", r.screens[i].screen.name, r.screens[i].poi_level);
+ *     jnd_poi_result_free(&r);  jnd_scene_free(s);
+ */
+
+/* A target screen: its resolution and the pixels per degree its viewer sees. */
+typedef struct {
+  char name[32];
+  int width_px, height_px;
+  double ppd;
+} jnd_poi_screen;
+
+/* Fills s from "PRESET" (a display preset with a pixel size: standard-fhd,
+ * standard-4k, phone, laptop), "WxH" (pixels; ppd of a 24" 16:9-class
+ * screen at 60 cm, see docs/lod.md) or "WxH@PPD". JND_ERR_ARG otherwise
+ * (vr has no pixel size: give WxH@PPD). */
+jnd_status jnd_poi_screen_parse(const char *spec, jnd_poi_screen *s);
+
+typedef struct {
+  const jnd_poi_screen *screens; /* target screens (NULL: standard-fhd, standard-4k, phone, laptop) */
+  int nscreens;
+  int views;                 /* views averaged (2; 003 used one, and proposes several) */
+  uint64_t seed;             /* view and light sampling seed (1) */
+  double coverage;           /* fraction of each screen's height the bounding sphere fills (0.5) */
+  double fov_y_deg;          /* vertical field of view (45) */
+  int lights;                /* directional key lights of the lit renderings (1) */
+  double virtual_scale;      /* the virtual screen M1 shows the object this many times larger
+                                than the largest screen does (1.5) ... */
+  int max_virtual_px;        /* ... but at most this many pixels a side (4096) */
+  int anisotropy;            /* renderer anisotropy of the M1 renderings (4) */
+  int surface_samples;       /* points sampled on level 0 for the object-space term (65536) */
+  double meshopt_pixels;     /* meshoptimizer's rule: the coarsest level whose result error covers
+                                at most this many pixels (1) */
+  double pixel_error;        /* the fixed pixel-error rule: the coarsest level whose measured largest
+                                deviation covers at most this many pixels (0.5) */
+  int textures;              /* 1 (default): also each texture map over its mip chain (003 §4.3) */
+  int min_texture_px;        /* the mip chain stops at this longer side (8) */
+  const char *env_path;      /* environment of the lit renderings (NULL: the studio) */
+  const char *platform;      /* EGL platform (NULL: auto) */
+  void (*progress)(void *user, const char *stage, int done, int total); /* NULL or per step */
+  void *progress_user;
+} jnd_poi_params;
+
+/* Fills p with the defaults above. */
+void jnd_poi_defaults(jnd_poi_params *p);
+
+/* One level on one screen's Pareto curve. Every term is dimensionless. */
+typedef struct {
+  double object;             /* eq. 1's object-space term: (1 − F2/F1) × the RMS distance from level
+                                0's surface to this level's, over the scene's extent */
+  double e_p;                /* eq. 2 (p = 2) of the unlit renderings: RGB RMSE in 1/256 steps over the
+                                screen's W × H pixels, RMS over the views */
+  double m_p;                /* eq. 4 of the lit renderings, mean over the views */
+  double error;              /* eq. 1: object + e_p (unlit) */
+  double error_lit;          /* eq. 3: error × m_p */
+  double meshopt_px;         /* meshoptimizer's error on this screen, pixels (measured max for imported levels) */
+  double deviation_px;       /* the measured largest deviation on this screen, pixels */
+} jnd_poi_point;
+
+typedef struct {
+  jnd_poi_screen screen;
+  double object_px;          /* the bounding sphere's diameter on this screen, pixels */
+  int m2_px;                 /* the side of the screen region that holds it (M2), pixels */
+  int nlevels;
+  jnd_poi_point *curve;      /* nlevels; owned */
+  int poi_level;             /* knee of error_lit: 003's Point of Imperceptibility (eq. 3) */
+  int poi_level_unlit;       /* knee of error (eq. 1) */
+  int meshopt_level;         /* the coarsest level meshoptimizer's rule allows */
+  int pixel_level;           /* the coarsest level the fixed pixel-error rule allows */
+} jnd_poi_screen_result;
+
+/* A texture map over its mip chain (003 §4.3): E_p and M_p only. */
+typedef struct {
+  int map;                   /* scene map index */
+  char name[128];            /* MATERIAL/SLOT */
+  int nlevels;
+  int (*size)[2];            /* nlevels × (width, height); owned */
+  int nscreens;
+  double *e_p, *m_p;         /* nscreens × nlevels (screen-major); owned */
+  double *error;             /* e_p × m_p: eq. 3 without the object-space term */
+  int *poi_level;            /* per screen: knee of error */
+  int *poi_level_ep;         /* per screen: knee of e_p alone */
+} jnd_poi_texture;
+
+typedef struct {
+  int nlevels;
+  jnd_lod_level_info *levels;        /* owned */
+  jnd_surface_distance *distance;    /* per level, from level 0; owned */
+  double extent, radius;             /* scene extent (largest bounding-box side) and sphere radius */
+  int nscreens;
+  jnd_poi_screen_result *screens;    /* owned */
+  int ntextures;
+  jnd_poi_texture *textures;         /* owned */
+  int virtual_px;                    /* side of the virtual screen M1 */
+  int views, renderings;
+  char renderer[160];
+} jnd_poi_result;
+
+/* Runs 003's analysis on the scene's chain (it needs at least two levels:
+ * jnd_scene_lod_build or imported ones). Renders every level unlit and lit
+ * from p->views views on one virtual screen and minifies to each target;
+ * deterministic whatever the thread count. Level 0 is selected on return.
+ * out owns arrays (jnd_poi_result_free). JND_ERR_ARG for a scene with one
+ * level; JND_ERR_GL without a renderer. */
+jnd_status jnd_poi_analyse(jnd_scene *scene, const jnd_poi_params *p, jnd_poi_result *out);
+
+/* Frees a result's arrays; safe on a zeroed struct. */
+void jnd_poi_result_free(jnd_poi_result *r);
+
+/* The Pareto plot of screen i: both curves (each over its largest value)
+ * against triangles (log axis), 003's knees and the rules of thumb marked.
+ * out is allocated (3 channels, sRGB 0..1) for jnd_image_write_png. */
+jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, jnd_image *out);
+
+/* ------------------------------------------------------------------------ */
 /* Tasks                                                                    */
 /* ------------------------------------------------------------------------ */
 

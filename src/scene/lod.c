@@ -191,6 +191,23 @@ static void face_normal(const float *a, const float *b, const float *c, double n
   n[2] = e1[0] * e2[1] - e1[1] * e2[0];
 }
 
+static double scene_extent(const jnd_scene *s);
+
+double jnd_scene_extent(const jnd_scene *s) {
+  if (s->nlod == 0) {
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, e = 0;
+    for (int i = 0; i < s->nmeshes; i++)
+      for (size_t t = 0; t < 3 * s->meshes[i].ntris; t++) {
+        const float *p = pos(s->meshes[i].vertices, s->meshes[i].indices[t]);
+        for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], p[k]), hi[k] = fmax(hi[k], p[k]);
+      }
+    for (int k = 0; k < 3; k++)
+      if (hi[k] - lo[k] > e) e = hi[k] - lo[k];
+    return e;
+  }
+  return scene_extent(s);
+}
+
 /* The largest side of the bounding box of level 0 (meshopt_simplifyScale's
  * unit, over every mesh). */
 static double scene_extent(const jnd_scene *s) {

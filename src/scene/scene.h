@@ -102,6 +102,9 @@ jnd_status jnd_scene_surface_samples(const jnd_scene *s, int samples, uint64_t s
 /* Distances from n points to the nearest point of level `level`'s surface. */
 jnd_status jnd_scene_points_distance(const jnd_scene *s, int level, const double *pts, int n,
                                      jnd_surface_distance *out);
+/* The largest side of level 0's bounding box, over every mesh (the unit of
+ * meshoptimizer's relative errors, lod.c). */
+double jnd_scene_extent(const jnd_scene *s);
 /* Frees the level storage (lod.c); the meshes then own nothing. */
 void jnd_scene_lod_free(jnd_scene *s);
 
