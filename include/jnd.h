@@ -375,7 +375,9 @@ jnd_map_kind jnd_map_slot_kind(jnd_map_slot slot);
 
 /* Loads a glTF 2.0 (.gltf with external or embedded buffers, .glb) or OBJ +
  * MTL file with assimp: triangulated, node transforms applied, tangents
- * computed where the file has none (docs/render.md). A texture file that is
+ * computed where the file has none (docs/render.md). Levels of detail a glTF
+ * file has as MSFT_lod nodes become the scene's levels 1.. (docs/lod.md;
+ * jnd_scene_lod_count), level 0 selected. A texture file that is
  * missing or unreadable is not an error: the slot falls back to its factor
  * and a warning is recorded (jnd_scene_warning). A malformed model, or one
  * without triangles, is JND_ERR_FORMAT "PATH: problem"; a missing model
@@ -567,13 +569,26 @@ jnd_status jnd_scene_lod_add(jnd_scene *s, jnd_scene *level, const char *source)
 int jnd_scene_lod_count(const jnd_scene *s);
 jnd_status jnd_scene_lod_info(const jnd_scene *s, int level, jnd_lod_level_info *out);
 
-/* Makes level k (0 ≤ k < count) the one in use: jnd_scene_triangle_count,
- * jnd_render and jnd_scene_write_lod_gltf's level 0 see it. The renderer
- * notices which meshes changed and uploads only those. */
+/* Makes level k (0 ≤ k < count) the one in use: jnd_scene_triangle_count
+ * and jnd_render see it. The renderer notices which meshes changed and
+ * uploads only those again. */
 jnd_status jnd_scene_lod_select(jnd_scene *s, int level);
 
 /* The level in use. */
 int jnd_scene_lod_selected(const jnd_scene *s);
+
+/* Writes the scene with every level of detail as one binary glTF 2.0 file
+ * (atomically): node 0 holds level 0 (a primitive per scene mesh) and the
+ * MSFT_lod extension listing nodes 1.., which hold the other levels; only
+ * node 0 is in the glTF scene, so a reader without MSFT_lod shows level 0.
+ * coverage (NULL: none) gives jnd_scene_lod_count values written as node
+ * 0's extras.MSFT_screencoverage: level k is shown while the object covers
+ * more than coverage[k] of the screen's height (the last value: below it
+ * nothing is drawn). Meshes are in object units with the file's node
+ * transforms applied; materials are written from the scene's (factors,
+ * alpha, double-sidedness, uv sets, KHR_texture_transform), maps as 8-bit
+ * PNGs of the maps in use. jnd_scene_load reads the levels back. */
+jnd_status jnd_scene_write_lod_glb(const jnd_scene *s, const char *path, const double *coverage);
 
 /* How far a level's surface lies from level 0's, in object units: points
  * sampled on level 0 uniformly by area (stratified, seeded), each taken to

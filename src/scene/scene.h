@@ -102,6 +102,13 @@ jnd_status jnd_scene_surface_samples(const jnd_scene *s, int samples, uint64_t s
 /* Distances from n points to the nearest point of level `level`'s surface. */
 jnd_status jnd_scene_points_distance(const jnd_scene *s, int level, const double *pts, int n,
                                      jnd_surface_distance *out);
+/* Levels of detail a glTF file has as MSFT_lod nodes (gltf_lod.c): *nlevels
+ * gets their number (1: none; 0 when the file's JSON or GLB container does
+ * not parse, with an error); with out, *out gets the file (GLB or JSON, as it
+ * came) rewritten so that assimp sees level `level` (caller frees).
+ * JND_ERR_FORMAT "NAME: ..." for a malformed MSFT_lod. */
+jnd_status jnd_gltf_lod_variant(const char *name, const unsigned char *file, size_t n, int level, int *nlevels,
+                                unsigned char **out, size_t *out_n);
 /* The largest side of level 0's bounding box, over every mesh (the unit of
  * meshoptimizer's relative errors, lod.c). */
 double jnd_scene_extent(const jnd_scene *s);

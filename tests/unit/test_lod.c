@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cjson/cJSON.h>
+
 #include "jnd.h"
 #include "scene/scene.h"
 #include "test.h"
@@ -529,6 +531,82 @@ TEST(surface_samples_spread_by_area) {
   jnd_scene_free(s);
 }
 
+/* ---- MSFT_lod: written and read back ---- */
+
+TEST(a_written_chain_loads_back_with_every_level) {
+  jnd_builtin_params bp;
+  jnd_builtin_defaults(&bp);
+  bp.map_size = 32;
+  bp.shape = 1;
+  jnd_scene *s = NULL;
+  CHECK_OK(jnd_scene_builtin(&bp, &s));
+  CHECK_OK(jnd_scene_lod_build(s, NULL));
+  int n = jnd_scene_lod_count(s);
+  CHECK(n >= 3);
+  double cov[64];
+  for (int k = 0; k < n; k++) cov[k] = 0.5 / (k + 1);
+  char path[1200];
+  snprintf(path, sizeof path, "%s/chain.glb", test_tmp_dir());
+  CHECK_OK(jnd_scene_write_lod_glb(s, path, cov));
+  jnd_scene *t = NULL;
+  CHECK_OK(jnd_scene_load(path, &t));
+  if (t) {
+    CHECK(jnd_scene_lod_count(t) == n);
+    CHECK(jnd_scene_map_count(t) == jnd_scene_map_count(s));
+    CHECK(strcmp(jnd_scene_material_name(t, 0), "builtin") == 0);
+    for (int k = 0; k < n && k < jnd_scene_lod_count(t); k++) {
+      jnd_lod_level_info a = info(s, k), b = info(t, k);
+      CHECK(a.triangles == b.triangles);
+      CHECK(b.method == (k ? JND_LOD_IMPORTED : JND_LOD_INPUT));
+      CHECK(k == 0 || strstr(b.source, "MSFT_lod") != NULL);
+    }
+    /* the geometry itself came back: level distances agree */
+    jnd_surface_distance da, db;
+    CHECK_OK(jnd_scene_lod_distance(s, n - 1, 2000, 5, &da));
+    CHECK_OK(jnd_scene_lod_distance(t, n - 1, 2000, 5, &db));
+    CHECK_NEAR(da.rms, db.rms, 1e-5 * (1 + da.rms));
+    jnd_scene_free(t);
+  }
+  jnd_scene_free(s);
+}
+
+TEST(msft_lod_variants_swap_nodes_and_refuse_bad_ids) {
+  const char *g = "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1]}],"
+                  "\"nodes\":[{\"mesh\":0,\"translation\":[1,0,0],\"extensions\":{\"MSFT_lod\":{\"ids\":[1,2]}}},"
+                  "{\"mesh\":1,\"scale\":[2,2,2]},{\"mesh\":2}],\"meshes\":[{},{},{}]}";
+  int levels = 0;
+  unsigned char *out = NULL;
+  size_t n = 0;
+  CHECK_OK(jnd_gltf_lod_variant("g", (const unsigned char *)g, strlen(g), 1, &levels, &out, &n));
+  CHECK(levels == 3);
+  if (out) {
+    cJSON *root = cJSON_ParseWithLength((const char *)out, n);
+    CHECK(root != NULL);
+    /* node 0 took node 1's mesh and transform; node 1 left the scene */
+    const cJSON *n0 = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "nodes"), 0);
+    CHECK(cJSON_GetObjectItem(n0, "mesh") && cJSON_GetObjectItem(n0, "mesh")->valueint == 1);
+    CHECK(cJSON_GetObjectItem(n0, "scale") != NULL && cJSON_GetObjectItem(n0, "translation") == NULL);
+    const cJSON *roots = cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(root, "scenes"), 0), "nodes");
+    CHECK(cJSON_GetArraySize(roots) == 1 && cJSON_GetArrayItem(roots, 0)->valueint == 0);
+    CHECK(memmem(out, n, "MSFT_lod", 8) == NULL);
+    cJSON_Delete(root);
+    free(out);
+  }
+  CHECK_STATUS(jnd_gltf_lod_variant("g", (const unsigned char *)g, strlen(g), 3, &levels, &out, &n), JND_ERR_ARG);
+  const char *bad = "{\"nodes\":[{\"mesh\":0,\"extensions\":{\"MSFT_lod\":{\"ids\":[7]}}}]}";
+  CHECK_STATUS(jnd_gltf_lod_variant("bad.gltf", (const unsigned char *)bad, strlen(bad), 0, &levels, NULL, NULL),
+               JND_ERR_FORMAT);
+  CHECK(strstr(jnd_last_error(), "bad.gltf") != NULL);
+  const char *self = "{\"nodes\":[{\"mesh\":0,\"extensions\":{\"MSFT_lod\":{\"ids\":[0]}}}]}";
+  CHECK_STATUS(jnd_gltf_lod_variant("s", (const unsigned char *)self, strlen(self), 0, &levels, NULL, NULL),
+               JND_ERR_FORMAT);
+  const char *none = "{\"nodes\":[{\"mesh\":0}]}";
+  CHECK_OK(jnd_gltf_lod_variant("n", (const unsigned char *)none, strlen(none), 0, &levels, NULL, NULL));
+  CHECK(levels == 1);
+  CHECK_STATUS(jnd_gltf_lod_variant("j", (const unsigned char *)"{", 1, 0, &levels, NULL, NULL), JND_ERR_FORMAT);
+  CHECK(levels == 0);
+}
+
 /* ---- the renderer sees the level in use ---- */
 
 static jnd_renderer *renderer(void) {
@@ -620,4 +698,5 @@ RUN_TESTS(chain_levels_lose_triangles_and_stay_within_their_targets, uv_seams_ar
           bad_chains_are_refused, a_level_from_another_file_is_matched_by_material,
           the_bunny_chain_follows_its_error_targets, selecting_a_level_changes_what_the_renderer_draws,
           an_unlit_rendering_shows_the_base_colour, level_distances_match_a_brute_force_search,
-          distance_to_a_parallel_surface_is_its_offset, surface_samples_spread_by_area)
+          distance_to_a_parallel_surface_is_its_offset, surface_samples_spread_by_area,
+          a_written_chain_loads_back_with_every_level, msft_lod_variants_swap_nodes_and_refuse_bad_ids)
