@@ -1522,6 +1522,50 @@ void jnd_poi_result_free(jnd_poi_result *r);
  * out is allocated (3 channels, sRGB 0..1) for jnd_image_write_png. */
 jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, jnd_image *out);
 
+/* `jnd lod` as one call: the chain (made with meshoptimizer, or the one the
+ * file has as MSFT_lod, or levels from other files), 003's analysis per
+ * screen, and the outputs: OUT/model/NAME.glb (every level, MSFT_lod with
+ * MSFT_screencoverage) and OUT/pareto_SCREEN.png. The perceptual choice
+ * and switch distances through the judge are a later step (docs/lod.md). */
+typedef struct {
+  jnd_lod_params chain;      /* how a chain is made */
+  int rebuild;               /* 1: make a chain even when the file has MSFT_lod levels (0) */
+  const char *const *level_paths; /* levels from other files, finest first: used as levels 1.. instead */
+  int nlevel_paths;
+  int analyse;               /* 1 (default): 003's analysis; 0: the chain and the model only */
+  jnd_poi_params poi;        /* the analysis (jnd_poi_defaults) */
+  int builtin_map_size;      /* map side of MODEL "builtin" / "builtin:sphere" (512) */
+  const char *out_dir;       /* NULL: nothing written; else created, and the model and plots written */
+  void (*progress)(void *user, const char *stage, int done, int total); /* also the analysis's */
+  void *progress_user;
+} jnd_lod_run_params;
+
+/* Fills p with the defaults above. */
+void jnd_lod_run_defaults(jnd_lod_run_params *p);
+
+typedef struct {
+  jnd_scene *scene;          /* the asset with its chain, level 0 selected (owned) */
+  const char *chain_source;  /* "made" (meshoptimizer), "file" (MSFT_lod), "levels" (other files) */
+  int analysed;
+  jnd_poi_result poi;        /* when analysed */
+  double coverage[64];       /* MSFT_screencoverage written, one per level (jnd_scene_write_lod_glb) */
+  char coverage_rule[160];   /* how they were chosen */
+  char model_path[4600];     /* the GLB written, "" if none */
+  int nplots;
+  char plots[16][96];        /* pareto_SCREEN.png names, one per screen, under out_dir */
+  double chain_s, analysis_s, write_s; /* wall-clock seconds (not deterministic: for --timings) */
+} jnd_lod_report;
+
+/* Loads model_path (glTF/GLB/OBJ, or "builtin", "builtin:sphere"), gets its
+ * chain, runs the analysis and writes the outputs. Every input is checked
+ * before anything is written: a bad model, level file or parameter is an
+ * error ("FILE: problem") and out_dir is not touched. The input is never
+ * written. out is the caller's (jnd_lod_report_free). */
+jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_lod_report *out);
+
+/* Frees the scene and the analysis; safe on a zeroed struct. */
+void jnd_lod_report_free(jnd_lod_report *r);
+
 /* ------------------------------------------------------------------------ */
 /* Tasks                                                                    */
 /* ------------------------------------------------------------------------ */

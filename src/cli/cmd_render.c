@@ -58,6 +58,10 @@ static void help(void) {
       "  --strict            a texture that cannot be loaded is an error (default: the slot\n"
       "                      falls back to its factor with a warning, as engines do)\n"
       "\n"
+      "levels of detail (a glTF with MSFT_lod, e.g. what jnd lod writes):\n"
+      "  --lod K             render level K (0: the finest, the default)\n"
+      "  --list-lods         print the levels and their triangles and exit\n"
+      "\n"
       "outputs (written to DIR, listed in DIR/views.json):\n"
       "  -o, --output DIR    the folder (created)\n"
       "  --outputs LIST      any of color,depth,mask,motion,mip,exr (default color,mask):\n"
@@ -336,6 +340,7 @@ static int run(int argc, char **argv) {
   jnd_view_sampling vs;
   jnd_view_sampling_defaults(&vs);
   int width = 512, height = 512, samples = 4, anisotropy = 8, map_size = 2048, list_maps = 0, strict = 0, timings = 0;
+  int lod = 0, list_lods = 0;
   int background_env = 0, nlights_fixed = 0;
   double env_intensity = 1, env_rotation = 0, exposure = 1, motion_orbit = 0.5;
   unsigned outputs = O_COLOR | O_MASK;
@@ -417,6 +422,10 @@ static int run(int argc, char **argv) {
       map_size = cli_int("render", "--map-size", v, 8, 8192);
     } else if (cli_flag(argv, i, "--list-maps")) {
       list_maps = 1;
+    } else if (cli_opt(argc, argv, &i, "--lod", &v)) {
+      lod = cli_int("render", "--lod", v, 0, 63);
+    } else if (cli_flag(argv, i, "--list-lods")) {
+      list_lods = 1;
     } else if (cli_flag(argv, i, "--strict")) {
       strict = 1;
     } else if (cli_opt(argc, argv, &i, "--outputs", &v)) {
@@ -443,7 +452,7 @@ static int run(int argc, char **argv) {
     cli_error("render: give a MODEL (a .gltf/.glb/.obj file or builtin); jnd render --help");
     return EXIT_BAD;
   }
-  if (!dir && !list_maps) {
+  if (!dir && !list_maps && !list_lods) {
     cli_error("render: give an output folder with -o DIR; jnd render --help");
     return EXIT_BAD;
   }
@@ -473,6 +482,20 @@ static int run(int argc, char **argv) {
       goto done;
     }
     if (!common.quiet) fprintf(stderr, "jnd: warning: %s\n", jnd_scene_warning(scene, i));
+  }
+  if (list_lods) {
+    for (int k = 0; k < jnd_scene_lod_count(scene); k++) {
+      jnd_lod_level_info li;
+      jnd_scene_lod_info(scene, k, &li);
+      printf("level %-3d %10zu triangles %10zu vertices%s%s\n", k, li.triangles, li.vertices, li.source[0] ? "  " : "",
+             li.source);
+    }
+    rc = EXIT_OK;
+    goto done;
+  }
+  if (jnd_scene_lod_select(scene, lod) != JND_OK) {
+    cli_error("%s", jnd_last_error());
+    goto done;
   }
   if (list_maps) {
     for (int i = 0; i < jnd_scene_map_count(scene); i++) {
@@ -584,6 +607,8 @@ static int run(int argc, char **argv) {
   cJSON_AddItemToObject(res, "centre", vec3_json(centre));
   cJSON_AddNumberToObject(res, "radius", radius);
   cJSON_AddNumberToObject(res, "triangles", (double)jnd_scene_triangle_count(scene));
+  cJSON_AddNumberToObject(res, "lod", lod);
+  cJSON_AddNumberToObject(res, "lod_levels", jnd_scene_lod_count(scene));
   cJSON_AddNumberToObject(res, "materials", jnd_scene_material_count(scene));
   int nmaps = jnd_scene_map_count(scene);
   cJSON *jmaps = cJSON_AddArrayToObject(report, "maps");

@@ -457,17 +457,27 @@ static void io_close(struct aiFileIO *io, struct aiFile *af) {
 static jnd_status load_scene(const char *path, const unsigned char *data, size_t ndata, int with_maps,
                              jnd_scene **out) {
   *out = NULL;
+  /* validated first, the rest after a look at the positions: joining
+   * vertices would merge a NaN position into another and hide it */
   unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_GenSmoothNormals |
-                   aiProcess_PreTransformVertices | aiProcess_SortByPType |
-                   aiProcess_ValidateDataStructure | aiProcess_FlipUVs;
+                   aiProcess_PreTransformVertices | aiProcess_SortByPType | aiProcess_FlipUVs;
   const struct aiScene *sc;
   if (data) {
     mem_io m = {path, data, ndata};
     struct aiFileIO io = {io_open, io_close, (aiUserData)&m};
-    sc = aiImportFileEx(path, flags, &io);
+    sc = aiImportFileEx(path, aiProcess_ValidateDataStructure, &io);
   } else {
-    sc = aiImportFile(path, flags);
+    sc = aiImportFile(path, aiProcess_ValidateDataStructure);
   }
+  for (unsigned i = 0; sc && i < sc->mNumMeshes; i++)
+    for (unsigned v = 0; v < sc->mMeshes[i]->mNumVertices; v++) {
+      const struct aiVector3D *q = &sc->mMeshes[i]->mVertices[v];
+      if (!isfinite(q->x) || !isfinite(q->y) || !isfinite(q->z)) {
+        aiReleaseImport(sc);
+        return jnd_fail(JND_ERR_FORMAT, "%s: vertex positions are not finite", path);
+      }
+    }
+  if (sc) sc = aiApplyPostProcessing(sc, flags);
   if (!sc) {
     char msg[512];
     snprintf(msg, sizeof msg, "%s", aiGetErrorString());

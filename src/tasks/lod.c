@@ -35,11 +35,14 @@
  *  9. Textures (003 §4.3): each map over its mip chain, M1 the map itself,
  *     E_p and M_p only.  texture_curves()
  */
+#include <errno.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <time.h>
 
 #include "core/core.h"
 #include "io/draw.h"
@@ -636,6 +639,7 @@ jnd_status jnd_poi_analyse(jnd_scene *scene, const jnd_poi_params *pp, jnd_poi_r
     views[v].camera.fov_y_deg = fov1;
     views[v].background_env = 0;
   }
+  progress(p, "renderings", 0, p->views * n);
   jnd_renderer_params rp;
   jnd_renderer_defaults(&rp);
   rp.width = rp.height = S1;
@@ -806,4 +810,192 @@ jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, jnd_image *o
   ax.marks = marks;
   ax.nmarks = 4;
   return jnd_plot_lines(&ax, ser, 2, out);
+}
+
+/* ---- jnd lod as one call ---- */
+
+void jnd_lod_run_defaults(jnd_lod_run_params *p) {
+  memset(p, 0, sizeof *p);
+  jnd_lod_defaults(&p->chain);
+  jnd_poi_defaults(&p->poi);
+  p->analyse = 1;
+  p->builtin_map_size = 512;
+}
+
+void jnd_lod_report_free(jnd_lod_report *r) {
+  if (!r) return;
+  jnd_scene_free(r->scene);
+  jnd_poi_result_free(&r->poi);
+  memset(r, 0, sizeof *r);
+}
+
+static double seconds(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+static jnd_status mkdir_p(const char *dir) {
+  char buf[4300];
+  snprintf(buf, sizeof buf, "%s", dir);
+  for (char *q = buf + 1; *q; q++)
+    if (*q == '/') {
+      *q = 0;
+      if (mkdir(buf, 0777) != 0 && errno != EEXIST) return jnd_fail(JND_ERR_IO, "%s: cannot create (%s)", buf, strerror(errno));
+      *q = '/';
+    }
+  if (mkdir(buf, 0777) != 0 && errno != EEXIST) return jnd_fail(JND_ERR_IO, "%s: cannot create (%s)", buf, strerror(errno));
+  struct stat st;
+  if (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode)) return jnd_fail(JND_ERR_IO, "%s: not a folder", buf);
+  return JND_OK;
+}
+
+/* MSFT_screencoverage until the perceptual switch distances exist:
+ * meshoptimizer's error-to-pixels rule on the reference screen. Level k may
+ * be shown once its error covers at most `px` pixels, i.e. while the
+ * bounding sphere's diameter spans at most c_k = 2R·px / (e_k·H) of the
+ * screen's height; level k − 1 gives way to level k there. Written as
+ * Babylon.js's screen coverage: the sphere's projected area over the
+ * screen's, π c² H / (4 W). */
+static void coverage_rule(const jnd_scene *s, const jnd_poi_screen *ref, double px, const double *err_abs,
+                          double *cov, char *rule, size_t nrule) {
+  int n = jnd_scene_lod_count(s);
+  double centre[3], radius;
+  jnd_scene_bounds(s, centre, &radius);
+  double prev = 1;
+  for (int k = 0; k < n; k++) {
+    double c = 0;
+    if (k + 1 < n) {
+      double e = err_abs[k + 1];
+      double h = e > 0 ? 2 * radius * px / (e * ref->height_px) : 1;   /* height fraction */
+      if (h > 1) h = 1;
+      c = M_PI * h * h * ref->height_px / (4.0 * ref->width_px);
+    }
+    if (c > prev) c = prev;
+    cov[k] = c;
+    prev = c;
+  }
+  snprintf(rule, nrule, "meshoptimizer's error <= %g px on %s (%dx%d), as projected sphere area over screen area",
+           px, ref->name, ref->width_px, ref->height_px);
+}
+
+jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_lod_report *out) {
+  jnd_lod_run_params d;
+  if (!p) {
+    jnd_lod_run_defaults(&d);
+    p = &d;
+  }
+  memset(out, 0, sizeof *out);
+  jnd_status st;
+  double t0 = seconds();
+  if (p->progress) p->progress(p->progress_user, "chain", 0, 1);
+  /* the asset */
+  if (strncmp(model_path, "builtin", 7) == 0 && (!model_path[7] || model_path[7] == ':')) {
+    jnd_builtin_params bp;
+    jnd_builtin_defaults(&bp);
+    bp.map_size = p->builtin_map_size > 0 ? p->builtin_map_size : 512;
+    bp.shape = strcmp(model_path, "builtin:sphere") == 0;
+    st = jnd_scene_builtin(&bp, &out->scene);
+  } else {
+    st = jnd_scene_load(model_path, &out->scene);
+  }
+  if (st) return st;
+  jnd_scene *s = out->scene;
+  /* its chain */
+  if (p->nlevel_paths > 0) {
+    if (jnd_scene_lod_count(s) > 1) {
+      jnd_lod_report_free(out);
+      return jnd_fail(JND_ERR_ARG, "%s: has MSFT_lod levels already; give levels from files only for a file without", model_path);
+    }
+    out->chain_source = "levels";
+    for (int i = 0; i < p->nlevel_paths && !st; i++) {
+      jnd_scene *lv = NULL;
+      if (!(st = jnd_scene_load(p->level_paths[i], &lv))) st = jnd_scene_lod_add(s, lv, p->level_paths[i]);
+    }
+  } else if (jnd_scene_lod_count(s) > 1 && !p->rebuild) {
+    out->chain_source = "file";
+  } else {
+    out->chain_source = "made";
+    st = jnd_scene_lod_build(s, &p->chain);
+    if (!st && jnd_scene_lod_count(s) < 2)
+      st = jnd_fail(JND_ERR_FORMAT, "%s: meshoptimizer made no level with fewer triangles (%zu triangles; try larger "
+                    "error targets)", model_path, jnd_scene_triangle_count(s));
+  }
+  if (st) {
+    jnd_lod_report_free(out);
+    return st;
+  }
+  int n = jnd_scene_lod_count(s);
+  out->chain_s = seconds() - t0;
+  /* 003's analysis */
+  double t1 = seconds();
+  if (p->analyse) {
+    jnd_poi_params pp = p->poi;
+    if (!pp.progress) {
+      pp.progress = p->progress;
+      pp.progress_user = p->progress_user;
+    }
+    if ((st = jnd_poi_analyse(s, &pp, &out->poi))) {
+      jnd_lod_report_free(out);
+      return st;
+    }
+    out->analysed = 1;
+  }
+  out->analysis_s = seconds() - t1;
+  /* the switch coverages of the model: each level's error in object units
+   * (measured where meshoptimizer gives none) */
+  double t2 = seconds();
+  jnd_poi_screen ref;
+  if (p->poi.screens && p->poi.nscreens > 0) ref = p->poi.screens[0];
+  else jnd_poi_screen_parse("standard-fhd", &ref);
+  double err[64];
+  for (int k = 0; k < n && k < 64 && !st; k++) {
+    jnd_lod_level_info li;
+    if ((st = jnd_scene_lod_info(s, k, &li))) break;
+    err[k] = li.error_abs;
+    if (!isfinite(err[k])) {
+      jnd_surface_distance dist;
+      if (out->analysed) dist = out->poi.distance[k];
+      else st = jnd_scene_lod_distance(s, k, 16384, 1, &dist);
+      err[k] = dist.max;
+    }
+  }
+  if (!st) coverage_rule(s, &ref, p->poi.meshopt_pixels > 0 ? p->poi.meshopt_pixels : 1, err, out->coverage,
+                         out->coverage_rule, sizeof out->coverage_rule);
+  /* outputs, last */
+  if (!st && p->out_dir) {
+    char dir[4200];
+    snprintf(dir, sizeof dir, "%s/model", p->out_dir);
+    if (p->progress) p->progress(p->progress_user, "writing", 0, 1);
+    if (!(st = mkdir_p(dir))) {
+      const char *base = strrchr(model_path, '/');
+      base = base ? base + 1 : model_path;
+      char stem[256];
+      snprintf(stem, sizeof stem, "%s", base);
+      char *dot = strrchr(stem, '.');
+      if (dot && dot != stem) *dot = 0;
+      for (char *q = stem; *q; q++)
+        if (*q == ':') *q = '_';
+      snprintf(out->model_path, sizeof out->model_path, "%s/%s.glb", dir, stem);
+      st = jnd_scene_write_lod_glb(s, out->model_path, out->coverage);
+    }
+    for (int i = 0; out->analysed && !st && i < out->poi.nscreens && i < 16; i++) {
+      jnd_image img = {0};
+      char name[96], path[4400];
+      snprintf(name, sizeof name, "pareto_%s.png", out->poi.screens[i].screen.name);
+      for (char *q = name; *q; q++)
+        if (*q == '/' || *q == ' ' || *q == '@') *q = '_';
+      snprintf(path, sizeof path, "%s/%s", p->out_dir, name);
+      if (!(st = jnd_poi_pareto_plot(&out->poi, i, &img))) st = jnd_image_write_png(path, &img, 8);
+      jnd_image_free(&img);
+      snprintf(out->plots[out->nplots++], sizeof out->plots[0], "%s", name);
+    }
+    if (p->progress) p->progress(p->progress_user, "writing", 1, 1);
+  }
+  out->write_s = seconds() - t2;
+  if (st) {
+    jnd_lod_report_free(out);
+    return st;
+  }
+  return JND_OK;
 }
