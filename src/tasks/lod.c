@@ -790,10 +790,10 @@ jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, jnd_image *o
   jnd_plot_series ser[2] = {{x, yu, n, lu, jnd_palette(0), 1, 1, 2}, {x, yl, n, ll, jnd_palette(1), 1, 1, 2}};
   snprintf(t, sizeof t, "003 Pareto curves: %s (%d x %d, %.0f px/deg)", R->screen.name, R->screen.width_px,
            R->screen.height_px, R->screen.ppd);
-  snprintf(m[0], sizeof m[0], "PoI lit: %zu", r->levels[R->poi_level].triangles);
-  snprintf(m[1], sizeof m[1], "PoI unlit: %zu", r->levels[R->poi_level_unlit].triangles);
-  snprintf(m[2], sizeof m[2], "meshopt 1 px: %zu", r->levels[R->meshopt_level].triangles);
-  snprintf(m[3], sizeof m[3], "pixel rule: %zu", r->levels[R->pixel_level].triangles);
+  snprintf(m[0], sizeof m[0], "003 lit %zu", r->levels[R->poi_level].triangles);
+  snprintf(m[1], sizeof m[1], "003 unlit %zu", r->levels[R->poi_level_unlit].triangles);
+  snprintf(m[2], sizeof m[2], "meshopt %zu", r->levels[R->meshopt_level].triangles);
+  snprintf(m[3], sizeof m[3], "px rule %zu", r->levels[R->pixel_level].triangles);
   jnd_plot_mark marks[4] = {{x[R->poi_level], m[0], jnd_palette(1)},
                             {x[R->poi_level_unlit], m[1], jnd_palette(0)},
                             {x[R->meshopt_level], m[2], jnd_palette(2)},
@@ -888,7 +888,6 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
   memset(out, 0, sizeof *out);
   jnd_status st;
   double t0 = seconds();
-  if (p->progress) p->progress(p->progress_user, "chain", 0, 1);
   /* the asset */
   if (strncmp(model_path, "builtin", 7) == 0 && (!model_path[7] || model_path[7] == ':')) {
     jnd_builtin_params bp;
