@@ -48,6 +48,7 @@
 #include "io/draw.h"
 #include "jnd.h"
 #include "scene/scene.h"
+#include "tasks/tasks.h"
 #include "vision/vision.h"
 
 enum { MAX_SCREENS = 16, MAX_BANDS = 24 };
@@ -350,6 +351,22 @@ static double mp_sum(const float *y1, const float *y2, int w, int h, double ppd)
   }
   return sum;
 }
+
+double poi_ep_sum_codes(const uint8_t *ref, int w, int h, const uint8_t *test, int mw, int mh, int c) {
+  codes r = {w, h, c, (uint8_t *)ref}, t = {mw, mh, c, (uint8_t *)test};
+  axis_weights ax, ay;
+  if (axis_make(w, mw, &ax)) return NAN;
+  if (axis_make(h, mh, &ay)) {
+    axis_free(&ax);
+    return NAN;
+  }
+  double e = ep_sum(&r, &t, &ax, &ay);
+  axis_free(&ax);
+  axis_free(&ay);
+  return e;
+}
+
+double poi_mp_sum(const float *y1, const float *y2, int w, int h, double ppd) { return mp_sum(y1, y2, w, h, ppd); }
 
 /* 003 §3: the PoI is the knee of the curve against the level of detail,
  * log2 of the triangles (or texels) — 003's wavelet levels are each a

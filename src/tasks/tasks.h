@@ -4,6 +4,7 @@
 #define JND_TASKS_H
 
 #include <stddef.h>
+#include <stdint.h>
 #include "jnd.h"
 
 /* ---- linalg.c: small dense linear algebra for pca.c (begin) ---- */
@@ -49,5 +50,18 @@ jnd_status pca_rendered_visibility(const jnd_texset *set, const jnd_pca_encoded 
                                    const char *model_path, const char *material, double *p_detect);
 
 /* ---- pca.c (end) ---- */
+
+/* ---- lod.c: 003's screen-space and perceptual terms, for tests (begin) ---- */
+
+/* E_p² · W2·H2 (003 eq. 2 before its normalisation): test, mw × mh 8-bit
+ * codes (c planes, the M2 screen), against ref, w × h codes (M1), blocks by
+ * area. */
+double poi_ep_sum_codes(const uint8_t *ref, int w, int h, const uint8_t *test, int mw, int mh, int c);
+
+/* M_p · N (003 eq. 4 before its normalisation) of two w × h luma planes on a
+ * display of ppd pixels per degree. */
+double poi_mp_sum(const float *y1, const float *y2, int w, int h, double ppd);
+
+/* ---- lod.c (end) ---- */
 
 #endif
