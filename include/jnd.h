@@ -328,11 +328,12 @@ typedef enum { JND_KNEE_ABOVE = 0, JND_KNEE_BELOW } jnd_knee_side;
 /* The knee of the curve (x[i], y[i]), i = 0..n−1, x monotone: with both axes
  * scaled to 0..1 between the first and the last point, the point farthest
  * from the chord joining them on the given side ("maximum distance to the
- * chord"). Returns its index; 0 when no point lies strictly on that side of
- * the chord (a straight line, or a curve bent the other way) or n < 3; −1
- * for n < 1 or a value that is not finite. The first of equally far points
- * wins. See src/pool/knee.c. */
-int jnd_knee(const double *x, const double *y, int n, jnd_knee_side side);
+ * chord"). Points whose distance is within the fraction tie (0..1; 0: exact
+ * ties only) of the largest count as equally far, and the first of them
+ * wins. Returns its index; 0 when no point lies strictly on that side of the
+ * chord (a straight line, or a curve bent the other way) or n < 3; −1 for
+ * n < 1 or a value that is not finite. See src/pool/knee.c. */
+int jnd_knee(const double *x, const double *y, int n, jnd_knee_side side, double tie);
 
 /* The one-sided Clopper–Pearson upper bound on a binomial proportion: the
  * largest u with P(X <= k | n, u) >= 1 − confidence (1 when k = n). */

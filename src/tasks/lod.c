@@ -370,7 +370,10 @@ double poi_mp_sum(const float *y1, const float *y2, int w, int h, double ppd) { 
 
 /* 003 §3: the PoI is the knee of the curve against the level of detail,
  * log2 of the triangles (or texels) — 003's wavelet levels are each a
- * factor 4 — farthest below the chord. */
+ * factor 4 — farthest below the chord; levels within 2% of the farthest are
+ * a tie, settled for the finer one (docs/lod.md: a 0.3% difference flipped
+ * the teapot's unlit knee on the 4K screen). */
+#define KNEE_TIE 0.02
 static int knee_of(const double *cost, const double *err, int n) {
   double x[64], y[64];
   if (n > 64) n = 64;
@@ -378,7 +381,7 @@ static int knee_of(const double *cost, const double *err, int n) {
     x[k] = log2(cost[k] > 1 ? cost[k] : 1);
     y[k] = err[k];
   }
-  int k = jnd_knee(x, y, n, JND_KNEE_BELOW);
+  int k = jnd_knee(x, y, n, JND_KNEE_BELOW, KNEE_TIE);
   return k < 0 ? 0 : k;
 }
 

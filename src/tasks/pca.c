@@ -457,7 +457,7 @@ int pca_energy_knee(const double *energy, int n) {
     x[k] = k;
     y[k] = y[k - 1] + energy[k - 1];
   }
-  int knee = jnd_knee(x, y, n + 1, JND_KNEE_ABOVE);
+  int knee = jnd_knee(x, y, n + 1, JND_KNEE_ABOVE, 0);
   return knee < 1 ? 1 : knee;
 }
 
