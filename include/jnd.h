@@ -1554,7 +1554,8 @@ typedef struct {
   char model_path[4600];     /* the GLB written, "" if none */
   int nplots;
   char plots[16][96];        /* pareto_SCREEN.png names, one per screen, under out_dir */
-  double chain_s, analysis_s, write_s; /* wall-clock seconds (not deterministic: for --timings) */
+  double load_s, chain_s, analysis_s, write_s; /* wall-clock seconds of each stage (for --timings) */
+  double load_cpu_s, chain_cpu_s, analysis_cpu_s; /* user + system seconds of all threads */
 } jnd_lod_report;
 
 /* Loads model_path (glTF/GLB/OBJ, or "builtin", "builtin:sphere"), gets its

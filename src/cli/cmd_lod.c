@@ -372,8 +372,12 @@ static int run(int argc, char **argv) {
   cJSON_AddStringToObject(jm, "screen_coverage_rule", R.coverage_rule);
   if (timings) {
     cJSON *t = cJSON_AddObjectToObject(res, "timings");
+    cJSON_AddNumberToObject(t, "load_s", R.load_s);
+    cJSON_AddNumberToObject(t, "load_cpu_s", R.load_cpu_s);
     cJSON_AddNumberToObject(t, "chain_s", R.chain_s);
+    cJSON_AddNumberToObject(t, "chain_cpu_s", R.chain_cpu_s);
     cJSON_AddNumberToObject(t, "analysis_s", R.analysis_s);
+    cJSON_AddNumberToObject(t, "analysis_cpu_s", R.analysis_cpu_s);
     cJSON_AddNumberToObject(t, "write_s", R.write_s);
   }
   char path[4400];

@@ -855,6 +855,13 @@ static double seconds(void) {
   return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
+/* user + system time of every thread of the process */
+static double cpu_seconds(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
 static jnd_status mkdir_p(const char *dir) {
   char buf[4300];
   snprintf(buf, sizeof buf, "%s", dir);
@@ -907,7 +914,7 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
   }
   memset(out, 0, sizeof *out);
   jnd_status st;
-  double t0 = seconds();
+  double t0 = seconds(), c0 = cpu_seconds();
   /* the asset */
   if (strncmp(model_path, "builtin", 7) == 0 && (!model_path[7] || model_path[7] == ':')) {
     jnd_builtin_params bp;
@@ -920,6 +927,10 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
   }
   if (st) return st;
   jnd_scene *s = out->scene;
+  out->load_s = seconds() - t0;
+  out->load_cpu_s = cpu_seconds() - c0;
+  t0 = seconds();
+  c0 = cpu_seconds();
   /* its chain */
   if (p->nlevel_paths > 0) {
     if (jnd_scene_lod_count(s) > 1) {
@@ -946,8 +957,9 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
   }
   int n = jnd_scene_lod_count(s);
   out->chain_s = seconds() - t0;
+  out->chain_cpu_s = cpu_seconds() - c0;
   /* 003's analysis */
-  double t1 = seconds();
+  double t1 = seconds(), c1 = cpu_seconds();
   if (p->analyse) {
     jnd_poi_params pp = p->poi;
     if (!pp.progress) {
@@ -961,6 +973,7 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
     out->analysed = 1;
   }
   out->analysis_s = seconds() - t1;
+  out->analysis_cpu_s = cpu_seconds() - c1;
   /* the switch coverages of the model: each level's error in object units
    * (measured where meshoptimizer gives none) */
   double t2 = seconds();
