@@ -1,5 +1,9 @@
-/* libFuzzer target: jnd texres's glTF writer (src/tasks/texres_model.c) on
- * arbitrary bytes as the source model. It parses the GLB container and the
+/* libFuzzer target: the glTF readers jnd has of its own, on arbitrary bytes
+ * as the source model: texres's glTF writer (src/tasks/texres_model.c) and
+ * the MSFT_lod reader of the level-of-detail chain (src/scene/gltf_lod.c,
+ * which rewrites the file once per level for assimp to import; every level
+ * it reports must rewrite, and a rewrite must parse as the container it came
+ * in). First texres's writer: It parses the GLB container and the
  * glTF JSON itself (assimp has read the model before, but the writer reads
  * the file again), re-encodes resized maps into images and rebuilds the
  * binary chunk. Any input must give JND_OK with the model written, or an
@@ -13,6 +17,7 @@
 #include <unistd.h>
 
 #include "fuzz.h"
+#include "scene/scene.h"
 
 static jnd_scene *scene;
 static char dir[256], out_dir[300];
@@ -59,5 +64,25 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     abort();
   }
   clear_dir(out_dir);
+
+  /* MSFT_lod: the level count, then every level's variant */
+  int levels = 0;
+  jnd_status ls = jnd_gltf_lod_variant("model", data, size, 0, &levels, NULL, NULL);
+  if (ls != JND_OK && !jnd_last_error()[0]) abort();
+  if (ls == JND_OK && (levels < 1 || levels > 64)) abort();
+  for (int k = 0; ls == JND_OK && levels > 1 && k < levels && k < 8; k++) {
+    unsigned char *var = NULL;
+    size_t vn = 0;
+    int again = 0;
+    if (jnd_gltf_lod_variant("model", data, size, k, &again, &var, &vn) != JND_OK || again != levels || !var) abort();
+    const unsigned char *json, *bin;
+    size_t jn, bn;
+    int glb = jnd_glb_split(var, vn, &json, &jn, &bin, &bn);
+    if (glb != (size >= 4 && memcmp(data, "glTF", 4) == 0)) abort();
+    /* a variant has no MSFT_lod left, so it reports one level */
+    int one = 0;
+    if (jnd_gltf_lod_variant("variant", var, vn, 0, &one, NULL, NULL) != JND_OK || one != 1) abort();
+    free(var);
+  }
   return 0;
 }

@@ -336,6 +336,22 @@ typedef struct {
 jnd_status jnd_criterion_eval(const double *p_views, int n, double p, double q, double confidence,
                               jnd_criterion_result *out);
 
+/* Which side of its chord a curve bends to: a cumulative curve that rises
+ * fast then flattens lies ABOVE its chord (pca's energy, 001); an error
+ * curve that stays flat then rises sharply lies BELOW it (lod's Pareto
+ * curve, 003 §3). */
+typedef enum { JND_KNEE_ABOVE = 0, JND_KNEE_BELOW } jnd_knee_side;
+
+/* The knee of the curve (x[i], y[i]), i = 0..n−1, x monotone: with both axes
+ * scaled to 0..1 between the first and the last point, the point farthest
+ * from the chord joining them on the given side ("maximum distance to the
+ * chord"). Points whose distance is within the fraction tie (0..1; 0: exact
+ * ties only) of the largest count as equally far, and the first of them
+ * wins. Returns its index; 0 when no point lies strictly on that side of the
+ * chord (a straight line, or a curve bent the other way) or n < 3; −1 for
+ * n < 1 or a value that is not finite. See src/pool/knee.c. */
+int jnd_knee(const double *x, const double *y, int n, jnd_knee_side side, double tie);
+
 /* The one-sided Clopper–Pearson upper bound on a binomial proportion: the
  * largest u with P(X <= k | n, u) >= 1 − confidence (1 when k = n). */
 double jnd_binomial_upper(int k, int n, double confidence);
@@ -435,7 +451,9 @@ jnd_map_kind jnd_map_slot_kind(jnd_map_slot slot);
 
 /* Loads a glTF 2.0 (.gltf with external or embedded buffers, .glb) or OBJ +
  * MTL file with assimp: triangulated, node transforms applied, tangents
- * computed where the file has none (docs/render.md). A texture file that is
+ * computed where the file has none (docs/render.md). Levels of detail a glTF
+ * file has as MSFT_lod nodes become the scene's levels 1.. (docs/lod.md;
+ * jnd_scene_lod_count), level 0 selected. A texture file that is
  * missing or unreadable is not an error: the slot falls back to its factor
  * and a warning is recorded (jnd_scene_warning). A malformed model, or one
  * without triangles, is JND_ERR_FORMAT "PATH: problem"; a missing model
@@ -554,6 +572,141 @@ jnd_status jnd_resample_map(const jnd_image *in, int w, int h, jnd_map_kind kind
                             jnd_image *out);
 
 /* ------------------------------------------------------------------------ */
+/* Levels of detail (scene)                                                 */
+/* ------------------------------------------------------------------------ */
+/* A scene can hold a chain of levels of detail: level 0 is the file's meshes;
+ * level k > 0 is a simpler version of every mesh, made with meshoptimizer
+ * (jnd_scene_lod_build) or taken from another file or a glTF MSFT_lod node
+ * (jnd_scene_lod_add, jnd_scene_load). Mesh i of every level has mesh i's
+ * material. One level is in use at a time (jnd_scene_lod_select): the
+ * renderer draws it, and uploads a mesh again only when its level changed,
+ * so a task can measure level after level with one renderer. Typical use:
+ *
+ *     jnd_scene *s;  jnd_scene_load("bunny.obj", &s);
+ *     jnd_lod_params lp;  jnd_lod_defaults(&lp);          // error targets 1/4096 .. 1/16
+ *     jnd_scene_lod_build(s, &lp);
+ *     for (int k = 0; k < jnd_scene_lod_count(s); k++) {
+ *       jnd_lod_level_info li;  jnd_scene_lod_info(s, k, &li);
+ *       jnd_scene_lod_select(s, k);                        // the next jnd_render draws level k
+ *       ...
+ *     }
+ *     jnd_scene_lod_select(s, 0);
+ * See docs/lod.md. */
+
+/* How a level was made. */
+typedef enum {
+  JND_LOD_INPUT = 0,      /* level 0: the file's meshes */
+  JND_LOD_SIMPLIFIED,     /* meshopt_simplify, keeping the mesh's topology and attribute seams */
+  JND_LOD_SLOPPY,         /* at least one mesh needed the fallback meshopt_simplifySloppy, which
+                             ignores topology and seams (docs/lod.md says when) */
+  JND_LOD_IMPORTED        /* from another file or a glTF MSFT_lod node */
+} jnd_lod_method;
+
+/* One level of a chain. */
+typedef struct {
+  size_t triangles;        /* of all meshes */
+  size_t vertices;         /* distinct vertices its triangles use */
+  double target_error;     /* the error target that made it, relative to the scene's extent
+                              (0: level 0; NaN: imported, or made for a triangle ratio) */
+  double target_ratio;     /* the triangle ratio that made it (NaN: made for an error target) */
+  double error;            /* meshoptimizer's result error relative to the scene's extent (the
+                              largest side of the bounding box of level 0, meshopt_simplifyScale's
+                              unit), the largest over the meshes; a level simplified from a
+                              simpler one carries the sum of both steps' errors, an upper bound
+                              (docs/lod.md). 0 for level 0, NaN for imported levels */
+  double error_abs;        /* the same in object units */
+  jnd_lod_method method;
+  int sloppy_meshes;       /* meshes of this level made with meshopt_simplifySloppy */
+  char source[256];        /* where an imported level came from ("FILE" or "FILE#node N") */
+} jnd_lod_level_info;
+
+/* Parameters of a chain made with meshoptimizer (0.18: meshopt_simplify with
+ * a target error and no target count; docs/lod.md). */
+typedef struct {
+  const double *errors;    /* error targets relative to the scene's extent (0.01 = 1% of the largest
+                              side of its bounding box), ascending; NULL: the default list, 1/4096,
+                              1/2048, ... 1/16 (9 levels) */
+  int nerrors;
+  const double *ratios;    /* used when errors is NULL and ratios is not: triangle ratios (0..1),
+                              descending, each level aiming at ratio × the mesh's triangles */
+  int nratios;
+  int lock_border;         /* −1 (default): lock the open borders of every mesh when the scene has
+                              more than one mesh (so that meshes that meet do not part); 0: never;
+                              1: always (meshopt_SimplifyLockBorder) */
+  int allow_sloppy;        /* 1 (default): where meshopt_simplify cannot collapse any further edge
+                              before a level's target (its topology or seams stop it),
+                              meshopt_simplifySloppy makes that mesh's level if it gets fewer
+                              triangles within the target; 0: never */
+  int threads;             /* 0: OpenMP's default; the chain is the same for every count */
+} jnd_lod_params;
+
+/* Fills p with the defaults above. */
+void jnd_lod_defaults(jnd_lod_params *p);
+
+/* Replaces the scene's levels 1.. by a chain made from level 0 with
+ * meshoptimizer, one level per target (a target that gives no fewer
+ * triangles than the level before it adds no level). Attribute seams (uv
+ * and vertex colour) are kept as meshopt_simplify keeps them; normals are
+ * taken back per corner from the input's vertices (hard edges stay hard
+ * where the surface still bends there). Each level is simplified from the
+ * coarsest earlier level whose target is at most a quarter of its own (from
+ * level 0 for the first ones), so that a 1 M-triangle mesh costs two passes
+ * over the input. Level 0 is selected on return. JND_ERR_FORMAT "PATH:
+ * problem" for a scene whose triangles all have zero area; JND_ERR_ARG for
+ * bad targets. */
+jnd_status jnd_scene_lod_build(jnd_scene *s, const jnd_lod_params *p);
+
+/* Appends the meshes of another scene as the next level (an artist's LOD
+ * file): its meshes are matched to this scene's by material name (all of a
+ * material's triangles become that mesh's level; a mesh with no match is
+ * empty at that level). level is consumed (freed) whatever the outcome;
+ * source names it in jnd_lod_level_info. JND_ERR_ARG "SOURCE: ..." when it
+ * has a material this scene lacks. */
+jnd_status jnd_scene_lod_add(jnd_scene *s, jnd_scene *level, const char *source);
+
+/* Number of levels (1: the file's meshes only), and the description of level k. */
+int jnd_scene_lod_count(const jnd_scene *s);
+jnd_status jnd_scene_lod_info(const jnd_scene *s, int level, jnd_lod_level_info *out);
+
+/* Makes level k (0 ≤ k < count) the one in use: jnd_scene_triangle_count
+ * and jnd_render see it. The renderer notices which meshes changed and
+ * uploads only those again. */
+jnd_status jnd_scene_lod_select(jnd_scene *s, int level);
+
+/* The level in use. */
+int jnd_scene_lod_selected(const jnd_scene *s);
+
+/* Writes the scene with every level of detail as one binary glTF 2.0 file
+ * (atomically): node 0 holds level 0 (a primitive per scene mesh) and the
+ * MSFT_lod extension listing nodes 1.., which hold the other levels; only
+ * node 0 is in the glTF scene, so a reader without MSFT_lod shows level 0.
+ * coverage (NULL: none) gives jnd_scene_lod_count values written as node
+ * 0's extras.MSFT_screencoverage: level k is shown while the object covers
+ * more than coverage[k] of the screen's height (the last value: below it
+ * nothing is drawn). Meshes are in object units with the file's node
+ * transforms applied; materials are written from the scene's (factors,
+ * alpha, double-sidedness, uv sets, KHR_texture_transform), maps as 8-bit
+ * PNGs of the maps in use. jnd_scene_load reads the levels back. */
+jnd_status jnd_scene_write_lod_glb(const jnd_scene *s, const char *path, const double *coverage);
+
+/* How far a level's surface lies from level 0's, in object units: points
+ * sampled on level 0 uniformly by area (stratified, seeded), each taken to
+ * the nearest point of the level's surface (003 eq. 1's l^p(T_i, S2)). */
+typedef struct {
+  int samples;
+  double mean;             /* mean distance */
+  double rms;              /* root mean square (p = 2) */
+  double max;              /* largest sampled distance (a one-sided Hausdorff estimate) */
+} jnd_surface_distance;
+
+/* Samples `samples` points on level 0 (seed fixes them) and measures their
+ * distance to level `level` (a bounding-volume hierarchy over its
+ * triangles; exact point–triangle distances). Deterministic whatever the
+ * thread count. JND_ERR_FORMAT when level 0 has no area. */
+jnd_status jnd_scene_lod_distance(const jnd_scene *s, int level, int samples, uint64_t seed,
+                                  jnd_surface_distance *out);
+
+/* ------------------------------------------------------------------------ */
 /* Renderer and views                                                       */
 /* ------------------------------------------------------------------------ */
 /* A headless OpenGL 4.5 core renderer (EGL, no window system: a GPU through
@@ -642,6 +795,8 @@ typedef struct {
   double env_rotation_deg;   /* rotation of the environment about +Y, degrees */
   double exposure;           /* multiplier on the linear result (default 1) */
   int background_env;        /* 1: the environment is visible behind the object; 0: black */
+  int unlit;                 /* 1: colour is the material's base colour (factor × map × vertex
+                                colour) × exposure, without any light (003 §4.1) */
   unsigned outputs;          /* JND_OUT_* (default colour) */
 } jnd_view;
 
@@ -1163,6 +1318,183 @@ jnd_status jnd_calibrate_fit(const jnd_calib_scene *scenes, int n, const jnd_cal
 
 /* Frees the arrays of a result; safe on a zeroed struct. */
 void jnd_calibrate_result_free(jnd_calibrate_result *r);
+
+/* ------------------------------------------------------------------------ */
+/* Point of Imperceptibility of a level-of-detail chain (003)              */
+/* ------------------------------------------------------------------------ */
+/* Wu, Agu & Lindsay (2007), 003: per target screen, an error for every level
+ * of a chain — the object-space term (1 − F2/F1) × the area-weighted L2
+ * distance between the surfaces plus the screen-space term E_p of the level
+ * rendered on a large virtual screen M1 and minified to the screen M2
+ * (eq. 1), and that times the perceptual term M_p, the difference of the
+ * lit renderings' Haar bands weighted by the Mannos–Sakrison CSF (eqs.
+ * 3–4) — and the knee of each Pareto curve as the Point of
+ * Imperceptibility; the same for each texture map over its mip chain
+ * (003 §4.3). Beside it, two rules of thumb. What 003 leaves open and how it
+ * is decided here: docs/lod.md. Typical use:
+ *
+ *     jnd_scene *s;  jnd_scene_load("bunny.obj", &s);
+ *     jnd_scene_lod_build(s, NULL);                       // the chain
+ *     jnd_poi_params pp;  jnd_poi_defaults(&pp);          // 4 screens, 2 views
+ *     jnd_poi_result r;  jnd_poi_analyse(s, &pp, &r);
+ *     for (int i = 0; i < r.nscreens; i++)
+ *       printf("%s: level %d\n", r.screens[i].screen.name, r.screens[i].poi_level);
+ *     jnd_poi_result_free(&r);  jnd_scene_free(s);
+ */
+
+/* A target screen: its resolution and the pixels per degree its viewer sees. */
+typedef struct {
+  char name[32];
+  int width_px, height_px;
+  double ppd;
+} jnd_poi_screen;
+
+/* Fills s from "PRESET" (a display preset with a pixel size: standard-fhd,
+ * standard-4k, phone, laptop), "WxH" (pixels; ppd of a 24" 16:9-class
+ * screen at 60 cm, see docs/lod.md) or "WxH@PPD". JND_ERR_ARG otherwise
+ * (vr has no pixel size: give WxH@PPD). */
+jnd_status jnd_poi_screen_parse(const char *spec, jnd_poi_screen *s);
+
+typedef struct {
+  const jnd_poi_screen *screens; /* target screens (NULL: standard-fhd, standard-4k, phone, laptop) */
+  int nscreens;
+  int views;                 /* views averaged (2; 003 used one, and proposes several) */
+  uint64_t seed;             /* view and light sampling seed (1) */
+  double coverage;           /* fraction of each screen's height the bounding sphere fills (0.5) */
+  double fov_y_deg;          /* vertical field of view (45) */
+  int lights;                /* directional key lights of the lit renderings (1) */
+  double virtual_scale;      /* the virtual screen M1 shows the object this many times larger
+                                than the largest screen does (1.5) ... */
+  int max_virtual_px;        /* ... but at most this many pixels a side (4096) */
+  int anisotropy;            /* renderer anisotropy of the M1 renderings (4) */
+  int surface_samples;       /* points sampled on level 0 for the object-space term (65536) */
+  double meshopt_pixels;     /* meshoptimizer's rule: the coarsest level whose result error covers
+                                at most this many pixels (1) */
+  double pixel_error;        /* the fixed pixel-error rule: the coarsest level whose measured largest
+                                deviation covers at most this many pixels (0.5) */
+  int textures;              /* 1 (default): also each texture map over its mip chain (003 §4.3) */
+  int min_texture_px;        /* the mip chain stops at this longer side (8) */
+  const char *env_path;      /* environment of the lit renderings (NULL: the studio) */
+  const char *platform;      /* EGL platform (NULL: auto) */
+  void (*progress)(void *user, const char *stage, int done, int total); /* NULL or per step */
+  void *progress_user;
+} jnd_poi_params;
+
+/* Fills p with the defaults above. */
+void jnd_poi_defaults(jnd_poi_params *p);
+
+/* One level on one screen's Pareto curve. Every term is dimensionless. */
+typedef struct {
+  double object;             /* eq. 1's object-space term: (1 − F2/F1) × the RMS distance from level
+                                0's surface to this level's, over the scene's extent */
+  double e_p;                /* eq. 2 (p = 2) of the unlit renderings: RGB RMSE in 1/256 steps over the
+                                screen's W × H pixels, RMS over the views */
+  double m_p;                /* eq. 4 of the lit renderings, mean over the views */
+  double error;              /* eq. 1: object + e_p (unlit) */
+  double error_lit;          /* eq. 3: error × m_p */
+  double meshopt_px;         /* meshoptimizer's error on this screen, pixels (measured max for imported levels) */
+  double deviation_px;       /* the measured largest deviation on this screen, pixels */
+} jnd_poi_point;
+
+typedef struct {
+  jnd_poi_screen screen;
+  double object_px;          /* the bounding sphere's diameter on this screen, pixels */
+  int m2_px;                 /* the side of the screen region that holds it (M2), pixels */
+  int nlevels;
+  jnd_poi_point *curve;      /* nlevels; owned */
+  int poi_level;             /* knee of error_lit: 003's Point of Imperceptibility (eq. 3) */
+  int poi_level_unlit;       /* knee of error (eq. 1) */
+  int meshopt_level;         /* the coarsest level meshoptimizer's rule allows */
+  int pixel_level;           /* the coarsest level the fixed pixel-error rule allows */
+} jnd_poi_screen_result;
+
+/* A texture map over its mip chain (003 §4.3): E_p and M_p only. */
+typedef struct {
+  int map;                   /* scene map index */
+  char name[128];            /* MATERIAL/SLOT */
+  int nlevels;
+  int (*size)[2];            /* nlevels × (width, height); owned */
+  int nscreens;
+  double *e_p, *m_p;         /* nscreens × nlevels (screen-major); owned */
+  double *error;             /* e_p × m_p: eq. 3 without the object-space term */
+  int *poi_level;            /* per screen: knee of error */
+  int *poi_level_ep;         /* per screen: knee of e_p alone */
+} jnd_poi_texture;
+
+typedef struct {
+  int nlevels;
+  jnd_lod_level_info *levels;        /* owned */
+  jnd_surface_distance *distance;    /* per level, from level 0; owned */
+  double extent, radius;             /* scene extent (largest bounding-box side) and sphere radius */
+  int nscreens;
+  jnd_poi_screen_result *screens;    /* owned */
+  int ntextures;
+  jnd_poi_texture *textures;         /* owned */
+  int virtual_px;                    /* side of the virtual screen M1 */
+  int views, renderings;
+  char renderer[160];
+} jnd_poi_result;
+
+/* Runs 003's analysis on the scene's chain (it needs at least two levels:
+ * jnd_scene_lod_build or imported ones). Renders every level unlit and lit
+ * from p->views views on one virtual screen and minifies to each target;
+ * deterministic whatever the thread count. Level 0 is selected on return.
+ * out owns arrays (jnd_poi_result_free). JND_ERR_ARG for a scene with one
+ * level; JND_ERR_GL without a renderer. */
+jnd_status jnd_poi_analyse(jnd_scene *scene, const jnd_poi_params *p, jnd_poi_result *out);
+
+/* Frees a result's arrays; safe on a zeroed struct. */
+void jnd_poi_result_free(jnd_poi_result *r);
+
+/* The Pareto plot of screen i: both curves (each over its largest value)
+ * against triangles (log axis), 003's knees and the rules of thumb marked.
+ * out is allocated (3 channels, sRGB 0..1) for jnd_image_write_png. */
+jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, jnd_image *out);
+
+/* `jnd lod` as one call: the chain (made with meshoptimizer, or the one the
+ * file has as MSFT_lod, or levels from other files), 003's analysis per
+ * screen, and the outputs: OUT/model/NAME.glb (every level, MSFT_lod with
+ * MSFT_screencoverage) and OUT/pareto_SCREEN.png. The perceptual choice
+ * and switch distances through the judge are a later step (docs/lod.md). */
+typedef struct {
+  jnd_lod_params chain;      /* how a chain is made */
+  int rebuild;               /* 1: make a chain even when the file has MSFT_lod levels (0) */
+  const char *const *level_paths; /* levels from other files, finest first: used as levels 1.. instead */
+  int nlevel_paths;
+  int analyse;               /* 1 (default): 003's analysis; 0: the chain and the model only */
+  jnd_poi_params poi;        /* the analysis (jnd_poi_defaults) */
+  int builtin_map_size;      /* map side of MODEL "builtin" / "builtin:sphere" (512) */
+  const char *out_dir;       /* NULL: nothing written; else created, and the model and plots written */
+  void (*progress)(void *user, const char *stage, int done, int total); /* also the analysis's */
+  void *progress_user;
+} jnd_lod_run_params;
+
+/* Fills p with the defaults above. */
+void jnd_lod_run_defaults(jnd_lod_run_params *p);
+
+typedef struct {
+  jnd_scene *scene;          /* the asset with its chain, level 0 selected (owned) */
+  const char *chain_source;  /* "made" (meshoptimizer), "file" (MSFT_lod), "levels" (other files) */
+  int analysed;
+  jnd_poi_result poi;        /* when analysed */
+  double coverage[64];       /* MSFT_screencoverage written, one per level (jnd_scene_write_lod_glb) */
+  char coverage_rule[160];   /* how they were chosen */
+  char model_path[4600];     /* the GLB written, "" if none */
+  int nplots;
+  char plots[16][96];        /* pareto_SCREEN.png names, one per screen, under out_dir */
+  double load_s, chain_s, analysis_s, write_s; /* wall-clock seconds of each stage (for --timings) */
+  double load_cpu_s, chain_cpu_s, analysis_cpu_s; /* user + system seconds of all threads */
+} jnd_lod_report;
+
+/* Loads model_path (glTF/GLB/OBJ, or "builtin", "builtin:sphere"), gets its
+ * chain, runs the analysis and writes the outputs. Every input is checked
+ * before anything is written: a bad model, level file or parameter is an
+ * error ("FILE: problem") and out_dir is not touched. The input is never
+ * written. out is the caller's (jnd_lod_report_free). */
+jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_lod_report *out);
+
+/* Frees the scene and the analysis; safe on a zeroed struct. */
+void jnd_lod_report_free(jnd_lod_report *r);
 
 /* ------------------------------------------------------------------------ */
 /* Tasks: texture-set PCA (001)                                             */

@@ -44,6 +44,10 @@ static void help(void) {
       "  --strict            a texture that cannot be loaded is an error (default: the slot\n"
       "                      falls back to its factor with a warning, as engines do)\n"
       "\n"
+      "levels of detail (a glTF with MSFT_lod, e.g. what jnd lod writes):\n"
+      "  --lod K             render level K (0: the finest, the default)\n"
+      "  --list-lods         print the levels and their triangles and exit\n"
+      "\n"
       "outputs (written to DIR, listed in DIR/views.json):\n"
       "  -o, --output DIR    the folder (created)\n"
       "  --outputs LIST      any of color,depth,mask,motion,mip,exr (default color,mask):\n"
@@ -271,6 +275,7 @@ static int run(int argc, char **argv) {
   cli_views vo;
   cli_views_init(&vo, 512, 512);
   int list_maps = 0, strict = 0;
+  int lod = 0, list_lods = 0;
   int background_env = 0, nlights_fixed = 0;
   double env_intensity = 1, env_rotation = 0, exposure = 1, motion_orbit = 0.5;
   unsigned outputs = O_COLOR | O_MASK;
@@ -322,6 +327,10 @@ static int run(int argc, char **argv) {
       }
     } else if (cli_flag(ap, "--list-maps")) {
       list_maps = 1;
+    } else if (cli_opt(ap, "--lod", &v)) {
+      lod = cli_int(ap, "--lod", v, 0, 63);
+    } else if (cli_flag(ap, "--list-lods")) {
+      list_lods = 1;
     } else if (cli_flag(ap, "--strict")) {
       strict = 1;
     } else if (cli_opt(ap, "--outputs", &v)) {
@@ -343,7 +352,7 @@ static int run(int argc, char **argv) {
     cli_error("render: give a MODEL (a .gltf/.glb/.obj file or builtin); jnd render --help");
     return EXIT_BAD;
   }
-  if (!dir && !list_maps) {
+  if (!dir && !list_maps && !list_lods) {
     cli_error("render: give an output folder with -o DIR; jnd render --help");
     return EXIT_BAD;
   }
@@ -364,6 +373,20 @@ static int run(int argc, char **argv) {
       goto done;
     }
     if (!common.quiet) fprintf(stderr, "jnd: warning: %s\n", jnd_scene_warning(scene, i));
+  }
+  if (list_lods) {
+    for (int k = 0; k < jnd_scene_lod_count(scene); k++) {
+      jnd_lod_level_info li;
+      jnd_scene_lod_info(scene, k, &li);
+      printf("level %-3d %10zu triangles %10zu vertices%s%s\n", k, li.triangles, li.vertices, li.source[0] ? "  " : "",
+             li.source);
+    }
+    rc = EXIT_OK;
+    goto done;
+  }
+  if (jnd_scene_lod_select(scene, lod) != JND_OK) {
+    cli_error("%s", jnd_last_error());
+    goto done;
   }
   if (list_maps) {
     for (int i = 0; i < jnd_scene_map_count(scene); i++) {
@@ -445,6 +468,8 @@ static int run(int argc, char **argv) {
   cJSON_AddItemToObject(res, "centre", vec3_json(centre));
   cJSON_AddNumberToObject(res, "radius", radius);
   cJSON_AddNumberToObject(res, "triangles", (double)jnd_scene_triangle_count(scene));
+  cJSON_AddNumberToObject(res, "lod", lod);
+  cJSON_AddNumberToObject(res, "lod_levels", jnd_scene_lod_count(scene));
   cJSON_AddNumberToObject(res, "materials", jnd_scene_material_count(scene));
   int nmaps = jnd_scene_map_count(scene);
   cJSON *jmaps = cJSON_AddArrayToObject(report, "maps");

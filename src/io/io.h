@@ -54,4 +54,22 @@ uint32_t jnd_crc32(const unsigned char *buf, size_t n);
 /* Refuses NaN and Inf samples. */
 jnd_status jnd_image_check_finite(const char *name, const jnd_image *img);
 
+/* ---- a growable byte buffer and the binary glTF container (glb.c) ---- */
+typedef struct {
+  unsigned char *p;
+  size_t n, cap;
+  int failed;          /* an allocation failed: later puts do nothing */
+} jnd_buf;
+void jnd_buf_put(jnd_buf *b, const void *data, size_t n);
+void jnd_buf_pad4(jnd_buf *b, unsigned char fill);
+void jnd_buf_free(jnd_buf *b);
+/* Splits a file into its glTF JSON and binary chunk: 1 for a GLB (json and
+ * bin point into file; bin NULL when it has no BIN chunk), 0 for plain JSON
+ * (json is the whole file), −1 for a malformed GLB header or JSON chunk. */
+int jnd_glb_split(const unsigned char *file, size_t n, const unsigned char **json, size_t *json_n,
+                  const unsigned char **bin, size_t *bin_n);
+/* Builds a GLB (version 2) from JSON text and a binary chunk (bin_n 0:
+ * none), each padded to 4 bytes (JSON with spaces, BIN with zeros). */
+jnd_status jnd_glb_join(const char *json, size_t json_n, const unsigned char *bin, size_t bin_n, jnd_buf *out);
+
 #endif

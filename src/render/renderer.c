@@ -21,6 +21,7 @@ typedef struct {
   GLsizei count;
   int material;
   double centre[3];
+  uint64_t version;     /* the jnd_mesh version uploaded (a level of detail) */
 } gpu_mesh;
 
 typedef struct {
@@ -34,9 +35,10 @@ struct jnd_renderer {
   char desc[320];
   int w, h, samples, aniso;
   float max_aniso;
-  /* the PBR program in four variants: [aux pass][alpha mask]; only the
-   * masked variant may discard, so that the others keep early depth tests */
-  GLuint prog[2][2], bg_prog, empty_vao;
+  /* the PBR program in six variants: [pass][alpha mask], pass 0 shaded
+   * colour, 1 auxiliary, 2 unlit colour; only the masked variant may
+   * discard, so that the others keep early depth tests */
+  GLuint prog[3][2], bg_prog, empty_vao;
   GLuint msaa_fbo, msaa_color, msaa_depth;
   GLuint resolve_fbo, resolve_color;
   GLuint aux_fbo, aux_tex[3], aux_depth;
@@ -231,9 +233,10 @@ jnd_status jnd_renderer_create(const jnd_renderer_params *p, jnd_renderer **out)
   glGetError();   /* no anisotropic filtering: ma stays 1 */
   r->max_aniso = (float)(p->anisotropy < 1 ? 1 : p->anisotropy);
   if (r->max_aniso > ma) r->max_aniso = ma;
-  static const char *const variants[2][2] = {{"", "#define JND_ALPHA_MASK 1\n"},
-                                             {"#define JND_AUX 1\n", "#define JND_AUX 1\n#define JND_ALPHA_MASK 1\n"}};
-  for (int a = 0; a < 2 && !st; a++)
+  static const char *const variants[3][2] = {{"", "#define JND_ALPHA_MASK 1\n"},
+                                             {"#define JND_AUX 1\n", "#define JND_AUX 1\n#define JND_ALPHA_MASK 1\n"},
+                                             {"#define JND_UNLIT 1\n", "#define JND_UNLIT 1\n#define JND_ALPHA_MASK 1\n"}};
+  for (int a = 0; a < 3 && !st; a++)
     for (int m = 0; m < 2 && !st; m++) st = compile("pbr_vert", "pbr_frag", variants[a][m], &r->prog[a][m]);
   if (st || (st = compile("bg_vert", "bg_frag", "", &r->bg_prog)) ||
       (st = make_targets(r)) || (st = load_environment(r, p->env_path))) {
@@ -266,7 +269,7 @@ void jnd_renderer_free(jnd_renderer *r) {
     jnd_gl_use(&r->gl);
     drop_scene(r);
     delete_targets(r);
-    for (int a = 0; a < 2; a++)
+    for (int a = 0; a < 3; a++)
       for (int m = 0; m < 2; m++) glDeleteProgram(r->prog[a][m]);
     glDeleteProgram(r->bg_prog);
     GLuint t[3] = {r->env_tex, r->bg_tex, r->brdf_tex};
@@ -328,38 +331,51 @@ static jnd_status upload_map(jnd_renderer *r, const jnd_map *m, jnd_map_slot slo
   return gl_check("texture upload");
 }
 
+/* (Re)creates the GL buffers of one mesh: at first upload, and when the
+ * mesh's level of detail changed (its version). */
+static void upload_mesh(const jnd_mesh *m, gpu_mesh *g) {
+  if (g->vao) {
+    glDeleteVertexArrays(1, &g->vao);
+    glDeleteBuffers(1, &g->vbo);
+    glDeleteBuffers(1, &g->ibo);
+  }
+  glCreateVertexArrays(1, &g->vao);
+  glCreateBuffers(1, &g->vbo);
+  glCreateBuffers(1, &g->ibo);
+  /* a level may have no triangles: GL buffers of size 0 are not allowed */
+  glNamedBufferStorage(g->vbo, (GLsizeiptr)((m->nverts ? m->nverts : 1) * JND_VTX_FLOATS * sizeof(float)),
+                       m->nverts ? m->vertices : NULL, 0);
+  glNamedBufferStorage(g->ibo, (GLsizeiptr)((m->ntris ? m->ntris : 1) * 3 * sizeof(uint32_t)),
+                       m->ntris ? m->indices : NULL, 0);
+  glVertexArrayVertexBuffer(g->vao, 0, g->vbo, 0, JND_VTX_FLOATS * sizeof(float));
+  glVertexArrayElementBuffer(g->vao, g->ibo);
+  static const int comps[6] = {3, 3, 4, 2, 2, 4}, offs[6] = {0, 3, 6, 10, 12, 14};
+  for (int a = 0; a < 6; a++) {
+    glEnableVertexArrayAttrib(g->vao, a);
+    glVertexArrayAttribFormat(g->vao, a, comps[a], GL_FLOAT, GL_FALSE, offs[a] * sizeof(float));
+    glVertexArrayAttribBinding(g->vao, a, 0);
+  }
+  g->count = (GLsizei)(m->ntris * 3);
+  g->material = m->material;
+  g->version = m->version;
+  double acc[3] = {0, 0, 0};
+  for (size_t v = 0; v < m->nverts; v++)
+    for (int k = 0; k < 3; k++) acc[k] += m->vertices[v * JND_VTX_FLOATS + k];
+  for (int k = 0; k < 3; k++) g->centre[k] = m->nverts ? acc[k] / m->nverts : 0;
+}
+
 static jnd_status sync_scene(jnd_renderer *r, const jnd_scene *s) {
   if (r->scene_id != s->id) {
     drop_scene(r);
     r->meshes = jnd_calloc(s->nmeshes ? (size_t)s->nmeshes : 1, sizeof *r->meshes);
     r->maps = jnd_calloc(s->nmaps ? (size_t)s->nmaps : 1, sizeof *r->maps);
     if (!r->meshes || !r->maps) return JND_ERR_NOMEM;
-    for (int i = 0; i < s->nmeshes; i++) {
-      const jnd_mesh *m = &s->meshes[i];
-      gpu_mesh *g = &r->meshes[r->nmeshes++];
-      glCreateVertexArrays(1, &g->vao);
-      glCreateBuffers(1, &g->vbo);
-      glCreateBuffers(1, &g->ibo);
-      glNamedBufferStorage(g->vbo, (GLsizeiptr)(m->nverts * JND_VTX_FLOATS * sizeof(float)), m->vertices, 0);
-      glNamedBufferStorage(g->ibo, (GLsizeiptr)(m->ntris * 3 * sizeof(uint32_t)), m->indices, 0);
-      glVertexArrayVertexBuffer(g->vao, 0, g->vbo, 0, JND_VTX_FLOATS * sizeof(float));
-      glVertexArrayElementBuffer(g->vao, g->ibo);
-      static const int comps[6] = {3, 3, 4, 2, 2, 4}, offs[6] = {0, 3, 6, 10, 12, 14};
-      for (int a = 0; a < 6; a++) {
-        glEnableVertexArrayAttrib(g->vao, a);
-        glVertexArrayAttribFormat(g->vao, a, comps[a], GL_FLOAT, GL_FALSE, offs[a] * sizeof(float));
-        glVertexArrayAttribBinding(g->vao, a, 0);
-      }
-      g->count = (GLsizei)(m->ntris * 3);
-      g->material = m->material;
-      double acc[3] = {0, 0, 0};
-      for (size_t v = 0; v < m->nverts; v++)
-        for (int k = 0; k < 3; k++) acc[k] += m->vertices[v * JND_VTX_FLOATS + k];
-      for (int k = 0; k < 3; k++) g->centre[k] = m->nverts ? acc[k] / m->nverts : 0;
-    }
+    for (int i = 0; i < s->nmeshes; i++) upload_mesh(&s->meshes[i], &r->meshes[r->nmeshes++]);
     r->nmaps = s->nmaps;
     r->scene_id = s->id;
   }
+  for (int i = 0; i < r->nmeshes; i++)   /* a level of detail selected since */
+    if (r->meshes[i].version != s->meshes[i].version) upload_mesh(&s->meshes[i], &r->meshes[i]);
   for (int i = 0; i < s->nmaps; i++) {
     if (r->maps[i].tex && r->maps[i].version == s->maps[i].version) continue;
     int slot = 0;
@@ -444,9 +460,9 @@ static int by_key(const void *a, const void *b) {
 }
 
 /* Draws every mesh (or, with only != NULL, those whose material has
- * only[material] set): opaque and masked first, blended ones after. aux
- * selects the auxiliary-pass programs. */
-static void draw_meshes(jnd_renderer *r, const jnd_scene *s, const double eye[3], int aux,
+ * only[material] set): opaque and masked first, blended ones after. pass
+ * picks the programs: 0 shaded colour, 1 auxiliary, 2 unlit colour. */
+static void draw_meshes(jnd_renderer *r, const jnd_scene *s, const double eye[3], int pass,
                         const unsigned char *only) {
   double (*order)[3] = jnd_alloc(r->nmeshes ? (size_t)r->nmeshes : 1, sizeof *order);
   if (!order) return;
@@ -464,13 +480,13 @@ static void draw_meshes(jnd_renderer *r, const jnd_scene *s, const double eye[3]
     const gpu_mesh *g = &r->meshes[(int)order[j][2]];
     const jnd_material *m = &s->materials[g->material];
     if (only && !only[g->material]) continue;
-    if (order[j][0] > 0 && !blending && !aux) {
+    if (order[j][0] > 0 && !blending && pass != 1) {
       glEnablei(GL_BLEND, 0);
       glBlendFunci(0, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);   /* premultiplied */
       glDepthMask(GL_FALSE);
       blending = 1;
     }
-    GLuint p = r->prog[aux][m->alpha_mode == JND_ALPHA_MASK];
+    GLuint p = r->prog[pass][m->alpha_mode == JND_ALPHA_MASK];
     glUseProgram(p);
     set_material(r, s, m, p);
     glProgramUniform1f(p, U(p, "u_material"), (float)g->material);
@@ -537,7 +553,7 @@ static jnd_status setup_view(jnd_renderer *r, const jnd_scene *scene, const jnd_
     lcone[2 * i] = (float)cos(inner * M_PI / 180);
     lcone[2 * i + 1] = (float)cos(outer * M_PI / 180);
   }
-  for (int pi = 0; pi < 4; pi++) {
+  for (int pi = 0; pi < 6; pi++) {
     GLuint p = r->prog[pi / 2][pi % 2];
     set_mat4(p, "u_model", view->model);
     set_mat4(p, "u_view", vmat);
@@ -612,7 +628,7 @@ jnd_status jnd_render(jnd_renderer *r, const jnd_scene *scene, const jnd_view *v
     glEnable(GL_DEPTH_TEST);
     glDepthMask(GL_TRUE);
   }
-  draw_meshes(r, scene, view->camera.eye, 0, NULL);
+  draw_meshes(r, scene, view->camera.eye, view->unlit ? 2 : 0, NULL);
   glBlitNamedFramebuffer(r->msaa_fbo, r->resolve_fbo, 0, 0, r->w, r->h, 0, 0, r->w, r->h,
                          GL_COLOR_BUFFER_BIT, GL_NEAREST);
   if ((st = gl_check("colour pass"))) return st;
@@ -730,7 +746,7 @@ jnd_status jnd_render_materials(jnd_renderer *r, const jnd_scene *scene, const j
   glClearNamedFramebufferfv(r->msaa_fbo, GL_COLOR, 0, zero);
   glDepthFunc(GL_EQUAL);
   glDepthMask(GL_FALSE);
-  draw_meshes(r, scene, view->camera.eye, 0, only);
+  draw_meshes(r, scene, view->camera.eye, view->unlit ? 2 : 0, only);
   glDepthMask(GL_TRUE);
   glDepthFunc(GL_LESS);
   glBlitNamedFramebuffer(r->msaa_fbo, r->resolve_fbo, x0, gy, x0 + w, gy + h, x0, gy, x0 + w, gy + h,

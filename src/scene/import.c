@@ -1,6 +1,7 @@
 /* Asset import through assimp's C API: glTF 2.0 (.gltf, .glb) and OBJ + MTL
  * become meshes in object units and metallic-roughness materials. */
 #include <assimp/GltfMaterial.h>
+#include <assimp/cfileio.h>
 #include <assimp/cimport.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
@@ -10,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 
 #include "core/core.h"
@@ -187,7 +189,9 @@ static void import_slot(jnd_scene *s, const struct aiScene *sc, const struct aiM
   }
 }
 
-static void import_material(jnd_scene *s, const struct aiScene *sc, int mi) {
+/* with_maps 0: the material's factors and name only (a level of detail's
+ * materials are the base's; only their names are matched) */
+static void import_material(jnd_scene *s, const struct aiScene *sc, int mi, int with_maps) {
   const struct aiMaterial *am = sc->mMaterials[mi];
   jnd_material *m = &s->materials[mi];
   struct aiString name;
@@ -261,6 +265,7 @@ static void import_material(jnd_scene *s, const struct aiScene *sc, int mi) {
   static const enum aiTextureType nrm[] = {aiTextureType_NORMALS, aiTextureType_NORMAL_CAMERA};
   static const enum aiTextureType occ[] = {aiTextureType_LIGHTMAP, aiTextureType_AMBIENT_OCCLUSION};
   static const enum aiTextureType emi[] = {aiTextureType_EMISSIVE, aiTextureType_EMISSION_COLOR};
+  if (!with_maps) return;
   import_slot(s, sc, am, mi, JND_MAP_BASE_COLOR, base, 2, gltf);
   if (gltf) import_slot(s, sc, am, mi, JND_MAP_METALLIC_ROUGHNESS, mr, 3, gltf);
   import_slot(s, sc, am, mi, JND_MAP_NORMAL, nrm, 2, gltf);
@@ -347,16 +352,132 @@ static jnd_status import_mesh(jnd_scene *s, const struct aiMesh *am, jnd_mesh *o
   return JND_OK;
 }
 
-jnd_status jnd_scene_load(const char *path, jnd_scene **out) {
+/* ---- assimp reading a file whose bytes we give (a variant of a glTF with
+ * MSFT_lod), every other file (buffers) from disk ---- */
+
+typedef struct {
+  const char *path;              /* the file served from memory */
+  const unsigned char *data;
+  size_t n;
+} mem_io;
+
+typedef struct {
+  FILE *f;                       /* a file on disk, or NULL */
+  const unsigned char *data;     /* the memory file */
+  size_t n, pos;
+} io_file;
+
+static size_t io_read(struct aiFile *af, char *buf, size_t size, size_t count) {
+  io_file *f = (io_file *)af->UserData;
+  if (size == 0 || count == 0) return 0;
+  if (f->f) return fread(buf, size, count, f->f);
+  size_t want = size * count, left = f->n - f->pos;
+  if (count > SIZE_MAX / size) want = SIZE_MAX;
+  size_t got = want < left ? want : left;
+  got -= got % size;
+  memcpy(buf, f->data + f->pos, got);
+  f->pos += got;
+  return got / size;
+}
+
+static size_t io_write(struct aiFile *af, const char *buf, size_t size, size_t count) { return 0; }
+
+static size_t io_tell(struct aiFile *af) {
+  io_file *f = (io_file *)af->UserData;
+  if (f->f) {
+    long p = ftell(f->f);
+    return p < 0 ? 0 : (size_t)p;
+  }
+  return f->pos;
+}
+
+static size_t io_size(struct aiFile *af) {
+  io_file *f = (io_file *)af->UserData;
+  if (f->f) {
+    long p = ftell(f->f), e = -1;
+    if (p >= 0 && fseek(f->f, 0, SEEK_END) == 0) e = ftell(f->f);
+    if (p >= 0) fseek(f->f, p, SEEK_SET);
+    return e < 0 ? 0 : (size_t)e;
+  }
+  return f->n;
+}
+
+static enum aiReturn io_seek(struct aiFile *af, size_t off, enum aiOrigin origin) {
+  io_file *f = (io_file *)af->UserData;
+  if (f->f) {
+    int w = origin == aiOrigin_SET ? SEEK_SET : origin == aiOrigin_CUR ? SEEK_CUR : SEEK_END;
+    return fseek(f->f, (long)off, w) == 0 ? aiReturn_SUCCESS : aiReturn_FAILURE;
+  }
+  size_t base = origin == aiOrigin_SET ? 0 : origin == aiOrigin_CUR ? f->pos : f->n;
+  if (off > f->n - base) return aiReturn_FAILURE;
+  f->pos = base + off;
+  return aiReturn_SUCCESS;
+}
+
+static void io_flush(struct aiFile *af) {}
+
+static struct aiFile *io_open(struct aiFileIO *io, const char *path, const char *mode) {
+  const mem_io *m = (const mem_io *)io->UserData;
+  if (strchr(mode, 'w') || strchr(mode, 'a')) return NULL;
+  io_file *f = calloc(1, sizeof *f);
+  struct aiFile *af = calloc(1, sizeof *af);
+  if (!f || !af) {
+    free(f);
+    free(af);
+    return NULL;
+  }
+  if (strcmp(path, m->path) == 0) {
+    f->data = m->data;
+    f->n = m->n;
+  } else if (!(f->f = fopen(path, "rb"))) {
+    free(f);
+    free(af);
+    return NULL;
+  }
+  af->ReadProc = io_read;
+  af->WriteProc = io_write;
+  af->TellProc = io_tell;
+  af->FileSizeProc = io_size;
+  af->SeekProc = io_seek;
+  af->FlushProc = io_flush;
+  af->UserData = (aiUserData)f;
+  return af;
+}
+
+static void io_close(struct aiFileIO *io, struct aiFile *af) {
+  if (!af) return;
+  io_file *f = (io_file *)af->UserData;
+  if (f && f->f) fclose(f->f);
+  free(f);
+  free(af);
+}
+
+/* Imports path with assimp (its bytes from data when not NULL) into a scene;
+ * with_maps 0 skips the texture maps. */
+static jnd_status load_scene(const char *path, const unsigned char *data, size_t ndata, int with_maps,
+                             jnd_scene **out) {
   *out = NULL;
-  struct stat stt;
-  if (stat(path, &stt) != 0) return jnd_fail(JND_ERR_IO, "%s: no such file", path);
-  if (!S_ISREG(stt.st_mode)) return jnd_fail(JND_ERR_IO, "%s: not a regular file", path);
-  if ((size_t)stt.st_size > MAX_MODEL_BYTES) return jnd_fail(JND_ERR_LIMIT, "%s: file too large", path);
+  /* validated first, the rest after a look at the positions: joining
+   * vertices would merge a NaN position into another and hide it */
   unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_GenSmoothNormals |
-                   aiProcess_PreTransformVertices | aiProcess_SortByPType |
-                   aiProcess_ValidateDataStructure | aiProcess_FlipUVs;
-  const struct aiScene *sc = aiImportFile(path, flags);
+                   aiProcess_PreTransformVertices | aiProcess_SortByPType | aiProcess_FlipUVs;
+  const struct aiScene *sc;
+  if (data) {
+    mem_io m = {path, data, ndata};
+    struct aiFileIO io = {io_open, io_close, (aiUserData)&m};
+    sc = aiImportFileEx(path, aiProcess_ValidateDataStructure, &io);
+  } else {
+    sc = aiImportFile(path, aiProcess_ValidateDataStructure);
+  }
+  for (unsigned i = 0; sc && i < sc->mNumMeshes; i++)
+    for (unsigned v = 0; v < sc->mMeshes[i]->mNumVertices; v++) {
+      const struct aiVector3D *q = &sc->mMeshes[i]->mVertices[v];
+      if (!isfinite(q->x) || !isfinite(q->y) || !isfinite(q->z)) {
+        aiReleaseImport(sc);
+        return jnd_fail(JND_ERR_FORMAT, "%s: vertex positions are not finite", path);
+      }
+    }
+  if (sc) sc = aiApplyPostProcessing(sc, flags);
   if (!sc) {
     char msg[512];
     snprintf(msg, sizeof msg, "%s", aiGetErrorString());
@@ -380,7 +501,7 @@ jnd_status jnd_scene_load(const char *path, jnd_scene **out) {
     st = JND_ERR_NOMEM;
     goto done;
   }
-  for (int i = 0; i < s->nmaterials; i++) import_material(s, sc, i);
+  for (int i = 0; i < s->nmaterials; i++) import_material(s, sc, i, with_maps);
   for (unsigned i = 0; i < sc->mNumMeshes; i++) {
     const struct aiMesh *am = sc->mMeshes[i];
     if (!(am->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
@@ -405,6 +526,53 @@ done:
   aiReleaseImport(sc);
   if (st) {
     if (st == JND_ERR_NOMEM) jnd_fail(st, "%s: out of memory", path);
+    jnd_scene_free(s);
+    return st;
+  }
+  *out = s;
+  return JND_OK;
+}
+
+jnd_status jnd_scene_load(const char *path, jnd_scene **out) {
+  *out = NULL;
+  struct stat stt;
+  if (stat(path, &stt) != 0) return jnd_fail(JND_ERR_IO, "%s: no such file", path);
+  if (!S_ISREG(stt.st_mode)) return jnd_fail(JND_ERR_IO, "%s: not a regular file", path);
+  if ((size_t)stt.st_size > MAX_MODEL_BYTES) return jnd_fail(JND_ERR_LIMIT, "%s: file too large", path);
+  if (stt.st_size == 0) return jnd_fail(JND_ERR_FORMAT, "%s: the file is empty", path);
+  const char *ext = strrchr(path, '.');
+  if (!ext || (strcasecmp(ext, ".gltf") != 0 && strcasecmp(ext, ".glb") != 0)) return load_scene(path, NULL, 0, 1, out);
+  /* glTF: levels of detail as MSFT_lod nodes? */
+  unsigned char *file = NULL;
+  size_t n = 0;
+  jnd_status st = jnd_read_file(path, MAX_MODEL_BYTES, &file, &n);
+  if (st) return st;
+  int levels = 1;
+  st = jnd_gltf_lod_variant(path, file, n, 0, &levels, NULL, NULL);
+  if (st || levels < 2) {
+    free(file);
+    /* a file our JSON reader refuses is assimp's to judge; a malformed MSFT_lod is ours */
+    return levels == 0 ? load_scene(path, NULL, 0, 1, out) : st ? st : load_scene(path, NULL, 0, 1, out);
+  }
+  jnd_scene *s = NULL;
+  for (int k = 0; k < levels && !st; k++) {
+    unsigned char *var = NULL;
+    size_t vn = 0;
+    jnd_scene *lk = NULL;
+    st = jnd_gltf_lod_variant(path, file, n, k, &levels, &var, &vn);
+    if (!st) st = load_scene(path, var, vn, k == 0, &lk);
+    free(var);
+    if (st) break;
+    if (k == 0) {
+      s = lk;
+    } else {
+      char src[1100];
+      snprintf(src, sizeof src, "%s#MSFT_lod %d", path, k);
+      st = jnd_scene_lod_add(s, lk, src);
+    }
+  }
+  free(file);
+  if (st) {
     jnd_scene_free(s);
     return st;
   }

@@ -42,9 +42,13 @@ jnd_scene *jnd_scene_new(const char *path) {
 
 void jnd_scene_free(jnd_scene *s) {
   if (!s) return;
-  for (int i = 0; i < s->nmeshes; i++) {
-    free(s->meshes[i].vertices);
-    free(s->meshes[i].indices);
+  if (s->nlod > 0) {
+    jnd_scene_lod_free(s);   /* the levels own every mesh array */
+  } else {
+    for (int i = 0; i < s->nmeshes; i++) {
+      free(s->meshes[i].vertices);
+      free(s->meshes[i].indices);
+    }
   }
   for (int i = 0; i < s->nmaps; i++) {
     jnd_image_free(&s->maps[i].orig);

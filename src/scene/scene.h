@@ -14,7 +14,26 @@ typedef struct {
   uint32_t *indices;      /* 3 × ntris */
   size_t nverts, ntris;
   int material;
+  uint64_t version;       /* changes whenever vertices or indices change (a level of detail is
+                             selected), so that a renderer knows what to upload again */
 } jnd_mesh;
+
+/* One mesh at one level of detail (lod.c). */
+typedef struct {
+  float *vertices;        /* owned; NULL: level 0's vertices of the mesh (a simplified level
+                             indexes the input's vertices) */
+  size_t nverts;
+  uint32_t *indices;      /* owned, 3 × ntris */
+  size_t ntris;
+  double error_abs;       /* meshoptimizer's error bound, object units */
+  int sloppy;             /* made by meshopt_simplifySloppy */
+  uint64_t version;       /* the jnd_mesh version it gets when selected */
+} jnd_lod_mesh;
+
+typedef struct {
+  jnd_lod_mesh *mesh;     /* one per scene mesh */
+  jnd_lod_level_info info;
+} jnd_lod_level;
 
 typedef enum { JND_WRAP_REPEAT = 0, JND_WRAP_CLAMP, JND_WRAP_MIRROR } jnd_wrap;
 
@@ -54,6 +73,10 @@ struct jnd_scene {
   double centre[3], radius;
   double subject_centre[3], subject_radius;   /* bounds without the ground plane */
   int ground_mesh;         /* the ground plane's mesh, or -1 (jnd_scene_compute_bounds) */
+  /* levels of detail (lod.c): none until a chain is built or added; then
+   * lod[0] owns the file's arrays and meshes[i] points at lod[lod_now]'s */
+  jnd_lod_level *lod;
+  int nlod, lod_now;
   uint64_t id;             /* unique per scene object, so a renderer knows what it uploaded */
 };
 
@@ -76,6 +99,24 @@ void jnd_mesh_compute_tangents(jnd_mesh *m);
  * vertex), the ground plane if there is one, and the sphere of the rest. */
 void jnd_scene_compute_bounds(jnd_scene *s);
 uint64_t jnd_scene_next_version(void);
+/* Points sampled on level 0's surface, uniformly by area and stratified
+ * (distance.c): *out gets samples × 3 doubles (caller frees). */
+jnd_status jnd_scene_surface_samples(const jnd_scene *s, int samples, uint64_t seed, double **out);
+/* Distances from n points to the nearest point of level `level`'s surface. */
+jnd_status jnd_scene_points_distance(const jnd_scene *s, int level, const double *pts, int n,
+                                     jnd_surface_distance *out);
+/* Levels of detail a glTF file has as MSFT_lod nodes (gltf_lod.c): *nlevels
+ * gets their number (1: none; 0 when the file's JSON or GLB container does
+ * not parse, with an error); with out, *out gets the file (GLB or JSON, as it
+ * came) rewritten so that assimp sees level `level` (caller frees).
+ * JND_ERR_FORMAT "NAME: ..." for a malformed MSFT_lod. */
+jnd_status jnd_gltf_lod_variant(const char *name, const unsigned char *file, size_t n, int level, int *nlevels,
+                                unsigned char **out, size_t *out_n);
+/* The largest side of level 0's bounding box, over every mesh (the unit of
+ * meshoptimizer's relative errors, lod.c). */
+double jnd_scene_extent(const jnd_scene *s);
+/* Frees the level storage (lod.c); the meshes then own nothing. */
+void jnd_scene_lod_free(jnd_scene *s);
 
 /* ---- resample.c: the one resampler of planes and maps ---- */
 /* Lanczos-3 (000 §4) of a sw × sh plane to dw × dh: output x sits at input

@@ -1,6 +1,6 @@
 /* Small dense linear algebra for the texture-set PCA (001): channel means,
  * the weighted covariance of a (w·h) × C matrix, a symmetric
- * eigen-decomposition (LAPACK) and the knee of a cumulative curve.
+ * eigen-decomposition (LAPACK).
  * Sums run over fixed chunks of pixels and are added in chunk order, so
  * results are the same for every thread count. */
 #include <lapacke.h>
@@ -82,23 +82,4 @@ jnd_status linalg_symmetric_eigen(const double *a, int n, double *eigval, double
     for (int i = 0; i < n; i++) vec[i * n + k] = sign * work[i * n + src];
   }
   return JND_OK;
-}
-
-int linalg_knee(const double *values, int n) {
-  double total = 0;
-  for (int k = 0; k < n; k++) total += values[k];
-  if (n <= 1 || total <= 0) return n < 1 ? 0 : 1;
-  /* cumulative fraction against component count, both scaled to 0..1; the
-   * knee is the point farthest above the chord y = x */
-  double cum = 0, best = -1;
-  int knee = 1;
-  for (int k = 1; k <= n; k++) {
-    cum += values[k - 1];
-    double d = cum / total - (double)k / n;
-    if (d > best + 1e-12) {
-      best = d;
-      knee = k;
-    }
-  }
-  return knee;
 }

@@ -332,8 +332,21 @@ jnd_status jnd_pca_analyse(const jnd_texset *set, const double *weights, jnd_pca
   /* round-off can leave tiny negative eigenvalues of a semi-definite matrix */
   for (int k = 0; k < C; k++)
     if (out->energy[k] < 0) out->energy[k] = 0;
-  out->knee = linalg_knee(out->energy, C);
+  out->knee = pca_energy_knee(out->energy, C);
   return JND_OK;
+}
+
+int pca_energy_knee(const double *energy, int n) {
+  double x[MAXC + 1], y[MAXC + 1];
+  if (n < 1) return 0;
+  if (n > MAXC) n = MAXC;
+  x[0] = y[0] = 0;
+  for (int k = 1; k <= n; k++) {
+    x[k] = k;
+    y[k] = y[k - 1] + energy[k - 1];
+  }
+  int knee = jnd_knee(x, y, n + 1, JND_KNEE_ABOVE, 0);
+  return knee < 1 ? 1 : knee;
 }
 
 void jnd_pca_contribution(const jnd_pca *pca, double *out) {

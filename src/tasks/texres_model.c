@@ -22,34 +22,7 @@
 
 #define MAX_MODEL (1u << 30)
 
-typedef struct {
-  unsigned char *p;
-  size_t n, cap;
-  int failed;
-} membuf;
-
-static void put(membuf *b, const void *data, size_t n) {
-  if (b->failed || n == 0) return;
-  if (b->n + n > b->cap) {
-    size_t cap = b->cap ? b->cap : 65536;
-    while (cap < b->n + n) cap *= 2;
-    unsigned char *q = realloc(b->p, cap);
-    if (!q) {
-      b->failed = 1;
-      return;
-    }
-    b->p = q;
-    b->cap = cap;
-  }
-  memcpy(b->p + b->n, data, n);
-  b->n += n;
-}
-
-static void put_stb(void *ctx, void *data, int size) { put(ctx, data, (size_t)size); }
-
-static void pad4(membuf *b, unsigned char fill) {
-  while (b->n % 4) put(b, &fill, 1);
-}
+static void put_stb(void *ctx, void *data, int size) { jnd_buf_put(ctx, data, (size_t)size); }
 
 static const cJSON *item(const cJSON *o, const char *k) { return cJSON_GetObjectItemCaseSensitive(o, k); }
 
@@ -155,7 +128,7 @@ static int is_jpeg(const cJSON *img) {
 }
 
 /* 8-bit interleaved pixels of a map, encoded as PNG or JPEG into out */
-static jnd_status encode(const jnd_image *im, int jpeg, membuf *out) {
+static jnd_status encode(const jnd_image *im, int jpeg, jnd_buf *out) {
   size_t px = (size_t)im->w * im->h;
   unsigned char *q = jnd_alloc(px * im->c, 1);
   if (!q) return JND_ERR_NOMEM;
@@ -216,30 +189,11 @@ jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src, const
   size_t fn = 0;
   jnd_status s = jnd_read_file(src, MAX_MODEL, &file, &fn);
   if (s != JND_OK) return s;
-  int glb = fn >= 12 && memcmp(file, "glTF", 4) == 0;
-  const char *json_text = (const char *)file;
-  size_t json_n = fn;
-  const unsigned char *bin = NULL;
-  size_t bin_n = 0;
-  if (glb) {
-    uint32_t len0, type0;
-    if (fn < 20) goto bad;
-    memcpy(&len0, file + 12, 4);
-    memcpy(&type0, file + 16, 4);
-    if (type0 != 0x4E4F534Au || 20 + (size_t)len0 > fn) goto bad;
-    json_text = (const char *)file + 20;
-    json_n = len0;
-    size_t off = 20 + (size_t)len0;
-    if (off + 8 <= fn) {
-      uint32_t len1, type1;
-      memcpy(&len1, file + off, 4);
-      memcpy(&type1, file + off + 4, 4);
-      if (type1 == 0x004E4942u && off + 8 + len1 <= fn) {
-        bin = file + off + 8;
-        bin_n = len1;
-      }
-    }
-  }
+  const unsigned char *json_bytes = NULL, *bin = NULL;
+  size_t json_n = 0, bin_n = 0;
+  int glb = jnd_glb_split(file, fn, &json_bytes, &json_n, &bin, &bin_n);
+  if (glb < 0) goto bad;
+  const char *json_text = (const char *)json_bytes;
   cJSON *root = cJSON_ParseWithLength(json_text, json_n);
   if (!root) goto bad;
   cJSON *materials = cJSON_GetObjectItemCaseSensitive(root, "materials");
@@ -252,7 +206,7 @@ jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src, const
   int *used_orig = jnd_calloc((size_t)nimg0 + 1, sizeof *used_orig);
   int *replaced = jnd_calloc((size_t)nimg0 + 1, sizeof *replaced);
   int *gmat = jnd_calloc((size_t)jnd_scene_material_count(scene) + 1, sizeof *gmat);
-  membuf *enc = NULL;
+  jnd_buf *enc = NULL;
   int nuse = 0, nenc = 0;
   char src_dir[4096];
   dir_of(src, src_dir, sizeof src_dir);
@@ -356,7 +310,7 @@ jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src, const
   if (glb) {
     /* the binary chunk rebuilt view by view; resized images replace their views' bytes */
     if (!views) views = cJSON_AddArrayToObject(root, "bufferViews");
-    membuf nb = {0};
+    jnd_buf nb = {0};
     int nviews = cJSON_GetArraySize(views);
     for (int v = 0; v < nviews; v++) {
       cJSON *bv = cJSON_GetArrayItem(views, v);
@@ -378,16 +332,16 @@ jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src, const
         }
         data = bin + off;
       }
-      pad4(&nb, 0);
+      jnd_buf_pad4(&nb, 0);
       set_number(bv, "byteOffset", (double)nb.n);
       set_number(bv, "byteLength", (double)len);
-      put(&nb, data, len);
+      jnd_buf_put(&nb, data, len);
     }
     /* images that had no view of their own (new ones, or uri images) */
     for (int e = 0; e < nenc; e++) {
       cJSON *im = cJSON_GetArrayItem(images, enc_img[e]);
       if (enc_img[e] < nimg0 && item(im, "bufferView")) continue;
-      pad4(&nb, 0);
+      jnd_buf_pad4(&nb, 0);
       cJSON *bv = cJSON_CreateObject();
       cJSON_AddNumberToObject(bv, "buffer", 0);
       cJSON_AddNumberToObject(bv, "byteOffset", (double)nb.n);
@@ -396,9 +350,9 @@ jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src, const
       cJSON_DeleteItemFromObjectCaseSensitive(im, "uri");
       set_number(im, "bufferView", cJSON_GetArraySize(views) - 1);
       if (!item(im, "mimeType")) cJSON_AddStringToObject(im, "mimeType", enc_jpeg[e] ? "image/jpeg" : "image/png");
-      put(&nb, enc[e].p, enc[e].n);
+      jnd_buf_put(&nb, enc[e].p, enc[e].n);
     }
-    pad4(&nb, 0);
+    jnd_buf_pad4(&nb, 0);
     cJSON *b0 = cJSON_GetArrayItem(buffers, 0);
     if (!b0 && nb.n) { /* the binary chunk needs its buffer */
       if (!buffers) buffers = cJSON_AddArrayToObject(root, "buffers");
@@ -411,26 +365,10 @@ jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src, const
     for (int i = 0; i < cJSON_GetArraySize(images) && s == JND_OK; i++)
       if (!item(cJSON_GetArrayItem(images, i), "bufferView")) s = copy_uri(cJSON_GetArrayItem(images, i), src_dir, out_dir);
     char *js = s == JND_OK ? cJSON_PrintUnformatted(root) : NULL;
-    membuf g = {0};
+    jnd_buf g = {0};
     if (js && !nb.failed) {
-      membuf jb = {0};
-      put(&jb, js, strlen(js));
-      pad4(&jb, ' ');
-      uint32_t total = (uint32_t)(12 + 8 + jb.n + (nb.n ? 8 + nb.n : 0)), ver = 2, jl = (uint32_t)jb.n,
-               jt = 0x4E4F534Au, bl = (uint32_t)nb.n, bt = 0x004E4942u;
-      put(&g, "glTF", 4);
-      put(&g, &ver, 4);
-      put(&g, &total, 4);
-      put(&g, &jl, 4);
-      put(&g, &jt, 4);
-      put(&g, jb.p, jb.n);
-      if (nb.n) {
-        put(&g, &bl, 4);
-        put(&g, &bt, 4);
-        put(&g, nb.p, nb.n);
-      }
-      free(jb.p);
-      s = g.failed ? JND_ERR_NOMEM : jnd_write_file_atomic(path, g.p, g.n);
+      s = jnd_glb_join(js, strlen(js), nb.p, nb.n, &g);
+      if (s == JND_OK) s = jnd_write_file_atomic(path, g.p, g.n);
     } else if (s == JND_OK) {
       s = jnd_fail(JND_ERR_FORMAT, "%s: a buffer view lies outside the binary chunk", src);
     }

@@ -105,4 +105,18 @@ static inline float jnd_transducer(float c) {
   return c * jnd_fast_exp2(-0.1f * jnd_fast_log2(1.0f + a * a * a));
 }
 
+/* ---- CSF-weighted Haar bands of 003 §4.2 (haar.c) ---- */
+/* The Mannos–Sakrison CSF as 003 writes it, f in cycles per degree. */
+double jnd_csf_mannos_sakrison(double f_cpd);
+/* C_m of 003 §4.2: the CSF's mean over Haar level m's band (m >= 1),
+ * [ppd/2^(m+1), ppd/2^m] cycles per degree on a display of ppd. */
+double jnd_haar_band_weight(int m, double ppd);
+/* The orthonormal 2D Haar decomposition of a w × h plane, level by level
+ * (odd sides padded with zeros) until one pixel is left or max_levels:
+ * energy[m − 1] gets the sum of squares of level m's three detail
+ * subbands; rest (may be NULL) the energy of what is left. Returns the
+ * number of levels, −1 when out of memory. Parseval: the energies add up to
+ * the plane's. */
+int jnd_haar_band_energy(const float *plane, int w, int h, double *energy, int max_levels, double *rest);
+
 #endif

@@ -340,9 +340,9 @@ TEST(resampling_keeps_constants_and_smooth_signals) {
 
 TEST(knee_of_a_fast_decay_is_early) {
   double v[6] = {10, 5, 0.1, 0.1, 0.1, 0.1};
-  CHECK(linalg_knee(v, 6) == 2);
+  CHECK(pca_energy_knee(v, 6) == 2);
   double flat[4] = {1, 1, 1, 1};
-  CHECK(linalg_knee(flat, 4) >= 1);
+  CHECK(pca_energy_knee(flat, 4) >= 1);
 }
 
 TEST(rendered_visibility_of_a_missing_model_names_it) {

@@ -344,7 +344,71 @@ TEST(pool_of_a_hand_made_map_gives_each_pooling_by_hand) {
   CHECK_NEAR(jnd_pool(neg, 3, &mx, 2.4), -1, 0);
 }
 
-RUN_TESTS(criterion_allows_floor_q_n_views_above_p, criterion_refuses_bad_arguments,
+TEST(knee_of_a_flat_then_steep_curve_is_its_corner) {
+  /* error stays 0.01 up to level 6, then climbs: the Point of Imperceptibility of 003 §3 */
+  double x[10], y[10];
+  for (int i = 0; i < 10; i++) {
+    x[i] = i;
+    y[i] = i <= 6 ? 0.01 + 0.001 * i : 0.016 + 0.3 * (i - 6);
+  }
+  CHECK(jnd_knee(x, y, 10, JND_KNEE_BELOW, 0) == 6);
+  /* the same curve over a decreasing x (log triangles, finest first) */
+  double xr[10];
+  for (int i = 0; i < 10; i++) xr[i] = 20 - 1.5 * i;
+  CHECK(jnd_knee(xr, y, 10, JND_KNEE_BELOW, 0) == 6);
+  /* and a curve with different units on y has the same knee */
+  double y2[10];
+  for (int i = 0; i < 10; i++) y2[i] = 1000 * y[i] + 5;
+  CHECK(jnd_knee(x, y2, 10, JND_KNEE_BELOW, 0) == 6);
+}
+
+TEST(knee_of_an_exponential_is_where_its_slope_equals_the_chord) {
+  /* y = e^(a x) on [0, 1]: scaled, the gap to the chord peaks where
+   * y'(x) = (e^a − 1), i.e. x* = ln((e^a − 1) / a) / a */
+  enum { N = 1001 };
+  static double x[N], y[N];
+  for (double a = 2; a <= 8; a += 3) {
+    for (int i = 0; i < N; i++) {
+      x[i] = (double)i / (N - 1);
+      y[i] = exp(a * x[i]);
+    }
+    double want = log((exp(a) - 1) / a) / a;
+    int k = jnd_knee(x, y, N, JND_KNEE_BELOW, 0);
+    CHECK_NEAR(x[k], want, 1.5 / (N - 1));
+  }
+  /* the cumulative curve 1 − e^(−b x) bends the other way: x* = ln(b / (1 − e^−b)) / b */
+  for (int i = 0; i < N; i++) {
+    x[i] = (double)i / (N - 1);
+    y[i] = 1 - exp(-5 * x[i]);
+  }
+  CHECK_NEAR(x[jnd_knee(x, y, N, JND_KNEE_ABOVE, 0)], log(5 / (1 - exp(-5))) / 5, 1.5 / (N - 1));
+  CHECK(jnd_knee(x, y, N, JND_KNEE_BELOW, 0) == 0);
+}
+
+TEST(knee_ties_within_the_tolerance_go_to_the_first_point) {
+  /* two corners: gaps 0.295 at index 2 and 0.296 at index 3 (scaled axes) */
+  double x[5] = {0, 0.25, 0.5, 0.75, 1}, y[5] = {0, 0.01, 0.205, 0.454, 1};
+  CHECK(jnd_knee(x, y, 5, JND_KNEE_BELOW, 0) == 3);
+  CHECK(jnd_knee(x, y, 5, JND_KNEE_BELOW, 0.02) == 2);
+  /* but not beyond it */
+  y[2] = 0.3;
+  CHECK(jnd_knee(x, y, 5, JND_KNEE_BELOW, 0.02) == 3);
+}
+
+TEST(knee_of_a_line_or_a_short_curve_is_the_first_point) {
+  double x[5] = {0, 1, 2, 3, 4}, y[5] = {1, 3, 5, 7, 9};
+  CHECK(jnd_knee(x, y, 5, JND_KNEE_BELOW, 0) == 0);
+  CHECK(jnd_knee(x, y, 5, JND_KNEE_ABOVE, 0) == 0);
+  CHECK(jnd_knee(x, y, 2, JND_KNEE_BELOW, 0) == 0);
+  CHECK(jnd_knee(x, y, 0, JND_KNEE_BELOW, 0) == -1);
+  double flat[5] = {2, 2, 2, 2, 2};
+  CHECK(jnd_knee(x, flat, 5, JND_KNEE_BELOW, 0) == 0);
+  y[2] = NAN;
+  CHECK(jnd_knee(x, y, 5, JND_KNEE_BELOW, 0) == -1);
+}
+
+RUN_TESTS(knee_of_a_flat_then_steep_curve_is_its_corner, knee_ties_within_the_tolerance_go_to_the_first_point, knee_of_an_exponential_is_where_its_slope_equals_the_chord,
+          knee_of_a_line_or_a_short_curve_is_the_first_point, criterion_allows_floor_q_n_views_above_p, criterion_refuses_bad_arguments,
           binomial_upper_bound_matches_closed_forms, order_statistics_equal_the_sorted_values, order_statistics_of_a_constant_map,
           order_statistics_refuse_bad_indices, sort_matches_qsort_for_both_paths, percentiles_interpolate_linearly,
           percentiles_of_a_large_map_match_a_full_sort,

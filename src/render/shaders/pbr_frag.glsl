@@ -122,6 +122,11 @@ void main() {
   o_color = vec4(0.0);
   return;
 #endif
+#ifdef JND_UNLIT
+  // unlit: the material's colour as it is, no light (003 §4.1's geometry-only view)
+  o_color = vec4(base.rgb * u_exposure * alpha, alpha);
+  return;
+#endif
 
   float metallic = u_metallic, rough = u_roughness;
   if (u_has[1] != 0) {

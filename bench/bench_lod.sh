@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# jnd lod: (1) the chain of a 1 M-triangle mesh (the Stanford bunny of the
+# shared data, every triangle split in 4 twice: 1.1 M triangles) — the
+# target is 2 s; (2) 003's analysis of a 100 K-triangle asset (the teapot
+# split twice: 101 K triangles) for the 4 default screens — the whole
+# `jnd lod`, perceptual step included, is to stay under 60 s on 2 cores.
+# Wall times are medians of BENCH_LOD_RUNS runs (3; the analysis 1 unless
+# BENCH_LOD_ANALYSIS_RUNS says otherwise), user + sys CPU beside them.
+set -uo pipefail
+: "${JND:?}"
+here=$(cd "$(dirname "$0")" && pwd)
+out=${BENCH_OUT:-$here/out}/lod
+data=${JND_SHARED:-$here/../../shared}/data/meshes
+mkdir -p "$out"
+if [ ! -f "$data/stanford-bunny.obj" ] || [ ! -f "$data/teapot.obj" ]; then
+  echo "   skipped: the shared meshes are not at $data"
+  exit 0
+fi
+[ -s "$out/bunny_1m.obj" ] || python3 "$here/subdivide_obj.py" "$data/stanford-bunny.obj" "$out/bunny_1m.obj" 2
+[ -s "$out/teapot_100k.obj" ] || python3 "$here/subdivide_obj.py" "$data/teapot.obj" "$out/teapot_100k.obj" 2
+
+# one run: prints "WALL_S USER_S SYS_S STAGE_S STAGE_CPU_S" for the whole
+# command and, from the report's timings, for one stage (wall, and user +
+# sys of all threads: on a shared machine the CPU time is the steadier)
+run() { # run KEY ARGS...
+  local key=$1; shift
+  local t
+  t=$( { /usr/bin/time -f "%e %U %S" "$JND" lod "$@" --timings --quiet --json "$out/r.json" >/dev/null; } 2>&1 | tail -1) || return 1
+  echo "$t $(python3 -c "import json,sys; t=json.load(open(sys.argv[1]))['result']['timings']; print('%.3f %.3f' % (t[sys.argv[2] + '_s'], t[sys.argv[2] + '_cpu_s']))" "$out/r.json" "$key")"
+}
+median() { sort -n | awk '{a[NR]=$0} END {print a[int((NR+1)/2)]}'; }
+
+runs=${BENCH_LOD_RUNS:-3}
+: >"$out/chain.txt"
+for i in $(seq "$runs"); do run chain "$out/bunny_1m.obj" -o "$out/chain" --chain-only >>"$out/chain.txt" || exit 1; done
+tris=$(python3 -c "import json,sys; r=json.load(open(sys.argv[1]))['result']['levels']; print(r[0]['triangles'], '->', ' '.join(str(l['triangles']) for l in r[1:]))" "$out/r.json")
+echo "   chain of bunny_1m.obj ($tris triangles):"
+echo "     chain: wall $(cut -d' ' -f4 "$out/chain.txt" | median) s, user + sys $(cut -d' ' -f5 "$out/chain.txt" | median) s" \
+     "(medians of $runs; the target is 2 s on 2 cores); whole command (loading the 43 MB OBJ, writing the" \
+     "10-level GLB): wall $(cut -d' ' -f1 "$out/chain.txt" | median) s, user $(cut -d' ' -f2 "$out/chain.txt" | median) s," \
+     "sys $(cut -d' ' -f3 "$out/chain.txt" | median) s; load average $(cut -d' ' -f1 /proc/loadavg)"
+
+aruns=${BENCH_LOD_ANALYSIS_RUNS:-1}
+: >"$out/analysis.txt"
+for i in $(seq "$aruns"); do run analysis "$out/teapot_100k.obj" -o "$out/analysis" >>"$out/analysis.txt" || exit 1; done
+python3 - "$out/r.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+res = r["result"]
+print("   003 analysis of teapot_100k.obj (%d triangles, %d levels), %d views, virtual screen %d px, %d renderings on %s:"
+      % (res["levels"][0]["triangles"], len(res["levels"]), r["parameters"]["views"], res["virtual_px"], res["renderings"],
+         res["renderer"]))
+for s in res["screens"]:
+    print("     %-13s PoI lit %6d  unlit %6d  meshopt 1px %6d  px rule %6d triangles"
+          % (s["name"], s["poi_triangles"], s["poi_triangles_unlit"], s["rules"]["meshopt"]["triangles"],
+             s["rules"]["pixel_error"]["triangles"]))
+PY
+echo "     analysis: wall $(cut -d' ' -f4 "$out/analysis.txt" | median) s, user + sys $(cut -d' ' -f5 "$out/analysis.txt" | median) s" \
+     "(medians of $aruns); whole command: wall $(cut -d' ' -f1 "$out/analysis.txt" | median) s, user" \
+     "$(cut -d' ' -f2 "$out/analysis.txt" | median) s, sys $(cut -d' ' -f3 "$out/analysis.txt" | median) s;" \
+     "load average $(cut -d' ' -f1 /proc/loadavg)"

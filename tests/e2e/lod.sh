@@ -1,0 +1,154 @@
+#!/usr/bin/env bash
+# jnd lod: the chain, 003's analysis per screen, the report's fields, the
+# model with every level (loads back in jnd render with each level
+# selectable, triangles as in lod.json), determinism, and bad input (one
+# line, exit 2, nothing written, the input untouched).
+set -uo pipefail
+. "$(dirname "$0")/lib.bash"
+SMALL=(--screens 320x240,800x600@40 --views 1 --map-size 64 --surface-samples 4096 --quiet)
+
+expect_exit 0 "builtin:sphere runs" "$JND" lod builtin:sphere -o "$T/a" "${SMALL[@]}"
+check "lod.json has the fields issue 11 names" python3 - "$T/a/lod.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r["command"] == "lod" and "jnd_version" in r and "inputs" in r and "parameters" in r
+res = r["result"]
+lv = res["levels"]
+assert res["chain_source"] == "made" and lv[0]["method"] == "input" and lv[0]["error"] == 0
+assert len(lv) >= 5
+for a, b in zip(lv, lv[1:]):
+    assert b["triangles"] < a["triangles"] and b["error"] >= a["error"], (a, b)
+    assert b["error"] <= b["target_error"] * (1 + 1e-5), b
+    assert b["distance_rms"] >= 0 and b["distance_max"] >= b["distance_rms"]
+assert [s["name"] for s in res["screens"]] == ["320x240", "800x600"]
+for s in res["screens"]:
+    assert s["width_px"] > 0 and s["height_px"] > 0 and len(s["curve"]) == len(lv)
+    for k, c in enumerate(s["curve"]):
+        assert c["level"] == k and c["error"] >= 0 and c["error_lit"] >= 0
+        assert abs(c["error"] - (c["object"] + c["e_p"])) < 1e-12                 # eq. 1
+        assert abs(c["error_lit"] - c["error"] * c["m_p"]) < 1e-12 * (1 + c["error"])  # eq. 3
+    assert s["curve"][0]["object"] == 0 and s["curve"][0]["m_p"] == 0
+    # a curve that stays flat and then rises has its knee inside the chain
+    assert 0 < s["poi_level"] < len(lv) - 1 and s["poi_triangles"] == lv[s["poi_level"]]["triangles"]
+    assert 0 < s["poi_level_unlit"] < len(lv) - 1
+    assert s["poi_level"] >= s["poi_level_unlit"]        # lit never finer than unlit here
+    assert s["perceptual_level"] is None and s["switch_distance_m"] is None
+    assert s["rules"]["meshopt"]["level"] <= len(lv) - 1
+    assert s["pareto_png"] == "pareto_%s.png" % s["name"]
+assert "pending" in res
+# a smaller screen never gets a finer meshoptimizer-rule level (pixels scale with the screen)
+assert res["screens"][0]["rules"]["meshopt"]["level"] >= res["screens"][1]["rules"]["meshopt"]["level"]
+t = res["textures"][0]
+assert t["name"] == "builtin/baseColor" and t["levels"][0] == [64, 64] and len(t["screens"]) == 2
+m = res["model"]
+assert m["path"] == "model/builtin_sphere.glb" and len(m["screen_coverage"]) == len(lv)
+assert all(a >= b for a, b in zip(m["screen_coverage"], m["screen_coverage"][1:])) and m["screen_coverage"][-1] == 0
+PY
+check "the Pareto plots are PNGs" python3 - "$T/a" <<'PY'
+import sys
+for n in ("pareto_320x240.png", "pareto_800x600.png"):
+    assert open(sys.argv[1] + "/" + n, "rb").read(8) == b"\x89PNG\r\n\x1a\n", n
+PY
+
+# the written model: MSFT_lod with every level, each selectable in jnd render
+GLB="$T/a/model/builtin_sphere.glb"
+check "the model is a GLB with MSFT_lod and MSFT_screencoverage" python3 - "$GLB" "$T/a/lod.json" <<'PY'
+import json, struct, sys
+b = open(sys.argv[1], "rb").read()
+assert b[:4] == b"glTF"
+n = struct.unpack("<I", b[12:16])[0]
+g = json.loads(b[20:20 + n])
+lv = json.load(open(sys.argv[2]))["result"]["levels"]
+node = g["nodes"][0]
+assert "MSFT_lod" in g["extensionsUsed"]
+assert node["extensions"]["MSFT_lod"]["ids"] == list(range(1, len(lv)))
+assert len(node["extras"]["MSFT_screencoverage"]) == len(lv)
+assert g["scenes"][0]["nodes"] == [0]
+for k, l in enumerate(lv):
+    mesh = g["meshes"][g["nodes"][k]["mesh"]]
+    tris = sum(g["accessors"][p["indices"]]["count"] // 3 for p in mesh["primitives"])
+    assert tris == l["triangles"], (k, tris, l["triangles"])
+PY
+"$JND" render "$GLB" --list-lods >"$T/lods.txt" 2>/dev/null
+check "jnd render lists the levels with the JSON's triangles" python3 - "$T/lods.txt" "$T/a/lod.json" <<'PY'
+import json, sys
+got = [int(line.split()[2]) for line in open(sys.argv[1]) if line.startswith("level")]
+want = [l["triangles"] for l in json.load(open(sys.argv[2]))["result"]["levels"]]
+assert got == want, (got, want)
+PY
+n=$(python3 -c "import json,sys; print(len(json.load(open(sys.argv[1]))['result']['levels']))" "$T/a/lod.json")
+for k in 0 $((n / 2)) $((n - 1)); do
+  expect_exit 0 "jnd render --lod $k renders level $k" "$JND" render "$GLB" --lod "$k" -o "$T/r$k" --views 1 --size 64x64 --quiet --json "$T/r$k.json"
+  check "level $k is drawn with its triangles" python3 - "$T/r$k.json" "$T/a/lod.json" "$k" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))["result"]
+lv = json.load(open(sys.argv[2]))["result"]["levels"]
+k = int(sys.argv[3])
+assert r["lod"] == k and r["triangles"] == lv[k]["triangles"], (r["triangles"], lv[k]["triangles"])
+PY
+done
+expect_exit 2 "jnd render --lod past the chain: exit 2" "$JND" render "$GLB" --lod "$n" -o "$T/rx" --views 1 --size 64x64
+check "one line" one_line_error
+
+# the chain the file has is analysed, not made again
+expect_exit 0 "the written model's chain is taken as it is" "$JND" lod "$GLB" -o "$T/b" --chain-only --quiet
+check "chain_source is file, same triangles" python3 - "$T/b/lod.json" "$T/a/lod.json" <<'PY'
+import json, sys
+b, a = (json.load(open(p))["result"] for p in sys.argv[1:3])
+assert b["chain_source"] == "file" and [l["method"] for l in b["levels"][1:]] == ["imported"] * (len(b["levels"]) - 1)
+assert [l["triangles"] for l in b["levels"]] == [l["triangles"] for l in a["levels"]]
+PY
+# levels from files given on the command line
+"$JND" lod builtin:sphere -o "$T/c" --errors 0.01 --chain-only --map-size 64 --quiet
+expect_exit 0 "--level files make the chain" "$JND" lod builtin:sphere --level "$T/c/model/builtin_sphere.glb" -o "$T/d" --chain-only --map-size 64 --quiet
+check "the chain is the input and the file's level 0" python3 - "$T/d/lod.json" "$T/c/lod.json" <<'PY'
+import json, sys
+d, c = (json.load(open(p))["result"] for p in sys.argv[1:3])
+assert d["chain_source"] == "levels" and len(d["levels"]) == 2
+assert d["levels"][1]["triangles"] == c["levels"][0]["triangles"] and d["levels"][1]["source"].endswith(".glb")
+PY
+
+# the same command gives the same report, whatever the thread count
+"$JND" lod builtin:sphere -o "$T/e" "${SMALL[@]}" --threads 1
+check "deterministic (threads 1 and default)" cmp -s "$T/a/lod.json" "$T/e/lod.json"
+
+# bad input: one line, exit 2, nothing written, the input untouched
+B="$T/bad"
+mkdir -p "$B"
+: >"$B/empty.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\n' >"$B/nofaces.obj"
+printf 'v 0 0 0\nv 1 0 0\nv inf 1 0\nf 1 2 3\n' >"$B/inf.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n' >"$B/range.obj"
+printf 'v 0 0 0\nv 1 1 1\nv 2 2 2\nv 3 3 3\nf 1 2 3\nf 2 3 4\n' >"$B/flat.obj"
+python3 - "$B" <<'PY'
+import base64, json, struct, sys
+pos = [(0, 0, 0), (1, 0, 0), (float("nan"), 1, 0)]
+pb = b"".join(struct.pack("<3f", *p) for p in pos); ib = struct.pack("<3I", 0, 1, 2)
+buf = pb + ib
+g = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+     "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+     "buffers": [{"byteLength": len(buf), "uri": "data:application/octet-stream;base64," + base64.b64encode(buf).decode()}],
+     "bufferViews": [{"buffer": 0, "byteLength": len(pb)}, {"buffer": 0, "byteOffset": len(pb), "byteLength": len(ib)}],
+     "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                   {"bufferView": 1, "componentType": 5125, "count": 3, "type": "SCALAR"}]}
+open(sys.argv[1] + "/nan.gltf", "w").write(json.dumps(g))
+g["nodes"][0]["extensions"] = {"MSFT_lod": {"ids": [5]}}
+open(sys.argv[1] + "/badlod.gltf", "w").write(json.dumps(g))
+PY
+for f in empty.obj:"empty" nofaces.obj:"no faces" inf.obj:"not finite" nan.gltf:"not finite" range.obj:"out of range" \
+         flat.obj:"zero area" badlod.gltf:"MSFT_lod"; do
+  file=${f%%:*} why=${f#*:}
+  sum=$(md5sum "$B/$file" | cut -c1-32)
+  expect_exit 2 "$file: exit 2" "$JND" lod "$B/$file" -o "$T/x_$file" --chain-only
+  check "$file: one line saying '$why'" bash -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q '^jnd: .*$file' '$T/err.txt' && grep -qi '$why' '$T/err.txt'"
+  check "$file: nothing written" [ ! -e "$T/x_$file" ]
+  check "$file: the input is unchanged" [ "$(md5sum "$B/$file" | cut -c1-32)" = "$sum" ]
+done
+expect_exit 2 "an unknown screen: exit 2" "$JND" lod builtin -o "$T/x" --screens vr
+check "one line naming it" bash -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q 'vr' '$T/err.txt'"
+expect_exit 2 "falling error targets: exit 2" "$JND" lod builtin -o "$T/x" --errors 0.01,0.001 --map-size 16
+check "one line" one_line_error
+expect_exit 2 "a --level file with another material: exit 2" "$JND" lod builtin --level "$B/range.obj" -o "$T/x" --map-size 16
+check "nothing written for bad options" [ ! -e "$T/x" ]
+check "--help prints the usage" bash -c "'$JND' lod --help | grep -- '--screens' >/dev/null"
+finish

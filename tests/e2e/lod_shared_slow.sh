@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# jnd lod on the shared meshes (spot, the 69 K-triangle Stanford bunny, the
+# teapot) with the default chain, screens and views: what 003 claims of its
+# Point of Imperceptibility, checked on real scans.
+#  - Hypothesis 2 (003 §3): lighting lowers the PoI — the lit knee is never
+#    finer than the unlit one, on every screen.
+#  - 003 §1: a smaller screen shows less detail — the phone's PoI is never
+#    finer than the full-HD monitor's, which is never finer than the 4K
+#    one's; and on at least one mesh the phone's is strictly coarser than the
+#    4K's. docs/lod.md says why 003's terms as written rarely separate the
+#    full-HD and 4K monitors (their pictures of the object are about as large
+#    in degrees) and reports the levels found.
+set -uo pipefail
+. "$(dirname "$0")/lib.bash"
+shared_data || skip "no shared data (../shared/data)"
+M="$JND_SHARED/data/meshes"
+for m in spot stanford-bunny teapot; do
+  expect_exit 0 "$m runs" "$JND" lod "$M/$m.obj" -o "$T/$m" --quiet
+done
+check "the lit PoI is never finer than the unlit one" python3 - "$T" <<'PY'
+import json, sys
+for m in ("spot", "stanford-bunny", "teapot"):
+    r = json.load(open("%s/%s/lod.json" % (sys.argv[1], m)))["result"]
+    for s in r["screens"]:
+        assert s["poi_level"] >= s["poi_level_unlit"], (m, s["name"], s["poi_level"], s["poi_level_unlit"])
+PY
+check "phone >= standard-fhd >= standard-4k, and phone > standard-4k on some mesh" python3 - "$T" <<'PY'
+import json, sys
+strict = []
+for m in ("spot", "stanford-bunny", "teapot"):
+    r = json.load(open("%s/%s/lod.json" % (sys.argv[1], m)))["result"]
+    poi = {s["name"]: s["poi_level"] for s in r["screens"]}
+    print("  %-15s PoI levels %s" % (m, poi))
+    assert poi["phone"] >= poi["standard-fhd"] >= poi["standard-4k"], (m, poi)
+    strict.append(poi["phone"] > poi["standard-4k"])
+assert any(strict), strict
+PY
+finish
