@@ -235,6 +235,9 @@ typedef struct {
   const jnd_image *weights;  /* 1 channel: multiplies the difference map (004 §3.2) */
   double retinal_dps;        /* > 0: every pixel moves on the retina at this speed (deg/s),
                                 bypassing the eye-movement model (psychophysics with fixation) */
+  const jnd_image *motion_test; /* the test image's own displacement, when it differs from the
+                                reference's (004 §3: each frame has its own map; NULL: `motion`
+                                serves both; `motion` NULL here means a static reference) */
 } jnd_diff_inputs;
 
 /* JND map of two images of absolute linear RGB in cd/m² (as jnd_display_apply
