@@ -265,6 +265,25 @@ double jnd_probability_inverse(double p, double beta);
  * degree (finest first); returns the number of bands (at most max). */
 int jnd_model_band_peaks(const jnd_model *m, double *cpd, int max);
 
+/* CIELAB and CIE ΔE*94 (Fairchild 2004): a colorimetric yardstick beside the
+ * model, 004 §5.1's "maximum ΔE*94" baseline. L*a*b* is relative to the
+ * display's white (full-scale RGB: peak + reflected ambient, D65). */
+
+/* Converts an image of absolute linear RGB in cd/m² (3 channels, as
+ * jnd_display_apply gives) in place to CIE 1976 L*, a*, b* planes. */
+jnd_status jnd_lab_from_linear(const jnd_display *d, jnd_image *img);
+
+/* ΔE*94 of two L*a*b* colours with the graphic-arts weights (kL = kC = kH =
+ * 1, K1 = 0.045, K2 = 0.015); ref's chroma sets S_C and S_H, so the
+ * difference is not symmetric. */
+double jnd_delta_e94(const float ref[3], const float test[3]);
+
+/* Per-pixel ΔE*94 of two images of absolute linear RGB in cd/m² (same size,
+ * 3 channels); out is allocated (1 channel). max (may be NULL) receives the
+ * largest value. ref and test are not modified. */
+jnd_status jnd_delta_e94_map(const jnd_display *d, const jnd_image *ref, const jnd_image *test, jnd_image *out,
+                             double *max);
+
 /* ------------------------------------------------------------------------ */
 /* Pooling (000 §6)                                                         */
 /* ------------------------------------------------------------------------ */

@@ -98,4 +98,11 @@ static inline float jnd_transducer(float c) {
   return c * jnd_fast_exp2(-0.1f * jnd_fast_log2(1.0f + a * a * a));
 }
 
+/* ---- CIELAB and ΔE*94 (deltae.c), for the popping predictor ---- */
+/* jnd_delta_e94_map computing only the row blocks where `where` (w × h
+ * bytes, NULL: all) has a nonzero byte; the others stay 0, which is their
+ * value when `where` marks every pixel whose colours differ. */
+jnd_status jnd_delta_e94_map_where(const jnd_display *d, const jnd_image *ref, const jnd_image *test,
+                                   const uint8_t *where, jnd_image *out, double *max);
+
 #endif
