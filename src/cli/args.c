@@ -5,6 +5,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 
 #include "cli/cli.h"
@@ -185,4 +186,18 @@ int cli_display_opt(const char *cmd, int argc, char **argv, int *i, jnd_display 
     return 1;
   }
   return 0;
+}
+
+int cli_mkdir_p(const char *dir) {
+  char buf[4096];
+  snprintf(buf, sizeof buf, "%s", dir);
+  for (char *p = buf + 1; *p; p++)
+    if (*p == '/') {
+      *p = 0;
+      if (mkdir(buf, 0777) != 0 && errno != EEXIST) return 0;
+      *p = '/';
+    }
+  if (mkdir(buf, 0777) != 0 && errno != EEXIST) return 0;
+  struct stat st;
+  return stat(buf, &st) == 0 && S_ISDIR(st.st_mode);
 }

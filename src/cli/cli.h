@@ -77,6 +77,9 @@ void cli_progress_end(cli_progress *p);
 
 double cli_now(void);   /* monotonic seconds */
 
+/* Creates a folder and its parents (like mkdir -p); 1 when it exists afterwards. */
+int cli_mkdir_p(const char *dir);
+
 /* Subcommands (each in cmd_<name>.c). Missing ones are weak and skipped. */
 #define JND_COMMANDS(X) \
   X(diff) X(csf) X(example) X(render) X(texres) X(calibrate) X(pca) X(lod) X(gaze) X(pop)

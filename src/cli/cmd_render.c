@@ -252,20 +252,6 @@ static int write_exr(const char *dir, const char *name, const jnd_image *img, co
   return 1;
 }
 
-static int mkdir_p(const char *dir) {
-  char buf[4096];
-  snprintf(buf, sizeof buf, "%s", dir);
-  for (char *p = buf + 1; *p; p++)
-    if (*p == '/') {
-      *p = 0;
-      if (mkdir(buf, 0777) != 0 && errno != EEXIST) return 0;
-      *p = '/';
-    }
-  if (mkdir(buf, 0777) != 0 && errno != EEXIST) return 0;
-  struct stat st;
-  return stat(buf, &st) == 0 && S_ISDIR(st.st_mode);
-}
-
 enum { O_COLOR = 1, O_DEPTH = 2, O_MASK = 4, O_MOTION = 8, O_MIP = 16, O_EXR = 32 };
 
 static int parse_outputs(const char *v, unsigned *out) {
@@ -518,7 +504,7 @@ static int run(int argc, char **argv) {
       goto done;
     }
   }
-  if (!mkdir_p(dir)) {
+  if (!cli_mkdir_p(dir)) {
     cli_error("%s: cannot create the folder (%s)", dir, strerror(errno));
     goto done;
   }

@@ -67,20 +67,6 @@ static void help(void) {
       cli_display_help);
 }
 
-static int mkdir_p(const char *dir) {
-  char buf[4096];
-  snprintf(buf, sizeof buf, "%s", dir);
-  for (char *p = buf + 1; *p; p++)
-    if (*p == '/') {
-      *p = 0;
-      if (mkdir(buf, 0777) != 0 && errno != EEXIST) return 0;
-      *p = '/';
-    }
-  if (mkdir(buf, 0777) != 0 && errno != EEXIST) return 0;
-  struct stat st;
-  return stat(buf, &st) == 0 && S_ISDIR(st.st_mode);
-}
-
 static cJSON *pair(const int *wh) {
   cJSON *a = cJSON_CreateArray();
   cJSON_AddItemToArray(a, cJSON_CreateNumber(wh[0]));
@@ -284,7 +270,7 @@ static int run(int argc, char **argv) {
   p.progress = on_progress;
   p.progress_user = &prog;
   /* bad --maps before creating anything */
-  if (!mkdir_p(dir)) {
+  if (!cli_mkdir_p(dir)) {
     cli_error("%s: cannot create the folder (%s)", dir, strerror(errno));
     goto out;
   }
@@ -302,7 +288,7 @@ static int run(int argc, char **argv) {
   if (!is_builtin && gltf) {
     char mdir[4200];
     snprintf(mdir, sizeof mdir, "%s/model", dir);
-    if (!mkdir_p(mdir) || jnd_texres_write_model(scene, model, mdir, model_out, sizeof model_out) != JND_OK) {
+    if (!cli_mkdir_p(mdir) || jnd_texres_write_model(scene, model, mdir, model_out, sizeof model_out) != JND_OK) {
       cli_error("%s", jnd_last_error());
       goto out;
     }
@@ -321,7 +307,7 @@ static int run(int argc, char **argv) {
         if (*q == '/' || *q == ' ' || *q == '#') *q = '_';
       snprintf(path, sizeof path, "%s/%s", mdir, name);
       jnd_image im = {0};
-      int ok = mkdir_p(mdir) && jnd_scene_map_get(scene, m->map, 0, &im) == JND_OK &&
+      int ok = cli_mkdir_p(mdir) && jnd_scene_map_get(scene, m->map, 0, &im) == JND_OK &&
                jnd_image_write_png(path, &im, 8) == JND_OK;
       jnd_image_free(&im);
       if (!ok) {
