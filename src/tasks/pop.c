@@ -447,13 +447,15 @@ jnd_status jnd_pop_files(jnd_model *m, const jnd_pop_paths *f, const jnd_pop_par
                            f->depth, f->depth_expected, f->prev_depth, f->prev_depth_expected,
                            f->weights, f->prev_color, f->prev_shading, f->mask};
   if (!path[IN_ACTUAL] || !path[IN_EXPECTED]) return jnd_fail(JND_ERR_ARG, "pop: two frames are needed");
-  /* each file is read once: a slot naming the same path as an earlier one shares it */
+  /* each file is read once: a slot naming the same path as an earlier slot
+   * of the same kind shares its image (a colour frame is converted to cd/m²,
+   * so it cannot double as a weight map) */
   int src[NIN], todo[NIN], ntodo = 0;
   for (int k = 0; k < NIN; k++) {
     src[k] = k;
     if (!path[k]) continue;
     for (int j = 0; j < k; j++)
-      if (path[j] && strcmp(path[j], path[k]) == 0 && src[j] == j) {
+      if (path[j] && KIND[j] == KIND[k] && strcmp(path[j], path[k]) == 0 && src[j] == j) {
         src[k] = j;
         break;
       }

@@ -53,6 +53,7 @@ check the_displacement_is_reported jq -e '.inputs.displacement and .parameters.f
 expect_exit 0 depths_run "$JND" pop "$T/new.png" "$T/expected.png" -o "$T/occ" --depth "$T/depth.exr" --prev-depth "$T/prev_depth.exr" --depth-expected "$T/depth.exr" --prev-depth-expected "$T/prev_depth.exr" --quiet
 check disoccluded_change_is_down_weighted jq -e --slurpfile s "$T/still/pop.json" '.result.weights.disocclusion.present and .result.weights.disocclusion.pixels_below_half > 0 and (.result.max_rating == null or .result.max_rating < $s[0].result.max_rating)' "$T/occ/pop.json"
 expect_exit 0 flicker_inputs_run "$JND" pop "$T/new.png" "$T/expected.png" -o "$T/flick" --prev-frame "$T/expected.png" --prev-shading "$T/expected.png" --quiet
+expect_exit 0 a_frame_file_may_also_be_the_weights "$JND" pop "$T/new.png" "$T/expected.png" -o "$T/fw" --weights "$T/new.png" --quiet
 check flicker_weight_is_reported jq -e '.result.weights.flicker.present and .result.weights.flicker.min == 1' "$T/flick/pop.json"
 
 "$JND" pop "$T/new.png" "$T/expected.png" -o "$T/t1" --displacement "$T/fast.exr" --threads 1 --quiet
