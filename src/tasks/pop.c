@@ -355,11 +355,14 @@ static jnd_status find_regions(const uint8_t *seed, const jnd_pop_params *p, jnd
 static void scores(const jnd_pop_inputs *in, const jnd_pop_params *p, jnd_pop_result *out) {
   const size_t n = (size_t)out->w * out->h;
   const float *mask = in->mask ? in->mask->data : NULL;
-  size_t obj = 0, cov = 0;
-  for (size_t i = 0; i < n; i++) {
+  size_t obj = 0, cov = 0; /* integer sums: the same in any order */
+  const int32_t *lab = out->labels;
+  const ptrdiff_t nn = (ptrdiff_t)n;
+#pragma omp parallel for reduction(+ : obj, cov) schedule(static)
+  for (ptrdiff_t i = 0; i < nn; i++) {
     int on = !mask || mask[i] > 0.5f;
-    obj += on;
-    cov += on && out->labels[i] >= 0;
+    obj += (size_t)on;
+    cov += (size_t)(on && lab[i] >= 0);
   }
   out->object_pixels = obj;
   out->covered_pixels = cov;
@@ -375,8 +378,10 @@ static void scores(const jnd_pop_inputs *in, const jnd_pop_params *p, jnd_pop_re
   out->detection_score = out->nregions ? jnd_pop_detection_score(out->coverage_score, out->rating_score) : 1;
 }
 
+/* The procedure. own_exp and own_act (may be NULL) are the frames' images when
+ * the caller gives them up: the model then works in them instead of copies. */
 static jnd_status predict(jnd_model *m, const jnd_pop_inputs *in, const char *const *names,
-                          const jnd_pop_params *p, jnd_pop_result *out) {
+                          const jnd_pop_params *p, jnd_image *own_exp, jnd_image *own_act, jnd_pop_result *out) {
   memset(out, 0, sizeof *out);
   out->max_rating = out->rating_top = NAN;
   jnd_status s = check_params(p);
@@ -389,7 +394,7 @@ static jnd_status predict(jnd_model *m, const jnd_pop_inputs *in, const char *co
   out->w = w;
   out->h = h;
   uint8_t *seed = jnd_alloc(n, 1);
-  jnd_image de = {0};
+  jnd_image de = {0}, grey = {0}, still = {0};
   if (!seed) return JND_ERR_NOMEM;
   double t = now_s();
   colours_differ(act, exp, seed); /* 1 */
@@ -397,11 +402,12 @@ static jnd_status predict(jnd_model *m, const jnd_pop_inputs *in, const char *co
   if ((s = jnd_delta_e94_map_where(&mp->display, exp, act, seed, &de, &out->max_delta_e94)) != JND_OK) goto fail;
   if ((s = make_weights(&mp->display, in, &de, p, out)) != JND_OK) goto fail; /* 3 */
   jnd_image_free(&de);
+  /* the picture's backdrop now, before the model may use up the frames */
+  if (p->picture && (s = pop_backdrop(&mp->display, act, &grey)) != JND_OK) goto fail;
   out->timings.weights_s = now_s() - t;
   t = now_s();
   /* 4: expected is the reference, actual the test, each with its own motion */
   jnd_diff_inputs di = {0};
-  jnd_image still = {0};
   di.motion = in->expected.displacement; /* NULL with motion_test set: a static reference */
   di.motion_test = in->actual.displacement;
   if (di.motion && !di.motion_test) {
@@ -410,11 +416,17 @@ static jnd_status predict(jnd_model *m, const jnd_pop_inputs *in, const char *co
     di.motion_test = &still;
   }
   di.weights = out->weights.data ? &out->weights : NULL;
-  s = jnd_model_diff(m, exp, act, &di, &out->jnd);
+  if (own_exp && own_act && own_exp != own_act)
+    s = jnd_model_diff_consume(m, own_exp, own_act, &di, &out->jnd);
+  else
+    s = jnd_model_diff(m, exp, act, &di, &out->jnd);
   jnd_image_free(&still);
   if (s != JND_OK) goto fail;
   float jmax = 0;
-  for (size_t i = 0; i < n; i++) jmax = out->jnd.data[i] > jmax ? out->jnd.data[i] : jmax;
+  const float *J = out->jnd.data;
+  const ptrdiff_t nn = (ptrdiff_t)n;
+#pragma omp parallel for reduction(max : jmax) schedule(static)
+  for (ptrdiff_t i = 0; i < nn; i++) jmax = J[i] > jmax ? J[i] : jmax;
   out->jnd_max = jmax;
   out->timings.model_s = now_s() - t;
   t = now_s();
@@ -424,18 +436,20 @@ static jnd_status predict(jnd_model *m, const jnd_pop_inputs *in, const char *co
   scores(in, p, out); /* 7 */
   out->timings.regions_s = now_s() - t;
   t = now_s();
-  if (p->picture && (s = pop_picture(&mp->display, act, out, &out->picture)) != JND_OK) goto fail; /* 8 */
+  if (p->picture && (s = pop_picture(&grey, out, &out->picture)) != JND_OK) goto fail; /* 8 */
+  jnd_image_free(&grey);
   out->timings.picture_s = now_s() - t;
   return JND_OK;
 fail:
   free(seed);
   jnd_image_free(&de);
+  jnd_image_free(&grey);
   jnd_pop_result_free(out);
   return s;
 }
 
 jnd_status jnd_pop_predict(jnd_model *m, const jnd_pop_inputs *in, const jnd_pop_params *p, jnd_pop_result *out) {
-  return predict(m, in, IN_NAME, p, out);
+  return predict(m, in, IN_NAME, p, NULL, NULL, out);
 }
 
 /* ---- files ---- */
@@ -505,7 +519,8 @@ jnd_status jnd_pop_files(jnd_model *m, const jnd_pop_paths *f, const jnd_pop_par
     in.prev_shading = I[IN_PREV_SHADING];
     in.mask = I[IN_MASK];
     const double t_read = now_s() - t0;
-    s = predict(m, &in, path, p, out);
+    /* the frames were read for this call: the model may work in them */
+    s = predict(m, &in, path, p, &img[src[IN_EXPECTED]], &img[src[IN_ACTUAL]], out);
     out->timings.read_s = t_read;
   }
   for (int k = 0; k < NIN; k++) jnd_image_free(&img[k]);

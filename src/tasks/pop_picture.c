@@ -38,26 +38,38 @@ JND_HOT static void grey_row(const float *r, const float *g, const float *b, flo
 
 static jnd_rgb rating_colour(double r) { return jnd_colour_scale((r - R_MIN) / (R_MAX - R_MIN)); }
 
-jnd_status pop_picture(const jnd_display *d, const jnd_image *frame, const jnd_pop_result *r, jnd_image *out) {
-  memset(out, 0, sizeof *out);
-  const int w = frame->w, h = frame->h, H = h > MIN_H ? h : MIN_H;
-  jnd_status s = jnd_canvas_new(out, w + LEGEND_W, H, (jnd_rgb){0.97f, 0.97f, 0.97f});
+jnd_status pop_backdrop(const jnd_display *d, const jnd_image *frame, jnd_image *grey) {
+  jnd_status s = jnd_image_alloc(grey, frame->w, frame->h, 1);
   if (s != JND_OK) return s;
   /* the frame as the display shows it, in grey: luminance back through the
    * display model to a signal, dimmed so that the regions stand out */
-  const double lo = d->black_cdm2 + d->reflectivity * d->ambient_lux / M_PI, range = d->peak_cdm2 - d->black_cdm2;
+  const float lo = (float)(d->black_cdm2 + d->reflectivity * d->ambient_lux / M_PI);
+  const float inv = (float)(1.0 / (d->peak_cdm2 - d->black_cdm2));
+  const float *f0 = jnd_image_plane(frame, 0), *f1 = jnd_image_plane(frame, 1), *f2 = jnd_image_plane(frame, 2);
+  const int w = frame->w, h = frame->h;
+#pragma omp parallel for schedule(static)
+  for (int y = 0; y < h; y++) {
+    const size_t i0 = (size_t)y * w;
+    grey_row(f0 + i0, f1 + i0, f2 + i0, lo, inv, grey->data + i0, w);
+  }
+  return JND_OK;
+}
+
+jnd_status pop_picture(const jnd_image *grey, const jnd_pop_result *r, jnd_image *out) {
+  memset(out, 0, sizeof *out);
+  const int w = grey->w, h = grey->h, H = h > MIN_H ? h : MIN_H;
+  jnd_status s = jnd_canvas_new(out, w + LEGEND_W, H, (jnd_rgb){0.97f, 0.97f, 0.97f});
+  if (s != JND_OK) return s;
   jnd_rgb col[64];
   const int ncol = r->nregions < 64 ? r->nregions : 64;
   for (int k = 0; k < ncol; k++) col[k] = rating_colour(r->regions[k].rating);
   const int W = out->w;
   float *o0 = jnd_image_plane(out, 0), *o1 = jnd_image_plane(out, 1), *o2 = jnd_image_plane(out, 2);
-  const float *f0 = jnd_image_plane(frame, 0), *f1 = jnd_image_plane(frame, 1), *f2 = jnd_image_plane(frame, 2);
-  const float flo = (float)lo, finv = (float)(1.0 / range);
 #pragma omp parallel for schedule(static)
   for (int y = 0; y < h; y++) {
     const size_t i0 = (size_t)y * w, o0r = (size_t)y * W;
     float *g0 = o0 + o0r, *g1 = o1 + o0r, *g2 = o2 + o0r;
-    grey_row(f0 + i0, f1 + i0, f2 + i0, flo, finv, g0, w);
+    memcpy(g0, grey->data + i0, sizeof(float) * (size_t)w);
     memcpy(g1, g0, sizeof(float) * (size_t)w);
     memcpy(g2, g0, sizeof(float) * (size_t)w);
     if (!r->labels) continue;

@@ -73,10 +73,13 @@ jnd_status pop_flicker_weight(const jnd_display *d, const jnd_image *prev_shadin
 
 /* ---- pop_picture.c: 004 Fig. 4 (begin) ---- */
 
-/* The actual frame (absolute linear RGB, cd/m², shown in dimmed grey through
- * the display d) with each region's pixels coloured by its rating R, and a
+/* The picture's backdrop: a frame (absolute linear RGB, cd/m²) as display d
+ * shows it, in dimmed grey (1 channel, signal 0..1; grey allocated). */
+jnd_status pop_backdrop(const jnd_display *d, const jnd_image *frame, jnd_image *grey);
+
+/* The backdrop with each region's pixels coloured by its rating R, and a
  * legend column: the counts and scores, and a colour bar of R. */
-jnd_status pop_picture(const jnd_display *d, const jnd_image *frame, const jnd_pop_result *r, jnd_image *out);
+jnd_status pop_picture(const jnd_image *grey, const jnd_pop_result *r, jnd_image *out);
 
 /* ---- pop_picture.c (end) ---- */
 

@@ -592,6 +592,58 @@ TEST(delta_e94_has_the_published_weights) {
   jnd_image_free(&y);
 }
 
+TEST(files_give_what_the_same_images_give) {
+  /* jnd_pop_files (which lets the model work in the frames it read) and
+   * jnd_pop_predict on the same frames through the same display */
+  jnd_model *m = model_t(0);
+  const int w = 96, h = 72;
+  jnd_image sa = plane(w, h, 3, 102.0f / 255), sb = plane(w, h, 3, 102.0f / 255), d = plane(w, h, 2, 6.0f);
+  for (int c = 0; c < 3; c++)
+    for (int y = 20; y < 40; y++)
+      for (int x = 30; x < 50; x++) jnd_image_plane(&sa, c)[y * w + x] = (x / 4) % 2 ? 153.0f / 255 : 51.0f / 255; /* 8-bit codes */
+  char pa[1200], pb[1200], pd[1200];
+  snprintf(pa, sizeof pa, "%s/pop_a.png", test_tmp_dir());
+  snprintf(pb, sizeof pb, "%s/pop_b.png", test_tmp_dir());
+  snprintf(pd, sizeof pd, "%s/pop_d.exr", test_tmp_dir());
+  CHECK_OK(jnd_image_write_png(pa, &sa, 8));
+  CHECK_OK(jnd_image_write_png(pb, &sb, 8));
+  CHECK_OK(jnd_image_write_exr(pd, &d, NULL, 0));
+  jnd_pop_params p = params();
+  p.picture = 1;
+  jnd_pop_paths f = {0};
+  f.actual = pa;
+  f.expected = pb;
+  f.displacement = pd;
+  jnd_pop_result rf, ri;
+  CHECK_OK(jnd_pop_files(m, &f, &p, &rf));
+  jnd_image ca, cb;
+  CHECK_OK(jnd_display_apply(&jnd_model_get_params(m)->display, &sa, JND_ENCODING_SRGB, 0, &ca));
+  CHECK_OK(jnd_display_apply(&jnd_model_get_params(m)->display, &sb, JND_ENCODING_SRGB, 0, &cb));
+  jnd_pop_inputs in = {0};
+  in.actual = (jnd_pop_frame){&ca, &d, NULL, NULL};
+  in.expected = (jnd_pop_frame){&cb, &d, NULL, NULL};
+  CHECK_OK(jnd_pop_predict(m, &in, &p, &ri));
+  CHECK(rf.nregions >= 1 && rf.nregions == ri.nregions);
+  CHECK(memcmp(rf.jnd.data, ri.jnd.data, sizeof(float) * w * h) == 0);
+  CHECK(memcmp(rf.labels, ri.labels, sizeof(int32_t) * w * h) == 0);
+  CHECK(memcmp(rf.picture.data, ri.picture.data, sizeof(float) * 3 * ri.picture.w * ri.picture.h) == 0);
+  CHECK(rf.max_delta_e94 == ri.max_delta_e94 && rf.max_rating == ri.max_rating);
+  /* the same file for both frames: identical, no region */
+  f.expected = pa;
+  jnd_pop_result same;
+  CHECK_OK(jnd_pop_files(m, &f, &p, &same));
+  CHECK(same.nregions == 0 && same.jnd_max == 0);
+  jnd_pop_result_free(&same);
+  jnd_pop_result_free(&rf);
+  jnd_pop_result_free(&ri);
+  jnd_image_free(&sa);
+  jnd_image_free(&sb);
+  jnd_image_free(&ca);
+  jnd_image_free(&cb);
+  jnd_image_free(&d);
+  jnd_model_free(m);
+}
+
 static int fails_naming(jnd_model *m, const jnd_pop_inputs *in, const char *word) {
   jnd_pop_params p = params();
   jnd_pop_result r;
@@ -656,4 +708,5 @@ RUN_TESTS(identical_frames_have_no_region, a_blob_through_the_predictor_is_one_r
           flicker_weights_down_where_the_previous_frame_differs_as_much, regions_do_not_depend_on_the_thread_count,
           a_mask_is_what_coverage_counts, rating_follows_004s_mapping, score_levels_follow_the_thresholds,
           detection_table_is_monotone_and_holds_004s_examples, the_top_regions_set_the_rating_score,
-          delta_e94_has_the_published_weights, bad_inputs_are_refused_with_a_message_naming_them)
+          delta_e94_has_the_published_weights, files_give_what_the_same_images_give,
+          bad_inputs_are_refused_with_a_message_naming_them)
