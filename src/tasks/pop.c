@@ -310,28 +310,24 @@ static jnd_status find_regions(const uint8_t *seed, const jnd_pop_params *p, jnd
                                   out->labels, &reg, &nr);
   if (s != JND_OK) return s;
   if (nr == 0) return JND_OK;
-  /* sort by Σ (so by R), ties by first pixel; labels follow */
+  /* sort by Σ (so by R), ties by first pixel; labels follow: a region's old
+   * index is the label at its first pixel */
   int *order = jnd_alloc((size_t)nr, sizeof *order);
-  jnd_region *sorted = jnd_alloc((size_t)nr, sizeof *sorted);
   out->regions = jnd_calloc((size_t)nr, sizeof *out->regions);
-  if (!order || !sorted || !out->regions) {
+  if (!order || !out->regions) {
     free(order);
-    free(sorted);
     free(reg);
     return JND_ERR_NOMEM;
   }
-  memcpy(sorted, reg, sizeof *reg * (size_t)nr);
-  qsort(sorted, (size_t)nr, sizeof *sorted, region_order);
-  /* the old index of each sorted region is found by its first pixel: the
-   * label there is its old index */
-  for (int k = 0; k < nr; k++) order[out->labels[sorted[k].first]] = k;
+  qsort(reg, (size_t)nr, sizeof *reg, region_order);
+  for (int k = 0; k < nr; k++) order[out->labels[reg[k].first]] = k;
   const ptrdiff_t nn = (ptrdiff_t)n;
   int32_t *lab = out->labels;
 #pragma omp parallel for schedule(static)
   for (ptrdiff_t i = 0; i < nn; i++)
     if (lab[i] >= 0) lab[i] = order[lab[i]];
   for (int k = 0; k < nr; k++) {
-    const jnd_region *g = &sorted[k];
+    const jnd_region *g = &reg[k];
     jnd_pop_region *r = &out->regions[k];
     r->pixels = g->pixels;
     r->sigma = pow(g->sum_pow, 1.0 / p->minkowski); /* 004 §3.2: Minkowski sum, exponent 2.4 */
@@ -346,7 +342,6 @@ static jnd_status find_regions(const uint8_t *seed, const jnd_pop_params *p, jnd
   }
   out->nregions = nr;
   free(order);
-  free(sorted);
   free(reg);
   return JND_OK;
 }
