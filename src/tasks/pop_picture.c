@@ -13,7 +13,7 @@
 #include "tasks/tasks.h"
 
 #define LEGEND_W 210
-#define MIN_H 330
+#define MIN_H 350 /* the legend column: text lines, then the colour bar */
 #define R_MIN 0.0 /* the colour scale's range of R */
 #define R_MAX 4.0
 
@@ -110,9 +110,9 @@ jnd_status pop_picture(const jnd_image *grey, const jnd_pop_result *r, jnd_image
   y += 19;
   snprintf(line, sizeof line, "max \u0394E*94: %.2f", r->max_delta_e94);
   jnd_draw_text(out, x0, y, line, 13, INK, JND_ALIGN_LEFT, 0);
-  y += 40;
+  y += 32;
   static const double ticks[] = {0, 1, 2, 3, 4};
   static const char *const labels[] = {"0", "1  rarely visible", "2", "3  easily visible", "4+"};
-  jnd_draw_colour_bar(out, (int)x0, (int)y, 18, 150, R_MIN, R_MAX, NULL, ticks, labels, 5, "rating R");
+  jnd_draw_colour_bar(out, (int)x0, (int)y, 18, 130, R_MIN, R_MAX, NULL, ticks, labels, 5, "rating R");
   return JND_OK;
 }
