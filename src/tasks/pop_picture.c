@@ -110,9 +110,9 @@ jnd_status pop_picture(const jnd_image *grey, const jnd_pop_result *r, jnd_image
   y += 19;
   snprintf(line, sizeof line, "max \u0394E*94: %.2f", r->max_delta_e94);
   jnd_draw_text(out, x0, y, line, 13, INK, JND_ALIGN_LEFT, 0);
-  y += 32;
+  y += 40;
   static const double ticks[] = {0, 1, 2, 3, 4};
   static const char *const labels[] = {"0", "1  rarely visible", "2", "3  easily visible", "4+"};
-  jnd_draw_colour_bar(out, (int)x0, (int)y, 18, 130, R_MIN, R_MAX, NULL, ticks, labels, 5, "rating R");
+  jnd_draw_colour_bar(out, (int)x0, (int)y, 18, 125, R_MIN, R_MAX, NULL, ticks, labels, 5, "rating R");
   return JND_OK;
 }
