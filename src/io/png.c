@@ -363,11 +363,12 @@ static void quantise_row(const jnd_image *img, int y, int bits, unsigned char *r
   for (int ch = 0; ch < img->c; ch++) {
     const float *p = jnd_image_plane(img, ch) + (size_t)y * img->w;
     for (int x = 0; x < img->w; x++) {
-      float v = p[x] < 0.0f ? 0.0f : p[x] > 1.0f ? 1.0f : p[x];
+      /* in double, as the writer always quantised: the same codes as before */
+      double v = jnd_clampd(p[x], 0.0, 1.0);
       if (bits == 8) {
-        r[(size_t)x * bpp + ch] = (unsigned char)(v * 255.0f + 0.5f);
+        r[(size_t)x * bpp + ch] = (unsigned char)(v * 255.0 + 0.5);
       } else {
-        unsigned q = (unsigned)(v * 65535.0f + 0.5f);
+        unsigned q = (unsigned)(v * 65535.0 + 0.5);
         r[(size_t)x * bpp + 2 * ch] = (unsigned char)(q >> 8);
         r[(size_t)x * bpp + 2 * ch + 1] = (unsigned char)q;
       }
