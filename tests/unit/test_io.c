@@ -548,6 +548,27 @@ TEST(png_written_in_many_pieces_reads_back_through_both_decoders_and_is_the_same
   omp_set_num_threads(omp_get_num_procs());
 }
 
+TEST(png_8_bit_codes_are_the_values_rounded_in_double) {
+  /* the writer's quantisation: code = floor(v · 255 + 0.5) in double for v
+   * clamped to 0..1 (float arithmetic rounds some values near half a code
+   * the other way) */
+  const int w = 1000, h = 100;
+  jnd_image img = pattern(w, h, 1, -0.05, 1.05, 91), back;
+  for (int i = 0; i < 2000; i++) img.data[i] = (float)((i % 256 + 0.5) / 255.0); /* half codes */
+  const char *path = tmp_file("codes.png");
+  CHECK_OK(jnd_image_write_png(path, &img, 8));
+  CHECK_OK(jnd_image_read(path, &back, NULL));
+  int wrong = 0;
+  for (int i = 0; i < w * h; i++) {
+    double v = img.data[i] < 0 ? 0 : img.data[i] > 1 ? 1 : img.data[i];
+    int want = (int)(v * 255.0 + 0.5), got = (int)lround(back.data[i] * 255.0);
+    wrong += want != got;
+  }
+  CHECK(wrong == 0);
+  jnd_image_free(&img);
+  jnd_image_free(&back);
+}
+
 static unsigned char *small_png(size_t *n) {
   jnd_image img = pattern(6, 5, 3, 0, 1, 31);
   const char *path = tmp_file("small.png");
@@ -1086,7 +1107,7 @@ RUN_TESTS(exr_float_round_trips_exactly, exr_half_round_trips_within_half_precis
           exr_write_is_atomic_and_leaves_no_temporary_file, png_8_bit_round_trips_for_1_to_4_channels,
           png_16_bit_round_trips_to_within_one_code,
           png_written_in_many_pieces_reads_back_through_both_decoders_and_is_the_same_bytes_for_any_thread_count,
-          png_with_bad_crc_is_refused,
+          png_8_bit_codes_are_the_values_rounded_in_double, png_with_bad_crc_is_refused,
           every_truncation_of_a_png_is_refused, png_without_iend_is_refused,
           png_claiming_more_than_the_size_limit_is_refused,
           png_zlib_path_matches_stb_for_every_plain_layout_filter_and_odd_width,
