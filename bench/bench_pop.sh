@@ -21,7 +21,7 @@ if "$JND" render builtin -o "$out/r" --views 1 --size ${W}x${H} --outputs motion
 elif command -v python3 >/dev/null; then
   PYTHONPATH="$here/../tests/e2e" python3 -B - "$disp" $W $H <<'PY' || exit 1
 import sys
-from images import exr
+from exrwrite import exr
 w, h, k = int(sys.argv[2]), int(sys.argv[3]), 0.02  # a rotation of 0.02 rad a frame about the centre
 exr(sys.argv[1], w, h, {'X': lambda x, y: -(y - h / 2) * k, 'Y': lambda x, y: (x - w / 2) * k})
 PY
