@@ -252,6 +252,9 @@ typedef struct {
   const jnd_image *weights;  /* 1 channel: multiplies the difference map (004 §3.2) */
   double retinal_dps;        /* > 0: every pixel moves on the retina at this speed (deg/s),
                                 bypassing the eye-movement model (psychophysics with fixation) */
+  const jnd_image *motion_test; /* the test image's own displacement, when it differs from the
+                                reference's (004 §3: each frame has its own map; NULL: `motion`
+                                serves both; `motion` NULL here means a static reference) */
 } jnd_diff_inputs;
 
 /* JND map of two images of absolute linear RGB in cd/m² (as jnd_display_apply
@@ -278,6 +281,25 @@ double jnd_probability_inverse(double p, double beta);
 /* The peak frequency of each contrast pyramid band of the model, cycles per
  * degree (finest first); returns the number of bands (at most max). */
 int jnd_model_band_peaks(const jnd_model *m, double *cpd, int max);
+
+/* CIELAB and CIE ΔE*94 (Fairchild 2004): a colorimetric yardstick beside the
+ * model, 004 §5.1's "maximum ΔE*94" baseline. L*a*b* is relative to the
+ * display's white (full-scale RGB: peak + reflected ambient, D65). */
+
+/* Converts an image of absolute linear RGB in cd/m² (3 channels, as
+ * jnd_display_apply gives) in place to CIE 1976 L*, a*, b* planes. */
+jnd_status jnd_lab_from_linear(const jnd_display *d, jnd_image *img);
+
+/* ΔE*94 of two L*a*b* colours with the graphic-arts weights (kL = kC = kH =
+ * 1, K1 = 0.045, K2 = 0.015); ref's chroma sets S_C and S_H, so the
+ * difference is not symmetric. */
+double jnd_delta_e94(const float ref[3], const float test[3]);
+
+/* Per-pixel ΔE*94 of two images of absolute linear RGB in cd/m² (same size,
+ * 3 channels); out is allocated (1 channel). max (may be NULL) receives the
+ * largest value. ref and test are not modified. */
+jnd_status jnd_delta_e94_map(const jnd_display *d, const jnd_image *ref, const jnd_image *test, jnd_image *out,
+                             double *max);
 
 /* ------------------------------------------------------------------------ */
 /* Pooling and psychometrics (000 §6–§7, §9)                                */
@@ -1912,6 +1934,179 @@ typedef struct {
  * have 1–3 channels). tex (caller's, JND_PCA_MAX_CHANNELS entries) receives
  * *n textures; the caller frees their images. */
 jnd_status jnd_pca_pack(const jnd_pca_encoded *enc, jnd_pca_texture *tex, int *n);
+
+/* ------------------------------------------------------------------------ */
+/* Popping (Schwarz & Stamminger 2009, 004 §3.2, §4, §5.2)                  */
+/* ------------------------------------------------------------------------ */
+/* Will a level switch pop? The frame where the switch happens is given
+ * twice: rendered with the new level (the actual frame) and with the
+ * previous one (what the viewer expects). Both go through the vision model
+ * with each pixel's retinal velocity; the difference map, scaled down by
+ * optional weights (disocclusion, flicker, the caller's), is aggregated
+ * into popping regions — seeds where the colours differ and the map is at
+ * least 2 JND, grown over the eight neighbours while at least 2 JND — each
+ * with its Minkowski sum Σ and rating R = ln(0.375 Σ) / ln 2.25 (R < 1:
+ * rarely visible, R > 3: easily). Coverage, rating and detection scores
+ * summarise a frame (004 §5.2). See docs/pop.md. Typical use:
+ *
+ *     jnd_pop_inputs in = {0};
+ *     in.actual.color = &new_cdm2;   in.actual.displacement = &motion;
+ *     in.expected.color = &old_cdm2; in.expected.displacement = &motion;
+ *     jnd_pop_params pp;  jnd_pop_defaults(&pp);
+ *     jnd_pop_result r;
+ *     if (jnd_pop_predict(model, &in, &pp, &r) == JND_OK)
+ *         printf("%d regions, max R %.2f, detection score %d\n", r.nregions, r.max_rating, r.detection_score);
+ *     jnd_pop_result_free(&r);
+ */
+
+/* One of the two frames. Every image is w × h, the colour's size. */
+typedef struct {
+  const jnd_image *color;        /* 3 channels: absolute linear RGB, cd/m² (jnd_display_apply) */
+  const jnd_image *displacement; /* 2 channels (more are ignored): screen position in this frame
+                                    minus position in the previous frame, pixels (x right, y
+                                    down), as the renderer's motion output; NULL: static */
+  const jnd_image *depth;        /* 1 channel: depth (distance along the view axis) of each
+                                    pixel's surface point as the previous frame's camera saw it;
+                                    this frame's own depth approximates it when motion along the
+                                    view axis is small against depth_tolerance. 0: nothing there
+                                    (infinitely far). NULL: no disocclusion weight */
+  const jnd_image *prev_depth;   /* 1 channel: the previous frame's depth map, rendered with this
+                                    frame's level (needed with depth) */
+} jnd_pop_frame;
+
+typedef struct {
+  jnd_pop_frame actual;          /* the frame with the new level (004: "actually rendered") */
+  jnd_pop_frame expected;        /* the same frame with the previous level (004: "predicted") */
+  const jnd_image *weights;      /* 1 channel, 0..1: multiplies the difference map (004 §3.2); NULL */
+  const jnd_image *prev_color;   /* flicker (004 §4): the previous frame as shown, 3 channels cd/m² */
+  const jnd_image *prev_shading; /* flicker: the expected frame's pixels shaded with the previous
+                                    frame's camera and lights, 3 channels cd/m² (with prev_color) */
+  const jnd_image *mask;         /* 1 channel: > 0.5 on the object, the pixels coverage counts;
+                                    NULL: the whole frame */
+} jnd_pop_inputs;
+
+typedef struct {
+  double threshold_jnd;          /* seeds and growth: at least this many JND (2, 004 §3.2) */
+  double minkowski;              /* exponent of a region's sum Σ (2.4, 004 §3.2) */
+  double depth_tolerance;        /* disocclusion: a point counts as seen in the previous frame when
+                                    its depth is at most (1 + this) × the previous depth (0.01) */
+  double flicker_ratio_lo;       /* flicker: ΔE*94(previous shading, previous frame) / ΔE*94(levels)
+                                    from which a pixel starts to count as flickering (0.5) */
+  double flicker_ratio_hi;       /* ... and counts fully (1: "roughly as large", 004 §4) */
+  double flicker_motion_lo_px;   /* displacement (pixels/frame) from which the flicker test is
+                                    trusted less (2) ... */
+  double flicker_motion_hi_px;   /* ... and not at all ("unless the displacement is large", 4) */
+  int top_regions;               /* the rating score is the mean R of this many best regions (3) */
+  double coverage_small;         /* coverage fraction from which the score is "small" (0.01), */
+  double coverage_large;         /* "large" (0.05) */
+  double coverage_huge;          /* and "huge" (0.25) */
+  double rating_low;             /* mean R from which the rating score is "low" (1), */
+  double rating_high;            /* "high" (2) */
+  double rating_very_high;       /* and "very high" (3) */
+  int picture;                   /* 1: make result.picture (004 Fig. 4); default 1 */
+  int threads;                   /* 0: OpenMP's default; results do not depend on it */
+} jnd_pop_params;
+
+/* Fills p with the defaults above (docs/pop.md says why each). */
+void jnd_pop_defaults(jnd_pop_params *p);
+
+typedef enum { JND_COVERAGE_TINY = 0, JND_COVERAGE_SMALL, JND_COVERAGE_LARGE, JND_COVERAGE_HUGE } jnd_pop_coverage;
+typedef enum { JND_RATING_VERY_LOW = 0, JND_RATING_LOW, JND_RATING_HIGH, JND_RATING_VERY_HIGH } jnd_pop_rating;
+
+/* One popping region. */
+typedef struct {
+  size_t pixels;
+  double sigma;                  /* Minkowski sum (exponent 2.4) of its JND values */
+  double rating;                 /* R = ln(0.375 Σ) / ln 2.25 */
+  double jnd_max;                /* its largest JND */
+  int bbox[4];                   /* x0, y0, x1, y1, inclusive, pixels */
+  int first[2];                  /* its first pixel in raster order (x, y) */
+} jnd_pop_region;
+
+/* What a weight did: present when it was given or computed. */
+typedef struct {
+  int present;
+  double mean;                   /* over the frame */
+  double min;
+  size_t below_half;             /* pixels weighted below 0.5 */
+} jnd_pop_weight_stats;
+
+typedef struct {
+  int w, h;
+  int nregions;
+  jnd_pop_region *regions;       /* sorted by rating, highest first (ties: first pixel); owned */
+  int32_t *labels;               /* w × h: index into regions, −1 outside every region; owned */
+  jnd_image jnd;                 /* the weighted difference map, JND, 1 channel */
+  jnd_image weights;             /* the combined weight map (1 channel); empty without weights */
+  double jnd_max;                /* largest value of jnd */
+  double max_rating;             /* largest R; NaN without regions */
+  size_t object_pixels;          /* the pixels coverage counts (mask, or all) */
+  size_t covered_pixels;         /* of those, the pixels in regions */
+  double coverage;               /* covered / object pixels */
+  jnd_pop_coverage coverage_score;
+  double rating_top;             /* mean R of the top_regions best regions; NaN without regions */
+  jnd_pop_rating rating_score;
+  int detection_score;           /* 1..5, jnd_pop_detection_score */
+  double max_delta_e94;          /* 004 §5.1's baseline: the largest ΔE*94 between the two frames */
+  jnd_pop_weight_stats disocclusion, flicker, user;
+  jnd_image picture;             /* params.picture: the actual frame in grey with the regions
+                                    coloured by R and a legend, sRGB 0..1 (jnd_image_write_png) */
+  struct {                       /* wall-clock seconds of the steps (they differ run to run): */
+    double read_s;               /* reading and checking files (jnd_pop_files), the display */
+    double weights_s;            /* seeds, ΔE*94 and the weights */
+    double model_s, regions_s, picture_s;
+  } timings;
+} jnd_pop_result;
+
+/* The predictor on two frames (004 §3.2, §4, §5.2): checks the inputs (sizes,
+ * channels; weights and masks in 0..1, depths >= 0, finite), computes the
+ * disocclusion and flicker weights where their inputs are given, the JND
+ * map of expected (reference) against actual (test) with each frame's
+ * retinal velocity and the weights, the regions, their ratings and the
+ * scores. The model supplies the display and fps. out is filled (owned:
+ * jnd_pop_result_free). JND_ERR_ARG "INPUT: problem" for bad inputs. The
+ * same bits whatever the thread count. */
+jnd_status jnd_pop_predict(jnd_model *m, const jnd_pop_inputs *in, const jnd_pop_params *p, jnd_pop_result *out);
+
+/* Frees a result's arrays and images; safe on a zeroed struct. */
+void jnd_pop_result_free(jnd_pop_result *r);
+
+/* The frames of a user: files for jnd_pop_predict's inputs. Colour images
+ * (actual, expected, prev_color, prev_shading) are PNG/JPEG/HDR/EXR and go
+ * through the model's display; displacement and depth maps must be
+ * OpenEXR (float values: pixels, depth units); weights and mask may be any
+ * format (first channel, 0..1). NULL: not given. */
+typedef struct {
+  const char *actual, *expected;             /* required */
+  const char *displacement;                  /* the actual frame's; also the expected frame's
+                                                unless displacement_expected is given */
+  const char *displacement_expected;
+  const char *depth, *depth_expected;        /* jnd_pop_frame.depth of each frame */
+  const char *prev_depth, *prev_depth_expected; /* jnd_pop_frame.prev_depth of each frame */
+  const char *weights, *prev_color, *prev_shading, *mask;
+} jnd_pop_paths;
+
+/* Reads the files (in parallel), checks them — "PATH: problem" for a file
+ * that is unreadable, of another size than actual, with NaN, a weight
+ * outside 0..1, ... (JND_ERR_IO / JND_ERR_FORMAT / JND_ERR_ARG) — applies
+ * the display and runs jnd_pop_predict. */
+jnd_status jnd_pop_files(jnd_model *m, const jnd_pop_paths *paths, const jnd_pop_params *p, jnd_pop_result *out);
+
+/* R = ln(0.375 Σ) / ln 2.25 (004 §3.2). */
+double jnd_pop_rating_of(double sigma);
+
+/* The score levels of a coverage fraction and of a mean R under p's thresholds. */
+jnd_pop_coverage jnd_pop_coverage_level(const jnd_pop_params *p, double coverage);
+jnd_pop_rating jnd_pop_rating_level(const jnd_pop_params *p, double rating_top);
+
+/* The detection score 1..5 of 004 §5.2's rule table, completed
+ * monotonically (docs/pop.md): non-decreasing in both scores, with 004's
+ * examples tiny + low → 1, small + high → 3, huge + high → 5. */
+int jnd_pop_detection_score(jnd_pop_coverage c, jnd_pop_rating r);
+
+/* "tiny", "small", "large", "huge" and "very low", "low", "high", "very high". */
+const char *jnd_pop_coverage_name(jnd_pop_coverage c);
+const char *jnd_pop_rating_name(jnd_pop_rating r);
 
 #ifdef __cplusplus
 }

@@ -1,7 +1,8 @@
 /* PNG: chunk validation on read (stb_image skips CRCs), a decoder for the
  * common layouts that inflates with zlib straight into planar floats
  * (stb_image's own inflate takes about twice as long), and a writer for 8- and
- * 16-bit images (stb_image_write only writes 8-bit), deflated by zlib. */
+ * 16-bit images (stb_image_write only writes 8-bit), filtered and deflated by
+ * zlib in parallel pieces. */
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -345,43 +346,173 @@ static void put_chunk(unsigned char *out, size_t *pos, const char *type, const u
   *pos += (size_t)len + 12;
 }
 
+/* The writer: rows quantised, each row filtered with the PNG filter (None,
+ * Sub, Up, Paeth) whose output has the smallest sum of absolute values as
+ * signed bytes (libpng's heuristic), and deflated at level 1 in pieces of
+ * about PIECE_BYTES that are compressed in parallel and joined into one zlib
+ * stream (each piece a raw deflate ending on a byte boundary, the last one
+ * final; the Adler-32 sums combined in order), as pigz does. Pieces are
+ * fixed by the image, not by the thread count: the file is the same bytes
+ * for any number of threads. Level 1 with filtering is 4–6× faster than
+ * level 6 unfiltered and, on rendered and synthetic images, about as small
+ * or smaller. */
+enum { PIECE_BYTES = 1 << 18 };
+
+static void quantise_row(const jnd_image *img, int y, int bits, unsigned char *r) {
+  const size_t bpp = (size_t)img->c * (bits / 8);
+  for (int ch = 0; ch < img->c; ch++) {
+    const float *p = jnd_image_plane(img, ch) + (size_t)y * img->w;
+    for (int x = 0; x < img->w; x++) {
+      /* in double, as the writer always quantised: the same codes as before */
+      double v = jnd_clampd(p[x], 0.0, 1.0);
+      if (bits == 8) {
+        r[(size_t)x * bpp + ch] = (unsigned char)(v * 255.0 + 0.5);
+      } else {
+        unsigned q = (unsigned)(v * 65535.0 + 0.5);
+        r[(size_t)x * bpp + 2 * ch] = (unsigned char)(q >> 8);
+        r[(size_t)x * bpp + 2 * ch + 1] = (unsigned char)q;
+      }
+    }
+  }
+}
+
+/* the four filters of one row into f[0..3] (n bytes each), and the sum of
+ * each one's absolute values as signed bytes; up is the row above (zeros
+ * above the first row). One plain loop per filter, so that each vectorises. */
+JND_HOT static void filter_candidates(const unsigned char *cur, const unsigned char *up, size_t n, size_t bpp,
+                                      unsigned char *f, long sum[4]) {
+  unsigned char *none = f, *sub = f + n, *upf = f + 2 * n, *pae = f + 3 * n;
+  long s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+  for (size_t i = 0; i < bpp && i < n; i++) { /* the first pixel: no left neighbour */
+    none[i] = cur[i];
+    sub[i] = cur[i];
+    upf[i] = (unsigned char)(cur[i] - up[i]);
+    pae[i] = (unsigned char)(cur[i] - up[i]); /* Paeth of (0, b, 0) is b */
+  }
+#pragma omp simd
+  for (size_t i = bpp; i < n; i++) {
+    int a = cur[i - bpp], b = up[i], c = up[i - bpp];
+    int p = a + b - c, pa = abs(p - a), pb = abs(p - b), pc = abs(p - c);
+    int pr = pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
+    none[i] = cur[i];
+    sub[i] = (unsigned char)(cur[i] - a);
+    upf[i] = (unsigned char)(cur[i] - b);
+    pae[i] = (unsigned char)(cur[i] - pr);
+  }
+#pragma omp simd reduction(+ : s0, s1, s2, s3)
+  for (size_t i = 0; i < n; i++) {
+    s0 += none[i] < 128 ? none[i] : 256 - none[i];
+    s1 += sub[i] < 128 ? sub[i] : 256 - sub[i];
+    s2 += upf[i] < 128 ? upf[i] : 256 - upf[i];
+    s3 += pae[i] < 128 ? pae[i] : 256 - pae[i];
+  }
+  sum[0] = s0;
+  sum[1] = s1;
+  sum[2] = s2;
+  sum[3] = s3;
+}
+
+/* row cur (n bytes; up the row above, zeros above the first) filtered into
+ * out (type byte + n bytes) with the filter of the smallest sum; try holds
+ * 4 × n bytes of scratch */
+static void filter_row(const unsigned char *cur, const unsigned char *up, size_t n, size_t bpp, unsigned char *try,
+                       unsigned char *out) {
+  long sum[4];
+  filter_candidates(cur, up, n, bpp, try, sum);
+  int pick = 0;
+  for (int t = 1; t < 4; t++)
+    if (sum[t] < sum[pick]) pick = t;
+  static const unsigned char type[4] = {0, 1, 2, 4}; /* None, Sub, Up, Paeth */
+  out[0] = type[pick];
+  memcpy(out + 1, try + (size_t)pick * n, n);
+}
+
+typedef struct {
+  unsigned char *z;
+  size_t zn;
+  uLong adler;
+  size_t len; /* filtered bytes */
+} png_piece;
+
 jnd_status jnd_image_write_png(const char *path, const jnd_image *img, int bits) {
   if (bits != 8 && bits != 16) return jnd_fail(JND_ERR_ARG, "%s: PNG bit depth must be 8 or 16", path);
   if (img->c < 1 || img->c > 4) return jnd_fail(JND_ERR_ARG, "%s: PNG needs 1–4 channels, not %d", path, img->c);
   jnd_status s = jnd_check_size(img->w, img->h, img->c, path);
   if (s != JND_OK) return s;
-  size_t bpp = (size_t)img->c * (bits / 8), row = 1 + (size_t)img->w * bpp;
-  size_t raw_n = row * img->h;
-  unsigned char *raw = jnd_alloc(raw_n, 1);
+  const size_t bpp = (size_t)img->c * (bits / 8), n = (size_t)img->w * bpp, row = 1 + n;
+  unsigned char *raw = jnd_alloc(n * img->h, 1);
   if (!raw) return JND_ERR_NOMEM;
-  for (int y = 0; y < img->h; y++) {
-    unsigned char *r = raw + row * y;
-    r[0] = 0; /* filter: none */
-    for (int x = 0; x < img->w; x++) {
-      for (int ch = 0; ch < img->c; ch++) {
-        double v = jnd_clampd(jnd_image_plane(img, ch)[(size_t)y * img->w + x], 0.0, 1.0);
-        if (bits == 8) {
-          r[1 + (size_t)x * bpp + ch] = (unsigned char)(v * 255.0 + 0.5);
-        } else {
-          unsigned q = (unsigned)(v * 65535.0 + 0.5);
-          r[1 + (size_t)x * bpp + 2 * ch] = (unsigned char)(q >> 8);
-          r[1 + (size_t)x * bpp + 2 * ch + 1] = (unsigned char)q;
-        }
-      }
-    }
-  }
-  uLongf zn = compressBound((uLong)raw_n);
-  unsigned char *z = jnd_alloc(zn, 1);
-  if (!z) {
+  const int h = img->h;
+#pragma omp parallel for schedule(static)
+  for (int y = 0; y < h; y++) quantise_row(img, y, bits, raw + n * y);
+  const int rows_per = row >= PIECE_BYTES ? 1 : (int)(PIECE_BYTES / row);
+  const int npieces = (h + rows_per - 1) / rows_per;
+  png_piece *pc = jnd_calloc((size_t)npieces, sizeof *pc);
+  if (!pc) {
     free(raw);
     return JND_ERR_NOMEM;
   }
-  if (compress2(z, &zn, raw, (uLong)raw_n, 6) != Z_OK) {
-    free(raw);
-    free(z);
-    return jnd_fail(JND_ERR_INTERNAL, "%s: zlib failed", path);
+  int fail = 0;
+#pragma omp parallel
+  {
+    unsigned char *buf = malloc(row * rows_per + 5 * n); /* filtered rows, 4 candidates, zeros */
+#pragma omp for schedule(dynamic, 1)
+    for (int k = 0; k < npieces; k++) {
+      int y0 = k * rows_per, y1 = y0 + rows_per < h ? y0 + rows_per : h;
+      png_piece *q = &pc[k];
+      z_stream zs;
+      memset(&zs, 0, sizeof zs);
+      if (!buf || deflateInit2(&zs, 1, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) {
+#pragma omp atomic write
+        fail = 1;
+        continue;
+      }
+      unsigned char *try = buf + row * rows_per, *zeros = try + 4 * n;
+      memset(zeros, 0, n);
+      for (int y = y0; y < y1; y++)
+        filter_row(raw + n * y, y ? raw + n * (y - 1) : zeros, n, bpp, try, buf + row * (y - y0));
+      q->len = row * (size_t)(y1 - y0);
+      q->adler = adler32(adler32(0L, Z_NULL, 0), buf, (uInt)q->len);
+      uLong bound = deflateBound(&zs, (uLong)q->len) + 16;
+      q->z = malloc(bound);
+      int last = k == npieces - 1, rc = Z_STREAM_ERROR;
+      if (q->z) {
+        zs.next_in = buf;
+        zs.avail_in = (uInt)q->len;
+        zs.next_out = q->z;
+        zs.avail_out = (uInt)bound;
+        rc = deflate(&zs, last ? Z_FINISH : Z_SYNC_FLUSH);
+        q->zn = zs.total_out;
+      }
+      if (rc != (last ? Z_STREAM_END : Z_OK) || zs.avail_in != 0) {
+#pragma omp atomic write
+        fail = 1;
+      }
+      deflateEnd(&zs);
+    }
+    free(buf);
   }
   free(raw);
+  size_t zn = 2 + 4;
+  for (int k = 0; k < npieces; k++) zn += pc[k].zn;
+  unsigned char *z = fail ? NULL : jnd_alloc(zn, 1);
+  if (z) {
+    /* the zlib stream: header (deflate, 32 KiB window, level "fastest"), the
+     * pieces, the Adler-32 of all the filtered bytes */
+    z[0] = 0x78;
+    z[1] = 0x01;
+    size_t at = 2;
+    uLong adler = adler32(0L, Z_NULL, 0);
+    for (int k = 0; k < npieces; k++) {
+      memcpy(z + at, pc[k].z, pc[k].zn);
+      at += pc[k].zn;
+      adler = adler32_combine(adler, pc[k].adler, (z_off_t)pc[k].len);
+    }
+    put32(z + at, (uint32_t)adler);
+  }
+  for (int k = 0; k < npieces; k++) free(pc[k].z);
+  free(pc);
+  if (!z) return jnd_fail(JND_ERR_NOMEM, "%s: out of memory compressing the PNG", path);
   size_t total = 8 + 25 + 12 + zn + 12;
   unsigned char *out = jnd_alloc(total, 1);
   if (!out) {

@@ -2,6 +2,7 @@
 #ifndef JND_POOL_H
 #define JND_POOL_H
 #include <stddef.h>
+#include <stdint.h>
 #include "jnd.h"
 
 /* Sorts n floats ascending in place (radix sort when all are >= 0). */
@@ -26,4 +27,21 @@ jnd_status jnd_ranks_select(jnd_ranks *r, const float *v);
 double jnd_ranks_percentile(const jnd_ranks *r, double p, double (*f)(double, const void *), const void *ctx);
 /* np percentiles p[] of n values at once (np <= 32) into out[] */
 jnd_status jnd_percentiles(const float *v, size_t n, const double *p, int np, double *out);
+
+/* ---- regions.c: connected regions (004 §3.2) ---- */
+typedef struct {
+  size_t pixels;
+  double sum_pow;          /* Σ value^exponent over the region's pixels (raster order, double) */
+  float max;               /* its largest value */
+  int x0, y0, x1, y1;      /* bounding box, inclusive, pixels */
+  size_t first;            /* raster index (y·w + x) of its first pixel */
+} jnd_region;
+/* The 8-connected components of {map >= threshold} of a w × h map that
+ * contain at least one seed (seed[i] != 0; seed NULL: every pixel), in the
+ * raster order of their first pixels (004 §3.2: seeds grown over the eight
+ * neighbours while the value stays >= threshold). labels (w × h, caller's)
+ * receives each pixel's region index or −1. *out is allocated (NULL when
+ * none; free()). The same bits whatever `threads` (regions.c says how). */
+jnd_status jnd_regions_find(const float *map, const uint8_t *seed, int w, int h, float threshold, double exponent,
+                            int threads, int32_t *labels, jnd_region **out, int *nout);
 #endif

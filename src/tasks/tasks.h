@@ -52,4 +52,38 @@ double poi_mp_sum(const float *y1, const float *y2, int w, int h, double ppd);
 
 /* ---- lod.c (end) ---- */
 
+/* ---- pop_weights.c: the popping predictor's weights, 004 §4 (begin) ---- */
+
+/* Previous-frame visibility (0..1) of each pixel into vis (w × h, caller's):
+ * percentage-closer filtering of prev_depth at the pixel's previous position
+ * (pixel − displacement; disp NULL: static), each of the four bilinear
+ * samples counting when depth <= (1 + tol) × its depth; 0 means nothing
+ * there (infinitely far). Samples off the image do not count. */
+jnd_status pop_visibility(const jnd_image *depth, const jnd_image *prev_depth, const jnd_image *disp, double tol,
+                          float *vis);
+
+/* The flicker weight (0..1) of each pixel into wout (caller's): ΔE*94 of
+ * prev_shading against prev_color sampled at the previous position (from
+ * the samples whose depth matches, when depth and prev_depth are given;
+ * both NULL otherwise), over de_levels (the two levels' ΔE*94), ramped
+ * between p->flicker_ratio_lo and _hi, trusted less from
+ * p->flicker_motion_lo_px of displacement and not at all from _hi_px. */
+jnd_status pop_flicker_weight(const jnd_display *d, const jnd_image *prev_shading, const jnd_image *prev_color,
+                              const jnd_image *disp, const jnd_image *depth, const jnd_image *prev_depth,
+                              const jnd_image *de_levels, const jnd_pop_params *p, float *wout);
+
+/* ---- pop_weights.c (end) ---- */
+
+/* ---- pop_picture.c: 004 Fig. 4 (begin) ---- */
+
+/* The picture's backdrop: a frame (absolute linear RGB, cd/m²) as display d
+ * shows it, in dimmed grey (1 channel, signal 0..1; grey allocated). */
+jnd_status pop_backdrop(const jnd_display *d, const jnd_image *frame, jnd_image *grey);
+
+/* The backdrop with each region's pixels coloured by its rating R, and a
+ * legend column: the counts and scores, and a colour bar of R. */
+jnd_status pop_picture(const jnd_image *grey, const jnd_pop_result *r, jnd_image *out);
+
+/* ---- pop_picture.c (end) ---- */
+
 #endif

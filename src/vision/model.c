@@ -217,8 +217,9 @@ typedef struct {
   float *adapt[2];   /* luminance at the adaptation level, per image */
   int aw, ah, alev;
   int uniform[2];    /* 1: the image is one colour, so its contrast bands are exactly 0 */
-  jnd_gauss vel;     /* retinal velocity pyramid (deg/s), when motion is given */
+  jnd_gauss vel[2];  /* retinal velocity pyramid (deg/s) per image, when motion is given */
   int has_vel;
+  int vel_shared;    /* 1: both images move alike, vel[1] is vel[0] */
   float uniform_v;   /* retinal velocity when there is no map */
 } diff_state;
 
@@ -364,7 +365,7 @@ JND_HOT static void image_row(const band_ctx *k, row_scratch *r, int a, int y, c
   /* CSF normalisation at the band's peak frequency (004 §3.1) */
   float *s0 = r->sens[0], *s1 = r->sens[1], *s2 = r->sens[2];
   if (st->has_vel) {
-    const float *vr = st->vel.plane[band] + (size_t)y * w;
+    const float *vr = st->vel[a].plane[band] + (size_t)y * w;
     for (int x = 0; x < w; x++) {
       float logv = jnd_fast_log2(jnd_maxf(vr[x], 1e-3f)) * 0.30103f;
       s0[x] = lut_lookup(k->lut[0], ll[x], logv);
@@ -616,13 +617,23 @@ static void state_free(diff_state *st) {
     for (int c = 0; c < 3; c++) jnd_gauss_free(&st->g[a][c]);
     free(st->adapt[a]);
   }
-  if (st->has_vel) jnd_gauss_free(&st->vel);
+  if (st->has_vel) jnd_gauss_free(&st->vel[0]);
+  if (st->has_vel && !st->vel_shared) jnd_gauss_free(&st->vel[1]);
 }
 
 /* Retinal velocity per full-resolution pixel from the displacement map
- * (pixels per frame → deg/s through fps and ppd → Daly's eye-movement model). */
+ * (pixels per frame → deg/s through fps and ppd → Daly's eye-movement model);
+ * motion NULL is a static image. */
 static jnd_status velocity_map(const jnd_model *m, const jnd_image *motion, int w, int h, float **out) {
   *out = NULL;
+  if (!motion) {
+    float *v = jnd_alloc((size_t)w * h, sizeof(float));
+    if (!v) return JND_ERR_NOMEM;
+    const float v0 = (float)jnd_retinal_velocity(0);
+    for (size_t i = 0; i < (size_t)w * h; i++) v[i] = v0;
+    *out = v;
+    return JND_OK;
+  }
   if (motion->w != w || motion->h != h || motion->c < 2)
     return jnd_fail(JND_ERR_ARG, "motion map: %d × %d × %d does not match the %d × %d images (2 channels needed)",
                     motion->w, motion->h, motion->c, w, h);
@@ -694,12 +705,18 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
   st.uniform_v = JND_DRIFT_DPS; /* 004 §3.1: static images keep the drift minimum */
   if (in && in->retinal_dps > 0) {
     st.uniform_v = (float)in->retinal_dps;
-  } else if (in && in->motion) {
-    if ((s = velocity_map(m, in->motion, w, h, &vel0)) != JND_OK) goto done;
-    if ((s = jnd_gauss_build(&st.vel, vel0, w, h, nb, threads)) != JND_OK) goto done;
-    st.vel.own0 = 1;
-    vel0 = NULL;
-    st.has_vel = 1;
+  } else if (in && (in->motion || in->motion_test)) {
+    /* 004 §3: each frame's own displacement; one pyramid when they are the same */
+    st.vel_shared = !in->motion_test || in->motion_test == in->motion;
+    for (int a = 0; a < (st.vel_shared ? 1 : 2); a++) {
+      const jnd_image *mo = a == 0 ? in->motion : in->motion_test;
+      if ((s = velocity_map(m, mo, w, h, &vel0)) != JND_OK) goto done;
+      if ((s = jnd_gauss_build(&st.vel[a], vel0, w, h, nb, threads)) != JND_OK) goto done;
+      st.vel[a].own0 = 1;
+      vel0 = NULL;
+      st.has_vel = 1;
+    }
+    if (st.vel_shared) st.vel[1] = st.vel[0];
   }
 
   for (int b = 0; b < nb && s == JND_OK; b++) {

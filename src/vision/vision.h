@@ -119,4 +119,11 @@ double jnd_haar_band_weight(int m, double ppd);
  * the plane's. */
 int jnd_haar_band_energy(const float *plane, int w, int h, double *energy, int max_levels, double *rest);
 
+/* ---- CIELAB and ΔE*94 (deltae.c), for the popping predictor ---- */
+/* jnd_delta_e94_map computing only the row blocks where `where` (w × h
+ * bytes, NULL: all) has a nonzero byte; the others stay 0, which is their
+ * value when `where` marks every pixel whose colours differ. */
+jnd_status jnd_delta_e94_map_where(const jnd_display *d, const jnd_image *ref, const jnd_image *test,
+                                   const uint8_t *where, jnd_image *out, double *max);
+
 #endif

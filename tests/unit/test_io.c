@@ -1,6 +1,7 @@
 /* io: image files in and out, and CSV. Every fixture is made here, in the
  * test's scratch folder: nothing is read from outside. */
 #include <dirent.h>
+#include <omp.h>
 #include <stdint.h>
 
 #include <OpenEXR/openexr.h>
@@ -495,6 +496,75 @@ TEST(png_16_bit_round_trips_to_within_one_code) {
   CHECK_OK(jnd_image_read(path, &back, &info));
   CHECK(same_shape(&img, &back) && info.bits == 16);
   if (same_shape(&img, &back)) CHECK_LT(max_abs_diff(&img, &back), 0.5 / 65535 + 1e-7);
+  jnd_image_free(&img);
+  jnd_image_free(&back);
+}
+
+TEST(png_written_in_many_pieces_reads_back_through_both_decoders_and_is_the_same_bytes_for_any_thread_count) {
+  /* 1.2 MB of 8-bit samples and 1.8 MB of 16-bit ones: several deflate
+   * pieces of ~256 KB; smooth ramps, noise and flat areas so that rows pick
+   * different filters */
+  for (int bits = 8; bits <= 16; bits += 8) {
+    const int w = 640, h = bits == 8 ? 640 : 240, c = bits == 8 ? 3 : 4;
+    jnd_image img = pattern(w, h, c, 0, 1, 77 + bits), back;
+    for (int ch = 0; ch < c; ch++)
+      for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+          float *v = &jnd_image_plane(&img, ch)[(size_t)y * w + x];
+          if (y < h / 3) *v = (float)((x + ch * 7) % 256) / 255; /* ramps: Sub */
+          else if (y < h / 2) *v = 64.0f / 255;                  /* flat: None or Up */
+          else if (bits == 8) *v = roundf(*v * 255) / 255;      /* noise */
+        }
+    const char *p1 = tmp_file("pieces1.png"), *p4 = tmp_file("pieces4.png");
+    omp_set_num_threads(1);
+    CHECK_OK(jnd_image_write_png(p1, &img, bits));
+    omp_set_num_threads(4);
+    CHECK_OK(jnd_image_write_png(p4, &img, bits));
+    size_t n1 = 0, n4 = 0;
+    unsigned char *b1 = read_bytes(p1, &n1), *b4 = read_bytes(p4, &n4);
+    CHECK(b1 && b4 && n1 == n4 && memcmp(b1, b4, n1) == 0);
+    CHECK(n1 > 0 && n1 < (size_t)w * h * c * (bits / 8)); /* it compresses */
+    /* one zlib stream whose Adler-32 holds (our decoders do not check it; zlib's uncompress does) */
+    if (b1 && n1 > 8 + 25 + 8) {
+      size_t idat = (size_t)b1[33] << 24 | (size_t)b1[34] << 16 | (size_t)b1[35] << 8 | b1[36];
+      CHECK(memcmp(b1 + 37, "IDAT", 4) == 0 && 41 + idat + 4 <= n1);
+      uLongf rn = (uLongf)((size_t)(1 + w * c * (bits / 8)) * h);
+      unsigned char *rows = malloc(rn);
+      CHECK(rows && uncompress(rows, &rn, b1 + 41, (uLong)idat) == Z_OK);
+      CHECK(rn == (uLongf)((size_t)(1 + w * c * (bits / 8)) * h));
+      free(rows);
+    }
+    CHECK_OK(jnd_decode_png("pieces.png", b1, n1, &back, NULL));
+    CHECK(same_shape(&img, &back));
+    if (same_shape(&img, &back)) CHECK_LT(max_abs_diff(&img, &back), bits == 8 ? 1e-6 : 0.5 / 65535 + 1e-7);
+    jnd_image_free(&back);
+    CHECK_OK(jnd_decode_png_stb("pieces.png", b1, n1, &back, NULL));
+    if (same_shape(&img, &back)) CHECK_LT(max_abs_diff(&img, &back), bits == 8 ? 1e-6 : 0.5 / 65535 + 1e-7);
+    jnd_image_free(&back);
+    free(b1);
+    free(b4);
+    jnd_image_free(&img);
+  }
+  omp_set_num_threads(omp_get_num_procs());
+}
+
+TEST(png_8_bit_codes_are_the_values_rounded_in_double) {
+  /* the writer's quantisation: code = floor(v · 255 + 0.5) in double for v
+   * clamped to 0..1 (float arithmetic rounds some values near half a code
+   * the other way) */
+  const int w = 1000, h = 100;
+  jnd_image img = pattern(w, h, 1, -0.05, 1.05, 91), back;
+  for (int i = 0; i < 2000; i++) img.data[i] = (float)((i % 256 + 0.5) / 255.0); /* half codes */
+  const char *path = tmp_file("codes.png");
+  CHECK_OK(jnd_image_write_png(path, &img, 8));
+  CHECK_OK(jnd_image_read(path, &back, NULL));
+  int wrong = 0;
+  for (int i = 0; i < w * h; i++) {
+    double v = img.data[i] < 0 ? 0 : img.data[i] > 1 ? 1 : img.data[i];
+    int want = (int)(v * 255.0 + 0.5), got = (int)lround(back.data[i] * 255.0);
+    wrong += want != got;
+  }
+  CHECK(wrong == 0);
   jnd_image_free(&img);
   jnd_image_free(&back);
 }
@@ -1035,7 +1105,9 @@ RUN_TESTS(exr_float_round_trips_exactly, exr_half_round_trips_within_half_precis
           every_truncation_of_an_exr_is_refused, exr_errors_name_the_file_on_one_line,
           exr_claiming_more_than_the_size_limit_is_refused, exr_with_subsampled_channels_is_refused,
           exr_write_is_atomic_and_leaves_no_temporary_file, png_8_bit_round_trips_for_1_to_4_channels,
-          png_16_bit_round_trips_to_within_one_code, png_with_bad_crc_is_refused,
+          png_16_bit_round_trips_to_within_one_code,
+          png_written_in_many_pieces_reads_back_through_both_decoders_and_is_the_same_bytes_for_any_thread_count,
+          png_8_bit_codes_are_the_values_rounded_in_double, png_with_bad_crc_is_refused,
           every_truncation_of_a_png_is_refused, png_without_iend_is_refused,
           png_claiming_more_than_the_size_limit_is_refused,
           png_zlib_path_matches_stb_for_every_plain_layout_filter_and_odd_width,

@@ -243,7 +243,7 @@ TEST(motion_hides_fine_detail) {
   jnd_image motion;
   jnd_image_alloc(&motion, 128, 128, 2);
   for (int i = 0; i < 128 * 128; i++) motion.data[i] = 30.0f; /* 30 px/frame = 45 deg/s */
-  jnd_diff_inputs in = {&motion, NULL, 0};
+  jnd_diff_inputs in = {.motion = &motion};
   double moving = jnd_of(m, &a, &b, &in);
   CHECK(moving < 0.5 * still);
   jnd_image_free(&motion);
@@ -274,7 +274,7 @@ TEST(zero_weights_remove_differences) {
   jnd_model *m = model_with(40, 0);
   jnd_image a = grating(64, 64, 80, 0, 0.2, 0), b = grating(64, 64, 80, 0.2, 0.2, 0), w;
   jnd_image_alloc(&w, 64, 64, 1);
-  jnd_diff_inputs in = {NULL, &w, 0};
+  jnd_diff_inputs in = {.weights = &w};
   CHECK(jnd_of(m, &a, &b, &in) == 0.0);
   jnd_image_free(&w);
   jnd_image_free(&a);
@@ -502,7 +502,7 @@ TEST(motion_map_becomes_retinal_velocity_through_fps_ppd_and_daly) {
     motion.data[i] = 12.0f;
     motion.data[128 * 128 + i] = 16.0f;
   }
-  jnd_diff_inputs by_map = {&motion, NULL, 0}, by_speed = {NULL, NULL, 5.25};
+  jnd_diff_inputs by_map = {.motion = &motion}, by_speed = {.retinal_dps = 5.25};
   double jm = jnd_of(m, &a, &b, &by_map), js = jnd_of(m, &a, &b, &by_speed), still = jnd_of(m, &a, &b, NULL);
   CHECK(jm > 0);
   CHECK_NEAR(jm, js, 0.01 * js);

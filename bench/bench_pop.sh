@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# jnd pop on a 1920x1080 pair with motion: whole-process wall seconds (median
+# of BENCH_RUNS), user+sys CPU seconds, peak memory, and the steps' share
+# (--timings of the last run). The pair is `jnd example`'s (four distortions,
+# one per quadrant); the displacement is the renderer's motion output for the
+# built-in asset orbiting 5 degrees a frame (float EXR, ZIP), or, without a
+# renderer, a rotation field written by python3. Budget (issue 12): <= 0.5 s
+# on 2 cores.
+set -uo pipefail
+: "${JND:?}"
+here=$(cd "$(dirname "$0")" && pwd)
+out=${BENCH_OUT:-$here/out}/pop
+mkdir -p "$out"
+RUNS=${BENCH_RUNS:-5}
+W=1920 H=1080
+"$JND" example -o "$out" --size ${W}x${H} 2>/dev/null || exit 1
+disp=$out/motion.exr
+if "$JND" render builtin -o "$out/r" --views 1 --size ${W}x${H} --outputs motion,exr --motion-orbit 5 --quiet 2>/dev/null; then
+  cp "$out/r/view_000_motion.exr" "$disp"
+  source="renderer motion, builtin asset orbiting 5 deg/frame"
+elif command -v python3 >/dev/null; then
+  PYTHONPATH="$here/../tests/e2e" python3 -B - "$disp" $W $H <<'PY' || exit 1
+import sys
+from exrwrite import exr
+w, h, k = int(sys.argv[2]), int(sys.argv[3]), 0.02  # a rotation of 0.02 rad a frame about the centre
+exr(sys.argv[1], w, h, {'X': lambda x, y: -(y - h / 2) * k, 'Y': lambda x, y: (x - w / 2) * k})
+PY
+  source="rotation field (python3), uncompressed EXR"
+else
+  echo "   no renderer and no python3: no displacement map to measure with"; exit 1
+fi
+px=$((W * H))
+times=() cpu=() rss=0
+for _ in $(seq "$RUNS"); do
+  rm -rf "$out/o"
+  t0=$EPOCHREALTIME
+  /usr/bin/time -f "%U %S %M" -o "$out/time.txt" "$JND" pop "$out/test.png" "$out/reference.png" -o "$out/o" \
+    --displacement "$disp" --timings --quiet 2>"$out/stderr.txt" || { cat "$out/stderr.txt"; exit 1; }
+  t1=$EPOCHREALTIME
+  read -r u s m <"$out/time.txt"
+  times+=("$(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.4f", b - a}')")
+  cpu+=("$(awk -v u="$u" -v s="$s" 'BEGIN{printf "%.2f", u + s}')")
+  [ "$m" -gt "$rss" ] && rss=$m
+done
+med() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END{print a[int((NR+1)/2)]}'; }
+wt=$(med "${times[@]}") ct=$(med "${cpu[@]}")
+awk -v t="$wt" -v c="$ct" -v m="$rss" -v px="$px" -v n="$RUNS" -v src="$source" 'BEGIN{
+  printf "   jnd pop 1920x1080 with motion (%s):\n", src
+  printf "     %.3f s wall (median of %d), %.2f s user+sys, peak %.1f MB = %.1f bytes/pixel; budget 0.5 s: %s\n",
+         t, n, c, m / 1024, m * 1024 / px, t <= 0.5 ? "within" : "OVER" }'
+jq -r '.result.timings | "     steps (last run): read \(.read_s*1000|floor) ms, weights+dE94 \(.weights_s*1000|floor) ms, model \(.model_s*1000|floor) ms, regions \(.regions_s*1000|floor) ms, picture \(.picture_s*1000|floor) ms, writing \(.write_s*1000|floor) ms"' "$out/o/pop.json"
+jq -r '.result | "     \(.region_count) regions, max R \(.max_rating), detection score \(.detection_score)"' "$out/o/pop.json"
