@@ -133,12 +133,30 @@ int jnd_csv_column(const jnd_csv *csv, const char *name);
 /* Parses a cell as a number; NaN for "NaN"/"NA"/"". Returns 0 if not a number. */
 int jnd_csv_number(const char *cell, double *out);
 
-/* A heatmap of a JND map over a dimmed grey copy of the reference: colours
- * from transparent at 0 through blue, green and yellow to red at max_jnd
- * (<= 0 means 1 JND), with a legend strip of 30 rows below images at least
- * 160 pixels wide. ref holds the reference's file signal (0..1, 1–4 channels,
- * as jnd_image_read gives). out is allocated: 3 channels, sRGB-encoded 0..1,
- * ready for jnd_image_write_png. */
+/* A heatmap of a JND map over a dimmed grey copy of the reference, on a
+ * logarithmic scale of JND with a colour bar (ticks in JND, the 1 JND line,
+ * P = 0.5, marked), so that structure above 1 JND stays visible:
+ * differences below min_jnd are not drawn; max_jnd is the top of the scale,
+ * or 0 for the map's 99.9th percentile rounded up to 1, 2 or 5 × 10^k (at
+ * least 2). Images whose shorter side is below min_side are magnified by a
+ * whole factor (nearest pixel) up to it, within 2048 pixels a side. */
+typedef struct {
+  double max_jnd;     /* top of the scale, JND (0: auto, as above) */
+  double min_jnd;     /* bottom of the scale, JND (0.1) */
+  int min_side;       /* pixels (256) */
+  int beside;         /* 1: the reference itself left of the heatmap */
+  const char *title;  /* a line above the picture (NULL: none) */
+} jnd_heatmap_params;
+void jnd_heatmap_defaults(jnd_heatmap_params *p);
+
+/* Draws the heatmap figure. ref holds the reference's file signal (0..1,
+ * 1–4 channels, as jnd_image_read gives); jnd_map has its size. out is
+ * allocated: 3 channels, sRGB-encoded 0..1, for jnd_image_write_png. */
+jnd_status jnd_heatmap_draw(const jnd_heatmap_params *p, const jnd_image *ref, const jnd_image *jnd_map,
+                            jnd_image *out);
+
+/* jnd_heatmap_draw with the defaults and the given top of the scale
+ * (max_jnd <= 0: auto). */
 jnd_status jnd_heatmap(const jnd_image *ref, const jnd_image *jnd_map, double max_jnd, jnd_image *out);
 
 /* Writes n bytes to path through a temporary file in the same folder and a
@@ -724,10 +742,12 @@ jnd_status jnd_pca_analyse(const jnd_texset *set, const double *weights, jnd_pca
  * C·C doubles (caller's). */
 void jnd_pca_contribution(const jnd_pca *pca, double *out);
 
-/* A picture of the contribution matrix: one 16-pixel cell per (component
- * row, channel column), brightness ∝ contribution / max. out is allocated
- * (3 channels, 0..1) for jnd_image_write_png. */
-jnd_status jnd_pca_contribution_plot(const jnd_pca *pca, jnd_image *out);
+/* A picture of the contribution matrix: a row per input channel (named
+ * from set; NULL: numbered), a column per component (1 = the most energy,
+ * with its share of the energy), each cell coloured and labelled with its
+ * contribution, and a colour legend. out is allocated (3 channels, sRGB
+ * 0..1) for jnd_image_write_png. */
+jnd_status jnd_pca_contribution_plot(const jnd_pca *pca, const jnd_texset *set, jnd_image *out);
 
 /* How the components are stored. */
 typedef struct {
@@ -1216,6 +1236,13 @@ jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *p, jnd_texr
 
 /* Frees a result's arrays; safe on a zeroed struct. */
 void jnd_texres_result_free(jnd_texres_result *r);
+
+/* A picture of matrix t of a result (000 Fig. 13): the criterion statistic
+ * for every pair of sizes (columns the first map's, rows the second's, the
+ * longer side in pixels) with axis titles, each cell's value and a colour
+ * legend of P, the chosen pair outlined; below it the same per view. out is
+ * allocated (3 channels, sRGB 0..1) for jnd_image_write_png. */
+jnd_status jnd_texres_matrix_figure(const jnd_texres_result *r, int t, jnd_image *out);
 
 /* The model's JND percentiles 90..99 of map `map` (MATERIAL/SLOT) of scene
  * at nres sizes (longer side in pixels, aspect kept; the other maps as they

@@ -463,7 +463,7 @@ static int run(int argc, char **argv) {
   {
     jnd_image plot = {0};
     snprintf(path, sizeof path, "%s/contribution.png", outdir);
-    jnd_status s = jnd_pca_contribution_plot(&pca, &plot);
+    jnd_status s = jnd_pca_contribution_plot(&pca, &set, &plot);
     if (s == JND_OK) s = jnd_image_write_png(path, &plot, 8);
     jnd_image_free(&plot);
     if (s != JND_OK) {

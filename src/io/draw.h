@@ -100,6 +100,8 @@ typedef struct {
   const char *title, *row_title, *col_title, *scale_title;
   double vmin, vmax;              /* NaN: the values' range */
   int cell_px;                    /* 0: 56 */
+  int no_colour_bar;              /* 1: leave the bar out (small multiples sharing one) */
+  int marked;                     /* 1 + row * cols + col of a cell to outline (a choice); 0: none */
 } jnd_plot_grid_spec;
 jnd_status jnd_plot_grid(const jnd_plot_grid_spec *g, jnd_image *out);
 

@@ -795,10 +795,16 @@ jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *pp, jnd_tex
   out->fraction_above = cr.fraction_above;
   out->passes = cr.pass;
   {
+    /* the choice on the scene: eval_combo answers a combination it has seen
+     * from its cache without setting the maps, and the matrices leave their
+     * last pair set, so the worst view would show other sizes */
+    for (int i = 0; i < nall; i++)
+      if ((s = set_map(&c, i, k[i])) != JND_OK) goto done;
     jnd_image map = {0};
     double pw;
     if ((s = eval_view(&c, &views[out->worst_view], &refs[out->worst_view], &pw, &map)) != JND_OK) goto done;
-    s = jnd_heatmap(&refs[out->worst_view].ref_srgb, &map, 1, &out->worst_heatmap);
+    s = texres_worst_view_figure(&refs[out->worst_view].ref_srgb, &map, out->worst_view, N, out->view_p[out->worst_view],
+                                 &out->worst_heatmap);
     jnd_image_free(&map);
     if (s != JND_OK) goto done;
   }
