@@ -290,8 +290,12 @@ static jnd_status write_record(run_ctx *c, const jnd_batch_row *r, const slot *s
   cJSON_AddStringToObject(o, "asset", r->asset);
   cJSON_AddStringToObject(o, "options", r->options);
   cJSON_AddStringToObject(o, "status", jnd_asset_status_name(st));
-  cJSON_AddNumberToObject(o, "exit_status", code);
-  if (sig) cJSON_AddNumberToObject(o, "signal", sig);
+  if (sig) { /* killed: no exit status */
+    cJSON_AddNullToObject(o, "exit_status");
+    cJSON_AddNumberToObject(o, "signal", sig);
+  } else {
+    cJSON_AddNumberToObject(o, "exit_status", code);
+  }
   if (error) cJSON_AddStringToObject(o, "error", error);
   cJSON_AddNumberToObject(o, "seconds", round(seconds * 1000) / 1000);
   char host[256] = "";
@@ -374,7 +378,7 @@ static jnd_status finish(run_ctx *c, slot *s, int wstatus) {
       res = jnd_fail(JND_ERR_IO, "%s: cannot move the result in: %s", dst, strerror(errno));
   }
   if (res == JND_OK)
-    res = write_record(c, r, s, st, sig ? -1 : code, sig, st == JND_ASSET_FAILED ? error : NULL, seconds, line);
+    res = write_record(c, r, s, st, code, sig, st == JND_ASSET_FAILED ? error : NULL, seconds, line);
   if (res == JND_OK) res = jnd_remove_tree(s->work);
   if (res == JND_OK)
     emit(c, r, st, 0, sig || s->timed_out ? -1 : code, st == JND_ASSET_FAILED ? error : NULL, seconds);
