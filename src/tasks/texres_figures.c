@@ -53,7 +53,8 @@ static jnd_status panel(const jnd_texres_matrix *mx, const double *values, const
       double x = values[a * mx->nb + b];
       int i = b * mx->na + a;
       v[i] = x;
-      snprintf(text + 8 * i, 8, isfinite(x) ? "%.2f" : "", x);
+      if (isfinite(x)) snprintf(text + 8 * i, 8, "%.2f", x);
+      else text[8 * i] = 0;
       cells[i] = text + 8 * i;
     }
   jnd_plot_grid_spec g = {.rows = mx->nb, .cols = mx->na, .value = v, .cell_text = cells, .row_labels = rows,
