@@ -402,8 +402,16 @@ static void check_assets(jnd_batch_manifest *m, const char *name, where_kind k) 
   }
 }
 
+/* Rows name their manifest by its file name, not by the path it was given
+ * as: a summary must not depend on the folder a run started in (a Slurm
+ * task starts elsewhere than a run by hand). */
+static const char *file_name(const char *path) {
+  const char *slash = strrchr(path, '/');
+  return slash ? slash + 1 : path;
+}
+
 void jnd_batch_manifest_check(jnd_batch_manifest *m) {
-  check_assets(m, m->source, is_json_name(m->source) ? WHERE_ENTRY : WHERE_LINE);
+  check_assets(m, file_name(m->source), is_json_name(m->source) ? WHERE_ENTRY : WHERE_LINE);
 }
 
 static char *absolute(const char *path) {
@@ -431,8 +439,8 @@ jnd_status jnd_batch_manifest_read(const char *path, const char *command, const 
     size_t n;
     s = jnd_read_file(path, MAX_MANIFEST_BYTES, &buf, &n);
     if (s != JND_OK) return s;
-    s = is_json_name(path) ? jnd_batch_manifest_parse_json(path, (const char *)buf, n, out)
-                           : jnd_batch_manifest_parse_csv(path, (const char *)buf, n, out);
+    s = is_json_name(path) ? jnd_batch_manifest_parse_json(file_name(path), (const char *)buf, n, out)
+                           : jnd_batch_manifest_parse_csv(file_name(path), (const char *)buf, n, out);
     free(buf);
     if (s != JND_OK) return s;
   }
@@ -443,7 +451,7 @@ jnd_status jnd_batch_manifest_read(const char *path, const char *command, const 
     if (slash) *(slash == out->base_dir ? slash + 1 : slash) = 0;
   }
   if (!out->source || !out->base_dir) return fail_free(out, JND_ERR_NOMEM);
-  check_assets(out, path, command ? WHERE_MATCH : is_json_name(path) ? WHERE_ENTRY : WHERE_LINE);
+  check_assets(out, command ? path : file_name(path), command ? WHERE_MATCH : is_json_name(path) ? WHERE_ENTRY : WHERE_LINE);
   return JND_OK;
 }
 

@@ -226,12 +226,13 @@ static int run(int argc, char **argv) {
   for (int i = 0; i < m.nrows; i++) bad_rows += m.rows[i].error != NULL;
   int rc = EXIT_OK;
   if (slurm) {
-    /* rows that cannot run are said now; they fail in their shard too */
-    for (int i = 0; i < m.nrows && !common.quiet; i++)
-      if (m.rows[i].error) cli_error("%s", m.rows[i].error);
     char *a = NULL, *b = NULL;
-    if (jnd_slurm_scripts(&m, command, options, &p, &sp, &a, &b) != JND_OK) {
-      rc = cli_bad("%s", jnd_last_error());
+    int scripts = jnd_slurm_scripts(&m, command, options, &p, &sp, &a, &b) == JND_OK;
+    if (!scripts) rc = cli_bad("%s", jnd_last_error());
+    /* rows that cannot run are said now; they fail in their shard too */
+    for (int i = 0; scripts && i < m.nrows && !common.quiet; i++)
+      if (m.rows[i].error) cli_error("%s", m.rows[i].error);
+    if (!scripts) {
     } else if (dry) {
       printf("# ---- %s/_batch/slurm/array.sh ----\n%s\n# ---- %s/_batch/slurm/merge.sh ----\n%s\n", p.out_dir, a,
              p.out_dir, b);
