@@ -141,6 +141,18 @@ expect_exit 2 "--shards without --slurm" "$JND" batch assets.csv -o x --shards 2
 expect_exit 2 "an unknown option" "$JND" batch assets.csv -o x --frobnicate
 check "an unknown option: one line" one_line_error
 
+# ---- progress on a terminal: a bar with done / total, failures, time; a failure stays above it ----
+printf 'id,asset,command,options\none,pairs/reference.png,diff,pairs/test.png\nbad,builtin,texres,--views x\ntwo,pairs/reference.png,diff,pairs/test.png\n' >tty.csv
+if command -v script >/dev/null 2>&1; then
+  script -qec "'$JND' batch tty.csv -o ttyout" /dev/null >tty.txt 2>&1
+  check "on a terminal: a progress bar with done/total, failures, elapsed, estimate" \
+    bash -c "grep -q 'batch \[#\{24\}\] 3/3, 1 failed, [0-9]* s, ~0 s left' tty.txt && grep -q 'jnd batch: bad (texres) FAILED: jnd: texres: --views' tty.txt"
+  script -qec "'$JND' batch tty.csv -o ttyout --quiet" /dev/null >tty.txt 2>&1
+  check "on a terminal, --quiet prints nothing" test ! -s tty.txt
+else
+  bad "script (util-linux) is missing: the terminal progress is untested"
+fi
+
 # ---- a glob with one command; a JSON manifest ----
 mkdir -p objs && cp /usr/share/assimp/models/OBJ/box.obj objs/ && cp /usr/share/assimp/models/OBJ/cube_usemtl.{obj,mtl} objs/
 expect_exit 0 "a glob" "$JND" batch 'objs/*.obj' --command render --options '--views 1 --size 32x32' -o globbed --quiet
