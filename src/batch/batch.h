@@ -140,6 +140,8 @@ char *jnd_path_join(const char *a, const char *b);
 const char *jnd_asset_status_name(jnd_asset_status s);
 int jnd_asset_status_parse(const char *name, jnd_asset_status *s);
 
+/* Adds a row's id, line, asset, command and options to o. */
+void jnd_batch_row_json(cJSON *o, const jnd_batch_row *r);
 /* The plan's rows as JSON, and back. */
 cJSON *jnd_batch_plan_json(const jnd_batch_manifest *m);
 jnd_status jnd_batch_plan_read(const char *out_dir, jnd_batch_manifest *m);

@@ -472,6 +472,14 @@ jnd_status jnd_batch_shard_parse(const char *spec, int *index, int *count) {
 
 /* ---- the plan: the rows as the run saw them, for merge ---- */
 
+void jnd_batch_row_json(cJSON *o, const jnd_batch_row *r) {
+  cJSON_AddStringToObject(o, "id", r->id);
+  cJSON_AddNumberToObject(o, "line", r->line);
+  cJSON_AddStringToObject(o, "asset", r->asset);
+  cJSON_AddStringToObject(o, "command", r->command);
+  cJSON_AddStringToObject(o, "options", r->options);
+}
+
 cJSON *jnd_batch_plan_json(const jnd_batch_manifest *m) {
   cJSON *o = cJSON_CreateObject();
   cJSON_AddStringToObject(o, "source", m->source);
@@ -480,11 +488,7 @@ cJSON *jnd_batch_plan_json(const jnd_batch_manifest *m) {
   for (int i = 0; i < m->nrows; i++) {
     const jnd_batch_row *r = &m->rows[i];
     cJSON *j = cJSON_CreateObject();
-    cJSON_AddNumberToObject(j, "line", r->line);
-    cJSON_AddStringToObject(j, "id", r->id);
-    cJSON_AddStringToObject(j, "asset", r->asset);
-    cJSON_AddStringToObject(j, "command", r->command);
-    cJSON_AddStringToObject(j, "options", r->options);
+    jnd_batch_row_json(j, r);
     if (r->error) cJSON_AddStringToObject(j, "error", r->error);
     cJSON_AddItemToArray(rows, j);
   }

@@ -35,11 +35,7 @@ static int same(const char *a, const char *b) { return a && b && strcmp(a, b) ==
 /* step 2: one row's entry */
 static cJSON *entry(const char *out_dir, const jnd_batch_row *r, int timings) {
   cJSON *e = cJSON_CreateObject();
-  cJSON_AddStringToObject(e, "id", r->id);
-  cJSON_AddNumberToObject(e, "line", r->line);
-  cJSON_AddStringToObject(e, "asset", r->asset);
-  cJSON_AddStringToObject(e, "command", r->command);
-  cJSON_AddStringToObject(e, "options", r->options);
+  jnd_batch_row_json(e, r);
   jnd_asset_status st = JND_ASSET_PENDING;
   double code = NAN, before = NAN, after = NAN, p = NAN, seconds = NAN;
   jnd_text error = {0}, decision = {0};

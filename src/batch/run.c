@@ -148,6 +148,18 @@ static jnd_asset_status complete(run_ctx *c, const jnd_batch_row *r, const char 
   return ok ? s : JND_ASSET_PENDING;
 }
 
+/* a NULL-terminated list of n strdup'd strings, or NULL (freed) when one of
+ * them could not be allocated */
+static char **complete_words(char **v, int n) {
+  for (int i = 0; i < n; i++)
+    if (!v[i]) {
+      jnd_words_free(n, v);
+      jnd_fail(JND_ERR_NOMEM, "out of memory");
+      return NULL;
+    }
+  return v;
+}
+
 /* the environment of the commands: threads shared out among the jobs, and
  * OpenMP threads that sleep while they wait, since several processes share
  * the cores and spinning takes time from the others (README, Scaling out) */
@@ -165,13 +177,7 @@ static char **child_env(const jnd_batch_params *p) {
     if (!(threads[0] && strncmp(environ[i], "OMP_NUM_THREADS=", 16) == 0)) env[k++] = strdup(environ[i]);
   if (threads[0]) env[k++] = strdup(threads);
   if (!getenv("OMP_WAIT_POLICY")) env[k++] = strdup("OMP_WAIT_POLICY=passive");
-  for (int i = 0; i < k; i++)
-    if (!env[i]) {
-      jnd_words_free(k, env);
-      jnd_fail(JND_ERR_NOMEM, "out of memory");
-      return NULL;
-    }
-  return env;
+  return complete_words(env, k);
 }
 
 /* the child's command line: jnd COMMAND [--model] ASSET OPTIONS OUT_ARGS --quiet */
@@ -198,13 +204,7 @@ static char **child_argv(const jnd_batch_command *cmd, const jnd_batch_row *r, c
   }
   argv[n++] = strdup("--quiet");
   argv[n] = NULL;
-  for (int i = 0; i < n; i++)
-    if (!argv[i]) {
-      jnd_words_free(n, argv);
-      jnd_fail(JND_ERR_NOMEM, "out of memory");
-      return NULL;
-    }
-  return argv;
+  return complete_words(argv, n);
 }
 
 /* step 2: start one asset's command; JND_OK with s->pid set */

@@ -23,6 +23,9 @@ jnd_rgb jnd_palette(int i);
 /* A sequential colour scale for t in 0..1 (dark blue → teal → yellow), monotone
  * in lightness so that it reads in grey too; t is clamped. */
 jnd_rgb jnd_colour_scale(double t);
+/* The colour at t (clamped to 0..1) of a scale of five evenly spaced stops,
+ * linearly between them. */
+jnd_rgb jnd_ramp5(const float stops[5][3], double t);
 
 /* A new canvas w × h filled with bg. */
 jnd_status jnd_canvas_new(jnd_image *img, int w, int h, jnd_rgb bg);

@@ -38,14 +38,7 @@ void jnd_heatmap_defaults(jnd_heatmap_params *p) {
 static jnd_rgb heat_ramp(double t) {
   static const float s[5][3] = {{0.16f, 0.04f, 0.38f}, {0.55f, 0.09f, 0.50f}, {0.90f, 0.22f, 0.22f},
                                 {0.99f, 0.58f, 0.07f}, {1.00f, 0.95f, 0.55f}};
-  if (!(t >= 0)) t = 0;
-  if (t > 1) t = 1;
-  double u = t * 4;
-  int i = (int)u;
-  if (i >= 4) return (jnd_rgb){s[4][0], s[4][1], s[4][2]};
-  float f = (float)(u - i);
-  return (jnd_rgb){s[i][0] + f * (s[i + 1][0] - s[i][0]), s[i][1] + f * (s[i + 1][1] - s[i][1]),
-                   s[i][2] + f * (s[i + 1][2] - s[i][2])};
+  return jnd_ramp5(s, t);
 }
 
 /* step 1: the 99.9th percentile from a histogram of log10(JND), 0.01–10^4 */
