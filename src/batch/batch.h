@@ -105,7 +105,7 @@ typedef struct {
    * (an object; NULL: none) */
   void (*decision)(const cJSON *report, jnd_text *out, cJSON *chosen);
   /* the asset's page in the report */
-  jnd_batch_field fields[12];
+  jnd_batch_field fields[16];
   jnd_batch_table tables[3];
   jnd_batch_picture pictures[8];
   jnd_batch_plot plots[4];

@@ -98,7 +98,8 @@ static const jnd_batch_command COMMANDS[] = {
                    {"P per view (pooled)", "result.views.p", JND_FMT_LIST},
                    {"fraction of views above p", "result.views.fraction_above", JND_FMT_PERCENT},
                    {"held-out views pass", "result.verify.passes", JND_FMT_BOOL},
-                   {"criterion p, q", "parameters.p", JND_FMT_P},
+                   {"criterion: P above", "parameters.p", JND_FMT_P},
+                   {"criterion: fraction of views allowed above", "parameters.q", JND_FMT_PERCENT},
                    {"pixels per degree", "result.ppd", JND_FMT_NUMBER},
                    {"renderer", "result.renderer", JND_FMT_TEXT}},
         .tables = {{"Maps",
@@ -117,10 +118,10 @@ static const jnd_batch_command COMMANDS[] = {
                                  "rendered and where the model predicts a visible difference (JND, log scale)"},
                      {.path = "result.matrices[].png",
                       .caption = "P per view for each pair of baseColor (columns) and normal (rows) sizes, and the "
-                                 "criterion statistic over the views; the chosen pair is outlined (000 Fig. 13)"}},
+                                 "criterion statistic over the views; the chosen pair is outlined in red (000 Fig. 13)"}},
         .plots = {{"series.png", jnd_plot_texres_series,
                    "Each map alone at each candidate size: the criterion statistic (the view quantile of pooled P) "
-                   "against the size; the dashed line is the threshold p"}},
+                   "against the size; the grey line is the threshold p"}},
     },
     {
         .name = "pca",
@@ -140,7 +141,7 @@ static const jnd_batch_command COMMANDS[] = {
                    {"rendered: passes", "result.rendered.pass", JND_FMT_BOOL},
                    {"rendered: P at the criterion", "result.rendered.p_criterion", JND_FMT_P},
                    {"rendered: P per view", "result.rendered.p_per_view", JND_FMT_LIST},
-                   {"size", "result.width", JND_FMT_NUMBER}},
+                   {"maps' width (px)", "result.width", JND_FMT_NUMBER}},
         .tables = {{"Channels",
                     "result.channels[]",
                     {{"channel", "name", JND_FMT_TEXT},

@@ -102,7 +102,7 @@ static void row_check(jnd_batch_row *r, const char *name, where_kind k) {
     if (jnd_shell_split(r->options, &r->argc, &r->argv) != JND_OK) row_fail(r, name, k, "%s", jnd_last_error());
   }
   for (int i = 0; c && i < r->argc && !r->error; i++)
-    for (int j = 0; j < 8 && c->reserved[j]; j++) {
+    for (int j = 0; j < (int)(sizeof c->reserved / sizeof c->reserved[0]) && c->reserved[j]; j++) {
       size_t n = strlen(c->reserved[j]);
       if (strcmp(r->argv[i], c->reserved[j]) == 0 || (strncmp(r->argv[i], c->reserved[j], n) == 0 && r->argv[i][n] == '='))
         row_fail(r, name, k, "options: %s is set by jnd batch (each asset's outputs go to OUT/<id>/)", c->reserved[j]);

@@ -23,6 +23,7 @@
 #include "core/core.h"
 
 #define MAX_PICTURES 64
+#define NELEM(a) ((int)(sizeof(a) / sizeof((a)[0])))
 
 static const char STYLE[] =
     "body{font:15px/1.45 system-ui,-apple-system,'Segoe UI',sans-serif;margin:0 auto;max-width:1280px;"
@@ -290,7 +291,7 @@ static jnd_status asset_page(const char *out_dir, const char *report_dir, const 
   if (rep) {
     /* the numbers */
     int any = 0;
-    for (int i = 0; i < 12 && cmd->fields[i].label; i++) {
+    for (int i = 0; i < NELEM(cmd->fields) && cmd->fields[i].label; i++) {
       const cJSON *v[1];
       if (jnd_json_select(rep, cmd->fields[i].path, v, 1) != 1) continue;
       if (!any++) jnd_text_put(&t, "<h2>Numbers</h2>\n<table class=\"fields\">\n");
@@ -301,7 +302,7 @@ static jnd_status asset_page(const char *out_dir, const char *report_dir, const 
       jnd_text_put(&t, "</td></tr>\n");
     }
     if (any) jnd_text_put(&t, "</table>\n");
-    for (int k = 0; k < 3 && cmd->tables[k].title; k++) {
+    for (int k = 0; k < NELEM(cmd->tables) && cmd->tables[k].title; k++) {
       const jnd_batch_table *tb = &cmd->tables[k];
       const cJSON *rows[256];
       int nr = jnd_json_select(rep, tb->rows, rows, 256);
@@ -309,7 +310,7 @@ static jnd_status asset_page(const char *out_dir, const char *report_dir, const 
       jnd_text_put(&t, "<h2>");
       jnd_text_html(&t, tb->title);
       jnd_text_put(&t, "</h2>\n<table>\n<tr>");
-      for (int c = 0; c < 10 && tb->cols[c].label; c++) {
+      for (int c = 0; c < NELEM(tb->cols) && tb->cols[c].label; c++) {
         jnd_text_put(&t, "<th>");
         jnd_text_html(&t, tb->cols[c].label);
         jnd_text_put(&t, "</th>");
@@ -317,7 +318,7 @@ static jnd_status asset_page(const char *out_dir, const char *report_dir, const 
       jnd_text_put(&t, "</tr>\n");
       for (int r = 0; r < nr && r < 256; r++) {
         jnd_text_put(&t, "<tr>");
-        for (int c = 0; c < 10 && tb->cols[c].label; c++) {
+        for (int c = 0; c < NELEM(tb->cols) && tb->cols[c].label; c++) {
           const cJSON *v[1];
           int has = jnd_json_select(rows[r], tb->cols[c].path, v, 1) == 1;
           jnd_text_put(&t, has && cJSON_IsNumber(v[0]) ? "<td class=\"num\">" : "<td>");
@@ -330,7 +331,7 @@ static jnd_status asset_page(const char *out_dir, const char *report_dir, const 
     }
     /* the pictures it wrote, then the ones drawn here */
     int heading = 0;
-    for (int k = 0; k < 8 && (cmd->pictures[k].file || cmd->pictures[k].path || cmd->pictures[k].glob); k++) {
+    for (int k = 0; k < NELEM(cmd->pictures) && (cmd->pictures[k].file || cmd->pictures[k].path || cmd->pictures[k].glob); k++) {
       char *names[MAX_PICTURES];
       int n = picture_names(&cmd->pictures[k], rep, asset_dir, names, MAX_PICTURES);
       if (n && !heading++) jnd_text_put(&t, "<h2>Pictures</h2>\n");
@@ -345,7 +346,7 @@ static jnd_status asset_page(const char *out_dir, const char *report_dir, const 
       }
       if (n) figure_end(&t, cmd->pictures[k].caption);
     }
-    for (int k = 0; k < 4 && cmd->plots[k].name && s == JND_OK; k++) {
+    for (int k = 0; k < NELEM(cmd->plots) && cmd->plots[k].name && s == JND_OK; k++) {
       if ((s = jnd_mkdirs(plot_dir)) != JND_OK) break;
       char *p = jnd_path_join(plot_dir, cmd->plots[k].name);
       int r = p ? cmd->plots[k].draw(rep, p) : -1;

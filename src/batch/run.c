@@ -190,7 +190,7 @@ static char **child_argv(const jnd_batch_command *cmd, const jnd_batch_row *r, c
   if (cmd->asset_flag && !is_image_name(r->asset)) argv[n++] = strdup(cmd->asset_flag);
   argv[n++] = strdup(r->asset);
   for (int i = 0; i < r->argc; i++) argv[n++] = strdup(r->argv[i]);
-  for (int i = 0; i < 8 && cmd->out_args[i]; i++) {
+  for (int i = 0; i < (int)(sizeof cmd->out_args / sizeof cmd->out_args[0]) && cmd->out_args[i]; i++) {
     const char *a = cmd->out_args[i], *ph = strstr(a, "{out}");
     if (!ph) {
       argv[n++] = strdup(a);
@@ -364,9 +364,10 @@ static jnd_status finish(run_ctx *c, slot *s, int wstatus) {
     snprintf(error, sizeof error, "timed out after %g s (killed)", c->p->timeout_s);
   } else if (sig) {
     snprintf(error, sizeof error, "killed by signal %d (%s)%s%s", sig, strsignal(sig), tail[0] ? ": " : "", tail);
+  } else if (tail[0]) {
+    snprintf(error, sizeof error, "%s", tail);
   } else {
-    snprintf(error, sizeof error, "%s", tail[0] ? tail : "exited without a message");
-    if (!tail[0]) snprintf(error, sizeof error, "exit status %d without a message", code);
+    snprintf(error, sizeof error, "exit status %d without a message", code);
   }
   jnd_status res = JND_OK;
   if (rename(log, log_dst) != 0) res = jnd_fail(JND_ERR_IO, "%s: cannot write: %s", log_dst, strerror(errno));
@@ -374,8 +375,10 @@ static jnd_status finish(run_ctx *c, slot *s, int wstatus) {
     struct stat sb;
     if (lstat(dst, &sb) == 0 && rename(dst, old) != 0)
       res = jnd_fail(JND_ERR_IO, "%s: cannot move the previous result aside: %s", dst, strerror(errno));
-    if (res == JND_OK && rename(out, dst) != 0)
+    if (res == JND_OK && rename(out, dst) != 0) {
       res = jnd_fail(JND_ERR_IO, "%s: cannot move the result in: %s", dst, strerror(errno));
+      rename(old, dst); /* the previous result goes back where it was */
+    }
   }
   if (res == JND_OK)
     res = write_record(c, r, s, st, code, sig, st == JND_ASSET_FAILED ? error : NULL, seconds, line);

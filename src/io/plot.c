@@ -278,7 +278,9 @@ jnd_status jnd_plot_grid(const jnd_plot_grid_spec *g, jnd_image *out) {
   for (int r = 0; r <= g->rows; r++) jnd_draw_line(out, left, top + r * cell, left + gw, top + r * cell, 1, WHITE);
   if (g->marked > 0 && g->marked <= g->rows * g->cols) {
     int mr = (g->marked - 1) / g->cols, mc = (g->marked - 1) % g->cols;
-    jnd_draw_frame(out, left + mc * cell + 1, top + mr * cell + 1, left + (mc + 1) * cell - 1, top + (mr + 1) * cell - 1, 3, INK);
+    /* red reads on both ends of the scale (navy and yellow) */
+    jnd_draw_frame(out, left + mc * cell + 1, top + mr * cell + 1, left + (mc + 1) * cell - 1, top + (mr + 1) * cell - 1, 3,
+                   (jnd_rgb){0.89f, 0.10f, 0.11f});
   }
   for (int r = 0; g->row_labels && r < g->rows; r++)
     jnd_draw_text(out, left - 8, top + (r + 0.5) * cell + 0.35 * TICK_PX, g->row_labels[r], TICK_PX, INK, JND_ALIGN_RIGHT, 0);

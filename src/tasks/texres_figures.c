@@ -105,7 +105,7 @@ jnd_status jnd_texres_matrix_figure(const jnd_texres_result *r, int t, jnd_image
       W = row_w > W ? row_w : W;
     }
     H += row_h + 30;
-    static const char note[] = "Outlined: the chosen pair. Each cell: pooled P(detect) of the view at that pair of "
+    static const char note[] = "Outlined in red: the chosen pair. Each cell: pooled P(detect) of the view at that pair of "
                                "sizes (000 Fig. 13).";
     int nw = (int)jnd_text_width(note, 12) + 20;
     W = nw > W ? nw : W;
