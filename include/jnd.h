@@ -1384,6 +1384,7 @@ jnd_status jnd_batch_manifest_parse_csv(const char *name, const char *text, size
 jnd_status jnd_batch_manifest_parse_json(const char *name, const char *text, size_t n, jnd_batch_manifest *out);
 /* Marks rows whose asset file is missing (relative to m->base_dir). */
 void jnd_batch_manifest_check(jnd_batch_manifest *m);
+/* Frees every row and string and zeroes m; safe on a zeroed manifest. */
 void jnd_batch_manifest_free(jnd_batch_manifest *m);
 
 /* Parses a shard "I/N" (0 <= I < N <= 100000). JND_ERR_ARG with a message. */
@@ -1425,6 +1426,8 @@ typedef struct {
   void *progress_user;
 } jnd_batch_params;
 
+/* Fills p with the defaults above: shard 0 of 1, one job, the environment's
+ * threads, no timeout, no force, "jnd" on PATH, no progress callback. */
 void jnd_batch_defaults(jnd_batch_params *p);
 
 typedef struct {
@@ -1480,6 +1483,8 @@ typedef struct {
   const char *job_name;    /* "jnd-batch" */
 } jnd_slurm_params;
 
+/* Fills p: 1 shard, no array limit, 1 CPU per task, the cluster's default
+ * memory and time limit, no partition, account or GRES, job name "jnd-batch". */
 void jnd_slurm_defaults(jnd_slurm_params *p);
 
 /* The two job scripts, as text (caller frees): array_script runs `JND batch
