@@ -48,27 +48,10 @@ if ! webxr_assets >/dev/null; then
   webxr_assets_fetch || echo "install-deps: warning: without it the webxr tests skip" >&2
 fi
 
-# npm packages, pinned with their integrity (scripts/npm-packages.txt), each
-# fetched once into CACHE/NAME@VERSION/package: downloaded and unpacked in a
-# temporary folder of the cache and renamed into place, so that an interrupted
-# fetch never leaves a package that looks complete. Tests read the cache only.
-NPM_CACHE=${JND_NPM_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/jnd/npm}
-here=$(cd "$(dirname "$0")" && pwd)
-while read -r name version integrity; do
-  case "$name" in ''|'#'*) continue ;; esac
-  dest="$NPM_CACHE/$name@$version"
-  [ -f "$dest/package/package.json" ] && continue
-  mkdir -p "$NPM_CACHE"
-  tmp=$(mktemp -d "$NPM_CACHE/.fetch.XXXXXX")
-  echo "install-deps: fetching $name@$version from npm" >&2
-  if (cd "$tmp" && npm pack --silent --fetch-retries=2 "$name@$version" >/dev/null 2>"$tmp/npm.log") &&
-     tgz=$(ls "$tmp"/*.tgz 2>/dev/null | head -1) && [ -n "$tgz" ] &&
-     [ "$(node -e 'const c = require("crypto"), f = require("fs");
-          process.stdout.write("sha512-" + c.createHash("sha512").update(f.readFileSync(process.argv[1])).digest("base64"))' "$tgz")" = "$integrity" ] &&
-     mkdir "$tmp/out" && tar -xzf "$tgz" -C "$tmp/out" && [ -f "$tmp/out/package/package.json" ]; then
-    mv -T "$tmp/out" "$dest" 2>/dev/null || [ -f "$dest/package/package.json" ]
-  else
-    echo "install-deps: could not fetch $name@$version with integrity $integrity: $(tail -2 "$tmp/npm.log" 2>/dev/null)" >&2
-  fi
-  rm -rf "$tmp"
-done <"$here/npm-packages.txt"
+# The pinned playwright-core that drives Debian's chromium in the report's
+# browser test (tests/browser/playwright.sh), the same way.
+. "$(dirname "$0")/../tests/browser/playwright.sh"
+if ! playwright_core >/dev/null; then
+  echo "install-deps: fetching playwright-core@$PLAYWRIGHT_CORE_VERSION into $(npm_cache_dir playwright-core "$PLAYWRIGHT_CORE_VERSION")" >&2
+  playwright_core_fetch || echo "install-deps: warning: without it the report's browser test skips" >&2
+fi

@@ -1,5 +1,5 @@
 // The HTML report of `jnd report` in a real browser: Debian's chromium, headless,
-// driven by playwright-core (pinned in scripts/npm-packages.txt). From file://,
+// driven by playwright-core (pinned in tests/browser/playwright.sh). From file://,
 // with every request that is not a file refused and counted:
 //   - no console error, no page error, no request outside file://
 //   - every image of every page loads (complete, natural size > 0)

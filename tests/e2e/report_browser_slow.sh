@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # jnd report in a real browser (issue 14): Debian's chromium, headless, driven
 # by playwright-core from the npm cache that scripts/install-deps.sh fills
-# (pinned in scripts/npm-packages.txt; this test never reaches the network).
+# (pinned in tests/browser/playwright.sh; this test never reaches the network).
 # A small batch (texres, pca, diff, render, a malformed row) is run, merged and
 # reported; tests/browser/report.js checks the pages from file://.
 set -uo pipefail
@@ -10,9 +10,9 @@ cd "$T" || exit 1
 SRC=${JND_SRC:-$(cd "$(dirname "$0")/../.." && pwd)}
 command -v node >/dev/null 2>&1 || skip "node is not installed (scripts/install-deps.sh installs npm)"
 [ -x /usr/bin/chromium ] || skip "Debian's chromium is not installed (scripts/install-deps.sh installs it)"
-read -r _ PW_VERSION _ < <(grep '^playwright-core ' "$SRC/scripts/npm-packages.txt")
-PW=${JND_NPM_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/jnd/npm}/playwright-core@$PW_VERSION/package
-[ -f "$PW/package.json" ] || skip "playwright-core@$PW_VERSION is not in the npm cache (scripts/install-deps.sh fetches it)"
+. "$SRC/tests/browser/playwright.sh"
+PW=$(playwright_core) ||
+  skip "playwright-core $PLAYWRIGHT_CORE_VERSION is not in $(npm_cache_dir playwright-core "$PLAYWRIGHT_CORE_VERSION") (scripts/install-deps.sh fetches it)"
 
 "$JND" example -o pairs --size 96x64 >/dev/null 2>&1
 TINY="--views 2 --size 64x64 --map-size 64"
