@@ -146,12 +146,30 @@ int jnd_csv_column(const jnd_csv *csv, const char *name);
 /* Parses a cell as a number; NaN for "NaN"/"NA"/"". Returns 0 if not a number. */
 int jnd_csv_number(const char *cell, double *out);
 
-/* A heatmap of a JND map over a dimmed grey copy of the reference: colours
- * from transparent at 0 through blue, green and yellow to red at max_jnd
- * (<= 0 means 1 JND), with a legend strip of 30 rows below images at least
- * 160 pixels wide. ref holds the reference's file signal (0..1, 1–4 channels,
- * as jnd_image_read gives). out is allocated: 3 channels, sRGB-encoded 0..1,
- * ready for jnd_image_write_png. */
+/* A heatmap of a JND map over a dimmed grey copy of the reference, on a
+ * logarithmic scale of JND with a colour bar (ticks in JND, the 1 JND line,
+ * P = 0.5, marked), so that structure above 1 JND stays visible:
+ * differences below min_jnd are not drawn; max_jnd is the top of the scale,
+ * or 0 for the map's 99.9th percentile rounded up to 1, 2 or 5 × 10^k (at
+ * least 2). Images whose shorter side is below min_side are magnified by a
+ * whole factor (nearest pixel) up to it, within 2048 pixels a side. */
+typedef struct {
+  double max_jnd;     /* top of the scale, JND (0: auto, as above) */
+  double min_jnd;     /* bottom of the scale, JND (0.1) */
+  int min_side;       /* pixels (256) */
+  int beside;         /* 1: the reference itself left of the heatmap */
+  const char *title;  /* a line above the picture (NULL: none) */
+} jnd_heatmap_params;
+void jnd_heatmap_defaults(jnd_heatmap_params *p);
+
+/* Draws the heatmap figure. ref holds the reference's file signal (0..1,
+ * 1–4 channels, as jnd_image_read gives); jnd_map has its size. out is
+ * allocated: 3 channels, sRGB-encoded 0..1, for jnd_image_write_png. */
+jnd_status jnd_heatmap_draw(const jnd_heatmap_params *p, const jnd_image *ref, const jnd_image *jnd_map,
+                            jnd_image *out);
+
+/* jnd_heatmap_draw with the defaults and the given top of the scale
+ * (max_jnd <= 0: auto). */
 jnd_status jnd_heatmap(const jnd_image *ref, const jnd_image *jnd_map, double max_jnd, jnd_image *out);
 
 /* Writes n bytes to path through a temporary file in the same folder and a
@@ -1256,6 +1274,13 @@ jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *p, jnd_texr
 /* Frees a result's arrays; safe on a zeroed struct. */
 void jnd_texres_result_free(jnd_texres_result *r);
 
+/* A picture of matrix t of a result (000 Fig. 13): the criterion statistic
+ * for every pair of sizes (columns the first map's, rows the second's, the
+ * longer side in pixels) with axis titles, each cell's value and a colour
+ * legend of P, the chosen pair outlined; below it the same per view. out is
+ * allocated (3 channels, sRGB 0..1) for jnd_image_write_png. */
+jnd_status jnd_texres_matrix_figure(const jnd_texres_result *r, int t, jnd_image *out);
+
 /* Writes a copy of the glTF/GLB model at src_path under out_dir whose maps
  * are the scene's maps at the sizes in use now (jnd_scene_map_get of each
  * resized map, encoded as the file had it: PNG or JPEG), and which points
@@ -1624,10 +1649,12 @@ jnd_status jnd_pca_analyse(const jnd_texset *set, const double *weights, jnd_pca
  * C·C doubles (caller's). */
 void jnd_pca_contribution(const jnd_pca *pca, double *out);
 
-/* A picture of the contribution matrix: one 16-pixel cell per (component
- * row, channel column), brightness ∝ contribution / max. out is allocated
- * (3 channels, 0..1) for jnd_image_write_png. */
-jnd_status jnd_pca_contribution_plot(const jnd_pca *pca, jnd_image *out);
+/* A picture of the contribution matrix: a row per input channel (named
+ * from set; NULL: numbered), a column per component (1 = the most energy,
+ * with its share of the energy), each cell coloured and labelled with its
+ * contribution, and a colour legend. out is allocated (3 channels, sRGB
+ * 0..1) for jnd_image_write_png. */
+jnd_status jnd_pca_contribution_plot(const jnd_pca *pca, const jnd_texset *set, jnd_image *out);
 
 /* How the components are stored. */
 typedef struct {
@@ -2107,6 +2134,188 @@ int jnd_pop_detection_score(jnd_pop_coverage c, jnd_pop_rating r);
 /* "tiny", "small", "large", "huge" and "very low", "low", "high", "very high". */
 const char *jnd_pop_coverage_name(jnd_pop_coverage c);
 const char *jnd_pop_rating_name(jnd_pop_rating r);
+
+/* ------------------------------------------------------------------------ */
+/* Batch: a library of assets (docs/batch.md)                               */
+/* ------------------------------------------------------------------------ */
+/* A manifest lists assets, each with a jnd command (texres, pca, diff,
+ * render) and that command's options. A batch runs each asset's command as
+ * a child process of the jnd program (`jnd COMMAND ASSET OPTIONS -o DIR`), so
+ * that a bad or crashing asset fails alone; its outputs appear in OUT/<id>/,
+ * exactly as the command writes them, only once complete (a rename); a rerun
+ * skips complete assets; shards split a manifest deterministically for job
+ * arrays; merge writes OUT/summary.json and summary.csv; report writes a
+ * static HTML site. Typical use:
+ *
+ *     jnd_batch_manifest m;  jnd_batch_manifest_read("assets.csv", NULL, NULL, &m);
+ *     jnd_batch_params p;    jnd_batch_defaults(&p);
+ *     p.out_dir = "out";     p.jnd_exe = "/usr/bin/jnd";
+ *     jnd_batch_totals t;    jnd_batch_run(&m, &p, &t);   // rows' failures are in t, not errors
+ *     jnd_batch_merge("out", 1, &t);  jnd_batch_report("out", NULL, 0);
+ *     jnd_batch_manifest_free(&m);
+ */
+
+#define JND_BATCH_MAX_ID 100 /* bytes of an asset id */
+
+/* One asset of a manifest. */
+typedef struct {
+  int line;             /* CSV: line of the file (the header is line 1); JSON: entry
+                           (1-based); glob: match (1-based, sorted) */
+  char *id;             /* [A-Za-z0-9][A-Za-z0-9._-]*: the folder OUT/<id> */
+  char *asset;          /* path relative to the manifest's folder, or `builtin[:...]` */
+  char *command;
+  char *options;        /* as written: one shell-quoted string */
+  int argc;             /* options as words (split as a shell does, never expanded) */
+  char **argv;
+  char *error;          /* NULL, or why this row cannot run: one line, "MANIFEST:LINE: ..." */
+} jnd_batch_row;
+
+typedef struct {
+  char *source;         /* the manifest's path, or the glob, absolute */
+  char *base_dir;       /* absolute folder where asset paths and options are resolved */
+  int nrows;
+  jnd_batch_row *rows;
+} jnd_batch_manifest;
+
+/* Reads a manifest: a CSV file with the header id,asset,command,options (any
+ * order; options may be left out; RFC 4180 quoting), or a JSON file (a list,
+ * or {"assets": [...]}, of objects with those keys; options a string or a
+ * list of words). With command not NULL, path is instead a glob ("models/
+ * *.glb", relative to the working folder) and every match becomes a row with
+ * that command and options; its id is the match's path less the extension
+ * and the folders all matches share, '/' as '-'. Rows are checked: a valid
+ * unique id (ids equal but for case collide), a known command, options that
+ * split and do not set what batch sets (-o, --json, ...), an asset file that
+ * exists; a row that fails gets its one-line error and the others are kept.
+ * Returns an error (unreadable file, malformed CSV/JSON, a wrong header, no
+ * rows, no match) only for what no row survives. out is allocated. */
+jnd_status jnd_batch_manifest_read(const char *path, const char *command, const char *options,
+                                   jnd_batch_manifest *out);
+
+/* The parsers under jnd_batch_manifest_read, on bytes (name is used in
+ * messages; assets are not looked for: jnd_batch_manifest_check does that). */
+jnd_status jnd_batch_manifest_parse_csv(const char *name, const char *text, size_t n, jnd_batch_manifest *out);
+jnd_status jnd_batch_manifest_parse_json(const char *name, const char *text, size_t n, jnd_batch_manifest *out);
+/* Marks rows whose asset file is missing (relative to m->base_dir). */
+void jnd_batch_manifest_check(jnd_batch_manifest *m);
+/* Frees every row and string and zeroes m; safe on a zeroed manifest. */
+void jnd_batch_manifest_free(jnd_batch_manifest *m);
+
+/* Parses a shard "I/N" (0 <= I < N <= 100000). JND_ERR_ARG with a message. */
+jnd_status jnd_batch_shard_parse(const char *spec, int *index, int *count);
+
+typedef enum {
+  JND_ASSET_PENDING = 0, /* not run yet (its shard has not run, or was interrupted) */
+  JND_ASSET_OK,          /* the command finished (exit 0), outputs complete */
+  JND_ASSET_ABOVE,       /* finished with exit 1: complete, but the choice fails its
+                            criterion (texres) or is above --fail-above (diff) */
+  JND_ASSET_FAILED       /* bad row, bad input (exit 2), a crash or the timeout */
+} jnd_asset_status;
+
+/* What the progress callback hears after each asset of the shard. */
+typedef struct {
+  const char *id, *command;
+  jnd_asset_status status;
+  int skipped;           /* 1: complete from an earlier run, not run again */
+  int exit_status;       /* the command's exit status; -1: killed (signal, timeout); -2: not run */
+  const char *error;     /* the failure's one line, else NULL */
+  double seconds;        /* this asset's wall time (0 when skipped) */
+  int done, total;       /* assets of the shard finished so far, and in all */
+  int failed;            /* failures so far */
+  double elapsed_s;      /* since the run began */
+} jnd_batch_event;
+
+typedef struct {
+  const char *out_dir;   /* OUT (created) */
+  int shard, shards;     /* this run takes the rows whose index r (0-based, in manifest
+                            order) has r % shards == shard; default 0 of 1 */
+  int jobs;              /* assets run at the same time (1) */
+  int threads;           /* threads of each asset's command (OMP_NUM_THREADS); 0: the
+                            environment's OMP_NUM_THREADS, else the CPUs / jobs */
+  double timeout_s;      /* a command running longer is killed; the asset fails (0: none) */
+  int force;             /* run complete assets again */
+  const char *jnd_exe;   /* the jnd program that runs each asset's command (NULL: "jnd"
+                            on PATH) */
+  void (*progress)(void *user, const jnd_batch_event *e);
+  void *progress_user;
+} jnd_batch_params;
+
+/* Fills p with the defaults above: shard 0 of 1, one job, the environment's
+ * threads, no timeout, no force, "jnd" on PATH, no progress callback. */
+void jnd_batch_defaults(jnd_batch_params *p);
+
+typedef struct {
+  int assets;            /* rows (merge: all; run: this shard's) */
+  int ran, skipped;      /* run: commands started; complete ones left alone */
+  int ok, above, failed, pending;
+} jnd_batch_totals;
+
+/* Runs a shard of the manifest (docs/batch.md): for each row, in order, at
+ * most p->jobs at once: a row with an error is a failure; a complete asset
+ * (its last run finished, for the same command, options, asset file size and
+ * time, and jnd version) is skipped unless p->force; otherwise its command
+ * runs in OUT/_batch/work/<id>/ with the working folder m->base_dir; when it
+ * finishes its outputs replace OUT/<id>/ by a rename and then its record
+ * OUT/_batch/records/<id>.json is written (atomically): the record is what
+ * makes an asset complete, so a crash at any point leaves either the old
+ * result or the new one. A failure (exit 2, a signal, the timeout) records its
+ * exit status and the last line of its stderr, and the batch goes on. Writes
+ * the plan OUT/_batch/manifest.json (what merge reads). Returns an error only
+ * for what stops the whole run (bad parameters, OUT not writable, fork
+ * failing); totals may be NULL. */
+jnd_status jnd_batch_run(const jnd_batch_manifest *m, const jnd_batch_params *p, jnd_batch_totals *totals);
+
+/* Merges what the shards recorded in OUT into OUT/summary.json (the report
+ * envelope: jnd_version, command "batch merge", inputs, parameters, result
+ * {totals, assets[]}) and OUT/summary.csv, one row per manifest row in
+ * manifest order: status, exit status, error, memory before and after, the
+ * probability of detection, what was chosen, and (timings != 0) seconds.
+ * Without timings the files depend only on the manifest and the assets'
+ * reports: n shards merge to the bytes of a single run. totals may be NULL. */
+jnd_status jnd_batch_merge(const char *out_dir, int timings, jnd_batch_totals *totals);
+
+/* Writes the HTML report of OUT (after jnd_batch_merge): OUT/report/
+ * index.html (totals; the assets in a table sortable by column and
+ * filterable by status) and a page per asset with the numbers of its report
+ * and the pictures that justify its decision, some drawn here (PNG under
+ * OUT/report/<id>/). Self-contained: no network, works from file://.
+ * index_path (n bytes, may be NULL) receives the index's path. */
+jnd_status jnd_batch_report(const char *out_dir, char *index_path, size_t n);
+
+/* A Slurm job array for a manifest: task i of the array runs shard i of
+ * shards; a second job, dependent on the whole array (afterok), merges and
+ * writes the report. */
+typedef struct {
+  int shards;              /* array tasks (>= 1) */
+  int array_limit;         /* at most this many tasks at once (--array=0-(n-1)%limit; 0: no limit) */
+  int cpus_per_task;       /* 1.. */
+  const char *mem;         /* memory per task, sbatch syntax ("4G"); NULL: the cluster's default */
+  const char *time;        /* time limit per task ("2:00:00", minutes, "1-00:00:00"); NULL: default */
+  const char *partition, *account, *gres; /* NULL: none */
+  const char *const *extra;/* further sbatch options, one "--name=value" each */
+  int nextra;
+  const char *job_name;    /* "jnd-batch" */
+} jnd_slurm_params;
+
+/* Fills p: 1 shard, no array limit, 1 CPU per task, the cluster's default
+ * memory and time limit, no partition, account or GRES, job name "jnd-batch". */
+void jnd_slurm_defaults(jnd_slurm_params *p);
+
+/* The two job scripts, as text (caller frees): array_script runs `JND batch
+ * SOURCE -o OUT --shard $SLURM_ARRAY_TASK_ID/N` (with run's jobs, threads,
+ * timeout, force, and command/options for a glob) and merge_script runs `JND
+ * batch merge OUT` and `JND report OUT`. Paths are made absolute. run->jnd_exe
+ * is the program the nodes run. */
+jnd_status jnd_slurm_scripts(const jnd_batch_manifest *m, const char *glob_command, const char *glob_options,
+                             const jnd_batch_params *run, const jnd_slurm_params *sp, char **array_script,
+                             char **merge_script);
+
+/* Writes the scripts to OUT/_batch/slurm/{array,merge}.sh and submits them:
+ * `sbatch --parsable array.sh`, then `sbatch --parsable
+ * --dependency=afterok:ARRAY merge.sh`. The job ids are returned (n bytes
+ * each). sbatch comes from PATH. */
+jnd_status jnd_slurm_submit(const char *out_dir, const char *array_script, const char *merge_script,
+                            char *array_job, char *merge_job, size_t n);
 
 #ifdef __cplusplus
 }

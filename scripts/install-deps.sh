@@ -16,6 +16,8 @@ PACKAGES=(
   libjxl-devtools                                  # butteraugli_main, the peer in `make bench`
   assimp-testmodels                                # real (and malformed) glTF files for tests
   libsquish-dev                                    # BC1/BC4/BC5 reference encoder
+  munge slurmctld slurmd slurm-client              # jnd batch --slurm, tested on a real one-node Slurm
+  chromium                                         # the HTML report's browser test (headless)
 )
 
 missing=()
@@ -44,4 +46,12 @@ fi
 if ! webxr_assets >/dev/null; then
   echo "install-deps: fetching @webxr-input-profiles/assets@$WEBXR_ASSETS_VERSION into $(webxr_assets_cache)" >&2
   webxr_assets_fetch || echo "install-deps: warning: without it the webxr tests skip" >&2
+fi
+
+# The pinned playwright-core that drives Debian's chromium in the report's
+# browser test (tests/browser/playwright.sh), the same way.
+. "$(dirname "$0")/../tests/browser/playwright.sh"
+if ! playwright_core >/dev/null; then
+  echo "install-deps: fetching playwright-core@$PLAYWRIGHT_CORE_VERSION into $(npm_cache_dir playwright-core "$PLAYWRIGHT_CORE_VERSION")" >&2
+  playwright_core_fetch || echo "install-deps: warning: without it the report's browser test skips" >&2
 fi

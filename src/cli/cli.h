@@ -149,7 +149,7 @@ double cli_now(void);   /* monotonic seconds */
 
 /* Subcommands (each in cmd_<name>.c). Missing ones are weak and skipped. */
 #define JND_COMMANDS(X) \
-  X(diff) X(csf) X(example) X(render) X(texres) X(calibrate) X(pca) X(lod) X(gaze) X(pop)
+  X(diff) X(csf) X(example) X(render) X(texres) X(calibrate) X(pca) X(lod) X(gaze) X(pop) X(batch) X(report)
 #define X(n) extern const jnd_command jnd_cmd_##n __attribute__((weak));
 JND_COMMANDS(X)
 #undef X

@@ -26,8 +26,10 @@ static void help(void) {
       "\n"
       "outputs:\n"
       "  --map FILE.exr      float JND per pixel\n"
-      "  --heatmap FILE.png  JND over a dimmed grey copy of REF, with a legend\n"
-      "  --heatmap-max J     JND at the top of the heatmap's scale (default 1)\n"
+      "  --heatmap FILE.png  JND over a dimmed grey copy of REF on a log scale from 0.1\n"
+      "                      JND, with a colour bar (small images are magnified)\n"
+      "  --heatmap-max J     JND at the top of the heatmap's scale (default: the 99.9th\n"
+      "                      percentile rounded up to 1, 2 or 5 x 10^k, at least 2)\n"
       "  --pool P            pooling for p_detect: p93 (default), pNN, max, mean, minkowski\n"
       "  --calibration FILE  a `jnd calibrate` file: its JND transform, slope and percentile\n"
       "  --fail-above P      exit 1 when the pooled probability exceeds P (render gating)\n"
@@ -73,7 +75,7 @@ static int run(int argc, char **argv) {
   const char *paths[2] = {0}, *motion_path = NULL, *weights_path = NULL, *map_path = NULL, *heat_path = NULL;
   const char *pool_name = "p93", *cal_path = NULL;
   jnd_calibration cal;
-  double fail_above = -1, heat_max = 1;
+  double fail_above = -1, heat_max = 0;
   int npaths = 0;
   cli_display disp;
   cli_display_init(&disp);
@@ -102,7 +104,7 @@ static int run(int argc, char **argv) {
     } else if (cli_opt(ap, "--heatmap", &v)) {
       heat_path = v;
     } else if (cli_opt(ap, "--heatmap-max", &v)) {
-      heat_max = cli_double(ap, "--heatmap-max", v, 1e-3, 1e6);
+      heat_max = cli_double(ap, "--heatmap-max", v, 0.2, 1e4);
     } else if (cli_opt(ap, "--fail-above", &v)) {
       fail_above = cli_double(ap, "--fail-above", v, 0, 1);
     } else if (cli_common_opt(ap, &common)) {

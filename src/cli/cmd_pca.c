@@ -167,7 +167,7 @@ static int write_files(const char *outdir, const jnd_pca_result *R, int write_ma
   }
   jnd_image plot = {0};
   snprintf(path, sizeof path, "%s/contribution.png", outdir);
-  if (ok && (jnd_pca_contribution_plot(&R->pca, &plot) != JND_OK || jnd_image_write_png(path, &plot, 8) != JND_OK))
+  if (ok && (jnd_pca_contribution_plot(&R->pca, &R->set, &plot) != JND_OK || jnd_image_write_png(path, &plot, 8) != JND_OK))
     ok = (cli_lib_error(), 0);
   jnd_image_free(&plot);
   if (ok && write_maps) {

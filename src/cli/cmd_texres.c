@@ -70,33 +70,10 @@ static cJSON *bytes_json(const size_t *b) {
   return o;
 }
 
-/* 000 Fig. 13: per view a table, columns the baseColor candidates, rows the
- * normal candidates, green (P = 0) to red (P = 1); the last table is the
- * criterion statistic; the chosen cell is outlined in white. */
-static int write_matrix_png(const char *path, const jnd_texres_matrix *mx, int chosen_a, int chosen_b) {
-  const int cell = 16, gap = 8;
-  int tw = mx->na * cell, th = mx->nb * cell, nt = mx->nviews + 1;
+/* 000 Fig. 13, drawn by the library (jnd_texres_matrix_figure) */
+static int write_matrix_png(const char *path, const jnd_texres_result *r, int t) {
   jnd_image img;
-  if (jnd_image_alloc(&img, nt * tw + (nt + 1) * gap, th + 2 * gap, 3) != JND_OK) return 0;
-  for (size_t i = 0; i < (size_t)img.w * img.h * 3; i++) img.data[i] = 0.15f;
-  for (int t = 0; t < nt; t++)
-    for (int a = 0; a < mx->na; a++)
-      for (int b = 0; b < mx->nb; b++) {
-        double P = t < mx->nviews ? mx->p[((size_t)t * mx->na + a) * mx->nb + b] : mx->stat[a * mx->nb + b];
-        P = P < 0 ? 0 : P > 1 ? 1 : P;
-        float rgb[3] = {(float)fmin(1, 2 * P), (float)(0.8 * fmin(1, 2 * (1 - P))), 0.1f};
-        int x0 = gap + t * (tw + gap) + a * cell, y0 = gap + b * cell;
-        for (int y = 0; y < cell; y++)
-          for (int x = 0; x < cell; x++) {
-            int edge = x == 0 || y == 0 || x == cell - 1 || y == cell - 1;
-            for (int ch = 0; ch < 3; ch++) {
-              float v = rgb[ch];
-              if (edge) v = (a == chosen_a && b == chosen_b) ? 1.0f : 0.1f;
-              img.data[((size_t)ch * img.h + y0 + y) * img.w + x0 + x] = v;
-            }
-          }
-      }
-  int ok = jnd_image_write_png(path, &img, 8) == JND_OK;
+  int ok = jnd_texres_matrix_figure(r, t, &img) == JND_OK && jnd_image_write_png(path, &img, 8) == JND_OK;
   if (!ok) cli_error("%s", jnd_last_error());
   jnd_image_free(&img);
   return ok;
@@ -344,13 +321,10 @@ static int run(int argc, char **argv) {
   for (int t = 0; t < R.nmatrix; t++) {
     const jnd_texres_matrix *mx = &R.matrix[t];
     const jnd_texres_map *A = &R.maps[mx->map_a], *B = &R.maps[mx->map_b];
-    int ca = -1, cb = -1;
-    for (int a = 0; a < mx->na; a++) if (mx->size_a[a] == (A->chosen[0] > A->chosen[1] ? A->chosen[0] : A->chosen[1])) ca = a;
-    for (int b = 0; b < mx->nb; b++) if (mx->size_b[b] == (B->chosen[0] > B->chosen[1] ? B->chosen[0] : B->chosen[1])) cb = b;
     char name[64];
     snprintf(name, sizeof name, "matrix_%d.png", t);
     snprintf(path, sizeof path, "%s/%s", dir, name);
-    if (!write_matrix_png(path, mx, ca, cb)) goto out;
+    if (!write_matrix_png(path, &R, t)) goto out;
     cJSON *o = cJSON_CreateObject();
     cJSON_AddStringToObject(o, "columns", A->name);
     cJSON_AddStringToObject(o, "rows", B->name);

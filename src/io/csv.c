@@ -27,9 +27,7 @@ void jnd_csv_free(jnd_csv *csv) {
   memset(csv, 0, sizeof *csv);
 }
 
-/* Parses one record starting at *pos; fills fields (malloc'd) and count.
- * Returns 0 at end of input, 1 on a record, -1 on a malformed record. */
-static int parse_record(const char *t, size_t n, size_t *pos, char ***fields, int *count) {
+int jnd_csv_record(const char *t, size_t n, size_t *pos, char ***fields, int *count) {
   size_t p = *pos;
   if (p >= n) return 0;
   int cap = 16, nf = 0;
@@ -99,7 +97,7 @@ jnd_status jnd_csv_parse(const char *name, const char *text, size_t n, jnd_csv *
     pos = 3; /* UTF-8 byte-order mark */
   char **fields;
   int count;
-  int r = parse_record(text, n, &pos, &fields, &count);
+  int r = jnd_csv_record(text, n, &pos, &fields, &count);
   if (r <= 0) return jnd_fail(JND_ERR_FORMAT, "%s: %s", name, r == 0 ? "empty CSV file" : "malformed CSV header");
   out->header = fields;
   out->ncols = count;
@@ -108,7 +106,7 @@ jnd_status jnd_csv_parse(const char *name, const char *text, size_t n, jnd_csv *
   if (!out->cells) { jnd_csv_free(out); return jnd_fail(JND_ERR_NOMEM, "%s: out of memory", name); }
   for (;;) {
     line++;
-    r = parse_record(text, n, &pos, &fields, &count);
+    r = jnd_csv_record(text, n, &pos, &fields, &count);
     if (r == 0) break;
     if (r < 0) { jnd_csv_free(out); return jnd_fail(JND_ERR_FORMAT, "%s: line %d: malformed CSV record", name, line); }
     if (count == 1 && fields[0][0] == 0) { /* blank line */

@@ -30,10 +30,7 @@ jnd_rgb jnd_palette(int i) {
   return p[((i % 8) + 8) % 8];
 }
 
-jnd_rgb jnd_colour_scale(double t) {
-  /* five stops rising in lightness: navy, blue, teal, green, yellow */
-  static const float s[5][3] = {{0.10f, 0.06f, 0.33f}, {0.16f, 0.32f, 0.62f}, {0.12f, 0.58f, 0.58f},
-                                {0.45f, 0.78f, 0.33f}, {0.99f, 0.91f, 0.15f}};
+jnd_rgb jnd_ramp5(const float s[5][3], double t) {
   if (!(t >= 0)) t = 0;
   if (t > 1) t = 1;
   double u = t * 4;
@@ -42,6 +39,13 @@ jnd_rgb jnd_colour_scale(double t) {
   float f = (float)(u - i);
   return (jnd_rgb){s[i][0] + f * (s[i + 1][0] - s[i][0]), s[i][1] + f * (s[i + 1][1] - s[i][1]),
                    s[i][2] + f * (s[i + 1][2] - s[i][2])};
+}
+
+jnd_rgb jnd_colour_scale(double t) {
+  /* five stops rising in lightness: navy, blue, teal, green, yellow */
+  static const float s[5][3] = {{0.10f, 0.06f, 0.33f}, {0.16f, 0.32f, 0.62f}, {0.12f, 0.58f, 0.58f},
+                                {0.45f, 0.78f, 0.33f}, {0.99f, 0.91f, 0.15f}};
+  return jnd_ramp5(s, t);
 }
 
 jnd_status jnd_canvas_new(jnd_image *img, int w, int h, jnd_rgb bg) {

@@ -23,6 +23,9 @@ jnd_rgb jnd_palette(int i);
 /* A sequential colour scale for t in 0..1 (dark blue → teal → yellow), monotone
  * in lightness so that it reads in grey too; t is clamped. */
 jnd_rgb jnd_colour_scale(double t);
+/* The colour at t (clamped to 0..1) of a scale of five evenly spaced stops,
+ * linearly between them. */
+jnd_rgb jnd_ramp5(const float stops[5][3], double t);
 
 /* A new canvas w × h filled with bg. */
 jnd_status jnd_canvas_new(jnd_image *img, int w, int h, jnd_rgb bg);
@@ -100,6 +103,8 @@ typedef struct {
   const char *title, *row_title, *col_title, *scale_title;
   double vmin, vmax;              /* NaN: the values' range */
   int cell_px;                    /* 0: 56 */
+  int no_colour_bar;              /* 1: leave the bar out (small multiples sharing one) */
+  int marked;                     /* 1 + row * cols + col of a cell to outline (a choice); 0: none */
 } jnd_plot_grid_spec;
 jnd_status jnd_plot_grid(const jnd_plot_grid_spec *g, jnd_image *out);
 

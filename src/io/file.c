@@ -58,10 +58,17 @@ jnd_status jnd_read_file(const char *path, size_t max_bytes, unsigned char **dat
 }
 
 jnd_status jnd_write_file_atomic(const char *path, const void *data, size_t n) {
+  /* the host as well as the process: shards of a batch on several machines
+   * write the same file in a shared folder, and process ids repeat across
+   * machines */
+  char host[64] = "";
+  gethostname(host, sizeof host - 1);
+  for (char *c = host; *c; c++)
+    if (*c == '/') *c = '_';
   size_t len = strlen(path);
-  char *tmp = jnd_alloc(len + 32, 1);
+  char *tmp = jnd_alloc(len + 96, 1);
   if (!tmp) return JND_ERR_NOMEM;
-  snprintf(tmp, len + 32, "%s.tmp.%ld", path, (long)getpid());
+  snprintf(tmp, len + 96, "%s.tmp.%s.%ld", path, host, (long)getpid());
   FILE *f = fopen(tmp, "wb");
   if (!f) {
     jnd_status s = jnd_fail(JND_ERR_IO, "%s: cannot write: %s", path, strerror(errno));

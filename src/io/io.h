@@ -9,6 +9,12 @@
 /* Reads a whole file (at most max_bytes) into a malloc'd buffer. */
 jnd_status jnd_read_file(const char *path, size_t max_bytes, unsigned char **data, size_t *size);
 
+/* One CSV record (RFC 4180) of t[0..n) starting at *pos, which moves past it
+ * and its line break: fields (malloc'd, each malloc'd) and their count.
+ * Returns 0 at the end of input, 1 for a record, -1 for a malformed one (a
+ * quote not closed, a NUL byte). */
+int jnd_csv_record(const char *t, size_t n, size_t *pos, char ***fields, int *count);
+
 /* Decoders over memory, used by jnd_image_read and by the fuzz targets.
  * name is the file name used in error messages. */
 jnd_status jnd_decode_png(const char *name, const unsigned char *buf, size_t n,

@@ -245,7 +245,12 @@ jnd_status jnd_plot_grid(const jnd_plot_grid_spec *g, jnd_image *out) {
   for (int c = 0; g->col_labels && c < g->cols; c++) cl = fmax(cl, jnd_text_width(g->col_labels[c], TICK_PX));
   int left = (int)rl + 16 + (g->row_title ? 28 : 0), top = g->title ? 44 : 16;
   int gw = cell * g->cols, gh = cell * g->rows;
-  int bottom = 28 + (g->col_title ? 26 : 0), right = 110;
+  int bottom = 28 + (g->col_title ? 26 : 0), right = g->no_colour_bar ? 12 : 110;
+  /* titles centred over the grid get room on both sides where they are wider */
+  double tw = fmax(g->title ? jnd_text_width(g->title, TITLE_PX) : 0, g->col_title ? jnd_text_width(g->col_title, LABEL_PX) : 0);
+  int spill = tw > gw ? (int)ceil((tw - gw) / 2) + 8 : 0;
+  if (left < spill) left = spill;
+  if (right < spill) right = spill;
   int W = left + gw + right, H = top + gh + bottom;
   if (W > 16384 || H > 16384) return jnd_fail(JND_ERR_LIMIT, "plot: grid picture %d × %d is too large", W, H);
   (void)cl;
@@ -271,6 +276,12 @@ jnd_status jnd_plot_grid(const jnd_plot_grid_spec *g, jnd_image *out) {
     }
   for (int c = 0; c <= g->cols; c++) jnd_draw_line(out, left + c * cell, top, left + c * cell, top + gh, 1, WHITE);
   for (int r = 0; r <= g->rows; r++) jnd_draw_line(out, left, top + r * cell, left + gw, top + r * cell, 1, WHITE);
+  if (g->marked > 0 && g->marked <= g->rows * g->cols) {
+    int mr = (g->marked - 1) / g->cols, mc = (g->marked - 1) % g->cols;
+    /* red reads on both ends of the scale (navy and yellow) */
+    jnd_draw_frame(out, left + mc * cell + 1, top + mr * cell + 1, left + (mc + 1) * cell - 1, top + (mr + 1) * cell - 1, 3,
+                   (jnd_rgb){0.89f, 0.10f, 0.11f});
+  }
   for (int r = 0; g->row_labels && r < g->rows; r++)
     jnd_draw_text(out, left - 8, top + (r + 0.5) * cell + 0.35 * TICK_PX, g->row_labels[r], TICK_PX, INK, JND_ALIGN_RIGHT, 0);
   for (int c = 0; g->col_labels && c < g->cols; c++)
@@ -278,6 +289,7 @@ jnd_status jnd_plot_grid(const jnd_plot_grid_spec *g, jnd_image *out) {
   if (g->title) jnd_draw_text(out, left + 0.5 * gw, 28, g->title, TITLE_PX, INK, JND_ALIGN_CENTRE, 0);
   if (g->col_title) jnd_draw_text(out, left + 0.5 * gw, H - 10, g->col_title, LABEL_PX, INK, JND_ALIGN_CENTRE, 0);
   if (g->row_title) jnd_draw_text(out, 20, top + 0.5 * gh, g->row_title, LABEL_PX, INK, JND_ALIGN_CENTRE, 1);
+  if (g->no_colour_bar) return JND_OK;
   double ticks[MAX_TICKS];
   int nt = axis_ticks(vmin, vmax, 0, ticks);
   int bh = gh < 120 ? gh : gh - 20;

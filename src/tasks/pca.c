@@ -355,34 +355,6 @@ void jnd_pca_contribution(const jnd_pca *pca, double *out) {
     for (int c = 0; c < C; c++) out[k * C + c] = sqrt(pca->energy[k]) * fabs(pca->basis[c * C + k]);
 }
 
-jnd_status jnd_pca_contribution_plot(const jnd_pca *pca, jnd_image *out) {
-  enum { CELL = 16, GAP = 1 };
-  int C = pca->c;
-  double m[MAXC * MAXC], mx = 0;
-  jnd_pca_contribution(pca, m);
-  for (int i = 0; i < C * C; i++) mx = m[i] > mx ? m[i] : mx;
-  int side = C * (CELL + GAP) + GAP;
-  jnd_status s = jnd_image_alloc(out, side, side, 3);
-  if (s != JND_OK) return s;
-  for (int ch = 0; ch < 3; ch++) {
-    float *p = jnd_image_plane(out, ch);
-    for (size_t i = 0; i < (size_t)side * side; i++) p[i] = 0.25f;   /* grid lines */
-  }
-  /* rows: components (first at the top); columns: input channels. A dark
-   * blue → yellow ramp, like 001's plots. */
-  for (int k = 0; k < C; k++)
-    for (int c = 0; c < C; c++) {
-      double v = mx > 0 ? m[k * C + c] / mx : 0;
-      float rgb[3] = {(float)v, (float)(0.1 + 0.8 * v), (float)(0.35 * (1 - v))};
-      for (int y = 0; y < CELL; y++)
-        for (int x = 0; x < CELL; x++) {
-          size_t i = (size_t)(GAP + k * (CELL + GAP) + y) * side + GAP + c * (CELL + GAP) + x;
-          for (int ch = 0; ch < 3; ch++) jnd_image_plane(out, ch)[i] = rgb[ch];
-        }
-    }
-  return JND_OK;
-}
-
 /* ------------------------------------------------------------------------ */
 /* Encoding                                                                 */
 /* ------------------------------------------------------------------------ */

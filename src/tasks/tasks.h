@@ -86,4 +86,14 @@ jnd_status pop_picture(const jnd_image *grey, const jnd_pop_result *r, jnd_image
 
 /* ---- pop_picture.c (end) ---- */
 
+/* ---- texres_figures.c: pictures of a texres result (begin) ---- */
+
+/* The worst view's figure: the object as rendered (ref_srgb, display
+ * signal) beside its heatmap, magnified to a readable size, titled with the
+ * view and its pooled P. */
+jnd_status texres_worst_view_figure(const jnd_image *ref_srgb, const jnd_image *map, int view, int nviews, double p,
+                                    jnd_image *out);
+
+/* ---- texres_figures.c (end) ---- */
+
 #endif

@@ -731,7 +731,17 @@ jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *pp, jnd_tex
   if ((s = judge_combo(&c, k, 0, c.nviews, 0, out->view_p, NULL, NULL, NULL)) != JND_OK) goto done;
   if ((s = jnd_criterion_eval(out->view_p, c.nviews, cr->p, cr->q, cr->confidence, &out->views)) != JND_OK) goto done;
   out->worst_view = out->views.worst_view;
-  if ((s = jnd_judge_view_images(c.j, out->worst_view, NULL, NULL, NULL, &out->worst_heatmap, NULL)) != JND_OK) goto done;
+  {
+    /* 000's picture of the worst view: the object beside its heatmap */
+    jnd_image map = {0}, frame = {0};
+    s = jnd_judge_view_images(c.j, out->worst_view, &map, &frame, NULL, NULL, NULL);
+    if (s == JND_OK)
+      s = texres_worst_view_figure(&frame, &map, out->worst_view, c.nviews, out->view_p[out->worst_view],
+                                   &out->worst_heatmap);
+    jnd_image_free(&map);
+    jnd_image_free(&frame);
+    if (s != JND_OK) goto done;
+  }
   if (p->verify_views > 0 && (s = held_out(&c, k)) != JND_OK) goto done;
 
   /* memory before and after, with mip chains */

@@ -1,0 +1,210 @@
+/* The commands a batch runs, and what each writes: how its command line is
+ * made, which options batch sets itself, where its report keeps the numbers
+ * summary.json shows, and what the HTML report shows on the asset's page
+ * (fields, tables, the pictures it wrote, plots the report draws).
+ *
+ * A new command is one entry here: the paths are into its JSON report (see
+ * jsonpath.c), so most entries need no code; a decision text or a plot is a
+ * small function. docs/batch.md says what lod, pop and gaze will need. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "batch/batch.h"
+#include "batch/plots.h"
+
+static void size_text(jnd_text *t, const cJSON *size) {
+  const cJSON *w = cJSON_GetArrayItem(size, 0), *h = cJSON_GetArrayItem(size, 1);
+  if (cJSON_IsNumber(w) && cJSON_IsNumber(h)) jnd_text_printf(t, "%d×%d", w->valueint, h->valueint);
+}
+
+/* texres: each searched map's chosen size, "(from W×H)" where it shrank */
+static void texres_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
+  const cJSON *maps[256];
+  int n = jnd_json_select(report, "result.maps[]", maps, 256);
+  int shown = 0;
+  for (int i = 0; i < n && i < 256; i++) {
+    const cJSON *name = cJSON_GetObjectItemCaseSensitive(maps[i], "name");
+    const cJSON *c = cJSON_GetObjectItemCaseSensitive(maps[i], "chosen");
+    const cJSON *o = cJSON_GetObjectItemCaseSensitive(maps[i], "original");
+    if (!cJSON_IsString(name) || !cJSON_IsArray(c)) continue;
+    if (chosen) cJSON_AddItemToObject(chosen, name->valuestring, cJSON_Duplicate(c, 1));
+    if (shown++) jnd_text_put(out, "; ");
+    jnd_text_printf(out, "%s ", name->valuestring);
+    size_text(out, c);
+    if (o && !cJSON_Compare(o, c, 1)) {
+      jnd_text_put(out, " (from ");
+      size_text(out, o);
+      jnd_text_put(out, ")");
+    }
+  }
+}
+
+/* pca: components kept of the channels, and the bytes they take */
+static void pca_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
+  double k = jnd_json_number(report, "result.components_kept"), c = jnd_json_number(report, "result.channel_count");
+  if (!isfinite(k) || !isfinite(c)) return;
+  jnd_text_printf(out, "%d of %d components", (int)k, (int)c);
+  const cJSON *comps[64];
+  int n = jnd_json_select(report, "result.components[]", comps, 64);
+  int reduced = 0;
+  for (int i = 0; i < n && i < 64; i++) {
+    const cJSON *d = cJSON_GetObjectItemCaseSensitive(comps[i], "divisor");
+    if (cJSON_IsNumber(d) && d->valueint > 1) reduced++;
+  }
+  if (reduced) jnd_text_printf(out, ", %d at reduced resolution", reduced);
+  if (chosen) {
+    cJSON_AddNumberToObject(chosen, "components", k);
+    cJSON_AddNumberToObject(chosen, "channels", c);
+  }
+}
+
+/* diff: the pooled probability and the largest difference */
+static void diff_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
+  (void)chosen;
+  double p = jnd_json_number(report, "result.p_detect"), mx = jnd_json_number(report, "result.jnd_max");
+  const cJSON *pool[1];
+  if (!isfinite(p)) return;
+  jnd_text_printf(out, "P(detect) %.3f", p);
+  if (jnd_json_select(report, "result.pooling", pool, 1) == 1 && cJSON_IsString(pool[0]))
+    jnd_text_printf(out, " (%s)", pool[0]->valuestring);
+  if (isfinite(mx)) jnd_text_printf(out, ", max %.3g JND", mx);
+}
+
+static void render_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
+  (void)chosen;
+  const cJSON *v[1];
+  int n = jnd_json_select(report, "views[]", v, 1);
+  if (n > 0) jnd_text_printf(out, "%d views", n);
+}
+
+static const jnd_batch_command COMMANDS[] = {
+    {
+        .name = "texres",
+        .out_args = {"-o", "{out}"},
+        .json_name = "texres.json",
+        .reserved = {"-o", "--output", "--json"},
+        .exit1_complete = 1,
+        .memory_before = "result.memory.before_bytes",
+        .memory_after = "result.memory.after_bytes",
+        .p_detect = "max:result.views.p[]",
+        .decision = texres_decision,
+        .fields = {{"memory before (RGBA8 + mips)", "result.memory.before_bytes", JND_FMT_BYTES},
+                   {"memory after", "result.memory.after_bytes", JND_FMT_BYTES},
+                   {"reduction", "result.memory.reduction", JND_FMT_PERCENT},
+                   {"block-compressed before", "result.memory.block_before_bytes", JND_FMT_BYTES},
+                   {"block-compressed after", "result.memory.block_after_bytes", JND_FMT_BYTES},
+                   {"passes the criterion", "result.views.passes", JND_FMT_BOOL},
+                   {"P per view (pooled)", "result.views.p", JND_FMT_LIST},
+                   {"fraction of views above p", "result.views.fraction_above", JND_FMT_PERCENT},
+                   {"held-out views pass", "result.verify.passes", JND_FMT_BOOL},
+                   {"criterion: P above", "parameters.criterion.p", JND_FMT_P},
+                   {"criterion: fraction of views allowed above", "parameters.criterion.q", JND_FMT_PERCENT},
+                   {"pixels per degree", "result.ppd", JND_FMT_NUMBER},
+                   {"renderer", "result.renderer", JND_FMT_TEXT}},
+        .tables = {{"Maps",
+                    "result.maps[]",
+                    {{"map", "name", JND_FMT_TEXT},
+                     {"original", "original", JND_FMT_SIZE},
+                     {"chosen", "chosen", JND_FMT_SIZE},
+                     {"mip bound", "mip_bound", JND_FMT_SIZE},
+                     {"eye bound", "eye_bound", JND_FMT_SIZE},
+                     {"eq. 1 size at p", "psychometric.resolution_at_p", JND_FMT_NUMBER},
+                     {"format", "block_format", JND_FMT_TEXT},
+                     {"RGBA8 before", "bytes_before.rgba8", JND_FMT_BYTES},
+                     {"RGBA8 after", "bytes_after.rgba8", JND_FMT_BYTES}}}},
+        .pictures = {{.file = "worst_view.png",
+                      .caption = "The view where a change is most likely seen, at the chosen sizes: the object as "
+                                 "rendered and where the model predicts a visible difference (JND, log scale)"},
+                     {.path = "result.matrices[].png",
+                      .caption = "P per view for each pair of baseColor (columns) and normal (rows) sizes, and the "
+                                 "criterion statistic over the views; the chosen pair is outlined in red (000 Fig. 13)"}},
+        .plots = {{"series.png", jnd_plot_texres_series,
+                   "Each map alone at each candidate size: the criterion statistic (the view quantile of pooled P) "
+                   "against the size; the grey line is the threshold p"}},
+    },
+    {
+        .name = "pca",
+        .asset_flag = "--model",
+        .out_args = {"-o", "{out}"},
+        .json_name = "pca.json",
+        .reserved = {"-o", "--out", "--output", "--json"},
+        .memory_before = "result.original_bytes",
+        .memory_after = "result.storage_bytes",
+        .p_detect = "result.rendered.p_criterion",
+        .decision = pca_decision,
+        .fields = {{"maps as 8-bit files", "result.original_bytes", JND_FMT_BYTES},
+                   {"components stored", "result.storage_bytes", JND_FMT_BYTES},
+                   {"channels", "result.channel_count", JND_FMT_NUMBER},
+                   {"components kept", "result.components_kept", JND_FMT_NUMBER},
+                   {"knee of the energy curve", "result.knee", JND_FMT_NUMBER},
+                   {"rendered: passes", "result.rendered.pass", JND_FMT_BOOL},
+                   {"rendered: P at the criterion", "result.rendered.p_criterion", JND_FMT_P},
+                   {"rendered: P per view", "result.rendered.p_per_view", JND_FMT_LIST},
+                   {"maps' width (px)", "result.width", JND_FMT_NUMBER}},
+        .tables = {{"Channels",
+                    "result.channels[]",
+                    {{"channel", "name", JND_FMT_TEXT},
+                     {"PSNR dB", "psnr_db", JND_FMT_NUMBER},
+                     {"PSNR BC4 dB", "psnr_bc4_db", JND_FMT_NUMBER},
+                     {"PSNR BC1 dB", "psnr_bc1_db", JND_FMT_NUMBER},
+                     {"PSNR plain BC dB", "psnr_plain_bc_db", JND_FMT_NUMBER}}},
+                   {"Components stored",
+                    "result.textures[]",
+                    {{"file", "file", JND_FMT_TEXT},
+                     {"width", "width", JND_FMT_NUMBER},
+                     {"height", "height", JND_FMT_NUMBER},
+                     {"bits", "bits", JND_FMT_NUMBER}}}},
+        .pictures = {{.file = "contribution.png",
+                      .caption = "How much each channel feeds each component (001's |S·Tᵀ|)"},
+                     {.path = "result.textures[].file", .caption = "The stored components, packed four to a texture"}},
+        .plots = {{"energy.png", jnd_plot_pca_energy,
+                   "Energy of each component and the cumulative share; the line marks the components kept"}},
+    },
+    {
+        .name = "diff",
+        .out_args = {"--json", "{out}/diff.json", "--heatmap", "{out}/heatmap.png"},
+        .json_name = "diff.json",
+        .reserved = {"--json", "--heatmap", "--map"},
+        .exit1_complete = 1,
+        .p_detect = "result.p_detect",
+        .decision = diff_decision,
+        .fields = {{"P(detect), pooled", "result.p_detect", JND_FMT_P},
+                   {"pooling", "result.pooling", JND_FMT_TEXT},
+                   {"P median pixel", "result.p_p50", JND_FMT_P},
+                   {"P 99th percentile", "result.p_p99", JND_FMT_P},
+                   {"mean JND", "result.jnd_mean", JND_FMT_NUMBER},
+                   {"93rd percentile JND", "result.jnd_p93", JND_FMT_NUMBER},
+                   {"max JND", "result.jnd_max", JND_FMT_NUMBER},
+                   {"width", "result.width", JND_FMT_NUMBER},
+                   {"height", "result.height", JND_FMT_NUMBER},
+                   {"display", "parameters.display.name", JND_FMT_TEXT}},
+        .pictures = {{.file = "heatmap.png",
+                      .caption = "Where a viewer would notice the difference (JND on a log scale over a grey copy of "
+                                 "the reference)"}},
+    },
+    {
+        .name = "render",
+        .out_args = {"-o", "{out}"},
+        .json_name = "views.json",
+        .reserved = {"-o", "--output", "--json"},
+        .decision = render_decision,
+        .fields = {{"renderer", "result.renderer", JND_FMT_TEXT}},
+        .pictures = {{.path = "views[].color", .caption = "The rendered views"}},
+    },
+};
+#define NCOMMANDS (sizeof COMMANDS / sizeof COMMANDS[0])
+
+const jnd_batch_command *jnd_batch_command_find(const char *name) {
+  for (size_t i = 0; i < NCOMMANDS; i++)
+    if (name && strcmp(COMMANDS[i].name, name) == 0) return &COMMANDS[i];
+  return NULL;
+}
+
+const char *jnd_batch_command_list(void) {
+  static char list[256];
+  size_t k = 0;
+  for (size_t i = 0; i < NCOMMANDS; i++)
+    k += (size_t)snprintf(list + k, sizeof list - k, "%s%s", i ? ", " : "", COMMANDS[i].name);
+  return list;
+}

@@ -1,0 +1,101 @@
+/* The report's own plots: drawn from the numbers of a command's JSON report
+ * with the shared plot code (io/draw.h), so they look like every other
+ * picture jnd draws. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "batch/batch.h"
+#include "batch/plots.h"
+#include "io/draw.h"
+
+#define MAX_MAPS 16
+#define MAX_POINTS 64
+
+static int write_plot(const jnd_plot_axes *ax, const jnd_plot_series *s, int n, const char *path) {
+  jnd_image img;
+  if (jnd_plot_lines(ax, s, n, &img) != JND_OK) return -1;
+  int ok = jnd_image_write_png(path, &img, 8) == JND_OK;
+  jnd_image_free(&img);
+  return ok ? 1 : -1;
+}
+
+int jnd_plot_texres_series(const cJSON *report, const char *path) {
+  const cJSON *maps[MAX_MAPS];
+  int nm = jnd_json_select(report, "result.maps[]", maps, MAX_MAPS);
+  if (nm > MAX_MAPS) nm = MAX_MAPS;
+  double x[MAX_MAPS][MAX_POINTS], y[MAX_MAPS][MAX_POINTS];
+  jnd_plot_series s[MAX_MAPS + 1];
+  int ns = 0;
+  double xlo = INFINITY, xhi = -INFINITY;
+  for (int m = 0; m < nm; m++) {
+    const cJSON *cand = cJSON_GetObjectItemCaseSensitive(maps[m], "candidates");
+    const cJSON *ser = cJSON_GetObjectItemCaseSensitive(maps[m], "series");
+    const cJSON *name = cJSON_GetObjectItemCaseSensitive(maps[m], "name");
+    const cJSON *searched = cJSON_GetObjectItemCaseSensitive(maps[m], "searched");
+    if (!cJSON_IsArray(cand) || !cJSON_IsArray(ser) || cJSON_IsFalse(searched)) continue;
+    int n = 0, finite = 0;
+    for (int k = 0; k < cJSON_GetArraySize(cand) && n < MAX_POINTS; k++) {
+      const cJSON *c = cJSON_GetArrayItem(cand, k), *v = cJSON_GetArrayItem(ser, k);
+      const cJSON *w = cJSON_GetArrayItem(c, 0), *h = cJSON_GetArrayItem(c, 1);
+      if (!cJSON_IsNumber(w) || !cJSON_IsNumber(h)) continue;
+      x[ns][n] = fmax(w->valuedouble, h->valuedouble);
+      y[ns][n] = cJSON_IsNumber(v) ? v->valuedouble : NAN;
+      finite += isfinite(y[ns][n]);
+      xlo = fmin(xlo, x[ns][n]);
+      xhi = fmax(xhi, x[ns][n]);
+      n++;
+    }
+    if (!finite) continue;
+    s[ns] = (jnd_plot_series){.x = x[ns], .y = y[ns], .n = n, .label = cJSON_IsString(name) ? name->valuestring : NULL,
+                              .colour = jnd_palette(ns), .line = 1, .markers = 1};
+    ns++;
+  }
+  if (!ns) return 0;
+  double p = jnd_json_number(report, "parameters.p");
+  double tx[2], ty[2];
+  char plabel[64];
+  if (isfinite(p)) {
+    tx[0] = xlo;
+    tx[1] = xhi;
+    ty[0] = ty[1] = p;
+    snprintf(plabel, sizeof plabel, "threshold p = %g", p);
+    s[ns++] = (jnd_plot_series){.x = tx, .y = ty, .n = 2, .label = plabel, .colour = {0.45f, 0.45f, 0.45f},
+                                .line = 1, .width = 1};
+  }
+  jnd_plot_axes ax = {.title = "Each map alone: visibility against size",
+                      .xlabel = "longer side of the map (pixels)",
+                      .ylabel = "criterion statistic (P)",
+                      .log_x = 1,
+                      .xmin = NAN, .xmax = NAN, .ymin = 0, .ymax = 1,
+                      .width = 760, .height = 440};
+  return write_plot(&ax, s, ns, path);
+}
+
+int jnd_plot_pca_energy(const cJSON *report, const char *path) {
+  const cJSON *frac[MAX_POINTS], *cum[MAX_POINTS];
+  int n = jnd_json_select(report, "result.energy_fraction[]", frac, MAX_POINTS);
+  int nc = jnd_json_select(report, "result.cumulative_energy[]", cum, MAX_POINTS);
+  if (n < 1 || n > MAX_POINTS || nc != n) return 0;
+  double x[MAX_POINTS], f[MAX_POINTS], c[MAX_POINTS];
+  for (int i = 0; i < n; i++) {
+    x[i] = i + 1;
+    f[i] = cJSON_IsNumber(frac[i]) ? frac[i]->valuedouble : NAN;
+    c[i] = cJSON_IsNumber(cum[i]) ? cum[i]->valuedouble : NAN;
+  }
+  jnd_plot_series s[2] = {
+      {.x = x, .y = f, .n = n, .label = "share of the energy", .colour = jnd_palette(0), .line = 1, .markers = 1},
+      {.x = x, .y = c, .n = n, .label = "cumulative share", .colour = jnd_palette(1), .line = 1, .markers = 2}};
+  double kept = jnd_json_number(report, "result.components_kept");
+  char label[64];
+  snprintf(label, sizeof label, "%d kept", isfinite(kept) ? (int)kept : 0);
+  jnd_plot_mark mark = {.x = isfinite(kept) ? kept : NAN, .label = label, .colour = {0.8f, 0.1f, 0.1f}};
+  jnd_plot_axes ax = {.title = "Energy of the principal components",
+                      .xlabel = "component",
+                      .ylabel = "fraction of the total variance",
+                      .xmin = 1, .xmax = n > 1 ? n : 2, .ymin = 0, .ymax = 1,
+                      .width = 760, .height = 440,
+                      .marks = &mark, .nmarks = isfinite(kept) ? 1 : 0};
+  return write_plot(&ax, s, 2, path);
+}

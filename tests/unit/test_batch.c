@@ -1,0 +1,344 @@
+/* The batch layer's parts that need no child process: shell words, manifest
+ * rows and their errors, shards, JSON paths, escapes, and the merge of what
+ * shards recorded (the runs themselves are end-to-end: tests/e2e/batch.sh). */
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "test.h"
+
+#include "batch/batch.h"
+#include "jnd.h"
+
+static int split_is(const char *s, int n, const char *const *want) {
+  int argc;
+  char **argv;
+  if (jnd_shell_split(s, &argc, &argv) != JND_OK) return 0;
+  int ok = argc == n;
+  for (int i = 0; ok && i < n; i++) ok = strcmp(argv[i], want[i]) == 0;
+  jnd_words_free(argc, argv);
+  return ok;
+}
+
+TEST(options_split_into_words_as_a_shell_splits_them) {
+  CHECK(split_is("--views 8  --maps body/baseColor", 4, (const char *[]){"--views", "8", "--maps", "body/baseColor"}));
+  CHECK(split_is("'a b' \"c d\" e\\ f", 3, (const char *[]){"a b", "c d", "e f"}));
+  CHECK(split_is("--maps='*/baseColor' x''y \"\"", 3, (const char *[]){"--maps=*/baseColor", "xy", ""}));
+  CHECK(split_is("\"say \\\"hi\\\" \\\\ \\n\"", 1, (const char *[]){"say \"hi\" \\ \\n"}));
+  CHECK(split_is("   ", 0, NULL));
+  CHECK(split_is("a\tb\nc", 3, (const char *[]){"a", "b", "c"}));
+}
+
+TEST(options_that_a_shell_would_expand_are_refused_not_passed_on) {
+  const char *bad[] = {"--env $HOME/x.hdr", "*.png", "a;b", "a | b", "a > out", "~/x", "--x \"$HOME\"", "`ls`",
+                       "'unclosed", "\"unclosed", "trailing\\", "#comment", "a(b)", "x?"};
+  for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+    int argc = 7;
+    char **argv = (char **)1;
+    CHECK_STATUS(jnd_shell_split(bad[i], &argc, &argv), JND_ERR_FORMAT);
+    CHECK(argc == 0 && argv == NULL);
+    CHECK(strncmp(jnd_last_error(), "options: ", 9) == 0);
+  }
+  /* quoted, the same characters are plain text */
+  CHECK(split_is("'$HOME' '*.png' 'a;b' \\~", 4, (const char *[]){"$HOME", "*.png", "a;b", "~"}));
+}
+
+TEST(joined_words_split_back_to_themselves) {
+  char *words[] = {"plain", "with space", "it's", "\"q\"", "", "$HOME", "a\\b", "*", "new\nline"};
+  char *line = jnd_shell_join(9, words);
+  CHECK(line != NULL);
+  int argc;
+  char **argv;
+  CHECK_OK(jnd_shell_split(line, &argc, &argv));
+  CHECK(argc == 9);
+  for (int i = 0; i < argc && i < 9; i++) CHECK(strcmp(argv[i], words[i]) == 0);
+  jnd_words_free(argc, argv);
+  free(line);
+}
+
+static jnd_batch_manifest csv(const char *text) {
+  jnd_batch_manifest m;
+  jnd_status s = jnd_batch_manifest_parse_csv("assets.csv", text, strlen(text), &m);
+  if (s != JND_OK) memset(&m, 0, sizeof m);
+  return m;
+}
+
+static const char *err(const jnd_batch_manifest *m, int row) { return m->rows[row].error ? m->rows[row].error : ""; }
+
+TEST(a_csv_manifest_gives_one_row_per_asset_with_its_words) {
+  jnd_batch_manifest m = csv("id,asset,command,options\n"
+                             "helmet,models/helmet.glb,texres,\"--views 8 --maps 'body/baseColor'\"\n"
+                             "\n"
+                             "pair,ref.png,diff,test.png\r\n"
+                             "set,builtin,pca,\n");
+  CHECK(m.nrows == 3);
+  if (m.nrows == 3) {
+    CHECK(strcmp(m.rows[0].id, "helmet") == 0 && strcmp(m.rows[0].asset, "models/helmet.glb") == 0);
+    CHECK(m.rows[0].argc == 4 && strcmp(m.rows[0].argv[3], "body/baseColor") == 0);
+    CHECK(m.rows[0].line == 2 && m.rows[1].line == 4 && m.rows[2].line == 5); /* lines of the file */
+    CHECK(!m.rows[0].error && !m.rows[1].error && !m.rows[2].error);
+    CHECK(m.rows[2].argc == 0);
+  }
+  jnd_batch_manifest_free(&m);
+  /* columns in any order, options optional */
+  m = csv("command,id,asset\ntexres,a,builtin\n");
+  CHECK(m.nrows == 1 && !m.rows[0].error && strcmp(m.rows[0].command, "texres") == 0 && m.rows[0].options[0] == 0);
+  jnd_batch_manifest_free(&m);
+}
+
+TEST(each_bad_row_fails_alone_naming_the_file_and_line) {
+  jnd_batch_manifest m = csv("id,asset,command,options\n"
+                             "a,builtin,texres,--views 2\n"
+                             "b,builtin,lodd,\n"
+                             "c,builtin,texres,--views 'two\n"
+                             "A,builtin,texres,\n"
+                             "a,builtin,pca,\n"
+                             "d,builtin,texres,-o elsewhere\n"
+                             "e/x,builtin,texres,\n"
+                             ",builtin,texres,\n"
+                             "f,,texres,\n"
+                             "g,builtin,texres\n"
+                             "report,builtin,texres,\n"
+                             "h,builtin,diff,--json=x.json\n");
+  CHECK(m.nrows == 12);
+  if (m.nrows != 12) return;
+  CHECK(!m.rows[0].error);
+  CHECK(strstr(err(&m, 1), "assets.csv:3: unknown command 'lodd'") && strstr(err(&m, 1), "texres, pca, diff, render"));
+  CHECK(strstr(err(&m, 2), "assets.csv:4: options: a ' is not closed"));
+  CHECK(strstr(err(&m, 3), "assets.csv:5: id 'A' differs only in case from 'a' (line 2)"));
+  CHECK(strstr(err(&m, 4), "assets.csv:6: duplicate id 'a' (first on line 2)"));
+  CHECK(strstr(err(&m, 5), "assets.csv:7: options: -o is set by jnd batch"));
+  CHECK(strstr(err(&m, 6), "assets.csv:8: id 'e/x' is not a folder name"));
+  CHECK(strstr(err(&m, 7), "assets.csv:9: no id"));
+  CHECK(strstr(err(&m, 8), "assets.csv:10: no asset"));
+  CHECK(strstr(err(&m, 9), "assets.csv:11: 3 fields where the header has 4"));
+  CHECK(strstr(err(&m, 10), "assets.csv:12: id 'report' is a name the output folder uses"));
+  CHECK(strstr(err(&m, 11), "assets.csv:13: options: --json is set by jnd batch"));
+  for (int i = 1; i < 12; i++) CHECK(!strchr(err(&m, i), '\n'));
+  jnd_batch_manifest_free(&m);
+}
+
+TEST(what_no_row_survives_is_an_error_of_the_whole_manifest) {
+  const char *bad[] = {"", "id,asset,command,options\n", "id,asset\nx,y\n", "id,asset,command,option\n",
+                       "id,asset,command,id\n", "id,asset,command,options\na,builtin,texres,\"--views 2\n"};
+  const char *why[] = {"empty manifest", "no assets under the header", "no column 'command'",
+                       "unknown column 'option'", "column 'id' twice", "assets.csv:2: malformed CSV record"};
+  for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+    jnd_batch_manifest m;
+    CHECK_STATUS(jnd_batch_manifest_parse_csv("assets.csv", bad[i], strlen(bad[i]), &m), JND_ERR_FORMAT);
+    CHECK(m.nrows == 0 && m.rows == NULL);
+    CHECK(strstr(jnd_last_error(), why[i]) != NULL);
+    if (!strstr(jnd_last_error(), why[i])) fprintf(stderr, "  %zu: %s\n", i, jnd_last_error());
+  }
+}
+
+TEST(a_json_manifest_takes_a_string_or_a_list_of_words) {
+  const char *text = "{\"assets\": [{\"id\": \"a\", \"asset\": \"builtin\", \"command\": \"texres\", \"options\": \"--views 2\"},"
+                     " {\"id\": \"b\", \"asset\": \"x y.glb\", \"command\": \"texres\", \"options\": [\"--maps\", \"a b\"]},"
+                     " {\"id\": \"c\", \"asset\": \"builtin\", \"command\": 3},"
+                     " 7,"
+                     " {\"id\": \"d\", \"asset\": \"builtin\", \"command\": \"pca\", \"extra\": 1}]}";
+  jnd_batch_manifest m;
+  CHECK_OK(jnd_batch_manifest_parse_json("assets.json", text, strlen(text), &m));
+  CHECK(m.nrows == 5);
+  if (m.nrows == 5) {
+    CHECK(!m.rows[0].error && m.rows[0].argc == 2);
+    CHECK(!m.rows[1].error && m.rows[1].argc == 2 && strcmp(m.rows[1].argv[1], "a b") == 0);
+    CHECK(strcmp(m.rows[1].options, "--maps 'a b'") == 0);
+    CHECK(strstr(err(&m, 2), "assets.json: entry 3: \"command\" is not a string"));
+    CHECK(strstr(err(&m, 3), "assets.json: entry 4: not an object"));
+    CHECK(strstr(err(&m, 4), "assets.json: entry 5: unknown key 'extra'"));
+  }
+  jnd_batch_manifest_free(&m);
+  CHECK_STATUS(jnd_batch_manifest_parse_json("x.json", "{\"a\": 1}", 8, &m), JND_ERR_FORMAT);
+  CHECK_STATUS(jnd_batch_manifest_parse_json("x.json", "[]", 2, &m), JND_ERR_FORMAT);
+  CHECK_STATUS(jnd_batch_manifest_parse_json("x.json", "[{", 2, &m), JND_ERR_FORMAT);
+}
+
+TEST(a_missing_asset_fails_its_row_relative_to_the_manifest) {
+  const char *dir = test_tmp_dir();
+  char path[1200], asset[1200];
+  snprintf(path, sizeof path, "%s/batch_manifest.csv", dir);
+  snprintf(asset, sizeof asset, "%s/present.obj", dir);
+  FILE *f = fopen(asset, "w");
+  if (f) fclose(f);
+  f = fopen(path, "w");
+  CHECK(f != NULL);
+  if (!f) return;
+  fputs("id,asset,command,options\nhere,present.obj,texres,\ngone,absent.obj,texres,\nbuilt,builtin:sphere,texres,\n", f);
+  fclose(f);
+  jnd_batch_manifest m;
+  CHECK_OK(jnd_batch_manifest_read(path, NULL, NULL, &m));
+  CHECK(m.nrows == 3 && m.base_dir && strcmp(m.base_dir, dir) == 0 && m.source[0] == '/');
+  if (m.nrows == 3) {
+    CHECK(!m.rows[0].error && !m.rows[2].error);
+    CHECK(strstr(err(&m, 1), ":3: absent.obj: no such file") != NULL);
+  }
+  jnd_batch_manifest_free(&m);
+  CHECK_STATUS(jnd_batch_manifest_read("/nonexistent/assets.csv", NULL, NULL, &m), JND_ERR_IO);
+}
+
+TEST(shards_are_parsed_strictly) {
+  int i = -1, n = -1;
+  CHECK_OK(jnd_batch_shard_parse("0/1", &i, &n));
+  CHECK(i == 0 && n == 1);
+  CHECK_OK(jnd_batch_shard_parse("3/4", &i, &n));
+  CHECK(i == 3 && n == 4);
+  const char *bad[] = {"3/2", "2/2", "1/0", "-1/2", "1", "1/", "/2", "a/b", "1/2x", "1/200000", ""};
+  for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) CHECK_STATUS(jnd_batch_shard_parse(bad[k], &i, &n), JND_ERR_ARG);
+  CHECK_STATUS(jnd_batch_shard_parse("3/2", &i, &n), JND_ERR_ARG);
+  CHECK(strstr(jnd_last_error(), "index 3 is not below the count 2") != NULL);
+}
+
+TEST(json_paths_select_what_the_table_of_commands_names) {
+  const char *t = "{\"result\": {\"maps\": [{\"chosen\": [64, 32]}, {\"chosen\": [8, 8]}], \"p\": [0.1, 0.7, 0.3],"
+                  " \"memory\": {\"before_bytes\": 100}}}";
+  cJSON *doc = cJSON_Parse(t);
+  const cJSON *v[4];
+  CHECK(jnd_json_select(doc, "result.maps[].chosen", v, 4) == 2);
+  CHECK(cJSON_GetArrayItem(v[1], 0)->valueint == 8);
+  CHECK(jnd_json_select(doc, "result.maps[1].chosen[0]", v, 4) == 1 && v[0]->valueint == 8);
+  CHECK(jnd_json_number(doc, "result.memory.before_bytes") == 100);
+  CHECK(jnd_json_number(doc, "max:result.p[]") == 0.7);
+  CHECK(isnan(jnd_json_number(doc, "result.nothing")) && isnan(jnd_json_number(doc, "result.maps")));
+  CHECK(jnd_json_select(doc, "result.maps[9]", v, 4) == 0 && jnd_json_select(doc, "result.p[]", v, 4) == 3);
+  cJSON_Delete(doc);
+}
+
+TEST(text_escapes_for_html_and_csv) {
+  jnd_text t = {0};
+  jnd_text_html(&t, "<a href=\"x\">'&'</a>");
+  jnd_text_put(&t, "|");
+  jnd_text_csv(&t, "plain");
+  jnd_text_put(&t, "|");
+  jnd_text_csv(&t, "a,\"b\"\nc");
+  char *s = jnd_text_take(&t);
+  CHECK(s && strcmp(s, "&lt;a href=&quot;x&quot;&gt;&#39;&amp;&#39;&lt;/a&gt;|plain|\"a,\"\"b\"\"\nc\"") == 0);
+  free(s);
+  jnd_text e = {0};
+  s = jnd_text_take(&e);
+  CHECK(s && s[0] == 0);
+  free(s);
+}
+
+/* a fake output folder: what two shards would have recorded */
+static void write_file(const char *dir, const char *name, const char *text) {
+  char *p = jnd_path_join(dir, name);
+  CHECK_OK(jnd_write_file_atomic(p, text, strlen(text)));
+  free(p);
+}
+
+static char *read_all(const char *dir, const char *name) {
+  char *p = jnd_path_join(dir, name);
+  FILE *f = fopen(p, "rb");
+  free(p);
+  if (!f) return NULL;
+  static char buf[1 << 16];
+  size_t n = fread(buf, 1, sizeof buf - 1, f);
+  fclose(f);
+  buf[n] = 0;
+  return strdup(buf);
+}
+
+static void fake_out(const char *out, int order) {
+  char d[1200];
+  jnd_remove_tree(out);
+  snprintf(d, sizeof d, "%s/_batch/records", out);
+  CHECK_OK(jnd_mkdirs(d));
+  snprintf(d, sizeof d, "%s/a", out);
+  CHECK_OK(jnd_mkdirs(d));
+  write_file(out, "_batch/manifest.json",
+             "{\"source\": \"/m/assets.csv\", \"base_dir\": \"/m\", \"rows\": ["
+             "{\"line\": 2, \"id\": \"a\", \"asset\": \"builtin\", \"command\": \"texres\", \"options\": \"--views 2\"},"
+             "{\"line\": 3, \"id\": \"b\", \"asset\": \"builtin\", \"command\": \"texres\", \"options\": \"--views x\"},"
+             "{\"line\": 4, \"id\": \"c\", \"asset\": \"nope.glb\", \"command\": \"texres\", \"options\": \"\", "
+             "\"error\": \"assets.csv:4: nope.glb: no such file\"},"
+             "{\"line\": 5, \"id\": \"d\", \"asset\": \"builtin\", \"command\": \"pca\", \"options\": \"\"}]}");
+  /* the records land in another order, from other shards and hosts */
+  const char *ra = "{\"id\": \"a\", \"command\": \"texres\", \"asset\": \"builtin\", \"options\": \"--views 2\", "
+                   "\"status\": \"ok\", \"exit_status\": 0, \"seconds\": 1.5, \"host\": \"n1\"}";
+  const char *rb = "{\"id\": \"b\", \"command\": \"texres\", \"asset\": \"builtin\", \"options\": \"--views x\", "
+                   "\"status\": \"failed\", \"exit_status\": 2, \"error\": \"jnd: texres: --views: 'x' is not an "
+                   "integer\", \"seconds\": 0.1, \"host\": \"n2\"}";
+  if (order) {
+    write_file(out, "_batch/records/b.json", rb);
+    write_file(out, "_batch/records/a.json", ra);
+  } else {
+    write_file(out, "_batch/records/a.json", ra);
+    write_file(out, "_batch/records/b.json", rb);
+  }
+  write_file(out, "a/texres.json",
+             "{\"command\": \"texres\", \"result\": {\"maps\": [{\"name\": \"m/baseColor\", \"original\": [64, 64], "
+             "\"chosen\": [32, 32]}], \"memory\": {\"before_bytes\": 1000, \"after_bytes\": 250}, "
+             "\"views\": {\"p\": [0.05, 0.15]}}}");
+}
+
+TEST(merge_gives_the_same_summary_whatever_order_the_shards_wrote_in) {
+  char a[1200], b[1200];
+  snprintf(a, sizeof a, "%s/batch_merge_a", test_tmp_dir());
+  snprintf(b, sizeof b, "%s/batch_merge_b", test_tmp_dir());
+  fake_out(a, 0);
+  fake_out(b, 1);
+  jnd_batch_totals t;
+  CHECK_OK(jnd_batch_merge(a, 0, &t));
+  CHECK(t.assets == 4 && t.ok == 1 && t.failed == 2 && t.pending == 1 && t.above == 0);
+  CHECK_OK(jnd_batch_merge(b, 0, NULL));
+  char *ja = read_all(a, "summary.json"), *jb = read_all(b, "summary.json");
+  char *ca = read_all(a, "summary.csv"), *cb = read_all(b, "summary.csv");
+  CHECK(ja && jb && strcmp(ja, jb) == 0);
+  CHECK(ca && cb && strcmp(ca, cb) == 0);
+  /* the numbers come from the asset's own report; rows in manifest order */
+  CHECK(ca && strstr(ca, "a,2,builtin,texres,--views 2,ok,0,,1000,250,0.75,0.15,m/baseColor 32×32 (from 64×64)\n"));
+  CHECK(ca && strstr(ca, "b,3,builtin,texres,--views x,failed,2,jnd: texres: --views: 'x' is not an integer,,,,,\n"));
+  CHECK(ca && strstr(ca, "c,4,nope.glb,texres,,failed,,assets.csv:4: nope.glb: no such file,,,,,\n"));
+  CHECK(ca && strstr(ca, "d,5,builtin,pca,,pending,,,,,,,\n"));
+  CHECK(ca && !strstr(ca, "seconds"));
+  free(ja), free(jb), free(ca), free(cb);
+  /* with timings, the seconds of the records */
+  CHECK_OK(jnd_batch_merge(a, 1, NULL));
+  ca = read_all(a, "summary.csv");
+  CHECK(ca && strstr(ca, ",seconds\n") && strstr(ca, ",1.5\n"));
+  free(ca);
+  /* a record of other options is not this row's result */
+  write_file(a, "_batch/records/a.json", "{\"id\": \"a\", \"command\": \"texres\", \"asset\": \"builtin\", "
+                                         "\"options\": \"--views 9\", \"status\": \"ok\", \"exit_status\": 0}");
+  CHECK_OK(jnd_batch_merge(a, 0, &t));
+  CHECK(t.ok == 0 && t.pending == 2);
+}
+
+TEST(merge_of_a_folder_no_batch_ran_in_says_so) {
+  CHECK_STATUS(jnd_batch_merge("/nonexistent/out", 0, NULL), JND_ERR_IO);
+  CHECK(strstr(jnd_last_error(), "no batch has run in this folder") != NULL);
+}
+
+TEST(the_report_has_a_page_per_asset_and_the_summary_numbers) {
+  char a[1200];
+  snprintf(a, sizeof a, "%s/batch_report", test_tmp_dir());
+  fake_out(a, 0);
+  CHECK_STATUS(jnd_batch_report(a, NULL, 0), JND_ERR_IO); /* before merge */
+  CHECK_OK(jnd_batch_merge(a, 1, NULL));
+  char index[2048];
+  CHECK_OK(jnd_batch_report(a, index, sizeof index));
+  CHECK(strstr(index, "/report/index.html") != NULL);
+  char *html = read_all(a, "report/index.html");
+  CHECK(html && strstr(html, "<tr data-status=\"ok\" data-id=\"a\">"));
+  CHECK(html && strstr(html, "data-value=\"1000\"") && strstr(html, "data-value=\"0.75\""));
+  CHECK(html && strstr(html, "id=\"total-failed\" data-value=\"2\""));
+  CHECK(html && strstr(html, "&#39;x&#39; is not an integer")); /* escaped */
+  CHECK(html && !strstr(html, "http://") && !strstr(html, "https://"));
+  free(html);
+  for (int i = 0; i < 4; i++) {
+    char name[32];
+    snprintf(name, sizeof name, "report/%c.html", "abcd"[i]);
+    char *page = read_all(a, name);
+    CHECK(page && strstr(page, "<h1>"));
+    free(page);
+  }
+}
+
+RUN_TESTS(options_split_into_words_as_a_shell_splits_them, options_that_a_shell_would_expand_are_refused_not_passed_on,
+          joined_words_split_back_to_themselves, a_csv_manifest_gives_one_row_per_asset_with_its_words,
+          each_bad_row_fails_alone_naming_the_file_and_line, what_no_row_survives_is_an_error_of_the_whole_manifest,
+          a_json_manifest_takes_a_string_or_a_list_of_words, a_missing_asset_fails_its_row_relative_to_the_manifest,
+          shards_are_parsed_strictly, json_paths_select_what_the_table_of_commands_names,
+          text_escapes_for_html_and_csv, merge_gives_the_same_summary_whatever_order_the_shards_wrote_in,
+          merge_of_a_folder_no_batch_ran_in_says_so, the_report_has_a_page_per_asset_and_the_summary_numbers)
