@@ -120,11 +120,12 @@ static uint64_t image_hash(const jnd_image *img) {
   return jnd_mix64(h);
 }
 
-/* A mesh's identity: its sizes, material, arrays and a few vertices. A level
- * swapped in (issue 11's mesh levels) changes it; with a version counter
- * on meshes, that counter belongs here. */
+/* A mesh's identity: its version (a level of detail selected with
+ * jnd_scene_lod_select gets its own), sizes, material, arrays and a few
+ * vertices. A change of level is a change of geometry: rendered whole. */
 static uint64_t mesh_key(const jnd_mesh *m) {
   uint64_t h = jnd_mix64(m->nverts * 0x100000001B3ULL ^ m->ntris ^ ((uint64_t)m->material << 48));
+  h = jnd_mix64(h ^ m->version);
   h = jnd_mix64(h ^ (uint64_t)(uintptr_t)m->vertices) ^ jnd_mix64((uint64_t)(uintptr_t)m->indices);
   for (size_t v = 0; v < m->nverts && v < 16; v++) {
     uint32_t w;
