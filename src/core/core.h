@@ -19,6 +19,12 @@ jnd_status jnd_check_size(int w, int h, int c, const char *what);
 
 /* Number of threads to use for a request (0 = OpenMP default). */
 int jnd_threads(int requested);
+/* Runs OpenMP regions without their own thread count on n threads (n > 0)
+ * until jnd_threads_leave(returned value); n = 0 changes nothing. For code
+ * that must not spin workers against another pool of threads (a CPU
+ * rasteriser's). */
+int jnd_threads_enter(int n);
+void jnd_threads_leave(int previous);
 
 /* A deterministic generator (SplitMix64 seeding xoshiro256**): the same
  * seed gives the same sequence on every machine. */

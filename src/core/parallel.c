@@ -9,3 +9,14 @@ int jnd_threads(int requested) {
   int n = omp_get_max_threads();
   return n > 0 ? n : 1;
 }
+
+int jnd_threads_enter(int n) {
+  if (n <= 0) return 0;
+  int previous = omp_get_max_threads();
+  omp_set_num_threads(n);
+  return previous;
+}
+
+void jnd_threads_leave(int previous) {
+  if (previous > 0) omp_set_num_threads(previous);
+}

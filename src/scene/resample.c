@@ -79,8 +79,9 @@ static jnd_status taps_make(int in, int out, int wrap, double ratio, taps1d *t) 
 }
 
 jnd_status jnd_resample_plane(const float *src, int sw, int sh, float *dst, int dw, int dh, double rx, double ry,
-                              int wrap) {
+                              int wrap, int threads) {
   taps1d tx = {0}, ty = {0};
+  threads = jnd_threads(threads);
   jnd_status st;
   if ((st = taps_make(sw, dw, wrap, rx, &tx)) || (st = taps_make(sh, dh, wrap, ry, &ty))) {
     taps_free(&tx);
@@ -92,7 +93,7 @@ jnd_status jnd_resample_plane(const float *src, int sw, int sh, float *dst, int 
     taps_free(&ty);
     return JND_ERR_NOMEM;
   }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for num_threads(threads) schedule(static)
   for (int row = 0; row < sh; row++) {
     const float *s = src + (size_t)row * sw;
     float *d = mid + (size_t)row * dw;
@@ -104,7 +105,7 @@ jnd_status jnd_resample_plane(const float *src, int sw, int sh, float *dst, int 
       d[x] = (float)acc;
     }
   }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for num_threads(threads) schedule(static)
   for (int y = 0; y < dh; y++) {
     const int *iy = ty.idx + (size_t)y * ty.taps;
     const float *wt = ty.w + (size_t)y * ty.taps;
@@ -166,6 +167,12 @@ jnd_status jnd_box_reduce_map(const jnd_image *orig, int lev, jnd_map_kind kind,
 
 jnd_status jnd_resample_map(const jnd_image *in, int w, int h, jnd_map_kind kind, int wrap,
                             jnd_image *out) {
+  return jnd_resample_map_threads(in, w, h, kind, wrap, 0, out);
+}
+
+jnd_status jnd_resample_map_threads(const jnd_image *in, int w, int h, jnd_map_kind kind, int wrap, int threads,
+                                    jnd_image *out) {
+  threads = jnd_threads(threads);
   if (!in || !in->data || in->c < 1 || in->c > 4) return jnd_fail(JND_ERR_ARG, "resample: bad input map");
   if (w < 1 || h < 1) return jnd_fail(JND_ERR_ARG, "resample: size %dx%d is not positive", w, h);
   jnd_status st = jnd_check_size(w, h, in->c, "resample");
@@ -191,13 +198,13 @@ jnd_status jnd_resample_map(const jnd_image *in, int w, int h, jnd_map_kind kind
   }
   for (int ch = 0; ch < c && st == JND_OK; ch++)
     st = jnd_resample_plane(src + ch * inpix, in->w, in->h, out->data + (size_t)ch * w * h, w, h,
-                            (double)in->w / w, (double)in->h / h, wrap);
+                            (double)in->w / w, (double)in->h / h, wrap, threads);
   free(src);
   if (st) {
     jnd_image_free(out);
     return st;
   }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for num_threads(threads) schedule(static)
   for (int y = 0; y < h; y++) {
     /* back to the map's encoding */
     size_t plane = (size_t)w * h;

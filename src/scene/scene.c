@@ -411,8 +411,9 @@ jnd_status jnd_scene_map_resize(jnd_scene *s, int i, int w, int h) {
   int slot = 0;
   map_owner(s, i, &slot);
   jnd_image out = {0};
-  jnd_status st = jnd_resample_map(&m->orig, w, h, jnd_map_slot_kind((jnd_map_slot)slot),
-                                   m->wrap_s == JND_WRAP_REPEAT && m->wrap_t == JND_WRAP_REPEAT, &out);
+  jnd_status st = jnd_resample_map_threads(&m->orig, w, h, jnd_map_slot_kind((jnd_map_slot)slot),
+                                           m->wrap_s == JND_WRAP_REPEAT && m->wrap_t == JND_WRAP_REPEAT,
+                                           s->threads, &out);
   if (st) return st;
   jnd_image_free(&m->now);
   m->now = out;

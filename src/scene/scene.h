@@ -78,6 +78,9 @@ struct jnd_scene {
   jnd_lod_level *lod;
   int nlod, lod_now;
   uint64_t id;             /* unique per scene object, so a renderer knows what it uploaded */
+  int threads;             /* threads resampling its maps (0: OpenMP's default); a judge on a CPU
+                              rasteriser sets 1, since OpenMP workers spinning after each resize
+                              take the cores the rasteriser's threads render on */
 };
 
 /* The map in use now. */
@@ -123,7 +126,10 @@ void jnd_scene_lod_free(jnd_scene *s);
  * (x + 0.5)·rx − 0.5 (rx input samples per output sample), the kernel
  * widened by rx when shrinking; edges clamped (wrap 0) or wrapped. */
 jnd_status jnd_resample_plane(const float *src, int sw, int sh, float *dst, int dw, int dh, double rx, double ry,
-                              int wrap);
+                              int wrap, int threads);
+/* jnd_resample_map (jnd.h) with a thread count (0: OpenMP's default). */
+jnd_status jnd_resample_map_threads(const jnd_image *in, int w, int h, jnd_map_kind kind, int wrap, int threads,
+                                    jnd_image *out);
 /* Averages 2^s × 2^s boxes (partial boxes at the edge average what they
  * cover): dst is ceil(w/2^s) × ceil(h/2^s). */
 void jnd_box_down_plane(const float *src, int w, int h, int s, float *dst);

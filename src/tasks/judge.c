@@ -74,6 +74,7 @@ struct jnd_judge {
   jnd_model *m;
   int ground;            /* the ground plane's material or -1 */
   int blend_any;         /* a blended material: no partial re-renders */
+  int threads;           /* OpenMP threads while the judge works (1 on a CPU rasteriser; 0: default) */
   jview *v;
   int nv, capv;
   int nmaps, nkey;       /* key: a hash per map, then one per mesh */
@@ -683,7 +684,7 @@ jnd_status jnd_judge_create(jnd_scene *scene, const jnd_judge_params *p, jnd_jud
   return JND_OK;
 }
 
-jnd_status jnd_judge_add_views(jnd_judge *j, const jnd_view *views, int n, int *first) {
+static jnd_status add_views(jnd_judge *j, const jnd_view *views, int n, int *first) {
   if (n < 1 || !views) return jnd_fail(JND_ERR_ARG, "judge: no views to add");
   jnd_status st = grow_views(j, n);
   if (st != JND_OK) return st;
@@ -703,7 +704,14 @@ jnd_status jnd_judge_add_views(jnd_judge *j, const jnd_view *views, int n, int *
   return JND_OK;
 }
 
-jnd_status jnd_judge_set_reference(jnd_judge *j) {
+jnd_status jnd_judge_add_views(jnd_judge *j, const jnd_view *views, int n, int *first) {
+  int previous = jnd_threads_enter(j->threads);
+  jnd_status st = add_views(j, views, n, first);
+  jnd_threads_leave(previous);
+  return st;
+}
+
+static jnd_status set_reference(jnd_judge *j) {
   forget_renders(j);
   jnd_status st = take_reference(j);
   if (st != JND_OK) return st;
@@ -717,17 +725,29 @@ jnd_status jnd_judge_set_reference(jnd_judge *j) {
   return render_references(j, &r);
 }
 
+jnd_status jnd_judge_set_reference(jnd_judge *j) {
+  int previous = jnd_threads_enter(j->threads);
+  jnd_status st = set_reference(j);
+  jnd_threads_leave(previous);
+  return st;
+}
+
 /* the vision model for the judge's parameters */
 static jnd_status make_model(jnd_judge *j) {
   jnd_model_free(j->m);
   j->m = NULL;
-  /* On a CPU rasteriser the model's OpenMP workers would spin against the
-   * rasteriser's threads between frames (8× slower on 2 cores): one model
-   * thread is faster there unless threads were asked for. */
+  /* On a CPU rasteriser OpenMP workers spin after each parallel region
+   * against the rasteriser's threads (the model's: 8× slower on 2 cores; the
+   * scene's resampling between states: a quarter of texres's CPU time on the
+   * 6-material bench asset): one thread each is faster there unless threads
+   * were asked for. */
   jnd_model_params mp = j->p.model;
   mp.beta = j->p.calibration.beta;
   const char *desc = jnd_renderer_description(j->r);
-  if (mp.threads == 0 && (strstr(desc, "llvmpipe") || strstr(desc, "softpipe"))) mp.threads = 1;
+  int cpu = strstr(desc, "llvmpipe") || strstr(desc, "softpipe");
+  if (mp.threads == 0 && cpu) mp.threads = 1;
+  if (j->scene->threads == 0 && cpu) j->scene->threads = 1;
+  if (cpu) j->threads = 1;
   return jnd_model_create(&mp, &j->m);
 }
 
@@ -762,7 +782,7 @@ static jnd_status changes_now(jnd_judge *j, change_set *c) {
   return JND_OK;
 }
 
-jnd_status jnd_judge_eval(jnd_judge *j, int first, int n, unsigned flags, double *p, jnd_judgement *out) {
+static jnd_status eval(jnd_judge *j, int first, int n, unsigned flags, double *p, jnd_judgement *out) {
   if (first < 0 || n < 1 || first + n > j->nv)
     return jnd_fail(JND_ERR_ARG, "judge: views %d..%d of %d", first, first + n - 1, j->nv);
   change_set c;
@@ -831,8 +851,15 @@ jnd_status jnd_judge_eval(jnd_judge *j, int first, int n, unsigned flags, double
   return st;
 }
 
-jnd_status jnd_judge_view_images(jnd_judge *j, int v, jnd_image *jmap, jnd_image *frame, jnd_image *mask,
-                                 jnd_image *heatmap, int crop_out[4]) {
+jnd_status jnd_judge_eval(jnd_judge *j, int first, int n, unsigned flags, double *p, jnd_judgement *out) {
+  int previous = jnd_threads_enter(j->threads);
+  jnd_status st = eval(j, first, n, flags, p, out);
+  jnd_threads_leave(previous);
+  return st;
+}
+
+static jnd_status view_images(jnd_judge *j, int v, jnd_image *jmap, jnd_image *frame, jnd_image *mask,
+                              jnd_image *heatmap, int crop_out[4]) {
   if (v < 0 || v >= j->nv) return jnd_fail(JND_ERR_ARG, "judge: view %d of %d", v, j->nv);
   const jview *jv = &j->v[v];
   change_set c;
@@ -854,6 +881,14 @@ jnd_status jnd_judge_view_images(jnd_judge *j, int v, jnd_image *jmap, jnd_image
   else jnd_image_free(&map);
   if (st == JND_OK && frame) *frame = srgb;
   else jnd_image_free(&srgb);
+  return st;
+}
+
+jnd_status jnd_judge_view_images(jnd_judge *j, int v, jnd_image *jmap, jnd_image *frame, jnd_image *mask,
+                                 jnd_image *heatmap, int crop_out[4]) {
+  int previous = jnd_threads_enter(j->threads);
+  jnd_status st = view_images(j, v, jmap, frame, mask, heatmap, crop_out);
+  jnd_threads_leave(previous);
   return st;
 }
 

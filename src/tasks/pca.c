@@ -40,7 +40,7 @@ static jnd_status upsample(const float *coarse, int w, int h, int s, float *dst)
     return JND_OK;
   }
   double r = 1.0 / (1 << s);
-  return jnd_resample_plane(coarse, coarse_side(w, s), coarse_side(h, s), dst, w, h, r, r, 0);
+  return jnd_resample_plane(coarse, coarse_side(w, s), coarse_side(h, s), dst, w, h, r, r, 0, 0);
 }
 
 /* ------------------------------------------------------------------------ */
@@ -192,7 +192,7 @@ static jnd_status texset_build(const jnd_image *maps, const char *const *names, 
       const float *p = jnd_image_plane(&maps[i], m->src[k]);
       float *d = out->data + (size_t)c * np;
       if (m->resampled) {
-        s = jnd_resample_plane(p, maps[i].w, maps[i].h, d, W, H, (double)maps[i].w / W, (double)maps[i].h / H, 0);
+        s = jnd_resample_plane(p, maps[i].w, maps[i].h, d, W, H, (double)maps[i].w / W, (double)maps[i].h / H, 0, 0);
         if (s != JND_OK) {
           jnd_texset_free(out);
           return s;

@@ -315,7 +315,7 @@ TEST(weights_name_maps_or_channels) {
  * centres (the scene layer's resampler, as pca.c uses it) */
 static jnd_status upsample(const float *coarse, int w, int h, int s, float *dst) {
   double r = 1.0 / (1 << s);
-  return jnd_resample_plane(coarse, (w + (1 << s) - 1) >> s, (h + (1 << s) - 1) >> s, dst, w, h, r, r, 0);
+  return jnd_resample_plane(coarse, (w + (1 << s) - 1) >> s, (h + (1 << s) - 1) >> s, dst, w, h, r, r, 0, 0);
 }
 
 TEST(resampling_keeps_constants_and_smooth_signals) {
@@ -334,7 +334,7 @@ TEST(resampling_keeps_constants_and_smooth_signals) {
     for (int x = 4; x < W - 4; x++) err = fmax(err, fabs(up[y * W + x] - src[y * W + x]));
   CHECK_LT(err, 0.01);
   float big[2 * W * 2 * H];
-  CHECK_OK(jnd_resample_plane(src, W, H, big, 2 * W, 2 * H, 0.5, 0.5, 0));
+  CHECK_OK(jnd_resample_plane(src, W, H, big, 2 * W, 2 * H, 0.5, 0.5, 0, 0));
   CHECK_NEAR(big[(2 * 20 + 1) * 2 * W + 2 * 30 + 1], src[20 * W + 30], 0.01);
 }
 
