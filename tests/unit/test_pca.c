@@ -1,6 +1,8 @@
 /* Texture-set PCA (001): the properties the decomposition, the encodings and
  * the automatic choice must have. Synthetic sets are small; the helmet set
  * (../shared data) is shrunk to 256² in the test so that it stays fast. */
+#include <string.h>
+
 #include "jnd.h"
 #include "test.h"
 #include "core/core.h"
@@ -575,6 +577,79 @@ TEST(psnr_follows_its_definition_on_a_hand_computed_pair) {
   jnd_texset_free(&set);
 }
 
+/* a w × h plane moved a fraction a of the way to its 8 × 8 box average, in
+ * place: a loss of detail that shows without saturating P */
+static void box8(float *p, int w, int h, double a) {
+  for (int by = 0; by < h; by += 8)
+    for (int bx = 0; bx < w; bx += 8) {
+      double acc = 0;
+      int n = 0;
+      for (int y = by; y < by + 8 && y < h; y++)
+        for (int x = bx; x < bx + 8 && x < w; x++) acc += p[(size_t)y * w + x], n++;
+      for (int y = by; y < by + 8 && y < h; y++)
+        for (int x = bx; x < bx + 8 && x < w; x++) p[(size_t)y * w + x] += (float)(a * (acc / n - p[(size_t)y * w + x]));
+    }
+}
+
+/* issue 9: pca and texres mean the same thing by P. The same scene state
+ * (the builtin material's base colour box-averaged) judged through pca's
+ * rendered visibility and through a judge made with texres's parameters on
+ * the same views gives the same P in every view. */
+#define MIX 0.05   /* P about 0.1–0.25: between 0 and 1, where pooling differences show */
+TEST(pca_and_texres_report_the_same_p_for_the_same_state_and_views) {
+  jnd_pca_render *r = NULL;
+  jnd_texset set;
+  jnd_map_slot slots[JND_PCA_MAX_MAPS];
+  if (!open_builtin(&r, &set, slots)) return;
+  int bc = -1;
+  for (int i = 0; i < set.nmaps; i++)
+    if (slots[i] == JND_MAP_BASE_COLOR) bc = i;
+  CHECK(bc >= 0);
+  if (bc < 0) goto done_pca;
+  /* pca: the set with its base-colour channels averaged */
+  jnd_image ch = {0};
+  CHECK_OK(jnd_image_alloc(&ch, set.w, set.h, set.c));
+  memcpy(ch.data, set.data, (size_t)set.w * set.h * set.c * sizeof(float));
+  const jnd_texset_map *m = &set.maps[bc];
+  for (int k = 0; k < m->count; k++) box8(ch.data + (size_t)(m->first + k) * set.w * set.h, set.w, set.h, MIX);
+  jnd_pca_visibility v;
+  CHECK_OK(jnd_pca_render_measure(r, &ch, &v));
+  /* texres: its judge's parameters, the same views, the same map state */
+  jnd_texres_params tp;
+  jnd_texres_defaults(&tp);
+  tp.judge.views.sampling.count = 2;
+  tp.judge.views.render.width = tp.judge.views.render.height = 64;
+  tp.judge.views.render.anisotropy = 1;
+  jnd_scene *s = NULL;
+  CHECK_OK(jnd_scene_open("builtin", 64, &s));
+  jnd_judge *j = NULL;
+  if (s) CHECK_OK(jnd_judge_create(s, &tp.judge, &j));
+  if (j) {
+    int i = jnd_scene_map_find(s, "builtin/baseColor");
+    CHECK(i >= 0);
+    jnd_image img = {0};
+    CHECK_OK(jnd_scene_map_get(s, i, 1, &img));
+    CHECK(img.w == set.w && img.h == set.h);
+    for (int c = 0; c < img.c; c++)
+      if (m->from[c] >= 0) box8(img.data + (size_t)c * img.w * img.h, img.w, img.h, MIX);
+    CHECK_OK(jnd_scene_map_set(s, i, &img));
+    double P[2];
+    jnd_judgement jr;
+    CHECK_OK(jnd_judge_eval(j, 0, 2, 0, P, &jr));
+    CHECK(v.views == 2);
+    for (int k = 0; k < 2; k++) CHECK_NEAR(P[k], v.p[k], 1e-6);
+    for (int k = 0; k < 2; k++) CHECK(P[k] > 0.01 && P[k] < 0.99);   /* neither 0 = 0 nor 1 = 1 */
+    CHECK(jr.criterion.pass == v.pass);
+    jnd_image_free(&img);
+  }
+  jnd_judge_free(j);
+  jnd_scene_free(s);
+  jnd_image_free(&ch);
+done_pca:
+  jnd_pca_render_free(r);
+  jnd_texset_free(&set);
+}
+
 RUN_TESTS(a_map_with_one_informative_channel_is_named_after_the_map, energies_sum_to_total_variance, basis_is_orthonormal_with_deterministic_signs,
           keeping_all_components_reconstructs_in_float, fewer_components_lose_quality,
           reconstruction_matrix_maps_stored_values_to_channels, weighting_a_channel_raises_its_psnr,
@@ -584,6 +659,7 @@ RUN_TESTS(a_map_with_one_informative_channel_is_named_after_the_map, energies_su
           knee_of_a_fast_decay_is_early, rendered_visibility_of_a_missing_model_names_it,
           slot_guess_reads_common_map_names, the_set_itself_renders_invisibly_and_its_mean_visibly,
           binding_two_maps_to_one_slot_is_refused,
+          pca_and_texres_report_the_same_p_for_the_same_state_and_views,
           helmet_set_has_13_informative_channels_and_full_reconstruction,
           helmet_albedo_weighting_raises_albedo_psnr_at_five_components,
           psnr_follows_its_definition_on_a_hand_computed_pair)
