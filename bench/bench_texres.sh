@@ -55,7 +55,10 @@ print("     chosen (longer side) per slot: " + "; ".join("%s %s" % (k, ",".join(
 PY
 }
 
+# wall times mean little on a shared machine: say what else was running
+echo "   $(nproc) cores; load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
 measure "6-material glTF (bench/make_asset.py, 24 maps of 512x512)" "$asset"
+echo "   load average after: $(cut -d' ' -f1-3 /proc/loadavg)"
 ASSETS=$(webxr_assets_fetch && webxr_assets) || { echo "   webxr assets skipped: @webxr-input-profiles/assets not available (npm/network)"; exit 0; }
 for m in ${BENCH_TEXRES_MODELS:-pico-4u/left.glb oculus-touch/left.glb generic-trigger-squeeze-thumbstick/left.glb}; do
   measure "$m" "$ASSETS/dist/profiles/$m"
