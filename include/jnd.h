@@ -716,6 +716,15 @@ jnd_status jnd_scene_lod_select(jnd_scene *s, int level);
 /* The level in use. */
 int jnd_scene_lod_selected(const jnd_scene *s);
 
+/* Makes level k the one in use for one mesh only (a level per object: a
+ * gaze-contingent or per-object LOD); jnd_scene_lod_select sets them all
+ * again. jnd_scene_lod_selected keeps naming the last level selected for
+ * the whole scene. JND_ERR_ARG for a mesh or level out of range. */
+jnd_status jnd_scene_lod_select_mesh(jnd_scene *s, int mesh, int level);
+
+/* The level mesh is drawn at now (-1 for a mesh out of range). */
+int jnd_scene_lod_mesh_level(const jnd_scene *s, int mesh);
+
 /* Writes the scene with every level of detail as one binary glTF 2.0 file
  * (atomically): node 0 holds level 0 (a primitive per scene mesh) and the
  * MSFT_lod extension listing nodes 1.., which hold the other levels; only
@@ -948,13 +957,11 @@ double jnd_camera_distance_for_coverage(double radius, double coverage, double f
  * reference), a view set, a display and the model's parameters, a
  * calibration (JND transform and pooling percentile) and the criterion. It
  * renders and keeps each view's reference once; asked about the scene's
- * current state (maps replaced or resized, and — for later tasks — mesh
- * levels), it returns each view's P, the criterion and, on request, the JND
- * map, the frame and a heatmap. A state it has judged on a view is never
- * rendered again (states are recognised by the content of their maps). When
- * only maps changed, only the pixels of the materials using them are
- * rendered again (the rest is the reference's), which equals a full
- * rendering. See docs/texres.md "The judge".
+ * current state, it returns each view's P, the criterion and, on request,
+ * the JND map, the frame and a heatmap. A state it has judged on a view is
+ * never rendered again. When only maps changed, only the pixels of the
+ * materials using them are rendered again (the rest is the reference's),
+ * which equals a full rendering. See docs/judge.md.
  *
  *     jnd_judge_params jp;  jnd_judge_defaults(&jp);          // 8 views, 384², p93, p 0.2, q 0.1
  *     jnd_judge *j;  jnd_judge_create(scene, &jp, &j);         // renders the references
@@ -962,6 +969,29 @@ double jnd_camera_distance_for_coverage(double radius, double coverage, double f
  *     double P[8];  jnd_judgement r;
  *     jnd_judge_eval(j, 0, 8, 0, P, &r);                       // r.criterion.pass, P per view
  *     jnd_judge_free(j);
+ *
+ * Scene states. The judge holds no state of its own to set: a state is the
+ * scene as it is when jnd_judge_eval is called, compared with the scene as
+ * it was when the judge was made (or at jnd_judge_set_reference). The
+ * caller puts the scene into the state to judge, asks, and puts it back:
+ *   - a map's size or content: jnd_scene_map_resize / jnd_scene_map_set,
+ *     back with jnd_scene_map_restore;
+ *   - a mesh level: build or add levels of detail (jnd_scene_lod_build,
+ *     jnd_scene_lod_add), then jnd_scene_lod_select(scene, k) for every
+ *     mesh or jnd_scene_lod_select_mesh(scene, mesh, k) for one object;
+ *     back with level 0. Such a state is rendered whole (depth and
+ *     coverage move); the views and the crop stay the reference's;
+ *   - a distance: views at that distance added with jnd_judge_add_views
+ *     (their references are rendered with the reference's maps and
+ *     levels, whatever the scene holds then), judged as a range (first, n)
+ *     of jnd_judge_eval;
+ *   - a gaze point: a judge made with model.has_gaze, moved with
+ *     jnd_judge_set_gaze (pixels of the frame; every pixel's eccentricity
+ *     is measured from it);
+ *   - motion (popping): views with a previous pose (jnd_view.has_prev); the
+ *     reference's motion goes into the model.
+ * A state is recognised by the content of its maps and the level (version)
+ * of each mesh, so a size or level set again is answered from memory.
  */
 
 /* The view criterion's parameters (000 §9). */

@@ -180,6 +180,29 @@ jnd_status jnd_scene_lod_select(jnd_scene *s, int level) {
   return JND_OK;
 }
 
+jnd_status jnd_scene_lod_select_mesh(jnd_scene *s, int mesh, int level) {
+  if (mesh < 0 || mesh >= s->nmeshes)
+    return jnd_fail(JND_ERR_ARG, "%s: mesh %d out of range (the scene has %d)", s->path, mesh, s->nmeshes);
+  if (level < 0 || level >= jnd_scene_lod_count(s))
+    return jnd_fail(JND_ERR_ARG, "%s: level %d out of range (the chain has %d)", s->path, level, jnd_scene_lod_count(s));
+  if (s->nlod == 0) return JND_OK;
+  const jnd_lod_mesh *m = &s->lod[level].mesh[mesh], *base = &s->lod[0].mesh[mesh];
+  jnd_mesh *d = &s->meshes[mesh];
+  d->vertices = m->vertices ? m->vertices : base->vertices;
+  d->nverts = m->vertices ? m->nverts : base->nverts;
+  d->indices = m->indices;
+  d->ntris = m->ntris;
+  d->version = m->version;
+  return JND_OK;
+}
+
+int jnd_scene_lod_mesh_level(const jnd_scene *s, int mesh) {
+  if (mesh < 0 || mesh >= s->nmeshes) return -1;
+  for (int k = 0; k < s->nlod; k++)
+    if (s->lod[k].mesh[mesh].version == s->meshes[mesh].version) return k;
+  return 0;
+}
+
 /* ---- geometry helpers ---- */
 
 static const float *pos(const float *verts, uint32_t v) { return verts + (size_t)v * JND_VTX_FLOATS; }

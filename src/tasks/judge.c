@@ -81,6 +81,7 @@ struct jnd_judge {
   int *map_material;     /* per map: its material */
   uint64_t *ref_key, *cur_key, *hashed_version;
   jnd_image *ref_maps;   /* per map: its reference image when that was not the file's */
+  int *ref_level;        /* per mesh: the level of detail it was drawn at in the reference */
   jstate *st;
   int nst, capst;
   mat_render *mr;        /* a ring of kept material renderings */
@@ -557,13 +558,23 @@ static jnd_status grow_views(jnd_judge *j, int n) {
   return JND_OK;
 }
 
-/* Puts the scene's maps in their reference state for fn, then back. */
+/* Puts the scene's maps and meshes' levels of detail in their reference
+ * state for fn, then back. */
 static jnd_status with_reference_maps(jnd_judge *j, jnd_status (*fn)(jnd_judge *, void *), void *arg) {
   update_key(j);
   jnd_scene *s = j->scene;
   jnd_image *saved = jnd_calloc((size_t)(j->nmaps ? j->nmaps : 1), sizeof *saved);
-  if (!saved) return JND_ERR_NOMEM;
+  int *level = jnd_alloc((size_t)(s->nmeshes ? s->nmeshes : 1), sizeof *level);
+  if (!saved || !level) {
+    free(saved);
+    free(level);
+    return JND_ERR_NOMEM;
+  }
   jnd_status st = JND_OK;
+  /* the reference's level of detail of each mesh, the current one kept */
+  for (int k = 0; k < s->nmeshes; k++) level[k] = jnd_scene_lod_mesh_level(s, k);
+  for (int k = 0; k < s->nmeshes && st == JND_OK; k++)
+    if (level[k] != j->ref_level[k]) st = jnd_scene_lod_select_mesh(s, k, j->ref_level[k]);
   for (int i = 0; i < j->nmaps && st == JND_OK; i++) {
     if (j->cur_key[i] == j->ref_key[i]) continue;
     if ((st = jnd_scene_map_get(s, i, 0, &saved[i])) != JND_OK) break;
@@ -577,7 +588,13 @@ static jnd_status with_reference_maps(jnd_judge *j, jnd_status (*fn)(jnd_judge *
     if (st == JND_OK) st = s2;
     jnd_image_free(&saved[i]);
   }
+  for (int k = 0; k < s->nmeshes; k++)
+    if (level[k] != jnd_scene_lod_mesh_level(s, k)) {
+      jnd_status s2 = jnd_scene_lod_select_mesh(s, k, level[k]);
+      if (st == JND_OK) st = s2;
+    }
   free(saved);
+  free(level);
   return st;
 }
 
@@ -605,6 +622,7 @@ static jnd_status take_reference(jnd_judge *j) {
       if (st != JND_OK) return st;
     }
   }
+  for (int k = 0; k < s->nmeshes; k++) j->ref_level[k] = jnd_scene_lod_mesh_level(s, k);
   update_key(j);
   memcpy(j->ref_key, j->cur_key, (size_t)j->nkey * sizeof *j->ref_key);
   forget_states(j);
@@ -620,6 +638,7 @@ void jnd_judge_free(jnd_judge *j) {
   if (j->ref_maps)
     for (int i = 0; i < j->nmaps; i++) jnd_image_free(&j->ref_maps[i]);
   free(j->ref_maps);
+  free(j->ref_level);
   forget_renders(j);
   free(j->mr);
   free(j->mat_key);
@@ -658,9 +677,10 @@ jnd_status jnd_judge_create(jnd_scene *scene, const jnd_judge_params *p, jnd_jud
   j->cur_key = jnd_calloc(nk, sizeof *j->cur_key);
   j->hashed_version = jnd_calloc(nm, sizeof *j->hashed_version);
   j->ref_maps = jnd_calloc(nm, sizeof *j->ref_maps);
+  j->ref_level = jnd_calloc(scene->nmeshes ? (size_t)scene->nmeshes : 1, sizeof *j->ref_level);
   j->map_material = jnd_calloc(nm, sizeof *j->map_material);
   j->mat_key = jnd_calloc((size_t)scene->nmaterials + 1, sizeof *j->mat_key);
-  jnd_status st = j->ref_key && j->cur_key && j->hashed_version && j->ref_maps && j->map_material && j->mat_key
+  jnd_status st = j->ref_key && j->cur_key && j->hashed_version && j->ref_maps && j->ref_level && j->map_material && j->mat_key
                       ? JND_OK
                       : JND_ERR_NOMEM;
   for (int i = 0; i < j->nmaps && st == JND_OK; i++) {

@@ -5,6 +5,7 @@
  * Renders are small (96²) so that the suite stays fast on llvmpipe. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 
 #include "jnd.h"
 #include "test.h"
@@ -245,7 +246,74 @@ TEST(views_of_an_asset_on_the_ground_come_from_above_and_frame_the_asset) {
   jnd_scene_free(grounded);
 }
 
+/* A level of detail (jnd lod, issue 11) is a scene state like a map size,
+ * per mesh or for the whole scene: the judge renders it whole, answers it
+ * from memory when it is selected again, references views added while it
+ * is in place with the reference's levels, and the reference's levels
+ * selected again are the reference (P = 0, nothing rendered). */
+TEST(a_level_of_detail_is_a_state_the_judge_renders_and_recognises) {
+  if (!test_renderer_available()) {
+    TEST_SKIP("no OpenGL context");
+    return;
+  }
+  jnd_scene *s = parts_scene(2, 0);
+  jnd_lod_params lp;
+  jnd_lod_defaults(&lp);
+  const double ratio[1] = {0.1};
+  lp.errors = NULL;
+  lp.ratios = ratio;
+  lp.nratios = 1;
+  CHECK_OK(jnd_scene_lod_build(s, &lp));
+  CHECK(jnd_scene_lod_count(s) == 2);
+  jnd_judge_params p;
+  small(&p, 2, 1);
+  jnd_judge *j = NULL;
+  CHECK_OK(jnd_judge_create(s, &p, &j));
+  if (!j) goto done;
+  /* one object at the coarse level */
+  CHECK_OK(jnd_scene_lod_select_mesh(s, 0, 1));
+  CHECK(jnd_scene_lod_mesh_level(s, 0) == 1 && jnd_scene_lod_mesh_level(s, 1) == 0);
+  double P[4];
+  jnd_judgement r;
+  jnd_judge_counts c0, c1, c2;
+  CHECK_OK(jnd_judge_eval(j, 0, 2, 0, P, &r));
+  jnd_judge_get_counts(j, &c0);
+  CHECK(P[0] > 0 && P[1] > 0);
+  CHECK(c0.renderings == 2 && c0.partial_renderings == 0);   /* geometry changed: whole frames */
+  /* selected again (after a detour through level 0): the same state */
+  CHECK_OK(jnd_scene_lod_select_mesh(s, 0, 0));
+  CHECK_OK(jnd_scene_lod_select_mesh(s, 0, 1));
+  double Q[2];
+  CHECK_OK(jnd_judge_eval(j, 0, 2, 0, Q, NULL));
+  jnd_judge_get_counts(j, &c1);
+  CHECK(c1.renderings == c0.renderings && Q[0] == P[0] && Q[1] == P[1]);
+  /* views added while the level is in place are referenced at level 0 */
+  jnd_view_set vs = p.views;
+  vs.sampling.seed = 7;
+  jnd_view *extra = NULL;
+  int n = 0, first = -1;
+  CHECK_OK(jnd_view_set_make(s, &vs, &extra, &n));
+  CHECK_OK(jnd_judge_add_views(j, extra, n, &first));
+  CHECK(jnd_scene_lod_mesh_level(s, 0) == 1);   /* the level is back in place */
+  CHECK_OK(jnd_judge_eval(j, first, 2, 0, P + 2, NULL));
+  CHECK(P[2] > 0 && P[3] > 0);
+  /* the whole scene back at level 0: the reference, never rendered */
+  CHECK_OK(jnd_scene_lod_select(s, 0));
+  jnd_judge_get_counts(j, &c1);
+  CHECK_OK(jnd_judge_eval(j, 0, 4, 0, P, &r));
+  jnd_judge_get_counts(j, &c2);
+  for (int v = 0; v < 4; v++) CHECK(P[v] == 0);
+  CHECK(c2.renderings == c1.renderings && r.criterion.pass);
+  CHECK_STATUS(jnd_scene_lod_select_mesh(s, 0, 2), JND_ERR_ARG);
+  CHECK_STATUS(jnd_scene_lod_select_mesh(s, 2, 0), JND_ERR_ARG);
+  free(extra);
+done:
+  jnd_judge_free(j);
+  jnd_scene_free(s);
+}
+
 RUN_TESTS(partial_rendering_equals_the_full_rendering, the_reference_state_is_invisible_and_never_rendered,
           a_state_judged_before_is_answered_from_memory, deciding_stops_at_the_first_failing_view,
           views_added_later_are_referenced_in_the_reference_state,
-          views_of_an_asset_on_the_ground_come_from_above_and_frame_the_asset)
+          views_of_an_asset_on_the_ground_come_from_above_and_frame_the_asset,
+          a_level_of_detail_is_a_state_the_judge_renders_and_recognises)
