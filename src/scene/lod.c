@@ -163,19 +163,22 @@ jnd_status jnd_scene_lod_info(const jnd_scene *s, int level, jnd_lod_level_info 
   return JND_OK;
 }
 
+/* mesh i drawn at level (a simplified level indexes level 0's vertices) */
+static void use_level(jnd_scene *s, int i, int level) {
+  const jnd_lod_mesh *m = &s->lod[level].mesh[i], *base = &s->lod[0].mesh[i];
+  jnd_mesh *d = &s->meshes[i];
+  d->vertices = m->vertices ? m->vertices : base->vertices;
+  d->nverts = m->vertices ? m->nverts : base->nverts;
+  d->indices = m->indices;
+  d->ntris = m->ntris;
+  d->version = m->version;
+}
+
 jnd_status jnd_scene_lod_select(jnd_scene *s, int level) {
   if (level < 0 || level >= jnd_scene_lod_count(s))
     return jnd_fail(JND_ERR_ARG, "%s: level %d out of range (the chain has %d)", s->path, level, jnd_scene_lod_count(s));
   if (s->nlod == 0) return JND_OK;
-  for (int i = 0; i < s->nmeshes; i++) {
-    const jnd_lod_mesh *m = &s->lod[level].mesh[i], *base = &s->lod[0].mesh[i];
-    jnd_mesh *d = &s->meshes[i];
-    d->vertices = m->vertices ? m->vertices : base->vertices;
-    d->nverts = m->vertices ? m->nverts : base->nverts;
-    d->indices = m->indices;
-    d->ntris = m->ntris;
-    d->version = m->version;
-  }
+  for (int i = 0; i < s->nmeshes; i++) use_level(s, i, level);
   s->lod_now = level;
   return JND_OK;
 }
@@ -185,14 +188,7 @@ jnd_status jnd_scene_lod_select_mesh(jnd_scene *s, int mesh, int level) {
     return jnd_fail(JND_ERR_ARG, "%s: mesh %d out of range (the scene has %d)", s->path, mesh, s->nmeshes);
   if (level < 0 || level >= jnd_scene_lod_count(s))
     return jnd_fail(JND_ERR_ARG, "%s: level %d out of range (the chain has %d)", s->path, level, jnd_scene_lod_count(s));
-  if (s->nlod == 0) return JND_OK;
-  const jnd_lod_mesh *m = &s->lod[level].mesh[mesh], *base = &s->lod[0].mesh[mesh];
-  jnd_mesh *d = &s->meshes[mesh];
-  d->vertices = m->vertices ? m->vertices : base->vertices;
-  d->nverts = m->vertices ? m->nverts : base->nverts;
-  d->indices = m->indices;
-  d->ntris = m->ntris;
-  d->version = m->version;
+  if (s->nlod > 0) use_level(s, mesh, level);
   return JND_OK;
 }
 
