@@ -1158,6 +1158,38 @@ jnd_status jnd_csf_threshold(jnd_csf_context *ctx, const jnd_csf_stimulus *s, do
 /* The sampling chosen for a stimulus: pixels per degree, half-extent and edge taper in degrees. */
 void jnd_csf_sampling(const jnd_csf_stimulus *s, double *ppd, double *half_deg, double *taper_deg);
 
+/* One row of a castleCSF-format threshold data set, resolved into a stimulus. */
+typedef struct {
+  jnd_csf_stimulus st;
+  double measured;        /* measured sensitivity, 1 / threshold RMS cone contrast */
+  double col_dir_id, bkg_id;
+  int dataset;            /* index into jnd_csf_data.datasets */
+  int line;               /* line of the CSV (the header is line 1) */
+  int use;                /* 1: the row can be predicted */
+  const char *skip;       /* why not, when use is 0 (a static string) */
+  int derived_direction;  /* 1: its colour direction is not listed in the colour file but derived
+                             from the data set's published definition (docs/csf.md) */
+} jnd_csf_row;
+
+typedef struct {
+  int nrows;
+  jnd_csf_row *rows;      /* one per CSV row, in order */
+  int ndatasets;
+  char **datasets;        /* data set names in order of first appearance */
+  jnd_csv table;          /* the CSV itself, for writing its columns back out */
+} jnd_csf_data;
+
+/* Reads castleCSF's data_aggregated.csv format (columns listed in docs/csf.md)
+ * with its colour directions (col_dir_id, L_delta, M_delta, S_delta) and
+ * backgrounds (bkg_id, L, M, S). A row whose direction or background is not
+ * listed is an error ("DATA: line N: ..."), except the directions kong2018
+ * and hansen2009 define in their publications, which are derived
+ * (docs/csf.md) and flagged. Rows that cannot be predicted (unknown stimulus,
+ * no sensitivity, no size) get use = 0 and a reason. Free with
+ * jnd_csf_data_free. */
+jnd_status jnd_csf_data_read(const char *data, const char *colors, const char *backgrounds, jnd_csf_data *out);
+void jnd_csf_data_free(jnd_csf_data *d);
+
 /* `jnd diff` as a call: applies the model's display to two decoded files
  * (infos from jnd_image_read; alpha composited over the display's black),
  * compares them and summarises. ref and test are consumed (freed) to keep

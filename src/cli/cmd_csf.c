@@ -57,18 +57,6 @@ static char *dir_of(const char *path) {
   return d;
 }
 
-/* finds id in a lookup CSV (first column), fills 3 values from columns a, b, c */
-static int lookup3(const jnd_csv *t, double id, int ca, int cb, int cc, double out[3]) {
-  for (int r = 0; r < t->nrows; r++) {
-    double v;
-    if (jnd_csv_number(t->cells[r][0], &v) && v == id) {
-      return jnd_csv_number(t->cells[r][ca], &out[0]) && jnd_csv_number(t->cells[r][cb], &out[1]) &&
-             jnd_csv_number(t->cells[r][cc], &out[2]);
-    }
-  }
-  return 0;
-}
-
 /* which opponent channel carries a stimulus (for the fit): the largest of
  * |A|, |a|, |b| of its cone-contrast vector weighted by a rough CSF ratio */
 static int dominant_channel(const jnd_csf_stimulus *s) {
@@ -208,89 +196,30 @@ static int run(int argc, char **argv) {
   if (!colors) colors = colors_def;
   if (!bkgs) bkgs = bkgs_def;
 
-  jnd_csv t = {0}, tc = {0}, tb = {0};
+  jnd_csf_data data_set = {0};
   row_t *rows = NULL;
   cJSON *report = NULL;
   int rc = EXIT_BAD;
-  const char *dsnames[64];
-  int nds = 0;
-  if (jnd_csv_read(data, &t) != JND_OK || jnd_csv_read(colors, &tc) != JND_OK || jnd_csv_read(bkgs, &tb) != JND_OK) {
+  if (jnd_csf_data_read(data, colors, bkgs, &data_set) != JND_OK) {
     cli_error("%s", jnd_last_error());
     goto out;
   }
-  static const char *need[] = {"luminance", "s_frequency", "t_frequency", "area", "ge_sigma", "eccentricity",
-                               "orientation", "col_dir_id", "bkg_id", "stimulus", "sensitivity", "dataset"};
-  int col[12];
-  for (int k = 0; k < 12; k++) {
-    col[k] = jnd_csv_column(&t, need[k]);
-    if (col[k] < 0) {
-      cli_error("%s: missing column '%s'", data, need[k]);
-      goto out;
-    }
-  }
-  int cL = jnd_csv_column(&tc, "L_delta"), cM = jnd_csv_column(&tc, "M_delta"), cS = jnd_csv_column(&tc, "S_delta");
-  if (cL < 0 || cM < 0 || cS < 0) {
-    cli_error("%s: needs columns L_delta, M_delta, S_delta", colors);
-    goto out;
-  }
-  int bL = jnd_csv_column(&tb, "L"), bM = jnd_csv_column(&tb, "M"), bS = jnd_csv_column(&tb, "S");
-  if (bL < 0 || bM < 0 || bS < 0) {
-    cli_error("%s: needs columns L, M, S", bkgs);
-    goto out;
-  }
+  const jnd_csv t = data_set.table;
+  const int nds = data_set.ndatasets;
+  char **dsnames = data_set.datasets;
   rows = calloc(t.nrows ? t.nrows : 1, sizeof *rows);
   if (!rows) goto out;
   for (int r = 0; r < t.nrows; r++) {
     row_t *row = &rows[r];
-    char **c = t.cells[r];
-    double v[12];
-    for (int k = 0; k < 12; k++) {
-      if (k == 9 || k == 11) continue;
-      if (!jnd_csv_number(c[col[k]], &v[k])) {
-        cli_error("%s: line %d: column %s: '%s' is not a number", data, r + 2, need[k], c[col[k]]);
-        goto out;
-      }
-    }
-    const char *ds = c[col[11]];
-    int d;
-    for (d = 0; d < nds; d++)
-      if (strcmp(dsnames[d], ds) == 0) break;
-    if (d == nds && nds < 64) dsnames[nds++] = ds;
-    row->dataset = d;
-    jnd_csf_stimulus *s = &row->st;
-    const char *kind = c[col[9]];
-    s->kind = strcmp(kind, "gabor") == 0 ? JND_STIM_GABOR : strcmp(kind, "grating") == 0 ? JND_STIM_GRATING
-              : strcmp(kind, "disk") == 0 || strcmp(kind, "disc") == 0               ? JND_STIM_DISK
-                                                                                      : -1;
-    s->luminance = v[0];
-    s->s_frequency = v[1];
-    s->t_frequency = isnan(v[2]) ? 0 : v[2];
-    s->area = v[3];
-    s->ge_sigma = v[4];
-    s->eccentricity = isnan(v[5]) ? 0 : v[5];
-    s->orientation = isnan(v[6]) ? 0 : v[6];
-    row->measured = v[10];
+    const jnd_csf_row *in = &data_set.rows[r];
+    row->st = in->st;
+    row->dataset = in->dataset;
+    row->measured = in->measured;
     row->err_db = NAN;
-    row->use = 1;
-    if ((int)s->kind < 0) {
-      row->use = 0;
-      row->skip = "unknown stimulus type";
-    } else if (!lookup3(&tc, v[7], cL, cM, cS, s->dir_lms)) {
-      cli_error("%s: line %d: colour direction %g is not in %s", data, r + 2, v[7], colors);
-      goto out;
-    } else if (!lookup3(&tb, v[8], bL, bM, bS, s->bkg_lms)) {
-      cli_error("%s: line %d: background %g is not in %s", data, r + 2, v[8], bkgs);
-      goto out;
-    } else if (!(row->measured > 0)) {
-      row->use = 0;
-      row->skip = "no measured sensitivity";
-    } else if (s->kind == JND_STIM_GABOR && !(s->ge_sigma > 0)) {
-      row->use = 0;
-      row->skip = "Gabor without ge_sigma";
-    } else if (s->kind != JND_STIM_GABOR && !(s->area > 0)) {
-      row->use = 0;
-      row->skip = "no area";
-    }
+    row->use = in->use;
+    row->skip = in->skip;
+    const jnd_csf_stimulus *s = &row->st;
+    const char *ds = dsnames[in->dataset];
     if (row->use && static_only && s->t_frequency > 0) {
       row->use = 0;
       row->skip = "t_frequency > 0 (--static-only)";
@@ -368,6 +297,33 @@ static int run(int argc, char **argv) {
     cJSON_AddNumberToObject(o, "rmse_db", ra);
     cli_info(&common, "%-14s %6d %12.2f %12.2f\n", dsnames[d], n, ns ? rs : NAN, ra);
   }
+  /* which rows used a colour direction derived from its publication, not listed */
+  cJSON *derived = cJSON_AddArrayToObject(res, "derived_directions");
+  int nderived = 0;
+  for (int r = 0; r < t.nrows; r++) {
+    const jnd_csf_row *in = &data_set.rows[r];
+    if (!in->derived_direction) continue;
+    nderived++;
+    int seen = 0;
+    for (int q = 0; q < r && !seen; q++)
+      seen = data_set.rows[q].derived_direction && data_set.rows[q].col_dir_id == in->col_dir_id &&
+             data_set.rows[q].bkg_id == in->bkg_id && data_set.rows[q].dataset == in->dataset;
+    if (seen) continue;
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "dataset", dsnames[in->dataset]);
+    cJSON_AddNumberToObject(o, "col_dir_id", in->col_dir_id);
+    cJSON_AddNumberToObject(o, "bkg_id", in->bkg_id);
+    cJSON_AddItemToObject(o, "lms", cJSON_CreateDoubleArray(in->st.dir_lms, 3));
+    cJSON *lines = cJSON_AddArrayToObject(o, "lines");
+    for (int q = r; q < t.nrows; q++) {
+      const jnd_csf_row *o2 = &data_set.rows[q];
+      if (o2->derived_direction && o2->col_dir_id == in->col_dir_id && o2->bkg_id == in->bkg_id &&
+          o2->dataset == in->dataset)
+        cJSON_AddItemToArray(lines, cJSON_CreateNumber(o2->line));
+    }
+    cJSON_AddItemToArray(derived, o);
+  }
+  cJSON_AddNumberToObject(res, "derived_direction_rows", nderived);
   int nused = 0, nskip = 0;
   for (int r = 0; r < t.nrows; r++) nused += rows[r].use, nskip += !rows[r].use;
   double ps = rmse(rows, t.nrows, -1, 1), pa = rmse(rows, t.nrows, -1, 0);
@@ -406,7 +362,8 @@ static int run(int argc, char **argv) {
         }
       }
       if (rows[r].use && !isnan(rows[r].err_db))
-        PUT("%.6g,%.4f,\n", rows[r].predicted, rows[r].err_db);
+        PUT("%.6g,%.4f,%s\n", rows[r].predicted, rows[r].err_db,
+            data_set.rows[r].derived_direction ? "colour direction derived (docs/csf.md)" : "");
       else
         PUT("NaN,NaN,skipped: %s\n", rows[r].skip ? rows[r].skip : "failed");
     }
@@ -423,9 +380,7 @@ static int run(int argc, char **argv) {
 out:
   cJSON_Delete(report);
   free(rows);
-  jnd_csv_free(&t);
-  jnd_csv_free(&tc);
-  jnd_csv_free(&tb);
+  jnd_csf_data_free(&data_set);
   return rc;
 }
 

@@ -18,17 +18,10 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "tasks/tasks.h"
 #include "vision/vision.h"
 
-static const double LMS2006_XYZ[3][3] = {{2.629129278399650, -3.780202391780134, 10.294956387893450},
-                                         {0.865649062438827, 1.215555811642301, -0.984175688105352},
-                                         {-0.008886561474676, 0.081612628990755, 51.371024830897888}};
-
 #define MAX_SIDE_PX 512
-
-static void lms_to_xyz(const double lms[3], double xyz[3]) {
-  for (int r = 0; r < 3; r++) xyz[r] = LMS2006_XYZ[r][0] * lms[0] + LMS2006_XYZ[r][1] * lms[1] + LMS2006_XYZ[r][2] * lms[2];
-}
 
 void jnd_csf_sampling(const jnd_csf_stimulus *s, double *ppd, double *half_deg, double *taper_deg) {
   double f = s->s_frequency;
@@ -164,7 +157,7 @@ jnd_status jnd_csf_threshold(jnd_csf_context *cx, const jnd_csf_stimulus *st, do
 
   /* colour: background and unit-RMS-contrast modulation in XYZ */
   double bxyz[3], dxyz[3];
-  lms_to_xyz(st->bkg_lms, bxyz);
+  jnd_csf_lms_to_xyz(st->bkg_lms, bxyz);
   double k = st->luminance / bxyz[1];
   double m2 = 0;
   for (int i = 0; i < 3; i++) {
@@ -174,7 +167,7 @@ jnd_status jnd_csf_threshold(jnd_csf_context *cx, const jnd_csf_stimulus *st, do
   if (!(m2 > 0)) return jnd_fail(JND_ERR_ARG, "stimulus: zero colour direction");
   double t = 1.0 / sqrt(m2); /* LMS amplitude per unit RMS cone contrast */
   double dl[3] = {st->dir_lms[0] * t, st->dir_lms[1] * t, st->dir_lms[2] * t};
-  lms_to_xyz(dl, dxyz);
+  jnd_csf_lms_to_xyz(dl, dxyz);
   for (int i = 0; i < 3; i++) {
     bxyz[i] *= k;
     dxyz[i] *= k;

@@ -96,4 +96,18 @@ jnd_status texres_worst_view_figure(const jnd_image *ref_srgb, const jnd_image *
 
 /* ---- texres_figures.c (end) ---- */
 
+/* ---- csf_data.c: castleCSF colour (begin) ---- */
+
+/* castleCSF's CIE 2006 LMS → CIE XYZ matrix (derived for LED-LCD spectra),
+ * the colour space of every `jnd csf` stimulus. */
+extern const double jnd_csf_lms2006_xyz[3][3];
+void jnd_csf_lms_to_xyz(const double lms[3], double xyz[3]);
+
+/* The unit CIE 2006 LMS direction of a change of chromaticity at constant
+ * luminance Y along angle_deg in the CIE 1976 u′v′ diagram, around the
+ * chromaticity of bkg_lms (kong2018's modulations, docs/csf.md). */
+void jnd_csf_uv_direction(const double bkg_lms[3], double angle_deg, double dir_lms[3]);
+
+/* ---- csf_data.c (end) ---- */
+
 #endif
