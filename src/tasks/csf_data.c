@@ -123,13 +123,12 @@ void jnd_csf_data_free(jnd_csf_data *d) {
   memset(d, 0, sizeof *d);
 }
 
-jnd_status jnd_csf_data_read(const char *data, const char *colors, const char *backgrounds, jnd_csf_data *out) {
+jnd_status jnd_csf_data_from_tables(const char *data, jnd_csv *table, const char *colors, const jnd_csv *tc,
+                                    const char *backgrounds, const jnd_csv *tb, jnd_csf_data *out) {
   memset(out, 0, sizeof *out);
-  jnd_csv tc = {0}, tb = {0};
+  out->table = *table;
+  memset(table, 0, sizeof *table);
   jnd_status s;
-  if ((s = jnd_csv_read(data, &out->table)) != JND_OK || (s = jnd_csv_read(colors, &tc)) != JND_OK ||
-      (s = jnd_csv_read(backgrounds, &tb)) != JND_OK)
-    goto fail;
   const jnd_csv *t = &out->table;
   static const char *need[] = {"luminance", "s_frequency", "t_frequency", "area",     "ge_sigma",    "eccentricity",
                                "orientation", "col_dir_id", "bkg_id",   "stimulus", "sensitivity", "dataset"};
@@ -140,12 +139,12 @@ jnd_status jnd_csf_data_read(const char *data, const char *colors, const char *b
       s = jnd_fail(JND_ERR_FORMAT, "%s: missing column '%s'", data, need[k]);
       goto fail;
     }
-  const int ccol[3] = {jnd_csv_column(&tc, "L_delta"), jnd_csv_column(&tc, "M_delta"), jnd_csv_column(&tc, "S_delta")};
+  const int ccol[3] = {jnd_csv_column(tc, "L_delta"), jnd_csv_column(tc, "M_delta"), jnd_csv_column(tc, "S_delta")};
   if (ccol[0] < 0 || ccol[1] < 0 || ccol[2] < 0) {
     s = jnd_fail(JND_ERR_FORMAT, "%s: needs columns L_delta, M_delta, S_delta", colors);
     goto fail;
   }
-  const int bcol[3] = {jnd_csv_column(&tb, "L"), jnd_csv_column(&tb, "M"), jnd_csv_column(&tb, "S")};
+  const int bcol[3] = {jnd_csv_column(tb, "L"), jnd_csv_column(tb, "M"), jnd_csv_column(tb, "S")};
   if (bcol[0] < 0 || bcol[1] < 0 || bcol[2] < 0) {
     s = jnd_fail(JND_ERR_FORMAT, "%s: needs columns L, M, S", backgrounds);
     goto fail;
@@ -194,13 +193,13 @@ jnd_status jnd_csf_data_read(const char *data, const char *colors, const char *b
     row->col_dir_id = v[DIR];
     row->bkg_id = v[BKG];
     row->use = 1;
-    if (!lookup3(&tb, v[BKG], bcol, st->bkg_lms)) {
+    if (!lookup3(tb, v[BKG], bcol, st->bkg_lms)) {
       s = jnd_fail(JND_ERR_FORMAT, "%s: line %d: background %g is not in %s", data, r + 2, v[BKG], backgrounds);
       goto fail;
     }
-    if (!lookup3(&tc, v[DIR], ccol, st->dir_lms)) {
+    if (!lookup3(tc, v[DIR], ccol, st->dir_lms)) {
       char why[160];
-      if (!derived_direction(ds, v[DIR], v[BKG], st->bkg_lms, &tc, ccol, st->dir_lms, why, sizeof why)) {
+      if (!derived_direction(ds, v[DIR], v[BKG], st->bkg_lms, tc, ccol, st->dir_lms, why, sizeof why)) {
         s = jnd_fail(JND_ERR_FORMAT, "%s: line %d: colour direction %g is not in %s%s%s", data, r + 2, v[DIR], colors,
                      why[0] ? ": " : "", why);
         goto fail;
@@ -221,12 +220,21 @@ jnd_status jnd_csf_data_read(const char *data, const char *colors, const char *b
       row->skip = "no area";
     }
   }
-  jnd_csv_free(&tc);
-  jnd_csv_free(&tb);
   return JND_OK;
 fail:
+  jnd_csf_data_free(out);
+  return s;
+}
+
+jnd_status jnd_csf_data_read(const char *data, const char *colors, const char *backgrounds, jnd_csf_data *out) {
+  memset(out, 0, sizeof *out);
+  jnd_csv t = {0}, tc = {0}, tb = {0};
+  jnd_status s;
+  if ((s = jnd_csv_read(data, &t)) == JND_OK && (s = jnd_csv_read(colors, &tc)) == JND_OK &&
+      (s = jnd_csv_read(backgrounds, &tb)) == JND_OK)
+    s = jnd_csf_data_from_tables(data, &t, colors, &tc, backgrounds, &tb, out);
+  jnd_csv_free(&t);
   jnd_csv_free(&tc);
   jnd_csv_free(&tb);
-  jnd_csf_data_free(out);
   return s;
 }

@@ -108,6 +108,11 @@ void jnd_csf_lms_to_xyz(const double lms[3], double xyz[3]);
  * chromaticity of bkg_lms (kong2018's modulations, docs/csf.md). */
 void jnd_csf_uv_direction(const double bkg_lms[3], double angle_deg, double dir_lms[3]);
 
+/* jnd_csf_data_read on tables already parsed: *table is taken over (left
+ * empty), the other two are only read; the names are for messages. */
+jnd_status jnd_csf_data_from_tables(const char *data, jnd_csv *table, const char *colors, const jnd_csv *tc,
+                                    const char *backgrounds, const jnd_csv *tb, jnd_csf_data *out);
+
 /* ---- csf_data.c (end) ---- */
 
 #endif
