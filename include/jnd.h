@@ -231,17 +231,30 @@ typedef struct {
   double sens_rg;            /* multiplier on the red–green CSF (fitted) */
   double sens_yv;            /* multiplier on the yellow–violet CSF (fitted) */
   double minkowski;          /* exponent across bands and channels (2.4, 004 §3.2) */
+  double masking_slope;      /* growth of the discrimination threshold with a masker's contrast,
+                                log-log (0.6, Legge 1981; 004's printed transducer: 0.3);
+                                docs/model.md "Masking" */
   double min_band_cpd;       /* bands are added while their peak is >= this (004: 0.5 cpd;
                                 see docs/model.md for the default) */
-  double summation_cycles;   /* local probability summation: Gaussian window of this many
-                                cycles of each band (0: none, as 004); docs/model.md */
+  double summation_area_deg2; /* local probability summation over Rovamo et al.'s (1993) critical
+                                area A0 / (1 + (rho/f0)^2) deg² around each pixel: this is A0
+                                (0: none, as 004); docs/model.md */
+  double summation_f0_cpd;   /* f0 of that area, cycles/degree */
   double summation_beta;     /* exponent of that summation */
-  double eye_velocity_dps;   /* fixational eye movements: sensitivity is the best over retinal
-                                velocities [v, v + this] (0: v only, as 004); docs/model.md */
+  double eye_velocity_dps;   /* fixational eye movements: sensitivity to static content is the best
+                                over retinal velocities [v, v + this] (0: v only, as 004) */
   double chroma_sat_td;      /* retinal illuminance (trolands) where the chromatic square-root
                                 law turns into Weber's law (0: pure square root, as 004) */
   double rg_cutoff_cpd;      /* red–green CSF centre cut-off (Kelly 1983 form, docs/model.md) */
   double yv_cutoff_cpd;      /* yellow–violet CSF centre cut-off */
+  double chroma_temporal_hz; /* temporal cut-off of the chromatic CSFs' centre, Hz */
+  double kelly_c2;           /* velocity scale c2 of the achromatic CSF (004: 1.7; docs/model.md) */
+  double flicker_gain;       /* sensitivity to a flicker's amplitude relative to a travelling
+                                wave's (jnd_diff_inputs.temporal_hz; docs/model.md "Time") */
+  double ecc_e2_deg;         /* eccentricity where cortical magnification has halved, degrees */
+  double ecc_achromatic;     /* sensitivity falls as (1 + ecc/e2)^-this, achromatic channel */
+  double ecc_rg, ecc_yv;     /* the same for the red–green and yellow–violet channels */
+  double ecc_freq;           /* and as exp(-this · rho · ecc), per cpd·degree (Geisler & Perry) */
   double beta;               /* psychometric slope (3.5, 000 eq. 4) */
   double fps;                /* frames per second, to turn motion maps into deg/s */
   int has_gaze;              /* 1: gaze_x/gaze_y give the fixation point */
@@ -251,6 +264,29 @@ typedef struct {
 
 /* Fills p with the defaults: standard-fhd display and the fitted constants. */
 void jnd_model_defaults(jnd_model_params *p);
+
+/* One of the model's constants that human threshold data may set
+ * (`jnd csf --fit`, docs/model.md). Fits are maximum a posteriori: each
+ * constant has a log-normal prior centred on a published or physiological
+ * value, so that a constant no fitted data constrain returns to it. */
+typedef struct {
+  const char *name;          /* the jnd_model_params field */
+  const char *what;          /* one line, with units */
+  double prior;              /* centre of the prior */
+  double prior_sd;           /* its width, natural-log units */
+  double lo, hi;             /* bounds */
+  const char *source;        /* where the prior comes from */
+} jnd_model_constant;
+
+/* The fittable constants: fills list[0..max) (list may be NULL) and returns
+ * how many there are. The entries are static. */
+int jnd_model_constants(const jnd_model_constant **list, int max);
+/* The index of a constant by name, or -1. */
+int jnd_model_constant_find(const char *name);
+/* Constant k of p (NaN for a bad k). */
+double jnd_model_constant_get(const jnd_model_params *p, int k);
+/* Sets constant k of p; JND_ERR_ARG outside its bounds. */
+jnd_status jnd_model_constant_set(jnd_model_params *p, int k, double value);
 
 /* A model instance: caches the per-display tables (band peak frequencies,
  * CSF look-up tables). Reusable for any number of comparisons; not for
@@ -273,6 +309,12 @@ typedef struct {
   const jnd_image *motion_test; /* the test image's own displacement, when it differs from the
                                 reference's (004 §3: each frame has its own map; NULL: `motion`
                                 serves both; `motion` NULL here means a static reference) */
+  double temporal_hz;        /* > 0: the change is seen as a temporal modulation at this frequency
+                                (Hz) under fixation — a flicker, a counterphase grating, or the
+                                transient of an LOD switch — rather than as a static difference:
+                                each band's CSF is taken at this temporal frequency (Kelly's
+                                spatio-temporal surface, docs/model.md "Time"). Overrides motion,
+                                motion_test and retinal_dps. */
 } jnd_diff_inputs;
 
 /* JND map of two images of absolute linear RGB in cd/m² (as jnd_display_apply
@@ -1189,6 +1231,62 @@ typedef struct {
  * jnd_csf_data_free. */
 jnd_status jnd_csf_data_read(const char *data, const char *colors, const char *backgrounds, jnd_csf_data *out);
 void jnd_csf_data_free(jnd_csf_data *d);
+
+/* What jnd_csf_evaluate does besides predicting. */
+typedef struct {
+  int fit;                   /* 1: fit the constants on the rows first (maximum a posteriori) */
+  int cross_validate;        /* 1: leave-one-data-set-out: each data set predicted with the
+                                constants fitted on the others */
+  int search_every;          /* fits use every N-th row of each data set (1: all); the reported
+                                predictions always use every row */
+  int max_iterations;        /* Levenberg–Marquardt iterations of a fit (default 40) */
+  int fit_mask_set;          /* 1: fit_mask says which constants to fit; 0: all of them */
+  unsigned long long fit_mask; /* bit k: jnd_model_constants()[k] */
+  double prior_weight_db;    /* the priors weigh as much as one row off by this × (constant −
+                                prior) / prior_sd, in dB (default 4) */
+  int threads;               /* 0: OpenMP's default; results do not depend on it */
+  void (*progress)(void *user, const char *stage, int done, int total); /* may be NULL */
+  void *user;
+} jnd_csf_options;
+
+void jnd_csf_options_defaults(jnd_csf_options *o);
+
+/* RMS of 20 log10(predicted / measured) over a set of rows, dB. NaN: no rows. */
+typedef struct {
+  int rows, static_rows;     /* static: t_frequency = 0 */
+  double rmse_db, rmse_db_static;        /* with the constants predictions used */
+  double cv_rmse_db, cv_rmse_db_static;  /* leave-one-data-set-out (NaN without it) */
+} jnd_csf_score;
+
+#define JND_MAX_CONSTANTS 32
+
+typedef struct {
+  int nrows;
+  double *predicted;         /* per row of the data: predicted sensitivity (NaN: not used) */
+  double *predicted_cv;      /* per row: predicted by the constants fitted without its data
+                                set (NaN without cross-validation) */
+  int ndatasets;
+  jnd_csf_score *dataset;    /* per data set of the data */
+  jnd_csf_score pooled;
+  jnd_model_params params;   /* the constants the predictions used (fitted when asked) */
+  int nconstants;            /* jnd_model_constants() */
+  int fitted[JND_MAX_CONSTANTS];     /* 1: constant k was fitted */
+  double sd_ln[JND_MAX_CONSTANTS];   /* its posterior standard deviation, natural-log units */
+  double *fold_value;        /* ndatasets × nconstants: the constants fitted without each data set
+                                (NaN for a data set with no rows); NULL without cross-validation */
+  double fold_sd_ln[JND_MAX_CONSTANTS]; /* spread of ln(constant) across the folds */
+  double search_rmse_db;     /* the fit's objective at its end: RMS over the search rows, dB */
+  int model_passes;          /* passes over the search rows, a measure of cost */
+} jnd_csf_result;
+
+/* Predicts every used row of d (jnd_csf_row.use) with the constants of
+ * base, after fitting them when o->fit, and scores the predictions per data
+ * set and pooled; with o->cross_validate also leave-one-data-set-out. The
+ * procedure and its cost: docs/model.md, "Fitting and cross-validation".
+ * r's arrays are allocated; free with jnd_csf_result_free. */
+jnd_status jnd_csf_evaluate(const jnd_csf_data *d, const jnd_model_params *base, const jnd_csf_options *o,
+                            jnd_csf_result *r);
+void jnd_csf_result_free(jnd_csf_result *r);
 
 /* `jnd diff` as a call: applies the model's display to two decoded files
  * (infos from jnd_image_read; alpha composited over the display's black),

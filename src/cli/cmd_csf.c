@@ -2,50 +2,47 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli/cli.h"
-#include <omp.h>
 
 static void help(void) {
   printf(
       "usage: jnd csf DATA.csv [options]\n"
       "\n"
       "Predicts the contrast sensitivity of every stimulus in a castleCSF-format CSV\n"
-      "(Gabors, gratings, discs; any colour direction, luminance, size, eccentricity)\n"
-      "with the vision model: each stimulus is synthesised over its background and the\n"
-      "contrast where the model's max-pooled probability of detection is 0.5 is found in\n"
-      "log contrast. Prints the RMS error in dB (20 log10 predicted/measured) per data\n"
-      "set and pooled, over static rows (t_frequency = 0) and over all rows.\n"
+      "(Gabors, gratings, discs; any colour direction, luminance, size, eccentricity,\n"
+      "temporal frequency) with the vision model: each stimulus is synthesised over its\n"
+      "background and the contrast where the model's max-pooled probability of detection\n"
+      "is 0.5 is found in log contrast. Prints the RMS error in dB (20 log10\n"
+      "predicted/measured) per data set and pooled, over static rows (t_frequency = 0)\n"
+      "and over all rows. With --cross-validate, also the error of each data set\n"
+      "predicted by constants fitted on the other data sets only: the model's accuracy\n"
+      "on data it has not seen (docs/model.md).\n"
       "\n"
       "options:\n"
       "  -o FILE             write every input column plus predicted_sensitivity, error_db\n"
+      "                      (and predicted_cv, error_cv_db with --cross-validate)\n"
       "  --json FILE|-       JSON report\n"
       "  --colors FILE       colour directions (default: color_directions.csv beside DATA)\n"
       "  --backgrounds FILE  backgrounds (default: backgrounds.csv beside DATA)\n"
       "  --dataset NAME      only rows of this data set (repeatable)\n"
       "  --static-only       skip rows with t_frequency > 0\n"
       "  --every N           only every N-th row (a quick look)\n"
-      "  --sensitivity S, --sens-rg S, --sens-yv S\n"
-      "                      override the model's fitted CSF multipliers\n"
-      "  --fit               fit the three multipliers to the data (least squares in dB)\n"
-      "                      and report them; predictions are then made with the fit\n"
-      "  --fit-rounds N      rounds of that fit (default 4; implies --fit)\n"
-      "  --min-band CPD, --summation CYCLES, --summation-beta B, --eye-velocity DPS,\n"
-      "  --chroma-sat TD, --rg-cutoff CPD, --yv-cutoff CPD\n"
-      "                      override the model's other fitted constants (docs/model.md;\n"
-      "                      scripts/fit-model.sh searches them)\n"
+      "  --fit               fit the model's constants to the rows (maximum a posteriori,\n"
+      "                      docs/model.md) and predict with them\n"
+      "  --cross-validate    leave-one-data-set-out: refit on all data sets but one,\n"
+      "                      predict that one, for each data set\n"
+      "  --fit-only A,B,...  fit only these constants (default: all of them)\n"
+      "  --search-every N    fits search on every N-th row of each data set (default 1);\n"
+      "                      every reported figure uses all rows\n"
+      "  --iterations N      Levenberg-Marquardt iterations of a fit (default 40)\n"
+      "  --set NAME=VALUE    set one of the model's constants (repeatable);\n"
+      "                      --list-constants shows them with their priors\n"
+      "  --min-band CPD      lowest band peak (not fitted)\n"
       "  --threads N         rows are predicted in parallel (results do not depend on it)\n"
       "  --quiet\n");
 }
-
-typedef struct {
-  jnd_csf_stimulus st;
-  int use;             /* 1: predict */
-  const char *skip;    /* reason when not used */
-  double measured, predicted, err_db;
-  int dataset;         /* index into the data set list */
-  int chan;            /* 0 achromatic, 1 red–green, 2 yellow–violet: the dominant channel, for --fit */
-} row_t;
 
 static char *dir_of(const char *path) {
   char *d = strdup(path);
@@ -57,86 +54,156 @@ static char *dir_of(const char *path) {
   return d;
 }
 
-/* which opponent channel carries a stimulus (for the fit): the largest of
- * |A|, |a|, |b| of its cone-contrast vector weighted by a rough CSF ratio */
-static int dominant_channel(const jnd_csf_stimulus *s) {
-  double c[3];
-  for (int i = 0; i < 3; i++) c[i] = s->dir_lms[i] / s->bkg_lms[i];
-  double A = fabs((2 * c[0] + c[1] + c[2] / 20) / 3.05), a = fabs(c[0] - 12.0 / 11 * c[1] + c[2] / 11),
-         b = fabs((c[0] + c[1] - 2 * c[2]) / 9);
-  /* chromatic channels are about as sensitive per unit as A at low frequency (fit) */
-  double wA = A, wa = a * 0.5, wb = b * 0.5;
-  if (wA >= wa && wA >= wb) return 0;
-  return wa >= wb ? 1 : 2;
+static int list_constants(void) {
+  const jnd_model_constant *c[JND_MAX_CONSTANTS];
+  int n = jnd_model_constants(c, JND_MAX_CONSTANTS);
+  jnd_model_params p;
+  jnd_model_defaults(&p);
+  printf("%-20s %12s %12s %8s  %s\n", "constant", "default", "prior", "prior sd", "what (prior's source)");
+  for (int k = 0; k < n; k++)
+    printf("%-20s %12.5g %12.5g %8.2f  %s (%s)\n", c[k]->name, jnd_model_constant_get(&p, k), c[k]->prior,
+           c[k]->prior_sd, c[k]->what, c[k]->source);
+  return EXIT_OK;
 }
 
-static double rmse(const row_t *rows, int n, int ds, int static_only) {
-  double s = 0;
-  int k = 0;
-  for (int i = 0; i < n; i++) {
-    if (!rows[i].use || isnan(rows[i].err_db)) continue;
-    if (ds >= 0 && rows[i].dataset != ds) continue;
-    if (static_only && rows[i].st.t_frequency > 0) continue;
-    s += rows[i].err_db * rows[i].err_db;
-    k++;
+/* progress: a bar on a terminal, else one line per stage */
+typedef struct {
+  const cli_common *c;
+  cli_progress bar;
+  char stage[64];
+  int tty;
+} progress_state;
+
+static void progress(void *user, const char *stage, int done, int total) {
+  progress_state *ps = user;
+  if (ps->c->quiet) return;
+  if (strcmp(stage, ps->stage) != 0) {
+    if (ps->tty) cli_progress_end(&ps->bar);
+    snprintf(ps->stage, sizeof ps->stage, "%s", stage);
+    if (ps->tty)
+      cli_progress_start(&ps->bar, ps->c, ps->stage, total);
+    else
+      fprintf(stderr, "jnd csf: %s\n", stage);
   }
-  return k ? sqrt(s / k) : NAN;
+  if (ps->tty) cli_progress_step(&ps->bar, done);
 }
 
-static int predict_all(row_t *rows, int n, const jnd_model_params *mp, int threads, const cli_common *c,
-                       const char *label) {
-  cli_progress pr;
-  cli_progress_start(&pr, c, label, n);
-  int done = 0, failed = 0;
-  char msg[512] = "";
-  jnd_model_params p = *mp;
-  p.threads = 1;
-  /* each thread keeps its own models; rows are independent, so results do not
-   * depend on the thread count */
-  jnd_csf_context *ctxs[256] = {0};
-  if (threads > 256) threads = 256;
-  for (int t = 0; t < threads; t++)
-    if (jnd_csf_context_create(&p, &ctxs[t]) != JND_OK) {
-      for (int k = 0; k < t; k++) jnd_csf_context_free(ctxs[k]);
-      cli_error("csf: out of memory");
-      return 0;
-    }
-#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-  for (int i = 0; i < n; i++) {
-    if (!rows[i].use) continue;
-    double sens;
-    if (jnd_csf_threshold(ctxs[omp_get_thread_num()], &rows[i].st, &sens, NULL) != JND_OK) {
-#pragma omp critical
-      {
-        if (!failed) snprintf(msg, sizeof msg, "row %d: %s", i + 2, jnd_last_error());
-        failed = 1;
+static int parse_fit_only(const char *v, unsigned long long *mask) {
+  char buf[1024];
+  snprintf(buf, sizeof buf, "%s", v);
+  *mask = 0;
+  for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    int k = jnd_model_constant_find(tok);
+    if (k < 0) return cli_bad("csf: --fit-only: no constant '%s' (jnd csf --list-constants)", tok);
+    *mask |= 1ull << k;
+  }
+  return EXIT_OK;
+}
+
+static int parse_set(const char *v, jnd_model_params *p) {
+  const char *eq = strchr(v, '=');
+  char name[64];
+  if (!eq || eq == v || (size_t)(eq - v) >= sizeof name) return cli_bad("csf: --set: expected NAME=VALUE, not '%s'", v);
+  memcpy(name, v, (size_t)(eq - v));
+  name[eq - v] = 0;
+  int k = jnd_model_constant_find(name);
+  if (k < 0) return cli_bad("csf: --set: no constant '%s' (jnd csf --list-constants)", name);
+  char *end;
+  double x = strtod(eq + 1, &end);
+  if (end == eq + 1 || *end) return cli_bad("csf: --set %s: '%s' is not a number", name, eq + 1);
+  if (jnd_model_constant_set(p, k, x) != JND_OK) return cli_bad("csf: --set: %s", jnd_last_error());
+  return EXIT_OK;
+}
+
+static cJSON *score_json(const jnd_csf_score *s) {
+  cJSON *o = cJSON_CreateObject();
+  cJSON_AddNumberToObject(o, "rows", s->rows);
+  cJSON_AddNumberToObject(o, "static_rows", s->static_rows);
+  if (s->static_rows) cJSON_AddNumberToObject(o, "rmse_db_static", s->rmse_db_static);
+  cJSON_AddNumberToObject(o, "rmse_db", s->rmse_db);
+  if (!isnan(s->cv_rmse_db)) {
+    if (s->static_rows) cJSON_AddNumberToObject(o, "cv_rmse_db_static", s->cv_rmse_db_static);
+    cJSON_AddNumberToObject(o, "cv_rmse_db", s->cv_rmse_db);
+  }
+  return o;
+}
+
+static void print_score(const cli_common *c, const char *name, const jnd_csf_score *s, int cv) {
+  cli_info(c, "%-14s %6d %10.2f %10.2f", name, s->rows, s->static_rows ? s->rmse_db_static : NAN, s->rmse_db);
+  if (cv) cli_info(c, " %12.2f %10.2f", s->static_rows ? s->cv_rmse_db_static : NAN, s->cv_rmse_db);
+  cli_info(c, "\n");
+}
+
+/* the CSV with two or four columns added */
+static int write_rows(const char *path, const jnd_csf_data *d, const jnd_csf_result *r, int cv) {
+  size_t cap = 1 << 16, len = 0;
+  char *buf = malloc(cap);
+  if (!buf) return cli_bad("csf: out of memory");
+  int ok = 1;
+#define PUT(...)                                                                           \
+  do {                                                                                     \
+    int need_ = snprintf(NULL, 0, __VA_ARGS__);                                            \
+    while (ok && len + need_ + 1 > cap) {                                                  \
+      char *nb_ = realloc(buf, cap * 2);                                                   \
+      if (!nb_) ok = 0; else { buf = nb_; cap *= 2; }                                      \
+    }                                                                                      \
+    if (ok) len += snprintf(buf + len, cap - len, __VA_ARGS__);                            \
+  } while (0)
+  const jnd_csv *t = &d->table;
+  for (int k = 0; k < t->ncols; k++) PUT("%s,", t->header[k]);
+  PUT("predicted_sensitivity,error_db,%snote\n", cv ? "predicted_cv,error_cv_db," : "");
+  for (int i = 0; i < t->nrows; i++) {
+    for (int k = 0; k < t->ncols; k++) {
+      const char *cell = t->cells[i][k];
+      if (strpbrk(cell, ",\"\n")) {
+        PUT("\"");
+        for (const char *p = cell; *p; p++) PUT(*p == '"' ? "\"\"" : "%c", *p);
+        PUT("\",");
+      } else {
+        PUT("%s,", cell);
       }
-      continue;
     }
-    rows[i].predicted = sens;
-    rows[i].err_db = 20 * log10(sens / rows[i].measured);
-#pragma omp critical
-    cli_progress_step(&pr, ++done);
+    const jnd_csf_row *row = &d->rows[i];
+    if (row->use && !isnan(r->predicted[i])) {
+      PUT("%.6g,%.4f,", r->predicted[i], 20 * log10(r->predicted[i] / row->measured));
+      if (cv) {
+        if (!isnan(r->predicted_cv[i]))
+          PUT("%.6g,%.4f,", r->predicted_cv[i], 20 * log10(r->predicted_cv[i] / row->measured));
+        else
+          PUT("NaN,NaN,");
+      }
+      PUT("%s\n", row->derived_direction ? "colour direction derived (docs/csf.md)" : "");
+    } else {
+      PUT("NaN,NaN,%sskipped: %s\n", cv ? "NaN,NaN," : "", row->skip ? row->skip : "failed");
+    }
   }
-  cli_progress_end(&pr);
-  for (int t = 0; t < threads; t++) jnd_csf_context_free(ctxs[t]);
-  if (failed) cli_error("csf: %s", msg);
-  return !failed;
+#undef PUT
+  if (!ok) {
+    free(buf);
+    return cli_bad("csf: out of memory");
+  }
+  jnd_status s = jnd_write_file_atomic(path, buf, len);
+  free(buf);
+  return s == JND_OK ? EXIT_OK : cli_bad("%s", jnd_last_error());
 }
 
 static int run(int argc, char **argv) {
   cli_common common = {0};
   jnd_model_params mp;
   jnd_model_defaults(&mp);
+  jnd_csf_options opt;
+  jnd_csf_options_defaults(&opt);
   const char *data = NULL, *out_csv = NULL, *colors = NULL, *bkgs = NULL;
   const char *only[16];
-  int nonly = 0, static_only = 0, every = 1, fit = 0, fit_rounds = 4;
+  int nonly = 0, static_only = 0, every = 1;
   cli_args args = cli_args_start(argc, argv, "csf"), *ap = &args;
   for (; args.i < argc && !args.bad; args.i++) {
     const char *v;
     if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
       help();
       return EXIT_OK;
+    } else if (cli_flag(ap, "--list-constants")) {
+      return list_constants();
     } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
       out_csv = v;
     } else if (cli_opt(ap, "--colors", &v)) {
@@ -144,36 +211,27 @@ static int run(int argc, char **argv) {
     } else if (cli_opt(ap, "--backgrounds", &v)) {
       bkgs = v;
     } else if (cli_opt(ap, "--dataset", &v)) {
-      if (nonly < 16) only[nonly++] = v;
+      if (nonly == 16) return cli_bad("csf: at most 16 --dataset options");
+      only[nonly++] = v;
     } else if (cli_flag(ap, "--static-only")) {
       static_only = 1;
     } else if (cli_opt(ap, "--every", &v)) {
       every = cli_int(ap, "--every", v, 1, 1000000);
-    } else if (cli_opt(ap, "--sensitivity", &v)) {
-      mp.sensitivity = cli_double(ap, "--sensitivity", v, 1e-6, 1e6);
-    } else if (cli_opt(ap, "--sens-rg", &v)) {
-      mp.sens_rg = cli_double(ap, "--sens-rg", v, 0, 1e6);
-    } else if (cli_opt(ap, "--sens-yv", &v)) {
-      mp.sens_yv = cli_double(ap, "--sens-yv", v, 0, 1e6);
+    } else if (cli_flag(ap, "--fit")) {
+      opt.fit = 1;
+    } else if (cli_flag(ap, "--cross-validate")) {
+      opt.cross_validate = 1;
+    } else if (cli_opt(ap, "--fit-only", &v)) {
+      if (parse_fit_only(v, &opt.fit_mask) != EXIT_OK) return EXIT_BAD;
+      opt.fit_mask_set = 1;
+    } else if (cli_opt(ap, "--search-every", &v)) {
+      opt.search_every = cli_int(ap, "--search-every", v, 1, 1000);
+    } else if (cli_opt(ap, "--iterations", &v)) {
+      opt.max_iterations = cli_int(ap, "--iterations", v, 0, 1000);
+    } else if (cli_opt(ap, "--set", &v)) {
+      if (parse_set(v, &mp) != EXIT_OK) return EXIT_BAD;
     } else if (cli_opt(ap, "--min-band", &v)) {
       mp.min_band_cpd = cli_double(ap, "--min-band", v, 0.02, 10);
-    } else if (cli_opt(ap, "--summation", &v)) {
-      mp.summation_cycles = cli_double(ap, "--summation", v, 0, 20);
-    } else if (cli_opt(ap, "--summation-beta", &v)) {
-      mp.summation_beta = cli_double(ap, "--summation-beta", v, 1, 20);
-    } else if (cli_opt(ap, "--eye-velocity", &v)) {
-      mp.eye_velocity_dps = cli_double(ap, "--eye-velocity", v, 0, 300);
-    } else if (cli_opt(ap, "--chroma-sat", &v)) {
-      mp.chroma_sat_td = cli_double(ap, "--chroma-sat", v, 0, 1e7);
-    } else if (cli_opt(ap, "--rg-cutoff", &v)) {
-      mp.rg_cutoff_cpd = cli_double(ap, "--rg-cutoff", v, 0.1, 100);
-    } else if (cli_opt(ap, "--yv-cutoff", &v)) {
-      mp.yv_cutoff_cpd = cli_double(ap, "--yv-cutoff", v, 0.1, 100);
-    } else if (cli_opt(ap, "--fit-rounds", &v)) {
-      fit_rounds = cli_int(ap, "--fit-rounds", v, 1, 20);
-      fit = 1;
-    } else if (cli_flag(ap, "--fit")) {
-      fit = 1;
     } else if (cli_common_opt(ap, &common)) {
     } else if (argv[args.i][0] == '-' && argv[args.i][1]) {
       return cli_unknown(ap);
@@ -184,10 +242,7 @@ static int run(int argc, char **argv) {
     }
   }
   if (args.bad) return EXIT_BAD;
-  if (!data) {
-    cli_error("csf: needs a CSV of thresholds (jnd csf --help)");
-    return EXIT_BAD;
-  }
+  if (!data) return cli_bad("csf: needs a CSV of thresholds (jnd csf --help)");
   char *dir = dir_of(data);
   char colors_def[4096], bkgs_def[4096];
   snprintf(colors_def, sizeof colors_def, "%scolor_directions.csv", dir);
@@ -196,37 +251,23 @@ static int run(int argc, char **argv) {
   if (!colors) colors = colors_def;
   if (!bkgs) bkgs = bkgs_def;
 
-  jnd_csf_data data_set = {0};
-  row_t *rows = NULL;
+  jnd_csf_data d = {0};
+  jnd_csf_result res = {0};
   cJSON *report = NULL;
   int rc = EXIT_BAD;
-  if (jnd_csf_data_read(data, colors, bkgs, &data_set) != JND_OK) {
+  if (jnd_csf_data_read(data, colors, bkgs, &d) != JND_OK) {
     cli_error("%s", jnd_last_error());
     goto out;
   }
-  const jnd_csv t = data_set.table;
-  const int nds = data_set.ndatasets;
-  char **dsnames = data_set.datasets;
-  rows = calloc(t.nrows ? t.nrows : 1, sizeof *rows);
-  if (!rows) goto out;
-  for (int r = 0; r < t.nrows; r++) {
-    row_t *row = &rows[r];
-    const jnd_csf_row *in = &data_set.rows[r];
-    row->st = in->st;
-    row->dataset = in->dataset;
-    row->measured = in->measured;
-    row->err_db = NAN;
-    row->use = in->use;
-    row->skip = in->skip;
-    const jnd_csf_stimulus *s = &row->st;
-    const char *ds = dsnames[in->dataset];
-    if (row->use && static_only && s->t_frequency > 0) {
+  for (int r = 0; r < d.nrows; r++) {
+    jnd_csf_row *row = &d.rows[r];
+    if (row->use && static_only && row->st.t_frequency > 0) {
       row->use = 0;
       row->skip = "t_frequency > 0 (--static-only)";
     }
     if (row->use && nonly) {
       int keep = 0;
-      for (int k = 0; k < nonly; k++) keep |= strcmp(only[k], ds) == 0;
+      for (int k = 0; k < nonly; k++) keep |= strcmp(only[k], d.datasets[row->dataset]) == 0;
       if (!keep) {
         row->use = 0;
         row->skip = "other data set";
@@ -236,151 +277,118 @@ static int run(int argc, char **argv) {
       row->use = 0;
       row->skip = "--every";
     }
-    row->chan = dominant_channel(s);
   }
-  int threads = common.threads > 0 ? common.threads : 0;
-  if (threads == 0) {
-#ifdef _OPENMP
-    threads = omp_get_max_threads();
-#else
-    threads = 1;
-#endif
+  progress_state ps = {&common, {0}, "", isatty(2)};
+  opt.threads = common.threads;
+  opt.progress = progress;
+  opt.user = &ps;
+  if (jnd_csf_evaluate(&d, &mp, &opt, &res) != JND_OK) {
+    if (ps.tty) cli_progress_end(&ps.bar);
+    cli_error("%s: %s", data, jnd_last_error());
+    goto out;
   }
-  if (fit) {
-    /* multiplicative fit of the three CSF multipliers: each round moves a
-     * channel's multiplier by the mean dB error of the rows it dominates */
-    for (int round = 0; round < fit_rounds; round++) {
-      if (!predict_all(rows, t.nrows, &mp, threads, &common, "fitting")) goto out;
-      double sum[3] = {0}, cnt[3] = {0};
-      for (int r = 0; r < t.nrows; r++) {
-        if (!rows[r].use || isnan(rows[r].err_db) || rows[r].st.t_frequency > 0) continue;
-        sum[rows[r].chan] += rows[r].err_db;
-        cnt[rows[r].chan]++;
-      }
-      double *mult[3] = {&mp.sensitivity, &mp.sens_rg, &mp.sens_yv};
-      for (int k = 0; k < 3; k++)
-        if (cnt[k] > 0) *mult[k] *= pow(10, -sum[k] / cnt[k] / 20);
-      cli_info(&common, "fit round %d: static RMSE %.2f dB -> sensitivity %.4g, sens_rg %.4g, sens_yv %.4g\n", round + 1,
-               rmse(rows, t.nrows, -1, 1), mp.sensitivity, mp.sens_rg, mp.sens_yv);
-    }
-  }
-  if (!predict_all(rows, t.nrows, &mp, threads, &common, "csf")) goto out;
+  if (ps.tty) cli_progress_end(&ps.bar);
+  const int cv = opt.cross_validate;
 
   report = cli_report_new("csf");
   cJSON *inputs = cli_report_section(report, "inputs"), *params = cli_report_section(report, "parameters"),
-        *res = cli_report_section(report, "result");
+        *result = cli_report_section(report, "result");
   cJSON_AddStringToObject(inputs, "data", data);
   cJSON_AddStringToObject(inputs, "colors", colors);
   cJSON_AddStringToObject(inputs, "backgrounds", bkgs);
-  cJSON_AddNumberToObject(params, "sensitivity", mp.sensitivity);
-  cJSON_AddNumberToObject(params, "sens_rg", mp.sens_rg);
-  cJSON_AddNumberToObject(params, "sens_yv", mp.sens_yv);
-  cJSON_AddNumberToObject(params, "beta", mp.beta);
-  cJSON_AddNumberToObject(params, "minkowski", mp.minkowski);
-  cJSON_AddStringToObject(params, "pooling", "max");
-  cJSON_AddBoolToObject(params, "fitted", fit);
-  cJSON *per = cJSON_AddObjectToObject(res, "datasets");
-  cli_info(&common, "%-14s %6s %12s %12s\n", "dataset", "rows", "static dB", "all dB");
-  for (int d = 0; d < nds; d++) {
-    int n = 0, ns = 0;
-    for (int r = 0; r < t.nrows; r++)
-      if (rows[r].use && rows[r].dataset == d) {
-        n++;
-        ns += rows[r].st.t_frequency <= 0;
-      }
-    if (!n) continue;
-    double rs = rmse(rows, t.nrows, d, 1), ra = rmse(rows, t.nrows, d, 0);
-    cJSON *o = cJSON_AddObjectToObject(per, dsnames[d]);
-    cJSON_AddNumberToObject(o, "rows", n);
-    cJSON_AddNumberToObject(o, "static_rows", ns);
-    if (ns) cJSON_AddNumberToObject(o, "rmse_db_static", rs);
-    cJSON_AddNumberToObject(o, "rmse_db", ra);
-    cli_info(&common, "%-14s %6d %12.2f %12.2f\n", dsnames[d], n, ns ? rs : NAN, ra);
+  const jnd_model_constant *cl[JND_MAX_CONSTANTS];
+  const int nc = jnd_model_constants(cl, JND_MAX_CONSTANTS);
+  cJSON *consts = cJSON_AddObjectToObject(params, "constants");
+  for (int k = 0; k < nc; k++) {
+    cJSON *o = cJSON_AddObjectToObject(consts, cl[k]->name);
+    cJSON_AddNumberToObject(o, "value", jnd_model_constant_get(&res.params, k));
+    cJSON_AddNumberToObject(o, "prior", cl[k]->prior);
+    cJSON_AddBoolToObject(o, "fitted", res.fitted[k]);
+    if (!isnan(res.sd_ln[k])) cJSON_AddNumberToObject(o, "sd_ln", res.sd_ln[k]);
+    if (!isnan(res.fold_sd_ln[k])) cJSON_AddNumberToObject(o, "fold_sd_ln", res.fold_sd_ln[k]);
+    if (res.fold_value) {
+      cJSON *fv = cJSON_AddObjectToObject(o, "without");
+      for (int ds = 0; ds < d.ndatasets; ds++)
+        if (!isnan(res.fold_value[(size_t)ds * nc + k]))
+          cJSON_AddNumberToObject(fv, d.datasets[ds], res.fold_value[(size_t)ds * nc + k]);
+    }
   }
+  cJSON_AddNumberToObject(params, "min_band_cpd", res.params.min_band_cpd);
+  cJSON_AddNumberToObject(params, "beta", res.params.beta);
+  cJSON_AddNumberToObject(params, "minkowski", res.params.minkowski);
+  cJSON_AddStringToObject(params, "pooling", "max");
+  cJSON_AddBoolToObject(params, "fitted", opt.fit);
+  cJSON_AddBoolToObject(params, "cross_validated", cv);
+  cJSON_AddNumberToObject(params, "search_every", opt.search_every);
+  cJSON_AddNumberToObject(params, "prior_weight_db", opt.prior_weight_db);
+
+  cJSON *per = cJSON_AddObjectToObject(result, "datasets");
+  cli_info(&common, "%-14s %6s %10s %10s", "dataset", "rows", "static dB", "all dB");
+  if (cv) cli_info(&common, " %12s %10s", "LOSO static", "LOSO all");
+  cli_info(&common, "\n");
+  for (int ds = 0; ds < d.ndatasets; ds++) {
+    if (!res.dataset[ds].rows) continue;
+    cJSON_AddItemToObject(per, d.datasets[ds], score_json(&res.dataset[ds]));
+    print_score(&common, d.datasets[ds], &res.dataset[ds], cv);
+  }
+  print_score(&common, "pooled", &res.pooled, cv);
+  int nskip = 0;
+  for (int r = 0; r < d.nrows; r++) nskip += !d.rows[r].use;
+  cJSON_AddNumberToObject(result, "rows", res.pooled.rows);
+  cJSON_AddNumberToObject(result, "static_rows", res.pooled.static_rows);
+  cJSON_AddNumberToObject(result, "skipped", nskip);
+  if (res.pooled.static_rows) cJSON_AddNumberToObject(result, "rmse_db_static", res.pooled.rmse_db_static);
+  cJSON_AddNumberToObject(result, "rmse_db", res.pooled.rmse_db);
+  if (cv) {
+    if (res.pooled.static_rows) cJSON_AddNumberToObject(result, "cv_rmse_db_static", res.pooled.cv_rmse_db_static);
+    cJSON_AddNumberToObject(result, "cv_rmse_db", res.pooled.cv_rmse_db);
+  }
+  cJSON_AddNumberToObject(result, "model_passes", res.model_passes);
+  if (opt.fit) {
+    cli_info(&common, "fitted constants (± one posterior standard deviation)\n");
+    for (int k = 0; k < nc; k++)
+      if (res.fitted[k]) {
+        double v = jnd_model_constant_get(&res.params, k);
+        cli_info(&common, "  %-20s %10.4g  (%.3g .. %.3g)\n", cl[k]->name, v, v * exp(-res.sd_ln[k]),
+                 v * exp(res.sd_ln[k]));
+      }
+  }
+
   /* which rows used a colour direction derived from its publication, not listed */
-  cJSON *derived = cJSON_AddArrayToObject(res, "derived_directions");
+  cJSON *derived = cJSON_AddArrayToObject(result, "derived_directions");
   int nderived = 0;
-  for (int r = 0; r < t.nrows; r++) {
-    const jnd_csf_row *in = &data_set.rows[r];
+  for (int r = 0; r < d.nrows; r++) {
+    const jnd_csf_row *in = &d.rows[r];
     if (!in->derived_direction) continue;
     nderived++;
     int seen = 0;
     for (int q = 0; q < r && !seen; q++)
-      seen = data_set.rows[q].derived_direction && data_set.rows[q].col_dir_id == in->col_dir_id &&
-             data_set.rows[q].bkg_id == in->bkg_id && data_set.rows[q].dataset == in->dataset;
+      seen = d.rows[q].derived_direction && d.rows[q].col_dir_id == in->col_dir_id && d.rows[q].bkg_id == in->bkg_id &&
+             d.rows[q].dataset == in->dataset;
     if (seen) continue;
     cJSON *o = cJSON_CreateObject();
-    cJSON_AddStringToObject(o, "dataset", dsnames[in->dataset]);
+    cJSON_AddStringToObject(o, "dataset", d.datasets[in->dataset]);
     cJSON_AddNumberToObject(o, "col_dir_id", in->col_dir_id);
     cJSON_AddNumberToObject(o, "bkg_id", in->bkg_id);
     cJSON_AddItemToObject(o, "lms", cJSON_CreateDoubleArray(in->st.dir_lms, 3));
     cJSON *lines = cJSON_AddArrayToObject(o, "lines");
-    for (int q = r; q < t.nrows; q++) {
-      const jnd_csf_row *o2 = &data_set.rows[q];
+    for (int q = r; q < d.nrows; q++) {
+      const jnd_csf_row *o2 = &d.rows[q];
       if (o2->derived_direction && o2->col_dir_id == in->col_dir_id && o2->bkg_id == in->bkg_id &&
           o2->dataset == in->dataset)
         cJSON_AddItemToArray(lines, cJSON_CreateNumber(o2->line));
     }
     cJSON_AddItemToArray(derived, o);
   }
-  cJSON_AddNumberToObject(res, "derived_direction_rows", nderived);
-  int nused = 0, nskip = 0;
-  for (int r = 0; r < t.nrows; r++) nused += rows[r].use, nskip += !rows[r].use;
-  double ps = rmse(rows, t.nrows, -1, 1), pa = rmse(rows, t.nrows, -1, 0);
-  cJSON_AddNumberToObject(res, "rows", nused);
-  cJSON_AddNumberToObject(res, "skipped", nskip);
-  if (!isnan(ps)) cJSON_AddNumberToObject(res, "rmse_db_static", ps);
-  if (!isnan(pa)) cJSON_AddNumberToObject(res, "rmse_db", pa);
-  cli_info(&common, "%-14s %6d %12.2f %12.2f\n", "pooled", nused, ps, pa);
+  cJSON_AddNumberToObject(result, "derived_direction_rows", nderived);
 
-  if (out_csv) {
-    size_t cap = 1 << 16, len = 0;
-    char *buf = malloc(cap);
-    if (!buf) goto out;
-#define PUT(...)                                                                           \
-  do {                                                                                     \
-    int need_ = snprintf(NULL, 0, __VA_ARGS__);                                            \
-    while (len + need_ + 1 > cap) {                                                        \
-      cap *= 2;                                                                            \
-      char *nb_ = realloc(buf, cap);                                                       \
-      if (!nb_) { free(buf); goto out; }                                                   \
-      buf = nb_;                                                                           \
-    }                                                                                      \
-    len += snprintf(buf + len, cap - len, __VA_ARGS__);                                    \
-  } while (0)
-    for (int k = 0; k < t.ncols; k++) PUT("%s,", t.header[k]);
-    PUT("predicted_sensitivity,error_db,note\n");
-    for (int r = 0; r < t.nrows; r++) {
-      for (int k = 0; k < t.ncols; k++) {
-        const char *cell = t.cells[r][k];
-        if (strpbrk(cell, ",\"\n")) {
-          PUT("\"");
-          for (const char *p = cell; *p; p++) PUT(*p == '"' ? "\"\"" : "%c", *p);
-          PUT("\",");
-        } else {
-          PUT("%s,", cell);
-        }
-      }
-      if (rows[r].use && !isnan(rows[r].err_db))
-        PUT("%.6g,%.4f,%s\n", rows[r].predicted, rows[r].err_db,
-            data_set.rows[r].derived_direction ? "colour direction derived (docs/csf.md)" : "");
-      else
-        PUT("NaN,NaN,skipped: %s\n", rows[r].skip ? rows[r].skip : "failed");
-    }
-#undef PUT
-    jnd_status s = jnd_write_file_atomic(out_csv, buf, len);
-    free(buf);
-    if (s != JND_OK) {
-      cli_error("%s", jnd_last_error());
-      goto out;
-    }
-  }
+  if (out_csv && write_rows(out_csv, &d, &res, cv) != EXIT_OK) goto out;
   if (common.json_path && cli_report_write(report, common.json_path) != EXIT_OK) goto out;
   rc = EXIT_OK;
 out:
   cJSON_Delete(report);
-  free(rows);
-  jnd_csf_data_free(&data_set);
+  jnd_csf_result_free(&res);
+  jnd_csf_data_free(&d);
   return rc;
 }
 

@@ -46,6 +46,7 @@ static inline float jnd_fast_exp2(float y) {
 
 /* max without fmaxf's NaN rules, so that loops using it vectorise */
 static inline float jnd_maxf(float a, float b) { return a > b ? a : b; }
+static inline float jnd_minf(float a, float b) { return a < b ? a : b; }
 
 /* x^y for x > 0 (0 for x <= 0) */
 static inline float jnd_fast_pow(float x, float y) {

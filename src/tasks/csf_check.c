@@ -23,6 +23,16 @@
 
 #define MAX_SIDE_PX 512
 
+/* The background kept around a stimulus, degrees beyond its half-extent:
+ * enough that the image's borders, where the pyramid mirrors the image, do
+ * not change the threshold by more than a few tenths of a dB — eight periods
+ * of a grating's frequency (thresholds of small patches were 10 dB off with
+ * a quarter of the stimulus's size, the old margin), and the radius of a
+ * disc, whose coarse bands and baseband reach far (docs/csf.md). */
+static double margin_deg(const jnd_csf_stimulus *s, double half) {
+  return s->s_frequency > 0 ? fmax(0.25 * half, 8.0 / s->s_frequency) : half;
+}
+
 void jnd_csf_sampling(const jnd_csf_stimulus *s, double *ppd, double *half_deg, double *taper_deg) {
   double f = s->s_frequency;
   double half;
@@ -39,38 +49,67 @@ void jnd_csf_sampling(const jnd_csf_stimulus *s, double *ppd, double *half_deg, 
    * an octave from the Nyquist frequency of every pyramid level (at exactly
    * 4 or 8 samples a cycle it would sit on a level's Nyquist frequency, where
    * the response depends on the grating's phase); 8..256 ppd, never fewer
-   * than 2.5 samples a cycle */
-  double p = f > 0 ? jnd_clampd(4.0 * M_SQRT2 * f, 8.0, 256.0) : 16.0;
-  double margin = 1.25;
-  if (2 * half * margin * p > MAX_SIDE_PX && f > 0) p = fmax(fmax(2.5 * f, 8.0), MAX_SIDE_PX / (2 * half * margin));
+   * than 2.5 samples a cycle. Discs without a carrier: 16 ppd, 8 for discs
+   * of more than 2° radius (thresholds within 0.3 dB of 16 and 25 ppd). */
+  double p = f > 0 ? jnd_clampd(4.0 * M_SQRT2 * f, 8.0, 256.0) : half > 2.0 ? 8.0 : 16.0;
+  double ext = half + margin_deg(s, half);
+  if (2 * ext * p > MAX_SIDE_PX) p = fmax(f > 0 ? fmax(2.5 * f, 8.0) : 8.0, MAX_SIDE_PX / (2 * ext));
   *ppd = p;
   *half_deg = half;
   *taper_deg = taper;
 }
 
-/* the stimulus's spatial profile at (x, y) degrees from its centre, in [-1, 1] */
-static double profile(const jnd_csf_stimulus *s, double x, double y, double half, double taper, double crop) {
-  double th = s->orientation * M_PI / 180.0;
-  double xr = x * cos(th) + y * sin(th);
-  double carrier = s->s_frequency > 0 ? cos(2 * M_PI * s->s_frequency * xr) : 1.0;
-  double env;
-  if (s->kind == JND_STIM_GABOR) {
-    env = exp(-(x * x + y * y) / (2 * s->ge_sigma * s->ge_sigma));
-  } else {
-    /* a square (gratings) or round (discs) aperture with a raised-cosine edge */
-    double inner = half - taper;
-    double d = s->kind == JND_STIM_DISK ? sqrt(x * x + y * y) : fmax(fabs(x), fabs(y));
-    if (d <= inner)
-      env = 1;
-    else if (d >= half)
-      env = 0;
-    else
-      env = 0.5 + 0.5 * cos(M_PI * (d - inner) / taper);
+/* a raised-cosine edge: 1 inside `inner`, 0 beyond inner + width */
+static double soft_edge(double d, double inner, double width) {
+  if (d <= inner) return 1;
+  if (d >= inner + width) return 0;
+  return 0.5 + 0.5 * cos(M_PI * (d - inner) / width);
+}
+
+/* The stimulus's spatial profile, in [-1, 1], on a side × side grid of
+ * pixels (x + 0.5)/ppd − crop degrees from its centre: carrier times
+ * envelope, faded out over the crop's outer 15% when the crop is smaller
+ * than the stimulus. The carrier cos(2πf(x cos θ + y sin θ)) is expanded
+ * into per-column and per-row cosines and sines; square apertures and the
+ * crop fade depend on max(|x|, |y|) through a decreasing edge, so they are
+ * the minimum of a column and a row factor. */
+static void synthesise(const jnd_csf_stimulus *s, int side, double ppd, double half, double taper, double crop,
+                       float *g) {
+  double *t = malloc(sizeof(double) * (size_t)side * 8);
+  if (!t) {
+    memset(g, 0, sizeof(float) * (size_t)side * side);
+    return;
   }
-  /* a crop smaller than the stimulus fades it out over the crop's outer 15% */
-  double dc = fmax(fabs(x), fabs(y));
-  if (dc > 0.85 * crop) env *= dc >= crop ? 0 : 0.5 + 0.5 * cos(M_PI * (dc - 0.85 * crop) / (0.15 * crop));
-  return carrier * env;
+  double *cx = t, *sx = t + side, *cy = t + 2 * side, *sy = t + 3 * side, *ex = t + 4 * side, *ey = t + 5 * side,
+         *fx = t + 6 * side, *pos = t + 7 * side;
+  const double th = s->orientation * M_PI / 180.0, w = 2 * M_PI * s->s_frequency;
+  for (int i = 0; i < side; i++) {
+    double u = (i + 0.5) / ppd - crop;
+    pos[i] = u;
+    cx[i] = cos(w * u * cos(th));
+    sx[i] = sin(w * u * cos(th));
+    cy[i] = cos(w * u * sin(th));
+    sy[i] = sin(w * u * sin(th));
+    if (s->kind == JND_STIM_GABOR)
+      ex[i] = exp(-u * u / (2 * s->ge_sigma * s->ge_sigma));
+    else
+      ex[i] = soft_edge(fabs(u), half - taper, taper); /* square aperture (gratings) */
+    fx[i] = soft_edge(fabs(u), 0.85 * crop, 0.15 * crop);
+  }
+  memcpy(ey, ex, sizeof(double) * (size_t)side);
+  for (int y = 0; y < side; y++)
+    for (int x = 0; x < side; x++) {
+      double carrier = s->s_frequency > 0 ? cx[x] * cy[y] - sx[x] * sy[y] : 1.0;
+      double env;
+      if (s->kind == JND_STIM_GABOR)
+        env = ex[x] * ey[y];
+      else if (s->kind == JND_STIM_DISK)
+        env = soft_edge(sqrt(pos[x] * pos[x] + pos[y] * pos[y]), half - taper, taper);
+      else
+        env = fmin(ex[x], ey[y]);
+      g[(size_t)y * side + x] = (float)(carrier * env * fmin(fx[x], fx[y]));
+    }
+  free(t);
 }
 
 typedef struct {
@@ -100,10 +139,13 @@ static jnd_status max_jnd(stim_ctx *ctx, double c, double *out) {
 
 struct jnd_csf_context {
   jnd_model_params base;
+  int linear; /* 1: one model run at a small probe contrast (csf_fit.c) */
   int n;
-  jnd_model_params key[CACHE_MODELS];
+  double key[CACHE_MODELS]; /* ppd */
   jnd_model *model[CACHE_MODELS];
 };
+
+void jnd_csf_context_set_linear(jnd_csf_context *ctx, int linear) { ctx->linear = linear; }
 
 jnd_status jnd_csf_context_create(const jnd_model_params *base, jnd_csf_context **out) {
   *out = jnd_calloc(1, sizeof **out);
@@ -118,12 +160,14 @@ void jnd_csf_context_free(jnd_csf_context *ctx) {
   free(ctx);
 }
 
-/* a model for these parameters: from the cache, or built (and cached, oldest out) */
+/* a model for these parameters: from the cache, or built (and cached, oldest
+ * out); models differ only in their sampling density, the fixation point is
+ * set on the one found */
 static jnd_status context_model(jnd_csf_context *ctx, const jnd_model_params *p, jnd_model **m) {
   for (int i = 0; i < ctx->n; i++)
-    if (ctx->key[i].display.ppd == p->display.ppd && ctx->key[i].has_gaze == p->has_gaze &&
-        ctx->key[i].gaze_x == p->gaze_x && ctx->key[i].gaze_y == p->gaze_y) {
+    if (ctx->key[i] == p->display.ppd) {
       *m = ctx->model[i];
+      jnd_model_set_gaze(*m, p->has_gaze, p->gaze_x, p->gaze_y);
       return JND_OK;
     }
   jnd_status s = jnd_model_create(p, m);
@@ -134,7 +178,7 @@ static jnd_status context_model(jnd_csf_context *ctx, const jnd_model_params *p,
     memmove(ctx->key, ctx->key + 1, sizeof ctx->key[0] * (CACHE_MODELS - 1));
     ctx->n--;
   }
-  ctx->key[ctx->n] = *p;
+  ctx->key[ctx->n] = p->display.ppd;
   ctx->model[ctx->n++] = *m;
   return JND_OK;
 }
@@ -150,7 +194,7 @@ jnd_status jnd_csf_threshold(jnd_csf_context *cx, const jnd_csf_stimulus *st, do
     return jnd_fail(JND_ERR_ARG, "stimulus: spatial frequency %g cpd is outside 0..64", st->s_frequency);
   double ppd, half, taper;
   jnd_csf_sampling(st, &ppd, &half, &taper);
-  double crop = fmin(half * 1.25, MAX_SIDE_PX / (2 * ppd));
+  double crop = fmin(half + margin_deg(st, half), MAX_SIDE_PX / (2 * ppd));
   int side = (int)ceil(2 * crop * ppd);
   if (side < 32) side = 32;
   crop = side / (2.0 * ppd);
@@ -178,50 +222,59 @@ jnd_status jnd_csf_threshold(jnd_csf_context *cx, const jnd_csf_stimulus *st, do
   jnd_model_params p = *base;
   p.display.ppd = ppd;
   p.threads = base->threads > 0 ? base->threads : 1;
-  if (st->eccentricity > 0) {
-    /* fixation ecc° to the left of the stimulus centre, on a flat screen */
-    double dist_px = 1.0 / tan(M_PI / 180.0 / ppd);
-    p.has_gaze = 1;
-    p.gaze_x = side / 2.0 - 0.5 - dist_px * tan(st->eccentricity * M_PI / 180.0);
-    p.gaze_y = side / 2.0 - 0.5;
-  } else {
-    p.has_gaze = 0;
-  }
+  /* the observer fixates ecc° to the left of the stimulus centre, on a flat
+   * screen — at its centre for a foveal stimulus, whose outer parts then
+   * fall on less sensitive retina (a 20° Gabor is not seen foveally) */
+  double dist_px = 1.0 / tan(M_PI / 180.0 / ppd);
+  p.has_gaze = 1;
+  p.gaze_x = side / 2.0 - 0.5 - dist_px * tan(st->eccentricity * M_PI / 180.0);
+  p.gaze_y = side / 2.0 - 0.5;
   jnd_status s = context_model(cx, &p, &ctx.model);
   if (s != JND_OK) return s;
   if ((s = jnd_image_alloc(&ctx.bg, side, side, 3)) != JND_OK || (s = jnd_image_alloc(&ctx.stim, side, side, 3)) != JND_OK)
     goto done;
-  for (int y = 0; y < side; y++)
-    for (int x = 0; x < side; x++) {
-      double xd = (x + 0.5) / ppd - crop, yd = (y + 0.5) / ppd - crop;
-      double g = profile(st, xd, yd, half, taper, crop);
-      size_t i = (size_t)y * side + x;
-      for (int c = 0; c < 3; c++) {
-        jnd_image_plane(&ctx.bg, c)[i] = (float)bxyz[c];
-        jnd_image_plane(&ctx.stim, c)[i] = (float)(dxyz[c] * g);
-      }
+  /* the profile into the stimulus's first plane, then scaled into all three */
+  synthesise(st, side, ppd, half, taper, crop, jnd_image_plane(&ctx.stim, 0));
+  for (int c = 2; c >= 0; c--) {
+    float *bp = jnd_image_plane(&ctx.bg, c), *sp = jnd_image_plane(&ctx.stim, c);
+    const float *g = jnd_image_plane(&ctx.stim, 0), b = (float)bxyz[c], d = (float)dxyz[c];
+    for (size_t i = 0; i < (size_t)side * side; i++) {
+      bp[i] = b;
+      sp[i] = d * g[i];
     }
-  /* drifting gratings under fixation: retinal velocity = t_freq / s_freq */
-  if (st->t_frequency > 0 && st->s_frequency > 0)
-    ctx.in.retinal_dps = fmax(st->t_frequency / st->s_frequency, JND_DRIFT_DPS);
+  }
+  /* a temporal modulation (flicker, counterphase or drift) at t_frequency
+   * under fixation: the model's temporal-frequency sensitivity */
+  if (st->t_frequency > 0) ctx.in.temporal_hz = st->t_frequency;
 
-  /* bracketed search in log contrast for max JND = 1 (P = 0.5): secant steps
-   * in log–log (JND ∝ contrast near threshold), bisection as the fallback */
-  double lo = log10(1e-6), hi = log10(2.0), jlo = NAN, jhi = NAN, x = log10(0.01), jx;
+  /* The model is linear in the contrast of a stimulus on a uniform
+   * background (the mutual masker is 0 there) except for the few per cent the
+   * stimulus adds to the local mean of the contrast denominators: a probe at
+   * a small contrast gives the threshold at once, and secant steps in
+   * log–log refine it to max JND = 1 (P = 0.5) inside a bracket that falls
+   * back to bisection. */
+  const double probe = -3.0; /* log10 contrast */
+  double lo = log10(1e-6), hi = log10(2.0), jlo = NAN, jhi = NAN, x = probe, jx;
   if ((s = max_jnd(&ctx, pow(10, x), &jx)) != JND_OK) goto done;
   int evals = 1;
-  for (int it = 0; it < 40; it++) {
-    double lj = log10(fmax(jx, 1e-30));
-    if (jx >= 1) { hi = x; jhi = lj; } else { lo = x; jlo = lj; }
-    if (fabs(lj) < 1e-4 || hi - lo < 1e-5) break;
-    double nx;
-    if (jx > 0) nx = x - lj; /* slope 1 in log–log */
-    else nx = 0.5 * (lo + hi);
-    if (!isnan(jlo) && !isnan(jhi) && jhi != jlo) nx = lo + (0 - jlo) * (hi - lo) / (jhi - jlo);
-    if (!(nx > lo && nx < hi)) nx = 0.5 * (lo + hi);
-    x = nx;
-    if ((s = max_jnd(&ctx, pow(10, x), &jx)) != JND_OK) goto done;
-    evals++;
+  if (cx->linear) {
+    /* the fit's surrogate: the threshold the probe implies */
+    x = jx > 0 ? fmin(probe - log10(jx), hi) : hi;
+    jx = x < hi ? 1 : 0;
+  } else {
+    for (int it = 0; it < 40; it++) {
+      double lj = log10(fmax(jx, 1e-30));
+      if (jx >= 1) { hi = x; jhi = lj; } else { lo = x; jlo = lj; }
+      if (fabs(lj) < 1e-3 || hi - lo < 1e-5) break;
+      double nx;
+      if (jx > 0) nx = x - lj; /* slope 1 in log–log */
+      else nx = 0.5 * (lo + hi);
+      if (!isnan(jlo) && !isnan(jhi) && jhi != jlo) nx = lo + (0 - jlo) * (hi - lo) / (jhi - jlo);
+      if (!(nx > lo && nx < hi)) nx = 0.5 * (lo + hi);
+      x = nx;
+      if ((s = max_jnd(&ctx, pow(10, x), &jx)) != JND_OK) goto done;
+      evals++;
+    }
   }
   if (jx < 0.999 && x >= log10(2.0) - 1e-6) {
     *sensitivity = 0.5; /* not detected even at contrast 2 */

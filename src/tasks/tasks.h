@@ -115,4 +115,14 @@ jnd_status jnd_csf_data_from_tables(const char *data, jnd_csv *table, const char
 
 /* ---- csf_data.c (end) ---- */
 
+/* ---- csf_check.c: threshold searches (begin) ---- */
+
+/* 1: each threshold is the one a single model run at a small probe contrast
+ * implies (the model is linear in a stimulus's contrast up to the few per
+ * cent it adds to the local mean); the fit's fast surrogate. 0: searched to
+ * 0.02 dB (the default, and every reported figure). */
+void jnd_csf_context_set_linear(jnd_csf_context *ctx, int linear);
+
+/* ---- csf_check.c (end) ---- */
+
 #endif

@@ -45,9 +45,11 @@ void jnd_csf_adaptation(double L, double *c0, double *c1) {
 
 /* 004 §3.1: Daly's (1998) refinement of Kelly's (1979) spatio-velocity CSF,
  *   csf_A(ρ, v) = (6.1 + 7.3 |log10(c2 v / 3)|³) c0 c2 v (2π c1 ρ)² exp(−4π c1 ρ (c2 v + 2) / 45.9)
- * with c2 = 1.7 and c0, c1 adapted to the luminance (jnd_csf_adaptation). */
-double jnd_csf_achromatic(double rho, double v, double c0, double c1) {
-  const double c2 = 1.7;
+ * with c0, c1 adapted to the luminance (jnd_csf_adaptation). c2 scales the
+ * velocity axis: 004 prints Daly's 1.7; Kelly's own surface has 1, and it is
+ * a fitted constant here (kelly_c2, docs/model.md), because the temporal
+ * fall-off above 10 Hz that 1.7 implies is far steeper than flicker data. */
+double jnd_csf_achromatic(double rho, double v, double c0, double c1, double c2) {
   double lv = fabs(log10(c2 * v / 3.0));
   double k = 6.1 + 7.3 * lv * lv * lv;
   double a = 2.0 * M_PI * c1 * rho;
@@ -62,14 +64,18 @@ double jnd_pupil_diameter_mm(double L) { return 5.0 - 3.0 * tanh(0.4 * log10(L))
  * centre and a surround. 004 does not print Kelly's constants; the form and
  * the constants below are our choice, documented in docs/model.md: each
  * component is an exponential low-pass in spatial frequency times a
- * first-order low-pass in temporal frequency ω = ρ·v; the surround is
- * broader in space and slower, so motion removes it first and the peak
- * sensitivity rises with velocity while the curve stays low-pass. */
+ * low-pass in temporal frequency; the surround is broader in space and
+ * slower, so motion or flicker removes it first and the peak sensitivity
+ * rises with velocity while the curve stays low-pass. The centre's temporal
+ * low-pass is of second order, 1 / (1 + (ω/ω_c)²), ω_c = temporal_hz fitted
+ * (docs/model.md): chromatic flicker sensitivity is flat at low frequencies
+ * and falls by about a decade from 10 to 25 Hz, faster than a first-order
+ * filter allows. */
 static const struct {
-  double omega_c, k_s, rho_s, omega_s;
+  double k_s, rho_s, omega_s;
 } CHROM[2] = {
-    {12.0, 0.25, 0.25, 2.0}, /* red–green (a) */
-    {10.0, 0.25, 0.20, 2.0}, /* yellow–violet (b) */
+    {0.25, 0.25, 2.0}, /* red–green (a) */
+    {0.25, 0.20, 2.0}, /* yellow–violet (b) */
 };
 #define CHROM_REF_LUM 35.0 /* 004 §3.1: the chromatic CSF's reference luminance */
 
@@ -78,11 +84,7 @@ static double retinal_illuminance(double L) {
   return L * M_PI * d * d / 4.0; /* trolands */
 }
 
-double jnd_csf_chromatic(double rho, double v, double L, int ch, double cutoff, double sat_td) {
-  double omega = rho * v;
-  double tc = 1.0 / sqrt(1.0 + (omega / CHROM[ch].omega_c) * (omega / CHROM[ch].omega_c));
-  double ts = 1.0 / sqrt(1.0 + (omega / CHROM[ch].omega_s) * (omega / CHROM[ch].omega_s));
-  double s = exp(-rho / cutoff) * tc - CHROM[ch].k_s * exp(-rho / CHROM[ch].rho_s) * ts;
+double jnd_csf_chromatic_luminance(double L, double sat_td) {
   /* 004 §3.1 (van der Horst & Bouman 1969): sensitivity scales with the square
    * root of retinal illuminance, relative to the reference luminance. The
    * square-root law holds at low illuminance; above sat_td trolands
@@ -93,7 +95,14 @@ double jnd_csf_chromatic(double rho, double v, double L, int ch, double cutoff, 
     i = i / (1.0 + i / sat_td);
     r = r / (1.0 + r / sat_td);
   }
-  return fmax(s, 0.0) * sqrt(i / r);
+  return sqrt(i / r);
+}
+
+double jnd_csf_chromatic(double rho, double omega, int ch, double cutoff, double temporal_hz) {
+  double tc = 1.0 / (1.0 + (omega / temporal_hz) * (omega / temporal_hz));
+  double ts = 1.0 / sqrt(1.0 + (omega / CHROM[ch].omega_s) * (omega / CHROM[ch].omega_s));
+  double s = exp(-rho / cutoff) * tc - CHROM[ch].k_s * exp(-rho / CHROM[ch].rho_s) * ts;
+  return fmax(s, 0.0);
 }
 
 /* 004 §3.1: Daly's (1998) model of unconstrained eye movements,
@@ -105,11 +114,22 @@ double jnd_retinal_velocity(double vs) {
   return fabs(vs - fmin(0.82 * vs + JND_DRIFT_DPS, 80.0));
 }
 
-/* Sensitivity falls with eccentricity following Geisler & Perry (1998): the
- * contrast threshold grows as exp(α ρ (e + e2)/e2) with α = 0.106 and
- * e2 = 2.3°, i.e. sensitivity is multiplied by exp(−α ρ e / e2) relative to
- * the fovea (docs/model.md). */
-double jnd_eccentricity_factor(double rho, double ecc) {
-  const double alpha = 0.106, e2 = 2.3;
-  return exp(-alpha * rho * ecc / e2);
+/* Cortical magnification (Rovamo & Virsu 1979, in the one-term form of
+ * Levi, Klein & Aitsebaomo 1985): M(0)/M(e) = 1 + e/e2. M² is proportional to
+ * the density of retinal ganglion cells, so the number of detectors under a
+ * patch of the visual field falls as (1 + e/e2)^−2. */
+double jnd_cortical_magnification(double ecc, double e2) { return 1.0 + ecc / e2; }
+
+/* Sensitivity at eccentricity e relative to the fovea, for a band of peak
+ * frequency ρ in channel ch (0 achromatic, 1 red–green, 2 yellow–violet):
+ *   (M(0)/M(e))^−γ_ch · exp(−α ρ e).
+ * The first factor is the loss of detectors (Rovamo & Virsu: sensitivity to
+ * a stimulus of fixed size falls with M, exponent γ ≈ 1 for luminance under
+ * square-root summation); chromatic channels fall faster than luminance in
+ * the periphery (Mullen & Kingdom 2002), hence one exponent per channel. The
+ * second is Geisler & Perry's (1998) frequency-dependent loss, the decline of
+ * acuity. All four are fitted (docs/model.md). */
+double jnd_eccentricity_factor(const jnd_model_params *p, int ch, double rho, double ecc) {
+  const double gamma = ch == 0 ? p->ecc_achromatic : ch == 1 ? p->ecc_rg : p->ecc_yv;
+  return pow(jnd_cortical_magnification(ecc, p->ecc_e2_deg), -gamma) * exp(-p->ecc_freq * rho * ecc);
 }

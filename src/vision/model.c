@@ -15,6 +15,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <omp.h>
+
 #include "core/core.h"
 #include "vision/vision.h"
 
@@ -32,12 +34,17 @@
 struct jnd_model {
   jnd_model_params p;
   int nbands;
-  double band_cpp[MAX_BANDS];  /* peak frequency, cycles per full-resolution pixel */
+  double band_cpp[MAX_BANDS];  /* peak frequency, cycles per full-resolution pixel; entry nbands: the baseband */
   double band_amp[MAX_BANDS];  /* peak amplitude of the band's filter */
   double band_cpd[MAX_BANDS];
   int adapt_level;             /* Gaussian level where a pixel is about one degree */
   double lum_w[3];             /* Y from LMS */
-  float *lut;                  /* [band][ch][iv][iL]: CSF · sensitivity / amplitude */
+  float *lut;                  /* [band][ch][iv][iL]: CSF · sensitivity / amplitude, filled by
+                                  luminance column on first use (lut_fill) */
+  unsigned char lut_done[LUT_NL];
+  double c0[LUT_NL], c1[LUT_NL]; /* 004 §3.1's adaptation of the achromatic CSF, per column */
+  double lumf[2][LUT_NL];      /* the chromatic CSFs' luminance factors, per column */
+  double vgrid[LUT_NV];
 };
 
 /* ---- psychometric function (000 eq. 4) ---- */
@@ -59,23 +66,41 @@ void jnd_model_defaults(jnd_model_params *p) {
   memset(p, 0, sizeof *p);
   jnd_display_defaults(&p->display);
   p->minkowski = 2.4; /* 004 §3.2 */
+  p->masking_slope = 0.6; /* Legge 1981, as 004 §3.1 cites (docs/model.md) */
   p->beta = 3.5;      /* 000 eq. 4 */
   p->fps = 60;
-  /* Fitted on ../shared/data/csf/csf_train.csv (349 static rows) by
-   * scripts/fit-model.sh; docs/model.md has the procedure and the errors. */
-  p->sensitivity = 0.825;
-  p->sens_rg = 304.4;
-  p->sens_yv = 223.7;
-  p->min_band_cpd = 0.125;
-  p->summation_cycles = 1.17188;
-  p->summation_beta = 2.5;
-  p->eye_velocity_dps = 20.48;
-  p->chroma_sat_td = 160;
-  p->rg_cutoff_cpd = 1.95312;
-  p->yv_cutoff_cpd = 1.25;
+  /* Fitted on ../shared/data/csf/csf_train.csv (785 rows, nine data sets)
+   * by jnd csf --fit (scripts/fit-model.sh): maximum a posteriori with the
+   * priors of constants.c; the comment is one posterior standard deviation.
+   * docs/model.md has the procedure and the errors. */
+  p->sensitivity = 0.80465; /* ±8% */
+  p->sens_rg = 648.51; /* ±14% */
+  p->sens_yv = 447.76; /* ±16% */
+  p->rg_cutoff_cpd = 1.3536; /* ±13% */
+  p->yv_cutoff_cpd = 1.0834; /* ±16% */
+  p->chroma_sat_td = 133.39; /* ±38% */
+  p->chroma_temporal_hz = 9.2752; /* ±6% */
+  p->kelly_c2 = 0.84877; /* ±4% */
+  p->flicker_gain = 0.8244; /* ±7% */
+  p->eye_velocity_dps = 108.69; /* ±95% */
+  p->summation_area_deg2 = 363.16; /* ±33% */
+  p->summation_f0_cpd = 1.5988; /* ±27% */
+  p->summation_beta = 4.0373; /* ±8% */
+  p->ecc_e2_deg = 4.4019; /* ±45% */
+  p->ecc_achromatic = 0.30769; /* ±37% */
+  p->ecc_rg = 1.2651; /* ±21% */
+  p->ecc_yv = 0.71028; /* ±32% */
+  p->ecc_freq = 0.052035; /* ±11% */
+  p->min_band_cpd = 0.125; /* chosen, not fitted: the lowest frequency in the data */
 }
 
 const jnd_model_params *jnd_model_get_params(const jnd_model *m) { return &m->p; }
+
+void jnd_model_set_gaze(jnd_model *m, int has_gaze, double gaze_x, double gaze_y) {
+  m->p.has_gaze = has_gaze;
+  m->p.gaze_x = gaze_x;
+  m->p.gaze_y = gaze_y;
+}
 
 int jnd_model_band_peaks(const jnd_model *m, double *cpd, int max) {
   int n = m->nbands < max ? m->nbands : max;
@@ -94,9 +119,15 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
   if (!(p->sensitivity > 0) || !(p->sens_rg >= 0) || !(p->sens_yv >= 0))
     return jnd_fail(JND_ERR_ARG, "model: sensitivities must be positive");
   if (!(p->min_band_cpd > 0.01)) return jnd_fail(JND_ERR_ARG, "model: min_band_cpd must be > 0.01");
-  if (!(p->summation_cycles >= 0) || !(p->summation_beta >= 1) || !(p->eye_velocity_dps >= 0) ||
-      !(p->chroma_sat_td >= 0) || !(p->rg_cutoff_cpd > 0) || !(p->yv_cutoff_cpd > 0))
+  if (!(p->summation_area_deg2 >= 0) || !(p->summation_f0_cpd > 0) || !(p->summation_beta >= 1) ||
+      !(p->eye_velocity_dps >= 0) || !(p->chroma_sat_td >= 0) || !(p->rg_cutoff_cpd > 0) || !(p->yv_cutoff_cpd > 0) ||
+      !(p->chroma_temporal_hz > 0) || !(p->kelly_c2 > 0) || !(p->flicker_gain > 0))
     return jnd_fail(JND_ERR_ARG, "model: summation, eye velocity, saturation and cut-offs must be positive");
+  if (!(p->ecc_e2_deg > 0) || !(p->ecc_achromatic >= 0) || !(p->ecc_rg >= 0) || !(p->ecc_yv >= 0) ||
+      !(p->ecc_freq >= 0))
+    return jnd_fail(JND_ERR_ARG, "model: eccentricity constants must be positive");
+  if (!(p->masking_slope >= 0 && p->masking_slope < 1))
+    return jnd_fail(JND_ERR_ARG, "model: masking_slope must be in [0, 1)");
   if (!(p->minkowski >= 1) || !(p->beta > 0))
     return jnd_fail(JND_ERR_ARG, "model: Minkowski exponent must be >= 1 and beta > 0");
   jnd_model *m = jnd_calloc(1, sizeof *m);
@@ -109,7 +140,7 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
    * filters (the finest peaks near Nyquist, ~4× the next). Bands from the
    * sixth on are self-similar: each halves the previous one's frequency. */
   int n = 0;
-  for (int i = 0; i < MAX_BANDS; i++) {
+  for (int i = 0; i < MAX_BANDS - 1; i++) {
     if (i <= 5) {
       m->band_cpp[i] = jnd_band_table[i][0];
       m->band_amp[i] = jnd_band_table[i][1];
@@ -126,82 +157,109 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
     return jnd_fail(JND_ERR_ARG, "model: %g pixels per degree resolves no band above 0.5 cpd", ppd);
   }
   m->nbands = n;
+  /* the baseband (docs/model.md) is table entry n: its CSF is taken an
+   * octave below the coarsest band's peak; the Gaussian level passes the
+   * mean with gain 1 */
+  m->band_cpp[n] = m->band_cpp[n - 1] / 2;
+  m->band_cpd[n] = m->band_cpp[n] * ppd;
+  m->band_amp[n] = 1.0;
   /* 004 §3.1: adaptation from the Gaussian level where one pixel is about one degree */
   m->adapt_level = (int)lround(log2(ppd));
   if (m->adapt_level < 0) m->adapt_level = 0;
   jnd_lms_luminance_weights(m->lum_w);
 
-  m->lut = jnd_alloc((size_t)n * NCH * LUT_NV * LUT_NL, sizeof(float));
+  m->lut = jnd_alloc((size_t)(n + 1) * NCH * LUT_NV * LUT_NL, sizeof(float));
   if (!m->lut) {
     jnd_model_free(m);
     return JND_ERR_NOMEM;
   }
-  /* the tables: achromatic from c0(L), c1(L) (Barten-adapted, 004 §3.1), the
-   * chromatic CSFs as a spatio-temporal shape times their luminance factor */
-  double c0[LUT_NL], c1[LUT_NL], lumf[2][LUT_NL], vgrid[LUT_NV];
-  for (int il = 0; il < LUT_NL; il++) {
-    double L = pow(10.0, LUT_LOGL0 + il * LUT_DLOGL);
-    jnd_csf_adaptation(L, &c0[il], &c1[il]);
-    /* jnd_csf_chromatic at ρ = 0 is its luminance factor times (1 − k_s) */
-    for (int ch = 0; ch < 2; ch++)
-      lumf[ch][il] = jnd_csf_chromatic(0, 0, L, ch, 1, p->chroma_sat_td) /
-                     jnd_csf_chromatic(0, 0, 35.0, ch, 1, 0);
-  }
-  for (int iv = 0; iv < LUT_NV; iv++) vgrid[iv] = pow(10.0, LUT_LOGV0 + iv * LUT_DLOGV);
-  const int threads = jnd_threads(p->threads);
-#pragma omp parallel for collapse(2) num_threads(threads) schedule(static)
-  for (int b = 0; b < n; b++) {
-    for (int iv = 0; iv < LUT_NV; iv++) {
-      double rho = m->band_cpd[b];
-      double v = vgrid[iv];
-      double srg = p->sens_rg * jnd_csf_chromatic(rho, v, 35.0, 0, p->rg_cutoff_cpd, 0) / m->band_amp[b];
-      double syv = p->sens_yv * jnd_csf_chromatic(rho, v, 35.0, 1, p->yv_cutoff_cpd, 0) / m->band_amp[b];
-      for (int il = 0; il < LUT_NL; il++) {
-        size_t k = (size_t)iv * LUT_NL + il;
-        lut_at(m, b, 0)[k] = (float)(p->sensitivity * jnd_csf_achromatic(rho, v, c0[il], c1[il]) / m->band_amp[b]);
-        lut_at(m, b, 1)[k] = (float)(srg * lumf[0][il]);
-        lut_at(m, b, 2)[k] = (float)(syv * lumf[1][il]);
-      }
-    }
-  }
-  /* Fixational eye movements (our extension, docs/model.md): drift and
-   * microsaccades sweep the retinal velocity from v up to v + eye_velocity, and
-   * a pattern is seen at the most favourable velocity of that sweep. Kelly's
-   * surface is measured on stabilised images, whose low frequencies fade;
-   * this restores natural viewing's low-frequency sensitivity while high
-   * frequencies, best seen at low velocity, keep 004's values. */
-  if (p->eye_velocity_dps > 0) {
-    /* the sweep from velocity index iv reaches index jmax[iv] (nondecreasing
-     * in iv), so each column's window maxima come from one monotone deque */
-    int jmax[LUT_NV];
-    for (int iv = 0; iv < LUT_NV; iv++) {
-      double vmax = vgrid[iv] + p->eye_velocity_dps;
-      int j = iv;
-      while (j + 1 < LUT_NV && vgrid[j + 1] <= vmax * 1.0001) j++;
-      jmax[iv] = j;
-    }
-#pragma omp parallel for collapse(2) num_threads(threads) schedule(static)
-    for (int b = 0; b < n; b++)
-      for (int ch = 0; ch < NCH; ch++) {
-        float col[LUT_NV];
-        int dq[LUT_NV];
-        float *t = lut_at(m, b, ch);
-        for (int il = 0; il < LUT_NL; il++) {
-          for (int iv = 0; iv < LUT_NV; iv++) col[iv] = t[(size_t)iv * LUT_NL + il];
-          int head = 0, tail = 0, next = 0; /* dq[head, tail): indices, values decreasing */
-          for (int iv = 0; iv < LUT_NV; iv++) {
-            for (; next <= jmax[iv]; next++) {
-              while (tail > head && col[dq[tail - 1]] <= col[next]) tail--;
-              dq[tail++] = next;
-            }
-            while (dq[head] < iv) head++;
-            t[(size_t)iv * LUT_NL + il] = col[dq[head]];
-          }
-        }
-      }
-  }
+  for (int iv = 0; iv < LUT_NV; iv++) m->vgrid[iv] = pow(10.0, LUT_LOGV0 + iv * LUT_DLOGV);
   *out = m;
   return JND_OK;
+}
+
+/* The CSF tables of luminance columns [il0, il1], those not filled yet: the
+ * achromatic CSF from c0(L), c1(L) (Barten-adapted, 004 §3.1), the chromatic
+ * CSFs as a spatio-temporal shape (temporal frequency ω = ρ·v) times their
+ * luminance factor, each divided by the band's amplitude. A model fills the
+ * columns an image's adaptation luminances need, so that making a model
+ * costs nothing per luminance it never sees. */
+static void lut_fill(jnd_model *m, int il0, int il1) {
+  const jnd_model_params *p = &m->p;
+  il0 = jnd_clampi(il0, 0, LUT_NL - 1);
+  il1 = jnd_clampi(il1, 0, LUT_NL - 1);
+  int todo[LUT_NL], nt = 0;
+  for (int il = il0; il <= il1; il++)
+    if (!m->lut_done[il]) todo[nt++] = il;
+  if (nt == 0) return;
+  const int n = m->nbands + 1; /* the bands and the baseband */
+  const int threads = jnd_threads(p->threads);
+  for (int k = 0; k < nt; k++) {
+    int il = todo[k];
+    double L = pow(10.0, LUT_LOGL0 + il * LUT_DLOGL);
+    jnd_csf_adaptation(L, &m->c0[il], &m->c1[il]);
+    for (int ch = 0; ch < 2; ch++) m->lumf[ch][il] = jnd_csf_chromatic_luminance(L, p->chroma_sat_td);
+  }
+  /* the sweep of fixational eye movements from velocity index iv reaches
+   * index jmax[iv] (nondecreasing in iv), so each column's window maxima
+   * come from one monotone deque */
+  int jmax[LUT_NV];
+  for (int iv = 0; iv < LUT_NV; iv++) {
+    double vmax = m->vgrid[iv] + p->eye_velocity_dps;
+    int j = iv;
+    while (j + 1 < LUT_NV && m->vgrid[j + 1] <= vmax * 1.0001) j++;
+    jmax[iv] = j;
+  }
+#pragma omp parallel for collapse(2) num_threads(threads) schedule(static)
+  for (int b = 0; b < n; b++) {
+    for (int k = 0; k < nt; k++) {
+      const int il = todo[k];
+      const double rho = m->band_cpd[b], amp = m->band_amp[b];
+      float col[NCH][LUT_NV];
+      for (int iv = 0; iv < LUT_NV; iv++) {
+        double v = m->vgrid[iv];
+        col[0][iv] = (float)(p->sensitivity * jnd_csf_achromatic(rho, v, m->c0[il], m->c1[il], p->kelly_c2) / amp);
+        col[1][iv] = (float)(p->sens_rg * jnd_csf_chromatic(rho, rho * v, 0, p->rg_cutoff_cpd, p->chroma_temporal_hz) *
+                             m->lumf[0][il] / amp);
+        col[2][iv] = (float)(p->sens_yv * jnd_csf_chromatic(rho, rho * v, 1, p->yv_cutoff_cpd, p->chroma_temporal_hz) *
+                             m->lumf[1][il] / amp);
+      }
+      /* Fixational eye movements (our extension, docs/model.md): drift and
+       * microsaccades sweep the retinal velocity from v up to v + eye_velocity,
+       * and a pattern is seen at the most favourable velocity of that sweep.
+       * Kelly's surface is measured on stabilised images, whose low
+       * frequencies fade; this restores natural viewing's low-frequency
+       * sensitivity while high frequencies, best seen at low velocity, keep
+       * 004's values. */
+      for (int ch = 0; ch < NCH; ch++) {
+        float *t = lut_at(m, b, ch);
+        if (p->eye_velocity_dps <= 0) {
+          for (int iv = 0; iv < LUT_NV; iv++) t[(size_t)iv * LUT_NL + il] = col[ch][iv];
+          continue;
+        }
+        int dq[LUT_NV], head = 0, tail = 0, next = 0; /* dq[head, tail): indices, values decreasing */
+        for (int iv = 0; iv < LUT_NV; iv++) {
+          for (; next <= jmax[iv]; next++) {
+            while (tail > head && col[ch][dq[tail - 1]] <= col[ch][next]) tail--;
+            dq[tail++] = next;
+          }
+          while (dq[head] < iv) head++;
+          /* the sweep's end v + eye_velocity lies between grid points: the
+           * CSF there, interpolated in log velocity, is a candidate too (so
+           * that the table changes smoothly with eye_velocity) */
+          float best = col[ch][dq[head]];
+          const int j = jmax[iv];
+          if (j + 1 < LUT_NV) {
+            double f = (log10(m->vgrid[iv] + p->eye_velocity_dps) - (LUT_LOGV0 + j * LUT_DLOGV)) / LUT_DLOGV;
+            f = jnd_clampd(f, 0, 1);
+            best = jnd_maxf(best, (float)((1 - f) * col[ch][j] + f * col[ch][j + 1]));
+          }
+          t[(size_t)iv * LUT_NL + il] = best;
+        }
+      }
+    }
+  }
+  for (int k = 0; k < nt; k++) m->lut_done[todo[k]] = 1;
 }
 
 void jnd_model_free(jnd_model *m) {
@@ -215,12 +273,15 @@ void jnd_model_free(jnd_model *m) {
 typedef struct {
   jnd_gauss g[2][3]; /* [image][L, M, S] */
   float *adapt[2];   /* luminance at the adaptation level, per image */
+  float *adapt_mid;  /* their mean, the baseband's adaptation */
   int aw, ah, alev;
   int uniform[2];    /* 1: the image is one colour, so its contrast bands are exactly 0 */
   jnd_gauss vel[2];  /* retinal velocity pyramid (deg/s) per image, when motion is given */
   int has_vel;
   int vel_shared;    /* 1: both images move alike, vel[1] is vel[0] */
   float uniform_v;   /* retinal velocity when there is no map */
+  double temporal_hz; /* > 0: the difference is a temporal modulation at this frequency */
+  int il0, il1;      /* the CSF table columns the adaptation luminances need */
 } diff_state;
 
 /* Bilinear sampling of the coarse adaptation map at the centres of a level's
@@ -275,26 +336,34 @@ static inline float lut_lookup(const float *t, float logL, float logv) {
 typedef struct {
   const jnd_model *m;
   const diff_state *st;
-  int band, w, w1;
+  int band, w, h, w1;
+  int unmasked;         /* 1: one image is uniform, so the mutual masker is 0 */
   float *xexp[2][3];    /* EXPAND(G_{i+2}) at level i+1 */
   const float *lut[NCH]; /* CSF tables over (velocity, luminance), with a motion map */
   float lut1[LUT_NL][4];   /* the tables at the one retinal velocity, without: [iL][A, a, b, -] */
   interp_axis ax, ay;   /* bilinear sampling of the adaptation map */
   double scale;         /* full-resolution pixels per pixel of this level */
   double dist_px;       /* viewing distance in pixels (eccentricity on a flat screen) */
+  float *ecc_tab;       /* with a fixation point: [ch][i] the eccentricity factors at i/ECC_STEPS
+                           level pixels from it, i < ecc_n */
+  int ecc_n;
   float e;              /* Minkowski exponent */
 } band_ctx;
 
 /* One thread's rows: caches of expanded coarse rows and the row stages. */
 typedef struct {
   jnd_row_cache cache[2][3][2]; /* [image][cone][G_{i+1}, EXPAND(G_{i+2})] */
-  float *opp[2][3], *logl[2], *sens[NCH], *eccf;
+  float *opp[2][3], *logl[2], *sens[NCH], *eccf[NCH];
+  float *mask[5][NCH]; /* ring of 5 rows: the mutual masker, pooled along the row */
+  float *dif[3][NCH];  /* ring of 3 rows: |n_test − n_ref| per channel */
+  float *tmp;
   float *mem;
 } row_scratch;
 
 static int scratch_init(row_scratch *r, int w) {
-  /* 12 caches × 3 rows; opponent values (2 × 3), adaptation (2), sensitivities (3), eccentricity */
-  r->mem = malloc(sizeof(float) * (size_t)w * (36 + 6 + 2 + 3 + 1));
+  /* 12 caches × 3 rows; opponent values (2 × 3), adaptation (2), sensitivities (3), eccentricity
+   * factors (3), masker ring (5 × 3), difference ring (3 × 3), one row of scratch */
+  r->mem = malloc(sizeof(float) * (size_t)w * (36 + 6 + 2 + 3 + 3 + 15 + 9 + 1));
   if (!r->mem) return 0;
   float *p = r->mem;
   for (int a = 0; a < 2; a++)
@@ -308,11 +377,126 @@ static int scratch_init(row_scratch *r, int w) {
     for (int c = 0; c < 3; c++) r->opp[a][c] = p, p += w;
   for (int a = 0; a < 2; a++) r->logl[a] = p, p += w;
   for (int c = 0; c < NCH; c++) r->sens[c] = p, p += w;
-  r->eccf = p;
+  for (int c = 0; c < NCH; c++) r->eccf[c] = p, p += w;
+  for (int k = 0; k < 5; k++)
+    for (int c = 0; c < NCH; c++) r->mask[k][c] = p, p += w;
+  for (int k = 0; k < 3; k++)
+    for (int c = 0; c < NCH; c++) r->dif[k][c] = p, p += w;
+  r->tmp = p;
   return 1;
 }
 
-/* one image's normalised, transduced responses on row y: opp[a][A, a, b] */
+/* The CSF value of every pixel of row y of this band, per channel, into
+ * r->sens: the adaptation luminance (log10) sampled bilinearly from the
+ * level where a pixel is about one degree (004 §3.1), the tables at the
+ * band's peak frequency (at image vimg's retinal velocity with a motion
+ * map), and the eccentricity factors of r->eccf when there is a fixation
+ * point. */
+JND_HOT static void sens_row(const band_ctx *k, row_scratch *r, const float *adapt, int vimg, int y) {
+  const diff_state *st = k->st;
+  const int w = k->w, band = k->band;
+  float *ll = r->logl[0];
+  const float *ar0 = adapt + (size_t)k->ay.i0[y] * st->aw, *ar1 = adapt + (size_t)k->ay.i1[y] * st->aw;
+  const float ty = k->ay.t[y];
+  const float *t = k->ax.t;
+  /* along runs of pixels between the same two coarse columns, so that the
+   * inner loop has no indexed loads */
+  for (int q = 0; q < k->ax.nrun; q++) {
+    const int xa = k->ax.run[q], xb = k->ax.run[q + 1], j0 = k->ax.i0[xa], j1 = k->ax.i1[xa];
+    const float a00 = ar0[j0], a01 = ar0[j1], a10 = ar1[j0], a11 = ar1[j1];
+#pragma omp simd
+    for (int x = xa; x < xb; x++) {
+      float tx = t[x];
+      ll[x] = (1 - ty) * ((1 - tx) * a00 + tx * a01) + ty * ((1 - tx) * a10 + tx * a11);
+    }
+  }
+#pragma omp simd
+  for (int x = 0; x < w; x++) ll[x] = jnd_fast_log2(jnd_maxf(ll[x], 1e-6f)) * 0.30103f;
+  /* CSF normalisation at the band's peak frequency (004 §3.1) */
+  float *s0 = r->sens[0], *s1 = r->sens[1], *s2 = r->sens[2];
+  if (st->has_vel) {
+    const float *vr = st->vel[vimg].plane[band] + (size_t)y * w;
+    for (int x = 0; x < w; x++) {
+      float logv = jnd_fast_log2(jnd_maxf(vr[x], 1e-3f)) * 0.30103f;
+      s0[x] = lut_lookup(k->lut[0], ll[x], logv);
+      s1[x] = lut_lookup(k->lut[1], ll[x], logv);
+      s2[x] = lut_lookup(k->lut[2], ll[x], logv);
+    }
+  } else {
+    /* the three channels' entries side by side: one row of lut1 per index */
+    const float(*l)[4] = k->lut1;
+    for (int x = 0; x < w; x++) {
+      float fl = (ll[x] - (float)LUT_LOGL0) * (float)(1.0 / LUT_DLOGL);
+      fl = fl < 0 ? 0 : fl > LUT_NL - 1.001f ? LUT_NL - 1.001f : fl;
+      int il = (int)fl;
+      float tl = fl - il;
+      const float *e0 = l[il], *e1 = l[il + 1];
+      s0[x] = e0[0] + tl * (e1[0] - e0[0]);
+      s1[x] = e0[1] + tl * (e1[1] - e0[1]);
+      s2[x] = e0[2] + tl * (e1[2] - e0[2]);
+    }
+  }
+  if (k->m->p.has_gaze)
+    for (int c = 0; c < NCH; c++) {
+      float *sc = r->sens[c];
+      const float *ef = r->eccf[c];
+#pragma omp simd
+      for (int x = 0; x < w; x++) sc[x] *= ef[x];
+    }
+}
+
+#define ECC_STEPS 4 /* table entries per pixel of distance */
+
+/* The eccentricity factors of a band (jnd_eccentricity_factor) as a table
+ * over the distance from the fixation point in this level's pixels, a
+ * quarter pixel apart: eccentricity on a flat screen seen from the distance
+ * the ppd implies, the factors as exponentials of log M(0)/M(e) and of e.
+ * Rows then interpolate it (ecc_row), not an atan, a log and three exps a
+ * pixel. */
+static jnd_status ecc_table(band_ctx *k) {
+  const jnd_model_params *p = &k->m->p;
+  const double rho = k->m->band_cpd[k->band];
+  /* the farthest corner of the level from the fixation point */
+  double gx = (p->gaze_x + 0.5) / k->scale - 0.5, gy = (p->gaze_y + 0.5) / k->scale - 0.5;
+  double dx = fmax(fabs(gx), fabs(k->w - 1 - gx)), dy = fmax(fabs(gy), fabs(k->h - 1 - gy));
+  k->ecc_n = (int)ceil(sqrt(dx * dx + dy * dy) * ECC_STEPS) + 2;
+  k->ecc_tab = malloc(sizeof(float) * 3 * (size_t)k->ecc_n);
+  if (!k->ecc_tab) return jnd_fail(JND_ERR_NOMEM, "model: out of memory");
+  for (int i = 0; i < k->ecc_n; i++) {
+    double d = (double)i / ECC_STEPS * k->scale; /* full-resolution pixels */
+    double ecc = atan(d / k->dist_px) * 180.0 / M_PI;
+    double lm = log(jnd_cortical_magnification(ecc, p->ecc_e2_deg)), f = -p->ecc_freq * rho * ecc;
+    k->ecc_tab[i] = (float)exp(f - p->ecc_achromatic * lm);
+    k->ecc_tab[k->ecc_n + i] = (float)exp(f - p->ecc_rg * lm);
+    k->ecc_tab[2 * k->ecc_n + i] = (float)exp(f - p->ecc_yv * lm);
+  }
+  return JND_OK;
+}
+
+/* The eccentricity factors of row y into r->eccf, from the band's table:
+ * the distances in a vectorised pass (into eccf[0]), the table look-ups in
+ * a scalar one */
+JND_HOT static void ecc_row(const band_ctx *k, row_scratch *r, int y) {
+  const jnd_model_params *p = &k->m->p;
+  const float gx = (float)((p->gaze_x + 0.5) / k->scale - 0.5), fy = (float)(y - ((p->gaze_y + 0.5) / k->scale - 0.5));
+  const float lim = (float)(k->ecc_n - 2) + 0.999f;
+  float *u = r->eccf[0];
+#pragma omp simd
+  for (int x = 0; x < k->w; x++) {
+    float fx = (float)x - gx;
+    u[x] = jnd_minf(sqrtf(fx * fx + fy * fy) * ECC_STEPS, lim);
+  }
+  const float *t0 = k->ecc_tab, *t1 = t0 + k->ecc_n, *t2 = t1 + k->ecc_n;
+  for (int x = 0; x < k->w; x++) {
+    int i = (int)u[x];
+    float t = u[x] - (float)i;
+    r->eccf[0][x] = t0[i] + t * (t0[i + 1] - t0[i]);
+    r->eccf[1][x] = t1[i] + t * (t1[i + 1] - t1[i]);
+    r->eccf[2][x] = t2[i] + t * (t2[i + 1] - t2[i]);
+  }
+}
+
+/* one image's CSF-normalised contrasts on row y: opp[a][A, a, b] */
 JND_HOT static void image_row(const band_ctx *k, row_scratch *r, int a, int y, const int rows[3], const float wts[3]) {
   const diff_state *st = k->st;
   const int w = k->w, w1 = k->w1, band = k->band;
@@ -344,80 +528,42 @@ JND_HOT static void image_row(const band_ctx *k, row_scratch *r, int a, int y, c
     o1[x] = ca;
     o2[x] = cb;
   }
-  /* adaptation luminance (log10) from the level where a pixel is ~1° */
-  const float *ar0 = st->adapt[a] + (size_t)k->ay.i0[y] * st->aw, *ar1 = st->adapt[a] + (size_t)k->ay.i1[y] * st->aw;
-  const float ty = k->ay.t[y];
-  float *ll = r->logl[a];
-  const float *t = k->ax.t;
-  /* along runs of pixels between the same two coarse columns, so that the
-   * inner loop has no indexed loads */
-  for (int q = 0; q < k->ax.nrun; q++) {
-    const int xa = k->ax.run[q], xb = k->ax.run[q + 1], j0 = k->ax.i0[xa], j1 = k->ax.i1[xa];
-    const float a00 = ar0[j0], a01 = ar0[j1], a10 = ar1[j0], a11 = ar1[j1];
-#pragma omp simd
-    for (int x = xa; x < xb; x++) {
-      float tx = t[x];
-      ll[x] = (1 - ty) * ((1 - tx) * a00 + tx * a01) + ty * ((1 - tx) * a10 + tx * a11);
-    }
-  }
-#pragma omp simd
-  for (int x = 0; x < w; x++) ll[x] = jnd_fast_log2(jnd_maxf(ll[x], 1e-6f)) * 0.30103f;
-  /* CSF normalisation at the band's peak frequency (004 §3.1) */
-  float *s0 = r->sens[0], *s1 = r->sens[1], *s2 = r->sens[2];
-  if (st->has_vel) {
-    const float *vr = st->vel[a].plane[band] + (size_t)y * w;
-    for (int x = 0; x < w; x++) {
-      float logv = jnd_fast_log2(jnd_maxf(vr[x], 1e-3f)) * 0.30103f;
-      s0[x] = lut_lookup(k->lut[0], ll[x], logv);
-      s1[x] = lut_lookup(k->lut[1], ll[x], logv);
-      s2[x] = lut_lookup(k->lut[2], ll[x], logv);
-    }
-  } else {
-    /* the three channels' entries side by side: one row of lut1 per index */
-    const float(*l)[4] = k->lut1;
-    for (int x = 0; x < w; x++) {
-      float fl = (ll[x] - (float)LUT_LOGL0) * (float)(1.0 / LUT_DLOGL);
-      fl = fl < 0 ? 0 : fl > LUT_NL - 1.001f ? LUT_NL - 1.001f : fl;
-      int il = (int)fl;
-      float tl = fl - il;
-      const float *e0 = l[il], *e1 = l[il + 1];
-      s0[x] = e0[0] + tl * (e1[0] - e0[0]);
-      s1[x] = e0[1] + tl * (e1[1] - e0[1]);
-      s2[x] = e0[2] + tl * (e1[2] - e0[2]);
-    }
-  }
-  if (k->m->p.has_gaze)
-    for (int c = 0; c < NCH; c++) {
-      float *sc = r->sens[c];
-      const float *ef = r->eccf;
-#pragma omp simd
-      for (int x = 0; x < w; x++) sc[x] *= ef[x];
-    }
-  /* 004 §3.1: the masking transducer on the normalised contrast */
+  sens_row(k, r, st->adapt[a], a, y);
   for (int c = 0; c < NCH; c++) {
     float *o = r->opp[a][c];
     const float *sc = r->sens[c];
 #pragma omp simd
-    for (int x = 0; x < w; x++) o[x] = jnd_transducer(o[x] * sc[x]);
+    for (int x = 0; x < w; x++) o[x] *= sc[x];
   }
 }
 
-/* Row y of band i's difference, summed over channels: Σ_ch |T(test) − T(ref)|^e */
-JND_HOT static void band_row(const band_ctx *k, row_scratch *r, int y, float *drow) {
+/* the pyramid's binomial kernel (1 4 6 4 1)/16 along a row, mirrored ends */
+static void binomial_row(const float *s, float *d, int w) {
+  if (w < 5) {
+    for (int x = 0; x < w; x++)
+      d[x] = (s[jnd_mirror(x - 2, w)] + 4 * s[jnd_mirror(x - 1, w)] + 6 * s[x] + 4 * s[jnd_mirror(x + 1, w)] +
+              s[jnd_mirror(x + 2, w)]) * (1.0f / 16);
+    return;
+  }
+  d[0] = (6 * s[0] + 8 * s[1] + 2 * s[2]) * (1.0f / 16);
+  d[1] = (4 * s[0] + 7 * s[1] + 4 * s[2] + s[3]) * (1.0f / 16);
+#pragma omp simd
+  for (int x = 2; x < w - 2; x++) d[x] = (s[x - 2] + 4 * s[x - 1] + 6 * s[x] + 4 * s[x + 1] + s[x + 2]) * (1.0f / 16);
+  d[w - 2] = (s[w - 4] + 4 * s[w - 3] + 7 * s[w - 2] + 4 * s[w - 1]) * (1.0f / 16);
+  d[w - 1] = (2 * s[w - 3] + 8 * s[w - 2] + 6 * s[w - 1]) * (1.0f / 16);
+}
+
+/* Both images' normalised contrasts on row y, then per channel the
+ * difference |n_test − n_ref| into dif and, where mask is given, the mutual
+ * masker min(|n_test|, |n_ref|) pooled along the row into mask. */
+JND_HOT static void response_row(const band_ctx *k, row_scratch *r, int y, float *const dif[NCH], float *const mask[NCH]) {
   const diff_state *st = k->st;
   const int w = k->w, h1 = st->g[0][0].h[k->band + 1];
   int rows[3];
   float wts[3] = {0, 0, 0};
   int nr = jnd_pyr_expand_rows(y, h1, rows, wts);
   if (nr == 2) rows[2] = rows[1]; /* weight 0: any valid row */
-  if (k->m->p.has_gaze) {
-    const jnd_model_params *p = &k->m->p;
-    for (int x = 0; x < w; x++) {
-      double fx = (x + 0.5) * k->scale - 0.5 - p->gaze_x, fy = (y + 0.5) * k->scale - 0.5 - p->gaze_y;
-      double ecc = atan(sqrt(fx * fx + fy * fy) / k->dist_px) * 180.0 / M_PI;
-      r->eccf[x] = (float)jnd_eccentricity_factor(k->m->band_cpd[k->band], ecc);
-    }
-  }
+  if (k->m->p.has_gaze) ecc_row(k, r, y);
   for (int a = 0; a < 2; a++) {
     if (st->uniform[a]) {
       /* a uniform image has no contrast: its response is 0 */
@@ -426,108 +572,239 @@ JND_HOT static void band_row(const band_ctx *k, row_scratch *r, int y, float *dr
     }
     image_row(k, r, a, y, rows, wts);
   }
-  /* 004 §3.2: difference of the responses, Minkowski over channels */
-  const float e = k->e;
-  const float *r0 = r->opp[0][0], *r1 = r->opp[0][1], *r2 = r->opp[0][2];
-  const float *t0 = r->opp[1][0], *t1 = r->opp[1][1], *t2 = r->opp[1][2];
+  for (int c = 0; c < NCH; c++) {
+    const float *nr_ = r->opp[0][c], *nt = r->opp[1][c];
+    float *d = dif[c];
 #pragma omp simd
-  for (int x = 0; x < w; x++) {
-    float d0 = fabsf(t0[x] - r0[x]), d1 = fabsf(t1[x] - r1[x]), d2 = fabsf(t2[x] - r2[x]);
-    drow[x] = jnd_fast_pow(d0, e) + jnd_fast_pow(d1, e) + jnd_fast_pow(d2, e);
+    for (int x = 0; x < w; x++) d[x] = fabsf(nt[x] - nr_[x]);
+    if (!mask) continue;
+    float *m = r->tmp;
+#pragma omp simd
+    for (int x = 0; x < w; x++) m[x] = jnd_minf(fabsf(nt[x]), fabsf(nr_[x]));
+    binomial_row(m, mask[c], w);
   }
 }
 
-/* Difference of band i, summed over channels: D_i = Σ_ch |T(n_test) − T(n_ref)|^e. */
-static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, float *xexp[2][3],
-                                  float *D) {
-  band_ctx k;
-  memset(&k, 0, sizeof k);
-  k.m = m;
-  k.st = st;
-  k.band = band;
-  k.w = st->g[0][0].w[band];
-  k.w1 = st->g[0][0].w[band + 1];
-  const int h = st->g[0][0].h[band];
-  k.e = (float)m->p.minkowski;
-  for (int a = 0; a < 2; a++)
-    for (int c = 0; c < 3; c++) k.xexp[a][c] = xexp[a][c];
-  for (int c = 0; c < NCH; c++) k.lut[c] = lut_at(m, band, c);
-  /* without a motion map every pixel has the same retinal velocity: the
-   * CSF tables reduce to one dimension (adaptation luminance) */
-  if (!st->has_vel) {
+/* Rows [y0, y1) of band i's difference, summed over channels:
+ *   D_i = Σ_ch (|n_test − n_ref| · T′(m))^e
+ * with n the CSF-normalised contrasts and m the mutual masker
+ * min(|n_test|, |n_ref|) pooled with the pyramid's 5 × 5 binomial kernel
+ * (004's transducer T, taken as its incremental gain at the masker: see
+ * jnd_masking_gain). Rows are computed in order with rings of the last five
+ * maskers and three differences, so that a row's vertical pooling reads
+ * rows computed just before; a chunk recomputes the two rows either side of
+ * it, and a row's value does not depend on the chunking. */
+JND_HOT static void band_rows(const band_ctx *k, row_scratch *r, int y0, int y1, float *D) {
+  const int w = k->w, h = k->h;
+  const float e = k->e;
+  if (k->unmasked) {
+    /* one image is uniform: its contrast, and so the mutual masker, is 0 */
+    for (int y = y0; y < y1; y++) {
+      response_row(k, r, y, r->dif[0], NULL);
+      float *drow = D + (size_t)y * w;
+      const float *d0 = r->dif[0][0], *d1 = r->dif[0][1], *d2 = r->dif[0][2];
+#pragma omp simd
+      for (int x = 0; x < w; x++) drow[x] = jnd_fast_pow(d0[x], e) + jnd_fast_pow(d1[x], e) + jnd_fast_pow(d2[x], e);
+    }
+    return;
+  }
+  const float slope = (float)k->m->p.masking_slope;
+  for (int q = y0 - 2; q <= y1 + 1; q++) {
+    response_row(k, r, jnd_mirror(q, h), r->dif[(q + 6) % 3], r->mask[(q + 10) % 5]);
+    const int y = q - 2;
+    if (y < y0) continue;
+    /* 004 §3.2: difference of the responses, Minkowski over channels */
+    float *drow = D + (size_t)y * w;
+    for (int c = 0; c < NCH; c++) {
+      const float *m0 = r->mask[(y + 8) % 5][c], *m1 = r->mask[(y + 9) % 5][c], *m2 = r->mask[(y + 10) % 5][c],
+                  *m3 = r->mask[(y + 11) % 5][c], *m4 = r->mask[(y + 12) % 5][c];
+      const float *d = r->dif[(y + 6) % 3][c];
+      if (c == 0) {
+#pragma omp simd
+        for (int x = 0; x < w; x++) {
+          float m = (m0[x] + 4 * m1[x] + 6 * m2[x] + 4 * m3[x] + m4[x]) * (1.0f / 16);
+          drow[x] = jnd_fast_pow(d[x] * jnd_masking_gain(m, slope), e);
+        }
+      } else {
+#pragma omp simd
+        for (int x = 0; x < w; x++) {
+          float m = (m0[x] + 4 * m1[x] + 6 * m2[x] + 4 * m3[x] + m4[x]) * (1.0f / 16);
+          drow[x] += jnd_fast_pow(d[x] * jnd_masking_gain(m, slope), e);
+        }
+      }
+    }
+  }
+}
+
+static void band_free(band_ctx *k) {
+  axis_free(&k->ax);
+  axis_free(&k->ay);
+  free(k->ecc_tab);
+}
+
+/* What every row of band `band` reads (the baseband is band nbands): the
+ * CSF tables for the comparison's temporal condition, and the sampling of
+ * the adaptation map. */
+static jnd_status band_setup(const jnd_model *m, const diff_state *st, int band, band_ctx *k) {
+  memset(k, 0, sizeof *k);
+  k->m = m;
+  k->st = st;
+  k->band = band;
+  k->w = st->g[0][0].w[band];
+  k->w1 = st->g[0][0].w[band + 1];
+  k->h = st->g[0][0].h[band];
+  k->unmasked = st->uniform[0] || st->uniform[1];
+  k->e = (float)m->p.minkowski;
+  for (int c = 0; c < NCH; c++) k->lut[c] = lut_at(m, band, c);
+  if (st->temporal_hz > 0) {
+    /* a temporal modulation at ω under fixation (docs/model.md, "Time"):
+     * Kelly's spatio-temporal surface at the band's peak, ω = ρ·v, with no
+     * sweep of eye movements (the stimulus itself sets the temporal
+     * frequency) */
+    const jnd_model_params *p = &m->p;
+    const double rho = m->band_cpd[band], amp = m->band_amp[band] / p->flicker_gain, om = st->temporal_hz;
+    for (int il = st->il0; il <= st->il1; il++) {
+      k->lut1[il][0] =
+          (float)(p->sensitivity * jnd_csf_achromatic(rho, om / rho, m->c0[il], m->c1[il], p->kelly_c2) / amp);
+      k->lut1[il][1] = (float)(p->sens_rg * jnd_csf_chromatic(rho, om, 0, p->rg_cutoff_cpd, p->chroma_temporal_hz) *
+                               m->lumf[0][il] / amp);
+      k->lut1[il][2] = (float)(p->sens_yv * jnd_csf_chromatic(rho, om, 1, p->yv_cutoff_cpd, p->chroma_temporal_hz) *
+                               m->lumf[1][il] / amp);
+    }
+  } else if (!st->has_vel) {
+    /* without a motion map every pixel has the same retinal velocity: the
+     * CSF tables reduce to one dimension (adaptation luminance) */
     float fv = (log10f(st->uniform_v) - (float)LUT_LOGV0) * (float)(1.0 / LUT_DLOGV);
     fv = fv < 0 ? 0 : fv > LUT_NV - 1.001f ? LUT_NV - 1.001f : fv;
     int iv = (int)fv;
     float tv = fv - iv;
     for (int c = 0; c < NCH; c++)
-      for (int il = 0; il < LUT_NL; il++)
-        k.lut1[il][c] = (1 - tv) * k.lut[c][(size_t)iv * LUT_NL + il] + tv * k.lut[c][(size_t)(iv + 1) * LUT_NL + il];
+      for (int il = st->il0; il <= st->il1; il++)
+        k->lut1[il][c] =
+            (1 - tv) * k->lut[c][(size_t)iv * LUT_NL + il] + tv * k->lut[c][(size_t)(iv + 1) * LUT_NL + il];
   }
-  const int threads = jnd_threads(m->p.threads);
-  k.scale = ldexp(1.0, band);
-  k.dist_px = 1.0 / tan(M_PI / 180.0 / m->p.display.ppd);
-  int fail = 0;
-  if (!axis_init(&k.ax, k.w, st->aw, ldexp(1.0, band - st->alev)) ||
-      !axis_init(&k.ay, h, st->ah, ldexp(1.0, band - st->alev))) {
-    axis_free(&k.ax);
-    axis_free(&k.ay);
+  k->scale = ldexp(1.0, band);
+  k->dist_px = 1.0 / tan(M_PI / 180.0 / m->p.display.ppd);
+  if (m->p.has_gaze && ecc_table(k) != JND_OK) return JND_ERR_NOMEM;
+  if (!axis_init(&k->ax, k->w, st->aw, ldexp(1.0, band - st->alev)) ||
+      !axis_init(&k->ay, k->h, st->ah, ldexp(1.0, band - st->alev))) {
+    band_free(k);
     return jnd_fail(JND_ERR_NOMEM, "model: out of memory");
   }
+  return JND_OK;
+}
+
+/* Runs rows(k, scratch, y0, y1, D) on one contiguous chunk of the band's
+ * rows per thread (the masker rings of band_rows run down a chunk; a row's
+ * value does not depend on the chunking). */
+static jnd_status band_parallel(const band_ctx *k, float *D,
+                                void (*rows)(const band_ctx *, row_scratch *, int, int, float *)) {
+  const int threads = jnd_threads(k->m->p.threads), h = k->h;
+  int fail = 0;
 #pragma omp parallel num_threads(threads)
   {
     row_scratch r = {0};
-    if (!scratch_init(&r, k.w)) {
+    if (!scratch_init(&r, k->w)) {
 #pragma omp atomic write
       fail = 1;
     }
-#pragma omp for schedule(static)
-    for (int y = 0; y < h; y++)
-      if (r.mem) band_row(&k, &r, y, D + (size_t)y * k.w);
+    const int nt = omp_get_num_threads(), t = omp_get_thread_num();
+    const int y0 = (int)((long long)h * t / nt), y1 = (int)((long long)h * (t + 1) / nt);
+    if (r.mem && y1 > y0) rows(k, &r, y0, y1, D);
     free(r.mem);
   }
-  axis_free(&k.ax);
-  axis_free(&k.ay);
   return fail ? jnd_fail(JND_ERR_NOMEM, "model: out of memory") : JND_OK;
 }
 
-/* one box pass of odd width 2r+1 along a row, mirrored ends; the running sum
- * indexes without mirroring where the window lies inside the row */
-static void box_row(const float *s, float *d, int w, int r) {
-  const float inv = 1.0f / (float)(2 * r + 1);
-  double acc = 0;
-  for (int i = -r; i <= r; i++) acc += s[jnd_mirror(i, w)];
-  int x = 0;
-  for (; x < w && x - r < 0; x++) {
-    d[x] = (float)(acc * inv);
-    acc += s[jnd_mirror(x + r + 1, w)] - s[jnd_mirror(x - r, w)];
-  }
-  for (; x + r + 1 < w; x++) {
-    d[x] = (float)(acc * inv);
-    acc += s[x + r + 1] - s[x - r];
-  }
-  for (; x < w; x++) {
-    d[x] = (float)(acc * inv);
-    acc += s[jnd_mirror(x + r + 1, w)] - s[jnd_mirror(x - r, w)];
+/* Difference of band i, summed over channels (band_rows). */
+static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, float *xexp[2][3],
+                                  float *D) {
+  band_ctx k;
+  jnd_status s = band_setup(m, st, band, &k);
+  if (s != JND_OK) return s;
+  for (int a = 0; a < 2; a++)
+    for (int c = 0; c < 3; c++) k.xexp[a][c] = xexp[a][c];
+  s = band_parallel(&k, D, band_rows);
+  band_free(&k);
+  return s;
+}
+
+/* The baseband (our extension of 004, docs/model.md "Baseband"): the
+ * Gaussian level G_n below the coarsest band keeps each image's mean
+ * luminance and colour over areas larger than that band's period, which
+ * the contrast bands cannot see (a frame that turns black has no contrast).
+ * Per cone, the difference of the two images' baselines relative to their
+ * mean, (G_test − G_ref) / ((G_test + G_ref) / 2), goes through the
+ * opponent transform and the CSF at the baseband's nominal frequency (half
+ * the coarsest band's peak) and adaptation, and is summed over channels like
+ * a band: D_n = Σ_ch |S·Δc|^e. No masking: the baseband has no pattern. */
+static void baseband_rows(const band_ctx *k, row_scratch *r, int y0, int y1, float *D) {
+  const diff_state *st = k->st;
+  const int nb = k->band;
+  for (int y = y0; y < y1; y++) {
+    if (k->m->p.has_gaze) ecc_row(k, r, y);
+    sens_row(k, r, st->adapt_mid, 0, y); /* the reference's velocity */
+    float *drow = D + (size_t)y * k->w;
+    for (int x = 0; x < k->w; x++) {
+      float dc[3];
+      for (int c = 0; c < 3; c++) {
+        float gr = st->g[0][c].plane[nb][(size_t)y * k->w + x], gt = st->g[1][c].plane[nb][(size_t)y * k->w + x];
+        dc[c] = (gt - gr) / jnd_maxf(0.5f * (gt + gr), CONTRAST_FLOOR);
+      }
+      float o[3];
+      jnd_opponent(dc[0], dc[1], dc[2], &o[0], &o[1], &o[2]);
+      float d = 0;
+      for (int c = 0; c < NCH; c++) d += jnd_fast_pow(fabsf(o[c] * r->sens[c][x]), k->e);
+      drow[x] = d;
+    }
   }
 }
 
-/* one box pass down cw columns (row strides ss and ds), mirrored ends: a
- * running sum per column, the rows walked in order (vectorises across x) */
+static jnd_status baseband_difference(const jnd_model *m, diff_state *st, float *D) {
+  band_ctx k;
+  jnd_status s = band_setup(m, st, m->nbands, &k);
+  if (s != JND_OK) return s;
+  s = band_parallel(&k, D, baseband_rows);
+  band_free(&k);
+  return s;
+}
+
+/* One box pass of odd width 2r+1 along a row, zero beyond its ends: the
+ * viewer sees nothing past the image's border, so a difference near it is
+ * summed over fewer detectors (mirroring would add reflected copies of it,
+ * and make a small stimulus in a small image look like a large one). */
+static void box_row(const float *s, float *d, int w, int r) {
+  const float inv = 1.0f / (float)(2 * r + 1);
+  double acc = 0;
+  for (int i = 0; i <= r && i < w; i++) acc += s[i];
+  for (int x = 0; x < w; x++) {
+    d[x] = (float)(acc * inv);
+    if (x + r + 1 < w) acc += s[x + r + 1];
+    if (x - r >= 0) acc -= s[x - r];
+  }
+}
+
+/* one box pass down cw columns (row strides ss and ds), zero beyond the
+ * first and last rows: a running sum per column, the rows walked in order
+ * (vectorises across x) */
 JND_HOT static void box_cols(const float *src, size_t ss, float *dst, size_t ds, int cw, int h, int r) {
   const float inv = 1.0f / (float)(2 * r + 1);
   double acc[BOX_COLS];
   for (int x = 0; x < cw; x++) acc[x] = 0;
-  for (int i = -r; i <= r; i++) {
-    const float *row = src + (size_t)jnd_mirror(i, h) * ss;
+  for (int i = 0; i <= r && i < h; i++) {
+    const float *row = src + (size_t)i * ss;
     for (int x = 0; x < cw; x++) acc[x] += row[x];
   }
   for (int y = 0; y < h; y++) {
     float *d = dst + (size_t)y * ds;
-    const float *add = src + (size_t)jnd_mirror(y + r + 1, h) * ss;
-    const float *sub = src + (size_t)jnd_mirror(y - r, h) * ss;
-    for (int x = 0; x < cw; x++) {
-      d[x] = (float)(acc[x] * inv);
-      acc[x] += (double)add[x] - (double)sub[x];
+    for (int x = 0; x < cw; x++) d[x] = (float)(acc[x] * inv);
+    if (y + r + 1 < h) {
+      const float *add = src + (size_t)(y + r + 1) * ss;
+      for (int x = 0; x < cw; x++) acc[x] += add[x];
+    }
+    if (y - r >= 0) {
+      const float *sub = src + (size_t)(y - r) * ss;
+      for (int x = 0; x < cw; x++) acc[x] -= sub[x];
     }
   }
 }
@@ -546,24 +823,44 @@ JND_HOT static void pool_cap_span(const float *sum, float *d, size_t n, float ga
   }
 }
 
+/* The Gaussian window of local summation for a band of peak frequency ρ, as
+ * σ in cycles of the band: its area 2πσ² (deg², at ρ cycles a degree) is
+ * Rovamo, Luntinen & Näsänen's (1993) critical area A_c = A0 / (1 + (ρ/f0)²),
+ * the area up to which sensitivity grows with stimulus area. */
+static double summation_sigma_cycles(const jnd_model_params *p, double rho) {
+  double ac = p->summation_area_deg2 / (1.0 + (rho / p->summation_f0_cpd) * (rho / p->summation_f0_cpd));
+  return sqrt(ac / (2.0 * M_PI)) * rho;
+}
+
 /* Local probability summation (our extension of 004, docs/model.md): a band's
  * detectors near a pixel all have a chance to see the difference, so the
- * per-band JND j is pooled over a Gaussian window of `summation_cycles`
- * cycles of the band (three box passes) with exponent summation_beta:
+ * per-band JND j is pooled over a Gaussian window of the critical area
+ * (summation_sigma_cycles, three box passes) with exponent summation_beta:
  *   j'(x) = (Σ_y g(x − y) j(y)^beta)^(1/beta),  g's area counted in cycles²,
  * which makes large stimuli more visible than small ones of equal contrast
- * (area summation, e.g. Rovamo et al. 1993). D holds j^e and is updated.
+ * (area summation, Rovamo et al. 1993). D holds j^e and is updated.
  * The three horizontal passes run on one row at a time and the three
  * vertical ones on one block of columns at a time, in cache. */
 static jnd_status local_summation(const jnd_model *m, int band, float *D, int w, int h) {
   const double e = m->p.minkowski, beta = m->p.summation_beta;
   /* samples of this level per cycle of the band's peak frequency */
   const double spc = 1.0 / (m->band_cpp[band] * ldexp(1.0, band));
-  const double sigma = m->p.summation_cycles * spc;
-  /* three boxes of width n have variance 3 (n² − 1) / 12 = σ² */
-  int r = (int)lround((sqrt(4.0 * sigma * sigma + 1.0) - 1.0) / 2.0);
+  const double sigma = summation_sigma_cycles(&m->p, m->band_cpd[band]) * spc;
+  /* three boxes of widths n_k = 2 r_k + 1 have variance Σ (n_k² − 1) / 12;
+   * radii r and r + 1 mixed so that it comes within a fraction of a step of
+   * σ² (the window, and the fit's derivatives, then change smoothly with σ) */
+  int r = (int)floor((sqrt(4.0 * sigma * sigma + 1.0) - 1.0) / 2.0);
   if (r < 1) r = 1;
-  const double sig_eff = sqrt(3.0 * ((2.0 * r + 1) * (2.0 * r + 1) - 1.0) / 12.0);
+  int rk[3] = {r, r, r};
+  double var = 3.0 * (double)r * (r + 1) / 3.0; /* (n² − 1) / 12 = r (r + 1) / 3 per box */
+  for (int k = 0; k < 3; k++) {
+    double more = var + ((double)(r + 1) * (r + 2) - (double)r * (r + 1)) / 3.0;
+    if (fabs(more - sigma * sigma) < fabs(var - sigma * sigma)) {
+      rk[k] = r + 1;
+      var = more;
+    }
+  }
+  const double sig_eff = sqrt(var);
   /* the window's weights sum to its area in cycles²: 2π σ² / spc² */
   const float gain = (float)(2.0 * M_PI * sig_eff * sig_eff / (spc * spc));
   const float up = (float)(beta / e), down = (float)(e / beta);
@@ -590,9 +887,9 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, int w,
       if (!a) continue;
       float *t0 = a, *t1 = a + w, *out = P + (size_t)y * w;
       pow_span(D + (size_t)y * w, t0, (size_t)w, up);
-      box_row(t0, t1, w, r);
-      box_row(t1, t0, w, r);
-      box_row(t0, out, w, r);
+      box_row(t0, t1, w, rk[0]);
+      box_row(t1, t0, w, rk[1]);
+      box_row(t0, out, w, rk[2]);
     }
     const int nblocks = (w + BOX_COLS - 1) / BOX_COLS;
 #pragma omp for schedule(static)
@@ -600,9 +897,9 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, int w,
       if (!a) continue;
       int x0 = bk * BOX_COLS, cw = w - x0 < BOX_COLS ? w - x0 : BOX_COLS;
       float *b0 = a, *b1 = a + (size_t)BOX_COLS * h; /* row stride BOX_COLS */
-      box_cols(P + x0, (size_t)w, b0, BOX_COLS, cw, h, r);
-      box_cols(b0, BOX_COLS, b1, BOX_COLS, cw, h, r);
-      box_cols(b1, BOX_COLS, b0, BOX_COLS, cw, h, r);
+      box_cols(P + x0, (size_t)w, b0, BOX_COLS, cw, h, rk[0]);
+      box_cols(b0, BOX_COLS, b1, BOX_COLS, cw, h, rk[1]);
+      box_cols(b1, BOX_COLS, b0, BOX_COLS, cw, h, rk[2]);
       for (int y = 0; y < h; y++)
         pool_cap_span(b0 + (size_t)y * BOX_COLS, D + (size_t)y * w + x0, (size_t)cw, gain, down, bound);
     }
@@ -617,6 +914,7 @@ static void state_free(diff_state *st) {
     for (int c = 0; c < 3; c++) jnd_gauss_free(&st->g[a][c]);
     free(st->adapt[a]);
   }
+  free(st->adapt_mid);
   if (st->has_vel) jnd_gauss_free(&st->vel[0]);
   if (st->has_vel && !st->vel_shared) jnd_gauss_free(&st->vel[1]);
 }
@@ -701,9 +999,27 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
       st.adapt[a][i] = (float)fmax(y, 1e-6);
     }
   }
-  /* retinal velocity */
+  st.adapt_mid = jnd_alloc((size_t)st.aw * st.ah, sizeof(float));
+  if (!st.adapt_mid) { s = JND_ERR_NOMEM; goto done; }
+  for (size_t i = 0; i < (size_t)st.aw * st.ah; i++) st.adapt_mid[i] = 0.5f * (st.adapt[0][i] + st.adapt[1][i]);
+  /* the CSF table columns these adaptation luminances need (one more either
+   * side for the interpolation) */
+  {
+    float lo = st.adapt[0][0], hi = lo;
+    for (int a = 0; a < 2; a++)
+      for (size_t i = 0; i < (size_t)st.aw * st.ah; i++) {
+        lo = jnd_minf(lo, st.adapt[a][i]);
+        hi = jnd_maxf(hi, st.adapt[a][i]);
+      }
+    st.il0 = jnd_clampi((int)floor((log10(lo) - LUT_LOGL0) / LUT_DLOGL) - 1, 0, LUT_NL - 1);
+    st.il1 = jnd_clampi((int)ceil((log10(hi) - LUT_LOGL0) / LUT_DLOGL) + 1, 0, LUT_NL - 1);
+    lut_fill(m, st.il0, st.il1);
+  }
+  /* retinal velocity, or a temporal modulation */
   st.uniform_v = JND_DRIFT_DPS; /* 004 §3.1: static images keep the drift minimum */
-  if (in && in->retinal_dps > 0) {
+  if (in && in->temporal_hz > 0) {
+    st.temporal_hz = in->temporal_hz;
+  } else if (in && in->retinal_dps > 0) {
     st.uniform_v = (float)in->retinal_dps;
   } else if (in && (in->motion || in->motion_test)) {
     /* 004 §3: each frame's own displacement; one pyramid when they are the same */
@@ -711,7 +1027,7 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
     for (int a = 0; a < (st.vel_shared ? 1 : 2); a++) {
       const jnd_image *mo = a == 0 ? in->motion : in->motion_test;
       if ((s = velocity_map(m, mo, w, h, &vel0)) != JND_OK) goto done;
-      if ((s = jnd_gauss_build(&st.vel[a], vel0, w, h, nb, threads)) != JND_OK) goto done;
+      if ((s = jnd_gauss_build(&st.vel[a], vel0, w, h, nb + 1, threads)) != JND_OK) goto done;
       st.vel[a].own0 = 1;
       vel0 = NULL;
       st.has_vel = 1;
@@ -737,18 +1053,26 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
       if (!Dlev[b]) s = JND_ERR_NOMEM;
     }
     if (s == JND_OK) s = band_difference(m, &st, b, xexp, Dlev[b]);
-    if (s == JND_OK && m->p.summation_cycles > 0)
+    if (s == JND_OK && m->p.summation_area_deg2 > 0)
       s = local_summation(m, b, Dlev[b], st.g[0][0].w[b], st.g[0][0].h[b]);
     for (int a = 0; a < 2; a++)
       for (int c = 0; c < 3; c++) free(xexp[a][c]);
   }
+  /* the baseband, as one more level below the coarsest band */
+  if (s == JND_OK) {
+    Dlev[nb] = jnd_alloc((size_t)st.g[0][0].w[nb] * st.g[0][0].h[nb], sizeof(float));
+    if (!Dlev[nb]) s = JND_ERR_NOMEM;
+  }
+  if (s == JND_OK) s = baseband_difference(m, &st, Dlev[nb]);
+  if (s == JND_OK && m->p.summation_area_deg2 > 0)
+    s = local_summation(m, nb, Dlev[nb], st.g[0][0].w[nb], st.g[0][0].h[nb]);
   if (s != JND_OK) goto done;
   state_free(&st);
   memset(&st, 0, sizeof st);
 
   /* 004 §3.2: collapse the difference pyramid (Minkowski sum across bands):
-   * acc_i = D_i + EXPAND(acc_{i+1}), from the coarsest band to the finest */
-  for (int b = nb - 1; b > 0; b--) {
+   * acc_i = D_i + EXPAND(acc_{i+1}), from the baseband to the finest band */
+  for (int b = nb; b > 0; b--) {
     int cw = w, ch = h, fw = w, fh = h;
     for (int k = 0; k < b; k++) { cw = (cw + 1) / 2; ch = (ch + 1) / 2; }
     for (int k = 0; k < b - 1; k++) { fw = (fw + 1) / 2; fh = (fh + 1) / 2; }

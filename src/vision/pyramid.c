@@ -169,6 +169,10 @@ jnd_status jnd_gauss_build(jnd_gauss *g, float *plane0, int w, int h, int levels
   g->w[0] = w;
   g->h[0] = h;
   g->plane[0] = plane0;
+  /* a constant plane (a psychophysical background) has constant levels */
+  size_t n = (size_t)w * h, k = 1;
+  while (k < n && plane0[k] == plane0[0]) k++;
+  const int constant = k == n;
   for (int i = 1; i < levels; i++) {
     g->w[i] = (g->w[i - 1] + 1) / 2;
     g->h[i] = (g->h[i - 1] + 1) / 2;
@@ -176,6 +180,10 @@ jnd_status jnd_gauss_build(jnd_gauss *g, float *plane0, int w, int h, int levels
     if (!g->plane[i]) {
       jnd_gauss_free(g);
       return JND_ERR_NOMEM;
+    }
+    if (constant) {
+      for (size_t j = 0; j < (size_t)g->w[i] * g->h[i]; j++) g->plane[i][j] = plane0[0];
+      continue;
     }
     if (!jnd_pyr_reduce(g->plane[i - 1], g->w[i - 1], g->h[i - 1], g->plane[i], g->w[i], g->h[i], threads)) {
       jnd_gauss_free(g);

@@ -30,6 +30,10 @@ static inline float jnd_prob_of_jnd(float j, float beta) {
   return j > 0 ? 1.0f - jnd_fast_exp2(-jnd_fast_pow(j, beta)) : 0.0f;
 }
 
+/* ---- model.c ---- */
+/* moves a model's fixation point (the tables do not depend on it) */
+void jnd_model_set_gaze(jnd_model *m, int has_gaze, double gaze_x, double gaze_y);
+
 /* ---- pyramids (pyramid.c) ---- */
 typedef struct {
   int levels;
@@ -78,16 +82,19 @@ extern const double jnd_band_table[6][2];
 /* Barten's spatial CSF (004 §3.1, Barten 2003) */
 double jnd_csf_barten(double rho_cpd, double lum_cdm2);
 /* Daly's refinement of Kelly's spatio-velocity CSF (004 §3.1), with c0, c1
- * from jnd_csf_adaptation for the luminance */
-double jnd_csf_achromatic(double rho_cpd, double vel_dps, double c0, double c1);
+ * from jnd_csf_adaptation for the luminance and c2 the velocity scale (004: 1.7) */
+double jnd_csf_achromatic(double rho_cpd, double vel_dps, double c0, double c1, double c2);
 /* c0(L), c1(L) of 004 §3.1 */
 void jnd_csf_adaptation(double lum_cdm2, double *c0, double *c1);
-/* Kelly's (1983) chromatic spatio-temporal CSF, centre + surround, scaled
- * by the square root of the retinal illuminance ratio (004 §3.1), turning
- * into Weber's law above sat_td trolands (0: never); channel 0 red–green,
- * 1 yellow–violet; cutoff_cpd is the centre's spatial cut-off */
-double jnd_csf_chromatic(double rho_cpd, double vel_dps, double lum_cdm2, int channel, double cutoff_cpd,
-                         double sat_td);
+/* The spatio-temporal shape of Kelly's (1983) chromatic CSF, centre +
+ * surround, at spatial frequency rho_cpd and temporal frequency omega_hz;
+ * channel 0 red–green, 1 yellow–violet; cutoff_cpd is the centre's spatial
+ * cut-off, temporal_hz its temporal one (docs/model.md). Peak ≈ 1. */
+double jnd_csf_chromatic(double rho_cpd, double omega_hz, int channel, double cutoff_cpd, double temporal_hz);
+/* The chromatic CSF's luminance factor: the square root of the retinal
+ * illuminance relative to 35 cd/m² (004 §3.1), turning into Weber's law
+ * above sat_td trolands (0: never) */
+double jnd_csf_chromatic_luminance(double lum_cdm2, double sat_td);
 /* Le Grand's pupil diameter in mm (004 §3.1) */
 double jnd_pupil_diameter_mm(double lum_cdm2);
 
@@ -95,14 +102,27 @@ double jnd_pupil_diameter_mm(double lum_cdm2);
 /* Daly's (1998) eye-movement model: retinal velocity from image velocity (004 §3.1) */
 double jnd_retinal_velocity(double image_vel_dps);
 #define JND_DRIFT_DPS 0.15
-/* sensitivity multiplier at eccentricity ecc_deg for frequency rho_cpd (docs/model.md) */
-double jnd_eccentricity_factor(double rho_cpd, double ecc_deg);
+/* M(0)/M(e): the inverse cortical magnification relative to the fovea */
+double jnd_cortical_magnification(double ecc_deg, double e2_deg);
+/* sensitivity multiplier at eccentricity ecc_deg for frequency rho_cpd in
+ * channel ch (0 A, 1 a, 2 b), from the model's constants (docs/model.md) */
+double jnd_eccentricity_factor(const jnd_model_params *p, int ch, double rho_cpd, double ecc_deg);
 
-/* ---- masking (masking.c) ---- */
-/* T(c) = sign(c)·|c| / (1 + (|c|^0.3)^10)^0.1 (004 §3.1) */
-static inline float jnd_transducer(float c) {
-  float a = fabsf(c);
-  return c * jnd_fast_exp2(-0.1f * jnd_fast_log2(1.0f + a * a * a));
+/* ---- masking ---- */
+/* 004 §3.1's transducer T(c) = sign(c)·|c| / (1 + (|c|^0.3)^10)^0.1 on
+ * CSF-normalised contrast, taken as its incremental gain at a masker of
+ * normalised contrast m. 004 cites Legge (1981) for its sub-Weber power law,
+ * discrimination thresholds growing as the masker's contrast to the 0.6
+ * (Legge's exponent), but its printed T grows as |c|^0.7, a slope of only
+ * 0.3. We keep T's form, T(c) = c / (1 + |c|³)^(γ/3), with γ = masking_slope
+ * (default Legge's 0.6; 0.3 is 004 as printed), whose incremental gain is
+ *   T′(m) = (1 + (1 − γ) m³) / (1 + m³)^(1 + γ/3):
+ * 1 on a uniform field, (1 − γ) m^−γ on a strong masker. The model evaluates
+ * it at the mutual masker min(|n_test|, |n_ref|) pooled over the band's
+ * neighbourhood (docs/model.md, "Masking"). */
+static inline float jnd_masking_gain(float m, float slope) {
+  float m3 = m * m * m;
+  return (1.0f + (1.0f - slope) * m3) * jnd_fast_exp2(-(1.0f + slope * (1.0f / 3)) * jnd_fast_log2(1.0f + m3));
 }
 
 /* ---- CSF-weighted Haar bands of 003 §4.2 (haar.c) ---- */

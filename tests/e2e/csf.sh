@@ -18,17 +18,34 @@ luminance,s_frequency,col_dir_id,bkg_id,ge_sigma,area,N,log_cone_contrast,datase
 50,1,3,1,0.5,0.785,1,-2.5,chromatic,0,0,0,180,gabor,300
 20,4,1,1,1,4,1,-1.8,moving,8,0,0,180,grating,60
 20,4,1,1,1,4,1,-1.5,peripheral,0,0,10,180,grating,30
-20,4,1,1,1,4,1,-1.5,foveal,0,0,0,180,grating,60
+50,16,1,1,0.5,0.785,1,-1.5,achromatic,0,0,0,180,gabor,30
+20,4,1,1,1,4,1,-1.9,foveal,0,0,0,180,grating,80
 CSV
 expect_exit 0 help_exits_zero "$JND" csf --help
 expect_exit 0 csf_runs_on_a_small_set "$JND" csf "$T/data.csv" -o "$T/pred.csv" --json "$T/csf.json" --quiet
 check output_has_every_input_column_plus_the_prediction bash -c "head -1 '$T/pred.csv' | grep -q '^luminance,s_frequency,.*,sensitivity,predicted_sensitivity'"
-check output_has_a_row_per_input test "$(wc -l <"$T/pred.csv")" -eq 7
+check output_has_a_row_per_input test "$(wc -l <"$T/pred.csv")" -eq 8
 check every_row_is_predicted bash -c "! grep -q NaN,NaN '$T/pred.csv'"
-check report_has_pooled_rmse jq -e '.result.rmse_db_static > 0 and .result.rows == 6' "$T/csf.json"
-check higher_frequency_is_less_visible bash -c "awk -F, 'NR==2{a=\$16} NR==3{b=\$16} END{exit !(a>b)}' '$T/pred.csv'"
-# rows 6 and 7: the same static 4 cpd grating at 10 degrees and at the fovea
-check periphery_is_less_visible_than_the_same_grating_in_the_fovea bash -c "awk -F, 'NR==6{p=\$16} NR==7{f=\$16} END{exit !(p>0 && p<f)}' '$T/pred.csv'"
+check report_has_pooled_rmse jq -e '.result.rmse_db_static > 0 and .result.rows == 7' "$T/csf.json"
+check a_16_cpd_gabor_is_less_visible_than_a_2_cpd_one bash -c "awk -F, 'NR==2{a=\$16} NR==7{b=\$16} END{exit !(a>b)}' '$T/pred.csv'"
+check the_periphery_is_less_visible_than_the_fovea bash -c "awk -F, 'NR==8{f=\$16} NR==6{p=\$16} END{exit !(p>0 && p<f)}' '$T/pred.csv'"
+
+# constants: listed, set, fitted, cross-validated
+expect_exit 0 constants_are_listed "$JND" csf --list-constants
+check the_list_names_the_priors grep -q "^sensitivity .*004" "$T/out.txt"
+"$JND" csf "$T/data.csv" --set sensitivity=0.1 --json "$T/low.json" --quiet
+check set_changes_a_constant jq -e --slurpfile a "$T/csf.json" '.parameters.constants.sensitivity.value == 0.1 and .result.datasets.achromatic.rmse_db != $a[0].result.datasets.achromatic.rmse_db' "$T/low.json"
+expect_exit 0 a_fit_runs "$JND" csf "$T/data.csv" --set sensitivity=0.1 --fit --fit-only sensitivity --json "$T/fit.json" --quiet
+check the_fit_moves_the_constant_back_and_lowers_the_error jq -e --slurpfile l "$T/low.json" '.parameters.constants.sensitivity.value > 0.2 and .parameters.constants.sensitivity.fitted and .parameters.constants.sensitivity.sd_ln > 0 and .result.rmse_db < $l[0].result.rmse_db' "$T/fit.json"
+expect_exit 0 cross_validation_runs "$JND" csf "$T/data.csv" --cross-validate --fit-only sensitivity,sens_rg -o "$T/cv.csv" --json "$T/cv.json" --quiet
+check every_data_set_is_predicted_by_the_others jq -e '[.result.datasets[] | select(.cv_rmse_db > 0)] | length == 5' "$T/cv.json"
+check cv_columns_are_written bash -c "head -1 '$T/cv.csv' | grep -q 'predicted_cv,error_cv_db,note'"
+check each_fold_reports_its_constants jq -e '.parameters.constants.sensitivity.without | length == 5' "$T/cv.json"
+"$JND" csf "$T/data.csv" --cross-validate --fit-only sensitivity,sens_rg --threads 1 --json "$T/cv1.json" --quiet
+check cross_validation_does_not_depend_on_the_thread_count cmp -s "$T/cv.json" "$T/cv1.json"
+expect_exit 2 unknown_constant_exits_two "$JND" csf "$T/data.csv" --set nonsense=1
+check unknown_constant_error_is_one_line one_line_error
+expect_exit 2 constant_out_of_bounds_exits_two "$JND" csf "$T/data.csv" --set sensitivity=-1
 
 # bad input
 printf 'luminance,s_frequency\n1,2\n' >"$T/bad.csv"

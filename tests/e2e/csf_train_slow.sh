@@ -1,16 +1,25 @@
 #!/usr/bin/env bash
 # The model against the 785 human thresholds of csf_train's nine data sets
-# (issue 10). The bounds are what the model achieves at this commit; the
-# issue's targets are <= 5 dB static and <= 7 dB over all rows.
+# (issue 10). The headline is leave-one-data-set-out cross-validation: each
+# data set predicted by the constants refitted on the other eight. The
+# bounds are what the model achieves at this commit (docs/model.md): the
+# issue's targets are <= 5 dB over static rows (not reached: 6.7) and <= 7 dB
+# over all rows (6.4).
 . "$(dirname "$0")/lib.bash"
 shared_data || skip "no shared data"
 D="$JND_SHARED/data/csf/csf_train.csv"
-expect_exit 0 csf_train_runs "$JND" csf "$D" -o "$T/pred.csv" --json "$T/r.json" --quiet
+expect_exit 0 cross_validation_runs "$JND" csf "$D" --cross-validate --search-every 3 -o "$T/pred.csv" --json "$T/r.json" --quiet
 jq -c '.result | del(.derived_directions)' "$T/r.json"
 check every_row_is_predicted jq -e '.result.rows == 785 and .result.skipped == 0' "$T/r.json"
-check nine_data_sets jq -e '(.result.datasets | length) == 9' "$T/r.json"
+check nine_data_sets_each_cross_validated \
+  jq -e '(.result.datasets | length) == 9 and ([.result.datasets[] | select(.cv_rmse_db > 0)] | length) == 9' "$T/r.json"
 check kong2018_and_hansen2009_directions_are_derived \
   jq -e '.result.derived_direction_rows == 267 and ([.result.derived_directions[].dataset] | unique) == ["hansen2009", "kong2018"]' "$T/r.json"
-check pooled_static_rmse_is_at_most_5_1_db jq -e '.result.rmse_db_static <= 5.1' "$T/r.json"
-check pooled_rmse_is_at_most_7_6_db jq -e '.result.rmse_db <= 7.6' "$T/r.json"
+check every_row_has_a_cross_validated_prediction bash -c "! awk -F, 'NR > 1 && \$(NF-2) == \"NaN\"' '$T/pred.csv' | grep -q ."
+check the_constants_of_each_fold_are_reported \
+  jq -e '(.parameters.constants | length) as $n | $n > 10 and ([.parameters.constants[] | select(.without | length == 9)] | length) == $n' "$T/r.json"
+check training_rmse_static_at_most_4_9_db jq -e '.result.rmse_db_static <= 4.9' "$T/r.json"
+check training_rmse_all_rows_at_most_4_3_db jq -e '.result.rmse_db <= 4.3' "$T/r.json"
+check loso_rmse_static_at_most_6_9_db jq -e '.result.cv_rmse_db_static <= 6.9' "$T/r.json"
+check loso_rmse_all_rows_at_most_6_6_db jq -e '.result.cv_rmse_db <= 6.6' "$T/r.json"
 finish
