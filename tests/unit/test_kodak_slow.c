@@ -97,16 +97,21 @@ static double pooled(jnd_model *m, const jnd_image *ref, const jnd_image_info *i
   return s == JND_OK ? st.p_detect : -1;
 }
 
+static jnd_model *default_model(void) {
+  jnd_model_params p;
+  jnd_model_defaults(&p);
+  jnd_model *m = NULL;
+  CHECK_OK(jnd_model_create(&p, &m));
+  return m;
+}
+
 TEST(stronger_distortions_are_more_visible_on_six_photographs) {
   const char *data = test_shared_data();
   if (!data) {
     TEST_SKIP("no shared data");
     return;
   }
-  jnd_model_params p;
-  jnd_model_defaults(&p);
-  jnd_model *m;
-  CHECK_OK(jnd_model_create(&p, &m));
+  jnd_model *m = default_model();
   /* strengths near threshold: P93 saturates at 1 soon after (noise sigma in
    * signal units, blur sigma in pixels, fraction of a 2x down-up change) */
   const double noise[] = {0.001, 0.0017, 0.003};
@@ -175,10 +180,7 @@ TEST(a_jpeg_quality_series_rises_gradually) {
     TEST_SKIP("no shared data");
     return;
   }
-  jnd_model_params p;
-  jnd_model_defaults(&p);
-  jnd_model *m;
-  CHECK_OK(jnd_model_create(&p, &m));
+  jnd_model *m = default_model();
   enum { NQ = 11 };
   const int quality[NQ] = {100, 98, 96, 94, 92, 90, 85, 80, 70, 50, 30};
   fprintf(stderr, "JPEG quality:");

@@ -255,16 +255,22 @@ TEST(motion_hides_fine_detail) {
   jnd_model_free(m);
 }
 
-TEST(eccentricity_lowers_sensitivity) {
+/* two default models at ppd for a 128² image: one fixating its centre, one
+ * fixating a point 20 degrees to its left */
+static void fovea_and_periphery(double ppd, jnd_model **fovea, jnd_model **periphery) {
   jnd_model_params p;
   jnd_model_defaults(&p);
-  p.display.ppd = 40;
-  jnd_model *fovea, *periphery;
-  CHECK_OK(jnd_model_create(&p, &fovea));
+  p.display.ppd = ppd;
+  CHECK_OK(jnd_model_create(&p, fovea));
   p.has_gaze = 1;
-  p.gaze_x = 64 - 40 * 20; /* 20 degrees to the left */
+  p.gaze_x = 64 - ppd * 20;
   p.gaze_y = 64;
-  CHECK_OK(jnd_model_create(&p, &periphery));
+  CHECK_OK(jnd_model_create(&p, periphery));
+}
+
+TEST(eccentricity_lowers_sensitivity) {
+  jnd_model *fovea, *periphery;
+  fovea_and_periphery(40, &fovea, &periphery);
   jnd_image a = grating(128, 128, 80, 0, 0.2, 20), b = grating(128, 128, 80, 0.05, 0.2, 20);
   CHECK(jnd_of(periphery, &a, &b, NULL) < 0.5 * jnd_of(fovea, &a, &b, NULL));
   jnd_image_free(&a);
@@ -330,15 +336,8 @@ TEST(chromatic_flicker_is_flat_at_low_temporal_frequencies_and_fades_above_ten_h
 }
 
 TEST(red_green_sensitivity_falls_faster_with_eccentricity_than_luminance) {
-  jnd_model_params p;
-  jnd_model_defaults(&p);
-  p.display.ppd = 16;
   jnd_model *fovea, *periphery;
-  CHECK_OK(jnd_model_create(&p, &fovea));
-  p.has_gaze = 1;
-  p.gaze_x = 64 - 16 * 20; /* 20 degrees to the left */
-  p.gaze_y = 64;
-  CHECK_OK(jnd_model_create(&p, &periphery));
+  fovea_and_periphery(16, &fovea, &periphery);
   double drop[2];
   for (int rg = 0; rg < 2; rg++) {
     jnd_image a = grating_rg(128, 128, 50, 0, 1.0 / 32, 24, rg), b = grating_rg(128, 128, 50, 0.02, 1.0 / 32, 24, rg);
