@@ -299,6 +299,24 @@ void jnd_model_free(jnd_model *m);
 /* The parameters the model was created with. */
 const jnd_model_params *jnd_model_get_params(const jnd_model *m);
 
+/* Moves the fixation point of m (pixels of the images it will compare; it
+ * may lie outside them) or, with has_gaze 0, removes it so that every pixel
+ * is foveal. Each pixel's eccentricity is the angle between it and the
+ * fixation point on a flat screen seen from the distance params.display.ppd
+ * implies. The CSF tables do not depend on the fixation point, so one model
+ * serves any number of gaze positions (gaze tables, a per-view gaze). */
+void jnd_model_set_gaze(jnd_model *m, int has_gaze, double gaze_x, double gaze_y);
+
+/* The model's sensitivity at eccentricity ecc_deg relative to the fovea, for
+ * a pattern of spatial frequency rho_cpd in channel ch (0 achromatic,
+ * 1 red–green, 2 yellow–violet), from p's constants:
+ *   (1 + ecc/ecc_e2_deg)^−γ_ch · exp(−ecc_freq · rho · ecc),
+ * γ_ch = ecc_achromatic, ecc_rg or ecc_yv (Rovamo & Virsu's cortical
+ * magnification, Geisler & Perry's acuity loss; docs/model.md
+ * "Eccentricity"). 1 at the fovea; what jnd_model_diff applies per band and
+ * pixel when a fixation point is set. */
+double jnd_eccentricity_factor(const jnd_model_params *p, int ch, double rho_cpd, double ecc_deg);
+
 /* Optional per-pixel inputs of a comparison; any field may be NULL / 0. */
 typedef struct {
   const jnd_image *motion;   /* 2 channels: screen displacement in pixels per frame

@@ -30,10 +30,6 @@ static inline float jnd_prob_of_jnd(float j, float beta) {
   return j > 0 ? 1.0f - jnd_fast_exp2(-jnd_fast_pow(j, beta)) : 0.0f;
 }
 
-/* ---- model.c ---- */
-/* moves a model's fixation point (the tables do not depend on it) */
-void jnd_model_set_gaze(jnd_model *m, int has_gaze, double gaze_x, double gaze_y);
-
 /* ---- pyramids (pyramid.c) ---- */
 typedef struct {
   int levels;
@@ -104,9 +100,6 @@ double jnd_retinal_velocity(double image_vel_dps);
 #define JND_DRIFT_DPS 0.15
 /* M(0)/M(e): the inverse cortical magnification relative to the fovea */
 double jnd_cortical_magnification(double ecc_deg, double e2_deg);
-/* sensitivity multiplier at eccentricity ecc_deg for frequency rho_cpd in
- * channel ch (0 A, 1 a, 2 b), from the model's constants (docs/model.md) */
-double jnd_eccentricity_factor(const jnd_model_params *p, int ch, double rho_cpd, double ecc_deg);
 
 /* ---- masking ---- */
 /* 004 §3.1's transducer T(c) = sign(c)·|c| / (1 + (|c|^0.3)^10)^0.1 on

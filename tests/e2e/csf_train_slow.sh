@@ -3,8 +3,8 @@
 # (issue 10). The headline is leave-one-data-set-out cross-validation: each
 # data set predicted by the constants refitted on the other eight. The
 # bounds are what the model achieves at this commit (docs/model.md): the
-# issue's targets are <= 5 dB over static rows (not reached: 6.7) and <= 7 dB
-# over all rows (6.4).
+# issue's targets are <= 5 dB over static rows (not reached: 6.73) and <= 7 dB
+# over all rows (met: 6.41). Training: 4.78 static, 4.17 all rows.
 . "$(dirname "$0")/lib.bash"
 shared_data || skip "no shared data"
 D="$JND_SHARED/data/csf/csf_train.csv"
@@ -18,8 +18,8 @@ check kong2018_and_hansen2009_directions_are_derived \
 check every_row_has_a_cross_validated_prediction bash -c "! awk -F, 'NR > 1 && \$(NF-2) == \"NaN\"' '$T/pred.csv' | grep -q ."
 check the_constants_of_each_fold_are_reported \
   jq -e '(.parameters.constants | length) as $n | $n > 10 and ([.parameters.constants[] | select(.without | length == 9)] | length) == $n' "$T/r.json"
-check training_rmse_static_at_most_4_9_db jq -e '.result.rmse_db_static <= 4.9' "$T/r.json"
-check training_rmse_all_rows_at_most_4_3_db jq -e '.result.rmse_db <= 4.3' "$T/r.json"
-check loso_rmse_static_at_most_6_9_db jq -e '.result.cv_rmse_db_static <= 6.9' "$T/r.json"
-check loso_rmse_all_rows_at_most_6_6_db jq -e '.result.cv_rmse_db <= 6.6' "$T/r.json"
+check training_rmse_static_at_most_4_8_db jq -e '.result.rmse_db_static <= 4.8' "$T/r.json"
+check training_rmse_all_rows_at_most_4_2_db jq -e '.result.rmse_db <= 4.2' "$T/r.json"
+check loso_rmse_static_at_most_6_8_db jq -e '.result.cv_rmse_db_static <= 6.8' "$T/r.json"
+check loso_rmse_all_rows_at_most_6_5_db jq -e '.result.cv_rmse_db <= 6.5' "$T/r.json"
 finish

@@ -335,6 +335,23 @@ TEST(chromatic_flicker_is_flat_at_low_temporal_frequencies_and_fades_above_ten_h
   jnd_model_free(m);
 }
 
+TEST(moving_the_fixation_point_equals_a_model_made_with_it) {
+  jnd_model *fovea, *periphery;
+  fovea_and_periphery(40, &fovea, &periphery);
+  jnd_image a = grating(128, 128, 80, 0, 0.2, 20), b = grating(128, 128, 80, 0.05, 0.2, 20);
+  double j_fovea = jnd_of(fovea, &a, &b, NULL), j_periphery = jnd_of(periphery, &a, &b, NULL);
+  const jnd_model_params *pp = jnd_model_get_params(periphery);
+  jnd_model_set_gaze(fovea, 1, pp->gaze_x, pp->gaze_y);
+  CHECK(jnd_of(fovea, &a, &b, NULL) == j_periphery);
+  jnd_model_set_gaze(fovea, 0, 0, 0);
+  CHECK(jnd_of(fovea, &a, &b, NULL) == j_fovea);
+  CHECK_LT(j_periphery, j_fovea);
+  jnd_image_free(&a);
+  jnd_image_free(&b);
+  jnd_model_free(fovea);
+  jnd_model_free(periphery);
+}
+
 TEST(red_green_sensitivity_falls_faster_with_eccentricity_than_luminance) {
   jnd_model *fovea, *periphery;
   fovea_and_periphery(16, &fovea, &periphery);
@@ -851,7 +868,8 @@ TEST(default_beta_of_3_5_is_what_diff_uses) {
 
 RUN_TESTS(flicker_sensitivity_is_band_pass_at_low_spatial_frequency_and_low_pass_at_high,
           chromatic_flicker_is_flat_at_low_temporal_frequencies_and_fades_above_ten_hertz,
-          red_green_sensitivity_falls_faster_with_eccentricity_than_luminance, a_texture_masks_a_change_whatever_its_phase,
+          red_green_sensitivity_falls_faster_with_eccentricity_than_luminance,
+          moving_the_fixation_point_equals_a_model_made_with_it, a_texture_masks_a_change_whatever_its_phase,
           a_uniform_change_is_visible, identical_images_have_zero_jnd, band_table_matches_the_filters, finest_band_peaks_near_nyquist_and_four_times_the_next,
           with_004s_limit_the_coarsest_band_peaks_at_or_above_half_a_cycle_per_degree, reduce_and_expand_keep_a_constant_image_constant,
           lms_luminance_weights_recover_y, opponent_channels_separate_luminance_from_colour,
