@@ -324,6 +324,25 @@ TEST(flicker_sensitivity_is_band_pass_at_low_spatial_frequency_and_low_pass_at_h
   jnd_model_free(m);
 }
 
+TEST(flicker_at_half_a_cycle_per_degree_is_best_seen_near_6_hz_as_robson_1966) {
+  /* Robson (1966), csf_train's robson1966 at 0.5 cpd: sensitivity peaks near
+   * 6 Hz (180) and falls to 18 at 22.6 Hz. The model's peak over the
+   * frequencies below must be at 6 or 8 Hz, and 24 Hz at least 2× less
+   * visible than 6 Hz (the temporal frequency reaches Kelly's surface as
+   * given: a factor 2 on it moves the peak to 3–4 Hz) */
+  jnd_model *m = model_with(16, 1);
+  const double hz[9] = {1, 2, 3, 4, 6, 8, 12, 16, 24};
+  double j[9];
+  int best = 0;
+  for (int i = 0; i < 9; i++) {
+    j[i] = flicker_jnd(m, 1.0 / 32, hz[i], 0);
+    if (j[i] > j[best]) best = i;
+  }
+  CHECK(hz[best] == 6 || hz[best] == 8);
+  CHECK_LT(2 * j[8], j[4]);
+  jnd_model_free(m);
+}
+
 TEST(chromatic_flicker_is_flat_at_low_temporal_frequencies_and_fades_above_ten_hertz) {
   /* Kelly 1983; csf_train's kong2018: red–green flicker sensitivity changes
    * little up to several Hz and falls by about a decade from 10 to 25 Hz */
@@ -867,6 +886,7 @@ TEST(default_beta_of_3_5_is_what_diff_uses) {
 }
 
 RUN_TESTS(flicker_sensitivity_is_band_pass_at_low_spatial_frequency_and_low_pass_at_high,
+          flicker_at_half_a_cycle_per_degree_is_best_seen_near_6_hz_as_robson_1966,
           chromatic_flicker_is_flat_at_low_temporal_frequencies_and_fades_above_ten_hertz,
           red_green_sensitivity_falls_faster_with_eccentricity_than_luminance,
           moving_the_fixation_point_equals_a_model_made_with_it, a_texture_masks_a_change_whatever_its_phase,
