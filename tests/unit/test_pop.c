@@ -244,7 +244,7 @@ TEST(more_contrast_and_larger_blobs_rate_higher) {
  * pixels per frame (NaN: static) */
 static double detail_rating(jnd_model *m, float v) {
   jnd_image a = textured(128, 96, 50, 3), b = copy(&a);
-  detail(&a, 40, 30, 24, 0.25f);
+  detail(&a, 40, 30, 24, 0.5f);
   double R = pair_rating(m, &a, &b, v, NULL);
   jnd_image_free(&a);
   jnd_image_free(&b);
@@ -426,7 +426,7 @@ TEST(flicker_weights_down_where_the_previous_frame_differs_as_much) {
 TEST(regions_do_not_depend_on_the_thread_count) {
   const int w = 173, h = 150;
   jnd_image a = textured(w, h, 50, 11), b = textured(w, h, 50, 11), d = plane(w, h, 2, 3.0f);
-  detail(&a, 20, 20, 40, 0.1f);
+  detail(&a, 20, 20, 40, 0.3f);
   square(&a, 100, 80, 30, 1.08f);
   square(&b, 140, 10, 9, 0.93f);
   jnd_pop_result r[3];
