@@ -1672,15 +1672,100 @@ jnd_status jnd_poi_analyse(jnd_scene *scene, const jnd_poi_params *p, jnd_poi_re
 void jnd_poi_result_free(jnd_poi_result *r);
 
 /* The Pareto plot of screen i: both curves (each over its largest value)
- * against triangles (log axis), 003's knees and the rules of thumb marked.
- * out is allocated (3 channels, sRGB 0..1) for jnd_image_write_png. */
-jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, jnd_image *out);
+ * against triangles (log axis), 003's knees, the rules of thumb and, when
+ * perceptual >= 0, the perceptual choice (jnd_lod_switch_analyse's level)
+ * marked. out is allocated (3 channels, sRGB 0..1) for jnd_image_write_png. */
+jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, int perceptual, jnd_image *out);
+
+/* The perceptual choice and the switch distances of a chain on one screen,
+ * through the judge (docs/lod.md, docs/judge.md): level 0 is the reference;
+ * a level passes at a camera distance when 000 §9's criterion (p, q) holds
+ * on views sampled at that distance, each rendered at the screen's own pixel
+ * scale (the central part of the screen that holds the object; where the
+ * object is larger than max_px, on a screen scaled down until it fits, with
+ * as many fewer pixels per degree) and judged on the screen's display.
+ * Procedure:
+ *  1. the viewing condition: the distance at which the bounding sphere fills
+ *     `coverage` of the screen's height (or `distance`);
+ *  2. the perceptual level: the coarsest level that passes there, levels
+ *     tried coarsest first (a failing level costs a view or two);
+ *  3. switch distances: for level k = 1, 2, ... the nearest distance, from
+ *     level k − 1's on, at which it passes: by bisection on a geometric grid
+ *     of distances from the viewing condition's out to where the sphere
+ *     fills far_coverage of the height, ratio 1 + tolerance between grid
+ *     points (P falls with distance). Starting from the finer level's
+ *     distance makes them monotone by construction; a level that fails at
+ *     the far end gets INFINITY, and so do the coarser ones.
+ * Typical use (levels made or imported first):
+ *
+ *     jnd_lod_switch_params sp;  jnd_lod_switch_defaults(&sp);
+ *     jnd_poi_screen scr;  jnd_poi_screen_parse("phone", &scr);
+ *     jnd_lod_switch_result r;  jnd_lod_switch_analyse(scene, &scr, &sp, &r);
+ *     // r.perceptual_level, r.switch_distance[k], r.switch_coverage[k]
+ *     jnd_lod_switch_result_free(&r);
+ */
+typedef struct {
+  jnd_judge_params judge;    /* views (count 4, seed, fov 45, lights; coverage and distance are set
+                                below), MSAA, environment, model constants, calibration, criterion;
+                                the display and the rendering size come from the screen */
+  double coverage;           /* viewing condition of the perceptual choice: the sphere fills this
+                                fraction of the screen's height (0.5, as 003's analysis) ... */
+  double distance;           /* ... or, when > 0, this camera distance (object units: metres in glTF) */
+  double far_coverage;       /* the farthest distance searched: the sphere fills this fraction of the
+                                screen's height there (0.02) */
+  double tolerance;          /* ratio between neighbouring distances of the search, minus 1 (0.1):
+                                a switch distance is within a factor 1 + tolerance of the true one */
+  int max_px;                /* largest rendering side, pixels (512): a larger object is judged on a
+                                screen scaled down until it fits (fewer pixels per degree) */
+} jnd_lod_switch_params;
+
+/* Fills p with the defaults above (the judge's: jnd_judge_defaults, 4 views). */
+void jnd_lod_switch_defaults(jnd_lod_switch_params *p);
+
+typedef struct {
+  jnd_poi_screen screen;
+  int nlevels;
+  double view_distance;      /* the viewing condition: camera distance, object units */
+  double view_coverage;      /* and the fraction of the screen's height the sphere fills there */
+  int window_px;             /* side of the renderings */
+  double scale;              /* 1, or < 1 where the object at the viewing condition would not fit
+                                max_px: the screen's pixels and pixels per degree times scale */
+  int perceptual_level;      /* the coarsest level that passes at the viewing condition (0: none) */
+  double *statistic;         /* per level at the viewing condition: the criterion's statistic (the
+                                (floor(q·n) + 1)-th largest P; a lower bound when decided early), NaN
+                                where not judged; 0 for level 0. Owned */
+  double *p_max;             /* per level: the largest P of the views judged there (NaN: none). Owned */
+  double *switch_distance;   /* per level: from which camera distance it may be shown (0 for level 0;
+                                INFINITY: not even at the far end). Owned */
+  double *switch_coverage;   /* per level: the fraction of the screen's height the sphere fills at that
+                                distance (1 for level 0 ... 0 for INFINITY). Owned */
+  int distances;             /* distances at which views were rendered */
+  int judgements;            /* judge evaluations (a level at a distance) */
+  jnd_judge_counts counts;   /* the judge's counts */
+} jnd_lod_switch_result;
+
+/* Runs the procedure above on scene's chain (at least two levels) for one
+ * screen. Level 0 is selected on return. Deterministic for given
+ * parameters. out owns arrays (jnd_lod_switch_result_free). JND_ERR_ARG for
+ * bad parameters or a single level, JND_ERR_GL without a renderer. */
+jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen, const jnd_lod_switch_params *p,
+                                  jnd_lod_switch_result *out);
+
+/* Frees a result's arrays; safe on a zeroed struct. */
+void jnd_lod_switch_result_free(jnd_lod_switch_result *r);
+
+/* The fraction of the image height a sphere of radius r fills from camera
+ * distance d with vertical field of view fov (the inverse of
+ * jnd_camera_distance_for_coverage); 0 for an infinite distance. */
+double jnd_coverage_at_distance(double radius, double distance, double fov_y_deg);
 
 /* `jnd lod` as one call: the chain (made with meshoptimizer, or the one the
  * file has as MSFT_lod, or levels from other files), 003's analysis per
  * screen, and the outputs: OUT/model/NAME.glb (every level, MSFT_lod with
- * MSFT_screencoverage) and OUT/pareto_SCREEN.png. The perceptual choice
- * and switch distances through the judge are a later step (docs/lod.md). */
+ * MSFT_screencoverage) and OUT/pareto_SCREEN.png; with `perceptual`, per
+ * screen the perceptual choice and the switch distances through the judge
+ * (jnd_lod_switch_analyse), the model's MSFT_screencoverage then from the
+ * first screen's switch distances (docs/lod.md). */
 typedef struct {
   jnd_lod_params chain;      /* how a chain is made */
   int rebuild;               /* 1: make a chain even when the file has MSFT_lod levels (0) */
@@ -1688,6 +1773,10 @@ typedef struct {
   int nlevel_paths;
   int analyse;               /* 1 (default): 003's analysis; 0: the chain and the model only */
   jnd_poi_params poi;        /* the analysis (jnd_poi_defaults) */
+  int perceptual;            /* 1 (default): the perceptual choice and switch distances per screen
+                                (with analyse; the screens, seed, fov, lights, environment and
+                                platform are poi's) */
+  jnd_lod_switch_params sw;  /* their parameters (jnd_lod_switch_defaults; coverage is poi's) */
   int builtin_map_size;      /* map side of MODEL "builtin" / "builtin:sphere" (512) */
   const char *out_dir;       /* NULL: nothing written; else created, and the model and plots written */
   void (*progress)(void *user, const char *stage, int done, int total); /* also the analysis's */
@@ -1702,6 +1791,8 @@ typedef struct {
   const char *chain_source;  /* "made" (meshoptimizer), "file" (MSFT_lod), "levels" (other files) */
   int analysed;
   jnd_poi_result poi;        /* when analysed */
+  jnd_lod_switch_result *sw; /* when perceptual: one per screen of poi (owned) */
+  int nsw;
   double coverage[64];       /* MSFT_screencoverage written, one per level (jnd_scene_write_lod_glb) */
   char coverage_rule[160];   /* how they were chosen */
   char model_path[4600];     /* the GLB written, "" if none */

@@ -24,8 +24,12 @@ static void help(void) {
       "pixel-error rule. The same for each texture map over its mip chain (003 §4.3).\n"
       "Writes OUTDIR/lod.json, OUTDIR/model/NAME.glb (every level, MSFT_lod with\n"
       "MSFT_screencoverage) and OUTDIR/pareto_SCREEN.png; the input is never touched.\n"
-      "The perceptual choice (jnd's vision model on sampled views) and the switch distances\n"
-      "are to come: lod.json says so. See docs/lod.md.\n"
+      "Beyond 003, per screen: the perceptual choice, the coarsest level jnd's vision model\n"
+      "finds no more visible than 000's criterion allows (at most a fraction q of the views\n"
+      "with P > p) against level 0 at the viewing condition (--coverage or --distance), and\n"
+      "each level's switch distance (from which camera distance it may be shown), found by\n"
+      "bisection on a log scale; the model's MSFT_screencoverage then comes from the first\n"
+      "screen's switch distances. See docs/lod.md.\n"
       "\n"
       "chain:\n"
       "  --errors LIST       error targets relative to the model's extent, ascending\n"
@@ -58,6 +62,19 @@ static void help(void) {
       "  --anisotropy N      renderer anisotropy of the virtual screen (4)\n"
       "  --platform P        EGL platform: auto, device, surfaceless\n"
       "  --map-size N        side of the builtin asset's maps (512)\n"
+      "\n"
+      "the perceptual choice and switch distances (through the judge, docs/judge.md):\n"
+      "  --distance D        the viewing condition as a camera distance (object units, metres in\n"
+      "                      glTF) instead of --coverage\n"
+      "  --judge-views N     views per distance (4), sampled with --seed, --fov, --lights\n"
+      "  --p P, --q Q        the criterion: at most a fraction Q of the views with P > P (0.2, 0.1)\n"
+      "  --far-coverage F    the farthest distance searched: the sphere fills F of the screen's\n"
+      "                      height (0.02)\n"
+      "  --tolerance T       ratio between neighbouring distances of the search, minus 1 (0.1)\n"
+      "  --max-px N          largest rendering side (512): a larger object is judged on the\n"
+      "                      screen scaled down until it fits (fewer pixels per degree)\n"
+      "  --samples N         MSAA samples of the judge's renderings (4)\n"
+      "  --no-perceptual     003's analysis and the rules only\n"
       "\n"
       "outputs:\n"
       "  -o, --output DIR    the folder (created): lod.json, model/, pareto_*.png\n"
@@ -199,6 +216,21 @@ static int run(int argc, char **argv) {
       p.poi.platform = v;
     } else if (cli_opt(ap, "--map-size", &v)) {
       p.builtin_map_size = cli_int(ap, "--map-size", v, 8, 8192);
+    } else if (cli_opt(ap, "--distance", &v)) {
+      p.sw.distance = cli_double(ap, "--distance", v, 1e-9, 1e12);
+    } else if (cli_opt(ap, "--judge-views", &v)) {
+      p.sw.judge.views.sampling.count = cli_int(ap, "--judge-views", v, 1, 256);
+    } else if (cli_criterion_opt(ap, &p.sw.judge.criterion)) {
+    } else if (cli_opt(ap, "--far-coverage", &v)) {
+      p.sw.far_coverage = cli_double(ap, "--far-coverage", v, 1e-4, 1);
+    } else if (cli_opt(ap, "--tolerance", &v)) {
+      p.sw.tolerance = cli_double(ap, "--tolerance", v, 0.001, 10);
+    } else if (cli_opt(ap, "--max-px", &v)) {
+      p.sw.max_px = cli_int(ap, "--max-px", v, 32, 8192);
+    } else if (cli_opt(ap, "--samples", &v)) {
+      p.sw.judge.views.render.samples = cli_int(ap, "--samples", v, 1, 64);
+    } else if (cli_flag(ap, "--no-perceptual")) {
+      p.perceptual = 0;
     } else if (cli_common_opt(ap, &common)) {
     } else if (a[0] == '-' && a[1]) {
       return cli_unknown(ap);
@@ -252,6 +284,15 @@ static int run(int argc, char **argv) {
   cJSON_AddNumberToObject(par, "meshopt_pixels", p.poi.meshopt_pixels);
   cJSON_AddNumberToObject(par, "pixel_error", p.poi.pixel_error);
   cJSON_AddBoolToObject(par, "textures", p.poi.textures);
+  cJSON *jpc = cJSON_AddObjectToObject(par, "perceptual");
+  cJSON_AddBoolToObject(jpc, "enabled", p.perceptual && p.analyse);
+  cJSON_AddItemToObject(jpc, "distance", p.sw.distance > 0 ? cJSON_CreateNumber(p.sw.distance) : cJSON_CreateNull());
+  cJSON_AddNumberToObject(jpc, "views", p.sw.judge.views.sampling.count);
+  cJSON_AddItemToObject(jpc, "criterion", cli_criterion_json(&p.sw.judge.criterion, NULL));
+  cJSON_AddNumberToObject(jpc, "far_coverage", p.sw.far_coverage);
+  cJSON_AddNumberToObject(jpc, "tolerance", p.sw.tolerance);
+  cJSON_AddNumberToObject(jpc, "max_px", p.sw.max_px);
+  cJSON_AddNumberToObject(jpc, "samples", p.sw.judge.views.render.samples);
 
   cJSON_AddStringToObject(res, "chain_source", R.chain_source);
   int n = jnd_scene_lod_count(scene);
@@ -319,14 +360,38 @@ static int run(int argc, char **argv) {
       cJSON_AddNumberToObject(rp, "pixels", p.poi.pixel_error);
       cJSON_AddNumberToObject(rp, "level", S->pixel_level);
       cJSON_AddNumberToObject(rp, "triangles", (double)P->levels[S->pixel_level].triangles);
-      /* step two (through the judge): not computed here, and not faked */
-      cJSON_AddNullToObject(o, "perceptual_level");
-      cJSON_AddNullToObject(o, "switch_distance_m");
+      if (i < R.nsw) {
+        const jnd_lod_switch_result *W = &R.sw[i];
+        cJSON_AddNumberToObject(o, "perceptual_level", W->perceptual_level);
+        cJSON_AddNumberToObject(o, "perceptual_triangles", (double)P->levels[W->perceptual_level].triangles);
+        /* never (INFINITY) is null */
+        cJSON *sd = cJSON_AddArrayToObject(o, "switch_distance_m"), *sc = cJSON_AddArrayToObject(o, "switch_coverage");
+        cJSON *jst = cJSON_AddArrayToObject(o, "statistic"), *pm = cJSON_AddArrayToObject(o, "p_max");
+        for (int k = 0; k < W->nlevels; k++) {
+          cJSON_AddItemToArray(sd, num_or_null(W->switch_distance[k]));
+          cJSON_AddItemToArray(sc, cJSON_CreateNumber(W->switch_coverage[k]));
+          cJSON_AddItemToArray(jst, num_or_null(W->statistic[k]));
+          cJSON_AddItemToArray(pm, num_or_null(W->p_max[k]));
+        }
+        cJSON *vc = cJSON_AddObjectToObject(o, "viewing_condition");
+        cJSON_AddNumberToObject(vc, "distance", W->view_distance);
+        cJSON_AddNumberToObject(vc, "coverage", W->view_coverage);
+        cJSON_AddNumberToObject(vc, "window_px", W->window_px);
+        cJSON_AddNumberToObject(vc, "scale", W->scale);
+        cJSON *jw = cJSON_AddObjectToObject(o, "judge");
+        cJSON_AddNumberToObject(jw, "distances", W->distances);
+        cJSON_AddNumberToObject(jw, "judgements", W->judgements);
+        cJSON_AddNumberToObject(jw, "references", W->counts.references);
+        cJSON_AddNumberToObject(jw, "renderings", W->counts.renderings);
+        cJSON_AddNumberToObject(jw, "view_judgements", W->counts.view_judgements);
+      } else {
+        cJSON_AddNullToObject(o, "perceptual_level");
+        cJSON_AddNullToObject(o, "switch_distance_m");
+      }
       if (i < R.nplots) cJSON_AddStringToObject(o, "pareto_png", R.plots[i]);
       cJSON_AddItemToArray(js, o);
     }
-    cJSON_AddStringToObject(res, "pending",
-                            "perceptual_level and switch_distance_m come in step two, through the judge (issue 9)");
+    if (R.nsw == 0) cJSON_AddStringToObject(res, "perceptual", "not asked (--no-perceptual)");
     cJSON *jt = cJSON_AddArrayToObject(res, "textures");
     for (int t = 0; t < P->ntextures; t++) {
       const jnd_poi_texture *T = &P->textures[t];
@@ -401,12 +466,23 @@ static int run(int argc, char **argv) {
                li.sloppy_meshes);
   }
   if (P) {
-    cli_info(&common, "%-16s %12s %12s %12s %12s\n", "screen", "003 PoI lit", "PoI unlit", "meshopt rule", "pixel rule");
+    cli_info(&common, "%-16s %12s %12s %12s %12s %12s\n", "screen", "perceptual", "003 PoI lit", "PoI unlit",
+             "meshopt rule", "pixel rule");
     for (int i = 0; i < P->nscreens; i++) {
       const jnd_poi_screen_result *S = &P->screens[i];
-      cli_info(&common, "%-16s %12zu %12zu %12zu %12zu\n", S->screen.name, P->levels[S->poi_level].triangles,
+      char perc[32] = "-";
+      if (i < R.nsw) snprintf(perc, sizeof perc, "%zu", P->levels[R.sw[i].perceptual_level].triangles);
+      cli_info(&common, "%-16s %12s %12zu %12zu %12zu %12zu\n", S->screen.name, perc, P->levels[S->poi_level].triangles,
                P->levels[S->poi_level_unlit].triangles, P->levels[S->meshopt_level].triangles,
                P->levels[S->pixel_level].triangles);
+    }
+    for (int i = 0; i < R.nsw; i++) {
+      cli_info(&common, "%-16s switch distances:", R.sw[i].screen.name);
+      for (int k = 0; k < R.sw[i].nlevels; k++) {
+        if (isfinite(R.sw[i].switch_distance[k])) cli_info(&common, " %.3g", R.sw[i].switch_distance[k]);
+        else cli_info(&common, " never");
+      }
+      cli_info(&common, "\n");
     }
   }
   cli_info(&common, "wrote %s/lod.json and %s\n", dir, R.model_path);

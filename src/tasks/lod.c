@@ -790,7 +790,7 @@ fail:
 
 /* ---- the Pareto plot ---- */
 
-jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, jnd_image *out) {
+jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, int perceptual, jnd_image *out) {
   if (screen < 0 || screen >= r->nscreens) return jnd_fail(JND_ERR_ARG, "pareto plot: screen %d out of range", screen);
   const jnd_poi_screen_result *R = &r->screens[screen];
   int n = R->nlevels;
@@ -804,7 +804,7 @@ jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, jnd_image *o
     yu[k] = mu > 0 ? R->curve[k].error / mu : 0;
     yl[k] = ml > 0 ? R->curve[k].error_lit / ml : 0;
   }
-  char lu[96], ll[96], t[160], m[4][96];
+  char lu[96], ll[96], t[160], m[5][96];
   snprintf(lu, sizeof lu, "unlit, eq. 1 (largest %.3g)", mu);
   snprintf(ll, sizeof ll, "lit, eq. 3 (largest %.3g)", ml);
   jnd_plot_series ser[2] = {{x, yu, n, lu, jnd_palette(0), 1, 1, 2}, {x, yl, n, ll, jnd_palette(1), 1, 1, 2}};
@@ -814,10 +814,17 @@ jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, jnd_image *o
   snprintf(m[1], sizeof m[1], "003 unlit %zu", r->levels[R->poi_level_unlit].triangles);
   snprintf(m[2], sizeof m[2], "meshopt %zu", r->levels[R->meshopt_level].triangles);
   snprintf(m[3], sizeof m[3], "px rule %zu", r->levels[R->pixel_level].triangles);
-  jnd_plot_mark marks[4] = {{x[R->poi_level], m[0], jnd_palette(1)},
+  jnd_plot_mark marks[5] = {{x[R->poi_level], m[0], jnd_palette(1)},
                             {x[R->poi_level_unlit], m[1], jnd_palette(0)},
                             {x[R->meshopt_level], m[2], jnd_palette(2)},
-                            {x[R->pixel_level], m[3], jnd_palette(3)}};
+                            {x[R->pixel_level], m[3], jnd_palette(3)},
+                            {0, m[4], jnd_palette(4)}};
+  int nmarks = 4;
+  if (perceptual >= 0 && perceptual < n) {
+    snprintf(m[4], sizeof m[4], "perceptual %zu", r->levels[perceptual].triangles);
+    marks[4].x = x[perceptual];
+    nmarks = 5;
+  }
   jnd_plot_axes ax;
   memset(&ax, 0, sizeof ax);
   ax.title = t;
@@ -828,8 +835,26 @@ jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, jnd_image *o
   ax.ymin = 0;
   ax.ymax = 1;
   ax.marks = marks;
-  ax.nmarks = 4;
+  ax.nmarks = nmarks;
   return jnd_plot_lines(&ax, ser, 2, out);
+}
+
+/* MSFT_screencoverage from the perceptual switch distances of one screen:
+ * level k is shown while the sphere fills more of the screen than where
+ * level k + 1 may take over (its switch coverage, a fraction of the
+ * height), written as Babylon.js's screen coverage like coverage_rule(). */
+static void coverage_switch(const jnd_lod_switch_result *w, double *cov, char *rule, size_t nrule) {
+  const jnd_poi_screen *ref = &w->screen;
+  double prev = 1;
+  for (int k = 0; k < w->nlevels; k++) {
+    double h = k + 1 < w->nlevels ? fmin(w->switch_coverage[k + 1], 1.0) : 0;
+    double c = M_PI * h * h * ref->height_px / (4.0 * ref->width_px);
+    if (c > prev) c = prev;
+    cov[k] = c;
+    prev = c;
+  }
+  snprintf(rule, nrule, "perceptual switch distances on %s (%dx%d), as projected sphere area over screen area",
+           ref->name, ref->width_px, ref->height_px);
 }
 
 /* ---- jnd lod as one call ---- */
@@ -839,6 +864,8 @@ void jnd_lod_run_defaults(jnd_lod_run_params *p) {
   jnd_lod_defaults(&p->chain);
   jnd_poi_defaults(&p->poi);
   p->analyse = 1;
+  p->perceptual = 1;
+  jnd_lod_switch_defaults(&p->sw);
   p->builtin_map_size = 512;
 }
 
@@ -846,6 +873,8 @@ void jnd_lod_report_free(jnd_lod_report *r) {
   if (!r) return;
   jnd_scene_free(r->scene);
   jnd_poi_result_free(&r->poi);
+  for (int i = 0; i < r->nsw && r->sw; i++) jnd_lod_switch_result_free(&r->sw[i]);
+  free(r->sw);
   memset(r, 0, sizeof *r);
 }
 
@@ -971,6 +1000,31 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
       return st;
     }
     out->analysed = 1;
+    /* the perceptual choice and switch distances, per screen */
+    if (p->perceptual) {
+      if (!(out->sw = jnd_calloc((size_t)out->poi.nscreens, sizeof *out->sw))) {
+        jnd_lod_report_free(out);
+        return jnd_fail(JND_ERR_NOMEM, "%s: out of memory", model_path);
+      }
+      jnd_lod_switch_params sp = p->sw;
+      sp.coverage = p->poi.coverage;
+      jnd_view_sampling *vs = &sp.judge.views.sampling;
+      vs->seed = p->poi.seed;
+      if (p->poi.fov_y_deg > 0) vs->fov_y_deg = p->poi.fov_y_deg;
+      vs->lights = p->poi.lights;
+      sp.judge.views.render.env_path = p->poi.env_path;
+      sp.judge.views.render.platform = p->poi.platform;
+      for (int i = 0; i < out->poi.nscreens && !st; i++) {
+        if (p->progress) p->progress(p->progress_user, "perceptual choice", i, out->poi.nscreens);
+        st = jnd_lod_switch_analyse(s, &out->poi.screens[i].screen, &sp, &out->sw[i]);
+        if (!st) out->nsw = i + 1;
+      }
+      if (p->progress) p->progress(p->progress_user, "perceptual choice", out->poi.nscreens, out->poi.nscreens);
+      if (st) {
+        jnd_lod_report_free(out);
+        return st;
+      }
+    }
   }
   out->analysis_s = seconds() - t1;
   out->analysis_cpu_s = cpu_seconds() - c1;
@@ -992,8 +1046,11 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
       err[k] = dist.max;
     }
   }
-  if (!st) coverage_rule(s, &ref, p->poi.meshopt_pixels > 0 ? p->poi.meshopt_pixels : 1, err, out->coverage,
-                         out->coverage_rule, sizeof out->coverage_rule);
+  if (!st && out->nsw > 0)
+    coverage_switch(&out->sw[0], out->coverage, out->coverage_rule, sizeof out->coverage_rule);
+  else if (!st)
+    coverage_rule(s, &ref, p->poi.meshopt_pixels > 0 ? p->poi.meshopt_pixels : 1, err, out->coverage,
+                  out->coverage_rule, sizeof out->coverage_rule);
   /* outputs, last */
   if (!st && p->out_dir) {
     char dir[4200];
@@ -1018,7 +1075,8 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
       for (char *q = name; *q; q++)
         if (*q == '/' || *q == ' ' || *q == '@') *q = '_';
       snprintf(path, sizeof path, "%s/%s", p->out_dir, name);
-      if (!(st = jnd_poi_pareto_plot(&out->poi, i, &img))) st = jnd_image_write_png(path, &img, 8);
+      int perc = i < out->nsw ? out->sw[i].perceptual_level : -1;
+      if (!(st = jnd_poi_pareto_plot(&out->poi, i, perc, &img))) st = jnd_image_write_png(path, &img, 8);
       jnd_image_free(&img);
       snprintf(out->plots[out->nplots++], sizeof out->plots[0], "%s", name);
     }

@@ -52,6 +52,25 @@ double poi_mp_sum(const float *y1, const float *y2, int w, int h, double ppd);
 
 /* ---- lod.c (end) ---- */
 
+/* ---- lod_switch.c: the perceptual choice and switch distances (begin) ---- */
+
+/* Whether level `level` passes the criterion at grid distance `grid` (0 the
+ * viewing condition, rising with the distance): 1 passes, 0 fails, < 0 an
+ * error. */
+typedef int (*lod_passes_fn)(void *user, int level, int grid);
+
+/* The decisions of jnd_lod_switch_analyse on any oracle: *perceptual gets
+ * the coarsest level passing at grid 0 (0: none); switch_idx[k] (nlevels,
+ * caller's) the grid index from which level k is shown — level 0 at 0,
+ * level k searched from level k − 1's index up by bisection (the oracle is
+ * taken to be monotone in the distance), −1 when it fails at the far end
+ * (ngrid − 1), and then for every coarser level. JND_ERR_INTERNAL when the
+ * oracle fails. */
+jnd_status lod_switch_search(int nlevels, int ngrid, lod_passes_fn passes, void *user, int *perceptual,
+                             int *switch_idx);
+
+/* ---- lod_switch.c (end) ---- */
+
 /* ---- pop_weights.c: the popping predictor's weights, 004 §4 (begin) ---- */
 
 /* Previous-frame visibility (0..1) of each pixel into vis (w × h, caller's):

@@ -5,7 +5,8 @@
 # line, exit 2, nothing written, the input untouched).
 set -uo pipefail
 . "$(dirname "$0")/lib.bash"
-SMALL=(--screens 320x240,800x600@40 --views 1 --map-size 64 --surface-samples 4096 --quiet)
+SMALL=(--screens 320x240,800x600@40 --views 1 --map-size 64 --surface-samples 4096 --quiet
+       --judge-views 1 --max-px 96 --tolerance 0.5 --far-coverage 0.05)
 
 expect_exit 0 "builtin:sphere runs" "$JND" lod builtin:sphere -o "$T/a" "${SMALL[@]}"
 check "lod.json has the fields issue 11 names" python3 - "$T/a/lod.json" <<'PY'
@@ -32,10 +33,29 @@ for s in res["screens"]:
     assert 0 < s["poi_level"] < len(lv) - 1 and s["poi_triangles"] == lv[s["poi_level"]]["triangles"]
     assert 0 < s["poi_level_unlit"] < len(lv) - 1
     assert s["poi_level"] >= s["poi_level_unlit"]        # lit never finer than unlit here
-    assert s["perceptual_level"] is None and s["switch_distance_m"] is None
+    # the perceptual choice (through the judge) and the switch distances
+    n = len(lv)
+    assert 0 <= s["perceptual_level"] < n and s["perceptual_triangles"] == lv[s["perceptual_level"]]["triangles"]
+    sd, sc = s["switch_distance_m"], s["switch_coverage"]
+    assert len(sd) == n and len(sc) == n and sd[0] == 0 and sc[0] == 1
+    inf = float("inf")
+    d = [inf if x is None else x for x in sd]
+    assert all(a <= b for a, b in zip(d, d[1:])), sd                   # monotone in the level
+    assert all(a >= b for a, b in zip(sc, sc[1:])), sc
+    vc = s["viewing_condition"]
+    assert abs(vc["coverage"] - 0.5) < 1e-9 and vc["window_px"] == 96 and 0 < vc["scale"] < 1
+    for k in range(1, n):
+        if sd[k] is not None:
+            assert sd[k] >= vc["distance"] * (1 - 1e-12) and 0 < sc[k] <= 0.5 + 1e-9
+        else:
+            assert sc[k] == 0
+    # the perceptual level passed at the viewing condition: its statistic is at most p
+    if s["perceptual_level"] > 0:
+        assert s["statistic"][s["perceptual_level"]] <= r["parameters"]["perceptual"]["criterion"]["p"]
+    assert s["statistic"][0] == 0 and s["p_max"][0] == 0
     assert s["rules"]["meshopt"]["level"] <= len(lv) - 1
     assert s["pareto_png"] == "pareto_%s.png" % s["name"]
-assert "pending" in res
+assert "pending" not in res
 # a smaller screen never gets a finer meshoptimizer-rule level (pixels scale with the screen)
 assert res["screens"][0]["rules"]["meshopt"]["level"] >= res["screens"][1]["rules"]["meshopt"]["level"]
 t = res["textures"][0]
@@ -43,6 +63,14 @@ assert t["name"] == "builtin/baseColor" and t["levels"][0] == [64, 64] and len(t
 m = res["model"]
 assert m["path"] == "model/builtin_sphere.glb" and len(m["screen_coverage"]) == len(lv)
 assert all(a >= b for a, b in zip(m["screen_coverage"], m["screen_coverage"][1:])) and m["screen_coverage"][-1] == 0
+# MSFT_screencoverage from the first screen's switch coverages (projected sphere area over screen area)
+import math
+s0 = res["screens"][0]
+assert "perceptual switch distances" in m["screen_coverage_rule"]
+for k in range(len(lv) - 1):
+    c = min(s0["switch_coverage"][k + 1], 1.0)
+    want = min(math.pi * c * c * s0["height_px"] / (4 * s0["width_px"]), m["screen_coverage"][k - 1] if k else 1)
+    assert abs(m["screen_coverage"][k] - want) < 1e-9, (k, m["screen_coverage"][k], want)
 PY
 check "the Pareto plots are PNGs" python3 - "$T/a" <<'PY'
 import sys
@@ -106,6 +134,15 @@ import json, sys
 d, c = (json.load(open(p))["result"] for p in sys.argv[1:3])
 assert d["chain_source"] == "levels" and len(d["levels"]) == 2
 assert d["levels"][1]["triangles"] == c["levels"][0]["triangles"] and d["levels"][1]["source"].endswith(".glb")
+PY
+
+# without the perceptual step: null, said so, and the model's coverages by meshoptimizer's rule
+expect_exit 0 "--no-perceptual runs" "$JND" lod builtin:sphere -o "$T/np" "${SMALL[@]}" --no-perceptual --no-textures
+check "--no-perceptual: null fields, the rule named" python3 - "$T/np/lod.json" <<'PY'
+import json, sys
+res = json.load(open(sys.argv[1]))["result"]
+assert all(s["perceptual_level"] is None and s["switch_distance_m"] is None for s in res["screens"])
+assert "meshoptimizer" in res["model"]["screen_coverage_rule"] and "perceptual" in res
 PY
 
 # the same command gives the same report, whatever the thread count

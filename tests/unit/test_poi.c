@@ -152,7 +152,7 @@ TEST(a_level_identical_to_level_0_adds_nothing_and_coarse_levels_add_most) {
   /* the texture's chain: 16 → 8 (min 8) */
   CHECK(r.ntextures == jnd_scene_map_count(s) && r.textures[0].nlevels == 2);
   jnd_image plot;
-  CHECK_OK(jnd_poi_pareto_plot(&r, 1, &plot));
+  CHECK_OK(jnd_poi_pareto_plot(&r, 1, -1, &plot));
   CHECK(plot.w == 800 && plot.h == 500 && plot.c == 3);
   jnd_image_free(&plot);
   CHECK(jnd_scene_lod_selected(s) == 0);

@@ -1,0 +1,298 @@
+/* The perceptual choice and the switch distances of a level-of-detail
+ * chain on one screen, asked of the judge (docs/lod.md "The perceptual
+ * choice"; the judge is docs/judge.md). Beyond 003: where 003 takes the knee
+ * of an error curve, this asks jnd's own vision model whether a viewer
+ * notices each level against level 0, with 000 §9's criterion.
+ *
+ * Procedure:
+ *  1. The screen: its display preset (or the standard-fhd display with the
+ *     screen's pixels per degree) is the judge's display; the game's field
+ *     of view spans its height. A view is rendered at the screen's own
+ *     pixel scale: the central window_px × window_px part of the screen,
+ *     the field of view narrowed to it, window_px the sphere's diameter at
+ *     the nearest distance plus the judge's crop margins. Where that
+ *     exceeds max_px, the screen is scaled down (pixels and pixels per
+ *     degree alike) until the object fits: whole, the same angular size.
+ *  2. Distances: a geometric grid from the viewing condition's distance d0
+ *     (the sphere filling `coverage` of the height, or `distance`) out to
+ *     where it fills far_coverage, ratio 1 + tolerance. Views at a grid
+ *     distance are sampled (same seed, so the same directions at every
+ *     distance) and added to the judge the first time they are needed,
+ *     their references level 0.
+ *  3. A test: level k selected (jnd_scene_lod_select), judged on the views
+ *     of one distance with JND_JUDGE_DECIDE: passes when at most
+ *     floor(q·n) views have P > p. Each (level, distance) is asked once.
+ *  4. The perceptual level: the coarsest level passing at d0.
+ *     lod_switch_search()
+ *  5. Switch distances: level k's search starts at level k − 1's distance
+ *     (monotone by construction), takes it when k passes there, gives up
+ *     (INFINITY, and for every coarser level) when k fails at the far end,
+ *     and bisects the grid otherwise: P falls with distance, so the
+ *     nearest passing grid distance is within a factor 1 + tolerance of
+ *     where the criterion starts to hold.  lod_switch_search()
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/core.h"
+#include "jnd.h"
+#include "tasks/tasks.h"
+
+#define CROP_MARGIN 16   /* the judge's margin around the object (judge.c) */
+
+void jnd_lod_switch_defaults(jnd_lod_switch_params *p) {
+  memset(p, 0, sizeof *p);
+  jnd_judge_defaults(&p->judge);
+  p->judge.views.sampling.count = 4;
+  p->coverage = 0.5;
+  p->far_coverage = 0.02;
+  p->tolerance = 0.1;
+  p->max_px = 512;
+}
+
+void jnd_lod_switch_result_free(jnd_lod_switch_result *r) {
+  if (!r) return;
+  free(r->statistic);
+  free(r->p_max);
+  free(r->switch_distance);
+  free(r->switch_coverage);
+  memset(r, 0, sizeof *r);
+}
+
+double jnd_coverage_at_distance(double radius, double distance, double fov_y_deg) {
+  if (!isfinite(distance)) return 0;
+  if (!(distance > radius)) return INFINITY;
+  /* jnd_camera_distance_for_coverage: d = r / sin(atan(c·tan(fov/2))) */
+  return tan(asin(radius / distance)) / tan(fov_y_deg * M_PI / 360);
+}
+
+/* steps 4 and 5 on any pass/fail oracle (tasks.h) */
+jnd_status lod_switch_search(int nlevels, int ngrid, lod_passes_fn passes, void *user, int *perceptual,
+                             int *switch_idx) {
+  int r;
+  *perceptual = 0;
+  for (int k = nlevels - 1; k >= 1; k--) {
+    if ((r = passes(user, k, 0)) < 0) return JND_ERR_INTERNAL;
+    if (r) {
+      *perceptual = k;
+      break;
+    }
+  }
+  switch_idx[0] = 0;
+  int lo = 0;   /* level k − 1's grid index: no coarser level is shown nearer */
+  for (int k = 1; k < nlevels; k++) {
+    if (lo < 0) {
+      switch_idx[k] = -1;
+      continue;
+    }
+    if ((r = passes(user, k, lo)) < 0) return JND_ERR_INTERNAL;
+    if (r) {
+      switch_idx[k] = lo;
+      continue;
+    }
+    int hi = ngrid - 1;
+    if (hi == lo || (r = passes(user, k, hi)) == 0) {
+      switch_idx[k] = lo = -1;   /* not even at the far end: never, nor any coarser level */
+      continue;
+    }
+    if (r < 0) return JND_ERR_INTERNAL;
+    /* fails at lo, passes at hi */
+    while (hi - lo > 1) {
+      int mid = lo + (hi - lo) / 2;
+      if ((r = passes(user, k, mid)) < 0) return JND_ERR_INTERNAL;
+      if (r) hi = mid;
+      else lo = mid;
+    }
+    switch_idx[k] = lo = hi;
+  }
+  return JND_OK;
+}
+
+/* ---- the rendered oracle ---- */
+
+typedef struct {
+  jnd_scene *scene;
+  jnd_judge *judge;
+  const jnd_lod_switch_params *p;
+  jnd_view_sampling vs;      /* the views' sampling; distance set per grid point */
+  int nviews, nlevels, ngrid;
+  double *grid;              /* distances */
+  int *first;                /* per grid point: its first view in the judge (−1: not added yet) */
+  signed char *known;        /* nlevels × ngrid: −1 not asked, 0 fails, 1 passes */
+  double *P;                 /* nviews */
+  jnd_lod_switch_result *out;
+  jnd_status st;
+} oracle;
+
+static jnd_status views_at(oracle *o, int g, jnd_view **views) {
+  jnd_view_sampling vs = o->vs;
+  vs.distance = o->grid[g];
+  *views = jnd_calloc((size_t)o->nviews, sizeof **views);
+  if (!*views) return jnd_fail(JND_ERR_NOMEM, "lod: out of memory");
+  jnd_status st = jnd_views_sample(o->scene, &vs, *views);
+  if (st) {
+    free(*views);
+    *views = NULL;
+  }
+  return st;
+}
+
+static int rendered_passes(void *user, int k, int g) {
+  oracle *o = user;
+  signed char *kn = &o->known[(size_t)k * o->ngrid + g];
+  if (*kn >= 0) return *kn;
+  jnd_status st = JND_OK;
+  if (o->first[g] < 0) {
+    jnd_view *views = NULL;
+    /* the references are level 0's */
+    if (!(st = jnd_scene_lod_select(o->scene, 0)) && !(st = views_at(o, g, &views)))
+      st = jnd_judge_add_views(o->judge, views, o->nviews, &o->first[g]);
+    free(views);
+    o->out->distances++;
+  }
+  jnd_judgement r;
+  if (!st) st = jnd_scene_lod_select(o->scene, k);
+  if (!st) st = jnd_judge_eval(o->judge, o->first[g], o->nviews, JND_JUDGE_DECIDE, o->P, &r);
+  if (st) {
+    o->st = st;
+    return -1;
+  }
+  o->out->judgements++;
+  *kn = (signed char)(r.criterion.pass != 0);
+  if (g == 0) {
+    double m = NAN;
+    for (int v = 0; v < o->nviews; v++)
+      if (!isnan(o->P[v]) && !(o->P[v] <= m)) m = o->P[v];
+    o->out->statistic[k] = r.criterion.statistic;
+    o->out->p_max[k] = m;
+  }
+  return *kn;
+}
+
+/* the judge's display for a screen: its preset, or standard-fhd's with the
+ * screen's pixels and pixels per degree */
+static void screen_display(const jnd_poi_screen *s, jnd_display *d) {
+  if (jnd_display_preset(s->name, d) == JND_OK && d->width_px == s->width_px && d->height_px == s->height_px &&
+      fabs(d->ppd - s->ppd) < 1e-9)
+    return;
+  jnd_display_defaults(d);
+  snprintf(d->name, sizeof d->name, "%s", s->name);
+  d->ppd = s->ppd;
+  d->width_px = s->width_px;
+  d->height_px = s->height_px;
+  d->diagonal_in = d->distance_m = 0;
+}
+
+jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen, const jnd_lod_switch_params *p,
+                                  jnd_lod_switch_result *out) {
+  memset(out, 0, sizeof *out);
+  int n = jnd_scene_lod_count(scene);
+  if (n < 2) return jnd_fail(JND_ERR_ARG, "%s: no levels of detail to compare (build or add a chain)", jnd_scene_path(scene));
+  const jnd_view_sampling *s0 = &p->judge.views.sampling;
+  double fov = s0->fov_y_deg > 0 ? s0->fov_y_deg : 45;
+  if (s0->count < 1 || s0->count > 256) return jnd_fail(JND_ERR_ARG, "lod: %d views (1..256)", s0->count);
+  if (!(p->distance > 0) && !(p->coverage > 0 && p->coverage <= 1))
+    return jnd_fail(JND_ERR_ARG, "lod: coverage %g outside (0, 1]", p->coverage);
+  if (!(p->far_coverage > 0 && p->far_coverage <= 1)) return jnd_fail(JND_ERR_ARG, "lod: far coverage %g outside (0, 1]", p->far_coverage);
+  if (!(p->tolerance >= 0.001 && p->tolerance <= 10)) return jnd_fail(JND_ERR_ARG, "lod: tolerance %g outside [0.001, 10]", p->tolerance);
+  if (p->max_px < 32 || p->max_px > 8192) return jnd_fail(JND_ERR_ARG, "lod: largest rendering %d px (32..8192)", p->max_px);
+  if (screen->height_px < 1 || !(screen->ppd > 0)) return jnd_fail(JND_ERR_ARG, "lod: screen '%s' needs pixels and pixels per degree", screen->name);
+
+  /* steps 1 and 2 */
+  double centre[3], radius;
+  int ground;
+  jnd_scene_subject_bounds(scene, centre, &radius, &ground);
+  double d0 = p->distance > 0 ? p->distance : jnd_camera_distance_for_coverage(radius, p->coverage, fov);
+  if (!(d0 > radius * 1.0001)) d0 = radius * 1.0001;
+  double dfar = jnd_camera_distance_for_coverage(radius, p->far_coverage, fov);
+  int ngrid = 1;
+  if (dfar > d0 * (1 + p->tolerance)) ngrid = (int)ceil(log(dfar / d0) / log1p(p->tolerance)) + 1;
+  if (ngrid > 4096) return jnd_fail(JND_ERR_ARG, "lod: %d distances to search (tolerance too small)", ngrid);
+  out->screen = *screen;
+  out->nlevels = n;
+  out->view_distance = d0;
+  out->view_coverage = jnd_coverage_at_distance(radius, d0, fov);
+  double object_px = fmin(out->view_coverage, 1.0) * screen->height_px;
+  /* an object larger than the window is rendered whole, smaller, on a
+   * display with as many fewer pixels per degree: it keeps its angular size
+   * and its silhouette (where a coarser level shows first), at the price of
+   * the finest detail */
+  int R = (int)ceil(object_px) + 2 * CROP_MARGIN;
+  double scale = 1;
+  if (R > p->max_px) {
+    R = p->max_px;
+    scale = (R - 2 * CROP_MARGIN) / object_px;
+  }
+  out->window_px = R;
+  out->scale = scale;
+
+  oracle o;
+  memset(&o, 0, sizeof o);
+  o.scene = scene;
+  o.p = p;
+  o.nviews = s0->count;
+  o.nlevels = n;
+  o.ngrid = ngrid;
+  o.out = out;
+  o.vs = *s0;
+  o.vs.fov_y_deg = 2 * atan((double)R / (scale * screen->height_px) * tan(fov * M_PI / 360)) * 180 / M_PI;
+  o.vs.aspect = 1;
+  o.grid = jnd_alloc((size_t)ngrid, sizeof *o.grid);
+  o.first = jnd_alloc((size_t)ngrid, sizeof *o.first);
+  o.known = jnd_alloc((size_t)n * ngrid, 1);
+  o.P = jnd_alloc((size_t)o.nviews, sizeof *o.P);
+  int *idx = jnd_alloc((size_t)n, sizeof *idx);
+  out->statistic = jnd_alloc((size_t)n, sizeof *out->statistic);
+  out->p_max = jnd_alloc((size_t)n, sizeof *out->p_max);
+  out->switch_distance = jnd_alloc((size_t)n, sizeof *out->switch_distance);
+  out->switch_coverage = jnd_alloc((size_t)n, sizeof *out->switch_coverage);
+  jnd_status st = JND_OK;
+  if (!o.grid || !o.first || !o.known || !o.P || !idx || !out->statistic || !out->p_max || !out->switch_distance ||
+      !out->switch_coverage)
+    st = jnd_fail(JND_ERR_NOMEM, "lod: out of memory");
+  if (!st) {
+    for (int g = 0; g < ngrid; g++) {
+      o.grid[g] = g == ngrid - 1 && ngrid > 1 ? dfar : d0 * pow(1 + p->tolerance, g);
+      o.first[g] = -1;
+    }
+    memset(o.known, -1, (size_t)n * ngrid);
+    for (int k = 0; k < n; k++) out->statistic[k] = out->p_max[k] = NAN;
+    out->statistic[0] = out->p_max[0] = 0;   /* the reference: P = 0 by definition */
+  }
+  /* the judge: level 0 at the viewing condition is the reference */
+  jnd_judge_params jp = p->judge;
+  jp.views.sampling = o.vs;
+  jp.views.sampling.distance = d0;
+  jp.views.cameras = NULL;
+  jp.views.ncameras = 0;
+  jp.views.render.width = jp.views.render.height = R;
+  screen_display(screen, &jp.model.display);
+  jp.model.display.ppd *= scale;
+  if (!st) st = jnd_scene_lod_select(scene, 0);
+  if (!st) st = jnd_judge_create(scene, &jp, &o.judge);
+  if (!st) {
+    o.first[0] = 0;
+    out->distances = 1;
+    st = lod_switch_search(n, ngrid, rendered_passes, &o, &out->perceptual_level, idx);
+    if (st) st = o.st ? o.st : st;
+  }
+  if (!st) {
+    for (int k = 0; k < n; k++) {
+      double d = k == 0 ? 0 : idx[k] < 0 ? INFINITY : o.grid[idx[k]];
+      out->switch_distance[k] = d;
+      out->switch_coverage[k] = k == 0 ? 1 : jnd_coverage_at_distance(radius, d, fov);
+    }
+    jnd_judge_get_counts(o.judge, &out->counts);
+  }
+  jnd_judge_free(o.judge);
+  jnd_scene_lod_select(scene, 0);
+  free(o.grid);
+  free(o.first);
+  free(o.known);
+  free(o.P);
+  free(idx);
+  if (st) jnd_lod_switch_result_free(out);
+  return st;
+}

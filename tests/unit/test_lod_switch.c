@@ -1,0 +1,180 @@
+/* The perceptual choice and the switch distances of a level-of-detail chain
+ * (src/tasks/lod_switch.c): the decisions on made-up oracles whose answers
+ * are known, then the rendered judgement on a small chain. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "jnd.h"
+#include "tasks/tasks.h"
+#include "test.h"
+
+#define CHECK_EQ(a, b) CHECK_NEAR((a), (b), 0)
+
+/* ---- the decisions on oracles ---- */
+
+/* level k passes from grid index from[k] on (from[k] < 0: never); calls counted */
+typedef struct {
+  const int *from;
+  int calls;
+} table;
+
+static int table_passes(void *user, int k, int g) {
+  table *t = user;
+  t->calls++;
+  return t->from[k] >= 0 && g >= t->from[k];
+}
+
+TEST(bisection_finds_the_nearest_passing_distance_of_every_threshold) {
+  /* one level besides level 0, its threshold anywhere on a 40-point grid */
+  for (int th = 0; th < 40; th++) {
+    int from[2] = {0, th}, idx[2], perc;
+    table t = {from, 0};
+    CHECK_OK(lod_switch_search(2, 40, table_passes, &t, &perc, idx));
+    CHECK_EQ(idx[0], 0);
+    CHECK_EQ(idx[1], th);
+    CHECK_EQ(perc, th == 0 ? 1 : 0);
+    CHECK(t.calls <= 3 + 6);   /* the viewing condition, both ends, log2(40) steps */
+  }
+}
+
+TEST(switch_distances_grow_with_the_level_by_construction) {
+  /* level 3 passes everywhere (say, a copy of level 0), level 2 from 20 on,
+   * level 1 from 7: the coarser level is never shown nearer than the finer */
+  int from[5] = {0, 7, 20, 0, 30}, idx[5], perc;
+  table t = {from, 0};
+  CHECK_OK(lod_switch_search(5, 40, table_passes, &t, &perc, idx));
+  CHECK_EQ(idx[1], 7);
+  CHECK_EQ(idx[2], 20);
+  CHECK_EQ(idx[3], 20);
+  CHECK_EQ(idx[4], 30);
+  CHECK_EQ(perc, 3);   /* the coarsest level passing at the viewing condition */
+  for (int k = 1; k < 5; k++) CHECK(idx[k] >= idx[k - 1]);
+}
+
+TEST(a_level_failing_at_the_far_end_is_never_shown_nor_any_coarser) {
+  int from[4] = {0, 3, -1, 10}, idx[4], perc;
+  table t = {from, 0};
+  CHECK_OK(lod_switch_search(4, 16, table_passes, &t, &perc, idx));
+  CHECK_EQ(idx[1], 3);
+  CHECK_EQ(idx[2], -1);
+  CHECK_EQ(idx[3], -1);
+  CHECK_EQ(perc, 0);
+}
+
+static int failing_oracle(void *user, int k, int g) {
+  (void)user, (void)k, (void)g;
+  return -1;
+}
+
+TEST(an_oracle_error_is_an_error) {
+  int idx[3], perc;
+  CHECK_STATUS(lod_switch_search(3, 8, failing_oracle, NULL, &perc, idx), JND_ERR_INTERNAL);
+}
+
+TEST(coverage_and_distance_are_inverses) {
+  for (double c = 0.01; c < 1; c *= 1.7) {
+    double d = jnd_camera_distance_for_coverage(2.0, c, 45);
+    CHECK_NEAR(jnd_coverage_at_distance(2.0, d, 45), c, 1e-9);
+  }
+  CHECK(jnd_coverage_at_distance(1, INFINITY, 45) == 0);
+}
+
+/* ---- the rendered judgement ---- */
+
+/* the builtin sphere (small maps), its chain, and a copy of level 0 added as
+ * the last level */
+static jnd_scene *sphere_with_copy(int *copy) {
+  jnd_builtin_params bp;
+  jnd_builtin_defaults(&bp);
+  bp.map_size = 32;
+  bp.shape = 1;
+  jnd_scene *s = NULL, *c = NULL;
+  CHECK_OK(jnd_scene_builtin(&bp, &s));
+  CHECK_OK(jnd_scene_builtin(&bp, &c));
+  if (!s || !c) return NULL;
+  jnd_lod_params lp;
+  jnd_lod_defaults(&lp);
+  double errors[2] = {1.0 / 64, 1.0 / 16};
+  lp.errors = errors;
+  lp.nerrors = 2;
+  CHECK_OK(jnd_scene_lod_build(s, &lp));
+  CHECK_OK(jnd_scene_lod_add(s, c, "copy"));
+  *copy = jnd_scene_lod_count(s) - 1;
+  CHECK(*copy >= 2);
+  return s;
+}
+
+static void small_params(jnd_lod_switch_params *p) {
+  jnd_lod_switch_defaults(p);
+  p->judge.views.sampling.count = 2;
+  p->max_px = 128;
+  p->tolerance = 0.5;
+  p->far_coverage = 0.05;
+}
+
+TEST(a_level_identical_to_level_0_has_p_0_and_inherits_the_finer_distance) {
+  int copy = 0;
+  jnd_scene *s = sphere_with_copy(&copy);
+  if (!s) return;
+  jnd_poi_screen scr;
+  CHECK_OK(jnd_poi_screen_parse("standard-fhd", &scr));
+  jnd_lod_switch_params p;
+  small_params(&p);
+  p.coverage = 0.12;   /* 130 px on 1080: the window holds it whole */
+  jnd_lod_switch_result r;
+  jnd_status st = jnd_lod_switch_analyse(s, &scr, &p, &r);
+  if (st == JND_ERR_GL) {
+    TEST_SKIP("no OpenGL renderer: %s", jnd_last_error());
+    jnd_scene_free(s);
+    return;
+  }
+  CHECK_OK(st);
+  if (st) return;
+  CHECK_EQ(r.nlevels, copy + 1);
+  CHECK_EQ(jnd_scene_lod_selected(s), 0);
+  /* the copy passes at the viewing condition with every view at P = 0 */
+  CHECK_EQ(r.perceptual_level, copy);
+  CHECK(r.p_max[copy] == 0);
+  CHECK(r.statistic[copy] == 0);
+  /* the coarse levels are seen at the viewing condition */
+  CHECK(r.p_max[1] > 0);
+  CHECK(r.p_max[1] > r.p_max[copy]);
+  /* switch distances: 0 for level 0, growing with the level; the copy is
+   * shown from where the level before it is, never nearer */
+  CHECK(r.switch_distance[0] == 0);
+  for (int k = 1; k < r.nlevels; k++) CHECK(r.switch_distance[k] >= r.switch_distance[k - 1]);
+  CHECK(r.switch_distance[copy] == r.switch_distance[copy - 1]);
+  CHECK(r.switch_distance[1] > r.view_distance);   /* the coarse levels are seen where the copy is not */
+  for (int k = 1; k < r.nlevels; k++)
+    if (isfinite(r.switch_distance[k])) CHECK(r.switch_coverage[k] <= r.view_coverage + 1e-12);
+  jnd_lod_switch_result_free(&r);
+  jnd_scene_free(s);
+}
+
+TEST(bad_switch_parameters_are_refused) {
+  int copy = 0;
+  jnd_scene *s = sphere_with_copy(&copy);
+  if (!s) return;
+  jnd_poi_screen scr;
+  CHECK_OK(jnd_poi_screen_parse("phone", &scr));
+  jnd_lod_switch_params p;
+  jnd_lod_switch_result r;
+  small_params(&p);
+  p.tolerance = 0;
+  CHECK_STATUS(jnd_lod_switch_analyse(s, &scr, &p, &r), JND_ERR_ARG);
+  small_params(&p);
+  p.far_coverage = 2;
+  CHECK_STATUS(jnd_lod_switch_analyse(s, &scr, &p, &r), JND_ERR_ARG);
+  small_params(&p);
+  p.judge.views.sampling.count = 0;
+  CHECK_STATUS(jnd_lod_switch_analyse(s, &scr, &p, &r), JND_ERR_ARG);
+  jnd_scene_free(s);
+}
+
+RUN_TESTS(bisection_finds_the_nearest_passing_distance_of_every_threshold,
+          switch_distances_grow_with_the_level_by_construction,
+          a_level_failing_at_the_far_end_is_never_shown_nor_any_coarser, an_oracle_error_is_an_error,
+          coverage_and_distance_are_inverses, a_level_identical_to_level_0_has_p_0_and_inherits_the_finer_distance,
+          bad_switch_parameters_are_refused)
