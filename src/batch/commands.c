@@ -78,6 +78,28 @@ static void render_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
   if (n > 0) jnd_text_printf(out, "%d views", n);
 }
 
+/* lod: per screen the perceptual level (triangles of level 0's) and where
+ * each level may be shown from */
+static void lod_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
+  const cJSON *scr[16];
+  int n = jnd_json_select(report, "result.screens[]", scr, 16);
+  double t0 = jnd_json_number(report, "result.levels[0].triangles");
+  cJSON *cs = chosen ? cJSON_AddObjectToObject(chosen, "perceptual_level") : NULL;
+  int shown = 0;
+  for (int i = 0; i < n && i < 16; i++) {
+    const cJSON *name = cJSON_GetObjectItemCaseSensitive(scr[i], "name");
+    const cJSON *lv = cJSON_GetObjectItemCaseSensitive(scr[i], "perceptual_level");
+    const cJSON *tr = cJSON_GetObjectItemCaseSensitive(scr[i], "perceptual_triangles");
+    if (!cJSON_IsString(name) || !cJSON_IsNumber(lv) || !cJSON_IsNumber(tr)) continue;
+    if (shown++) jnd_text_put(out, "; ");
+    jnd_text_printf(out, "%s level %d (%.0f", name->valuestring, lv->valueint, tr->valuedouble);
+    if (isfinite(t0)) jnd_text_printf(out, " of %.0f", t0);
+    jnd_text_put(out, " triangles)");
+    if (cs) cJSON_AddNumberToObject(cs, name->valuestring, lv->valueint);
+  }
+  if (!shown) jnd_text_put(out, "no perceptual choice (--no-perceptual)");
+}
+
 static const jnd_batch_command COMMANDS[] = {
     {
         .name = "texres",
@@ -191,6 +213,45 @@ static const jnd_batch_command COMMANDS[] = {
         .decision = render_decision,
         .fields = {{"renderer", "result.renderer", JND_FMT_TEXT}},
         .pictures = {{.path = "views[].color", .caption = "The rendered views"}},
+    },
+    {
+        .name = "lod",
+        .out_args = {"-o", "{out}"},
+        .json_name = "lod.json",
+        .reserved = {"-o", "--output", "--json"},
+        .memory_before = "result.memory.before_bytes",
+        .memory_after = "result.memory.after_bytes",
+        .p_detect = "max:result.screens[].perceptual_statistic",
+        .decision = lod_decision,
+        .fields = {{"triangles before (level 0)", "result.triangles.before", JND_FMT_NUMBER},
+                   {"triangles after (first screen's perceptual level)", "result.triangles.after", JND_FMT_NUMBER},
+                   {"memory before (float attributes, 32-bit indices)", "result.memory.before_bytes", JND_FMT_BYTES},
+                   {"memory after", "result.memory.after_bytes", JND_FMT_BYTES},
+                   {"screen of the after figures", "result.memory.screen", JND_FMT_TEXT},
+                   {"chain", "result.chain_source", JND_FMT_TEXT},
+                   {"criterion: P above", "parameters.perceptual.criterion.p", JND_FMT_P},
+                   {"criterion: fraction of views allowed above", "parameters.perceptual.criterion.q", JND_FMT_PERCENT},
+                   {"model's switch coverages", "result.model.screen_coverage", JND_FMT_LIST},
+                   {"renderer", "result.renderer", JND_FMT_TEXT}},
+        .tables = {{"Levels",
+                    "result.levels[]",
+                    {{"level", "level", JND_FMT_NUMBER},
+                     {"triangles", "triangles", JND_FMT_NUMBER},
+                     {"meshoptimizer error", "error", JND_FMT_NUMBER},
+                     {"method", "method", JND_FMT_TEXT}}},
+                   {"Screens",
+                    "result.screens[]",
+                    {{"screen", "name", JND_FMT_TEXT},
+                     {"perceptual level", "perceptual_level", JND_FMT_NUMBER},
+                     {"its triangles", "perceptual_triangles", JND_FMT_NUMBER},
+                     {"003 PoI (lit)", "poi_triangles", JND_FMT_NUMBER},
+                     {"meshopt 1 px rule", "rules.meshopt.triangles", JND_FMT_NUMBER},
+                     {"0.5 px rule", "rules.pixel_error.triangles", JND_FMT_NUMBER},
+                     {"switch distances", "switch_distance_m", JND_FMT_LIST},
+                     {"switch coverages", "switch_coverage", JND_FMT_LIST}}}},
+        .pictures = {{.glob = "pareto_*.png",
+                      .caption = "003's Pareto curves per screen (error against triangles, unlit and lit) with "
+                                 "003's knees, the rules of thumb and the perceptual choice marked"}},
     },
 };
 #define NCOMMANDS (sizeof COMMANDS / sizeof COMMANDS[0])

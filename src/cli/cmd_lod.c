@@ -364,6 +364,7 @@ static int run(int argc, char **argv) {
         const jnd_lod_switch_result *W = &R.sw[i];
         cJSON_AddNumberToObject(o, "perceptual_level", W->perceptual_level);
         cJSON_AddNumberToObject(o, "perceptual_triangles", (double)P->levels[W->perceptual_level].triangles);
+        cJSON_AddNumberToObject(o, "perceptual_statistic", W->statistic[W->perceptual_level]);
         /* never (INFINITY) is null */
         cJSON *sd = cJSON_AddArrayToObject(o, "switch_distance_m"), *sc = cJSON_AddArrayToObject(o, "switch_coverage");
         cJSON *jst = cJSON_AddArrayToObject(o, "statistic"), *pm = cJSON_AddArrayToObject(o, "p_max");
@@ -392,6 +393,19 @@ static int run(int argc, char **argv) {
       cJSON_AddItemToArray(js, o);
     }
     if (R.nsw == 0) cJSON_AddStringToObject(res, "perceptual", "not asked (--no-perceptual)");
+    /* before and after: level 0 and the first screen's perceptual choice, as
+     * the written model stores a level (float POSITION, NORMAL, TANGENT,
+     * TEXCOORD_0 per vertex, 32-bit indices) */
+    if (R.nsw > 0) {
+      const jnd_lod_level_info *l0 = &P->levels[0], *l1 = &P->levels[R.sw[0].perceptual_level];
+      cJSON *mem = cJSON_AddObjectToObject(res, "memory"), *tri = cJSON_AddObjectToObject(res, "triangles");
+      cJSON_AddStringToObject(mem, "screen", R.sw[0].screen.name);
+      cJSON_AddNumberToObject(mem, "level", R.sw[0].perceptual_level);
+      cJSON_AddNumberToObject(mem, "before_bytes", (double)(l0->vertices * 48 + l0->triangles * 12));
+      cJSON_AddNumberToObject(mem, "after_bytes", (double)(l1->vertices * 48 + l1->triangles * 12));
+      cJSON_AddNumberToObject(tri, "before", (double)l0->triangles);
+      cJSON_AddNumberToObject(tri, "after", (double)l1->triangles);
+    }
     cJSON *jt = cJSON_AddArrayToObject(res, "textures");
     for (int t = 0; t < P->ntextures; t++) {
       const jnd_poi_texture *T = &P->textures[t];

@@ -84,7 +84,7 @@ fine,pairs/reference.png,diff,pairs/test.png
 gone,missing/model.glb,texres,
 twice,pairs/reference.png,diff,pairs/test.png
 twice,builtin,texres,
-what,builtin,lod,
+what,builtin,lodd,
 EOF
 expect_exit 0 "failures do not stop the run" "$JND" batch fail.csv -o failing
 "$JND" batch merge failing --quiet
@@ -96,7 +96,7 @@ assert a[3]["status"] == "ok"
 assert a[4]["status"] == "failed" and a[4]["error"] == "fail.csv:4: missing/model.glb: no such file", a[4]
 assert a[5]["status"] == "ok"
 assert a[6]["status"] == "failed" and a[6]["error"] == "fail.csv:6: duplicate id 'twice' (first on line 5)", a[6]
-assert a[7]["status"] == "failed" and a[7]["error"].startswith("fail.csv:7: unknown command 'lod' (jnd batch runs texres, pca, diff, render")
+assert a[7]["status"] == "failed" and a[7]["error"].startswith("fail.csv:7: unknown command 'lodd' (jnd batch runs texres, pca, diff, render, lod")
 PY
 check "a failed command's stderr is kept in its log" grep -q "'two' is not an integer" failing/_batch/logs/words.log
 check "a failed asset leaves no output folder" test ! -e failing/words
@@ -191,5 +191,28 @@ assert n >= 6, n
 box = open(os.path.join(rep, "box.html")).read()
 assert "worst_view.png" in box and "series.png" in box
 assert "not closed" in open(os.path.join(rep, "broken.html")).read()
+PY
+# ---- lod runs in a batch: triangles and memory before and after, the decision, the Pareto plots ----
+LODOPTS="--screens 320x240,640x480 --views 1 --map-size 32 --surface-samples 1024 --no-textures --judge-views 1 --max-px 64 --tolerance 1 --far-coverage 0.1"
+printf 'id,asset,command,options\nsphere,builtin:sphere,lod,"%s"\n' "$LODOPTS" >lod.csv
+expect_exit 0 "a batch of jnd lod" "$JND" batch lod.csv -o lodbatch --quiet
+"$JND" batch merge lodbatch --no-timings --quiet
+check "lod's summary: memory before and after, the perceptual levels, the worst P" python3 - lodbatch/summary.json lodbatch/sphere/lod.json <<'PY'
+import json, sys
+e = json.load(open(sys.argv[1]))["result"]["assets"][0]
+r = json.load(open(sys.argv[2]))["result"]
+assert e["status"] == "ok" and e["command"] == "lod", e
+assert e["memory_before_bytes"] == r["memory"]["before_bytes"] and 0 < e["memory_after_bytes"] <= e["memory_before_bytes"], e
+levels = {s["name"]: s["perceptual_level"] for s in r["screens"]}
+assert e["chosen"]["perceptual_level"] == levels, (e["chosen"], levels)
+assert e["decision"].startswith("320x240 level %d (" % levels["320x240"]) and "640x480 level" in e["decision"], e["decision"]
+assert e["p_detect"] == max(s["perceptual_statistic"] for s in r["screens"]), e
+PY
+expect_exit 0 "jnd report of the lod batch" "$JND" report lodbatch
+check "lod's page shows its Pareto plots and the screens' table" python3 - lodbatch <<'PY'
+import os, sys
+html = open(os.path.join(sys.argv[1], "report", "sphere.html")).read()
+assert "pareto_320x240.png" in html and "pareto_640x480.png" in html
+assert "perceptual level" in html and "switch distances" in html
 PY
 finish
