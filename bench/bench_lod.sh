@@ -51,9 +51,11 @@ print("   003 analysis of teapot_100k.obj (%d triangles, %d levels), %d views, v
       % (res["levels"][0]["triangles"], len(res["levels"]), r["parameters"]["views"], res["virtual_px"], res["renderings"],
          res["renderer"]))
 for s in res["screens"]:
-    print("     %-13s PoI lit %6d  unlit %6d  meshopt 1px %6d  px rule %6d triangles"
-          % (s["name"], s["poi_triangles"], s["poi_triangles_unlit"], s["rules"]["meshopt"]["triangles"],
-             s["rules"]["pixel_error"]["triangles"]))
+    perc = s.get("perceptual_triangles")
+    sd = " ".join("never" if x is None else "%.3g" % x for x in (s.get("switch_distance_m") or []))
+    print("     %-13s perceptual %6s  PoI lit %6d  unlit %6d  meshopt 1px %6d  px rule %6d triangles; switch %s"
+          % (s["name"], perc if perc is not None else "-", s["poi_triangles"], s["poi_triangles_unlit"],
+             s["rules"]["meshopt"]["triangles"], s["rules"]["pixel_error"]["triangles"], sd))
 PY
 echo "     analysis: wall $(cut -d' ' -f4 "$out/analysis.txt" | median) s, user + sys $(cut -d' ' -f5 "$out/analysis.txt" | median) s" \
      "(medians of $aruns); whole command: wall $(cut -d' ' -f1 "$out/analysis.txt" | median) s, user" \
