@@ -2643,6 +2643,60 @@ jnd_status jnd_gaze_table_write_csv(const jnd_gaze_table *t, const char *path);
  * labelled (jnd_plot_grid). out is allocated, 3 channels sRGB 0..1. */
 jnd_status jnd_gaze_table_figure(const jnd_gaze_table *t, jnd_image *out);
 
+/* Observers' answers for fitting (002 "Calibrating the models"): one row per
+ * trial with the stimulus's terms and the answer. */
+typedef struct {
+  double xor_deg;      /* spatial: the silhouette XOR's area over S0's perimeter, degrees (eq. 1
+                          unweighted: the fit weighs it with w at the object's eccentricity) */
+  double v_jnd;        /* spatial: the shading term */
+  double ecc_deg;      /* spatial: the object's eccentricity */
+  double t_jnd;        /* temporal: the switch's pooled JND */
+  int seen;            /* 1: the observer told the level (or saw the switch) */
+  int stimulus;        /* 0..stimuli−1: rows of one stimulus (cross-validation folds keep it whole) */
+} jnd_gaze_trial;
+typedef struct {
+  jnd_gaze_trial *trials;
+  int n, stimuli;
+  int temporal;        /* 1: rows of the temporal model (t_jnd) */
+} jnd_gaze_data;
+
+/* Reads trials from CSV with a header: columns seen (0/1) and either
+ * xor_deg, v_jnd, eccentricity_deg (spatial) or t_jnd (temporal); an
+ * optional stimulus id 0..rows−1 (else rows with equal terms are one stimulus).
+ * JND_ERR_FORMAT "NAME: row R: problem" for a missing column, a bad number
+ * or an answer that is not 0/1. Free with jnd_gaze_data_free. */
+jnd_status jnd_gaze_data_read(const char *path, jnd_gaze_data *out);
+jnd_status jnd_gaze_data_parse(const char *name, const char *text, size_t n, jnd_gaze_data *out);
+void jnd_gaze_data_free(jnd_gaze_data *d);
+
+#define JND_GAZE_MAX_FOLDS 16
+typedef struct {
+  int folds;               /* k of the cross-validation (4, as 002) */
+  uint64_t seed;           /* of the assignment of stimuli to folds (1) */
+  double confidence;       /* of the parameters' intervals (0.95) */
+  jnd_gaze_model start;    /* where the search starts; fields not fitted are kept (defaults) */
+} jnd_gaze_fit_params;
+void jnd_gaze_fit_defaults(jnd_gaze_fit_params *p);
+
+typedef struct {
+  jnd_gaze_model model;    /* the maximum-likelihood parameters (w_g = 1: see docs/gaze.md) */
+  int temporal, nparams;
+  const char *names[8];    /* the fitted parameters' names, as jnd_gaze_model's fields */
+  double value[8], ci_lo[8], ci_hi[8];  /* each with its interval at the confidence asked (NaN:
+                                          undetermined: a flat direction of the likelihood) */
+  double neg_loglik;
+  int trials, stimuli, folds;
+  double r_all, mae_all;   /* on all data: Pearson r and mean absolute error between predicted P and
+                              the observed proportion seen per stimulus */
+  double fold_r[JND_GAZE_MAX_FOLDS], fold_mae[JND_GAZE_MAX_FOLDS];  /* on each held-out fold */
+  double r_mean, r_sd, mae_mean, mae_sd;
+} jnd_gaze_fit_result;
+
+/* Fits the spatial or the temporal model to d by maximum likelihood over
+ * the Bernoulli answers, with standard errors from the observed
+ * information and k-fold cross-validation over stimuli. Deterministic. */
+jnd_status jnd_gaze_fit(const jnd_gaze_data *d, const jnd_gaze_fit_params *p, jnd_gaze_fit_result *out);
+
 /* The engine's lookup: loaded once, no allocation per call. */
 typedef struct {
   int nd, ne;

@@ -10,6 +10,7 @@
 static void help(void) {
   printf(
       "usage: jnd gaze MODEL -o OUTDIR [options]\n"
+      "       jnd gaze fit DATA.csv [options]   (jnd gaze fit --help)\n"
       "\n"
       "For MODEL's chain of levels of detail (glTF MSFT_lod as `jnd lod` writes it, or\n"
       "made now from a plain mesh), finds per distance and eccentricity the coarsest level\n"
@@ -67,7 +68,123 @@ static cJSON *cube(const double *v, int nd, int ne, int nk) {
   return a;
 }
 
+static void fit_help(void) {
+  printf(
+      "usage: jnd gaze fit DATA.csv [-o OUTDIR] [options]\n"
+      "\n"
+      "Fits 002's spatial model (columns xor_deg, v_jnd, eccentricity_deg, seen) or its\n"
+      "temporal model (columns t_jnd, seen) to observers' answers by maximum likelihood\n"
+      "over the Bernoulli outcomes, with intervals from the observed information and\n"
+      "k-fold cross-validation over stimuli (Pearson r and mean absolute error between\n"
+      "predicted P and the proportion seen, per fold and on all data). An optional\n"
+      "column stimulus (0..rows-1) groups rows; else rows with equal terms are one.\n"
+      "See docs/gaze.md \"Fitting\".\n"
+      "\n"
+      "  --folds K           cross-validation folds (4, as 002; 2..%d)\n"
+      "  --seed S            seed of the assignment of stimuli to folds (1)\n"
+      "  --confidence C      of the parameters' intervals (0.95)\n"
+      "  --b B               the weight's floor, kept fixed (2)\n"
+      "  -o, --output DIR    write DIR/gaze_fit.json\n"
+      "%s"
+      "\n"
+      "Exit status: 0; 2 for bad input (one line: jnd: FILE: row R: problem).\n",
+      JND_GAZE_MAX_FOLDS, cli_common_help);
+}
+
+static int run_fit(int argc, char **argv) {
+  const char *data = NULL, *dir = NULL, *v;
+  cli_common common = {0};
+  jnd_gaze_fit_params fp;
+  jnd_gaze_fit_defaults(&fp);
+  cli_args args = cli_args_start(argc, argv, "gaze fit"), *ap = &args;
+  args.i = 2;
+  for (; args.i < argc && !args.bad; args.i++) {
+    const char *a = argv[args.i];
+    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
+      fit_help();
+      return EXIT_OK;
+    } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
+      dir = v;
+    } else if (cli_opt(ap, "--folds", &v)) {
+      fp.folds = cli_int(ap, "--folds", v, 2, JND_GAZE_MAX_FOLDS);
+    } else if (cli_opt(ap, "--seed", &v)) {
+      fp.seed = (uint64_t)cli_double(ap, "--seed", v, 0, 9007199254740992.0);
+    } else if (cli_opt(ap, "--confidence", &v)) {
+      fp.confidence = cli_double(ap, "--confidence", v, 0.5, 0.9999);
+    } else if (cli_opt(ap, "--b", &v)) {
+      fp.start.b = cli_double(ap, "--b", v, 1e-6, 1e6);
+    } else if (cli_common_opt(ap, &common)) {
+    } else if (a[0] == '-' && a[1]) {
+      return cli_unknown(ap);
+    } else if (!data) {
+      data = a;
+    } else {
+      return cli_unknown(ap);
+    }
+  }
+  if (args.bad) return EXIT_BAD;
+  if (!data) return cli_bad("gaze fit: give a DATA.csv of trials; jnd gaze fit --help");
+  jnd_gaze_data d;
+  if (jnd_gaze_data_read(data, &d) != JND_OK) return cli_lib_error();
+  jnd_gaze_fit_result r;
+  jnd_status st = jnd_gaze_fit(&d, &fp, &r);
+  jnd_gaze_data_free(&d);
+  if (st != JND_OK) return cli_lib_error();
+
+  cJSON *report = cli_report_new("gaze fit");
+  cJSON *in = cli_report_section(report, "inputs"), *par = cli_report_section(report, "parameters"),
+        *res = cli_report_section(report, "result");
+  cJSON_AddStringToObject(in, "data", data);
+  cJSON_AddNumberToObject(par, "folds", fp.folds);
+  cJSON_AddNumberToObject(par, "seed", (double)fp.seed);
+  cJSON_AddNumberToObject(par, "confidence", fp.confidence);
+  if (!r.temporal) cJSON_AddNumberToObject(par, "b", fp.start.b);
+  cJSON_AddStringToObject(res, "model", r.temporal ? "temporal" : "spatial");
+  cJSON_AddNumberToObject(res, "trials", r.trials);
+  cJSON_AddNumberToObject(res, "stimuli", r.stimuli);
+  cJSON_AddNumberToObject(res, "neg_log_likelihood", r.neg_loglik);
+  cJSON *jp = cJSON_AddObjectToObject(res, "parameters");
+  for (int i = 0; i < r.nparams; i++) {
+    cJSON *o = cJSON_AddObjectToObject(jp, r.names[i]);
+    cJSON_AddNumberToObject(o, "value", r.value[i]);
+    if (isfinite(r.ci_lo[i])) {
+      cJSON_AddNumberToObject(o, "ci_lo", r.ci_lo[i]);
+      cJSON_AddNumberToObject(o, "ci_hi", r.ci_hi[i]);
+    } else {
+      cJSON_AddNullToObject(o, "ci_lo");
+      cJSON_AddNullToObject(o, "ci_hi");
+    }
+  }
+  cJSON *all = cJSON_AddObjectToObject(res, "all_data");
+  cJSON_AddNumberToObject(all, "pearson_r", r.r_all);
+  cJSON_AddNumberToObject(all, "mae", r.mae_all);
+  cJSON *cv = cJSON_AddObjectToObject(res, "cross_validation");
+  cJSON_AddItemToObject(cv, "pearson_r", cJSON_CreateDoubleArray(r.fold_r, r.folds));
+  cJSON_AddItemToObject(cv, "mae", cJSON_CreateDoubleArray(r.fold_mae, r.folds));
+  cJSON_AddNumberToObject(cv, "pearson_r_mean", r.r_mean);
+  cJSON_AddNumberToObject(cv, "pearson_r_sd", r.r_sd);
+  cJSON_AddNumberToObject(cv, "mae_mean", r.mae_mean);
+  cJSON_AddNumberToObject(cv, "mae_sd", r.mae_sd);
+  int rc = EXIT_OK;
+  if (dir) {
+    char path[4400];
+    snprintf(path, sizeof path, "%s/gaze_fit.json", dir);
+    if (jnd_make_dirs(dir) != JND_OK) rc = cli_lib_error();
+    if (rc == EXIT_OK) rc = cli_report_write(report, path);
+  }
+  if (rc == EXIT_OK && common.json_path) rc = cli_report_write(report, common.json_path);
+  cJSON_Delete(report);
+  cli_info(&common, "jnd gaze fit: %s, %s model, %d trials of %d stimuli\n", data, r.temporal ? "temporal" : "spatial",
+           r.trials, r.stimuli);
+  for (int i = 0; i < r.nparams; i++)
+    cli_info(&common, "  %-8s %10.4g  [%.4g, %.4g]\n", r.names[i], r.value[i], r.ci_lo[i], r.ci_hi[i]);
+  cli_info(&common, "  all data: r = %.3f, MAE = %.3f; %d-fold: r = %.3f ± %.3f, MAE = %.3f ± %.3f\n", r.r_all,
+           r.mae_all, r.folds, r.r_mean, r.r_sd, r.mae_mean, r.mae_sd);
+  return rc;
+}
+
 static int run(int argc, char **argv) {
+  if (argc >= 2 && strcmp(argv[1], "fit") == 0) return run_fit(argc, argv);
   const char *model = NULL, *dir = NULL, *v;
   cli_common common = {0};
   cli_display disp;

@@ -60,4 +60,36 @@ check "one line" one_line_error
 check "nothing written" test ! -e "$T/bad"
 expect_exit 2 "a missing model" "$JND" gaze "$T/missing.glb" -o "$T/bad"
 check "one line naming the file" bash -c "grep -q '^jnd: .*missing.glb' '$T/err.txt' && [ \$(wc -l <'$T/err.txt') -eq 1 ]"
+# jnd gaze fit: synthetic observers of the temporal model (w_t 0.6, gamma_t 2.5)
+python3 - "$T/trials.csv" <<'PY'
+import math, random, sys
+random.seed(3)
+with open(sys.argv[1], "w") as f:
+    f.write("t_jnd,seen\n")
+    for s in range(120):
+        t = 0.1 * 40 ** random.random()
+        p = 0.5 + 0.5 / (1 + (0.6 * t) ** -2.5)
+        for _ in range(50):
+            f.write("%.6f,%d\n" % (t, random.random() < p))
+PY
+expect_exit 0 "gaze fit runs" "$JND" gaze fit "$T/trials.csv" -o "$T/fit" --quiet
+check "gaze_fit.json: the parameters near the truth, 4 folds of r and MAE" python3 - "$T/fit/gaze_fit.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r["command"] == "gaze fit"
+res = r["result"]
+assert res["model"] == "temporal" and res["trials"] == 6000 and res["stimuli"] == 120
+w = res["parameters"]["w_t"]
+assert w["ci_lo"] <= 0.6 <= w["ci_hi"] and abs(w["value"] - 0.6) < 0.1, w
+cv = res["cross_validation"]
+assert len(cv["pearson_r"]) == 4 and len(cv["mae"]) == 4 and cv["pearson_r_mean"] > 0.8 and cv["mae_mean"] < 0.1
+assert res["all_data"]["pearson_r"] > 0.8
+PY
+printf 'xor_deg,v_jnd,seen\n0.1,1,1\n' >"$T/nocol.csv"
+expect_exit 2 "a trial file without eccentricity_deg" "$JND" gaze fit "$T/nocol.csv" -o "$T/badfit"
+check "one line naming the file and the column" bash -c "grep -q '^jnd: .*nocol.csv: missing column .eccentricity_deg' '$T/err.txt' && [ \$(wc -l <'$T/err.txt') -eq 1 ]"
+printf 't_jnd,seen\n0.1,1\n0.2,yes\n' >"$T/answer.csv"
+expect_exit 2 "an answer that is not 0/1" "$JND" gaze fit "$T/answer.csv" -o "$T/badfit"
+check "one line naming the row" bash -c "grep -q '^jnd: .*answer.csv: row 3: seen' '$T/err.txt' && [ \$(wc -l <'$T/err.txt') -eq 1 ]"
+check "nothing written" test ! -e "$T/badfit"
 finish

@@ -302,9 +302,121 @@ TEST(table_csv_reads_back_and_bad_tables_are_refused) {
   }
 }
 
+/* ---- fitting ---- */
+
+/* synthetic observers: each stimulus answered `reps` times with the true model's P */
+static char *synthetic_csv(const jnd_gaze_model *m, int temporal, int stimuli, int reps, uint64_t seed) {
+  size_t cap = (size_t)stimuli * reps * 64 + 64, n = 0;
+  char *buf = malloc(cap);
+  uint64_t z = seed;
+  n += (size_t)snprintf(buf + n, cap - n, temporal ? "stimulus,t_jnd,seen\n" : "stimulus,xor_deg,v_jnd,eccentricity_deg,seen\n");
+  for (int s = 0; s < stimuli; s++) {
+    /* terms spread in log over the range where P goes from chance to certain */
+    z = z * 6364136223846793005ULL + 1442695040888963407ULL;
+    double u1 = (double)(z >> 11) / 9007199254740992.0;
+    z = z * 6364136223846793005ULL + 1442695040888963407ULL;
+    double u2 = (double)(z >> 11) / 9007199254740992.0;
+    z = z * 6364136223846793005ULL + 1442695040888963407ULL;
+    double x = 0.002 * pow(60, u1), v = 0.05 * pow(60, u2), e = 60.0 * (double)(z >> 11) / 9007199254740992.0, p;
+    if (temporal) p = jnd_gaze_switch_probability(m, v);
+    else {
+      if (s % 3 == 0) v = 0;         /* silhouette only */
+      if (s % 3 == 1) x = 0;         /* shading only */
+      p = jnd_gaze_spatial_probability(m, jnd_gaze_weight(m, e) * x, v);
+    }
+    for (int r = 0; r < reps; r++) {
+      z = z * 6364136223846793005ULL + 1442695040888963407ULL;
+      int seen = (double)(z >> 11) / 9007199254740992.0 < p;
+      if (temporal) n += (size_t)snprintf(buf + n, cap - n, "%d,%.9g,%d\n", s, v, seen);
+      else n += (size_t)snprintf(buf + n, cap - n, "%d,%.9g,%.9g,%.9g,%d\n", s, x, v, e, seen);
+    }
+  }
+  return buf;
+}
+
+TEST(fit_recovers_synthetic_observers_within_their_intervals) {
+  jnd_gaze_model truth;
+  jnd_gaze_model_defaults(&truth);
+  truth.alpha = 1.5, truth.beta = 0.15, truth.s_deg = 20, truth.b = 3, truth.w_vdp = 0.8, truth.k_s = 2.5,
+  truth.gamma = 3;
+  truth.w_t = 0.6, truth.gamma_t = 2.5;
+  const double want[6] = {truth.alpha, truth.beta, truth.s_deg, truth.w_vdp, truth.k_s, truth.gamma};
+  /* many answers per stimulus: the weight's four parameters are weakly
+   * identified (a softplus and a hinge differ little), so the test asks for
+   * the intervals the data give at 99.7% (3 SE), each containing the truth */
+  char *text = synthetic_csv(&truth, 0, 400, 300, 7);
+  jnd_gaze_data d;
+  CHECK_OK(jnd_gaze_data_parse("synthetic.csv", text, strlen(text), &d));
+  free(text);
+  CHECK(d.stimuli == 400 && d.n == 400 * 300 && !d.temporal);
+  jnd_gaze_fit_params fp;
+  jnd_gaze_fit_defaults(&fp);
+  fp.confidence = 0.997;
+  fp.start.b = truth.b;   /* not fitted: the weight's floor is the analyst's (docs/gaze.md) */
+  jnd_gaze_fit_result r;
+  CHECK_OK(jnd_gaze_fit(&d, &fp, &r));
+  CHECK(r.nparams == 6);
+  int determined = 0;
+  for (int i = 0; i < r.nparams; i++) {
+    fprintf(stderr, "%-6s true %.4g fit %.4g [%.4g, %.4g]\n", r.names[i], want[i], r.value[i], r.ci_lo[i], r.ci_hi[i]);
+    if (isnan(r.ci_lo[i])) continue;   /* a flat direction: judged by the predictions below */
+    determined++;
+    CHECK(r.ci_lo[i] <= want[i] && want[i] <= r.ci_hi[i]);
+    CHECK(r.ci_lo[i] < r.value[i] && r.value[i] < r.ci_hi[i]);
+  }
+  CHECK(determined == 6);
+  /* whatever the parameters, the fitted curve is the true one: P over the
+   * range of the terms, and the weight over eccentricity */
+  double worst = 0;
+  for (double e = 0; e <= 60; e += 5)
+    for (double x = 0.002; x < 0.12; x *= 1.5)
+      for (double v = 0; v < 3; v += 0.25)
+        worst = fmax(worst, fabs(jnd_gaze_spatial_probability(&r.model, jnd_gaze_weight(&r.model, e) * x, v) -
+                                 jnd_gaze_spatial_probability(&truth, jnd_gaze_weight(&truth, e) * x, v)));
+  fprintf(stderr, "largest difference of P, fitted vs true: %.4f\n", worst);
+  CHECK(worst < 0.04);   /* 300 answers per stimulus: proportions known to ±0.03 */
+  /* the fitted model predicts what the observers saw */
+  fprintf(stderr, "all: r %.3f MAE %.3f; %d folds: r %.3f ± %.3f, MAE %.3f ± %.3f\n", r.r_all, r.mae_all, r.folds,
+          r.r_mean, r.r_sd, r.mae_mean, r.mae_sd);
+  CHECK(r.r_all > 0.95 && r.mae_all < 0.03);
+  CHECK(r.folds == 4 && r.r_mean > 0.95 && r.mae_mean < 0.03);
+  jnd_gaze_data_free(&d);
+
+  /* the temporal model */
+  text = synthetic_csv(&truth, 1, 200, 100, 11);
+  CHECK_OK(jnd_gaze_data_parse("switch.csv", text, strlen(text), &d));
+  free(text);
+  CHECK(d.temporal);
+  CHECK_OK(jnd_gaze_fit(&d, &fp, &r));
+  CHECK(r.nparams == 2);
+  CHECK(r.ci_lo[0] <= truth.w_t && truth.w_t <= r.ci_hi[0]);
+  CHECK(r.ci_lo[1] <= truth.gamma_t && truth.gamma_t <= r.ci_hi[1]);
+  CHECK_NEAR(r.model.w_t, truth.w_t, 0.1);
+  jnd_gaze_data_free(&d);
+}
+
+TEST(bad_trial_files_are_refused_naming_the_row) {
+  const char *bad[] = {
+      "xor_deg,v_jnd,seen\n0.1,1,1\n",                              /* no eccentricity */
+      "xor_deg,v_jnd,eccentricity_deg,seen\n0.1,1,10,2\n",          /* answer not 0/1 */
+      "xor_deg,v_jnd,eccentricity_deg,seen\n0.1,1,10,yes\n",
+      "xor_deg,v_jnd,eccentricity_deg,seen\n0.1,1,95,1\n",          /* eccentricity > 90 */
+      "xor_deg,v_jnd,eccentricity_deg,seen\n-1,1,10,1\n",           /* negative term */
+      "xor_deg,v_jnd,eccentricity_deg\n0.1,1,10\n",                 /* no answers */
+      "t_jnd,seen\n",                                               /* no trials */
+  };
+  jnd_gaze_data d;
+  for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+    CHECK_STATUS(jnd_gaze_data_parse("d.csv", bad[i], strlen(bad[i]), &d), JND_ERR_FORMAT);
+    CHECK(strncmp(jnd_last_error(), "d.csv: ", 7) == 0);
+    CHECK(d.trials == NULL && d.n == 0);
+  }
+}
+
 RUN_TESTS(weight_falls_with_eccentricity_to_its_floor, no_difference_is_chance_and_unit_magnitude_is_the_midpoint,
           geometric_term_of_a_grown_disc_is_its_weighted_growth_in_degrees,
           spatial_p_rises_with_coarseness_and_falls_with_eccentricity,
           table_level_never_gets_finer_with_distance_or_eccentricity,
           lookup_matches_the_table_at_grid_points_and_interpolates_between,
-          table_csv_reads_back_and_bad_tables_are_refused)
+          table_csv_reads_back_and_bad_tables_are_refused, fit_recovers_synthetic_observers_within_their_intervals,
+          bad_trial_files_are_refused_naming_the_row)
