@@ -2586,6 +2586,233 @@ jnd_status jnd_slurm_scripts(const jnd_batch_manifest *m, const char *glob_comma
 jnd_status jnd_slurm_submit(const char *out_dir, const char *array_script, const char *merge_script,
                             char *array_job, char *merge_job, size_t n);
 
+/* ------------------------------------------------------------------------ */
+/* Gaze-contingent level of detail (002)                                    */
+/* ------------------------------------------------------------------------ */
+/* Surace et al.'s (002) two models, as jnd implements them (docs/gaze.md
+ * writes every equation down): the spatial model predicts whether level i
+ * of a chain is noticed beside level 0 when the object is seen at an
+ * eccentricity (silhouette XOR weighted by eccentricity + a shading term
+ * from jnd's vision model); the temporal model whether the switch between
+ * consecutive levels is noticed. Probabilities are 2AFC proportions
+ * correct: 0.5 is chance, 0.75 the midpoint 002 thresholds at. The table
+ * L(distance, eccentricity) keeps the coarsest level below the threshold;
+ * an engine looks it up per object per frame (jnd_gaze_lookup_level):
+ *
+ *     jnd_gaze_lookup lut;  jnd_gaze_lookup_load("out/gaze.csv", &lut);   // once
+ *     int level = (int)jnd_gaze_lookup_level(&lut, dist_m, ecc_deg, JND_GAZE_FLOOR);
+ *     jnd_gaze_lookup_free(&lut);
+ */
+
+/* The free parameters of 002's models (docs/gaze.md for the defaults and
+ * where they come from). */
+typedef struct {
+  /* spatial model: w(e) = alpha · softplus_beta(s − e) + b (002 eq. 2), weights of the
+     silhouette XOR's pixels at eccentricity e degrees */
+  double alpha;        /* slope of the linear part, per degree of eccentricity */
+  double beta;         /* sharpness of the softplus's knee, per degree */
+  double s_deg;        /* eccentricity of the knee, degrees */
+  double b;            /* the floor far in the periphery */
+  /* D = ((w_g G)^k_s + (w_vdp V)^k_s)^(1/k_s) (002 eq. 3), P = ½ + ½ / (1 + D^−gamma) (eq. 4) */
+  double w_g;          /* weight of the geometric term G (degrees) */
+  double w_vdp;        /* weight of the shading term V (JND) */
+  double k_s;          /* summation exponent of the two terms (1: they add; large: the larger decides) */
+  double gamma;        /* slope of the sigmoid in log D */
+  /* temporal model: P_switch = ½ + ½ / (1 + (w_t T)^−gamma_t) (002 eq. 5) */
+  double w_t;          /* weight of the switch's pooled JND T */
+  double gamma_t;      /* slope */
+} jnd_gaze_model;
+
+/* Fills m with jnd's defaults (docs/gaze.md "Defaults"). */
+void jnd_gaze_model_defaults(jnd_gaze_model *m);
+
+/* 002 eq. 2: the weight of a silhouette pixel at eccentricity ecc_deg. */
+double jnd_gaze_weight(const jnd_gaze_model *m, double ecc_deg);
+
+/* 002 eqs. 3–4: the probability (2AFC, 0.5..1) that a level whose
+ * geometric term is g_deg (eq. 1, degrees) and shading term v_jnd (pooled
+ * JND) is told from the reference. */
+double jnd_gaze_spatial_probability(const jnd_gaze_model *m, double g_deg, double v_jnd);
+
+/* 002 eq. 5: the probability (0.5..1) that a switch whose pooled JND is
+ * t_jnd is seen. */
+double jnd_gaze_switch_probability(const jnd_gaze_model *m, double t_jnd);
+
+/* 002 eq. 1: Σ over pixels of S0 XOR Si of w(ecc_p) · A_p, over the
+ * perimeter of S0. mask0, mask_i: coverage (1 channel, 0..1, same size);
+ * ppd: pixels per degree (A_p = 1/ppd² deg²); (gaze_x, gaze_y): the
+ * fixation point, pixels (may lie outside). *g_deg in degrees; 0 when S0
+ * is empty. JND_ERR_ARG for mismatched masks. */
+jnd_status jnd_gaze_geometric_term(const jnd_gaze_model *m, const jnd_image *mask0, const jnd_image *mask_i,
+                                   double ppd, double gaze_x, double gaze_y, double *g_deg);
+
+/* What one stimulus (a level against the reference, a switch between two
+ * levels) measures, at one fixation point. */
+typedef struct {
+  double g_deg;        /* eq. 1 (spatial) */
+  double v_jnd;        /* shading term: pooled JND with the XOR region grey in both images */
+  double t_jnd;        /* temporal term: pooled JND of the switch, nothing greyed */
+  double p;            /* the model's probability */
+} jnd_gaze_terms;
+
+/* How renderings become terms. */
+typedef struct {
+  jnd_model_params model;   /* display and model (display.ppd is the rendering's, set per call) */
+  jnd_pooling pool;         /* over the object's pixels (S0 ∪ Si): p93 */
+  double background;        /* linear grey behind the object and in the XOR region (0.18) */
+} jnd_gaze_measure_params;
+void jnd_gaze_measure_defaults(jnd_gaze_measure_params *p);
+
+/* The spatial model on two renderings: ref and lvl are linear RGB over a
+ * black background (3 channels, as jnd_render gives), mask0 and mask_i
+ * their coverage; ppd of the rendering; fixation point (gaze_x, gaze_y)
+ * in pixels. Fills g_deg, v_jnd and p. */
+jnd_status jnd_gaze_spatial(const jnd_gaze_model *gm, const jnd_gaze_measure_params *mp, double ppd,
+                            double gaze_x, double gaze_y, const jnd_image *ref, const jnd_image *mask0,
+                            const jnd_image *lvl, const jnd_image *mask_i, jnd_gaze_terms *out);
+
+/* The temporal model on the renderings of two consecutive levels a → b
+ * (as jnd_gaze_spatial takes them). Fills t_jnd and p. */
+jnd_status jnd_gaze_switch(const jnd_gaze_model *gm, const jnd_gaze_measure_params *mp, double ppd,
+                           double gaze_x, double gaze_y, const jnd_image *a, const jnd_image *mask_a,
+                           const jnd_image *b, const jnd_image *mask_b, jnd_gaze_terms *out);
+
+/* The table L(d, ecc) (002 eqs. 9–10). */
+typedef struct {
+  const double *distances_m;     /* ascending, > the object's bounding radius (metres = object units);
+                                    NULL: 8 distances, 4 to 96 bounding radii, about evenly in log */
+  int ndistances;
+  const double *eccentricities_deg; /* ascending, 0..90; NULL: 0, 5, 10, 15, 20, 30, 40, 60 */
+  int neccentricities;
+  const jnd_lod_params *chain;   /* a scene with one level gets a chain made with these (NULL: error
+                                    targets 1/1024, 1/256, 1/64: 4 levels at most) */
+  int build_chain;               /* 1 (default): make that chain; 0: a scene of one level is refused */
+  int orientations;              /* object orientations sampled per distance (8); the worst decides */
+  uint64_t seed;                 /* of the orientations and lights (1) */
+  double threshold;              /* both probabilities below it (0.75, 002) */
+  int min_px, max_px;            /* rendering side in pixels: the object's window at the display's
+                                    ppd, within [min_px, max_px] (64, 192) */
+  jnd_gaze_model model;
+  jnd_gaze_measure_params measure;
+  jnd_renderer_params render;    /* env, samples, platform (its size is set per distance) */
+  void (*progress)(void *user, int done, int total);
+  void *progress_user;
+} jnd_gaze_table_params;
+void jnd_gaze_table_defaults(jnd_gaze_table_params *p);
+
+typedef struct {
+  int nd, ne, nlevels, orientations;
+  double *distances_m, *eccentricities_deg;   /* nd, ne */
+  int *level;          /* nd × ne: the level an engine uses — the coarsest below the threshold,
+                          made monotone (never finer as distance or eccentricity grows) */
+  int *level_raw;      /* nd × ne: before the monotone step */
+  double *p_spatial;   /* nd × ne × nlevels: worst orientation's spatial P of each level (0.5 at 0) */
+  double *p_switch;    /* nd × ne × nlevels: worst switch P from level k − 1 to k (0.5 at 0) */
+  double *ppd;         /* nd: pixels per degree of the renderings at each distance */
+  int *side_px;        /* nd */
+  size_t *triangles;   /* nlevels */
+  int renderings;
+  char renderer[160];
+} jnd_gaze_table;
+
+/* Computes the table for the scene's chain (at least 2 levels): per
+ * distance and orientation every level is rendered once (the object's
+ * bounding sphere framed in a window at the display's ppd); per
+ * eccentricity (fixation point that many degrees left of the object's
+ * centre) each level's spatial P and each switch's P are judged; the
+ * worst orientation decides. JND_ERR_ARG "--distances/--eccentricities:
+ * ..." for bad lists, "MODEL: ..." for a chain of one level. */
+jnd_status jnd_gaze_table_run(jnd_scene *scene, const jnd_gaze_table_params *p, jnd_gaze_table *out);
+void jnd_gaze_table_free(jnd_gaze_table *t);
+
+/* The table's CSV (what jnd_gaze_lookup_load reads): one row per (distance,
+ * eccentricity): distance_m, eccentricity_deg, level, level_raw,
+ * p_spatial, p_switch (of the chosen level). Atomic. */
+jnd_status jnd_gaze_table_write_csv(const jnd_gaze_table *t, const char *path);
+
+/* The picture of the table: the level over distance × eccentricity,
+ * labelled (jnd_plot_grid). out is allocated, 3 channels sRGB 0..1. */
+jnd_status jnd_gaze_table_figure(const jnd_gaze_table *t, jnd_image *out);
+
+/* Observers' answers for fitting (002 "Calibrating the models"): one row per
+ * trial with the stimulus's terms and the answer. */
+typedef struct {
+  double xor_deg;      /* spatial: the silhouette XOR's area over S0's perimeter, degrees (eq. 1
+                          unweighted: the fit weighs it with w at the object's eccentricity) */
+  double v_jnd;        /* spatial: the shading term */
+  double ecc_deg;      /* spatial: the object's eccentricity */
+  double t_jnd;        /* temporal: the switch's pooled JND */
+  int seen;            /* 1: the observer told the level (or saw the switch) */
+  int stimulus;        /* 0..stimuli−1: rows of one stimulus (cross-validation folds keep it whole) */
+} jnd_gaze_trial;
+typedef struct {
+  jnd_gaze_trial *trials;
+  int n, stimuli;
+  int temporal;        /* 1: rows of the temporal model (t_jnd) */
+} jnd_gaze_data;
+
+/* Reads trials from CSV with a header: columns seen (0/1) and either
+ * xor_deg, v_jnd, eccentricity_deg (spatial) or t_jnd (temporal); an
+ * optional stimulus id 0..rows−1 (else rows with equal terms are one stimulus).
+ * JND_ERR_FORMAT "NAME: row R: problem" for a missing column, a bad number
+ * or an answer that is not 0/1. Free with jnd_gaze_data_free. */
+jnd_status jnd_gaze_data_read(const char *path, jnd_gaze_data *out);
+jnd_status jnd_gaze_data_parse(const char *name, const char *text, size_t n, jnd_gaze_data *out);
+void jnd_gaze_data_free(jnd_gaze_data *d);
+
+#define JND_GAZE_MAX_FOLDS 16
+typedef struct {
+  int folds;               /* k of the cross-validation (4, as 002) */
+  uint64_t seed;           /* of the assignment of stimuli to folds (1) */
+  double confidence;       /* of the parameters' intervals (0.95) */
+  jnd_gaze_model start;    /* where the search starts; fields not fitted are kept (defaults) */
+} jnd_gaze_fit_params;
+void jnd_gaze_fit_defaults(jnd_gaze_fit_params *p);
+
+typedef struct {
+  jnd_gaze_model model;    /* the maximum-likelihood parameters (w_g = 1: see docs/gaze.md) */
+  int temporal, nparams;
+  const char *names[8];    /* the fitted parameters' names, as jnd_gaze_model's fields */
+  double value[8], ci_lo[8], ci_hi[8];  /* each with its interval at the confidence asked (NaN:
+                                          undetermined: a flat direction of the likelihood) */
+  double neg_loglik;
+  int trials, stimuli, folds;
+  double r_all, mae_all;   /* on all data: Pearson r and mean absolute error between predicted P and
+                              the observed proportion seen per stimulus */
+  double fold_r[JND_GAZE_MAX_FOLDS], fold_mae[JND_GAZE_MAX_FOLDS];  /* on each held-out fold */
+  double r_mean, r_sd, mae_mean, mae_sd;
+} jnd_gaze_fit_result;
+
+/* Fits the spatial or the temporal model to d by maximum likelihood over
+ * the Bernoulli answers, with standard errors from the observed
+ * information and k-fold cross-validation over stimuli. Deterministic. */
+jnd_status jnd_gaze_fit(const jnd_gaze_data *d, const jnd_gaze_fit_params *p, jnd_gaze_fit_result *out);
+
+/* The engine's lookup: loaded once, no allocation per call. */
+typedef struct {
+  int nd, ne;
+  double *distances_m, *eccentricities_deg;
+  float *level;        /* nd × ne */
+} jnd_gaze_lookup;
+typedef enum {
+  JND_GAZE_NEAREST = 0,  /* the nearest grid point's level */
+  JND_GAZE_BILINEAR,     /* bilinear between the four grid points (a fractional level, to blend) */
+  JND_GAZE_FLOOR         /* the grid point at or below in both: the finest of the neighbours, safe */
+} jnd_gaze_lookup_mode;
+
+/* From a table in memory, or a gaze.csv file (text: the same as parsed;
+ * name for messages). A grid that is not complete, a level that is not a
+ * whole number ≥ 0, a distance ≤ 0 or an eccentricity outside 0..90 is
+ * JND_ERR_FORMAT "NAME: problem". */
+jnd_status jnd_gaze_lookup_from_table(const jnd_gaze_table *t, jnd_gaze_lookup *out);
+jnd_status jnd_gaze_lookup_load(const char *path, jnd_gaze_lookup *out);
+jnd_status jnd_gaze_lookup_parse(const char *name, const char *text, size_t n, jnd_gaze_lookup *out);
+void jnd_gaze_lookup_free(jnd_gaze_lookup *lut);
+
+/* The level for an object at dist_m metres seen ecc_deg from the gaze
+ * (both clamped to the grid). */
+double jnd_gaze_lookup_level(const jnd_gaze_lookup *lut, double dist_m, double ecc_deg, jnd_gaze_lookup_mode mode);
+
 #ifdef __cplusplus
 }
 #endif

@@ -100,6 +100,23 @@ static void lod_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
   if (!shown) jnd_text_put(out, "no perceptual choice (--no-perceptual)");
 }
 
+/* gaze: the table's range of levels over its grid */
+static void gaze_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
+  const cJSON *rows[256], *d[256], *e[256];
+  int nr = jnd_json_select(report, "result.level[]", rows, 256), nd = jnd_json_select(report, "result.distances_m[]", d, 256),
+      ne = jnd_json_select(report, "result.eccentricities_deg[]", e, 256);
+  int lo = 1 << 30, hi = -1;
+  for (int i = 0; i < nr && i < 256; i++)
+    for (const cJSON *c = rows[i] ? rows[i]->child : NULL; c; c = c->next)
+      if (cJSON_IsNumber(c)) lo = c->valueint < lo ? c->valueint : lo, hi = c->valueint > hi ? c->valueint : hi;
+  if (hi < 0) return;
+  jnd_text_printf(out, "levels %d–%d over %d distances × %d eccentricities", lo, hi, nd, ne);
+  if (chosen) {
+    cJSON_AddNumberToObject(chosen, "finest", lo);
+    cJSON_AddNumberToObject(chosen, "coarsest", hi);
+  }
+}
+
 static const jnd_batch_command COMMANDS[] = {
     {
         .name = "texres",
@@ -252,6 +269,22 @@ static const jnd_batch_command COMMANDS[] = {
         .pictures = {{.glob = "pareto_*.png",
                       .caption = "003's Pareto curves per screen (error against triangles, unlit and lit) with "
                                  "003's knees, the rules of thumb and the perceptual choice marked"}},
+    },
+    {
+        .name = "gaze",
+        .out_args = {"-o", "{out}"},
+        .json_name = "gaze.json",
+        .reserved = {"-o", "--output", "--json"},
+        .decision = gaze_decision,
+        .fields = {{"threshold (2AFC)", "parameters.threshold", JND_FMT_P},
+                   {"orientations", "parameters.orientations", JND_FMT_NUMBER},
+                   {"distances (m)", "result.distances_m", JND_FMT_LIST},
+                   {"eccentricities (deg)", "result.eccentricities_deg", JND_FMT_LIST},
+                   {"triangles per level", "result.triangles", JND_FMT_LIST},
+                   {"renderer", "result.renderer", JND_FMT_TEXT}},
+        .pictures = {{.file = "gaze.png",
+                      .caption = "The coarsest level nobody notices, over distance and eccentricity from the gaze "
+                                 "(002's L(d, ecc))"}},
     },
 };
 #define NCOMMANDS (sizeof COMMANDS / sizeof COMMANDS[0])

@@ -165,6 +165,25 @@ int cli_int_list(cli_args *a, const char *opt, const char *v, int lo, int hi, in
   return n;
 }
 
+int cli_double_list(cli_args *a, const char *opt, const char *v, double lo, double hi, double *out, int max) {
+  int n = 0;
+  const char *s = v;
+  while (*s) {
+    char *e;
+    errno = 0;
+    double x = strtod(s, &e);
+    if (e == s || errno || !isfinite(x) || x < lo || x > hi || (*e && *e != ',') || n >= max) {
+      fail(a, "%s: '%s' is not a list of at most %d numbers in %g..%g like 1,2.5,10", opt, v, max, lo, hi);
+      return 0;
+    }
+    out[n++] = x;
+    if (!*e) break;
+    s = e + 1;
+  }
+  if (n == 0) fail(a, "%s: an empty list", opt);
+  return n;
+}
+
 double cli_now(void) {
   struct timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);

@@ -53,6 +53,8 @@ void cli_pair(cli_args *a, const char *opt, const char *v, double *x, double *y)
 void cli_size(cli_args *a, const char *opt, const char *v, int lo, int hi, int *w, int *h);
 /* "1024,512,256": integers in lo..hi, at most max; returns the count */
 int cli_int_list(cli_args *a, const char *opt, const char *v, int lo, int hi, int *out, int max);
+/* "1,2.5,10": numbers in lo..hi, at most max; returns the count */
+int cli_double_list(cli_args *a, const char *opt, const char *v, double lo, double hi, double *out, int max);
 
 /* Prints "jnd: MSG" to stderr (one line). */
 void cli_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
