@@ -861,6 +861,9 @@ const char *jnd_renderer_description(const jnd_renderer *r);
 /* Changes the output size (pixels) for the next renderings. */
 jnd_status jnd_renderer_resize(jnd_renderer *r, int width, int height);
 
+/* The output size (pixels) of the next renderings. */
+void jnd_renderer_size(const jnd_renderer *r, int *width, int *height);
+
 /* A pinhole camera, object units. */
 typedef struct {
   double eye[3], target[3], up[3];
@@ -2403,6 +2406,162 @@ int jnd_pop_detection_score(jnd_pop_coverage c, jnd_pop_rating r);
 /* "tiny", "small", "large", "huge" and "very low", "low", "high", "very high". */
 const char *jnd_pop_coverage_name(jnd_pop_coverage c);
 const char *jnd_pop_rating_name(jnd_pop_rating r);
+
+/* ---- Popping of rendered switches: frames from assets, switch decisions ---- */
+/* jnd renders the switching frame itself: the scene's level `level` (what
+ * the viewer expects) and level + 1 (the new one) at the same frame of a
+ * motion, with motion vectors and depth for this and the previous frame,
+ * and runs jnd_pop_predict on them. The switch decisions bisect over the
+ * camera distance for the nearest distance at which every view's largest R
+ * stays below 1 (docs/pop.md). Typical use (what `jnd lod` can call):
+ *
+ *     jnd_pop_motion mo;  jnd_pop_motion_defaults(&mo);  mo.speed = 30;  // orbit 30 °/s
+ *     jnd_pop_switch_params sp;  jnd_pop_switch_defaults(&sp);
+ *     jnd_pop_switch sw;
+ *     jnd_pop_switch_distance(model, renderer, scene, views, nviews, &mo, k, &pp, &sp, &sw);
+ *     // level k may replace level k − 1 from sw.distance (object units) on
+ */
+
+/* How the camera or the object moves (frames at the model's fps). */
+typedef enum {
+  JND_POP_ORBIT = 0,       /* the camera circles the view's target about +Y; speed in °/s
+                              (positive: counter-clockwise seen from above) */
+  JND_POP_TRANSLATE,       /* the camera (eye and target) travels along direction; speed in m/s */
+  JND_POP_OBJECT,          /* the object spins about +Y through the view's target; speed in °/s */
+  JND_POP_PAN              /* the camera turns in place about +Y through its eye; speed in °/s
+                              (every point sweeps the screen at about that rate, at any distance) */
+} jnd_pop_motion_kind;
+
+typedef struct {
+  jnd_pop_motion_kind kind;
+  double speed;            /* °/s (ORBIT, OBJECT) or m/s (TRANSLATE); 0: static (default) */
+  double direction[3];     /* TRANSLATE: direction of travel in the camera's frame (x right, y up,
+                              z towards the viewer); default 1, 0, 0 (to the right) */
+  double unit_m;           /* metres per object unit (1: glTF's metres) */
+} jnd_pop_motion;
+
+/* Orbit, 0 °/s, direction +x, 1 m per unit. */
+void jnd_pop_motion_defaults(jnd_pop_motion *m);
+
+/* The view at time t seconds along the motion that starts at view (t = 0):
+ * camera (and model matrix for JND_POP_OBJECT) moved; the rest copied. */
+void jnd_pop_motion_pose(const jnd_view *view, const jnd_pop_motion *m, double t, jnd_view *out);
+
+/* Renders the switch from level to level + 1 of scene (0 <= level, level + 1
+ * < jnd_scene_lod_count) at frame `frame` of the motion starting at view
+ * (frame f is at time f / fps, the model's fps; the previous frame one
+ * frame earlier): actual = level + 1, expected = level, both with the
+ * renderer's motion vectors and depth; the previous frame's depth of both
+ * levels and each pixel's depth as the previous camera saw it give the
+ * disocclusion weight (004 §4; none when nothing moves); the mask is the
+ * pixels either level covers. Colours go through the model's display as
+ * the judge shows them (sRGB signal, then cd/m²). Then jnd_pop_predict. The
+ * scene's selected level is restored. out as jnd_pop_predict's. */
+jnd_status jnd_pop_render(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *view,
+                          const jnd_pop_motion *mo, int level, int frame, const jnd_pop_params *p,
+                          jnd_pop_result *out);
+
+/* How a switch distance is searched. */
+typedef struct {
+  double rating_limit;     /* the largest R must stay below this (1: "rarely visible", 004 §3.2) */
+  double tolerance;        /* relative: the bisection stops when far / near <= 1 + tolerance (0.05) */
+  double coverage_near;    /* the nearest distance searched: the bounding sphere (jnd_scene_subject_bounds)
+                              fills this fraction of the image height (1) */
+  double coverage_far;     /* the farthest (0.02) */
+  int frame;               /* the switch frame along the motion (0: at the views' poses) */
+} jnd_pop_switch_params;
+
+/* Fills p with the defaults above. */
+void jnd_pop_switch_defaults(jnd_pop_switch_params *p);
+
+typedef enum {
+  JND_POP_SWITCH_FOUND = 0, /* popping-free from distance on, popping nearer (within tolerance) */
+  JND_POP_SWITCH_NEAREST,   /* popping-free already at the nearest distance searched */
+  JND_POP_SWITCH_NONE       /* pops even at the farthest: distance is +inf (never switch) */
+} jnd_pop_switch_status;
+
+typedef struct {
+  jnd_pop_switch_status status;
+  double distance;         /* camera distance from the views' target, object units (+inf: NONE) */
+  double distance_popping; /* FOUND: the nearer end of the last bracket, where max R >= the limit
+                              was measured (distance / distance_popping <= 1 + tolerance); NaN else */
+  double max_rating;       /* the largest R over the views at distance (−inf: no region; at the
+                              farthest distance for NONE) */
+  double distance_pixel_rule; /* where level's error_abs covers one pixel at the image's height
+                              (docs/lod.md's meshoptimizer rule); NaN for imported levels */
+  int evaluations;         /* distances rendered and predicted */
+} jnd_pop_switch;
+
+/* The popping-free switch distance of level (>= 1: the distance from which
+ * level replaces level − 1) for the motion mo: the views give the camera's
+ * directions and images (their distances are replaced: eye = target +
+ * d × the unit direction from target to eye); at distance d each view's
+ * switch is rendered (jnd_pop_render) and the largest R over the views
+ * (views after one at or above the limit are skipped) compared with
+ * sp->rating_limit; bisection on log d between the near and far distances,
+ * assuming popping fades with distance, returns the farther end of the
+ * last bracket, where max R < limit was measured. Deterministic. */
+jnd_status jnd_pop_switch_distance(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *views,
+                                   int nviews, const jnd_pop_motion *mo, int level, const jnd_pop_params *p,
+                                   const jnd_pop_switch_params *sp, jnd_pop_switch *out);
+
+/* `jnd pop MODEL` as one call: the asset and its chain, one switch rendered
+ * and predicted (view 0), and optionally the switch table over levels and
+ * speeds with its picture. */
+typedef struct {
+  jnd_view_set views;      /* the views (jnd_view_set_defaults; image size, sampling, renderer) */
+  const char *cameras;     /* a cameras file (jnd_views_read) instead of sampled views; NULL */
+  int builtin_map_size;    /* map side of MODEL "builtin" / "builtin:sphere" (512) */
+  jnd_lod_params chain;    /* the chain made when the file has no MSFT_lod levels (or rebuild) */
+  int rebuild;             /* 1: make a chain even when the file has levels */
+  const char *const *level_paths; /* levels from other files, finest first (instead of a chain) */
+  int nlevel_paths;
+  jnd_pop_motion motion;   /* the pair's motion */
+  int level;               /* the pair: switch from level to level + 1 (0) */
+  int frame;               /* the pair's switch frame (0) */
+  jnd_pop_params pop;
+  int decide;              /* 1: the switch table */
+  const double *speeds;    /* its speeds in °/s (motion.kind ORBIT, OBJECT or PAN); NULL: 0, 30, 120 */
+  int nspeeds;
+  jnd_pop_switch_params search;
+  void (*progress)(void *user, const char *stage, int done, int total);
+  void *progress_user;
+} jnd_pop_asset_params;
+
+/* Fills p with the defaults above. */
+void jnd_pop_asset_defaults(jnd_pop_asset_params *p);
+
+typedef struct {
+  int level;               /* the level that takes over (>= 1) */
+  double speed_dps;
+  jnd_pop_switch sw;       /* distances in object units */
+  double distance_m, distance_m_pixel_rule; /* × motion.unit_m */
+} jnd_pop_switch_row;
+
+typedef struct {
+  jnd_pop_result pair;     /* the rendered switch's prediction */
+  const char *chain_source; /* "file", "made" or "levels" */
+  int nlevels;
+  jnd_lod_level_info levels[64];
+  int nviews;
+  double pair_distance;    /* the pair's camera distance, object units */
+  jnd_pop_switch_row *rows; /* decide: levels 1.. × speeds, level-major; owned */
+  int nrows;
+  jnd_image plot;          /* decide: distance per level, one line per speed (sRGB 0..1) */
+  char renderer[256];
+  double load_s, render_s, decide_s;
+} jnd_pop_asset_report;
+
+/* Loads model_path (glTF/GLB/OBJ, "builtin", "builtin:sphere"), gets its
+ * chain (the file's MSFT_lod levels, level files, or one made), renders and
+ * predicts the pair and, with p->decide, the switch table. Nothing is
+ * written. JND_ERR_ARG/FORMAT/IO "FILE: problem" for bad input; out is the
+ * caller's (jnd_pop_asset_report_free). */
+jnd_status jnd_pop_asset_run(jnd_model *m, const char *model_path, const jnd_pop_asset_params *p,
+                             jnd_pop_asset_report *out);
+
+/* Frees a report; safe on a zeroed struct. */
+void jnd_pop_asset_report_free(jnd_pop_asset_report *r);
 
 /* ------------------------------------------------------------------------ */
 /* Batch: a library of assets (docs/batch.md)                               */

@@ -8,7 +8,8 @@
 
 static void help(void) {
   printf(
-      "usage: jnd pop NEW EXPECTED -o OUT [options]\n"
+      "usage: jnd pop NEW EXPECTED -o OUT [options]      frames you bring\n"
+      "       jnd pop MODEL -o OUT [options]             frames jnd renders\n"
       "\n"
       "Will this level switch pop? NEW is the frame where the switch happens,\n"
       "rendered with the new level; EXPECTED is the same frame rendered with the\n"
@@ -38,6 +39,34 @@ static void help(void) {
       "                         frame's camera and lights\n"
       "  --mask M               object pixels (> 0.5) that coverage counts (default all)\n"
       "\n"
+      "asset form (MODEL: glTF/GLB/OBJ, builtin, builtin:sphere):\n"
+      "  the chain is the file's MSFT_lod levels (as jnd lod writes them), the --level\n"
+      "  files, or one made with meshoptimizer (--errors). The switch from level K to\n"
+      "  K + 1 is rendered at frame F of the motion, seen from the first view: NEW is\n"
+      "  level K + 1, EXPECTED level K, with motion vectors and depth (this frame and\n"
+      "  the previous one, for the disocclusion weight).\n"
+      "  --switch K             the switch from level K to K + 1 (0)\n"
+      "  --frame F              the switch frame along the motion (0: the view's pose)\n"
+      "  --orbit DPS            the camera circles the target, degrees/s (0: static)\n"
+      "  --translate MPS        the camera travels at MPS metres/s along --direction\n"
+      "  --direction X,Y,Z      in the camera's frame: x right, y up, z back (1,0,0)\n"
+      "  --spin DPS             the object spins about +Y instead, degrees/s\n"
+      "  --pan DPS              the camera turns in place about +Y, degrees/s\n"
+      "  --unit-m U             metres per object unit (1)\n"
+      "  --level FILE           a level from another file, finest first (repeatable)\n"
+      "  --errors LIST          error targets of a chain made here (docs/lod.md)\n"
+      "  --rebuild              make a chain even when the file has levels\n"
+      "decisions (asset form):\n"
+      "  --decide               the popping-free switch distance of every level and\n"
+      "                         speed (largest R over the views < 1), beside the\n"
+      "                         1-pixel geometric-error rule: pop.json .result.switch[]\n"
+      "                         and switch.png\n"
+      "  --speeds LIST          degrees/s of the orbit (or --spin, --pan) (0,30,120)\n"
+      "  --tolerance T          relative tolerance of the distance bisection (0.05)\n"
+      "  --coverage-range N,F   distances searched, as the fraction of the image\n"
+      "                         height the object fills (1,0.02)\n"
+      "%s"
+      "\n"
       "outputs:\n"
       "  -o, --output DIR       pop.json and regions.png (the folder is created)\n"
       "  --maps                 also jnd.exr (weighted JND map) and weights.exr\n"
@@ -51,7 +80,7 @@ static void help(void) {
       "\n"
       "Exit status: 0; 1 when above --fail-above; 2 for bad input (one line:\n"
       "jnd: FILE: problem, and nothing written).\n",
-      cli_display_help);
+      cli_display_help, cli_views_help);
 }
 
 static cJSON *int4(const int *v) {
@@ -91,147 +120,30 @@ static int write_image(const char *dir, const char *name, const jnd_image *img, 
   return 1;
 }
 
-static int run(int argc, char **argv) {
-  cli_common common = {0};
-  jnd_model_params mp;
-  jnd_model_defaults(&mp);
-  jnd_pop_params pp;
-  jnd_pop_defaults(&pp);
-  jnd_pop_paths f = {0};
-  const char *paths[2] = {0}, *dir = NULL;
-  int npaths = 0, maps = 0, max_regions = 100;
-  double fail_above = NAN;
-  cli_display disp;
-  cli_display_init(&disp);
-  cli_args args = cli_args_start(argc, argv, "pop"), *ap = &args;
-  for (; args.i < argc && !args.bad; args.i++) {
-    const char *v, *a = argv[args.i];
-    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
-      help();
-      return EXIT_OK;
-    } else if (cli_display_opt(ap, &disp)) {
-    } else if (cli_opt(ap, "--displacement-expected", &v)) {
-      f.displacement_expected = v;
-    } else if (cli_opt(ap, "--displacement", &v)) {
-      f.displacement = v;
-    } else if (cli_opt(ap, "--fps", &v)) {
-      mp.fps = cli_double(ap, "--fps", v, 1, 1000);
-    } else if (cli_opt(ap, "--weights", &v)) {
-      f.weights = v;
-    } else if (cli_opt(ap, "--depth-expected", &v)) {
-      f.depth_expected = v;
-    } else if (cli_opt(ap, "--depth", &v)) {
-      f.depth = v;
-    } else if (cli_opt(ap, "--prev-depth-expected", &v)) {
-      f.prev_depth_expected = v;
-    } else if (cli_opt(ap, "--prev-depth", &v)) {
-      f.prev_depth = v;
-    } else if (cli_opt(ap, "--prev-frame", &v)) {
-      f.prev_color = v;
-    } else if (cli_opt(ap, "--prev-shading", &v)) {
-      f.prev_shading = v;
-    } else if (cli_opt(ap, "--mask", &v)) {
-      f.mask = v;
-    } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
-      dir = v;
-    } else if (cli_flag(ap, "--maps")) {
-      maps = 1;
-    } else if (cli_opt(ap, "--max-regions", &v)) {
-      max_regions = cli_int(ap, "--max-regions", v, 0, 1 << 30);
-    } else if (cli_opt(ap, "--fail-above", &v)) {
-      fail_above = cli_double(ap, "--fail-above", v, -100, 100);
-    } else if (cli_common_opt(ap, &common)) {
-    } else if (a[0] == '-' && a[1]) {
-      return cli_unknown(ap);
-    } else if (npaths < 2) {
-      paths[npaths++] = a;
-    } else {
-      return cli_unknown(ap);
-    }
+/* a comma-separated list of numbers in lo..hi; its count, or −1 */
+static int number_list(const char *v, double *out, int max, double lo, double hi) {
+  int n = 0;
+  const char *c = v;
+  while (*c) {
+    char *end;
+    double x = strtod(c, &end);
+    if (end == c || n >= max || !(x >= lo && x <= hi)) return -1;
+    out[n++] = x;
+    c = end;
+    if (*c == ',') c++;
+    else if (*c) return -1;
   }
-  if (args.bad) return EXIT_BAD;
-  mp.display = cli_display_get(&disp);
-  mp.threads = pp.threads = common.threads;
-  if (npaths == 1) {
-    /* the asset form needs the judge's renders and the LOD chain (issue 12, items 5–6) */
-    cli_error("pop: the asset form (jnd pop MODEL) is not available yet; give two frames, NEW EXPECTED "
-              "(jnd pop --help)");
-    return EXIT_BAD;
-  }
-  if (npaths != 2) {
-    cli_error("pop: needs two frames, NEW and EXPECTED (jnd pop --help)");
-    return EXIT_BAD;
-  }
-  if (!dir) {
-    cli_error("pop: give an output folder with -o OUT (jnd pop --help)");
-    return EXIT_BAD;
-  }
-  f.actual = paths[0];
-  f.expected = paths[1];
-  double t0 = cli_now();
-  int rc = EXIT_BAD;
-  jnd_model *model = NULL;
-  cJSON *report = NULL;
-  jnd_pop_result r = {0};
-  if (jnd_model_create(&mp, &model) != JND_OK) {
-    cli_error("pop: %s", jnd_last_error());
-    goto out;
-  }
-  if (jnd_pop_files(model, &f, &pp, &r) != JND_OK) {
-    cli_error("%s", jnd_last_error());
-    goto out;
-  }
-  /* only now, with a result, is anything created */
-  if (jnd_make_dirs(dir) != JND_OK) {
-    cli_error("%s", jnd_last_error());
-    goto out;
-  }
-  double t_write = cli_now();
-  if (!write_image(dir, "regions.png", &r.picture, 0)) goto out;
-  if (maps && (!write_image(dir, "jnd.exr", &r.jnd, 1) || (r.weights.data && !write_image(dir, "weights.exr", &r.weights, 2))))
-    goto out;
-  int above = isfinite(fail_above) && r.nregions && r.max_rating > fail_above;
+  return n;
+}
 
-  report = cli_report_new("pop");
-  cJSON *inputs = cli_report_section(report, "inputs"), *params = cli_report_section(report, "parameters"),
-        *res = cli_report_section(report, "result");
-  const char *in_keys[] = {"new", "expected", "displacement", "displacement_expected", "depth", "depth_expected",
-                           "prev_depth", "prev_depth_expected", "weights", "prev_frame", "prev_shading", "mask"};
-  const char *in_vals[] = {f.actual, f.expected, f.displacement, f.displacement_expected, f.depth,
-                           f.depth_expected, f.prev_depth, f.prev_depth_expected, f.weights, f.prev_color,
-                           f.prev_shading, f.mask};
-  for (size_t k = 0; k < sizeof in_keys / sizeof in_keys[0]; k++)
-    if (in_vals[k]) cJSON_AddStringToObject(inputs, in_keys[k], in_vals[k]);
-  cJSON_AddItemToObject(params, "display", cli_display_json(&mp.display));
-  cJSON_AddNumberToObject(params, "fps", mp.fps);
-  cJSON_AddNumberToObject(params, "threshold_jnd", pp.threshold_jnd);
-  cJSON_AddNumberToObject(params, "minkowski", pp.minkowski);
-  cJSON_AddNumberToObject(params, "depth_tolerance", pp.depth_tolerance);
-  cJSON *fl = cJSON_AddObjectToObject(params, "flicker");
-  cJSON_AddNumberToObject(fl, "ratio_lo", pp.flicker_ratio_lo);
-  cJSON_AddNumberToObject(fl, "ratio_hi", pp.flicker_ratio_hi);
-  cJSON_AddNumberToObject(fl, "motion_lo_px", pp.flicker_motion_lo_px);
-  cJSON_AddNumberToObject(fl, "motion_hi_px", pp.flicker_motion_hi_px);
-  cJSON_AddNumberToObject(params, "top_regions", pp.top_regions);
-  cJSON *ct = cJSON_AddArrayToObject(params, "coverage_thresholds");
-  cJSON_AddItemToArray(ct, cJSON_CreateNumber(pp.coverage_small));
-  cJSON_AddItemToArray(ct, cJSON_CreateNumber(pp.coverage_large));
-  cJSON_AddItemToArray(ct, cJSON_CreateNumber(pp.coverage_huge));
-  cJSON *rt = cJSON_AddArrayToObject(params, "rating_thresholds");
-  cJSON_AddItemToArray(rt, cJSON_CreateNumber(pp.rating_low));
-  cJSON_AddItemToArray(rt, cJSON_CreateNumber(pp.rating_high));
-  cJSON_AddItemToArray(rt, cJSON_CreateNumber(pp.rating_very_high));
-  cJSON_AddNumberToObject(params, "sensitivity", mp.sensitivity);
-  cJSON_AddNumberToObject(params, "sens_rg", mp.sens_rg);
-  cJSON_AddNumberToObject(params, "sens_yv", mp.sens_yv);
-  if (isfinite(fail_above)) cJSON_AddNumberToObject(params, "fail_above", fail_above);
-
-  cJSON_AddNumberToObject(res, "width", r.w);
-  cJSON_AddNumberToObject(res, "height", r.h);
-  cJSON_AddNumberToObject(res, "region_count", r.nregions);
+/* the pair's result: regions, scores, weights (the same fields in both forms) */
+static void result_json(cJSON *res, const jnd_pop_result *r, int max_regions) {
+  cJSON_AddNumberToObject(res, "width", r->w);
+  cJSON_AddNumberToObject(res, "height", r->h);
+  cJSON_AddNumberToObject(res, "region_count", r->nregions);
   cJSON *regs = cJSON_AddArrayToObject(res, "regions");
-  for (int k = 0; k < r.nregions && k < max_regions; k++) {
-    const jnd_pop_region *g = &r.regions[k];
+  for (int k = 0; k < r->nregions && k < max_regions; k++) {
+    const jnd_pop_region *g = &r->regions[k];
     cJSON *o = cJSON_CreateObject();
     cJSON_AddNumberToObject(o, "pixels", (double)g->pixels);
     cJSON_AddNumberToObject(o, "sigma", g->sigma);
@@ -240,34 +152,339 @@ static int run(int argc, char **argv) {
     cJSON_AddNumberToObject(o, "jnd_max", g->jnd_max);
     cJSON_AddItemToArray(regs, o);
   }
-  add_num(res, "max_rating", r.max_rating);
-  cJSON_AddNumberToObject(res, "coverage", r.coverage);
-  cJSON_AddStringToObject(res, "coverage_score", jnd_pop_coverage_name(r.coverage_score));
-  add_num(res, "rating_top", r.rating_top);
-  cJSON_AddStringToObject(res, "rating_score", jnd_pop_rating_name(r.rating_score));
-  cJSON_AddNumberToObject(res, "detection_score", r.detection_score);
-  cJSON_AddNumberToObject(res, "max_delta_e94", r.max_delta_e94);
-  cJSON_AddNumberToObject(res, "jnd_max", r.jnd_max);
-  cJSON_AddNumberToObject(res, "object_pixels", (double)r.object_pixels);
-  cJSON_AddNumberToObject(res, "covered_pixels", (double)r.covered_pixels);
+  add_num(res, "max_rating", r->max_rating);
+  cJSON_AddNumberToObject(res, "coverage", r->coverage);
+  cJSON_AddStringToObject(res, "coverage_score", jnd_pop_coverage_name(r->coverage_score));
+  add_num(res, "rating_top", r->rating_top);
+  cJSON_AddStringToObject(res, "rating_score", jnd_pop_rating_name(r->rating_score));
+  cJSON_AddNumberToObject(res, "detection_score", r->detection_score);
+  cJSON_AddNumberToObject(res, "max_delta_e94", r->max_delta_e94);
+  cJSON_AddNumberToObject(res, "jnd_max", r->jnd_max);
+  cJSON_AddNumberToObject(res, "object_pixels", (double)r->object_pixels);
+  cJSON_AddNumberToObject(res, "covered_pixels", (double)r->covered_pixels);
   cJSON *wj = cJSON_AddObjectToObject(res, "weights");
-  cJSON_AddItemToObject(wj, "disocclusion", weight_json(&r.disocclusion));
-  cJSON_AddItemToObject(wj, "flicker", weight_json(&r.flicker));
-  cJSON_AddItemToObject(wj, "user", weight_json(&r.user));
+  cJSON_AddItemToObject(wj, "disocclusion", weight_json(&r->disocclusion));
+  cJSON_AddItemToObject(wj, "flicker", weight_json(&r->flicker));
+  cJSON_AddItemToObject(wj, "user", weight_json(&r->user));
+}
+
+static void params_json(cJSON *params, const jnd_model_params *mp, const jnd_pop_params *pp, double fail_above) {
+  cJSON_AddItemToObject(params, "display", cli_display_json(&mp->display));
+  cJSON_AddNumberToObject(params, "fps", mp->fps);
+  cJSON_AddNumberToObject(params, "threshold_jnd", pp->threshold_jnd);
+  cJSON_AddNumberToObject(params, "minkowski", pp->minkowski);
+  cJSON_AddNumberToObject(params, "depth_tolerance", pp->depth_tolerance);
+  cJSON *fl = cJSON_AddObjectToObject(params, "flicker");
+  cJSON_AddNumberToObject(fl, "ratio_lo", pp->flicker_ratio_lo);
+  cJSON_AddNumberToObject(fl, "ratio_hi", pp->flicker_ratio_hi);
+  cJSON_AddNumberToObject(fl, "motion_lo_px", pp->flicker_motion_lo_px);
+  cJSON_AddNumberToObject(fl, "motion_hi_px", pp->flicker_motion_hi_px);
+  cJSON_AddNumberToObject(params, "top_regions", pp->top_regions);
+  cJSON *ct = cJSON_AddArrayToObject(params, "coverage_thresholds");
+  cJSON_AddItemToArray(ct, cJSON_CreateNumber(pp->coverage_small));
+  cJSON_AddItemToArray(ct, cJSON_CreateNumber(pp->coverage_large));
+  cJSON_AddItemToArray(ct, cJSON_CreateNumber(pp->coverage_huge));
+  cJSON *rt = cJSON_AddArrayToObject(params, "rating_thresholds");
+  cJSON_AddItemToArray(rt, cJSON_CreateNumber(pp->rating_low));
+  cJSON_AddItemToArray(rt, cJSON_CreateNumber(pp->rating_high));
+  cJSON_AddItemToArray(rt, cJSON_CreateNumber(pp->rating_very_high));
+  cJSON_AddNumberToObject(params, "sensitivity", mp->sensitivity);
+  cJSON_AddNumberToObject(params, "sens_rg", mp->sens_rg);
+  cJSON_AddNumberToObject(params, "sens_yv", mp->sens_yv);
+  if (isfinite(fail_above)) cJSON_AddNumberToObject(params, "fail_above", fail_above);
+}
+
+static const char *motion_name(jnd_pop_motion_kind k) {
+  return k == JND_POP_ORBIT ? "orbit" : k == JND_POP_TRANSLATE ? "translate" : k == JND_POP_PAN ? "pan" : "spin";
+}
+
+static const char *switch_status_name(jnd_pop_switch_status s) {
+  return s == JND_POP_SWITCH_FOUND ? "found" : s == JND_POP_SWITCH_NEAREST ? "nearest" : "none";
+}
+
+static void on_progress(void *user, const char *stage, int done, int total) {
+  const cli_common *c = user;
+  if (done < total) cli_info(c, "jnd pop: %s %d/%d\n", stage, done + 1, total);
+}
+
+/* the asset form's own report parts: chain, motion, views, switch table */
+static void asset_json(cJSON *inputs, cJSON *params, cJSON *res, const char *model, const jnd_pop_asset_params *ap,
+                       const jnd_pop_asset_report *R, const cli_views *views, const double *speeds, int nspeeds) {
+  cJSON_AddStringToObject(inputs, "model", model);
+  cJSON *jl = cJSON_AddArrayToObject(inputs, "levels");
+  for (int i = 0; i < ap->nlevel_paths; i++) cJSON_AddItemToArray(jl, cJSON_CreateString(ap->level_paths[i]));
+  cJSON_AddItemToObject(params, "views", cli_views_json(views));
+  cJSON *mo = cJSON_AddObjectToObject(params, "motion");
+  cJSON_AddStringToObject(mo, "kind", motion_name(ap->motion.kind));
+  cJSON_AddNumberToObject(mo, "speed", ap->motion.speed);
+  cJSON_AddStringToObject(mo, "unit", ap->motion.kind == JND_POP_TRANSLATE ? "m/s" : "deg/s");
+  if (ap->motion.kind == JND_POP_TRANSLATE) {
+    cJSON *d = cJSON_AddArrayToObject(mo, "direction");
+    for (int k = 0; k < 3; k++) cJSON_AddItemToArray(d, cJSON_CreateNumber(ap->motion.direction[k]));
+  }
+  cJSON_AddNumberToObject(mo, "unit_m", ap->motion.unit_m);
+  cJSON_AddNumberToObject(params, "switch_level", ap->level);
+  cJSON_AddNumberToObject(params, "frame", ap->frame);
+  if (ap->decide) {
+    cJSON *se = cJSON_AddObjectToObject(params, "search");
+    cJSON *sj = cJSON_AddArrayToObject(se, "speeds_dps");
+    for (int s = 0; s < nspeeds; s++) cJSON_AddItemToArray(sj, cJSON_CreateNumber(speeds[s]));
+    cJSON_AddNumberToObject(se, "rating_limit", ap->search.rating_limit);
+    cJSON_AddNumberToObject(se, "tolerance", ap->search.tolerance);
+    cJSON_AddNumberToObject(se, "coverage_near", ap->search.coverage_near);
+    cJSON_AddNumberToObject(se, "coverage_far", ap->search.coverage_far);
+    cJSON_AddStringToObject(se, "pixel_rule", "level's error_abs covers 1 pixel of the image height at the distance");
+  }
+  cJSON_AddStringToObject(res, "renderer", R->renderer);
+  cJSON_AddStringToObject(res, "chain_source", R->chain_source);
+  cJSON *lv = cJSON_AddArrayToObject(res, "levels");
+  for (int k = 0; k < R->nlevels; k++) {
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddNumberToObject(o, "level", k);
+    cJSON_AddNumberToObject(o, "triangles", (double)R->levels[k].triangles);
+    add_num(o, "error_abs", R->levels[k].error_abs);
+    cJSON_AddItemToArray(lv, o);
+  }
+  cJSON_AddNumberToObject(res, "views", R->nviews);
+  cJSON_AddNumberToObject(res, "distance_m", R->pair_distance * ap->motion.unit_m);
+  if (!ap->decide) return;
+  cJSON *sw = cJSON_AddArrayToObject(res, "switch");
+  for (int i = 0; i < R->nrows; i++) {
+    const jnd_pop_switch_row *w = &R->rows[i];
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddNumberToObject(o, "level", w->level);
+    cJSON_AddNumberToObject(o, "speed_dps", w->speed_dps);
+    add_num(o, "distance_m", w->distance_m);
+    add_num(o, "distance_m_pixel_rule", w->distance_m_pixel_rule);
+    cJSON_AddStringToObject(o, "status", switch_status_name(w->sw.status));
+    add_num(o, "max_rating", w->sw.max_rating);
+    cJSON_AddNumberToObject(o, "evaluations", w->sw.evaluations);
+    cJSON_AddItemToArray(sw, o);
+  }
+  cJSON_AddStringToObject(cJSON_GetObjectItem(res, "outputs"), "switch", "switch.png");
+}
+
+static int run(int argc, char **argv) {
+  cli_common common = {0};
+  jnd_model_params mp;
+  jnd_model_defaults(&mp);
+  jnd_pop_params pp;
+  jnd_pop_defaults(&pp);
+  jnd_pop_paths f = {0};
+  jnd_pop_asset_params ap;
+  jnd_pop_asset_defaults(&ap);
+  cli_views views;
+  cli_views_init(&views, 512, 512);
+  const char *paths[2] = {0}, *dir = NULL, *levels[64];
+  double errors[64], speeds[64];
+  int npaths = 0, maps = 0, max_regions = 100, asset_opts = 0, nlevels = 0, nspeeds = 0, nmotion = 0;
+  double fail_above = NAN;
+  cli_display disp;
+  cli_display_init(&disp);
+  cli_args args = cli_args_start(argc, argv, "pop"), *ca = &args;
+  for (; args.i < argc && !args.bad; args.i++) {
+    const char *v, *a = argv[args.i];
+    int was = args.i;
+    if (cli_flag(ca, "--help") || cli_flag(ca, "-h")) {
+      help();
+      return EXIT_OK;
+    } else if (cli_display_opt(ca, &disp)) {
+    } else if (cli_views_opt(ca, &views)) {
+      asset_opts++;
+    } else if (cli_opt(ca, "--displacement-expected", &v)) {
+      f.displacement_expected = v;
+    } else if (cli_opt(ca, "--displacement", &v)) {
+      f.displacement = v;
+    } else if (cli_opt(ca, "--fps", &v)) {
+      mp.fps = cli_double(ca, "--fps", v, 1, 1000);
+    } else if (cli_opt(ca, "--weights", &v)) {
+      f.weights = v;
+    } else if (cli_opt(ca, "--depth-expected", &v)) {
+      f.depth_expected = v;
+    } else if (cli_opt(ca, "--depth", &v)) {
+      f.depth = v;
+    } else if (cli_opt(ca, "--prev-depth-expected", &v)) {
+      f.prev_depth_expected = v;
+    } else if (cli_opt(ca, "--prev-depth", &v)) {
+      f.prev_depth = v;
+    } else if (cli_opt(ca, "--prev-frame", &v)) {
+      f.prev_color = v;
+    } else if (cli_opt(ca, "--prev-shading", &v)) {
+      f.prev_shading = v;
+    } else if (cli_opt(ca, "--mask", &v)) {
+      f.mask = v;
+    } else if (cli_opt(ca, "--switch", &v)) {
+      ap.level = cli_int(ca, "--switch", v, 0, 62);
+      asset_opts++;
+    } else if (cli_opt(ca, "--frame", &v)) {
+      ap.frame = cli_int(ca, "--frame", v, -100000, 100000);
+      asset_opts++;
+    } else if (cli_opt(ca, "--orbit", &v) || cli_opt(ca, "--spin", &v) || cli_opt(ca, "--translate", &v) ||
+               cli_opt(ca, "--pan", &v)) {
+      const char *o = argv[was];
+      ap.motion.kind = strncmp(o, "--translate", 11) == 0 ? JND_POP_TRANSLATE
+                       : strncmp(o, "--spin", 6) == 0   ? JND_POP_OBJECT
+                       : strncmp(o, "--pan", 5) == 0    ? JND_POP_PAN
+                                                        : JND_POP_ORBIT;
+      ap.motion.speed = cli_double(ca, (const char *[]){"--orbit", "--translate", "--spin", "--pan"}[ap.motion.kind], v, -100000, 100000);
+      nmotion++;
+      asset_opts++;
+    } else if (cli_opt(ca, "--direction", &v)) {
+      if (number_list(v, ap.motion.direction, 3, -1e6, 1e6) != 3 ||
+          !(fabs(ap.motion.direction[0]) + fabs(ap.motion.direction[1]) + fabs(ap.motion.direction[2]) > 0))
+        return cli_bad("pop: --direction: '%s' is not X,Y,Z (not all 0)", v);
+      asset_opts++;
+    } else if (cli_opt(ca, "--unit-m", &v)) {
+      ap.motion.unit_m = cli_double(ca, "--unit-m", v, 1e-9, 1e9);
+      asset_opts++;
+    } else if (cli_opt(ca, "--level", &v)) {
+      if (nlevels >= 63) return cli_bad("pop: at most 63 --level files");
+      levels[nlevels++] = v;
+      asset_opts++;
+    } else if (cli_opt(ca, "--errors", &v)) {
+      int n = number_list(v, errors, 63, 1e-9, 1);
+      if (n < 1) return cli_bad("pop: --errors: '%s' is not a list of numbers in (0, 1] like 0.004,0.016", v);
+      ap.chain.errors = errors;
+      ap.chain.nerrors = n;
+      asset_opts++;
+    } else if (cli_flag(ca, "--rebuild")) {
+      ap.rebuild = 1;
+      asset_opts++;
+    } else if (cli_flag(ca, "--decide")) {
+      ap.decide = 1;
+      asset_opts++;
+    } else if (cli_opt(ca, "--speeds", &v)) {
+      nspeeds = number_list(v, speeds, 64, -100000, 100000);
+      if (nspeeds < 1) return cli_bad("pop: --speeds: '%s' is not a list of degrees per second like 0,30,120", v);
+      ap.decide = 1;
+      asset_opts++;
+    } else if (cli_opt(ca, "--tolerance", &v)) {
+      ap.search.tolerance = cli_double(ca, "--tolerance", v, 1e-4, 10);
+      asset_opts++;
+    } else if (cli_opt(ca, "--coverage-range", &v)) {
+      cli_pair(ca, "--coverage-range", v, &ap.search.coverage_near, &ap.search.coverage_far);
+      if (!args.bad && !(ap.search.coverage_near <= 10 && ap.search.coverage_near > ap.search.coverage_far &&
+                         ap.search.coverage_far >= 0.001))
+        return cli_bad("pop: --coverage-range: '%s' is not N,F with 10 >= N > F >= 0.001", v);
+      asset_opts++;
+    } else if (cli_opt(ca, "-o", &v) || cli_opt(ca, "--output", &v)) {
+      dir = v;
+    } else if (cli_flag(ca, "--maps")) {
+      maps = 1;
+    } else if (cli_opt(ca, "--max-regions", &v)) {
+      max_regions = cli_int(ca, "--max-regions", v, 0, 1 << 30);
+    } else if (cli_opt(ca, "--fail-above", &v)) {
+      fail_above = cli_double(ca, "--fail-above", v, -100, 100);
+    } else if (cli_common_opt(ca, &common)) {
+    } else if (a[0] == '-' && a[1]) {
+      return cli_unknown(ca);
+    } else if (npaths < 2) {
+      paths[npaths++] = a;
+    } else {
+      return cli_unknown(ca);
+    }
+  }
+  if (args.bad) return EXIT_BAD;
+  mp.display = cli_display_get(&disp);
+  mp.threads = pp.threads = common.threads;
+  int asset = npaths == 1;
+  if (npaths != 1 && npaths != 2) return cli_bad("pop: needs two frames, NEW and EXPECTED, or a MODEL (jnd pop --help)");
+  if (!dir) return cli_bad("pop: give an output folder with -o OUT (jnd pop --help)");
+  if (!asset && asset_opts) return cli_bad("pop: views, motion, chain and --decide options are for the asset form, jnd pop MODEL");
+  if (asset && (f.displacement || f.displacement_expected || f.weights || f.depth || f.depth_expected ||
+                f.prev_depth || f.prev_depth_expected || f.prev_color || f.prev_shading || f.mask))
+    return cli_bad("pop: frame maps (--displacement, --depth, --weights, ...) are for the frame form; jnd pop MODEL "
+                   "renders its own");
+  if (nmotion > 1) return cli_bad("pop: give one of --orbit, --translate and --spin");
+  if (ap.chain.errors && nlevels) return cli_bad("pop: give --errors or --level files, not both");
+  double t0 = cli_now();
+  int rc = EXIT_BAD;
+  jnd_model *model = NULL;
+  cJSON *report = NULL;
+  jnd_pop_result r = {0};
+  jnd_pop_asset_report R;
+  memset(&R, 0, sizeof R);
+  const jnd_pop_result *res_pair = &r;
+  if (jnd_model_create(&mp, &model) != JND_OK) {
+    cli_error("pop: %s", jnd_last_error());
+    goto out;
+  }
+  if (asset) {
+    ap.views = views.set;
+    ap.cameras = views.cameras;
+    ap.builtin_map_size = views.map_size < 512 ? views.map_size : 512;
+    ap.level_paths = levels;
+    ap.nlevel_paths = nlevels;
+    ap.pop = pp;
+    if (nspeeds) {
+      ap.speeds = speeds;
+      ap.nspeeds = nspeeds;
+    }
+    ap.chain.threads = common.threads;
+    ap.progress = on_progress;
+    ap.progress_user = &common;
+    if (jnd_pop_asset_run(model, paths[0], &ap, &R) != JND_OK) {
+      cli_error("%s", jnd_last_error());
+      goto out;
+    }
+    res_pair = &R.pair;
+  } else {
+    f.actual = paths[0];
+    f.expected = paths[1];
+    if (jnd_pop_files(model, &f, &pp, &r) != JND_OK) {
+      cli_error("%s", jnd_last_error());
+      goto out;
+    }
+  }
+  /* only now, with a result, is anything created */
+  if (jnd_make_dirs(dir) != JND_OK) {
+    cli_error("%s", jnd_last_error());
+    goto out;
+  }
+  double t_write = cli_now();
+  if (!write_image(dir, "regions.png", &res_pair->picture, 0)) goto out;
+  if (maps && (!write_image(dir, "jnd.exr", &res_pair->jnd, 1) ||
+               (res_pair->weights.data && !write_image(dir, "weights.exr", &res_pair->weights, 2))))
+    goto out;
+  if (asset && ap.decide && !write_image(dir, "switch.png", &R.plot, 0)) goto out;
+  int above = isfinite(fail_above) && res_pair->nregions && res_pair->max_rating > fail_above;
+
+  report = cli_report_new("pop");
+  cJSON *inputs = cli_report_section(report, "inputs"), *params = cli_report_section(report, "parameters"),
+        *res = cli_report_section(report, "result");
+  if (!asset) {
+    const char *in_keys[] = {"new", "expected", "displacement", "displacement_expected", "depth", "depth_expected",
+                             "prev_depth", "prev_depth_expected", "weights", "prev_frame", "prev_shading", "mask"};
+    const char *in_vals[] = {f.actual, f.expected, f.displacement, f.displacement_expected, f.depth,
+                             f.depth_expected, f.prev_depth, f.prev_depth_expected, f.weights, f.prev_color,
+                             f.prev_shading, f.mask};
+    for (size_t k = 0; k < sizeof in_keys / sizeof in_keys[0]; k++)
+      if (in_vals[k]) cJSON_AddStringToObject(inputs, in_keys[k], in_vals[k]);
+  }
+  params_json(params, &mp, &pp, fail_above);
+  result_json(res, res_pair, max_regions);
   cJSON *outs = cJSON_AddObjectToObject(res, "outputs");
   cJSON_AddStringToObject(outs, "regions", "regions.png");
   if (maps) {
     cJSON_AddStringToObject(outs, "jnd", "jnd.exr");
-    if (r.weights.data) cJSON_AddStringToObject(outs, "weights", "weights.exr");
+    if (res_pair->weights.data) cJSON_AddStringToObject(outs, "weights", "weights.exr");
   }
+  if (asset)
+    asset_json(inputs, params, res, paths[0], &ap, &R, &views, ap.speeds ? ap.speeds : (const double[]){0, 30, 120},
+               ap.speeds ? ap.nspeeds : 3);
   if (isfinite(fail_above)) cJSON_AddBoolToObject(res, "above_threshold", above);
   if (common.timings) {
     cJSON *t = cJSON_AddObjectToObject(res, "timings");
-    cJSON_AddNumberToObject(t, "read_s", r.timings.read_s);
-    cJSON_AddNumberToObject(t, "weights_s", r.timings.weights_s);
-    cJSON_AddNumberToObject(t, "model_s", r.timings.model_s);
-    cJSON_AddNumberToObject(t, "regions_s", r.timings.regions_s);
-    cJSON_AddNumberToObject(t, "picture_s", r.timings.picture_s);
+    cJSON_AddNumberToObject(t, "read_s", res_pair->timings.read_s);
+    cJSON_AddNumberToObject(t, "weights_s", res_pair->timings.weights_s);
+    cJSON_AddNumberToObject(t, "model_s", res_pair->timings.model_s);
+    cJSON_AddNumberToObject(t, "regions_s", res_pair->timings.regions_s);
+    cJSON_AddNumberToObject(t, "picture_s", res_pair->timings.picture_s);
+    if (asset) {
+      cJSON_AddNumberToObject(t, "load_s", R.load_s);
+      cJSON_AddNumberToObject(t, "render_s", R.render_s);
+      cJSON_AddNumberToObject(t, "decide_s", R.decide_s);
+    }
     cJSON_AddNumberToObject(t, "write_s", cli_now() - t_write);
     cJSON_AddNumberToObject(t, "total_s", cli_now() - t0);
   }
@@ -275,19 +492,24 @@ static int run(int argc, char **argv) {
   snprintf(jpath, sizeof jpath, "%s/pop.json", dir);
   if (cli_report_write(report, jpath) != EXIT_OK) goto out;
   if (common.json_path && cli_report_write(report, common.json_path) != EXIT_OK) goto out;
-  if (r.nregions)
+  if (res_pair->nregions)
     cli_info(&common, "%d popping region%s, max R %.2f; coverage %s, rating %s: detection score %d of 5; "
                       "max dE94 %.2f   %dx%d, %.2f s\n",
-             r.nregions, r.nregions == 1 ? "" : "s", r.max_rating, jnd_pop_coverage_name(r.coverage_score),
-             jnd_pop_rating_name(r.rating_score), r.detection_score, r.max_delta_e94, r.w, r.h, cli_now() - t0);
+             res_pair->nregions, res_pair->nregions == 1 ? "" : "s", res_pair->max_rating,
+             jnd_pop_coverage_name(res_pair->coverage_score), jnd_pop_rating_name(res_pair->rating_score),
+             res_pair->detection_score, res_pair->max_delta_e94, res_pair->w, res_pair->h, cli_now() - t0);
   else
     cli_info(&common, "no popping region (detection score 1 of 5); max dE94 %.2f   %dx%d, %.2f s\n",
-             r.max_delta_e94, r.w, r.h, cli_now() - t0);
+             res_pair->max_delta_e94, res_pair->w, res_pair->h, cli_now() - t0);
+  for (int i = 0; i < R.nrows; i++)
+    cli_info(&common, "  level %d at %g deg/s: switch from %.3g m (max R %.2f); 1-pixel rule %.3g m\n", R.rows[i].level,
+             R.rows[i].speed_dps, R.rows[i].distance_m, R.rows[i].sw.max_rating, R.rows[i].distance_m_pixel_rule);
   if (above) cli_info(&common, "above --fail-above %g\n", fail_above);
   rc = above ? EXIT_ABOVE : EXIT_OK;
 out:
   cJSON_Delete(report);
   jnd_pop_result_free(&r);
+  jnd_pop_asset_report_free(&R);
   jnd_model_free(model);
   return rc;
 }

@@ -281,6 +281,11 @@ void jnd_renderer_free(jnd_renderer *r) {
   free(r);
 }
 
+void jnd_renderer_size(const jnd_renderer *r, int *width, int *height) {
+  *width = r->w;
+  *height = r->h;
+}
+
 jnd_status jnd_renderer_resize(jnd_renderer *r, int width, int height) {
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     return jnd_fail(JND_ERR_ARG, "renderer: size %d × %d outside 1..16384", width, height);

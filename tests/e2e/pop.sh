@@ -85,6 +85,6 @@ refused depth_not_exr depth.png "$T/new.png" "$T/expected.png" -o "$T/bad" --dep
 refused depth_without_previous_depth depth.exr "$T/new.png" "$T/expected.png" -o "$T/bad" --depth "$T/depth.exr"
 refused missing_frame nope.png "$T/nope.png" "$T/expected.png" -o "$T/bad"
 refused unknown_option frobnicate "$T/new.png" "$T/expected.png" -o "$T/bad" --frobnicate
-refused asset_form_not_yet MODEL "$T/new.png" -o "$T/bad"
+refused asset_options_in_the_frame_form "asset form" "$T/new.png" "$T/expected.png" -o "$T/bad" --orbit 30
 refused no_output_folder "-o OUT" "$T/new.png" "$T/expected.png"
 finish

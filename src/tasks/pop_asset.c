@@ -1,0 +1,488 @@
+/* Popping of rendered switches (004 §3, issue 12 items 5–6): jnd renders
+ * the switching frame itself and decides switch distances.
+ *
+ *   1. a motion (camera orbit or translation, or the object spinning) gives
+ *      the view at every frame; frame f is at f / fps
+ *   2. the pair: the frame rendered with level + 1 (004: "the actually
+ *      rendered frame") and with level (004: "rendering the frame again but
+ *      utilizing the previous LOD"), with motion vectors from the previous
+ *      frame's pose and depth
+ *   3. disocclusion inputs (004 §4): the previous frame's depth for both
+ *      levels, and each pixel's depth as the previous camera saw it
+ *      (reprojected from this frame's depth, not approximated by it)
+ *   4. jnd_pop_predict on the pair
+ *   5. decisions: per level and speed, the nearest camera distance at which
+ *      the largest R over the views stays below 1, by bisection on log
+ *      distance, beside meshoptimizer's 1-pixel rule
+ *
+ * docs/pop.md sets each step next to 004's text. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "core/core.h"
+#include "io/draw.h"
+#include "render/render.h"
+#include "tasks/tasks.h"
+
+/* ---- 1. motion ---- */
+
+void jnd_pop_motion_defaults(jnd_pop_motion *m) {
+  memset(m, 0, sizeof *m);
+  m->kind = JND_POP_ORBIT;
+  m->direction[0] = 1;
+  m->unit_m = 1;
+}
+
+/* p rotated by deg about +Y through c (counter-clockwise seen from above) */
+static void rotate_y(const double p[3], const double c[3], double deg, double out[3]) {
+  double a = deg * M_PI / 180, cs = cos(a), sn = sin(a), x = p[0] - c[0], z = p[2] - c[2];
+  out[0] = c[0] + x * cs + z * sn;
+  out[1] = p[1];
+  out[2] = c[2] - x * sn + z * cs;
+}
+
+/* the camera's axes as the renderer's look-at makes them: right, up, forward */
+static void camera_axes(const jnd_camera *c, double s[3], double u[3], double f[3]) {
+  double v[16];
+  jnd_mat4_look_at(c->eye, c->target, c->up, v);
+  for (int k = 0; k < 3; k++) {
+    s[k] = v[k * 4 + 0];
+    u[k] = v[k * 4 + 1];
+    f[k] = -v[k * 4 + 2];
+  }
+}
+
+void jnd_pop_motion_pose(const jnd_view *view, const jnd_pop_motion *m, double t, jnd_view *out) {
+  *out = *view;
+  if (m->speed == 0 || t == 0) return;
+  const jnd_camera *c = &view->camera;
+  if (m->kind == JND_POP_ORBIT) {
+    rotate_y(c->eye, c->target, m->speed * t, out->camera.eye);
+  } else if (m->kind == JND_POP_PAN) {
+    rotate_y(c->target, c->eye, m->speed * t, out->camera.target);
+  } else if (m->kind == JND_POP_TRANSLATE) {
+    double s[3], u[3], f[3], d[3], len = 0;
+    camera_axes(c, s, u, f);
+    for (int k = 0; k < 3; k++) {
+      d[k] = m->direction[0] * s[k] + m->direction[1] * u[k] - m->direction[2] * f[k];
+      len += d[k] * d[k];
+    }
+    double step = len > 0 ? m->speed * t / (m->unit_m > 0 ? m->unit_m : 1) / sqrt(len) : 0;
+    for (int k = 0; k < 3; k++) {
+      out->camera.eye[k] += step * d[k];
+      out->camera.target[k] += step * d[k];
+    }
+  } else {
+    /* model' = T(c) R_y T(−c) model: the columns of model as points and directions */
+    double r[16], o[3] = {0, 0, 0};
+    for (int col = 0; col < 4; col++) {
+      const double *src = view->model + col * 4;
+      double p[3] = {src[0], src[1], src[2]};
+      if (col < 3) {
+        rotate_y(p, o, m->speed * t, r + col * 4);
+      } else {
+        /* translation: (p − c) rotated + c, with p = the column (w = 1) */
+        rotate_y(p, c->target, m->speed * t, r + col * 4);
+      }
+      r[col * 4 + 3] = src[3];
+    }
+    memcpy(out->model, r, sizeof r);
+  }
+}
+
+/* ---- 2–4. the pair ---- */
+
+/* linear RGB as the viewer sees it (as the judge shows frames): sRGB signal, then the display */
+static jnd_status seen(const jnd_model *m, const jnd_image *linear, jnd_image *cdm2) {
+  jnd_image srgb = {0};
+  jnd_status s = jnd_render_to_srgb(linear, &srgb);
+  if (s == JND_OK) s = jnd_display_apply(&jnd_model_get_params(m)->display, &srgb, JND_ENCODING_SRGB, 0, cdm2);
+  jnd_image_free(&srgb);
+  return s;
+}
+
+/* 3. each pixel's surface point (depth along cur's view axis) as prev's camera
+ * sees it: unprojected through cur's camera, carried by the object's motion
+ * (prev model × cur model⁻¹), depth along prev's view axis; 0 stays 0 */
+static jnd_status reproject_depth(const jnd_image *depth, const jnd_view *cur, const jnd_view *prev, jnd_image *out) {
+  int w = depth->w, h = depth->h;
+  jnd_status st = jnd_image_alloc(out, w, h, 1);
+  if (st) return st;
+  double s[3], u[3], f[3], ps[3], pu[3], pf[3], inv[16], carry[16];
+  camera_axes(&cur->camera, s, u, f);
+  camera_axes(&prev->camera, ps, pu, pf);
+  if (!jnd_mat4_invert(cur->model, inv)) return jnd_fail(JND_ERR_ARG, "pop: the view's model matrix is singular");
+  jnd_mat4_mul(prev->model, inv, carry);
+  double ty = tan((cur->camera.fov_y_deg > 0 ? cur->camera.fov_y_deg : 45) * M_PI / 360), tx = ty * w / h;
+#pragma omp parallel for schedule(static)
+  for (int y = 0; y < h; y++)
+    for (int x = 0; x < w; x++) {
+      float z = depth->data[(size_t)y * w + x];
+      float *o = out->data + (size_t)y * w + x;
+      if (!(z > 0)) {
+        *o = 0;
+        continue;
+      }
+      double nx = (2.0 * (x + 0.5) / w - 1) * tx * z, ny = (1 - 2.0 * (y + 0.5) / h) * ty * z, p[3], q[3];
+      for (int k = 0; k < 3; k++) p[k] = cur->camera.eye[k] + s[k] * nx + u[k] * ny + f[k] * z;
+      for (int k = 0; k < 3; k++)
+        q[k] = carry[k] * p[0] + carry[4 + k] * p[1] + carry[8 + k] * p[2] + carry[12 + k];
+      double d = 0;
+      for (int k = 0; k < 3; k++) d += (q[k] - prev->camera.eye[k]) * pf[k];
+      *o = d > 0 ? (float)d : 0;
+    }
+  return JND_OK;
+}
+
+static jnd_status render_level(jnd_renderer *r, jnd_scene *scene, int level, const jnd_view *v, jnd_frame *f) {
+  jnd_status st = jnd_scene_lod_select(scene, level);
+  return st ? st : jnd_render(r, scene, v, f);
+}
+
+jnd_status jnd_pop_render(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *view,
+                          const jnd_pop_motion *mo, int level, int frame, const jnd_pop_params *p,
+                          jnd_pop_result *out) {
+  memset(out, 0, sizeof *out);
+  int n = jnd_scene_lod_count(scene), keep = jnd_scene_lod_selected(scene);
+  if (level < 0 || level + 1 >= n)
+    return jnd_fail(JND_ERR_ARG, "pop: level %d: the switch needs levels %d and %d; the chain has %d", level, level,
+                    level + 1, n);
+  if (!(mo->speed == mo->speed) || !isfinite(mo->speed)) return jnd_fail(JND_ERR_ARG, "pop: the speed is not finite");
+  double fps = jnd_model_get_params(m)->fps;
+  int moving = mo->speed != 0;
+  jnd_view cur, prev;
+  jnd_pop_motion_pose(view, mo, frame / fps, &cur);
+  jnd_pop_motion_pose(view, mo, (frame - 1) / fps, &prev);
+  cur.has_prev = moving;
+  cur.prev_camera = prev.camera;
+  memcpy(cur.prev_model, prev.model, sizeof cur.prev_model);
+  cur.outputs = JND_OUT_COLOR | JND_OUT_DEPTH | JND_OUT_MASK | (moving ? JND_OUT_MOTION : 0);
+  prev.has_prev = 0;
+  prev.outputs = JND_OUT_DEPTH;
+
+  jnd_frame fa = {0}, fe = {0}, pa = {0}, pe = {0};
+  jnd_image ca = {0}, ce = {0}, za = {0}, ze = {0}, mask = {0};
+  /* the new level's frames first, then the old level's: two level changes per pair */
+  jnd_status st = render_level(r, scene, level + 1, &cur, &fa);
+  if (!st && moving) st = render_level(r, scene, level + 1, &prev, &pa);
+  if (!st) st = render_level(r, scene, level, &cur, &fe);
+  if (!st && moving) st = render_level(r, scene, level, &prev, &pe);
+  jnd_status sel = jnd_scene_lod_select(scene, keep);
+  if (!st) st = sel;
+  if (!st) st = seen(m, &fa.color, &ca);
+  if (!st) st = seen(m, &fe.color, &ce);
+  if (!st && moving) st = reproject_depth(&fa.depth, &cur, &prev, &za);
+  if (!st && moving) st = reproject_depth(&fe.depth, &cur, &prev, &ze);
+  if (!st) st = jnd_image_alloc(&mask, fa.mask.w, fa.mask.h, 1);
+  if (!st) {
+    size_t np = (size_t)mask.w * mask.h;
+    for (size_t i = 0; i < np; i++) mask.data[i] = fmaxf(fa.mask.data[i], fe.mask.data[i]) > 0.5f ? 1.0f : 0.0f;
+    jnd_pop_inputs in;
+    memset(&in, 0, sizeof in);
+    in.actual = (jnd_pop_frame){&ca, moving ? &fa.motion : NULL, moving ? &za : NULL, moving ? &pa.depth : NULL};
+    in.expected = (jnd_pop_frame){&ce, moving ? &fe.motion : NULL, moving ? &ze : NULL, moving ? &pe.depth : NULL};
+    in.mask = &mask;
+    st = jnd_pop_predict(m, &in, p, out);
+  }
+  jnd_frame_free(&fa);
+  jnd_frame_free(&fe);
+  jnd_frame_free(&pa);
+  jnd_frame_free(&pe);
+  jnd_image_free(&ca);
+  jnd_image_free(&ce);
+  jnd_image_free(&za);
+  jnd_image_free(&ze);
+  jnd_image_free(&mask);
+  return st;
+}
+
+/* ---- 5. decisions ---- */
+
+void jnd_pop_switch_defaults(jnd_pop_switch_params *p) {
+  memset(p, 0, sizeof *p);
+  p->rating_limit = 1.0; /* 004 §3.2: R < 1 "rarely visible" */
+  p->tolerance = 0.05;
+  p->coverage_near = 1.0;
+  p->coverage_far = 0.02;
+}
+
+/* the view at camera distance d from its target, along its own direction */
+static void at_distance(const jnd_view *v, double d, jnd_view *out) {
+  *out = *v;
+  double dir[3], len = 0;
+  for (int k = 0; k < 3; k++) {
+    dir[k] = v->camera.eye[k] - v->camera.target[k];
+    len += dir[k] * dir[k];
+  }
+  len = sqrt(len);
+  for (int k = 0; k < 3; k++) out->camera.eye[k] = v->camera.target[k] + (len > 0 ? dir[k] / len : k == 2) * d;
+}
+
+/* the largest R over the views at distance d (−inf: no region); stops at the
+ * first view at or above the limit, which decides already */
+static jnd_status max_rating_at(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *views, int nviews,
+                                const jnd_pop_motion *mo, int level, const jnd_pop_params *p,
+                                const jnd_pop_switch_params *sp, double d, double *worst) {
+  jnd_pop_params q = *p;
+  q.picture = 0;
+  *worst = -INFINITY;
+  for (int v = 0; v < nviews; v++) {
+    jnd_view at;
+    jnd_pop_result res;
+    at_distance(&views[v], d, &at);
+    jnd_status st = jnd_pop_render(m, r, scene, &at, mo, level - 1, sp->frame, &q, &res);
+    if (st) return st;
+    if (res.nregions && res.max_rating > *worst) *worst = res.max_rating;
+    jnd_pop_result_free(&res);
+    if (*worst >= sp->rating_limit) break;
+  }
+  return JND_OK;
+}
+
+jnd_status jnd_pop_switch_distance(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *views,
+                                   int nviews, const jnd_pop_motion *mo, int level, const jnd_pop_params *p,
+                                   const jnd_pop_switch_params *sp, jnd_pop_switch *out) {
+  memset(out, 0, sizeof *out);
+  out->distance_popping = NAN;
+  int n = jnd_scene_lod_count(scene);
+  if (level < 1 || level >= n) return jnd_fail(JND_ERR_ARG, "pop: level %d is not in 1..%d", level, n - 1);
+  if (nviews < 1) return jnd_fail(JND_ERR_ARG, "pop: no views");
+  if (!(sp->tolerance > 0) || !(sp->coverage_near > sp->coverage_far) || !(sp->coverage_far > 0))
+    return jnd_fail(JND_ERR_ARG, "pop: the search needs tolerance > 0 and near coverage > far coverage > 0");
+  double centre[3], radius;
+  int ground;
+  jnd_scene_subject_bounds(scene, centre, &radius, &ground);
+  double fov = views[0].camera.fov_y_deg > 0 ? views[0].camera.fov_y_deg : 45;
+  jnd_lod_level_info li;
+  jnd_status st = jnd_scene_lod_info(scene, level, &li);
+  if (st) return st;
+  int wpx, hpx;
+  jnd_renderer_size(r, &wpx, &hpx); /* the images the views are rendered at */
+  out->distance_pixel_rule = isfinite(li.error_abs) ? li.error_abs * hpx / (2 * tan(fov * M_PI / 360)) : NAN;
+
+  double lo = jnd_camera_distance_for_coverage(radius, sp->coverage_near, fov);
+  double hi = jnd_camera_distance_for_coverage(radius, sp->coverage_far, fov);
+  double rlo, rhi;
+  if ((st = max_rating_at(m, r, scene, views, nviews, mo, level, p, sp, lo, &rlo))) return st;
+  out->evaluations = 1;
+  if (rlo < sp->rating_limit) {
+    out->status = JND_POP_SWITCH_NEAREST;
+    out->distance = lo;
+    out->max_rating = rlo;
+    return JND_OK;
+  }
+  if ((st = max_rating_at(m, r, scene, views, nviews, mo, level, p, sp, hi, &rhi))) return st;
+  out->evaluations++;
+  if (rhi >= sp->rating_limit) {
+    out->status = JND_POP_SWITCH_NONE;
+    out->distance = INFINITY;
+    out->max_rating = rhi;
+    return JND_OK;
+  }
+  /* invariant: R >= limit at lo, R < limit at hi */
+  while (hi / lo > 1 + sp->tolerance) {
+    double mid = sqrt(lo * hi), rm;
+    if ((st = max_rating_at(m, r, scene, views, nviews, mo, level, p, sp, mid, &rm))) return st;
+    out->evaluations++;
+    if (rm < sp->rating_limit) {
+      hi = mid;
+      rhi = rm;
+    } else {
+      lo = mid;
+    }
+  }
+  out->status = JND_POP_SWITCH_FOUND;
+  out->distance = hi;
+  out->distance_popping = lo;
+  out->max_rating = rhi;
+  return JND_OK;
+}
+
+/* ---- jnd pop MODEL as one call ---- */
+
+void jnd_pop_asset_defaults(jnd_pop_asset_params *p) {
+  memset(p, 0, sizeof *p);
+  jnd_view_set_defaults(&p->views);
+  p->builtin_map_size = 512;
+  jnd_lod_defaults(&p->chain);
+  jnd_pop_motion_defaults(&p->motion);
+  jnd_pop_defaults(&p->pop);
+  jnd_pop_switch_defaults(&p->search);
+}
+
+void jnd_pop_asset_report_free(jnd_pop_asset_report *r) {
+  if (!r) return;
+  jnd_pop_result_free(&r->pair);
+  free(r->rows);
+  jnd_image_free(&r->plot);
+  memset(r, 0, sizeof *r);
+}
+
+static double wall_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* the asset and its chain: the file's MSFT_lod levels, levels from files, or one made */
+static jnd_status load_chain(const char *path, const jnd_pop_asset_params *p, jnd_scene **out, const char **source) {
+  jnd_status st;
+  jnd_scene *s = NULL;
+  if (strncmp(path, "builtin", 7) == 0 && (!path[7] || path[7] == ':')) {
+    jnd_builtin_params bp;
+    jnd_builtin_defaults(&bp);
+    bp.map_size = p->builtin_map_size > 0 ? p->builtin_map_size : 512;
+    bp.shape = strcmp(path, "builtin:sphere") == 0;
+    st = jnd_scene_builtin(&bp, &s);
+  } else {
+    st = jnd_scene_load(path, &s);
+  }
+  if (st) return st;
+  if (p->nlevel_paths > 0) {
+    *source = "levels";
+    if (jnd_scene_lod_count(s) > 1)
+      st = jnd_fail(JND_ERR_ARG, "%s: has MSFT_lod levels already; give level files only for a file without", path);
+    for (int i = 0; i < p->nlevel_paths && !st; i++) {
+      jnd_scene *lv = NULL;
+      if (!(st = jnd_scene_load(p->level_paths[i], &lv))) st = jnd_scene_lod_add(s, lv, p->level_paths[i]);
+    }
+  } else if (jnd_scene_lod_count(s) > 1 && !p->rebuild) {
+    *source = "file";
+  } else {
+    *source = "made";
+    st = jnd_scene_lod_build(s, &p->chain);
+  }
+  if (!st && jnd_scene_lod_count(s) < 2)
+    st = jnd_fail(JND_ERR_FORMAT, "%s: the chain has one level; a switch needs two (try larger error targets)", path);
+  if (st) {
+    jnd_scene_free(s);
+    return st;
+  }
+  *out = s;
+  return JND_OK;
+}
+
+static jnd_status switch_plot(const jnd_pop_asset_report *r, const double *speeds, int nspeeds, jnd_image *out) {
+  int nl = r->nlevels - 1;
+  double *x = malloc(sizeof(double) * (size_t)nl * (nspeeds + 2));
+  jnd_plot_series *ser = calloc((size_t)nspeeds + 1, sizeof *ser);
+  char(*labels)[48] = calloc((size_t)nspeeds + 1, sizeof *labels);
+  if (!x || !ser || !labels) {
+    free(x);
+    free(ser);
+    free(labels);
+    return jnd_fail(JND_ERR_NOMEM, "pop: out of memory");
+  }
+  double *ys = x + nl;
+  for (int k = 0; k < nl; k++) x[k] = k + 1;
+  for (int s = 0; s <= nspeeds; s++) {
+    double *y = ys + (size_t)s * nl;
+    for (int k = 0; k < nl; k++) {
+      const jnd_pop_switch_row *row = &r->rows[(size_t)k * nspeeds + (s < nspeeds ? s : 0)];
+      double v = s < nspeeds ? row->distance_m : row->distance_m_pixel_rule;
+      y[k] = isfinite(v) && v > 0 ? v : NAN;
+    }
+    if (s < nspeeds)
+      snprintf(labels[s], sizeof labels[s], "max R < 1 at %g deg/s", speeds[s]);
+    else
+      snprintf(labels[s], sizeof labels[s], "1-pixel geometric error");
+    ser[s] = (jnd_plot_series){x, y, nl, labels[s], s < nspeeds ? jnd_palette(s) : (jnd_rgb){0.4f, 0.4f, 0.4f}, 1,
+                               s < nspeeds ? 1 : 2, s < nspeeds ? 2.0 : 1.0};
+  }
+  jnd_plot_axes ax;
+  memset(&ax, 0, sizeof ax);
+  ax.title = "popping-free switch distance per level (004: largest R < 1)";
+  ax.xlabel = "level that takes over";
+  ax.ylabel = "camera distance, m";
+  ax.log_y = 1;
+  ax.xmin = 0.5;
+  ax.xmax = nl + 0.5;
+  ax.ymin = ax.ymax = NAN;
+  jnd_status st = jnd_plot_lines(&ax, ser, nspeeds + 1, out);
+  free(x);
+  free(ser);
+  free(labels);
+  return st;
+}
+
+static const double DEFAULT_SPEEDS[3] = {0, 30, 120}; /* static, slow, fast (°/s) */
+
+jnd_status jnd_pop_asset_run(jnd_model *m, const char *model_path, const jnd_pop_asset_params *p,
+                             jnd_pop_asset_report *out) {
+  memset(out, 0, sizeof *out);
+  const double *speeds = p->speeds ? p->speeds : DEFAULT_SPEEDS;
+  int nspeeds = p->speeds ? p->nspeeds : 3;
+  if (p->decide && p->motion.kind == JND_POP_TRANSLATE)
+    return jnd_fail(JND_ERR_ARG, "pop: the switch table's speeds are in degrees per second: orbit, spin or pan");
+  for (int s = 0; s < nspeeds; s++)
+    if (!isfinite(speeds[s])) return jnd_fail(JND_ERR_ARG, "pop: a speed is not finite");
+  if (p->decide && nspeeds < 1) return jnd_fail(JND_ERR_ARG, "pop: no speeds");
+  double t0 = wall_s();
+  jnd_scene *scene = NULL;
+  jnd_renderer *r = NULL;
+  jnd_view *views = NULL, *cams = NULL;
+  int nviews = 0;
+  jnd_status st = load_chain(model_path, p, &scene, &out->chain_source);
+  if (st) return st;
+  out->nlevels = jnd_scene_lod_count(scene);
+  if (out->nlevels > 64) out->nlevels = 64;
+  for (int k = 0; k < out->nlevels && !st; k++) st = jnd_scene_lod_info(scene, k, &out->levels[k]);
+  if (!st && (p->level < 0 || p->level + 1 >= out->nlevels))
+    st = jnd_fail(JND_ERR_ARG, "pop: --switch %d: the chain has levels 0..%d, so the switch is from 0..%d", p->level,
+                  out->nlevels - 1, out->nlevels - 2);
+  jnd_view_set vs = p->views;
+  if (!st && p->cameras) {
+    int nc = 0;
+    st = jnd_views_read(p->cameras, scene, vs.sampling.fov_y_deg, &cams, &nc);
+    vs.cameras = cams;
+    vs.ncameras = nc;
+  }
+  if (!st) st = jnd_view_set_make(scene, &vs, &views, &nviews);
+  out->nviews = nviews;
+  out->load_s = wall_s() - t0;
+  if (!st) st = jnd_renderer_create(&vs.render, &r);
+  if (!st) snprintf(out->renderer, sizeof out->renderer, "%s", jnd_renderer_description(r));
+  double t1 = wall_s();
+  if (!st) {
+    if (p->progress) p->progress(p->progress_user, "the switch", 0, 1);
+    const double *e = views[0].camera.eye, *c = views[0].camera.target;
+    out->pair_distance = sqrt((e[0] - c[0]) * (e[0] - c[0]) + (e[1] - c[1]) * (e[1] - c[1]) + (e[2] - c[2]) * (e[2] - c[2]));
+    st = jnd_pop_render(m, r, scene, &views[0], &p->motion, p->level, p->frame, &p->pop, &out->pair);
+  }
+  out->render_s = wall_s() - t1;
+  double t2 = wall_s();
+  if (!st && p->decide) {
+    int nl = out->nlevels - 1;
+    out->rows = calloc((size_t)nl * nspeeds, sizeof *out->rows);
+    if (!out->rows) st = jnd_fail(JND_ERR_NOMEM, "pop: out of memory");
+    for (int k = 1; k <= nl && !st; k++)
+      for (int s = 0; s < nspeeds && !st; s++) {
+        if (p->progress) p->progress(p->progress_user, "switch distances", (k - 1) * nspeeds + s, nl * nspeeds);
+        jnd_pop_switch_row *row = &out->rows[(size_t)(k - 1) * nspeeds + s];
+        jnd_pop_motion mo = p->motion;
+        mo.speed = speeds[s];
+        row->level = k;
+        row->speed_dps = speeds[s];
+        st = jnd_pop_switch_distance(m, r, scene, views, nviews, &mo, k, &p->pop, &p->search, &row->sw);
+        double u = p->motion.unit_m > 0 ? p->motion.unit_m : 1;
+        row->distance_m = row->sw.distance * u;
+        row->distance_m_pixel_rule = row->sw.distance_pixel_rule * u;
+        out->nrows++;
+      }
+    if (!st && p->progress) p->progress(p->progress_user, "switch distances", nl * nspeeds, nl * nspeeds);
+    if (!st) st = switch_plot(out, speeds, nspeeds, &out->plot);
+  }
+  out->decide_s = wall_s() - t2;
+  free(views);
+  free(cams);
+  jnd_renderer_free(r);
+  jnd_scene_free(scene);
+  if (st) {
+    jnd_pop_asset_report_free(out);
+    return st;
+  }
+  return JND_OK;
+}

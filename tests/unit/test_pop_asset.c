@@ -1,0 +1,203 @@
+/* Popping of rendered switches (issue 12 items 5–6): the motions move the
+ * camera or the object as stated, a switch between two identical levels
+ * gives no region, the reprojected depth leaves a rigid moving object
+ * visible in the previous frame, and the switch distance's bracket holds
+ * what the bisection promises (max R < 1 at the distance, >= 1 just nearer). */
+#include <math.h>
+
+#include "jnd.h"
+#include "test.h"
+
+#define SIZE 64
+
+static jnd_model *model(void) {
+  jnd_model_params p;
+  jnd_model_defaults(&p);
+  jnd_model *m = NULL;
+  CHECK_OK(jnd_model_create(&p, &m));
+  return m;
+}
+
+static jnd_scene *builtin(void) {
+  jnd_builtin_params p;
+  jnd_builtin_defaults(&p);
+  p.map_size = 64;
+  jnd_scene *s = NULL;
+  CHECK_OK(jnd_scene_builtin(&p, &s));
+  return s;
+}
+
+static jnd_renderer *renderer(void) {
+  static jnd_renderer *r;
+  if (!r) {
+    jnd_renderer_params p;
+    jnd_renderer_defaults(&p);
+    p.width = p.height = SIZE;
+    CHECK_OK(jnd_renderer_create(&p, &r));
+  }
+  return r;
+}
+
+static jnd_view view(const jnd_scene *s, double coverage) {
+  jnd_view_sampling vs;
+  jnd_view_sampling_defaults(&vs);
+  vs.count = 1;
+  vs.coverage = coverage;
+  jnd_view v;
+  CHECK_OK(jnd_views_sample(s, &vs, &v));
+  return v;
+}
+
+static double dist(const double a[3], const double b[3]) {
+  return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+TEST(an_orbit_turns_the_eye_about_the_target_at_its_speed) {
+  jnd_view v, w;
+  jnd_view_defaults(&v); /* eye (0, 0, 3), target the origin */
+  jnd_pop_motion m;
+  jnd_pop_motion_defaults(&m);
+  m.speed = 90;
+  jnd_pop_motion_pose(&v, &m, 0.5, &w); /* 45° counter-clockwise seen from above */
+  CHECK_NEAR(dist(w.camera.eye, w.camera.target), 3, 1e-12);
+  CHECK_NEAR(w.camera.eye[0], 3 * sin(M_PI / 4), 1e-12);
+  CHECK_NEAR(w.camera.eye[2], 3 * cos(M_PI / 4), 1e-12);
+  CHECK_NEAR(w.camera.eye[1], 0, 1e-12);
+  CHECK(w.camera.target[0] == 0 && w.camera.target[2] == 0);
+  m.speed = 0;
+  jnd_pop_motion_pose(&v, &m, 0.5, &w);
+  CHECK(w.camera.eye[0] == v.camera.eye[0] && w.camera.eye[2] == v.camera.eye[2]);
+}
+
+TEST(a_translation_moves_eye_and_target_along_the_cameras_axes_in_metres) {
+  jnd_view v, w;
+  jnd_view_defaults(&v); /* looking down −Z: right is +X */
+  jnd_pop_motion m;
+  jnd_pop_motion_defaults(&m);
+  m.kind = JND_POP_TRANSLATE;
+  m.speed = 2;     /* m/s */
+  m.unit_m = 0.5;  /* an object unit is half a metre: 4 units a second */
+  jnd_pop_motion_pose(&v, &m, 0.25, &w);
+  CHECK_NEAR(w.camera.eye[0], 1, 1e-12);
+  CHECK_NEAR(w.camera.target[0], 1, 1e-12);
+  CHECK_NEAR(w.camera.eye[2], 3, 1e-12);
+  m.direction[0] = 0;
+  m.direction[2] = -1; /* forwards */
+  jnd_pop_motion_pose(&v, &m, 0.25, &w);
+  CHECK_NEAR(w.camera.eye[2], 2, 1e-12);
+  CHECK_NEAR(w.camera.eye[0], 0, 1e-12);
+}
+
+TEST(a_spin_rotates_the_object_about_the_target_not_the_camera) {
+  jnd_view v, w;
+  jnd_view_defaults(&v);
+  v.camera.target[0] = 1; /* spin about the vertical through (1, 0, 0) */
+  jnd_pop_motion m;
+  jnd_pop_motion_defaults(&m);
+  m.kind = JND_POP_OBJECT;
+  m.speed = 180;
+  jnd_pop_motion_pose(&v, &m, 0.5, &w); /* 90°: the origin goes to (1, 0, 1) */
+  CHECK(w.camera.eye[0] == v.camera.eye[0] && w.camera.eye[2] == v.camera.eye[2]);
+  CHECK_NEAR(w.model[12], 1, 1e-12);
+  CHECK_NEAR(w.model[14], 1, 1e-12);
+  CHECK_NEAR(w.model[0], 0, 1e-12); /* +X goes to −Z */
+  CHECK_NEAR(w.model[2], -1, 1e-12);
+}
+
+TEST(identical_levels_do_not_pop_at_rest_or_in_motion) {
+  if (!test_renderer_available()) {
+    TEST_SKIP("no OpenGL context");
+    return;
+  }
+  jnd_scene *s = builtin();
+  CHECK_OK(jnd_scene_lod_add(s, builtin(), "the same"));
+  jnd_model *m = model();
+  jnd_view v = view(s, 0.8);
+  jnd_pop_params pp;
+  jnd_pop_defaults(&pp);
+  jnd_pop_motion mo;
+  jnd_pop_motion_defaults(&mo);
+  double speeds[2] = {0, 120};
+  for (int k = 0; k < 2; k++) {
+    mo.speed = speeds[k];
+    jnd_pop_result r;
+    CHECK_OK(jnd_pop_render(m, renderer(), s, &v, &mo, 0, 3, &pp, &r));
+    CHECK(r.nregions == 0);
+    CHECK(r.max_delta_e94 == 0);
+    CHECK(r.w == SIZE && r.h == SIZE);
+    CHECK(r.object_pixels > 100 && r.object_pixels < SIZE * SIZE); /* the mask is the object */
+    CHECK(r.disocclusion.present == (k == 1));
+    /* a rigid object orbited: every point was seen one frame earlier (the
+     * reprojected depth); with this frame's own depth, depth changes of
+     * 2° a frame would make pixels look occluded */
+    if (k == 1) CHECK(r.disocclusion.below_half < r.object_pixels / 50);
+    jnd_pop_result_free(&r);
+  }
+  CHECK(jnd_scene_lod_selected(s) == 0);
+  jnd_pop_result r;
+  CHECK_STATUS(jnd_pop_render(m, renderer(), s, &v, &mo, 1, 0, &pp, &r), JND_ERR_ARG);
+  jnd_model_free(m);
+  jnd_scene_free(s);
+}
+
+/* the largest R of the switch to level at distance d (−inf: no region) */
+static double max_r(jnd_model *m, jnd_scene *s, const jnd_view *v, const jnd_pop_motion *mo, int level, double d) {
+  jnd_view at = *v;
+  double len = dist(v->camera.eye, v->camera.target);
+  for (int k = 0; k < 3; k++)
+    at.camera.eye[k] = v->camera.target[k] + (v->camera.eye[k] - v->camera.target[k]) / len * d;
+  jnd_pop_params pp;
+  jnd_pop_defaults(&pp);
+  jnd_pop_result r;
+  CHECK_OK(jnd_pop_render(m, renderer(), s, &at, mo, level - 1, 0, &pp, &r));
+  double x = r.nregions ? r.max_rating : -INFINITY;
+  jnd_pop_result_free(&r);
+  return x;
+}
+
+TEST(the_switch_distance_brackets_the_limit) {
+  if (!test_renderer_available()) {
+    TEST_SKIP("no OpenGL context");
+    return;
+  }
+  jnd_scene *s = builtin();
+  jnd_lod_params lp;
+  jnd_lod_defaults(&lp);
+  double errors[1] = {0.02};
+  lp.errors = errors;
+  lp.nerrors = 1;
+  CHECK_OK(jnd_scene_lod_build(s, &lp));
+  CHECK(jnd_scene_lod_count(s) == 2);
+  jnd_model *m = model();
+  jnd_view v = view(s, 0.8);
+  jnd_pop_params pp;
+  jnd_pop_defaults(&pp);
+  jnd_pop_switch_params sp;
+  jnd_pop_switch_defaults(&sp);
+  sp.tolerance = 0.1;
+  jnd_pop_motion mo;
+  jnd_pop_motion_defaults(&mo);
+  jnd_pop_switch sw;
+  CHECK_OK(jnd_pop_switch_distance(m, renderer(), s, &v, 1, &mo, 1, &pp, &sp, &sw));
+  CHECK(sw.status == JND_POP_SWITCH_FOUND);
+  CHECK(sw.distance_popping < sw.distance && sw.distance <= sw.distance_popping * (1 + sp.tolerance));
+  CHECK(sw.evaluations > 3);
+  /* recomputed here: below the limit at the distance, at or above it just nearer */
+  double at = max_r(m, s, &v, &mo, 1, sw.distance), nearer = max_r(m, s, &v, &mo, 1, sw.distance_popping);
+  CHECK_LT(at, 1);
+  CHECK(at == sw.max_rating || (isinf(at) && isinf(sw.max_rating)));
+  CHECK(nearer >= 1);
+  /* the 1-pixel rule: the level's error covers one pixel of the image height there */
+  jnd_lod_level_info li;
+  CHECK_OK(jnd_scene_lod_info(s, 1, &li));
+  CHECK_NEAR(li.error_abs * SIZE / (2 * sw.distance_pixel_rule * tan(45 * M_PI / 360)), 1, 1e-9);
+  /* level 0 has no switch to it */
+  CHECK_STATUS(jnd_pop_switch_distance(m, renderer(), s, &v, 1, &mo, 0, &pp, &sp, &sw), JND_ERR_ARG);
+  jnd_model_free(m);
+  jnd_scene_free(s);
+}
+
+RUN_TESTS(an_orbit_turns_the_eye_about_the_target_at_its_speed,
+          a_translation_moves_eye_and_target_along_the_cameras_axes_in_metres,
+          a_spin_rotates_the_object_about_the_target_not_the_camera, identical_levels_do_not_pop_at_rest_or_in_motion,
+          the_switch_distance_brackets_the_limit)
