@@ -219,6 +219,11 @@ static void at_distance(const jnd_view *v, double d, jnd_view *out) {
   }
   len = sqrt(len);
   for (int k = 0; k < 3; k++) out->camera.eye[k] = v->camera.target[k] + (len > 0 ? dir[k] / len : k == 2) * d;
+  /* clip distances set for the view's own distance move with the camera */
+  if (v->camera.znear > 0 && v->camera.zfar > v->camera.znear) {
+    out->camera.znear = fmax(v->camera.znear + d - len, d * 1e-3);
+    out->camera.zfar = v->camera.zfar + d - len;
+  }
 }
 
 /* the largest R over the views at distance d (−inf: no region); stops at the

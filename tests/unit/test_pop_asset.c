@@ -146,6 +146,7 @@ static double max_r(jnd_model *m, jnd_scene *s, const jnd_view *v, const jnd_pop
   double len = dist(v->camera.eye, v->camera.target);
   for (int k = 0; k < 3; k++)
     at.camera.eye[k] = v->camera.target[k] + (v->camera.eye[k] - v->camera.target[k]) / len * d;
+  at.camera.znear = at.camera.zfar = 0; /* the renderer's own, from the scene's bounds */
   jnd_pop_params pp;
   jnd_pop_defaults(&pp);
   jnd_pop_result r;
