@@ -117,6 +117,24 @@ static void gaze_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
   }
 }
 
+/* pop: the switch's popping (its regions' largest R and the detection
+ * score), and with --decide the popping-free switch distances */
+static void pop_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
+  double n = jnd_json_number(report, "result.region_count"), r = jnd_json_number(report, "result.max_rating"),
+         d = jnd_json_number(report, "result.detection_score");
+  if (!isfinite(n) || !isfinite(d)) return;
+  if (n > 0 && isfinite(r)) jnd_text_printf(out, "%d popping region%s, max R %.2f", (int)n, n == 1 ? "" : "s", r);
+  else jnd_text_put(out, "no popping region");
+  jnd_text_printf(out, ", detection score %d of 5", (int)d);
+  const cJSON *rows[256];
+  int k = jnd_json_select(report, "result.switch[]", rows, 256);
+  if (k > 0) jnd_text_printf(out, "; %d switch distance%s", k, k == 1 ? "" : "s");
+  if (chosen) {
+    cJSON_AddNumberToObject(chosen, "detection_score", d);
+    if (k > 0) cJSON_AddItemToObject(chosen, "switch", cJSON_Duplicate(cJSON_GetObjectItem(cJSON_GetObjectItem(report, "result"), "switch"), 1));
+  }
+}
+
 static const jnd_batch_command COMMANDS[] = {
     {
         .name = "texres",
@@ -285,6 +303,40 @@ static const jnd_batch_command COMMANDS[] = {
         .pictures = {{.file = "gaze.png",
                       .caption = "The coarsest level nobody notices, over distance and eccentricity from the gaze "
                                  "(002's L(d, ecc))"}},
+    },
+    {
+        .name = "pop",
+        .out_args = {"-o", "{out}"},
+        .json_name = "pop.json",
+        .reserved = {"-o", "--output", "--json"},
+        .exit1_complete = 1,
+        .decision = pop_decision,
+        .fields = {{"largest R (004: < 1 rarely visible, > 3 easily)", "result.max_rating", JND_FMT_NUMBER},
+                   {"popping regions", "result.region_count", JND_FMT_NUMBER},
+                   {"detection score (1..5)", "result.detection_score", JND_FMT_NUMBER},
+                   {"coverage score", "result.coverage_score", JND_FMT_TEXT},
+                   {"rating score", "result.rating_score", JND_FMT_TEXT},
+                   {"max ΔE*94 (baseline)", "result.max_delta_e94", JND_FMT_NUMBER},
+                   {"camera distance (m)", "result.distance_m", JND_FMT_NUMBER},
+                   {"renderer", "result.renderer", JND_FMT_TEXT}},
+        .tables = {{"Popping regions",
+                    "result.regions[]",
+                    {{"pixels", "pixels", JND_FMT_NUMBER},
+                     {"Σ", "sigma", JND_FMT_NUMBER},
+                     {"R", "rating", JND_FMT_NUMBER},
+                     {"max JND", "jnd_max", JND_FMT_NUMBER}}},
+                   {"Popping-free switch distances",
+                    "result.switch[]",
+                    {{"level", "level", JND_FMT_NUMBER},
+                     {"speed °/s", "speed_dps", JND_FMT_NUMBER},
+                     {"distance m", "distance_m", JND_FMT_NUMBER},
+                     {"1-pixel rule m", "distance_m_pixel_rule", JND_FMT_NUMBER},
+                     {"search", "status", JND_FMT_TEXT}}}},
+        .pictures = {{.file = "regions.png",
+                      .caption = "The switching frame with its popping regions coloured by R (004 Fig. 4)"},
+                     {.path = "result.outputs.switch",
+                      .caption = "Popping-free switch distance per level, one line per speed, beside the 1-pixel "
+                                 "geometric-error rule"}},
     },
 };
 #define NCOMMANDS (sizeof COMMANDS / sizeof COMMANDS[0])

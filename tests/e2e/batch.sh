@@ -215,4 +215,20 @@ html = open(os.path.join(sys.argv[1], "report", "sphere.html")).read()
 assert "pareto_320x240.png" in html and "pareto_640x480.png" in html
 assert "perceptual level" in html and "switch distances" in html
 PY
+
+# ---- pop: the switch's regions and its switch distances in the summary and the report ----
+cat >pop.csv <<EOF
+id,asset,command,options
+popping,builtin,pop,--size 48x48 --views 1 --map-size 32 --errors 0.02 --speeds 0 --tolerance 0.3
+EOF
+expect_exit 0 "a pop row runs" "$JND" batch pop.csv -o popping --quiet
+"$JND" batch merge popping --quiet
+check "its decision and switch distances are in the summary" python3 - popping/summary.json <<'PY'
+import json, sys
+a = json.load(open(sys.argv[1]))["result"]["assets"][0]
+assert a["status"] == "ok" and "detection score" in a["decision"] and "switch distance" in a["decision"], a
+assert a["chosen"]["switch"][0]["level"] == 1 and a["chosen"]["switch"][0]["speed_dps"] == 0, a
+PY
+expect_exit 0 "its report" "$JND" report popping
+check "its page shows the regions and the switch plot" bash -c "grep -q regions.png popping/report/popping.html && grep -q switch.png popping/report/popping.html"
 finish
