@@ -50,3 +50,24 @@ awk -v t="$wt" -v c="$ct" -v m="$rss" -v px="$px" -v n="$RUNS" -v src="$source" 
          t, n, c, m / 1024, m * 1024 / px, t <= 0.5 ? "within" : "OVER" }'
 jq -r '.result.timings | "     steps (last run): read \(.read_s*1000|floor) ms, weights+dE94 \(.weights_s*1000|floor) ms, model \(.model_s*1000|floor) ms, regions \(.regions_s*1000|floor) ms, picture \(.picture_s*1000|floor) ms, writing \(.write_s*1000|floor) ms"' "$out/o/pop.json"
 jq -r '.result | "     \(.region_count) regions, max R \(.max_rating), detection score \(.detection_score)"' "$out/o/pop.json"
+
+# the asset form: jnd renders the pair itself (four 1920x1080 renderings: both
+# levels at the switch frame, both levels' depth one frame earlier) and runs
+# the same predictor; the builtin asset, a chain of one level, orbiting 120 deg/s
+times=() cpu=()
+for _ in $(seq "$(( RUNS < 3 ? RUNS : 3 ))"); do
+  rm -rf "$out/a"
+  t0=$EPOCHREALTIME
+  /usr/bin/time -f "%U %S %M" -o "$out/time.txt" "$JND" pop builtin -o "$out/a" --size ${W}x${H} --views 1 \
+    --map-size 512 --errors 0.02 --orbit 120 --timings --quiet 2>"$out/stderr.txt" || { cat "$out/stderr.txt"; exit 1; }
+  t1=$EPOCHREALTIME
+  read -r u s m <"$out/time.txt"
+  times+=("$(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.4f", b - a}')")
+  cpu+=("$(awk -v u="$u" -v s="$s" 'BEGIN{printf "%.2f", u + s}')")
+done
+wt=$(med "${times[@]}") ct=$(med "${cpu[@]}")
+renderer=$(jq -r .result.renderer "$out/a/pop.json")
+awk -v t="$wt" -v c="$ct" -v n="${#times[@]}" -v r="$renderer" 'BEGIN{
+  printf "   jnd pop MODEL 1920x1080, orbit 120 deg/s (renders the pair; %s):\n", r
+  printf "     %.3f s wall (median of %d), %.2f s user+sys\n", t, n, c }'
+jq -r '.result.timings | "     steps (last run): load \(.load_s*1000|floor) ms, render+predict \(.render_s*1000|floor) ms (model \(.model_s*1000|floor) ms), writing \(.write_s*1000|floor) ms"' "$out/a/pop.json"
