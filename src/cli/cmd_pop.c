@@ -412,7 +412,7 @@ static int run(int argc, char **argv) {
   if (asset) {
     ap.views = views.set;
     ap.cameras = views.cameras;
-    ap.builtin_map_size = views.map_size < 512 ? views.map_size : 512;
+    ap.builtin_map_size = views.map_size;
     ap.level_paths = levels;
     ap.nlevel_paths = nlevels;
     ap.pop = pp;

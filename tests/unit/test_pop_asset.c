@@ -176,6 +176,7 @@ TEST(the_switch_distance_brackets_the_limit) {
   jnd_pop_switch_params sp;
   jnd_pop_switch_defaults(&sp);
   sp.tolerance = 0.1;
+  sp.coverage_near = 0.5; /* from half the image height: the object whole in the frame */
   jnd_pop_motion mo;
   jnd_pop_motion_defaults(&mo);
   jnd_pop_switch sw;
