@@ -80,6 +80,13 @@ for m in res["maps"]:
     assert m["series"][c] <= cp, (m["name"], c, m["series"])
     smaller = [v for v in m["series"][c + 1:] if v is not None]
     assert c == len(m["candidates"]) - 1 or any(v > cp for v in smaller), (m["name"], c, m["series"])
+    # the bisection's bracket: the judged candidates split at one index b
+    # into passing (<= b) and failing (> b), and the neighbour b + 1 of the
+    # last pass was judged (and failed) unless b is the smallest candidate
+    judged = [(i, v) for i, v in enumerate(m["series"]) if v is not None]
+    b = max([i for i, v in judged if v <= cp], default=-1)
+    assert all(v > cp for i, v in judged if i > b), (m["name"], "a pass below a failure", m["series"])
+    assert b == len(m["series"]) - 1 or m["series"][b + 1] is not None, (m["name"], "no bracket", m["series"])
     f = m.get("psychometric")
     if f:
         assert cp == 0.1, cp
