@@ -53,6 +53,18 @@ TEST(switch_distances_grow_with_the_level_by_construction) {
   for (int k = 1; k < 5; k++) CHECK(idx[k] >= idx[k - 1]);
 }
 
+TEST(the_perceptual_level_is_the_coarsest_passing_at_the_viewing_condition) {
+  /* levels 1 and 2 pass at the viewing condition (grid index 0), level 3
+   * only from 5 on: the choice is 2, not the first passing level 1 */
+  int from[4] = {0, 0, 0, 5}, idx[4], perc;
+  table t = {from, 0};
+  CHECK_OK(lod_switch_search(4, 40, table_passes, &t, &perc, idx));
+  CHECK_EQ(perc, 2);
+  CHECK_EQ(idx[1], 0);
+  CHECK_EQ(idx[2], 0);
+  CHECK_EQ(idx[3], 5);
+}
+
 TEST(a_level_failing_at_the_far_end_is_never_shown_nor_any_coarser) {
   int from[4] = {0, 3, -1, 10}, idx[4], perc;
   table t = {from, 0};
@@ -174,6 +186,7 @@ TEST(bad_switch_parameters_are_refused) {
 }
 
 RUN_TESTS(bisection_finds_the_nearest_passing_distance_of_every_threshold,
+          the_perceptual_level_is_the_coarsest_passing_at_the_viewing_condition,
           switch_distances_grow_with_the_level_by_construction,
           a_level_failing_at_the_far_end_is_never_shown_nor_any_coarser, an_oracle_error_is_an_error,
           coverage_and_distance_are_inverses, a_level_identical_to_level_0_has_p_0_and_inherits_the_finer_distance,
