@@ -1,6 +1,5 @@
 /* jnd lod MODEL -o OUTDIR — a level-of-detail chain and the Point of
  * Imperceptibility of each target screen (Wu, Agu & Lindsay 2007, 003). */
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -86,23 +85,6 @@ static void help(void) {
       "Exit status: 0; 2 for bad input (one line: jnd: FILE: problem), nothing written.\n");
 }
 
-/* "a,b,c" → values (count returned; −1 when not numbers) */
-static int parse_list(const char *v, double *out, int max) {
-  int n = 0;
-  const char *s = v;
-  while (*s && n < max) {
-    char *e;
-    errno = 0;
-    double x = strtod(s, &e);
-    if (e == s || errno || !isfinite(x)) return -1;
-    out[n++] = x;
-    if (*e == 0) return n;
-    if (*e != ',') return -1;
-    s = e + 1;
-  }
-  return *s ? -1 : n;
-}
-
 typedef struct {
   const cli_common *common;
   cli_progress bar;
@@ -153,15 +135,11 @@ static int run(int argc, char **argv) {
     } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
       dir = v;
     } else if (cli_opt(ap, "--errors", &v)) {
-      int n = parse_list(v, errors, 63);
-      if (n < 1) return cli_bad("lod: --errors: '%s' is not a list of numbers like 0.001,0.002,0.005", v);
+      p.chain.nerrors = cli_double_list(ap, "--errors", v, 0, 1, errors, 63);   /* the library: rising in (0, 1] */
       p.chain.errors = errors;
-      p.chain.nerrors = n;
     } else if (cli_opt(ap, "--ratios", &v)) {
-      int n = parse_list(v, ratios, 63);
-      if (n < 1) return cli_bad("lod: --ratios: '%s' is not a list of numbers like 0.5,0.25,0.1", v);
+      p.chain.nratios = cli_double_list(ap, "--ratios", v, 0, 1, ratios, 63);   /* the library: falling in [0, 1) */
       p.chain.ratios = ratios;
-      p.chain.nratios = n;
     } else if (cli_opt(ap, "--level", &v)) {
       if (nlevels >= 63) return cli_bad("lod: at most 63 --level files");
       levels[nlevels++] = v;

@@ -1,5 +1,4 @@
 /* jnd pop NEW EXPECTED -o OUT — will this level switch pop? (004 §3.2, §4, §5.2) */
-#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -121,21 +120,6 @@ static int write_image(const char *dir, const char *name, const jnd_image *img, 
 }
 
 /* a comma-separated list of numbers in lo..hi; its count, or −1 */
-static int number_list(const char *v, double *out, int max, double lo, double hi) {
-  int n = 0;
-  const char *c = v;
-  while (*c) {
-    char *end;
-    double x = strtod(c, &end);
-    if (end == c || n >= max || !(x >= lo && x <= hi)) return -1;
-    out[n++] = x;
-    c = end;
-    if (*c == ',') c++;
-    else if (*c) return -1;
-  }
-  return n;
-}
-
 /* the pair's result: regions, scores, weights (the same fields in both forms) */
 static void result_json(cJSON *res, const jnd_pop_result *r, int max_regions) {
   cJSON_AddNumberToObject(res, "width", r->w);
@@ -330,8 +314,9 @@ static int run(int argc, char **argv) {
       nmotion++;
       asset_opts++;
     } else if (cli_opt(ca, "--direction", &v)) {
-      if (number_list(v, ap.motion.direction, 3, -1e6, 1e6) != 3 ||
-          !(fabs(ap.motion.direction[0]) + fabs(ap.motion.direction[1]) + fabs(ap.motion.direction[2]) > 0))
+      int n = cli_double_list(ca, "--direction", v, -1e6, 1e6, ap.motion.direction, 3);
+      if (!ca->bad && (n != 3 || !(fabs(ap.motion.direction[0]) + fabs(ap.motion.direction[1]) +
+                                       fabs(ap.motion.direction[2]) > 0)))
         return cli_bad("pop: --direction: '%s' is not X,Y,Z (not all 0)", v);
       asset_opts++;
     } else if (cli_opt(ca, "--unit-m", &v)) {
@@ -342,8 +327,7 @@ static int run(int argc, char **argv) {
       levels[nlevels++] = v;
       asset_opts++;
     } else if (cli_opt(ca, "--errors", &v)) {
-      int n = number_list(v, errors, 63, 1e-9, 1);
-      if (n < 1) return cli_bad("pop: --errors: '%s' is not a list of numbers in (0, 1] like 0.004,0.016", v);
+      int n = cli_double_list(ca, "--errors", v, 1e-9, 1, errors, 63);
       ap.chain.errors = errors;
       ap.chain.nerrors = n;
       asset_opts++;
@@ -354,8 +338,7 @@ static int run(int argc, char **argv) {
       ap.decide = 1;
       asset_opts++;
     } else if (cli_opt(ca, "--speeds", &v)) {
-      nspeeds = number_list(v, speeds, 64, -100000, 100000);
-      if (nspeeds < 1) return cli_bad("pop: --speeds: '%s' is not a list of degrees per second like 0,30,120", v);
+      nspeeds = cli_double_list(ca, "--speeds", v, -100000, 100000, speeds, 64);
       ap.decide = 1;
       asset_opts++;
     } else if (cli_opt(ca, "--tolerance", &v)) {

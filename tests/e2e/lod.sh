@@ -185,6 +185,8 @@ expect_exit 2 "an unknown screen: exit 2" "$JND" lod builtin -o "$T/x" --screens
 check "one line naming it" bash -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q 'vr' '$T/err.txt'"
 expect_exit 2 "falling error targets: exit 2" "$JND" lod builtin -o "$T/x" --errors 0.01,0.001 --map-size 16
 check "one line" one_line_error
+expect_exit 2 "error targets that are not numbers: exit 2" "$JND" lod builtin -o "$T/x" --errors 0.01,abc --map-size 16
+check "one line naming --errors" bash -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q -- '--errors' '$T/err.txt'"
 expect_exit 2 "a --level file with another material: exit 2" "$JND" lod builtin --level "$B/range.obj" -o "$T/x" --map-size 16
 check "nothing written for bad options" [ ! -e "$T/x" ]
 check "--help prints the usage" bash -c "'$JND' lod --help | grep -- '--screens' >/dev/null"

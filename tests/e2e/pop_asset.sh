@@ -62,4 +62,6 @@ refused two_motions "one of" builtin -o "$T/bad" "${SMALL[@]}" --orbit 30 --spin
 refused a_table_for_a_translation "degrees per second" builtin -o "$T/bad" "${SMALL[@]}" --errors 0.1 --translate 2 --decide
 refused bad_speeds "--speeds" builtin -o "$T/bad" "${SMALL[@]}" --speeds 0,fast
 refused bad_direction "--direction" builtin -o "$T/bad" "${SMALL[@]}" --translate 1 --direction 0,0,0
+refused direction_of_four "--direction" builtin -o "$T/bad" "${SMALL[@]}" --translate 1 --direction 1,0,0,0
+refused speeds_not_numbers "--speeds" builtin -o "$T/bad" "${SMALL[@]}" --speeds 0,fast
 finish
