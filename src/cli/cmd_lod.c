@@ -77,12 +77,10 @@ static void help(void) {
       "\n"
       "outputs:\n"
       "  -o, --output DIR    the folder (created): lod.json, model/, pareto_*.png\n"
-      "  --json FILE|-       also write the report there\n"
-      "  --timings           add wall-clock times to the report\n"
-      "  --threads N         worker threads\n"
-      "  --quiet             nothing on stderr but errors\n"
+      "%s"
       "\n"
-      "Exit status: 0; 2 for bad input (one line: jnd: FILE: problem), nothing written.\n");
+      "Exit status: 0; 2 for bad input (one line: jnd: FILE: problem), nothing written.\n",
+      cli_common_help);
 }
 
 typedef struct {

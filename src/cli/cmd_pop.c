@@ -72,14 +72,11 @@ static void help(void) {
       "  --max-regions N        regions listed in pop.json, best first (default 100;\n"
       "                         all are counted)\n"
       "  --fail-above R         exit 1 when the largest rating exceeds R\n"
-      "  --timings              add wall-clock timings to the report (they differ run to run)\n"
-      "  --json FILE|-          also write the report there\n"
-      "  --threads N            worker threads (results do not depend on it)\n"
-      "  --quiet                nothing on stderr but errors\n"
+      "%s"
       "\n"
       "Exit status: 0; 1 when above --fail-above; 2 for bad input (one line:\n"
       "jnd: FILE: problem, and nothing written).\n",
-      cli_display_help, cli_views_help);
+      cli_display_help, cli_views_help, cli_common_help);
 }
 
 static cJSON *int4(const int *v) {
