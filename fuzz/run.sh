@@ -36,7 +36,7 @@ for t in $targets; do
   [ -f "$here/$t.dict" ] && dict=(-dict="$here/$t.dict")
   log=$work/$t.log
   # -rss_limit_mb also caps single allocations (malloc_limit_mb defaults to it)
-  ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 \
+  ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1:intercept_tls_get_addr=0 \
   UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
     "$bin" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=20 -max_len=65536 \
       -print_final_stats=1 -artifact_prefix="$artifacts/$t-" ${dict[@]+"${dict[@]}"} "$corpus" >"$log" 2>&1
