@@ -316,44 +316,69 @@ int cli_views_opt(cli_args *a, cli_views *v) {
   jnd_view_sampling *vs = &v->set.sampling;
   jnd_renderer_params *rp = &v->set.render;
   if (cli_opt(a, "--views", &s)) {
+    v->given |= CLI_VIEWS;
     vs->count = cli_int(a, "--views", s, 1, VIEWS_MAX);
   } else if (cli_opt(a, "--seed", &s)) {
+    v->given |= CLI_SEED;
     vs->seed = (uint64_t)cli_double(a, "--seed", s, 0, 9007199254740992.0);
   } else if (cli_opt(a, "--size", &s)) {
+    v->given |= CLI_SIZE;
     cli_size(a, "--size", s, VIEW_SIZE_MIN, VIEW_SIZE_MAX, &rp->width, &rp->height);
   } else if (cli_opt(a, "--coverage", &s)) {
+    v->given |= CLI_COVERAGE;
     vs->coverage = cli_double(a, "--coverage", s, 0.01, 10);
   } else if (cli_opt(a, "--distance", &s)) {
+    v->given |= CLI_DISTANCE;
     vs->distance = cli_double(a, "--distance", s, 1e-9, 1e12);
   } else if (cli_opt(a, "--fov", &s)) {
+    v->given |= CLI_FOV;
     vs->fov_y_deg = cli_double(a, "--fov", s, 0.1, 179);
   } else if (cli_opt(a, "--elevation", &s)) {
+    v->given |= CLI_ELEVATION;
     cli_pair(a, "--elevation", s, &vs->min_elevation_deg, &vs->max_elevation_deg);
     if (!a->bad && !(vs->min_elevation_deg >= -90 && vs->max_elevation_deg <= 90 &&
                      vs->min_elevation_deg <= vs->max_elevation_deg))
       fail(a, "--elevation: '%s' is not A,B with -90 <= A <= B <= 90 degrees", s);
   } else if (cli_opt(a, "--lights", &s)) {
+    v->given |= CLI_LIGHTS;
     vs->lights = cli_int(a, "--lights", s, 0, JND_MAX_LIGHTS);
   } else if (cli_opt(a, "--light-intensity", &s)) {
+    v->given |= CLI_LIGHT_INTENSITY;
     vs->light_intensity = cli_double(a, "--light-intensity", s, 0, 1e6);
   } else if (cli_opt(a, "--cameras", &s)) {
+    v->given |= CLI_CAMERAS;
     v->cameras = s;
   } else if (cli_opt(a, "--env", &s)) {
+    v->given |= CLI_ENV;
     rp->env_path = s;
   } else if (cli_opt(a, "--samples", &s)) {
+    v->given |= CLI_SAMPLES;
     rp->samples = cli_int(a, "--samples", s, 1, 64);
   } else if (cli_opt(a, "--anisotropy", &s)) {
+    v->given |= CLI_ANISOTROPY;
     rp->anisotropy = cli_int(a, "--anisotropy", s, 1, 16);
   } else if (cli_opt(a, "--platform", &s)) {
+    v->given |= CLI_PLATFORM;
     if (strcmp(s, "auto") && strcmp(s, "device") && strcmp(s, "surfaceless"))
       fail(a, "--platform: '%s' is not auto, device or surfaceless", s);
     rp->platform = s;
   } else if (cli_opt(a, "--map-size", &s)) {
+    v->given |= CLI_MAP_SIZE;
     v->map_size = cli_int(a, "--map-size", s, 8, 8192);
   } else {
     return 0;
   }
   return 1;
+}
+
+static const char *const views_names[] = {"--views", "--seed", "--size", "--coverage", "--distance",
+                                           "--fov", "--elevation", "--lights", "--light-intensity", "--cameras",
+                                           "--env", "--samples", "--anisotropy", "--platform", "--map-size"};
+
+int cli_views_only(const cli_views *v, unsigned allowed, const char *cmd, const char *why) {
+  for (unsigned k = 0; k < sizeof views_names / sizeof *views_names; k++)
+    if ((v->given & ~allowed) & (1u << k)) return cli_bad("%s: %s does not apply (%s)", cmd, views_names[k], why);
+  return 0;
 }
 
 jnd_status cli_views_make(cli_views *v, const jnd_scene *scene, jnd_view **out, int *count) {

@@ -93,14 +93,27 @@ extern const char *const cli_display_help;
 /* The views of every rendering command: --views --seed --size --coverage
  * --distance --fov --elevation --lights --light-intensity --cameras
  * --samples --anisotropy --env --platform --map-size, one set of limits. */
+enum {
+  CLI_VIEWS = 1u << 0, CLI_SEED = 1u << 1, CLI_SIZE = 1u << 2, CLI_COVERAGE = 1u << 3,
+  CLI_DISTANCE = 1u << 4, CLI_FOV = 1u << 5, CLI_ELEVATION = 1u << 6, CLI_LIGHTS = 1u << 7,
+  CLI_LIGHT_INTENSITY = 1u << 8, CLI_CAMERAS = 1u << 9, CLI_ENV = 1u << 10, CLI_SAMPLES = 1u << 11,
+  CLI_ANISOTROPY = 1u << 12, CLI_PLATFORM = 1u << 13, CLI_MAP_SIZE = 1u << 14
+};
 typedef struct {
   jnd_view_set set;
   const char *cameras;     /* --cameras FILE (read by cli_views_make) */
   int map_size;            /* --map-size: side of the built-in asset's maps */
+  unsigned given;          /* CLI_* bits of the options given */
 } cli_views;
 /* Defaults: jnd_view_set_defaults at width × height pixels. */
 void cli_views_init(cli_views *v, int width, int height);
 int cli_views_opt(cli_args *a, cli_views *v);
+/* A command that renders its own way (its own image sizes, cameras or
+ * sampling) still reads the view options with cli_views_opt, so that a bad
+ * value gets the same refusal everywhere; then it refuses the options it has
+ * no use for: one line "jnd: CMD: --opt does not apply (why)", EXIT_BAD;
+ * 0 when every option given is in `allowed`. */
+int cli_views_only(const cli_views *v, unsigned allowed, const char *cmd, const char *why);
 /* The views for scene: the cameras file read (jnd_views_read) or the sampled
  * views. *out is allocated; the count goes to v->set (explicit cameras). */
 jnd_status cli_views_make(cli_views *v, const jnd_scene *scene, jnd_view **out, int *count);

@@ -33,7 +33,7 @@ static void help(void) {
       "  --errors LIST       a plain mesh's chain: error targets (default 1/1024,1/256,1/64)\n"
       "  --min-px N, --max-px N  rendering side: the object's window at the display's\n"
       "                      ppd, within these (64, 192)\n"
-      "  --env FILE, --samples N, --platform P, --map-size N   as in jnd render\n"
+      "  --env FILE, --samples N, --anisotropy N, --platform P, --map-size N   as in jnd render\n"
       "\n"
       "%s"
       "\n"
@@ -194,7 +194,11 @@ static int run(int argc, char **argv) {
   jnd_lod_params chain;
   jnd_lod_defaults(&chain);
   double dist[256], ecc[256], errors[64];
-  int map_size = 512;
+  cli_views vo;   /* gaze's defaults, read back after parsing */
+  cli_views_init(&vo, 0, 0);
+  vo.set.sampling.seed = p.seed;
+  vo.set.render = p.render;
+  vo.map_size = 512;
   cli_args args = cli_args_start(argc, argv, "gaze"), *ap = &args;
   for (; args.i < argc && !args.bad; args.i++) {
     const char *a = argv[args.i];
@@ -211,8 +215,6 @@ static int run(int argc, char **argv) {
       p.eccentricities_deg = ecc;
     } else if (cli_opt(ap, "--orientations", &v)) {
       p.orientations = cli_int(ap, "--orientations", v, 1, 256);
-    } else if (cli_opt(ap, "--seed", &v)) {
-      p.seed = (uint64_t)cli_double(ap, "--seed", v, 0, 9007199254740992.0);
     } else if (cli_opt(ap, "--threshold", &v)) {
       p.threshold = cli_double(ap, "--threshold", v, 0.501, 0.999);
     } else if (cli_opt(ap, "--errors", &v)) {
@@ -223,15 +225,7 @@ static int run(int argc, char **argv) {
       p.min_px = cli_int(ap, "--min-px", v, 16, 4096);
     } else if (cli_opt(ap, "--max-px", &v)) {
       p.max_px = cli_int(ap, "--max-px", v, 16, 4096);
-    } else if (cli_opt(ap, "--env", &v)) {
-      p.render.env_path = v;
-    } else if (cli_opt(ap, "--samples", &v)) {
-      p.render.samples = cli_int(ap, "--samples", v, 1, 64);
-    } else if (cli_opt(ap, "--platform", &v)) {
-      p.render.platform = v;
-    } else if (cli_opt(ap, "--map-size", &v)) {
-      map_size = cli_int(ap, "--map-size", v, 8, 8192);
-    } else if (cli_display_opt(ap, &disp) || cli_common_opt(ap, &common)) {
+    } else if (cli_display_opt(ap, &disp) || cli_views_opt(ap, &vo) || cli_common_opt(ap, &common)) {
     } else if (a[0] == '-' && a[1]) {
       return cli_unknown(ap);
     } else if (!model) {
@@ -241,6 +235,16 @@ static int run(int argc, char **argv) {
     }
   }
   if (args.bad) return EXIT_BAD;
+  /* the shared view options, where gaze has a use for them */
+  if (cli_views_only(&vo, CLI_SEED | CLI_ENV | CLI_SAMPLES | CLI_ANISOTROPY | CLI_PLATFORM | CLI_MAP_SIZE, "gaze",
+                     "its views are --distances x --orientations, each at its own size; see jnd gaze --help"))
+    return EXIT_BAD;
+  p.seed = vo.set.sampling.seed;
+  p.render.env_path = vo.set.render.env_path;
+  p.render.samples = vo.set.render.samples;
+  p.render.anisotropy = vo.set.render.anisotropy;
+  p.render.platform = vo.set.render.platform;
+  int map_size = vo.map_size;
   if (!model) return cli_bad("gaze: give a MODEL (a .gltf/.glb/.obj file or builtin); jnd gaze --help");
   if (!dir) return cli_bad("gaze: give an output folder with -o OUTDIR; jnd gaze --help");
   if (p.max_px < p.min_px) return cli_bad("--max-px: %d is below --min-px %d", p.max_px, p.min_px);

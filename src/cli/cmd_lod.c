@@ -124,6 +124,19 @@ static int run(int argc, char **argv) {
   const char *levels[64];
   int nlevels = 0;
   jnd_poi_screen screens[16];
+  cli_views vo;   /* lod's defaults, read back after parsing */
+  cli_views_init(&vo, 0, 0);
+  vo.set.sampling.count = p.poi.views;
+  vo.set.sampling.seed = p.poi.seed;
+  vo.set.sampling.coverage = p.poi.coverage;
+  vo.set.sampling.distance = p.sw.distance;
+  vo.set.sampling.fov_y_deg = p.poi.fov_y_deg;
+  vo.set.sampling.lights = p.poi.lights;
+  vo.set.render.env_path = p.poi.env_path;
+  vo.set.render.anisotropy = p.poi.anisotropy;
+  vo.set.render.platform = p.poi.platform;
+  vo.set.render.samples = p.sw.judge.views.render.samples;
+  vo.map_size = p.builtin_map_size;
   cli_args args = cli_args_start(argc, argv, "lod"), *ap = &args;
   for (; args.i < argc && !args.bad; args.i++) {
     const char *a = argv[args.i];
@@ -162,18 +175,6 @@ static int run(int argc, char **argv) {
       }
       if (p.poi.nscreens == 0) return cli_bad("lod: --screens: '%s' names no screen", v);
       p.poi.screens = screens;
-    } else if (cli_opt(ap, "--coverage", &v)) {
-      p.poi.coverage = cli_double(ap, "--coverage", v, 0.01, 1);
-    } else if (cli_opt(ap, "--views", &v)) {
-      p.poi.views = cli_int(ap, "--views", v, 1, 256);
-    } else if (cli_opt(ap, "--seed", &v)) {
-      p.poi.seed = (uint64_t)cli_double(ap, "--seed", v, 0, 9007199254740992.0);
-    } else if (cli_opt(ap, "--fov", &v)) {
-      p.poi.fov_y_deg = cli_double(ap, "--fov", v, 1, 170);
-    } else if (cli_opt(ap, "--lights", &v)) {
-      p.poi.lights = cli_int(ap, "--lights", v, 0, JND_MAX_LIGHTS);
-    } else if (cli_opt(ap, "--env", &v)) {
-      p.poi.env_path = v;
     } else if (cli_opt(ap, "--virtual-scale", &v)) {
       p.poi.virtual_scale = cli_double(ap, "--virtual-scale", v, 1, 16);
     } else if (cli_opt(ap, "--max-virtual", &v)) {
@@ -186,14 +187,6 @@ static int run(int argc, char **argv) {
       p.poi.pixel_error = cli_double(ap, "--pixel-error", v, 1e-3, 1e3);
     } else if (cli_flag(ap, "--no-textures")) {
       p.poi.textures = 0;
-    } else if (cli_opt(ap, "--anisotropy", &v)) {
-      p.poi.anisotropy = cli_int(ap, "--anisotropy", v, 1, 16);
-    } else if (cli_opt(ap, "--platform", &v)) {
-      p.poi.platform = v;
-    } else if (cli_opt(ap, "--map-size", &v)) {
-      p.builtin_map_size = cli_int(ap, "--map-size", v, 8, 8192);
-    } else if (cli_opt(ap, "--distance", &v)) {
-      p.sw.distance = cli_double(ap, "--distance", v, 1e-9, 1e12);
     } else if (cli_opt(ap, "--judge-views", &v)) {
       p.sw.judge.views.sampling.count = cli_int(ap, "--judge-views", v, 1, 256);
     } else if (cli_criterion_opt(ap, &p.sw.judge.criterion)) {
@@ -203,11 +196,9 @@ static int run(int argc, char **argv) {
       p.sw.tolerance = cli_double(ap, "--tolerance", v, 0.001, 10);
     } else if (cli_opt(ap, "--max-px", &v)) {
       p.sw.max_px = cli_int(ap, "--max-px", v, 32, 8192);
-    } else if (cli_opt(ap, "--samples", &v)) {
-      p.sw.judge.views.render.samples = cli_int(ap, "--samples", v, 1, 64);
     } else if (cli_flag(ap, "--no-perceptual")) {
       p.perceptual = 0;
-    } else if (cli_common_opt(ap, &common)) {
+    } else if (cli_views_opt(ap, &vo) || cli_common_opt(ap, &common)) {
     } else if (a[0] == '-' && a[1]) {
       return cli_unknown(ap);
     } else if (!model) {
@@ -217,6 +208,23 @@ static int run(int argc, char **argv) {
     }
   }
   if (args.bad) return EXIT_BAD;
+  /* the shared view options, where lod has a use for them */
+  if (cli_views_only(&vo, CLI_VIEWS | CLI_SEED | CLI_COVERAGE | CLI_DISTANCE | CLI_FOV | CLI_LIGHTS | CLI_ENV |
+                              CLI_SAMPLES | CLI_ANISOTROPY | CLI_PLATFORM | CLI_MAP_SIZE,
+                     "lod", "its views are rendered at each screen's size around the object; see jnd lod --help"))
+    return EXIT_BAD;
+  if (vo.set.sampling.coverage > 1) return cli_bad("lod: --coverage %g: the object must fit on the screen (at most 1)", vo.set.sampling.coverage);
+  p.poi.views = vo.set.sampling.count;
+  p.poi.seed = vo.set.sampling.seed;
+  p.poi.coverage = vo.set.sampling.coverage;
+  p.poi.fov_y_deg = vo.set.sampling.fov_y_deg;
+  p.poi.lights = vo.set.sampling.lights;
+  p.poi.env_path = vo.set.render.env_path;
+  p.poi.anisotropy = vo.set.render.anisotropy;
+  p.poi.platform = vo.set.render.platform;
+  p.sw.distance = vo.set.sampling.distance;
+  p.sw.judge.views.render.samples = vo.set.render.samples;
+  p.builtin_map_size = vo.map_size;
   p.chain.threads = common.threads;
   if (!model) return cli_bad("lod: give a MODEL (a .gltf/.glb/.obj file or builtin); jnd lod --help");
   if (!dir) return cli_bad("lod: give an output folder with -o OUTDIR; jnd lod --help");
