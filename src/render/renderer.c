@@ -11,11 +11,6 @@
 #include "render/render.h"
 #include "scene/scene.h"
 
-#ifndef GL_TEXTURE_MAX_ANISOTROPY
-#define GL_TEXTURE_MAX_ANISOTROPY 0x84FE
-#define GL_MAX_TEXTURE_MAX_ANISOTROPY 0x84FF
-#endif
-
 typedef struct {
   GLuint vao, vbo, ibo;
   GLsizei count;
@@ -228,11 +223,9 @@ jnd_status jnd_renderer_create(const jnd_renderer_params *p, jnd_renderer **out)
   glGetInternalformativ(GL_RENDERBUFFER, GL_RGBA32F, GL_SAMPLES, 1, &max_samples);
   r->samples = jnd_clampi(p->samples > 0 ? p->samples : 1, 1, max_samples > 0 ? max_samples : 1);
   r->aniso = p->anisotropy;
-  GLfloat ma = 1;
-  glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY, &ma);
-  glGetError();   /* no anisotropic filtering: ma stays 1 */
-  r->max_aniso = (float)(p->anisotropy < 1 ? 1 : p->anisotropy);
-  if (r->max_aniso > ma) r->max_aniso = ma;
+  /* anisotropic filtering is the shader's (pbr_frag.glsl, sample_map): the
+   * same on every driver, whatever it offers */
+  r->max_aniso = (float)jnd_clampi(p->anisotropy, 1, 16);
   static const char *const variants[3][2] = {{"", "#define JND_ALPHA_MASK 1\n"},
                                              {"#define JND_AUX 1\n", "#define JND_AUX 1\n#define JND_ALPHA_MASK 1\n"},
                                              {"#define JND_UNLIT 1\n", "#define JND_UNLIT 1\n#define JND_ALPHA_MASK 1\n"}};
@@ -328,7 +321,6 @@ static jnd_status upload_map(jnd_renderer *r, const jnd_map *m, jnd_map_slot slo
   glTextureParameteri(g->tex, GL_TEXTURE_MIN_FILTER,
                       m->min_nearest ? GL_NEAREST_MIPMAP_LINEAR : GL_LINEAR_MIPMAP_LINEAR);
   glTextureParameteri(g->tex, GL_TEXTURE_MAG_FILTER, m->mag_nearest ? GL_NEAREST : GL_LINEAR);
-  if (r->max_aniso > 1) glTextureParameterf(g->tex, GL_TEXTURE_MAX_ANISOTROPY, r->max_aniso);
   g->version = m->version;
   g->w = w;
   g->h = h;

@@ -231,4 +231,27 @@ assert a["chosen"]["switch"][0]["level"] == 1 and a["chosen"]["switch"][0]["spee
 PY
 expect_exit 0 "its report" "$JND" report popping
 check "its page shows the regions and the switch plot" bash -c "grep -q regions.png popping/report/popping.html && grep -q switch.png popping/report/popping.html"
+
+# ---- gaze: the table's range of levels in the summary, its picture and grid on the page ----
+cat >gaze.csv <<EOF
+id,asset,command,options
+foveated,builtin:sphere,gaze,"--map-size 32 --orientations 1 --distances 20,80 --eccentricities 0,30 --min-px 48 --max-px 64"
+EOF
+expect_exit 0 "a gaze row runs" "$JND" batch gaze.csv -o gazing --quiet
+"$JND" batch merge gazing --no-timings --quiet
+check "its decision is the table's range of levels, from its gaze.json" python3 - gazing/summary.json gazing/foveated/gaze.json <<'PY'
+import json, sys
+a = json.load(open(sys.argv[1]))["result"]["assets"][0]
+r = json.load(open(sys.argv[2]))["result"]
+cells = [c for row in r["level"] for c in row]
+assert a["status"] == "ok" and a["command"] == "gaze", a
+assert (a["chosen"]["finest"], a["chosen"]["coarsest"]) == (min(cells), max(cells)), (a["chosen"], cells)
+assert a["decision"] == "levels %d–%d over 2 distances × 2 eccentricities" % (min(cells), max(cells)), a["decision"]
+PY
+expect_exit 0 "its report" "$JND" report gazing
+check "its page shows gaze.png and the grid" python3 - gazing <<'PY'
+import os, sys
+html = open(os.path.join(sys.argv[1], "report", "foveated.html")).read()
+assert "gaze.png" in html and "eccentricities (deg)" in html and "distances (m)" in html, html[:500]
+PY
 finish
