@@ -89,5 +89,10 @@ checke 'err "notjson.json: not a JSON list of cameras" builtin --map-size 16 -o 
     "--cameras that is not JSON: exit 2, one line"
 checke '[ ! -e "$T/x" ]' "nothing is written for bad cameras"
 checke '"$JND" render --help | grep -- "--coverage" >/dev/null' "--help prints the usage"
+# llvmpipe's own anisotropic filter never finished this frame (issue 12:
+# every time, at 4.3 and not at 3.9 or 4.6); the shader's filter renders it
+# at once. 60 s is a hang, not a speed target.
+checke 'timeout 60 "$JND" render builtin --size 64x64 --views 1 --map-size 64 --distance 4.3 -o "$T/stall" --quiet' \
+    "a frame that hung llvmpipe's anisotropic filter renders"
 [ -d "$MODELS" ] || skip "$MODELS is missing (Debian package assimp-testmodels): its broken and textured glTF files were not tried"
 finish
