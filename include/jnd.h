@@ -2819,6 +2819,9 @@ typedef struct {
   jnd_model_params model;   /* display and model (display.ppd is the rendering's, set per call) */
   jnd_pooling pool;         /* over the object's pixels (S0 ∪ Si): p93 */
   double background;        /* linear grey behind the object and in the XOR region (0.18) */
+  double switch_hz;         /* the temporal frequency a level switch (a one-frame step) is judged
+                               at, Hz (jnd_diff_inputs.temporal_hz; 3: docs/gaze.md "The temporal
+                               model"); capped below half the display's refresh, model.fps */
 } jnd_gaze_measure_params;
 void jnd_gaze_measure_defaults(jnd_gaze_measure_params *p);
 
@@ -2831,7 +2834,9 @@ jnd_status jnd_gaze_spatial(const jnd_gaze_model *gm, const jnd_gaze_measure_par
                             const jnd_image *lvl, const jnd_image *mask_i, jnd_gaze_terms *out);
 
 /* The temporal model on the renderings of two consecutive levels a → b
- * (as jnd_gaze_spatial takes them). Fills t_jnd and p. */
+ * (as jnd_gaze_spatial takes them): the change seen as a temporal
+ * modulation at mp->switch_hz through the vision model's flicker
+ * sensitivity, at each pixel's eccentricity. Fills t_jnd and p. */
 jnd_status jnd_gaze_switch(const jnd_gaze_model *gm, const jnd_gaze_measure_params *mp, double ppd,
                            double gaze_x, double gaze_y, const jnd_image *a, const jnd_image *mask_a,
                            const jnd_image *b, const jnd_image *mask_b, jnd_gaze_terms *out);
@@ -2946,6 +2951,58 @@ typedef struct {
  * the Bernoulli answers, with standard errors from the observed
  * information and k-fold cross-validation over stimuli. Deterministic. */
 jnd_status jnd_gaze_fit(const jnd_gaze_data *d, const jnd_gaze_fit_params *p, jnd_gaze_fit_result *out);
+
+/* Synthetic observers (docs/gaze.md "Defaults"): jnd ships no study, so its
+ * default parameters are fitted to answers drawn from jnd's own vision model.
+ * For each scene's chain, object size, orientation, eccentricity and level,
+ * the stimulus's terms (xor_deg, v_jnd; t_jnd of the switch from the next
+ * finer level) and the probability the vision model gives to telling the
+ * level from the reference (the whole rendering, silhouette and shading,
+ * nothing greyed, at each pixel's eccentricity: P = ½ + ½ · jnd_probability)
+ * and to seeing the switch (its flicker JND); then `answers` Bernoulli
+ * answers per stimulus from a seeded generator. */
+typedef struct {
+  const double *sizes_deg;       /* the bounding sphere's angular diameter, degrees, ascending in
+                                    (0, 60]; NULL: 1.5, 4, 12 (002: 1.22 to 12.22) */
+  int nsizes;
+  const double *eccentricities_deg; /* ascending, 0..90; NULL: 0, 5, 10, 20, 30, 45, 60 */
+  int neccentricities;
+  const jnd_lod_params *chain;   /* a scene of one level gets this chain (NULL: 1/1024, 1/256, 1/64) */
+  int orientations;              /* per size (2) */
+  int answers;                   /* Bernoulli answers per stimulus (40) */
+  uint64_t seed;                 /* of the orientations, lights and answers (1) */
+  int min_px, max_px;            /* rendering side, as jnd_gaze_table_params (64, 192) */
+  jnd_gaze_measure_params measure;
+  jnd_renderer_params render;
+  void (*progress)(void *user, int done, int total);
+  void *progress_user;
+} jnd_gaze_observers_params;
+void jnd_gaze_observers_defaults(jnd_gaze_observers_params *p);
+
+typedef struct {
+  int scene, orientation, level;   /* level ≥ 1: against level 0 (spatial), from level − 1 (switch) */
+  double size_deg, ecc_deg;
+  double xor_deg, v_jnd, jnd_whole, p_spatial;  /* terms; the vision model's JND of the whole change
+                                                   and its 2AFC probability */
+  double t_jnd, p_switch;          /* the switch's flicker JND and its probability */
+  int seen_spatial, seen_switch;   /* of `answers` Bernoulli answers, how many said seen */
+} jnd_gaze_stimulus;
+typedef struct {
+  jnd_gaze_stimulus *stimuli;
+  int n, answers;
+} jnd_gaze_observers;
+
+/* Renders and judges every stimulus of nscenes scenes (each ≥ 2 levels, or
+ * a chain made with p->chain), deterministic for any thread count. */
+jnd_status jnd_gaze_observers_run(jnd_scene *const *scenes, int nscenes, const jnd_gaze_observers_params *p,
+                                  jnd_gaze_observers *out);
+void jnd_gaze_observers_free(jnd_gaze_observers *o);
+
+/* The trials as `jnd gaze fit` reads them, one row per answer (atomic):
+ * temporal 0: stimulus, xor_deg, v_jnd, eccentricity_deg, seen (and the
+ * scene, size, level and p_true for the reader); temporal 1: stimulus,
+ * t_jnd, seen (and the same). */
+jnd_status jnd_gaze_observers_write_csv(const jnd_gaze_observers *o, int temporal, const char *path);
 
 /* The engine's lookup: loaded once, no allocation per call. */
 typedef struct {

@@ -11,6 +11,7 @@ static void help(void) {
   printf(
       "usage: jnd gaze MODEL -o OUTDIR [options]\n"
       "       jnd gaze fit DATA.csv [options]   (jnd gaze fit --help)\n"
+      "       jnd gaze observers MODEL... -o OUTDIR [options]   (jnd gaze observers --help)\n"
       "\n"
       "For MODEL's chain of levels of detail (glTF MSFT_lod as `jnd lod` writes it, or\n"
       "made now from a plain mesh), finds per distance and eccentricity the coarsest level\n"
@@ -183,8 +184,139 @@ static int run_fit(int argc, char **argv) {
   return rc;
 }
 
+static void observers_help(void) {
+  printf(
+      "usage: jnd gaze observers MODEL... -o OUTDIR [options]\n"
+      "\n"
+      "Synthetic observers for `jnd gaze fit`: for each MODEL's chain (MSFT_lod, or made\n"
+      "now), object sizes, orientations, eccentricities and levels, the spatial model's\n"
+      "terms and the switch's, and answers drawn (seeded) from the probability jnd's own\n"
+      "vision model gives: the level against the reference seen whole (silhouette and\n"
+      "shading, nothing greyed) at each pixel's eccentricity, and the switch through its\n"
+      "temporal sensitivity. Writes OUTDIR/spatial.csv and OUTDIR/temporal.csv (one row\n"
+      "per answer) and OUTDIR/observers.json. scripts/fit-gaze-defaults.sh fits jnd's\n"
+      "default parameters to them. See docs/gaze.md \"Defaults\".\n"
+      "\n"
+      "  --sizes LIST        the object's angular diameter, degrees (1.5,4,12; 002: 1.22-12.22)\n"
+      "  --eccentricities LIST degrees from the gaze, ascending, 0..90 (0,5,10,20,30,45,60)\n"
+      "  --orientations N    per size (2)\n"
+      "  --answers N         Bernoulli answers per stimulus (40)\n"
+      "  --seed S            of the orientations, lights and answers (1)\n"
+      "  --errors LIST       a plain mesh's chain: error targets (default 1/1024,1/256,1/64)\n"
+      "  --min-px N, --max-px N  rendering side (64, 192)\n"
+      "  --map-size N        texture size of built-in models (512)\n"
+      "  -o, --output DIR    the folder (created)\n"
+      "%s"
+      "\n"
+      "Exit status: 0; 2 for bad input (one line: jnd: FILE or --flag: problem), nothing written.\n",
+      cli_common_help);
+}
+
+static int run_observers(int argc, char **argv) {
+  const char *dir = NULL, *v, *models[64];
+  int nmodels = 0, map_size = 512;
+  cli_common common = {0};
+  jnd_gaze_observers_params p;
+  jnd_gaze_observers_defaults(&p);
+  jnd_lod_params chain;
+  jnd_lod_defaults(&chain);
+  double sizes[64], ecc[64], errors[64];
+  cli_args args = cli_args_start(argc, argv, "gaze observers"), *ap = &args;
+  args.i = 2;
+  for (; args.i < argc && !args.bad; args.i++) {
+    const char *a = argv[args.i];
+    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
+      observers_help();
+      return EXIT_OK;
+    } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
+      dir = v;
+    } else if (cli_opt(ap, "--sizes", &v)) {
+      p.nsizes = cli_double_list(ap, "--sizes", v, 1e-3, 60, sizes, 64);
+      p.sizes_deg = sizes;
+    } else if (cli_opt(ap, "--eccentricities", &v)) {
+      p.neccentricities = cli_double_list(ap, "--eccentricities", v, 0, 90, ecc, 64);
+      p.eccentricities_deg = ecc;
+    } else if (cli_opt(ap, "--orientations", &v)) {
+      p.orientations = cli_int(ap, "--orientations", v, 1, 64);
+    } else if (cli_opt(ap, "--answers", &v)) {
+      p.answers = cli_int(ap, "--answers", v, 1, 10000);
+    } else if (cli_opt(ap, "--seed", &v)) {
+      p.seed = (uint64_t)cli_double(ap, "--seed", v, 0, 9007199254740992.0);
+    } else if (cli_opt(ap, "--errors", &v)) {
+      chain.nerrors = cli_double_list(ap, "--errors", v, 1e-6, 1, errors, 63);
+      chain.errors = errors;
+      p.chain = &chain;
+    } else if (cli_opt(ap, "--min-px", &v)) {
+      p.min_px = cli_int(ap, "--min-px", v, 16, 4096);
+    } else if (cli_opt(ap, "--max-px", &v)) {
+      p.max_px = cli_int(ap, "--max-px", v, 16, 4096);
+    } else if (cli_opt(ap, "--map-size", &v)) {
+      map_size = cli_int(ap, "--map-size", v, 8, 8192);
+    } else if (cli_common_opt(ap, &common)) {
+    } else if (a[0] == '-' && a[1]) {
+      return cli_unknown(ap);
+    } else if (nmodels < 64) {
+      models[nmodels++] = a;
+    } else {
+      return cli_bad("gaze observers: at most 64 models");
+    }
+  }
+  if (args.bad) return EXIT_BAD;
+  if (!nmodels) return cli_bad("gaze observers: give at least one MODEL; jnd gaze observers --help");
+  if (!dir) return cli_bad("gaze observers: give an output folder with -o OUTDIR");
+  if (p.max_px < p.min_px) return cli_bad("--max-px: %d is below --min-px %d", p.max_px, p.min_px);
+  jnd_scene *scenes[64] = {0};
+  int rc = EXIT_OK;
+  for (int i = 0; i < nmodels && rc == EXIT_OK; i++)
+    if (jnd_scene_open(models[i], map_size, &scenes[i]) != JND_OK) rc = cli_lib_error();
+  jnd_gaze_observers O = {0};
+  if (rc == EXIT_OK) {
+    cli_progress bar;
+    cli_progress_start(&bar, &common, "gaze observers", 1);
+    p.progress = on_progress;
+    p.progress_user = &bar;
+    jnd_status st = jnd_gaze_observers_run(scenes, nmodels, &p, &O);
+    cli_progress_end(&bar);
+    if (st != JND_OK) rc = cli_lib_error();
+  }
+  char path[4400];
+  if (rc == EXIT_OK && jnd_make_dirs(dir) != JND_OK) rc = cli_lib_error();
+  snprintf(path, sizeof path, "%s/spatial.csv", dir);
+  if (rc == EXIT_OK && jnd_gaze_observers_write_csv(&O, 0, path) != JND_OK) rc = cli_lib_error();
+  snprintf(path, sizeof path, "%s/temporal.csv", dir);
+  if (rc == EXIT_OK && jnd_gaze_observers_write_csv(&O, 1, path) != JND_OK) rc = cli_lib_error();
+  if (rc == EXIT_OK) {
+    cJSON *report = cli_report_new("gaze observers");
+    cJSON *in = cli_report_section(report, "inputs"), *par = cli_report_section(report, "parameters"),
+          *res = cli_report_section(report, "result");
+    cJSON_AddItemToObject(in, "models", cJSON_CreateStringArray(models, nmodels));
+    cJSON_AddNumberToObject(par, "orientations", p.orientations);
+    cJSON_AddNumberToObject(par, "answers", p.answers);
+    cJSON_AddNumberToObject(par, "seed", (double)p.seed);
+    cJSON_AddNumberToObject(par, "switch_hz", p.measure.switch_hz);
+    cJSON_AddNumberToObject(res, "stimuli", O.n);
+    cJSON_AddNumberToObject(res, "trials_per_model", (double)O.n * O.answers);
+    double ps = 0, pw = 0;
+    for (int i = 0; i < O.n; i++) ps += O.stimuli[i].p_spatial, pw += O.stimuli[i].p_switch;
+    cJSON_AddNumberToObject(res, "mean_p_spatial", O.n ? ps / O.n : 0);
+    cJSON_AddNumberToObject(res, "mean_p_switch", O.n ? pw / O.n : 0);
+    cJSON_AddStringToObject(res, "spatial_csv", "spatial.csv");
+    cJSON_AddStringToObject(res, "temporal_csv", "temporal.csv");
+    snprintf(path, sizeof path, "%s/observers.json", dir);
+    rc = cli_report_write(report, path);
+    if (rc == EXIT_OK && common.json_path) rc = cli_report_write(report, common.json_path);
+    cJSON_Delete(report);
+    cli_info(&common, "jnd gaze observers: %d stimuli x %d answers; mean P spatial %.3f, switch %.3f; wrote %s\n",
+             O.n, O.answers, O.n ? ps / O.n : 0, O.n ? pw / O.n : 0, dir);
+  }
+  jnd_gaze_observers_free(&O);
+  for (int i = 0; i < nmodels; i++) jnd_scene_free(scenes[i]);
+  return rc;
+}
+
 static int run(int argc, char **argv) {
   if (argc >= 2 && strcmp(argv[1], "fit") == 0) return run_fit(argc, argv);
+  if (argc >= 2 && strcmp(argv[1], "observers") == 0) return run_observers(argc, argv);
   const char *model = NULL, *dir = NULL, *v;
   cli_common common = {0};
   cli_display disp;

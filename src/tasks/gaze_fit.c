@@ -8,7 +8,8 @@
  *     stimulus.  jnd_gaze_data_parse()
  *  2. The free parameters by maximum likelihood over the Bernoulli answers
  *     (002's argmin of the negative log-likelihood): Nelder–Mead in a
- *     transformed space (logs of the positive parameters, log(k_s − 1)),
+ *     transformed space (logs of the positive parameters, log(k_s − 1),
+ *     the logit of s/90°),
  *     restarted from its best point until it stops improving.  fit_ml()
  *     In the fit, every XOR pixel of a stimulus is at the object's
  *     eccentricity: G = w(ecc) · xor_deg (docs/gaze.md says why).
@@ -29,6 +30,7 @@
 #include "jnd.h"
 
 enum { NS = 6, NT = 2, NMAX = 7 };
+#define S_MAX_DEG 90.0   /* the knee s is fitted within the visual field, (0, 90)° */
 /* b, the weight's far floor, is kept at the start's value: docs/gaze.md "Fitting" */
 static const char *const spatial_names[NS] = {"alpha", "beta", "s_deg", "w_vdp", "k_s", "gamma"};
 static const char *const temporal_names[NT] = {"w_t", "gamma_t"};
@@ -152,7 +154,15 @@ void jnd_gaze_fit_defaults(jnd_gaze_fit_params *p) {
   p->folds = 4;   /* 002: 4-fold cross-validation */
   p->seed = 1;
   p->confidence = 0.95;
+  /* a fixed start, not jnd_gaze_model_defaults: the defaults are fitted
+   * from here (scripts/fit-gaze-defaults.sh), and a start that moved with
+   * them would make the fit depend on its own previous result. The values
+   * are the hand-chosen constants of docs/gaze.md "Defaults" (the 1-arcmin
+   * silhouette and the 1-JND midpoint) */
   jnd_gaze_model_defaults(&p->start);
+  p->start.alpha = 2.0, p->start.beta = 0.1, p->start.s_deg = 30.0, p->start.b = 2.0;
+  p->start.w_g = 1.0, p->start.w_vdp = 1.0, p->start.k_s = 2.0, p->start.gamma = 4.85;
+  p->start.w_t = 1.0, p->start.gamma_t = 4.85;
 }
 
 /* ---- the parameters in the optimiser's space ---- */
@@ -162,7 +172,11 @@ static void to_x(const jnd_gaze_model *m, int temporal, double *x) {
     x[0] = log(m->w_t), x[1] = log(m->gamma_t);
     return;
   }
-  x[0] = log(m->alpha), x[1] = log(m->beta), x[2] = m->s_deg;
+  /* s in the visual field, (0, 90)°, as a logit: below 0 the softplus is a
+   * pure exponential in which α and s trade off exactly (only α e^{βs}/β is
+   * identified) and an unbounded fit runs α to its limit */
+  double u = fmin(fmax(m->s_deg / S_MAX_DEG, 1e-9), 1 - 1e-9);
+  x[0] = log(m->alpha), x[1] = log(m->beta), x[2] = log(u / (1 - u));
   x[3] = log(m->w_vdp), x[4] = log(fmax(m->k_s - 1, 1e-3)), x[5] = log(m->gamma);
 }
 
@@ -171,7 +185,7 @@ static void from_x(const double *x, int temporal, jnd_gaze_model *m) {
     m->w_t = exp(x[0]), m->gamma_t = exp(x[1]);
     return;
   }
-  m->alpha = exp(x[0]), m->beta = exp(x[1]), m->s_deg = x[2];
+  m->alpha = exp(x[0]), m->beta = exp(x[1]), m->s_deg = S_MAX_DEG / (1 + exp(-x[2]));
   m->w_g = 1;   /* w_g scales alpha and b alike: only their products are identifiable */
   m->w_vdp = exp(x[3]), m->k_s = 1 + exp(x[4]), m->gamma = exp(x[5]);
 }
@@ -275,7 +289,7 @@ static double nelder_mead(const objective *o, int n, double *x, double step) {
 static double fit_ml(const objective *o, int n, double *x) {
   double best[NMAX], fbest = INFINITY;
   const int starts = o->d->temporal ? 1 : 5;
-  static const double ds[5] = {0, -15, 15, 0, 0}, dk[5] = {0, 0, 0, -1.5, 1.5};
+  static const double ds[5] = {0, -1.5, 1.5, 0, 0}, dk[5] = {0, 0, 0, -1.5, 1.5};   /* s: in logit units */
   for (int k = 0; k < starts; k++) {
     double y[NMAX];
     memcpy(y, x, (size_t)n * sizeof *x);

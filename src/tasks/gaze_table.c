@@ -3,7 +3,7 @@
  * Procedure (002 "Gaze-contingent LOD prediction", eqs. 9–10):
  *  1. Per distance d: the object's bounding sphere (radius r) subtends
  *     2 asin(r/d); the rendering is a square window a little larger, at the
- *     display's pixels per degree within [min_px, max_px] pixels.  frame_for()
+ *     display's pixels per degree within [min_px, max_px] pixels.  gaze_frame_for()
  *  2. Per orientation (jnd_views_sample at distance d, seeded): every level
  *     of the chain rendered once, colour and coverage.
  *  3. Per eccentricity e: the fixation point e degrees left of the object's
@@ -25,6 +25,7 @@
 #include "core/core.h"
 #include "io/draw.h"
 #include "jnd.h"
+#include "tasks/tasks.h"
 
 #define GAZE_MAX_AXIS 256
 #define GAZE_WINDOW_MARGIN 1.2   /* the window is this times the sphere's angular diameter */
@@ -68,13 +69,12 @@ static jnd_status check_axis(const double *v, int n, const char *flag, double lo
 
 /* Step 1: the window (vertical field of view, degrees), its side in pixels
  * and the pixels per degree at its centre. */
-static void frame_for(const jnd_gaze_table_params *p, double radius, double d, double *fov_deg, int *side,
-                      double *ppd) {
-  double ppd_display = p->measure.model.display.ppd;
+void gaze_frame_for(double ppd_display, int min_px, int max_px, double radius, double d, double *fov_deg, int *side,
+                    double *ppd) {
   double object_deg = 2.0 * asin(radius / d) * 180.0 / M_PI * GAZE_WINDOW_MARGIN;
-  double fov = fmax(object_deg, p->min_px / ppd_display);
+  double fov = fmax(object_deg, min_px / ppd_display);
   int n = (int)lround(fov * ppd_display);
-  n = jnd_clampi(n, p->min_px, p->max_px);
+  n = jnd_clampi(n, min_px, max_px);
   /* focal length in pixels, and a pixel's angle at the centre */
   double f = 0.5 * n / tan(0.5 * fov * M_PI / 180.0);
   *fov_deg = fov;
@@ -108,13 +108,8 @@ static void choose_levels(jnd_gaze_table *t, double threshold) {
   make_monotone(t->level_raw, t->nd, t->ne, t->level);
 }
 
-/* what one distance's renderings hold: per orientation × level */
-typedef struct {
-  jnd_image *color, *mask;
-} renders;
-
-static jnd_status render_distance(jnd_scene *scene, jnd_renderer *r, const jnd_view *views, int no, int L,
-                                  renders *R, int *count) {
+jnd_status gaze_render_levels(jnd_scene *scene, jnd_renderer *r, const jnd_view *views, int no, int L,
+                              gaze_renders *R, int *count) {
   jnd_status st = JND_OK;
   for (int k = 0; k < L && st == JND_OK; k++) {
     if ((st = jnd_scene_lod_select(scene, k)) != JND_OK) break;
@@ -183,7 +178,7 @@ jnd_status jnd_gaze_table_run(jnd_scene *scene, const jnd_gaze_table_params *p, 
   out->ppd = jnd_calloc((size_t)nd, sizeof(double));
   out->side_px = jnd_calloc((size_t)nd, sizeof(int));
   out->triangles = jnd_calloc((size_t)L, sizeof(size_t));
-  renders R = {jnd_calloc((size_t)no * L, sizeof(jnd_image)), jnd_calloc((size_t)no * L, sizeof(jnd_image))};
+  gaze_renders R = {jnd_calloc((size_t)no * L, sizeof(jnd_image)), jnd_calloc((size_t)no * L, sizeof(jnd_image))};
   jnd_view *views = jnd_calloc((size_t)no, sizeof *views);
   if (!out->distances_m || !out->eccentricities_deg || !out->level || !out->level_raw || !out->p_spatial ||
       !out->p_switch || !out->ppd || !out->side_px || !out->triangles || !R.color || !R.mask || !views) {
@@ -211,7 +206,7 @@ jnd_status jnd_gaze_table_run(jnd_scene *scene, const jnd_gaze_table_params *p, 
   for (int d = 0; d < nd && st == JND_OK; d++) {
     double fov, ppd;
     int side;
-    frame_for(p, radius, p->distances_m[d], &fov, &side, &ppd);
+    gaze_frame_for(p->measure.model.display.ppd, p->min_px, p->max_px, radius, p->distances_m[d], &fov, &side, &ppd);
     out->ppd[d] = ppd;
     out->side_px[d] = side;
     jnd_view_sampling vs;
@@ -223,7 +218,7 @@ jnd_status jnd_gaze_table_run(jnd_scene *scene, const jnd_gaze_table_params *p, 
     vs.aspect = 1;
     if ((st = jnd_views_sample(scene, &vs, views)) != JND_OK) break;
     if ((st = jnd_renderer_resize(r, side, side)) != JND_OK) break;
-    if ((st = render_distance(scene, r, views, no, L, &R, &out->renderings)) != JND_OK) break;
+    if ((st = gaze_render_levels(scene, r, views, no, L, &R, &out->renderings)) != JND_OK) break;
     done += no * L;
     if (p->progress) p->progress(p->progress_user, done, total);
     const double dist_px = 1.0 / tan(M_PI / 180.0 / ppd), cx = 0.5 * side - 0.5;

@@ -144,4 +144,32 @@ void jnd_csf_context_set_linear(jnd_csf_context *ctx, int linear);
 
 /* ---- csf_check.c (end) ---- */
 
+/* ---- gaze.c, gaze_table.c: what the table and the synthetic observers share (begin) ---- */
+
+/* The pooled JND (mp->pool over S0 ∪ Si) of two renderings (linear over
+ * black, with coverage) seen over the background with the fixation point at
+ * (gx, gy) pixels on a display of ppd; grey_xor: the silhouette XOR grey in
+ * both (the shading term); temporal_hz > 0: the change judged as a temporal
+ * modulation at that frequency (jnd_diff_inputs.temporal_hz). */
+jnd_status gaze_pooled_jnd(const jnd_gaze_measure_params *mp, double ppd, double gx, double gy, const jnd_image *a,
+                           const jnd_image *ma, const jnd_image *b, const jnd_image *mb, int grey_xor,
+                           double temporal_hz, double *out);
+
+/* The window that frames a bounding sphere of radius r at distance d: its
+ * vertical field of view (degrees), side (pixels, the display's ppd within
+ * [min_px, max_px]) and the pixels per degree at its centre. */
+void gaze_frame_for(double ppd_display, int min_px, int max_px, double radius, double d, double *fov_deg, int *side,
+                    double *ppd);
+
+/* Every level (L) of the scene's chain rendered from each of no views,
+ * colour and coverage, into R->color/mask[o · L + k]; *count += renderings.
+ * Leaves level 0 selected. */
+typedef struct {
+  jnd_image *color, *mask;
+} gaze_renders;
+jnd_status gaze_render_levels(jnd_scene *scene, jnd_renderer *r, const jnd_view *views, int no, int L,
+                              gaze_renders *R, int *count);
+
+/* ---- gaze.c, gaze_table.c (end) ---- */
+
 #endif
