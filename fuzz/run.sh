@@ -15,7 +15,7 @@ fi
 build=$(cd "$1" && pwd) || exit 2
 seconds=${2:-20}
 here=$(cd "$(dirname "$0")" && pwd)
-targets=${FUZZ_TARGETS:-"png jpeg hdr exr csv gltf cameras calibration manifest_csv manifest_json csf_data gaze_table gaze_data"}
+targets=${FUZZ_TARGETS:-"png jpeg hdr exr csv gltf cameras calibration manifest_csv manifest_json csf_data gaze_table gaze_data gaze_params"}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 artifacts=$build/fuzz-artifacts

@@ -2952,6 +2952,15 @@ typedef struct {
  * information and k-fold cross-validation over stimuli. Deterministic. */
 jnd_status jnd_gaze_fit(const jnd_gaze_data *d, const jnd_gaze_fit_params *p, jnd_gaze_fit_result *out);
 
+/* Fitted parameters read back (`jnd gaze MODEL --params FIT.json`): a
+ * report of `jnd gaze fit` (gaze_fit.json: a spatial fit sets alpha, beta,
+ * s_deg, w_vdp, k_s, gamma, b and w_g = 1; a temporal one w_t, gamma_t) or
+ * the combined form of scripts/gaze-defaults.json ("fixed", "spatial",
+ * "temporal"). Fields of a model the file does not carry are kept; on an
+ * error m is unchanged and the message is "NAME: what is wrong". */
+jnd_status jnd_gaze_model_read(const char *path, jnd_gaze_model *m);
+jnd_status jnd_gaze_model_parse(const char *name, const char *text, size_t n, jnd_gaze_model *m);
+
 /* Synthetic observers (docs/gaze.md "Defaults"): jnd ships no study, so its
  * default parameters are fitted to answers drawn from jnd's own vision model.
  * For each scene's chain, object size, orientation, eccentricity and level,

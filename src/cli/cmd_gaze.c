@@ -34,6 +34,9 @@ static void help(void) {
       "  --errors LIST       a plain mesh's chain: error targets (default 1/1024,1/256,1/64)\n"
       "  --min-px N, --max-px N  rendering side: the object's window at the display's\n"
       "                      ppd, within these (64, 192)\n"
+      "  --params FIT.json   the models' parameters from `jnd gaze fit -o` (its gaze_fit.json;\n"
+      "                      give the spatial and the temporal fit) or scripts/gaze-defaults.json\n"
+      "                      (default: jnd's, fitted to its own vision model; docs/gaze.md)\n"
       "  --env FILE, --samples N, --anisotropy N, --platform P, --map-size N   as in jnd render\n"
       "\n"
       "%s"
@@ -331,6 +334,8 @@ static int run(int argc, char **argv) {
   vo.set.sampling.seed = p.seed;
   vo.set.render = p.render;
   vo.map_size = 512;
+  int nparams = 0;
+  const char *params_files[8];
   cli_args args = cli_args_start(argc, argv, "gaze"), *ap = &args;
   for (; args.i < argc && !args.bad; args.i++) {
     const char *a = argv[args.i];
@@ -357,6 +362,9 @@ static int run(int argc, char **argv) {
       p.min_px = cli_int(ap, "--min-px", v, 16, 4096);
     } else if (cli_opt(ap, "--max-px", &v)) {
       p.max_px = cli_int(ap, "--max-px", v, 16, 4096);
+    } else if (cli_opt(ap, "--params", &v)) {
+      if (nparams == 8) return cli_bad("--params: at most 8 files");
+      params_files[nparams++] = v;
     } else if (cli_display_opt(ap, &disp) || cli_views_opt(ap, &vo) || cli_common_opt(ap, &common)) {
     } else if (a[0] == '-' && a[1]) {
       return cli_unknown(ap);
@@ -381,6 +389,8 @@ static int run(int argc, char **argv) {
   if (!dir) return cli_bad("gaze: give an output folder with -o OUTDIR; jnd gaze --help");
   if (p.max_px < p.min_px) return cli_bad("--max-px: %d is below --min-px %d", p.max_px, p.min_px);
   p.measure.model.display = cli_display_get(&disp);
+  for (int i = 0; i < nparams; i++)
+    if (jnd_gaze_model_read(params_files[i], &p.model) != JND_OK) return cli_lib_error();
 
   jnd_scene *scene = NULL;
   if (jnd_scene_open(model, map_size, &scene) != JND_OK) return cli_lib_error();
@@ -414,6 +424,7 @@ static int run(int argc, char **argv) {
         *res = cli_report_section(report, "result");
   cJSON_AddStringToObject(in, "model", model);
   cJSON_AddStringToObject(in, "chain", input_levels > 1 ? "input (MSFT_lod or levels of the file)" : "made by jnd gaze");
+  cJSON_AddItemToObject(in, "params", cJSON_CreateStringArray(params_files, nparams));
   cJSON_AddNumberToObject(par, "threshold", p.threshold);
   cJSON_AddNumberToObject(par, "orientations", p.orientations);
   cJSON_AddNumberToObject(par, "seed", (double)p.seed);
