@@ -452,6 +452,17 @@ static int run(int argc, char **argv) {
   cJSON_AddItemToObject(res, "p_spatial", cube(T.p_spatial, T.nd, T.ne, T.nlevels));
   cJSON_AddItemToObject(res, "p_switch", cube(T.p_switch, T.nd, T.ne, T.nlevels));
   cJSON_AddItemToObject(res, "ppd", cJSON_CreateDoubleArray(T.ppd, T.nd));
+  /* a near object's window is capped at --max-px: judged at fewer pixels per
+   * degree than the display has (docs/gaze.md "The table", step 1) */
+  const double display_ppd = p.measure.model.display.ppd;
+  cJSON_AddNumberToObject(res, "display_ppd", display_ppd);
+  cJSON *reduced = cJSON_AddArrayToObject(res, "reduced_ppd");
+  int nreduced = 0;
+  for (int d = 0; d < T.nd; d++) {
+    int r = T.ppd[d] < 0.99 * display_ppd;
+    nreduced += r;
+    cJSON_AddItemToArray(reduced, cJSON_CreateBool(r));
+  }
   cJSON_AddItemToObject(res, "side_px", cJSON_CreateIntArray(T.side_px, T.nd));
   cJSON *tri = cJSON_AddArrayToObject(res, "triangles");
   for (int k = 0; k < T.nlevels; k++) cJSON_AddItemToArray(tri, cJSON_CreateNumber((double)T.triangles[k]));
@@ -476,6 +487,9 @@ static int run(int argc, char **argv) {
     for (int e = 0; e < T.ne; e++) cli_info(&common, " %5d", T.level[d * T.ne + e]);
     cli_info(&common, "\n");
   }
+  if (nreduced)
+    cli_info(&common, "note: %d of %d distances judged below the display's %.3g ppd (the window is capped at --max-px %d): "
+                      ".result.reduced_ppd\n", nreduced, T.nd, display_ppd, p.max_px);
   if (rc == EXIT_OK) cli_info(&common, "wrote %s/gaze.json, gaze.csv, gaze.png (%.1f s)\n", dir, run_s);
   jnd_gaze_table_free(&T);
   jnd_scene_free(scene);

@@ -33,6 +33,11 @@ for row in rows:
     i, j = D.index(float(row["distance_m"])), E.index(float(row["eccentricity_deg"]))
     assert int(row["level"]) == L[i][j]
 assert open(d + "/gaze.png", "rb").read(8) == b"\x89PNG\r\n\x1a\n"
+# near objects capped at --max-px 64 are flagged as judged below the display's ppd
+red, ppd, disp = res["reduced_ppd"], res["ppd"], res["display_ppd"]
+assert len(red) == 3 and red[0] is True, red
+for k in range(3):
+    assert red[k] == (res["side_px"][k] == 64 and ppd[k] < 0.99 * disp), (k, red, ppd, disp)
 PY
 expect_exit 0 "the same with 2 threads" "$JND" gaze builtin:sphere -o "$T/b" "${SMALL[@]}" --threads 2
 check "same table whatever the thread count" cmp "$T/a/gaze.csv" "$T/b/gaze.csv"
