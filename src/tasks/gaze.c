@@ -51,7 +51,7 @@ void jnd_gaze_measure_defaults(jnd_gaze_measure_params *p) {
   p->background = 0.18;
   /* docs/gaze.md "The temporal model": a step's amplitude spectrum falls as
    * 1/f, so every octave of temporal frequency carries the same amplitude and
-   * the octave seen is where the CSF peaks; 3 Hz is within 15% of the peak
+   * the octave seen is where the CSF peaks; 3 Hz is within 16% of the peak
    * of Kelly's surface (as fitted) in every band from 0.5 to 16 cpd */
   p->switch_hz = 3.0;
 }
