@@ -2856,6 +2856,9 @@ typedef struct {
   double threshold;              /* both probabilities below it (0.75, 002) */
   int min_px, max_px;            /* rendering side in pixels: the object's window at the display's
                                     ppd, within [min_px, max_px] (64, 192) */
+  int near_window;               /* 1 (default): where the whole object would need more than max_px,
+                                    judge a window of max_px at the display's ppd around the
+                                    silhouette facing the gaze; 0: the whole object at reduced ppd */
   jnd_gaze_model model;
   jnd_gaze_measure_params measure;
   jnd_renderer_params render;    /* env, samples, platform (its size is set per distance) */
@@ -2874,6 +2877,7 @@ typedef struct {
   double *p_switch;    /* nd × ne × nlevels: worst switch P from level k − 1 to k (0.5 at 0) */
   double *ppd;         /* nd: pixels per degree of the renderings at each distance */
   int *side_px;        /* nd */
+  int *windowed;       /* nd: 1 where a near object was judged on a window (near_window) */
   size_t *triangles;   /* nlevels */
   int renderings;
   char renderer[160];

@@ -34,6 +34,9 @@ static void help(void) {
       "  --errors LIST       a plain mesh's chain: error targets (default 1/1024,1/256,1/64)\n"
       "  --min-px N, --max-px N  rendering side: the object's window at the display's\n"
       "                      ppd, within these (64, 192)\n"
+      "  --whole-near        judge a near object whole at reduced ppd (default: windows of\n"
+      "                      --max-px at the display's ppd, on the fixation point where it falls\n"
+      "                      on the object, else on the silhouette facing it)\n"
       "  --params FIT.json   the models' parameters from `jnd gaze fit -o` (its gaze_fit.json;\n"
       "                      give the spatial and the temporal fit) or scripts/gaze-defaults.json\n"
       "                      (default: jnd's, fitted to its own vision model; docs/gaze.md)\n"
@@ -362,6 +365,8 @@ static int run(int argc, char **argv) {
       p.min_px = cli_int(ap, "--min-px", v, 16, 4096);
     } else if (cli_opt(ap, "--max-px", &v)) {
       p.max_px = cli_int(ap, "--max-px", v, 16, 4096);
+    } else if (cli_flag(ap, "--whole-near")) {
+      p.near_window = 0;
     } else if (cli_opt(ap, "--params", &v)) {
       if (nparams == 8) return cli_bad("--params: at most 8 files");
       params_files[nparams++] = v;
@@ -430,6 +435,7 @@ static int run(int argc, char **argv) {
   cJSON_AddNumberToObject(par, "seed", (double)p.seed);
   cJSON_AddNumberToObject(par, "min_px", p.min_px);
   cJSON_AddNumberToObject(par, "max_px", p.max_px);
+  cJSON_AddBoolToObject(par, "near_window", p.near_window);
   cJSON_AddItemToObject(par, "display", cli_display_json(&p.measure.model.display));
   char pool[32];
   cJSON_AddStringToObject(par, "pooling", jnd_pooling_name(&p.measure.pool, pool, sizeof pool));
@@ -456,6 +462,7 @@ static int run(int argc, char **argv) {
    * degree than the display has (docs/gaze.md "The table", step 1) */
   const double display_ppd = p.measure.model.display.ppd;
   cJSON_AddNumberToObject(res, "display_ppd", display_ppd);
+  cJSON_AddItemToObject(res, "windowed", cJSON_CreateIntArray(T.windowed, T.nd));
   cJSON *reduced = cJSON_AddArrayToObject(res, "reduced_ppd");
   int nreduced = 0;
   for (int d = 0; d < T.nd; d++) {
@@ -487,9 +494,14 @@ static int run(int argc, char **argv) {
     for (int e = 0; e < T.ne; e++) cli_info(&common, " %5d", T.level[d * T.ne + e]);
     cli_info(&common, "\n");
   }
+  int nwindowed = 0;
+  for (int d = 0; d < T.nd; d++) nwindowed += T.windowed[d];
   if (nreduced)
     cli_info(&common, "note: %d of %d distances judged below the display's %.3g ppd (the window is capped at --max-px %d): "
                       ".result.reduced_ppd\n", nreduced, T.nd, display_ppd, p.max_px);
+  if (nwindowed)
+    cli_info(&common, "note: %d of %d distances judged on %d-pixel windows at the display's ppd around the fixation "
+                      "point or the silhouette facing it: .result.windowed\n", nwindowed, T.nd, p.max_px);
   if (rc == EXIT_OK) cli_info(&common, "wrote %s/gaze.json, gaze.csv, gaze.png (%.1f s)\n", dir, run_s);
   jnd_gaze_table_free(&T);
   jnd_scene_free(scene);

@@ -4,6 +4,12 @@
  *  1. Per distance d: the object's bounding sphere (radius r) subtends
  *     2 asin(r/d); the rendering is a square window a little larger, at the
  *     display's pixels per degree within [min_px, max_px] pixels.  gaze_frame_for()
+ *  1b. Where that window would need more than max_px (a near object), the
+ *     object is judged instead on windows of max_px at the display's ppd:
+ *     centred on the fixation point where it falls on the object, else on
+ *     the silhouette facing the gaze (the leftmost covered pixel of level
+ *     0's whole-object rendering, nearest the centre row); the fixation
+ *     points are projected onto their windows.  near_windows()
  *  2. Per orientation (jnd_views_sample at distance d, seeded): every level
  *     of the chain rendered once, colour and coverage.
  *  3. Per eccentricity e: the fixation point e degrees left of the object's
@@ -38,6 +44,7 @@ void jnd_gaze_table_defaults(jnd_gaze_table_params *p) {
   p->threshold = 0.75;   /* 002: the 2AFC midpoint */
   p->min_px = 64;
   p->max_px = 192;
+  p->near_window = 1;
   jnd_gaze_model_defaults(&p->model);
   jnd_gaze_measure_defaults(&p->measure);
   jnd_renderer_defaults(&p->render);
@@ -53,6 +60,7 @@ void jnd_gaze_table_free(jnd_gaze_table *t) {
   free(t->p_switch);
   free(t->ppd);
   free(t->side_px);
+  free(t->windowed);
   free(t->triangles);
   memset(t, 0, sizeof *t);
 }
@@ -131,6 +139,97 @@ jnd_status gaze_render_levels(jnd_scene *scene, jnd_renderer *r, const jnd_view 
   return st;
 }
 
+/* ---- step 1b: a near object's window at the display's ppd ---- */
+
+static void vsub(const double *a, const double *b, double *o) { o[0] = a[0] - b[0], o[1] = a[1] - b[1], o[2] = a[2] - b[2]; }
+static double vdot(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static void vcross(const double *a, const double *b, double *o) {
+  o[0] = a[1] * b[2] - a[2] * b[1], o[1] = a[2] * b[0] - a[0] * b[2], o[2] = a[0] * b[1] - a[1] * b[0];
+}
+static void vnorm(double *a) {
+  double n = sqrt(vdot(a, a));
+  if (n > 0) a[0] /= n, a[1] /= n, a[2] /= n;
+}
+
+/* a camera's forward, right and up unit vectors (image x right, y down) */
+static void camera_basis(const jnd_camera *c, double *fwd, double *right, double *up) {
+  vsub(c->target, c->eye, fwd);
+  vnorm(fwd);
+  vcross(fwd, c->up, right);
+  vnorm(right);
+  vcross(right, fwd, up);
+}
+
+/* The silhouette pixel the gaze meets first when it lies off the object:
+ * gaze points lie left of the object's centre, so the leftmost covered
+ * pixel of the row nearest the centre that has one. 0 when nothing is
+ * covered. */
+static int edge_facing_gaze(const jnd_image *mask, double *x, double *y) {
+  const int w = mask->w, h = mask->h, cy = h / 2;
+  for (int dy = 0; dy <= h / 2; dy++)
+    for (int sgn = 0; sgn < 2; sgn++) {
+      int row = sgn ? cy - dy : cy + dy;
+      if (row < 0 || row >= h || (sgn && dy == 0)) continue;
+      for (int c = 0; c < w; c++)
+        if (mask->data[(size_t)row * w + c] > 0.5f) {
+          *x = c, *y = row;
+          return 1;
+        }
+    }
+  return 0;
+}
+
+/* The windows of one orientation of a near object (step 1b). base: the
+ * whole-object view (fov degrees over side pixels) whose level-0 coverage
+ * is mask. Per eccentricity e the fixation point lies ecc[e] degrees left of
+ * the object's centre; its window is centred on the fixation point where
+ * that falls on the object (the object around the fovea is what is judged
+ * there), else on the silhouette facing the gaze (one window serves every
+ * such e). Fills win[0..*nwin) (at most ne + 1), which[e] and the fixation
+ * point gaze[2e], gaze[2e + 1] in window which[e]'s pixels. */
+static void near_windows(const jnd_view *base, const jnd_image *mask, double fov, int side, double win_fov,
+                         const double *ecc, int ne, jnd_view *win, int *nwin, int *which, double *gaze) {
+  double fwd[3], right[3], up[3], to_target[3];
+  camera_basis(&base->camera, fwd, right, up);
+  vsub(base->camera.target, base->camera.eye, to_target);
+  const double dist = sqrt(vdot(to_target, to_target));
+  const double f = 0.5 * side / tan(0.5 * fov * M_PI / 180.0), c = 0.5 * side - 0.5;
+  const double fw = 0.5 * side / tan(0.5 * win_fov * M_PI / 180.0);
+  int edge = -1;
+  *nwin = 0;
+  for (int e = 0; e < ne; e++) {
+    double t = tan(ecc[e] * M_PI / 180.0), g[3], d[3];
+    for (int i = 0; i < 3; i++) g[i] = fwd[i] - right[i] * t;
+    /* where the fixation point falls in the whole-object rendering */
+    int gx = (int)lround(c - f * t), gy = (int)lround(c);
+    int on = gx >= 0 && gx < side && mask->data[(size_t)gy * side + gx] > 0.5f;
+    if (!on && edge >= 0) {
+      which[e] = edge;
+    } else {
+      double ex = c, ey = c;
+      if (on) {
+        memcpy(d, g, sizeof d);
+      } else {
+        edge_facing_gaze(mask, &ex, &ey);
+        for (int i = 0; i < 3; i++) d[i] = fwd[i] + right[i] * (ex - c) / f - up[i] * (ey - c) / f;
+      }
+      vnorm(d);
+      jnd_view *v = &win[*nwin];
+      *v = *base;
+      for (int i = 0; i < 3; i++) v->camera.target[i] = v->camera.eye[i] + dist * d[i];
+      v->camera.fov_y_deg = win_fov;
+      which[e] = (*nwin)++;
+      if (!on) edge = which[e];
+    }
+    /* the fixation point projected onto its window's image plane */
+    double wf[3], wr[3], wu[3];
+    camera_basis(&win[which[e]].camera, wf, wr, wu);
+    double z = vdot(g, wf);
+    gaze[2 * e] = c + fw * vdot(g, wr) / z;
+    gaze[2 * e + 1] = c - fw * vdot(g, wu) / z;
+  }
+}
+
 jnd_status jnd_gaze_table_run(jnd_scene *scene, const jnd_gaze_table_params *p, jnd_gaze_table *out) {
   memset(out, 0, sizeof *out);
   jnd_status st;
@@ -177,12 +276,19 @@ jnd_status jnd_gaze_table_run(jnd_scene *scene, const jnd_gaze_table_params *p, 
   out->p_switch = jnd_calloc((size_t)nd * ne * L, sizeof(double));
   out->ppd = jnd_calloc((size_t)nd, sizeof(double));
   out->side_px = jnd_calloc((size_t)nd, sizeof(int));
+  out->windowed = jnd_calloc((size_t)nd, sizeof(int));
   out->triangles = jnd_calloc((size_t)L, sizeof(size_t));
-  gaze_renders R = {jnd_calloc((size_t)no * L, sizeof(jnd_image)), jnd_calloc((size_t)no * L, sizeof(jnd_image))};
-  jnd_view *views = jnd_calloc((size_t)no, sizeof *views);
+  /* the renderings: per view (an orientation's whole object, or one of its
+   * near windows: at most ne + 1 per orientation) × level */
+  const size_t maxviews = (size_t)no * (ne + 1);
+  gaze_renders R = {jnd_calloc(maxviews * L, sizeof(jnd_image)), jnd_calloc(maxviews * L, sizeof(jnd_image))};
+  jnd_view *views = jnd_calloc((size_t)no, sizeof *views), *wviews = jnd_calloc(maxviews, sizeof *wviews);
+  double *gaze = jnd_calloc((size_t)no * ne * 2, sizeof(double));   /* per orientation and eccentricity: x, y */
+  int *which = jnd_calloc((size_t)no * ne, sizeof(int));           /* ... and the view it is judged on */
   if (!out->distances_m || !out->eccentricities_deg || !out->level || !out->level_raw || !out->p_spatial ||
-      !out->p_switch || !out->ppd || !out->side_px || !out->triangles || !R.color || !R.mask || !views) {
-    free(R.color), free(R.mask), free(views);
+      !out->p_switch || !out->ppd || !out->side_px || !out->windowed || !out->triangles || !R.color || !R.mask || !views ||
+      !wviews || !gaze || !which) {
+    free(R.color), free(R.mask), free(views), free(wviews), free(gaze), free(which);
     jnd_gaze_table_free(out);
     return JND_ERR_NOMEM;
   }
@@ -218,21 +324,55 @@ jnd_status jnd_gaze_table_run(jnd_scene *scene, const jnd_gaze_table_params *p, 
     vs.aspect = 1;
     if ((st = jnd_views_sample(scene, &vs, views)) != JND_OK) break;
     if ((st = jnd_renderer_resize(r, side, side)) != JND_OK) break;
-    if ((st = gaze_render_levels(scene, r, views, no, L, &R, &out->renderings)) != JND_OK) break;
+    const double ppd_display = p->measure.model.display.ppd, cx = 0.5 * side - 0.5;
+    int nviews = 0;
+    if (p->near_window && ppd < 0.99 * ppd_display) {
+      /* step 1b: the whole object would need more than max_px: judge
+       * windows of max_px at the display's ppd (level 0's coverage of the
+       * whole-object rendering places them) */
+      gaze_renders O = {jnd_calloc((size_t)no, sizeof(jnd_image)), jnd_calloc((size_t)no, sizeof(jnd_image))};
+      if (!O.color || !O.mask) st = JND_ERR_NOMEM;
+      if (st == JND_OK) st = gaze_render_levels(scene, r, views, no, 1, &O, &out->renderings);
+      const double win_fov = side / ppd_display;
+      for (int o = 0; o < no && st == JND_OK; o++) {
+        int nw = 0;
+        near_windows(&views[o], &O.mask[o], fov, side, win_fov, p->eccentricities_deg, ne, wviews + nviews, &nw,
+                     which + (size_t)o * ne, gaze + (size_t)o * ne * 2);
+        for (int e = 0; e < ne; e++) which[(size_t)o * ne + e] += nviews;
+        nviews += nw;
+      }
+      for (int o = 0; O.color && O.mask && o < no; o++) jnd_image_free(&O.color[o]), jnd_image_free(&O.mask[o]);
+      free(O.color), free(O.mask);
+      if (st != JND_OK) break;
+      ppd = 1.0 / (atan(tan(0.5 * win_fov * M_PI / 180.0) / (0.5 * side)) * 180.0 / M_PI);
+      out->ppd[d] = ppd;
+      out->windowed[d] = 1;
+    } else {
+      const double dist_px = 1.0 / tan(M_PI / 180.0 / ppd);
+      memcpy(wviews, views, (size_t)no * sizeof *views);
+      nviews = no;
+      for (int o = 0; o < no; o++)
+        for (int e = 0; e < ne; e++) {
+          which[(size_t)o * ne + e] = o;
+          gaze[((size_t)o * ne + e) * 2] = cx - dist_px * tan(p->eccentricities_deg[e] * M_PI / 180.0);
+          gaze[((size_t)o * ne + e) * 2 + 1] = cx;
+        }
+    }
+    if ((st = gaze_render_levels(scene, r, wviews, nviews, L, &R, &out->renderings)) != JND_OK) break;
     done += no * L;
     if (p->progress) p->progress(p->progress_user, done, total);
-    const double dist_px = 1.0 / tan(M_PI / 180.0 / ppd), cx = 0.5 * side - 0.5;
     jnd_gaze_measure_params mp = p->measure;
     mp.model.threads = 1;   /* the tasks run in parallel instead: small images scale poorly by rows */
     jnd_status tst = JND_OK;
 #pragma omp parallel for schedule(dynamic, 1)
     for (int t = 0; t < ntask; t++) {
       int kind = t % 2, k = 1 + (t / 2) % (L - 1), e = (t / 2 / (L - 1)) % ne, o = t / 2 / (L - 1) / ne;
-      double gx = cx - dist_px * tan(p->eccentricities_deg[e] * M_PI / 180.0);
-      const jnd_image *c = R.color + (size_t)o * L, *m = R.mask + (size_t)o * L;
+      const double gx = gaze[((size_t)o * ne + e) * 2], gy = gaze[((size_t)o * ne + e) * 2 + 1];
+      const size_t view = (size_t)which[(size_t)o * ne + e];
+      const jnd_image *c = R.color + view * L, *m = R.mask + view * L;
       jnd_gaze_terms terms;
-      jnd_status s = kind == 0 ? jnd_gaze_spatial(&p->model, &mp, ppd, gx, cx, &c[0], &m[0], &c[k], &m[k], &terms)
-                               : jnd_gaze_switch(&p->model, &mp, ppd, gx, cx, &c[k - 1], &m[k - 1], &c[k], &m[k], &terms);
+      jnd_status s = kind == 0 ? jnd_gaze_spatial(&p->model, &mp, ppd, gx, gy, &c[0], &m[0], &c[k], &m[k], &terms)
+                               : jnd_gaze_switch(&p->model, &mp, ppd, gx, gy, &c[k - 1], &m[k - 1], &c[k], &m[k], &terms);
       task_p[t] = terms.p;
       if (s != JND_OK) {
 #pragma omp critical(gaze_status)
@@ -253,12 +393,12 @@ jnd_status jnd_gaze_table_run(jnd_scene *scene, const jnd_gaze_table_params *p, 
         }
       }
     }
-    for (int i = 0; i < no * L; i++) jnd_image_free(&R.color[i]), jnd_image_free(&R.mask[i]);
+    for (size_t i = 0; i < maxviews * L; i++) jnd_image_free(&R.color[i]), jnd_image_free(&R.mask[i]);
     done += ntask;
     if (p->progress) p->progress(p->progress_user, done, total);
   }
-  for (int i = 0; i < no * L; i++) jnd_image_free(&R.color[i]), jnd_image_free(&R.mask[i]);
-  free(R.color), free(R.mask), free(views), free(task_p);
+  for (size_t i = 0; i < maxviews * L; i++) jnd_image_free(&R.color[i]), jnd_image_free(&R.mask[i]);
+  free(R.color), free(R.mask), free(views), free(wviews), free(task_p), free(gaze), free(which);
   jnd_renderer_free(r);
   if (st != JND_OK) {
     jnd_gaze_table_free(out);

@@ -33,11 +33,21 @@ for row in rows:
     i, j = D.index(float(row["distance_m"])), E.index(float(row["eccentricity_deg"]))
     assert int(row["level"]) == L[i][j]
 assert open(d + "/gaze.png", "rb").read(8) == b"\x89PNG\r\n\x1a\n"
-# near objects capped at --max-px 64 are flagged as judged below the display's ppd
-red, ppd, disp = res["reduced_ppd"], res["ppd"], res["display_ppd"]
-assert len(red) == 3 and red[0] is True, red
+# a near object (the window capped at --max-px 64) is judged on windows at the display's ppd
+red, ppd, disp, win = res["reduced_ppd"], res["ppd"], res["display_ppd"], res["windowed"]
+assert len(red) == 3 and len(win) == 3 and win[0] == 1, (win, ppd, disp)
 for k in range(3):
-    assert red[k] == (res["side_px"][k] == 64 and ppd[k] < 0.99 * disp), (k, red, ppd, disp)
+    assert red[k] is False and abs(ppd[k] - disp) < 0.01 * disp, (k, red, ppd, disp)
+    assert win[k] == 0 or res["side_px"][k] == 64
+PY
+expect_exit 0 "--whole-near judges near objects whole" "$JND" gaze builtin:sphere -o "$T/whole" "${SMALL[@]}" --whole-near
+check "and flags them judged at reduced ppd" python3 - "$T/whole/gaze.json" <<'PY'
+import json, sys
+res = json.load(open(sys.argv[1]))["result"]
+red, ppd, disp = res["reduced_ppd"], res["ppd"], res["display_ppd"]
+assert red[0] is True and res["windowed"] == [0, 0, 0], (red, res["windowed"])
+for k in range(3):
+    assert red[k] == (ppd[k] < 0.99 * disp), (k, red, ppd, disp)
 PY
 expect_exit 0 "the same with 2 threads" "$JND" gaze builtin:sphere -o "$T/b" "${SMALL[@]}" --threads 2
 check "same table whatever the thread count" cmp "$T/a/gaze.csv" "$T/b/gaze.csv"

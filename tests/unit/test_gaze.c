@@ -229,6 +229,7 @@ TEST(table_level_never_gets_finer_with_distance_or_eccentricity) {
   p.eccentricities_deg = ecc, p.neccentricities = 4;
   p.orientations = 2;
   p.min_px = 48, p.max_px = 64;
+  p.near_window = 0;   /* one rendering per distance, orientation and level (windows: tests/e2e/gaze.sh) */
   jnd_gaze_table t;
   CHECK_OK(jnd_gaze_table_run(s, &p, &t));
   if (t.level) {
