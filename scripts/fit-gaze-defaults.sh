@@ -28,7 +28,7 @@ done
 
 echo "== synthetic observers from jnd's vision model" >&2
 "$JND" gaze observers "$meshes/teapot.obj" "$meshes/spot.obj" "$meshes/stanford-bunny.obj" -o "$out/observers" \
-  --sizes 1.5,4,12 --eccentricities 0,5,10,20,30,45,60 --orientations 2 --answers 40 --seed 1 --quiet
+  --sizes 1.5,4,12 --eccentricities 0,5,10,20,30,45,60 --orientations 2 --answers 40 --seed 1 --max-px 576 --quiet
 echo "== fit: spatial model" >&2
 "$JND" gaze fit "$out/observers/spatial.csv" -o "$out/spatial" --folds 4 --seed 1 --quiet
 echo "== fit: temporal model" >&2

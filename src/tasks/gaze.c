@@ -33,14 +33,14 @@ void jnd_gaze_model_defaults(jnd_gaze_model *m) {
    * scripts/gaze-defaults.json; tests/e2e/gaze_defaults.sh holds the two equal) */
   m->w_g = 1;
   m->b = 2;
-  m->alpha = 10.8;
+  m->alpha = 10.86;
   m->beta = 0.05325;
   m->s_deg = 0;
-  m->w_vdp = 1.014;
-  m->k_s = 3.059;
-  m->gamma = 6.7;
-  m->w_t = 1.02;
-  m->gamma_t = 6.557;
+  m->w_vdp = 1.008;
+  m->k_s = 3.104;
+  m->gamma = 7.002;
+  m->w_t = 1.018;
+  m->gamma_t = 6.512;
 }
 
 void jnd_gaze_measure_defaults(jnd_gaze_measure_params *p) {
