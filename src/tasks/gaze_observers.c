@@ -48,16 +48,6 @@ void jnd_gaze_observers_free(jnd_gaze_observers *o) {
   memset(o, 0, sizeof *o);
 }
 
-static jnd_status check_list(const double *v, int n, const char *flag, double lo, int lo_open, double hi) {
-  if (!v || n < 1 || n > 64) return jnd_fail(JND_ERR_ARG, "%s: give 1 to 64 values", flag);
-  for (int i = 0; i < n; i++) {
-    if (!isfinite(v[i]) || (lo_open ? v[i] <= lo : v[i] < lo) || v[i] > hi)
-      return jnd_fail(JND_ERR_ARG, "%s: %g is outside %s%g, %g]", flag, v[i], lo_open ? "(" : "[", lo, hi);
-    if (i && v[i] <= v[i - 1]) return jnd_fail(JND_ERR_ARG, "%s: values must ascend (%g after %g)", flag, v[i], v[i - 1]);
-  }
-  return JND_OK;
-}
-
 /* step 3: 000 eq. 4 in the 2AFC range */
 static double two_afc_of_jnd(double jnd, double beta) { return 0.5 + 0.5 * jnd_probability(jnd, beta); }
 
@@ -131,8 +121,8 @@ jnd_status jnd_gaze_observers_run(jnd_scene *const *scenes, int nscenes, const j
   const int ns = p->sizes_deg ? p->nsizes : 3, ne = p->eccentricities_deg ? p->neccentricities : 7;
   jnd_status st;
   if (nscenes < 1) return jnd_fail(JND_ERR_ARG, "gaze observers: give at least one model");
-  if ((st = check_list(sizes, ns, "--sizes", 0, 1, 60)) != JND_OK) return st;
-  if ((st = check_list(ecc, ne, "--eccentricities", 0, 0, 90)) != JND_OK) return st;
+  if ((st = gaze_check_axis(sizes, ns, "--sizes", 0, 1, 60)) != JND_OK) return st;
+  if ((st = gaze_check_axis(ecc, ne, "--eccentricities", 0, 0, 90)) != JND_OK) return st;
   if (p->orientations < 1 || p->orientations > 64) return jnd_fail(JND_ERR_ARG, "--orientations: give 1 to 64");
   if (p->answers < 1 || p->answers > 10000) return jnd_fail(JND_ERR_ARG, "--answers: give 1 to 10000");
   if (p->min_px < 16 || p->max_px < p->min_px || p->max_px > 4096)

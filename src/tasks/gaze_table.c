@@ -65,7 +65,7 @@ void jnd_gaze_table_free(jnd_gaze_table *t) {
   memset(t, 0, sizeof *t);
 }
 
-static jnd_status check_axis(const double *v, int n, const char *flag, double lo, int lo_open, double hi) {
+jnd_status gaze_check_axis(const double *v, int n, const char *flag, double lo, int lo_open, double hi) {
   if (!v || n < 1 || n > GAZE_MAX_AXIS) return jnd_fail(JND_ERR_ARG, "%s: give 1 to %d values", flag, GAZE_MAX_AXIS);
   for (int i = 0; i < n; i++) {
     if (!isfinite(v[i]) || (lo_open ? v[i] <= lo : v[i] < lo) || v[i] > hi)
@@ -246,8 +246,8 @@ jnd_status jnd_gaze_table_run(jnd_scene *scene, const jnd_gaze_table_params *p, 
   }
   if (!q.eccentricities_deg) q.eccentricities_deg = default_ecc, q.neccentricities = 8;
   p = &q;
-  if ((st = check_axis(p->distances_m, p->ndistances, "--distances", 0, 1, 1e6)) != JND_OK) return st;
-  if ((st = check_axis(p->eccentricities_deg, p->neccentricities, "--eccentricities", 0, 0, 90)) != JND_OK) return st;
+  if ((st = gaze_check_axis(p->distances_m, p->ndistances, "--distances", 0, 1, 1e6)) != JND_OK) return st;
+  if ((st = gaze_check_axis(p->eccentricities_deg, p->neccentricities, "--eccentricities", 0, 0, 90)) != JND_OK) return st;
   if (p->orientations < 1 || p->orientations > 256) return jnd_fail(JND_ERR_ARG, "--orientations: give 1 to 256");
   if (!(p->threshold > 0.5 && p->threshold < 1))
     return jnd_fail(JND_ERR_ARG, "--threshold: %g is outside (0.5, 1) (a 2AFC proportion)", p->threshold);

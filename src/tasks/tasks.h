@@ -155,6 +155,10 @@ jnd_status gaze_pooled_jnd(const jnd_gaze_measure_params *mp, double ppd, double
                            const jnd_image *ma, const jnd_image *b, const jnd_image *mb, int grey_xor,
                            double temporal_hz, double *out);
 
+/* A list of 1 to 256 values, ascending, each in [lo, hi] ((lo, hi] with
+ * lo_open); JND_ERR_ARG "FLAG: problem" otherwise. */
+jnd_status gaze_check_axis(const double *v, int n, const char *flag, double lo, int lo_open, double hi);
+
 /* The window that frames a bounding sphere of radius r at distance d: its
  * vertical field of view (degrees), side (pixels, the display's ppd within
  * [min_px, max_px]) and the pixels per degree at its centre. */

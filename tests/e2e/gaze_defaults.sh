@@ -3,7 +3,9 @@
 # prints (committed as scripts/gaze-defaults.json): the table's report
 # carries the defaults it used, and each must equal the committed fit.
 # --params loads fitted parameters (a jnd gaze fit report, or that file);
-# a bad one is one line and exit 2, nothing written.
+# a bad one is one line and exit 2, nothing written. jnd gaze observers
+# (what the script fits the defaults to) writes trials jnd gaze fit reads,
+# the same for any thread count, and refuses bad input.
 set -uo pipefail
 . "$(dirname "$0")/lib.bash"
 fit="$(dirname "$0")/../../scripts/gaze-defaults.json"
@@ -62,4 +64,34 @@ for f in missing negative notjson absent; do
   check "--params $f: one line naming the file" bash -c "one_line_error() { [ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q '^jnd: .*$f.json' '$T/err.txt'; }; one_line_error"
   check "--params $f: nothing written" test ! -e "$T/bad_$f"
 done
+
+OBS=(--map-size 32 --sizes 3,8 --eccentricities 0,30 --orientations 1 --answers 5 --min-px 32 --max-px 64 --quiet)
+expect_exit 0 "observers run" "$JND" gaze observers builtin:sphere -o "$T/obs1" "${OBS[@]}" --threads 1
+expect_exit 0 "observers run on 2 threads" "$JND" gaze observers builtin:sphere -o "$T/obs2" "${OBS[@]}" --threads 2
+check "the same trials whatever the thread count" cmp "$T/obs1/spatial.csv" "$T/obs2/spatial.csv"
+check "the trials: one row per answer, probabilities from the vision model falling with eccentricity" \
+  python3 - "$T/obs1" <<'PY'
+import csv, json, sys
+d = sys.argv[1]
+sp, tm = list(csv.DictReader(open(d + "/spatial.csv"))), list(csv.DictReader(open(d + "/temporal.csv")))
+r = json.load(open(d + "/observers.json"))
+n = r["result"]["stimuli"]
+assert n == 2 * 2 * 3 and len(sp) == 5 * n and len(tm) == 5 * n, (n, len(sp), len(tm))
+assert "eccentricity_deg" not in tm[0] and "t_jnd" in tm[0]
+for row in sp:
+    assert row["seen"] in ("0", "1") and 0.5 <= float(row["p_true"]) <= 1
+# per size and level, the whole change is seen less at 30 degrees than looked at
+key = lambda row: (row["size_deg"], row["level"])
+at = {}
+for row in sp: at[(key(row), row["eccentricity_deg"])] = float(row["jnd_whole"])
+for (k, e), j in at.items():
+    if e == "0": assert at[(k, "30")] < j, (k, j, at[(k, "30")])
+PY
+expect_exit 0 "jnd gaze fit reads them" "$JND" gaze fit "$T/obs1/temporal.csv" --quiet
+expect_exit 2 "observers: sizes that do not ascend" "$JND" gaze observers builtin:sphere -o "$T/obs_bad" --sizes 8,3 --quiet
+check "one line naming the flag" bash -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q '^jnd: --sizes' '$T/err.txt'"
+check "nothing written" test ! -e "$T/obs_bad"
+expect_exit 2 "observers: a model that does not exist" "$JND" gaze observers "$T/none.obj" -o "$T/obs_bad" --quiet
+check "one line naming the file" bash -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q '^jnd: .*none.obj' '$T/err.txt'"
+check "nothing written" test ! -e "$T/obs_bad"
 finish
