@@ -220,13 +220,18 @@ static void observers_help(void) {
 
 static int run_observers(int argc, char **argv) {
   const char *dir = NULL, *v, *models[64];
-  int nmodels = 0, map_size = 512;
+  int nmodels = 0;
   cli_common common = {0};
   jnd_gaze_observers_params p;
   jnd_gaze_observers_defaults(&p);
   jnd_lod_params chain;
   jnd_lod_defaults(&chain);
   double sizes[64], ecc[64], errors[64];
+  cli_views vo;   /* the observers' defaults, read back after parsing */
+  cli_views_init(&vo, 0, 0);
+  vo.set.sampling.seed = p.seed;
+  vo.set.render = p.render;
+  vo.map_size = 512;
   cli_args args = cli_args_start(argc, argv, "gaze observers"), *ap = &args;
   args.i = 2;
   for (; args.i < argc && !args.bad; args.i++) {
@@ -246,8 +251,6 @@ static int run_observers(int argc, char **argv) {
       p.orientations = cli_int(ap, "--orientations", v, 1, 64);
     } else if (cli_opt(ap, "--answers", &v)) {
       p.answers = cli_int(ap, "--answers", v, 1, 10000);
-    } else if (cli_opt(ap, "--seed", &v)) {
-      p.seed = (uint64_t)cli_double(ap, "--seed", v, 0, 9007199254740992.0);
     } else if (cli_opt(ap, "--errors", &v)) {
       chain.nerrors = cli_double_list(ap, "--errors", v, 1e-6, 1, errors, 63);
       chain.errors = errors;
@@ -256,9 +259,7 @@ static int run_observers(int argc, char **argv) {
       p.min_px = cli_int(ap, "--min-px", v, 16, 4096);
     } else if (cli_opt(ap, "--max-px", &v)) {
       p.max_px = cli_int(ap, "--max-px", v, 16, 4096);
-    } else if (cli_opt(ap, "--map-size", &v)) {
-      map_size = cli_int(ap, "--map-size", v, 8, 8192);
-    } else if (cli_common_opt(ap, &common)) {
+    } else if (cli_views_opt(ap, &vo) || cli_common_opt(ap, &common)) {
     } else if (a[0] == '-' && a[1]) {
       return cli_unknown(ap);
     } else if (nmodels < 64) {
@@ -268,6 +269,15 @@ static int run_observers(int argc, char **argv) {
     }
   }
   if (args.bad) return EXIT_BAD;
+  if (cli_views_only(&vo, CLI_SEED | CLI_ENV | CLI_SAMPLES | CLI_ANISOTROPY | CLI_PLATFORM | CLI_MAP_SIZE,
+                     "gaze observers", "its views are --sizes x --orientations; see jnd gaze observers --help"))
+    return EXIT_BAD;
+  p.seed = vo.set.sampling.seed;
+  p.render.env_path = vo.set.render.env_path;
+  p.render.samples = vo.set.render.samples;
+  p.render.anisotropy = vo.set.render.anisotropy;
+  p.render.platform = vo.set.render.platform;
+  const int map_size = vo.map_size;
   if (!nmodels) return cli_bad("gaze observers: give at least one MODEL; jnd gaze observers --help");
   if (!dir) return cli_bad("gaze observers: give an output folder with -o OUTDIR");
   if (p.max_px < p.min_px) return cli_bad("--max-px: %d is below --min-px %d", p.max_px, p.min_px);
