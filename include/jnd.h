@@ -2885,7 +2885,9 @@ typedef struct {
 
 /* Computes the table for the scene's chain (at least 2 levels): per
  * distance and orientation every level is rendered once (the object's
- * bounding sphere framed in a window at the display's ppd); per
+ * bounding sphere framed in a window at the display's ppd; a near object
+ * that would need more than max_px, on max_px windows at the display's ppd
+ * around the fixation point or the silhouette facing it: near_window); per
  * eccentricity (fixation point that many degrees left of the object's
  * centre) each level's spatial P and each switch's P are judged; the
  * worst orientation decides. JND_ERR_ARG "--distances/--eccentricities:

@@ -20,8 +20,10 @@
  *  5. Monotone: L(d, e) = min over d' ≥ d, e' ≥ e of step 4's level, so the
  *     level never gets finer as the object moves away or out of the gaze —
  *     the safe direction: it can only make a choice finer.
- * The renderings do not depend on e: only the vision model's fixation
- * point moves, so the renderings cost distances × orientations × levels.
+ * Away from near objects the renderings do not depend on e: only the
+ * vision model's fixation point moves, so the renderings cost distances ×
+ * orientations × levels (a near object's windows on the fixation point add
+ * a level set per such e).
  */
 #include <math.h>
 #include <stdio.h>
