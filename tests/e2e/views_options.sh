@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
-# Every command that renders (render, texres, calibrate, pca, lod, pop, gaze)
-# reads the view options through one parser: the same out-of-range value gets
-# the same refusal from each (exit 2, one identical line), before anything is
-# loaded or written; a command that has no use for an option says so in one
-# line; and a size is described as WxH.
+# Every command that renders (render, texres, calibrate, pca, lod, pop, gaze,
+# gaze observers) reads the view options through one parser: the same
+# out-of-range value gets the same refusal from each (exit 2, one identical
+# line), before anything is loaded or written; a command that has no use for
+# an option says so in one line; and a size is described as WxH.
 . "$(dirname "$0")/lib.bash"
 echo "scene,mu,sigma,model,map" >"$T/t.csv"
 echo "a,100,20,builtin,builtin/baseColor" >>"$T/t.csv"
 cmds=("render builtin -o $T/x" "texres builtin -o $T/x" "calibrate $T/t.csv -o $T/x.json" "pca --model builtin --material builtin -o $T/x"
-      "lod builtin -o $T/x" "pop builtin -o $T/x" "gaze builtin -o $T/x")
+      "lod builtin -o $T/x" "pop builtin -o $T/x" "gaze builtin -o $T/x" "gaze observers builtin -o $T/x")
 bad=("--views 0" "--views 5000" "--size 0x0" "--size 8x8" "--size 20,20" "--coverage 0" "--distance 0" "--fov 180"
      "--elevation 10,-10" "--lights 9" "--light-intensity -1" "--seed -1" "--samples 0" "--anisotropy 17"
      "--map-size 4" "--platform x" "--views")
