@@ -910,6 +910,10 @@ typedef struct {
   int unlit;                 /* 1: colour is the material's base colour (factor × map × vertex
                                 colour) × exposure, without any light (003 §4.1) */
   unsigned outputs;          /* JND_OUT_* (default colour) */
+  int shade_prev;            /* 1 (with has_prev): each pixel of this pose is shaded as its surface
+                                point was in the previous pose: placed by prev_model, seen from
+                                prev_camera's eye, under the same lights and environment (004 §4's
+                                flicker input); coverage, depth and motion stay this pose's */
 } jnd_view;
 
 /* A view with a camera at distance 3 on +Z looking at the origin, fov 45°,
