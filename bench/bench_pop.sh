@@ -51,6 +51,23 @@ awk -v t="$wt" -v c="$ct" -v m="$rss" -v px="$px" -v n="$RUNS" -v src="$source" 
 jq -r '.result.timings | "     steps (last run): read \(.read_s*1000|floor) ms, weights+dE94 \(.weights_s*1000|floor) ms, model \(.model_s*1000|floor) ms, regions \(.regions_s*1000|floor) ms, picture \(.picture_s*1000|floor) ms, writing \(.write_s*1000|floor) ms"' "$out/o/pop.json"
 jq -r '.result | "     \(.region_count) regions, max R \(.max_rating), detection score \(.detection_score)"' "$out/o/pop.json"
 
+# the floor under the predictor: the vision model alone on the same pair with
+# the same motion map (jnd diff --motion: reading, display, model, no regions,
+# no picture); the budget cannot be met while this is over it
+times=() cpu=()
+for _ in $(seq "$RUNS"); do
+  t0=$EPOCHREALTIME
+  /usr/bin/time -f "%U %S %M" -o "$out/time.txt" "$JND" diff "$out/reference.png" "$out/test.png" \
+    --motion "$disp" --quiet >/dev/null 2>"$out/stderr.txt" || { cat "$out/stderr.txt"; exit 1; }
+  t1=$EPOCHREALTIME
+  read -r u s m <"$out/time.txt"
+  times+=("$(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.4f", b - a}')")
+  cpu+=("$(awk -v u="$u" -v s="$s" 'BEGIN{printf "%.2f", u + s}')")
+done
+wt=$(med "${times[@]}") ct=$(med "${cpu[@]}")
+awk -v t="$wt" -v c="$ct" -v n="$RUNS" 'BEGIN{
+  printf "   the model alone (jnd diff --motion, same pair): %.3f s wall (median of %d), %.2f s user+sys\n", t, n, c }'
+
 # the asset form: jnd renders the pair itself (four 1920x1080 renderings: both
 # levels at the switch frame, both levels' depth one frame earlier) and runs
 # the same predictor; the builtin asset, a chain of one level, orbiting 120 deg/s
