@@ -11,22 +11,14 @@ command -v python3 >/dev/null || skip "needs python3"
 # each frame; NEW adds nothing (1), a faint grating (2), a strong one (3),
 # nothing again (4). Frame 3 moves fast (32 px a frame), the others are still.
 PYTHONPATH="$(dirname "$0")" python3 -B - "$T" <<'PY'
-import math, random, sys
+import sys
 from pngwrite import png
 from exrwrite import exr
+from popframes import background, patch
 d = sys.argv[1]
 W, H = 160, 120
-random.seed(1)
-tex = [[0.35 + 0.25 * random.random() for _ in range(W // 4 + 1)] for _ in range(H // 4 + 1)]
-def bg(x, y):
-    g = tex[y // 4][x // 4]
-    return (g, g, 0.9 * g)
-def blob(a):
-    def f(x, y):
-        r, g, b = bg(x, y)
-        k = 1 + a * math.sin(2 * math.pi * x / 16) if 60 <= x < 84 and 40 <= y < 64 else 1
-        return (r * k, g * k, b * k)
-    return f
+bg = background(W, H)
+blob = lambda a: patch(bg, a)
 for n, a in ((1, 0), (2, 0.12), (3, 0.3), (4, 0)):
     png(f'{d}/expected_{n:04d}.png', W, H, 3, bg)
     png(f'{d}/new_{n:04d}.png', W, H, 3, blob(a) if a else bg)
