@@ -182,6 +182,7 @@ jnd_status jnd_pop_sequence(jnd_model *m, const jnd_pop_paths *patterns, const j
     }
     memset(&cur, 0, sizeof cur);
   }
+  jnd_pop_result_free(&cur); /* a frame refused after it was predicted (its size) */
   if (sp->progress && s == JND_OK) sp->progress(sp->progress_user, "frame", n, n);
   free(buf);
   if (s != JND_OK) jnd_pop_sequence_free(out);
