@@ -30,18 +30,24 @@ else
   echo "   no renderer and no python3: no displacement map to measure with"; exit 1
 fi
 px=$((W * H))
-times=() cpu=() rss=0
-for _ in $(seq "$RUNS"); do
-  rm -rf "$out/o"
-  t0=$EPOCHREALTIME
-  /usr/bin/time -f "%U %S %M" -o "$out/time.txt" "$JND" pop "$out/test.png" "$out/reference.png" -o "$out/o" \
-    --displacement "$disp" --timings --quiet 2>"$out/stderr.txt" || { cat "$out/stderr.txt"; exit 1; }
-  t1=$EPOCHREALTIME
-  read -r u s m <"$out/time.txt"
-  times+=("$(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.4f", b - a}')")
-  cpu+=("$(awk -v u="$u" -v s="$s" 'BEGIN{printf "%.2f", u + s}')")
-  [ "$m" -gt "$rss" ] && rss=$m
-done
+# timed N DIR COMMAND...: runs COMMAND N times, each into a fresh DIR (may be
+# ""); fills times (wall s), cpu (user+sys s) and rss (peak KB)
+timed() {
+  local n=$1 dir=$2 t0 t1 u s m
+  shift 2
+  times=() cpu=() rss=0
+  for _ in $(seq "$n"); do
+    [ -n "$dir" ] && rm -rf "$dir"
+    t0=$EPOCHREALTIME
+    /usr/bin/time -f "%U %S %M" -o "$out/time.txt" "$@" >/dev/null 2>"$out/stderr.txt" || { cat "$out/stderr.txt"; exit 1; }
+    t1=$EPOCHREALTIME
+    read -r u s m <"$out/time.txt"
+    times+=("$(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.4f", b - a}')")
+    cpu+=("$(awk -v u="$u" -v s="$s" 'BEGIN{printf "%.2f", u + s}')")
+    [ "$m" -gt "$rss" ] && rss=$m
+  done
+}
+timed "$RUNS" "$out/o" "$JND" pop "$out/test.png" "$out/reference.png" -o "$out/o" --displacement "$disp" --timings --quiet
 med() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END{print a[int((NR+1)/2)]}'; }
 wt=$(med "${times[@]}") ct=$(med "${cpu[@]}")
 awk -v t="$wt" -v c="$ct" -v m="$rss" -v px="$px" -v n="$RUNS" -v src="$source" 'BEGIN{
@@ -51,20 +57,19 @@ awk -v t="$wt" -v c="$ct" -v m="$rss" -v px="$px" -v n="$RUNS" -v src="$source" 
 jq -r '.result.timings | "     steps (last run): read \(.read_s*1000|floor) ms, weights+dE94 \(.weights_s*1000|floor) ms, model \(.model_s*1000|floor) ms, regions \(.regions_s*1000|floor) ms, picture \(.picture_s*1000|floor) ms, writing \(.write_s*1000|floor) ms"' "$out/o/pop.json"
 jq -r '.result | "     \(.region_count) regions, max R \(.max_rating), detection score \(.detection_score)"' "$out/o/pop.json"
 
+# the floor under the predictor: the vision model alone on the same pair with
+# the same motion map (jnd diff --motion: reading, display, model, no regions,
+# no picture); the budget cannot be met while this is over it
+timed "$RUNS" "" "$JND" diff "$out/reference.png" "$out/test.png" --motion "$disp" --quiet
+wt=$(med "${times[@]}") ct=$(med "${cpu[@]}")
+awk -v t="$wt" -v c="$ct" -v n="$RUNS" 'BEGIN{
+  printf "   the model alone (jnd diff --motion, same pair): %.3f s wall (median of %d), %.2f s user+sys\n", t, n, c }'
+
 # the asset form: jnd renders the pair itself (four 1920x1080 renderings: both
 # levels at the switch frame, both levels' depth one frame earlier) and runs
 # the same predictor; the builtin asset, a chain of one level, orbiting 120 deg/s
-times=() cpu=()
-for _ in $(seq "$(( RUNS < 3 ? RUNS : 3 ))"); do
-  rm -rf "$out/a"
-  t0=$EPOCHREALTIME
-  /usr/bin/time -f "%U %S %M" -o "$out/time.txt" "$JND" pop builtin -o "$out/a" --size ${W}x${H} --views 1 \
-    --map-size 512 --errors 0.02 --orbit 120 --timings --quiet 2>"$out/stderr.txt" || { cat "$out/stderr.txt"; exit 1; }
-  t1=$EPOCHREALTIME
-  read -r u s m <"$out/time.txt"
-  times+=("$(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.4f", b - a}')")
-  cpu+=("$(awk -v u="$u" -v s="$s" 'BEGIN{printf "%.2f", u + s}')")
-done
+timed "$(( RUNS < 3 ? RUNS : 3 ))" "$out/a" "$JND" pop builtin -o "$out/a" --size ${W}x${H} --views 1 \
+  --map-size 512 --errors 0.02 --orbit 120 --timings --quiet
 wt=$(med "${times[@]}") ct=$(med "${cpu[@]}")
 renderer=$(jq -r .result.renderer "$out/a/pop.json")
 awk -v t="$wt" -v c="$ct" -v n="${#times[@]}" -v r="$renderer" 'BEGIN{

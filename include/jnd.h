@@ -910,6 +910,10 @@ typedef struct {
   int unlit;                 /* 1: colour is the material's base colour (factor × map × vertex
                                 colour) × exposure, without any light (003 §4.1) */
   unsigned outputs;          /* JND_OUT_* (default colour) */
+  int shade_prev;            /* 1 (with has_prev): each pixel of this pose is shaded as its surface
+                                point was in the previous pose: placed by prev_model, seen from
+                                prev_camera's eye, under the same lights and environment (004 §4's
+                                flicker input); coverage, depth and motion stay this pose's */
 } jnd_view;
 
 /* A view with a camera at distance 3 on +Z looking at the origin, fov 45°,
@@ -2390,6 +2394,61 @@ typedef struct {
  * outside 0..1, ... (JND_ERR_IO / JND_ERR_FORMAT / JND_ERR_ARG) — applies
  * the display and runs jnd_pop_predict. */
 jnd_status jnd_pop_files(jnd_model *m, const jnd_pop_paths *paths, const jnd_pop_params *p, jnd_pop_result *out);
+
+/* A sequence of frames (docs/pop.md, "Sequences"): the paths of a
+ * jnd_pop_paths hold a frame-number field, %d or %0Nd (%% for a %), that
+ * each frame's number fills in, e.g. "new_%04d.png" → new_0007.png for
+ * frame 7; a path without a field (a mask) serves every frame. NEW and
+ * EXPECTED must have one. */
+#define JND_POP_MAX_FRAMES 100000
+typedef struct {
+  int first, last;               /* frame numbers, inclusive, 0 <= first <= last */
+  void (*progress)(void *user, const char *stage, int done, int total); /* per frame; NULL */
+  void *progress_user;
+} jnd_pop_sequence_params;
+
+/* Fills p with the defaults: frame 0 only, no progress. */
+void jnd_pop_sequence_defaults(jnd_pop_sequence_params *p);
+
+/* One frame's row of the table. */
+typedef struct {
+  int frame;                     /* its number */
+  int nregions;
+  double max_rating;             /* NaN without regions */
+  double rating_top;             /* NaN without regions */
+  double coverage;
+  jnd_pop_coverage coverage_score;
+  jnd_pop_rating rating_score;
+  int detection_score;
+  double max_delta_e94;
+  double jnd_max;
+} jnd_pop_frame_row;
+
+typedef struct {
+  jnd_pop_frame_row *rows;       /* one per frame, in frame order; owned */
+  int nrows;
+  int worst;                     /* index into rows of the worst frame: the highest max R (a frame with
+                                    regions before one without), then the higher detection score,
+                                    then the earlier frame */
+  jnd_pop_result worst_result;   /* that frame's whole result (regions, labels, maps, picture) */
+} jnd_pop_sequence_result;
+
+/* jnd_pop_files on every frame first..last of the patterns, in order (the
+ * same bits whatever the thread count). A missing or bad file, or a frame
+ * of another size than the first: JND_ERR_IO / FORMAT / ARG "PATH: problem",
+ * and out is empty. A pattern with a % other than one %d / %0Nd field and
+ * %%: JND_ERR_ARG. out is the caller's (jnd_pop_sequence_free). */
+jnd_status jnd_pop_sequence(jnd_model *m, const jnd_pop_paths *patterns, const jnd_pop_sequence_params *sp,
+                            const jnd_pop_params *p, jnd_pop_sequence_result *out);
+
+/* Frees a sequence result; safe on a zeroed struct. */
+void jnd_pop_sequence_free(jnd_pop_sequence_result *r);
+
+/* Writes pattern with its frame-number field (%d or %0Nd) filled in with
+ * frame (>= 0) and %% as %, into out (size bytes). Returns 1 when the
+ * pattern had a field, 0 when it had none (out is the pattern, %% as %),
+ * −1 for a malformed pattern, a negative frame or too small a buffer. */
+int jnd_frame_path(const char *pattern, int frame, char *out, size_t size);
 
 /* R = ln(0.375 Σ) / ln 2.25 (004 §3.2). */
 double jnd_pop_rating_of(double sigma);

@@ -8,6 +8,8 @@
 static void help(void) {
   printf(
       "usage: jnd pop NEW EXPECTED -o OUT [options]      frames you bring\n"
+      "       jnd pop NEW_%%04d.png EXPECTED_%%04d.png --frames FIRST,LAST -o OUT [options]\n"
+      "                                                  a sequence of them\n"
       "       jnd pop MODEL -o OUT [options]             frames jnd renders\n"
       "\n"
       "Will this level switch pop? NEW is the frame where the switch happens,\n"
@@ -37,6 +39,14 @@ static void help(void) {
       "  --prev-shading S       flicker: EXPECTED's pixels shaded with the previous\n"
       "                         frame's camera and lights\n"
       "  --mask M               object pixels (> 0.5) that coverage counts (default all)\n"
+      "\n"
+      "sequences (frame form):\n"
+      "  --frames FIRST,LAST    every frame FIRST..LAST: NEW, EXPECTED and any map path\n"
+      "                         holding %%d or %%0Nd get the frame's number (a path\n"
+      "                         without one serves every frame). pop.json gets\n"
+      "                         .result.frames[] and OUT/frames.csv one row per frame;\n"
+      "                         the rest of the report and regions.png are the worst\n"
+      "                         frame's (highest max R), .result.worst_frame\n"
       "\n"
       "asset form (MODEL: glTF/GLB/OBJ, builtin, builtin:sphere):\n"
       "  the chain is the file's MSFT_lod levels (as jnd lod writes them), the --level\n"
@@ -175,6 +185,51 @@ static void params_json(cJSON *params, const jnd_model_params *mp, const jnd_pop
   if (isfinite(fail_above)) cJSON_AddNumberToObject(params, "fail_above", fail_above);
 }
 
+/* the sequence's table: .result.frames[] */
+static void frames_json(cJSON *res, const jnd_pop_sequence_result *q) {
+  cJSON_AddNumberToObject(res, "worst_frame", q->rows[q->worst].frame);
+  cJSON *fr = cJSON_AddArrayToObject(res, "frames");
+  for (int i = 0; i < q->nrows; i++) {
+    const jnd_pop_frame_row *w = &q->rows[i];
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddNumberToObject(o, "frame", w->frame);
+    add_num(o, "max_rating", w->max_rating);
+    cJSON_AddNumberToObject(o, "detection_score", w->detection_score);
+    cJSON_AddNumberToObject(o, "regions", w->nregions);
+    cJSON_AddNumberToObject(o, "max_delta_e94", w->max_delta_e94);
+    cJSON_AddNumberToObject(o, "coverage", w->coverage);
+    cJSON_AddStringToObject(o, "coverage_score", jnd_pop_coverage_name(w->coverage_score));
+    add_num(o, "rating_top", w->rating_top);
+    cJSON_AddStringToObject(o, "rating_score", jnd_pop_rating_name(w->rating_score));
+    cJSON_AddNumberToObject(o, "jnd_max", w->jnd_max);
+    cJSON_AddItemToArray(fr, o);
+  }
+}
+
+/* the same table as OUT/frames.csv (an empty max_rating: no region) */
+static int frames_csv(const char *dir, const jnd_pop_sequence_result *q) {
+  size_t cap = 128 + (size_t)q->nrows * 160, n = 0;
+  char *t = malloc(cap);
+  if (!t) {
+    cli_error("pop: out of memory");
+    return 0;
+  }
+  n += (size_t)snprintf(t + n, cap - n, "frame,max_rating,detection_score,regions,max_delta_e94,coverage\n");
+  for (int i = 0; i < q->nrows; i++) {
+    const jnd_pop_frame_row *w = &q->rows[i];
+    char r[40] = "";
+    if (isfinite(w->max_rating)) snprintf(r, sizeof r, "%.6f", w->max_rating);
+    n += (size_t)snprintf(t + n, cap - n, "%d,%s,%d,%d,%.6f,%.6f\n", w->frame, r, w->detection_score, w->nregions,
+                          w->max_delta_e94, w->coverage);
+  }
+  char path[4400];
+  snprintf(path, sizeof path, "%s/frames.csv", dir);
+  int ok = jnd_write_file_atomic(path, t, n) == JND_OK;
+  if (!ok) cli_error("%s", jnd_last_error());
+  free(t);
+  return ok;
+}
+
 static const char *motion_name(jnd_pop_motion_kind k) {
   return k == JND_POP_ORBIT ? "orbit" : k == JND_POP_TRANSLATE ? "translate" : k == JND_POP_PAN ? "pan" : "spin";
 }
@@ -252,6 +307,9 @@ static int run(int argc, char **argv) {
   jnd_pop_params pp;
   jnd_pop_defaults(&pp);
   jnd_pop_paths f = {0};
+  jnd_pop_sequence_params seq;
+  jnd_pop_sequence_defaults(&seq);
+  int sequence = 0;
   jnd_pop_asset_params ap;
   jnd_pop_asset_defaults(&ap);
   cli_views views;
@@ -294,6 +352,14 @@ static int run(int argc, char **argv) {
       f.prev_shading = v;
     } else if (cli_opt(ca, "--mask", &v)) {
       f.mask = v;
+    } else if (cli_opt(ca, "--frames", &v)) {
+      int fr[2] = {0, 0};
+      int n = cli_int_list(ca, "--frames", v, 0, 1 << 30, fr, 2);
+      if (!args.bad && (n != 2 || fr[1] < fr[0]))
+        return cli_bad("pop: --frames: '%s' is not FIRST,LAST with 0 <= FIRST <= LAST", v);
+      seq.first = fr[0];
+      seq.last = fr[1];
+      sequence = 1;
     } else if (cli_opt(ca, "--switch", &v)) {
       ap.level = cli_int(ca, "--switch", v, 0, 62);
       asset_opts++;
@@ -370,6 +436,7 @@ static int run(int argc, char **argv) {
   int asset = npaths == 1;
   if (npaths != 1 && npaths != 2) return cli_bad("pop: needs two frames, NEW and EXPECTED, or a MODEL (jnd pop --help)");
   if (!dir) return cli_bad("pop: give an output folder with -o OUT (jnd pop --help)");
+  if (asset && sequence) return cli_bad("pop: --frames is for frames you bring, jnd pop NEW EXPECTED");
   if (!asset && asset_opts) return cli_bad("pop: views, motion, chain and --decide options are for the asset form, jnd pop MODEL");
   if (asset && (f.displacement || f.displacement_expected || f.weights || f.depth || f.depth_expected ||
                 f.prev_depth || f.prev_depth_expected || f.prev_color || f.prev_shading || f.mask))
@@ -382,6 +449,8 @@ static int run(int argc, char **argv) {
   jnd_model *model = NULL;
   cJSON *report = NULL;
   jnd_pop_result r = {0};
+  jnd_pop_sequence_result Q;
+  memset(&Q, 0, sizeof Q);
   jnd_pop_asset_report R;
   memset(&R, 0, sizeof R);
   const jnd_pop_result *res_pair = &r;
@@ -408,6 +477,16 @@ static int run(int argc, char **argv) {
       goto out;
     }
     res_pair = &R.pair;
+  } else if (sequence) {
+    f.actual = paths[0];
+    f.expected = paths[1];
+    seq.progress = on_progress;
+    seq.progress_user = &common;
+    if (jnd_pop_sequence(model, &f, &seq, &pp, &Q) != JND_OK) {
+      cli_error("%s", jnd_last_error());
+      goto out;
+    }
+    res_pair = &Q.worst_result;
   } else {
     f.actual = paths[0];
     f.expected = paths[1];
@@ -427,6 +506,7 @@ static int run(int argc, char **argv) {
                (res_pair->weights.data && !write_image(dir, "weights.exr", &res_pair->weights, 2))))
     goto out;
   if (asset && ap.decide && !write_image(dir, "switch.png", &R.plot, 0)) goto out;
+  if (sequence && !frames_csv(dir, &Q)) goto out;
   int above = isfinite(fail_above) && res_pair->nregions && res_pair->max_rating > fail_above;
 
   report = cli_report_new("pop");
@@ -440,11 +520,20 @@ static int run(int argc, char **argv) {
                              f.prev_shading, f.mask};
     for (size_t k = 0; k < sizeof in_keys / sizeof in_keys[0]; k++)
       if (in_vals[k]) cJSON_AddStringToObject(inputs, in_keys[k], in_vals[k]);
+    if (sequence) {
+      cJSON *fr = cJSON_AddArrayToObject(inputs, "frames");
+      cJSON_AddItemToArray(fr, cJSON_CreateNumber(seq.first));
+      cJSON_AddItemToArray(fr, cJSON_CreateNumber(seq.last));
+    }
   }
   params_json(params, &mp, &pp, fail_above);
   result_json(res, res_pair, max_regions);
   cJSON *outs = cJSON_AddObjectToObject(res, "outputs");
   cJSON_AddStringToObject(outs, "regions", "regions.png");
+  if (sequence) {
+    cJSON_AddStringToObject(outs, "frames", "frames.csv");
+    frames_json(res, &Q);
+  }
   if (maps) {
     cJSON_AddStringToObject(outs, "jnd", "jnd.exr");
     if (res_pair->weights.data) cJSON_AddStringToObject(outs, "weights", "weights.exr");
@@ -472,6 +561,8 @@ static int run(int argc, char **argv) {
   snprintf(jpath, sizeof jpath, "%s/pop.json", dir);
   if (cli_report_write(report, jpath) != EXIT_OK) goto out;
   if (common.json_path && cli_report_write(report, common.json_path) != EXIT_OK) goto out;
+  if (sequence)
+    cli_info(&common, "%d frames; frames.csv has each; the worst, frame %d:\n", Q.nrows, Q.rows[Q.worst].frame);
   if (res_pair->nregions)
     cli_info(&common, "%d popping region%s, max R %.2f; coverage %s, rating %s: detection score %d of 5; "
                       "max dE94 %.2f   %dx%d, %.2f s\n",
@@ -489,6 +580,7 @@ static int run(int argc, char **argv) {
 out:
   cJSON_Delete(report);
   jnd_pop_result_free(&r);
+  jnd_pop_sequence_free(&Q);
   jnd_pop_asset_report_free(&R);
   jnd_model_free(model);
   return rc;

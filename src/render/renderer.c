@@ -528,7 +528,11 @@ static jnd_status setup_view(jnd_renderer *r, const jnd_scene *scene, const jnd_
   camera_matrices(scene, pc, aspect, pv, pp);
   jnd_mat4_mul(pp, pv, pvp);
   jnd_mat4_mul(pvp, pm, prev_mvp);
-  jnd_mat3_normal(view->model, nrm);
+  /* shading with the previous pose's setup: its model places the point, its eye sees it */
+  const int shade_prev = view->shade_prev && view->has_prev;
+  const double *sm = shade_prev ? view->prev_model : view->model;
+  const double *eye = shade_prev ? view->prev_camera.eye : view->camera.eye;
+  jnd_mat3_normal(sm, nrm);
 
   float nf[9], rot[9];
   for (int i = 0; i < 9; i++) nf[i] = (float)nrm[i];
@@ -553,12 +557,12 @@ static jnd_status setup_view(jnd_renderer *r, const jnd_scene *scene, const jnd_
   for (int pi = 0; pi < 6; pi++) {
     GLuint p = r->prog[pi / 2][pi % 2];
     set_mat4(p, "u_model", view->model);
+    set_mat4(p, "u_shade_model", sm);
     set_mat4(p, "u_view", vmat);
     set_mat4(p, "u_viewproj", vp);
     set_mat4(p, "u_prev_mvp", prev_mvp);
     glProgramUniformMatrix3fv(p, U(p, "u_normal_mat"), 1, GL_FALSE, nf);
-    glProgramUniform3f(p, U(p, "u_eye"), (float)view->camera.eye[0], (float)view->camera.eye[1],
-                       (float)view->camera.eye[2]);
+    glProgramUniform3f(p, U(p, "u_eye"), (float)eye[0], (float)eye[1], (float)eye[2]);
     glProgramUniform2f(p, U(p, "u_viewport"), (float)r->w, (float)r->h);
     glProgramUniform1f(p, U(p, "u_exposure"), (float)view->exposure);
     glProgramUniform1f(p, U(p, "u_max_aniso"), r->max_aniso);

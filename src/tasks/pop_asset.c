@@ -10,6 +10,9 @@
  *   3. disocclusion inputs (004 §4): the previous frame's depth for both
  *      levels, and each pixel's depth as the previous camera saw it
  *      (reprojected from this frame's depth, not approximated by it)
+ *   3b. flicker inputs (004 §4): the previous frame as shown (the previous
+ *      level, the previous pose) and this frame's pixels of the previous
+ *      level shaded with the previous pose's setup (jnd_view.shade_prev)
  *   4. jnd_pop_predict on the pair
  *   5. decisions: per level and speed, the nearest camera distance at which
  *      the largest R over the views stays below 1, by bisection on log
@@ -162,18 +165,27 @@ jnd_status jnd_pop_render(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const
   cur.outputs = JND_OUT_COLOR | JND_OUT_DEPTH | JND_OUT_MASK | (moving ? JND_OUT_MOTION : 0);
   prev.has_prev = 0;
   prev.outputs = JND_OUT_DEPTH;
+  /* 3b: the previous frame is the expected level's: it also needs its colour;
+   * and the expected level at this pose, shaded as in the previous one */
+  jnd_view prev_e = prev, shade = cur;
+  prev_e.outputs = JND_OUT_DEPTH | JND_OUT_COLOR;
+  shade.shade_prev = 1;
+  shade.outputs = JND_OUT_COLOR;
 
-  jnd_frame fa = {0}, fe = {0}, pa = {0}, pe = {0};
-  jnd_image ca = {0}, ce = {0}, za = {0}, ze = {0}, mask = {0};
+  jnd_frame fa = {0}, fe = {0}, pa = {0}, pe = {0}, fs = {0};
+  jnd_image ca = {0}, ce = {0}, za = {0}, ze = {0}, mask = {0}, cp = {0}, cs = {0};
   /* the new level's frames first, then the old level's: two level changes per pair */
   jnd_status st = render_level(r, scene, level + 1, &cur, &fa);
   if (!st && moving) st = render_level(r, scene, level + 1, &prev, &pa);
   if (!st) st = render_level(r, scene, level, &cur, &fe);
-  if (!st && moving) st = render_level(r, scene, level, &prev, &pe);
+  if (!st && moving) st = render_level(r, scene, level, &prev_e, &pe);
+  if (!st && moving) st = render_level(r, scene, level, &shade, &fs);
   jnd_status sel = jnd_scene_lod_select(scene, keep);
   if (!st) st = sel;
   if (!st) st = seen(m, &fa.color, &ca);
   if (!st) st = seen(m, &fe.color, &ce);
+  if (!st && moving) st = seen(m, &pe.color, &cp);
+  if (!st && moving) st = seen(m, &fs.color, &cs);
   if (!st && moving) st = reproject_depth(&fa.depth, &cur, &prev, &za);
   if (!st && moving) st = reproject_depth(&fe.depth, &cur, &prev, &ze);
   if (!st) st = jnd_image_alloc(&mask, fa.mask.w, fa.mask.h, 1);
@@ -185,12 +197,17 @@ jnd_status jnd_pop_render(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const
     in.actual = (jnd_pop_frame){&ca, moving ? &fa.motion : NULL, moving ? &za : NULL, moving ? &pa.depth : NULL};
     in.expected = (jnd_pop_frame){&ce, moving ? &fe.motion : NULL, moving ? &ze : NULL, moving ? &pe.depth : NULL};
     in.mask = &mask;
+    in.prev_color = moving ? &cp : NULL;
+    in.prev_shading = moving ? &cs : NULL;
     st = jnd_pop_predict(m, &in, p, out);
   }
   jnd_frame_free(&fa);
   jnd_frame_free(&fe);
   jnd_frame_free(&pa);
   jnd_frame_free(&pe);
+  jnd_frame_free(&fs);
+  jnd_image_free(&cp);
+  jnd_image_free(&cs);
   jnd_image_free(&ca);
   jnd_image_free(&ce);
   jnd_image_free(&za);

@@ -7,20 +7,14 @@ command -v python3 >/dev/null || skip "needs python3"
 
 # frames as PNG and maps as uncompressed float OpenEXR (pngwrite.py, exrwrite.py)
 PYTHONPATH="$(dirname "$0")" python3 -B - "$T" <<'PY'
-import math, random, sys
+import sys
 from pngwrite import png
 from exrwrite import exr
+from popframes import background, patch
 d = sys.argv[1]
 W, H = 160, 120
-random.seed(1)
-tex = [[0.35 + 0.25 * random.random() for _ in range(W // 4 + 1)] for _ in range(H // 4 + 1)]
-def bg(x, y):
-    g = tex[y // 4][x // 4]
-    return (g, g, 0.9 * g)
-def blob(x, y):  # a square of detail, a grating of 16-pixel period
-    r, g, b = bg(x, y)
-    k = 1 + 0.25 * math.sin(2 * math.pi * x / 16) if 60 <= x < 84 and 40 <= y < 64 else 1
-    return (r * k, g * k, b * k)
+bg = background(W, H)
+blob = patch(bg, 0.25)  # a square of detail, a grating of 16-pixel period
 png(f'{d}/expected.png', W, H, 3, bg)
 png(f'{d}/new.png', W, H, 3, blob)
 png(f'{d}/small.png', W - 10, H, 3, bg)

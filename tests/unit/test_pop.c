@@ -103,6 +103,50 @@ TEST(identical_frames_have_no_region) {
   jnd_model_free(m);
 }
 
+/* The shortcut for unchanged frames stands for the model: the model's own
+ * map of the same colours with the same motion is exactly 0; with different
+ * motions the responses differ, and the model must run. */
+TEST(unchanged_frames_skip_the_model_only_where_its_map_is_zero) {
+  jnd_model *m = model_t(0);
+  const int w = 96, h = 80;
+  jnd_image a = textured(w, h, 60, 3), b = copy(&a), d = plane(w, h, 2, 12.0f), map = {0};
+  jnd_diff_inputs di = {0};
+  di.motion = di.motion_test = &d;
+  CHECK_OK(jnd_model_diff(m, &b, &a, &di, &map));
+  float mx = 0;
+  for (int i = 0; i < w * h; i++) mx = map.data[i] > mx ? map.data[i] : mx;
+  CHECK(mx == 0);
+  jnd_pop_params p = params();
+  jnd_pop_inputs in = {0};
+  in.actual = (jnd_pop_frame){&a, &d, NULL, NULL};
+  in.expected = (jnd_pop_frame){&b, NULL, NULL, NULL}; /* at rest: the other frame moves */
+  jnd_pop_result r;
+  CHECK_OK(jnd_pop_predict(m, &in, &p, &r));
+  CHECK(r.jnd_max > 0 && r.nregions == 0); /* a difference, but no seed */
+  jnd_pop_result_free(&r);
+  jnd_image_free(&map);
+  jnd_image_free(&a);
+  jnd_image_free(&b);
+  jnd_image_free(&d);
+  jnd_model_free(m);
+}
+
+TEST(frame_paths_fill_in_the_frame_number) {
+  char b[64];
+  CHECK(jnd_frame_path("new_%04d.png", 7, b, sizeof b) == 1 && strcmp(b, "new_0007.png") == 0);
+  CHECK(jnd_frame_path("f%d.exr", 123, b, sizeof b) == 1 && strcmp(b, "f123.exr") == 0);
+  CHECK(jnd_frame_path("f%02d.exr", 123, b, sizeof b) == 1 && strcmp(b, "f123.exr") == 0);
+  CHECK(jnd_frame_path("100%%/m_%03d.png", 5, b, sizeof b) == 1 && strcmp(b, "100%/m_005.png") == 0);
+  CHECK(jnd_frame_path("mask.png", 5, b, sizeof b) == 0 && strcmp(b, "mask.png") == 0);
+  CHECK(jnd_frame_path("a_%s.png", 1, b, sizeof b) == -1);
+  CHECK(jnd_frame_path("a_%d_%d.png", 1, b, sizeof b) == -1);
+  CHECK(jnd_frame_path("a_%4d.png", 1, b, sizeof b) == -1);
+  CHECK(jnd_frame_path("a_%0d.png", 1, b, sizeof b) == -1);
+  CHECK(jnd_frame_path("a_%", 1, b, sizeof b) == -1);
+  CHECK(jnd_frame_path("a_%d.png", -1, b, sizeof b) == -1);
+  CHECK(jnd_frame_path("a_%08d.png", 1, b, 8) == -1); /* too small a buffer */
+}
+
 /* a flat pair whose actual frame has an s × s square f times brighter at
  * (x0, y0), and weights 1 on the square, 0 elsewhere */
 static void weighted_blob(int w, int h, int x0, int y0, int s, float f, jnd_image *a, jnd_image *b, jnd_image *wt,
@@ -709,4 +753,5 @@ RUN_TESTS(identical_frames_have_no_region, a_blob_through_the_predictor_is_one_r
           a_mask_is_what_coverage_counts, rating_follows_004s_mapping, score_levels_follow_the_thresholds,
           detection_table_is_monotone_and_holds_004s_examples, the_top_regions_set_the_rating_score,
           delta_e94_has_the_published_weights, files_give_what_the_same_images_give,
-          bad_inputs_are_refused_with_a_message_naming_them)
+          bad_inputs_are_refused_with_a_message_naming_them,
+          unchanged_frames_skip_the_model_only_where_its_map_is_zero, frame_paths_fill_in_the_frame_number)
