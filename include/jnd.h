@@ -1700,10 +1700,11 @@ jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, int perceptu
  *     distance makes them monotone by construction; a level that fails at
  *     the far end gets INFINITY, and so do the coarser ones;
  *  4. popping (pop, default on): for each level k shown somewhere, the
- *     nearest distance from the viewing condition's on at which the switch
- *     from level k − 1 to k, rendered on the same views with the chosen
- *     motion (default static), does not pop: the largest R over the views
- *     below pop_rating_limit (jnd_pop_switch_distance, 004 §3.2);
+ *     nearest distance, from where 3 and level k − 1's switch distance
+ *     allow level k on, at which the switch from level k − 1 to k, rendered
+ *     on the same views with the chosen motion (default static), does not
+ *     pop: the largest R over the views below pop_rating_limit
+ *     (jnd_pop_switch_distance, 004 §3.2);
  *  5. the switch distance of level k: the farthest of 3's, 4's and level
  *     k − 1's, so still monotone; switch_by says which decided.
  * Typical use (levels made or imported first):
@@ -1772,10 +1773,12 @@ typedef struct {
    * (monotone), lod_switch_combine: */
   double *switch_distance_criterion; /* (a) where level k passes the criterion against level 0 (the
                                 search of step 3; INFINITY: never). Owned */
-  double *switch_distance_pop; /* (b) where the switch from level k − 1 to k stops popping (pop on):
-                                the view condition's distance when it does not pop there, INFINITY
-                                when it pops even at the far end; NaN where not searched (level 0,
-                                pop off, or level k is never shown by (a) or by a finer level). Owned */
+  double *switch_distance_pop; /* (b) where the switch from level k − 1 to k stops popping (pop on),
+                                searched from where (a) and level k − 1's switch distance allow level
+                                k on (nearer it cannot decide): that distance when the switch does not
+                                pop there, INFINITY when it pops even at the far end; NaN where not
+                                searched (level 0, pop off, or level k never shown by (a) or by a
+                                finer level). Owned */
   double *pop_max_rating;    /* the largest R over the views measured at switch_distance_pop (at the
                                 far end for INFINITY; −INFINITY: no popping region; NaN: not
                                 searched). Owned */

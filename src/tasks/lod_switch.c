@@ -31,12 +31,14 @@
  *     nearest passing grid distance is within a factor 1 + tolerance of
  *     where the criterion starts to hold.  lod_switch_search()
  *  6. Popping (pop on; 004 §3.2 through jnd_pop_switch_distance): for each
- *     level k shown somewhere by step 5, the nearest distance from d0 on at
- *     which the switch from level k − 1 to k, rendered on the same views
- *     (same seed, display and pixel scale) with the chosen motion, has its
- *     largest rating R below pop_rating_limit — a continuous bisection on
- *     log distance to the same tolerance, assuming, as pop does, that
- *     popping fades with distance.
+ *     level k shown somewhere by step 5, the nearest distance at which the
+ *     switch from level k − 1 to k, rendered on the same views (same seed,
+ *     display and pixel scale) with the chosen motion, has its largest
+ *     rating R below pop_rating_limit — a continuous bisection on log
+ *     distance to the same tolerance, assuming, as pop does, that popping
+ *     fades with distance. It starts where step 5 and the finer level
+ *     allow level k (nearer, popping cannot decide), so a switch that does
+ *     not pop there costs one evaluation.
  *  7. A level's switch distance is the farthest of step 5's, step 6's and
  *     the finer level's (monotone): lod_switch_combine().
  */
@@ -237,7 +239,8 @@ static void screen_display(const jnd_poi_screen *s, jnd_display *d) {
  * views' field of view is the window's, so coverages are the window's:
  * window_cov fractions of its height per fraction of the screen's */
 static jnd_status pop_step(jnd_scene *scene, const jnd_judge_params *jp, const jnd_view_sampling *vs,
-                           const jnd_lod_switch_params *p, double window_cov, double far_cov, jnd_lod_switch_result *out) {
+                           const jnd_lod_switch_params *p, double radius, double fov, double window_cov,
+                           jnd_lod_switch_result *out) {
   int n = out->nlevels;
   for (int k = 0; k < n; k++) out->switch_distance_pop[k] = out->pop_max_rating[k] = NAN;
   lod_switch_combine(n, out->switch_distance_criterion, out->switch_distance_pop, out->switch_distance, out->switch_by);
@@ -253,8 +256,6 @@ static jnd_status pop_step(jnd_scene *scene, const jnd_judge_params *jp, const j
   jnd_pop_switch_defaults(&sp);
   sp.rating_limit = p->pop_rating_limit;
   sp.tolerance = p->tolerance;
-  sp.coverage_near = out->view_coverage * window_cov;
-  sp.coverage_far = fmin(far_cov, out->view_coverage / (1 + p->tolerance)) * window_cov;
   jnd_model *m = NULL;
   jnd_renderer *r = NULL;
   jnd_view *views = jnd_calloc((size_t)vs->count, sizeof *views);
@@ -264,6 +265,14 @@ static jnd_status pop_step(jnd_scene *scene, const jnd_judge_params *jp, const j
   if (!st) st = jnd_renderer_create(&jp->views.render, &r);
   /* a level never shown (by (a), or after a level never shown) needs no search */
   for (int k = 1; k < n && !st && isfinite(out->switch_distance[k]); k++) {
+    /* nearer than (a) and the finer level's distance, popping cannot
+     * decide: the search starts there (one evaluation when the switch does
+     * not pop there), out to far_coverage (a little beyond where that is
+     * nearer than the start) */
+    double from = fmax(out->switch_distance_criterion[k], out->switch_distance[k - 1]);
+    double cfrom = jnd_coverage_at_distance(radius, from, fov);
+    sp.coverage_near = cfrom * window_cov;
+    sp.coverage_far = fmin(p->far_coverage, cfrom / (1 + p->tolerance)) * window_cov;
     jnd_pop_switch sw;
     if ((st = jnd_pop_switch_distance(m, r, scene, views, vs->count, &mo, k, &pp, &sp, &sw))) break;
     out->switch_distance_pop[k] = sw.distance;
@@ -384,7 +393,7 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
     jnd_judge_get_counts(o.judge, &out->counts);
   }
   jnd_judge_free(o.judge);   /* before pop's renderer: one GL context at a time */
-  if (!st) st = pop_step(scene, &jp, &jp.views.sampling, p, scale * screen->height_px / R, p->far_coverage, out);
+  if (!st) st = pop_step(scene, &jp, &jp.views.sampling, p, radius, fov, scale * screen->height_px / R, out);
   if (!st)
     for (int k = 0; k < n; k++)
       out->switch_coverage[k] = k == 0 ? 1 : jnd_coverage_at_distance(radius, out->switch_distance[k], fov);
