@@ -275,7 +275,10 @@ static jnd_status pop_step(jnd_scene *scene, const jnd_judge_params *jp, const j
     sp.coverage_far = fmin(p->far_coverage, cfrom / (1 + p->tolerance)) * window_cov;
     jnd_pop_switch sw;
     if ((st = jnd_pop_switch_distance(m, r, scene, views, vs->count, &mo, k, &pp, &sp, &sw))) break;
-    out->switch_distance_pop[k] = sw.distance;
+    /* popping-free where the search started: that distance exactly (pop's is
+     * the same up to the rounding of its coverage-to-distance conversion,
+     * which must not make popping look decisive) */
+    out->switch_distance_pop[k] = sw.status == JND_POP_SWITCH_NEAREST ? from : sw.distance;
     out->pop_max_rating[k] = sw.max_rating;
     out->pop_evaluations += sw.evaluations;
     lod_switch_combine(n, out->switch_distance_criterion, out->switch_distance_pop, out->switch_distance, out->switch_by);
