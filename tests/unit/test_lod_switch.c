@@ -142,6 +142,16 @@ static jnd_scene *sphere_with_copy(int *copy) {
   return sphere_chain(errors, 2, copy);
 }
 
+/* jnd_lod_switch_analyse; 0 (the scene freed) when it failed or there is no
+ * renderer (the test skipped) */
+static int analysed(jnd_scene *s, const jnd_poi_screen *scr, const jnd_lod_switch_params *p, jnd_lod_switch_result *r) {
+  jnd_status st = jnd_lod_switch_analyse(s, scr, p, r);
+  if (st == JND_ERR_GL) TEST_SKIP("no OpenGL renderer: %s", jnd_last_error());
+  else CHECK_OK(st);
+  if (st) jnd_scene_free(s);
+  return st == JND_OK;
+}
+
 static void small_params(jnd_lod_switch_params *p) {
   jnd_lod_switch_defaults(p);
   p->judge.views.sampling.count = 2;
@@ -161,14 +171,7 @@ TEST(a_level_identical_to_level_0_has_p_0_and_inherits_the_finer_distance) {
   small_params(&p);
   p.coverage = 0.12;   /* 130 px on 1080: the window holds it whole */
   jnd_lod_switch_result r;
-  jnd_status st = jnd_lod_switch_analyse(s, &scr, &p, &r);
-  if (st == JND_ERR_GL) {
-    TEST_SKIP("no OpenGL renderer: %s", jnd_last_error());
-    jnd_scene_free(s);
-    return;
-  }
-  CHECK_OK(st);
-  if (st) return;
+  if (!analysed(s, &scr, &p, &r)) return;
   CHECK_EQ(r.nlevels, copy + 1);
   CHECK_EQ(jnd_scene_lod_selected(s), 0);
   /* the copy passes at the viewing condition with every view at P = 0 */
@@ -250,14 +253,7 @@ TEST(popping_decides_a_switch_and_the_switch_does_not_pop_there) {
   p.pop = 1;
   p.judge.criterion.p = 0.8;   /* lenient: the criterion lets coarse levels in near, where their switches pop */
   jnd_lod_switch_result r;
-  jnd_status st = jnd_lod_switch_analyse(s, &scr, &p, &r);
-  if (st == JND_ERR_GL) {
-    TEST_SKIP("no OpenGL renderer: %s", jnd_last_error());
-    jnd_scene_free(s);
-    return;
-  }
-  CHECK_OK(st);
-  if (st) return;
+  if (!analysed(s, &scr, &p, &r)) return;
   int decided = 0;
   for (int k = 1; k < r.nlevels; k++) {
     CHECK(r.switch_distance[k] >= r.switch_distance[k - 1]);
