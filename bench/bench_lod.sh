@@ -8,6 +8,11 @@
 # BENCH_LOD_ANALYSIS_RUNS says otherwise), user + sys CPU beside them.
 set -uo pipefail
 : "${JND:?}"
+# Threads that wait spin under libgomp's default policy; on a shared 2-core
+# machine that spinning took 59% of the analysis's CPU samples (perf) and
+# made it 2.4x slower (README: passive when running more processes than
+# cores). The bench says which policy it ran with.
+export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
 here=$(cd "$(dirname "$0")" && pwd)
 out=${BENCH_OUT:-$here/out}/lod
 data=${JND_SHARED:-$here/../../shared}/data/meshes
@@ -53,11 +58,13 @@ print("   003 analysis of teapot_100k.obj (%d triangles, %d levels), %d views, v
 for s in res["screens"]:
     perc = s.get("perceptual_triangles")
     sd = " ".join("never" if x is None else "%.3g" % x for x in (s.get("switch_distance_m") or []))
-    print("     %-13s perceptual %6s  PoI lit %6d  unlit %6d  meshopt 1px %6d  px rule %6d triangles; switch %s"
+    print("     %-13s perceptual %6s  PoI lit %6d  unlit %6d  meshopt 1px %6d  px rule %6d triangles; switch %s;"
+          " judged %d distances, %d popping evaluations"
           % (s["name"], perc if perc is not None else "-", s["poi_triangles"], s["poi_triangles_unlit"],
-             s["rules"]["meshopt"]["triangles"], s["rules"]["pixel_error"]["triangles"], sd))
+             s["rules"]["meshopt"]["triangles"], s["rules"]["pixel_error"]["triangles"], sd,
+             s["judge"]["distances"], s.get("pop_evaluations", 0)))
 PY
 echo "     analysis: wall $(cut -d' ' -f4 "$out/analysis.txt" | median) s, user + sys $(cut -d' ' -f5 "$out/analysis.txt" | median) s" \
      "(medians of $aruns); whole command: wall $(cut -d' ' -f1 "$out/analysis.txt" | median) s, user" \
      "$(cut -d' ' -f2 "$out/analysis.txt" | median) s, sys $(cut -d' ' -f3 "$out/analysis.txt" | median) s;" \
-     "load average $(cut -d' ' -f1 /proc/loadavg)"
+     "load average $(cut -d' ' -f1 /proc/loadavg), OMP_WAIT_POLICY=$OMP_WAIT_POLICY"

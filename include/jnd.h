@@ -1702,7 +1702,15 @@ jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, int perceptu
  *     fills far_coverage of the height, ratio 1 + tolerance between grid
  *     points (P falls with distance). Starting from the finer level's
  *     distance makes them monotone by construction; a level that fails at
- *     the far end gets INFINITY, and so do the coarser ones.
+ *     the far end gets INFINITY, and so do the coarser ones;
+ *  4. popping (pop, default on): for each level k shown somewhere, the
+ *     nearest distance, from where 3 and level k − 1's switch distance
+ *     allow level k on, at which the switch from level k − 1 to k, rendered
+ *     on the same views with the chosen motion (default static), does not
+ *     pop: the largest R over the views below pop_rating_limit
+ *     (jnd_pop_switch_distance, 004 §3.2);
+ *  5. the switch distance of level k: the farthest of 3's, 4's and level
+ *     k − 1's, so still monotone; switch_by says which decided.
  * Typical use (levels made or imported first):
  *
  *     jnd_lod_switch_params sp;  jnd_lod_switch_defaults(&sp);
@@ -1724,10 +1732,29 @@ typedef struct {
                                 a switch distance is within a factor 1 + tolerance of the true one */
   int max_px;                /* largest rendering side, pixels (512): a larger object is judged on a
                                 screen scaled down until it fits (fewer pixels per degree) */
+  int pop;                   /* 1 (default): level k is also never shown nearer than where the switch
+                                from level k − 1 stops popping (004 §3.2, jnd_pop_switch_distance: the
+                                largest R over the same views below pop_rating_limit), searched from
+                                the viewing condition out to far_coverage; 0: the criterion only */
+  int pop_motion;            /* the switch's motion, a jnd_pop_motion_kind: JND_POP_ORBIT (0, default),
+                                JND_POP_OBJECT or JND_POP_PAN ... */
+  double pop_speed;          /* ... at this speed, degrees per second (0, default: static) */
+  double pop_rating_limit;   /* R of "rarely visible" (1, 004 §3.2) */
 } jnd_lod_switch_params;
 
 /* Fills p with the defaults above (the judge's: jnd_judge_defaults, 4 views). */
 void jnd_lod_switch_defaults(jnd_lod_switch_params *p);
+
+/* What decided a level's switch distance. */
+typedef enum {
+  JND_LOD_SWITCH_REFERENCE = 0, /* level 0: distance 0 */
+  JND_LOD_SWITCH_CRITERION,     /* (a): the criterion against level 0 (also on a tie with (b)) */
+  JND_LOD_SWITCH_POP,           /* (b): popping of the switch from the level before */
+  JND_LOD_SWITCH_FINER,         /* the finer level's distance (monotone by construction) */
+} jnd_lod_switch_by;
+
+/* "reference", "criterion", "popping", "finer level". */
+const char *jnd_lod_switch_by_name(jnd_lod_switch_by b);
 
 typedef struct {
   jnd_poi_screen screen;
@@ -1746,6 +1773,21 @@ typedef struct {
                                 INFINITY: not even at the far end). Owned */
   double *switch_coverage;   /* per level: the fraction of the screen's height the sphere fills at that
                                 distance (1 for level 0 ... 0 for INFINITY). Owned */
+  /* switch_distance[k] is the farthest of its two components and of level k − 1's switch distance
+   * (monotone), lod_switch_combine: */
+  double *switch_distance_criterion; /* (a) where level k passes the criterion against level 0 (the
+                                search of step 3; INFINITY: never). Owned */
+  double *switch_distance_pop; /* (b) where the switch from level k − 1 to k stops popping (pop on),
+                                searched from where (a) and level k − 1's switch distance allow level
+                                k on (nearer it cannot decide): that distance when the switch does not
+                                pop there, INFINITY when it pops even at the far end; NaN where not
+                                searched (level 0, pop off, or level k never shown by (a) or by a
+                                finer level). Owned */
+  double *pop_max_rating;    /* the largest R over the views measured at switch_distance_pop (at the
+                                far end for INFINITY; −INFINITY: no popping region; NaN: not
+                                searched). Owned */
+  jnd_lod_switch_by *switch_by; /* what decided switch_distance[k]. Owned */
+  int pop_evaluations;       /* distances at which switches were rendered and predicted */
   int distances;             /* distances at which views were rendered */
   int judgements;            /* judge evaluations (a level at a distance) */
   jnd_judge_counts counts;   /* the judge's counts */

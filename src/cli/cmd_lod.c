@@ -73,6 +73,12 @@ static void help(void) {
       "  --max-px N          largest rendering side (512): a larger object is judged on the\n"
       "                      screen scaled down until it fits (fewer pixels per degree)\n"
       "  --samples N         MSAA samples of the judge's renderings (4)\n"
+      "  --no-pop            switch distances from the criterion only; by default level K is\n"
+      "                      also not shown nearer than where the switch from level K - 1 stops\n"
+      "                      popping (004: largest rating R over the views < 1, jnd pop)\n"
+      "  --pop-speed DPS     the motion under which that switch is seen: an orbit at DPS\n"
+      "                      degrees per second (0: a static viewer, the default)\n"
+      "  --pop-motion M      orbit (default), spin (the object turns) or pan (the camera turns)\n"
       "  --no-perceptual     003's analysis and the rules only\n"
       "\n"
       "outputs:\n"
@@ -196,6 +202,15 @@ static int run(int argc, char **argv) {
       p.sw.tolerance = cli_double(ap, "--tolerance", v, 0.001, 10);
     } else if (cli_opt(ap, "--max-px", &v)) {
       p.sw.max_px = cli_int(ap, "--max-px", v, 32, 8192);
+    } else if (cli_flag(ap, "--no-pop")) {
+      p.sw.pop = 0;
+    } else if (cli_opt(ap, "--pop-speed", &v)) {
+      p.sw.pop_speed = cli_double(ap, "--pop-speed", v, -100000, 100000);
+    } else if (cli_opt(ap, "--pop-motion", &v)) {
+      if (strcmp(v, "orbit") == 0) p.sw.pop_motion = JND_POP_ORBIT;
+      else if (strcmp(v, "spin") == 0) p.sw.pop_motion = JND_POP_OBJECT;
+      else if (strcmp(v, "pan") == 0) p.sw.pop_motion = JND_POP_PAN;
+      else return cli_bad("lod: --pop-motion: '%s' is not orbit, spin or pan", v);
     } else if (cli_flag(ap, "--no-perceptual")) {
       p.perceptual = 0;
     } else if (cli_views_opt(ap, &vo) || cli_common_opt(ap, &common)) {
@@ -277,6 +292,11 @@ static int run(int argc, char **argv) {
   cJSON_AddNumberToObject(jpc, "tolerance", p.sw.tolerance);
   cJSON_AddNumberToObject(jpc, "max_px", p.sw.max_px);
   cJSON_AddNumberToObject(jpc, "samples", p.sw.judge.views.render.samples);
+  cJSON *jpop = cJSON_AddObjectToObject(jpc, "pop");
+  cJSON_AddBoolToObject(jpop, "enabled", p.sw.pop);
+  cJSON_AddStringToObject(jpop, "motion", p.sw.pop_motion == JND_POP_OBJECT ? "spin" : p.sw.pop_motion == JND_POP_PAN ? "pan" : "orbit");
+  cJSON_AddNumberToObject(jpop, "speed_dps", p.sw.pop_speed);
+  cJSON_AddNumberToObject(jpop, "rating_limit", p.sw.pop_rating_limit);
 
   cJSON_AddStringToObject(res, "chain_source", R.chain_source);
   int n = jnd_scene_lod_count(scene);
@@ -352,6 +372,26 @@ static int run(int argc, char **argv) {
         /* never (INFINITY) is null */
         cJSON *sd = cJSON_AddArrayToObject(o, "switch_distance_m"), *sc = cJSON_AddArrayToObject(o, "switch_coverage");
         cJSON *jst = cJSON_AddArrayToObject(o, "statistic"), *pm = cJSON_AddArrayToObject(o, "p_max");
+        /* its components: the criterion (a), popping (b; null where never or not searched) and what decided */
+        cJSON *sda = cJSON_AddArrayToObject(o, "switch_distance_criterion_m"),
+              *sdb = cJSON_AddArrayToObject(o, "switch_distance_pop_m"), *sby = cJSON_AddArrayToObject(o, "switch_by"),
+              *jpr = cJSON_AddArrayToObject(o, "pop");
+        for (int k = 0; k < W->nlevels; k++) {
+          cJSON_AddItemToArray(sda, num_or_null(W->switch_distance_criterion[k]));
+          cJSON_AddItemToArray(sdb, num_or_null(W->switch_distance_pop[k]));
+          cJSON_AddItemToArray(sby, cJSON_CreateString(jnd_lod_switch_by_name(W->switch_by[k])));
+          if (k == 0) continue;
+          int searched = !isnan(W->switch_distance_pop[k]);
+          cJSON *r = cJSON_CreateObject();
+          cJSON_AddNumberToObject(r, "level", k);
+          cJSON_AddBoolToObject(r, "searched", searched);
+          cJSON_AddBoolToObject(r, "never", searched && isinf(W->switch_distance_pop[k]));
+          cJSON_AddItemToObject(r, "distance_m", num_or_null(W->switch_distance_pop[k]));
+          /* the largest R there; null: not searched or no popping region */
+          cJSON_AddItemToObject(r, "max_rating", num_or_null(W->pop_max_rating[k]));
+          cJSON_AddItemToArray(jpr, r);
+        }
+        cJSON_AddNumberToObject(o, "pop_evaluations", W->pop_evaluations);
         for (int k = 0; k < W->nlevels; k++) {
           cJSON_AddItemToArray(sd, num_or_null(W->switch_distance[k]));
           cJSON_AddItemToArray(sc, cJSON_CreateNumber(W->switch_coverage[k]));
@@ -474,11 +514,19 @@ static int run(int argc, char **argv) {
                P->levels[S->poi_level_unlit].triangles, P->levels[S->meshopt_level].triangles,
                P->levels[S->pixel_level].triangles);
     }
+    /* per level: the switch distance, and its criterion and popping components */
     for (int i = 0; i < R.nsw; i++) {
-      cli_info(&common, "%-16s switch distances:", R.sw[i].screen.name);
-      for (int k = 0; k < R.sw[i].nlevels; k++) {
-        if (isfinite(R.sw[i].switch_distance[k])) cli_info(&common, " %.3g", R.sw[i].switch_distance[k]);
-        else cli_info(&common, " never");
+      const jnd_lod_switch_result *W = &R.sw[i];
+      cli_info(&common, "%-16s switch distances (criterion, popping):", W->screen.name);
+      for (int k = 1; k < W->nlevels; k++) {
+        char a[3][24];
+        const double d[3] = {W->switch_distance[k], W->switch_distance_criterion[k], W->switch_distance_pop[k]};
+        for (int c = 0; c < 3; c++) {
+          if (isnan(d[c])) snprintf(a[c], sizeof a[c], "-");
+          else if (isinf(d[c])) snprintf(a[c], sizeof a[c], "never");
+          else snprintf(a[c], sizeof a[c], "%.3g", d[c]);
+        }
+        cli_info(&common, " %d: %s (%s, %s)", k, a[0], a[1], a[2]);
       }
       cli_info(&common, "\n");
     }

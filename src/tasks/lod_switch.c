@@ -30,6 +30,17 @@
  *     and bisects the grid otherwise: P falls with distance, so the
  *     nearest passing grid distance is within a factor 1 + tolerance of
  *     where the criterion starts to hold.  lod_switch_search()
+ *  6. Popping (pop on; 004 §3.2 through jnd_pop_switch_distance): for each
+ *     level k shown somewhere by step 5, the nearest distance at which the
+ *     switch from level k − 1 to k, rendered on the same views (same seed,
+ *     display and pixel scale) with the chosen motion, has its largest
+ *     rating R below pop_rating_limit — a continuous bisection on log
+ *     distance to the same tolerance, assuming, as pop does, that popping
+ *     fades with distance. It starts where step 5 and the finer level
+ *     allow level k (nearer, popping cannot decide), so a switch that does
+ *     not pop there costs one evaluation.
+ *  7. A level's switch distance is the farthest of step 5's, step 6's and
+ *     the finer level's (monotone): lod_switch_combine().
  */
 #include <math.h>
 #include <stdio.h>
@@ -50,6 +61,20 @@ void jnd_lod_switch_defaults(jnd_lod_switch_params *p) {
   p->far_coverage = 0.02;
   p->tolerance = 0.1;
   p->max_px = 512;
+  p->pop = 1;
+  p->pop_motion = JND_POP_ORBIT;
+  p->pop_speed = 0;          /* static: the switch seen by a viewer standing still */
+  p->pop_rating_limit = 1;   /* 004 §3.2: R < 1 "rarely visible" */
+}
+
+const char *jnd_lod_switch_by_name(jnd_lod_switch_by b) {
+  switch (b) {
+  case JND_LOD_SWITCH_REFERENCE: return "reference";
+  case JND_LOD_SWITCH_CRITERION: return "criterion";
+  case JND_LOD_SWITCH_POP: return "popping";
+  case JND_LOD_SWITCH_FINER: return "finer level";
+  }
+  return "?";
 }
 
 void jnd_lod_switch_result_free(jnd_lod_switch_result *r) {
@@ -58,6 +83,10 @@ void jnd_lod_switch_result_free(jnd_lod_switch_result *r) {
   free(r->p_max);
   free(r->switch_distance);
   free(r->switch_coverage);
+  free(r->switch_distance_criterion);
+  free(r->switch_distance_pop);
+  free(r->pop_max_rating);
+  free(r->switch_by);
   memset(r, 0, sizeof *r);
 }
 
@@ -108,6 +137,26 @@ jnd_status lod_switch_search(int nlevels, int ngrid, lod_passes_fn passes, void 
     switch_idx[k] = lo = hi;
   }
   return JND_OK;
+}
+
+/* step 7 */
+void lod_switch_combine(int nlevels, const double *criterion, const double *pop, double *out, jnd_lod_switch_by *by) {
+  if (nlevels < 1) return;
+  out[0] = 0;
+  by[0] = JND_LOD_SWITCH_REFERENCE;
+  for (int k = 1; k < nlevels; k++) {
+    double d = criterion[k];
+    by[k] = JND_LOD_SWITCH_CRITERION;
+    if (pop[k] > d) {   /* NaN: no constraint */
+      d = pop[k];
+      by[k] = JND_LOD_SWITCH_POP;
+    }
+    if (out[k - 1] > d) {
+      d = out[k - 1];
+      by[k] = JND_LOD_SWITCH_FINER;
+    }
+    out[k] = d;
+  }
 }
 
 /* ---- the rendered oracle ---- */
@@ -185,6 +234,61 @@ static void screen_display(const jnd_poi_screen *s, jnd_display *d) {
   d->diagonal_in = d->distance_m = 0;
 }
 
+/* step 6: where each switch stops popping, on the judge's views, display
+ * and renderings (jp), the same sampling vs at the viewing condition; the
+ * views' field of view is the window's, so coverages are the window's:
+ * window_cov fractions of its height per fraction of the screen's */
+static jnd_status pop_step(jnd_scene *scene, const jnd_judge_params *jp, const jnd_view_sampling *vs,
+                           const jnd_lod_switch_params *p, double radius, double fov, double window_cov,
+                           jnd_lod_switch_result *out) {
+  int n = out->nlevels;
+  for (int k = 0; k < n; k++) out->switch_distance_pop[k] = out->pop_max_rating[k] = NAN;
+  lod_switch_combine(n, out->switch_distance_criterion, out->switch_distance_pop, out->switch_distance, out->switch_by);
+  if (!p->pop) return JND_OK;
+  jnd_pop_motion mo;
+  jnd_pop_motion_defaults(&mo);
+  mo.kind = (jnd_pop_motion_kind)p->pop_motion;
+  mo.speed = p->pop_speed;
+  jnd_pop_params pp;
+  jnd_pop_defaults(&pp);
+  pp.picture = 0;
+  jnd_pop_switch_params sp;
+  jnd_pop_switch_defaults(&sp);
+  sp.rating_limit = p->pop_rating_limit;
+  sp.tolerance = p->tolerance;
+  jnd_model *m = NULL;
+  jnd_renderer *r = NULL;
+  jnd_view *views = jnd_calloc((size_t)vs->count, sizeof *views);
+  if (!views) return jnd_fail(JND_ERR_NOMEM, "lod: out of memory");
+  jnd_status st = jnd_views_sample(scene, vs, views);
+  if (!st) st = jnd_model_create(&jp->model, &m);
+  if (!st) st = jnd_renderer_create(&jp->views.render, &r);
+  /* a level never shown (by (a), or after a level never shown) needs no search */
+  for (int k = 1; k < n && !st && isfinite(out->switch_distance[k]); k++) {
+    /* nearer than (a) and the finer level's distance, popping cannot
+     * decide: the search starts there (one evaluation when the switch does
+     * not pop there), out to far_coverage (a little beyond where that is
+     * nearer than the start) */
+    double from = fmax(out->switch_distance_criterion[k], out->switch_distance[k - 1]);
+    double cfrom = jnd_coverage_at_distance(radius, from, fov);
+    sp.coverage_near = cfrom * window_cov;
+    sp.coverage_far = fmin(p->far_coverage, cfrom / (1 + p->tolerance)) * window_cov;
+    jnd_pop_switch sw;
+    if ((st = jnd_pop_switch_distance(m, r, scene, views, vs->count, &mo, k, &pp, &sp, &sw))) break;
+    /* popping-free where the search started: that distance exactly (pop's is
+     * the same up to the rounding of its coverage-to-distance conversion,
+     * which must not make popping look decisive) */
+    out->switch_distance_pop[k] = sw.status == JND_POP_SWITCH_NEAREST ? from : sw.distance;
+    out->pop_max_rating[k] = sw.max_rating;
+    out->pop_evaluations += sw.evaluations;
+    lod_switch_combine(n, out->switch_distance_criterion, out->switch_distance_pop, out->switch_distance, out->switch_by);
+  }
+  jnd_renderer_free(r);
+  jnd_model_free(m);
+  free(views);
+  return st;
+}
+
 jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen, const jnd_lod_switch_params *p,
                                   jnd_lod_switch_result *out) {
   memset(out, 0, sizeof *out);
@@ -199,6 +303,10 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
   if (!(p->tolerance >= 0.001 && p->tolerance <= 10)) return jnd_fail(JND_ERR_ARG, "lod: tolerance %g outside [0.001, 10]", p->tolerance);
   if (p->max_px < 32 || p->max_px > 8192) return jnd_fail(JND_ERR_ARG, "lod: largest rendering %d px (32..8192)", p->max_px);
   if (screen->height_px < 1 || !(screen->ppd > 0)) return jnd_fail(JND_ERR_ARG, "lod: screen '%s' needs pixels and pixels per degree", screen->name);
+  if (p->pop && p->pop_motion != JND_POP_ORBIT && p->pop_motion != JND_POP_OBJECT && p->pop_motion != JND_POP_PAN)
+    return jnd_fail(JND_ERR_ARG, "lod: the popping motion must be an orbit, a spin or a pan (degrees per second)");
+  if (p->pop && (!isfinite(p->pop_speed) || !(p->pop_rating_limit > 0)))
+    return jnd_fail(JND_ERR_ARG, "lod: popping speed %g or rating limit %g", p->pop_speed, p->pop_rating_limit);
 
   /* steps 1 and 2 */
   double centre[3], radius;
@@ -248,9 +356,14 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
   out->p_max = jnd_alloc((size_t)n, sizeof *out->p_max);
   out->switch_distance = jnd_alloc((size_t)n, sizeof *out->switch_distance);
   out->switch_coverage = jnd_alloc((size_t)n, sizeof *out->switch_coverage);
+  out->switch_distance_criterion = jnd_alloc((size_t)n, sizeof *out->switch_distance_criterion);
+  out->switch_distance_pop = jnd_alloc((size_t)n, sizeof *out->switch_distance_pop);
+  out->pop_max_rating = jnd_alloc((size_t)n, sizeof *out->pop_max_rating);
+  out->switch_by = jnd_alloc((size_t)n, sizeof *out->switch_by);
   jnd_status st = JND_OK;
   if (!o.grid || !o.first || !o.known || !o.P || !idx || !out->statistic || !out->p_max || !out->switch_distance ||
-      !out->switch_coverage)
+      !out->switch_coverage || !out->switch_distance_criterion || !out->switch_distance_pop || !out->pop_max_rating ||
+      !out->switch_by)
     st = jnd_fail(JND_ERR_NOMEM, "lod: out of memory");
   if (!st) {
     for (int g = 0; g < ngrid; g++) {
@@ -279,14 +392,14 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
     if (st) st = o.st ? o.st : st;
   }
   if (!st) {
-    for (int k = 0; k < n; k++) {
-      double d = k == 0 ? 0 : idx[k] < 0 ? INFINITY : o.grid[idx[k]];
-      out->switch_distance[k] = d;
-      out->switch_coverage[k] = k == 0 ? 1 : jnd_coverage_at_distance(radius, d, fov);
-    }
+    for (int k = 0; k < n; k++) out->switch_distance_criterion[k] = k == 0 ? 0 : idx[k] < 0 ? INFINITY : o.grid[idx[k]];
     jnd_judge_get_counts(o.judge, &out->counts);
   }
-  jnd_judge_free(o.judge);
+  jnd_judge_free(o.judge);   /* before pop's renderer: one GL context at a time */
+  if (!st) st = pop_step(scene, &jp, &jp.views.sampling, p, radius, fov, scale * screen->height_px / R, out);
+  if (!st)
+    for (int k = 0; k < n; k++)
+      out->switch_coverage[k] = k == 0 ? 1 : jnd_coverage_at_distance(radius, out->switch_distance[k], fov);
   jnd_scene_lod_select(scene, 0);
   free(o.grid);
   free(o.first);

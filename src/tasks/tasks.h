@@ -69,6 +69,12 @@ typedef int (*lod_passes_fn)(void *user, int level, int grid);
 jnd_status lod_switch_search(int nlevels, int ngrid, lod_passes_fn passes, void *user, int *perceptual,
                              int *switch_idx);
 
+/* The switch distances from their two components (jnd_lod_switch_result):
+ * out[0] = 0; out[k] = the farthest of criterion[k], pop[k] (NaN: no
+ * constraint) and out[k − 1], so out rises with k; by[k] says which decided
+ * (the criterion on a tie). */
+void lod_switch_combine(int nlevels, const double *criterion, const double *pop, double *out, jnd_lod_switch_by *by);
+
 /* ---- lod_switch.c (end) ---- */
 
 /* ---- pop_weights.c: the popping predictor's weights, 004 §4 (begin) ---- */

@@ -42,6 +42,23 @@ for s in res["screens"]:
     d = [inf if x is None else x for x in sd]
     assert all(a <= b for a, b in zip(d, d[1:])), sd                   # monotone in the level
     assert all(a >= b for a, b in zip(sc, sc[1:])), sc
+    # each switch distance is the farthest of the criterion's, the popping one's and the finer level's
+    da = [inf if x is None else x for x in s["switch_distance_criterion_m"]]
+    db = [None if k == 0 or not s["pop"][k - 1]["searched"] else inf if x is None else x
+          for k, x in enumerate(s["switch_distance_pop_m"])]
+    assert s["switch_by"][0] == "reference" and len(s["pop"]) == n - 1
+    for k in range(1, n):
+        want = max(da[k], db[k] if db[k] is not None else -inf, d[k - 1])
+        assert d[k] == want, (k, d[k], want)
+        by = "finer level" if d[k - 1] > max(da[k], db[k] or -inf) else \
+             "popping" if db[k] is not None and db[k] > da[k] else "criterion"
+        assert s["switch_by"][k] == by, (k, s["switch_by"][k], by)
+        row = s["pop"][k - 1]
+        assert row["level"] == k
+        if row["searched"] and not row["never"]:
+            assert row["max_rating"] is None or row["max_rating"] < 1   # R < 1 where written (null: no region)
+    if d[1] < inf:
+        assert s["pop"][0]["searched"] and s["pop_evaluations"] > 0  # popping on by default
     vc = s["viewing_condition"]
     assert abs(vc["coverage"] - 0.5) < 1e-9 and vc["window_px"] == 96 and 0 < vc["scale"] < 1
     for k in range(1, n):
@@ -137,6 +154,18 @@ assert d["levels"][1]["triangles"] == c["levels"][0]["triangles"] and d["levels"
 PY
 
 # without the perceptual step: null, said so, and the model's coverages by meshoptimizer's rule
+expect_exit 0 "--no-pop runs" "$JND" lod builtin:sphere -o "$T/nopop" "${SMALL[@]}" --no-pop --no-textures --screens 320x240
+check "--no-pop: switch distances from the criterion alone" python3 - "$T/nopop/lod.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r["parameters"]["perceptual"]["pop"]["enabled"] is False
+for s in r["result"]["screens"]:
+    assert s["switch_distance_m"] == s["switch_distance_criterion_m"]
+    assert all(x is None for x in s["switch_distance_pop_m"]) and not any(p["searched"] for p in s["pop"])
+    assert all(b in ("reference", "criterion") for b in s["switch_by"]) and s["pop_evaluations"] == 0
+PY
+expect_exit 2 "--pop-motion of another kind: exit 2" "$JND" lod builtin:sphere -o "$T/x" --pop-motion walk
+check "one line" one_line_error
 expect_exit 0 "--no-perceptual runs" "$JND" lod builtin:sphere -o "$T/np" "${SMALL[@]}" --no-perceptual --no-textures
 check "--no-perceptual: null fields, the rule named" python3 - "$T/np/lod.json" <<'PY'
 import json, sys

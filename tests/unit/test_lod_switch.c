@@ -85,6 +85,26 @@ TEST(an_oracle_error_is_an_error) {
   CHECK_STATUS(lod_switch_search(3, 8, failing_oracle, NULL, &perc, idx), JND_ERR_INTERNAL);
 }
 
+TEST(a_switch_distance_is_the_farthest_of_its_components_and_the_finer_level) {
+  /* level 1: the criterion decides; 2: popping does; 3: the finer level's
+   * distance (both components nearer); 4: a tie goes to the criterion; 5:
+   * popping not searched (NaN) leaves the criterion; 6: pops everywhere */
+  const double crit[7] = {0, 2, 3, 4, 9, 10, 11};
+  const double pop[7] = {NAN, 1, 8, 5, 9, NAN, INFINITY};
+  double d[7];
+  jnd_lod_switch_by by[7];
+  lod_switch_combine(7, crit, pop, d, by);
+  const double want[7] = {0, 2, 8, 8, 9, 10, INFINITY};
+  const jnd_lod_switch_by wby[7] = {JND_LOD_SWITCH_REFERENCE, JND_LOD_SWITCH_CRITERION, JND_LOD_SWITCH_POP,
+                                    JND_LOD_SWITCH_FINER,     JND_LOD_SWITCH_CRITERION, JND_LOD_SWITCH_CRITERION,
+                                    JND_LOD_SWITCH_POP};
+  for (int k = 0; k < 7; k++) {
+    CHECK(d[k] == want[k]);
+    CHECK_EQ(by[k], wby[k]);
+  }
+  CHECK(strcmp(jnd_lod_switch_by_name(JND_LOD_SWITCH_POP), "popping") == 0);
+}
+
 TEST(coverage_and_distance_are_inverses) {
   for (double c = 0.01; c < 1; c *= 1.7) {
     double d = jnd_camera_distance_for_coverage(2.0, c, 45);
@@ -97,7 +117,7 @@ TEST(coverage_and_distance_are_inverses) {
 
 /* the builtin sphere (small maps), its chain, and a copy of level 0 added as
  * the last level */
-static jnd_scene *sphere_with_copy(int *copy) {
+static jnd_scene *sphere_chain(const double *errors, int nerrors, int *copy) {
   jnd_builtin_params bp;
   jnd_builtin_defaults(&bp);
   bp.map_size = 32;
@@ -108,14 +128,28 @@ static jnd_scene *sphere_with_copy(int *copy) {
   if (!s || !c) return NULL;
   jnd_lod_params lp;
   jnd_lod_defaults(&lp);
-  double errors[2] = {1.0 / 64, 1.0 / 16};
   lp.errors = errors;
-  lp.nerrors = 2;
+  lp.nerrors = nerrors;
   CHECK_OK(jnd_scene_lod_build(s, &lp));
   CHECK_OK(jnd_scene_lod_add(s, c, "copy"));
   *copy = jnd_scene_lod_count(s) - 1;
   CHECK(*copy >= 2);
   return s;
+}
+
+static jnd_scene *sphere_with_copy(int *copy) {
+  static const double errors[2] = {1.0 / 64, 1.0 / 16};
+  return sphere_chain(errors, 2, copy);
+}
+
+/* jnd_lod_switch_analyse; 0 (the scene freed) when it failed or there is no
+ * renderer (the test skipped) */
+static int analysed(jnd_scene *s, const jnd_poi_screen *scr, const jnd_lod_switch_params *p, jnd_lod_switch_result *r) {
+  jnd_status st = jnd_lod_switch_analyse(s, scr, p, r);
+  if (st == JND_ERR_GL) TEST_SKIP("no OpenGL renderer: %s", jnd_last_error());
+  else CHECK_OK(st);
+  if (st) jnd_scene_free(s);
+  return st == JND_OK;
 }
 
 static void small_params(jnd_lod_switch_params *p) {
@@ -124,6 +158,7 @@ static void small_params(jnd_lod_switch_params *p) {
   p->max_px = 128;
   p->tolerance = 0.5;
   p->far_coverage = 0.05;
+  p->pop = 0;
 }
 
 TEST(a_level_identical_to_level_0_has_p_0_and_inherits_the_finer_distance) {
@@ -136,14 +171,7 @@ TEST(a_level_identical_to_level_0_has_p_0_and_inherits_the_finer_distance) {
   small_params(&p);
   p.coverage = 0.12;   /* 130 px on 1080: the window holds it whole */
   jnd_lod_switch_result r;
-  jnd_status st = jnd_lod_switch_analyse(s, &scr, &p, &r);
-  if (st == JND_ERR_GL) {
-    TEST_SKIP("no OpenGL renderer: %s", jnd_last_error());
-    jnd_scene_free(s);
-    return;
-  }
-  CHECK_OK(st);
-  if (st) return;
+  if (!analysed(s, &scr, &p, &r)) return;
   CHECK_EQ(r.nlevels, copy + 1);
   CHECK_EQ(jnd_scene_lod_selected(s), 0);
   /* the copy passes at the viewing condition with every view at P = 0 */
@@ -157,10 +185,94 @@ TEST(a_level_identical_to_level_0_has_p_0_and_inherits_the_finer_distance) {
    * shown from where the level before it is, never nearer */
   CHECK(r.switch_distance[0] == 0);
   for (int k = 1; k < r.nlevels; k++) CHECK(r.switch_distance[k] >= r.switch_distance[k - 1]);
-  CHECK(r.switch_distance[copy] == r.switch_distance[copy - 1]);
+  CHECK(r.switch_distance_criterion[copy] == r.switch_distance_criterion[copy - 1]);
+  CHECK(isnan(r.switch_distance_pop[0]));   /* popping off in small_params */
   CHECK(r.switch_distance[1] > r.view_distance);   /* the coarse levels are seen where the copy is not */
   for (int k = 1; k < r.nlevels; k++)
     if (isfinite(r.switch_distance[k])) CHECK(r.switch_coverage[k] <= r.view_coverage + 1e-12);
+  jnd_lod_switch_result_free(&r);
+  jnd_scene_free(s);
+}
+
+/* the largest popping rating R over the views of r's screen when level k
+ * replaces level k − 1 at distance d, measured anew: the views sampled as
+ * jnd_lod_switch_analyse samples them (the window's field of view, the
+ * screen's pixels per degree times r.scale), each switch rendered and
+ * predicted by pop (static) */
+static double max_rating_at(jnd_scene *s, const jnd_lod_switch_params *p, const jnd_lod_switch_result *r, int k,
+                            double d) {
+  jnd_judge_params jp = p->judge;
+  jnd_view_sampling vs = jp.views.sampling;
+  double fov = vs.fov_y_deg > 0 ? vs.fov_y_deg : 45;
+  vs.fov_y_deg = 2 * atan(r->window_px / (r->scale * r->screen.height_px) * tan(fov * M_PI / 360)) * 180 / M_PI;
+  vs.aspect = 1;
+  vs.distance = d;
+  jnd_display_defaults(&jp.model.display);
+  jp.model.display.ppd = r->screen.ppd * r->scale;
+  jp.views.render.width = jp.views.render.height = r->window_px;
+  jnd_view views[8];
+  jnd_model *m = NULL;
+  jnd_renderer *R = NULL;
+  jnd_pop_motion mo;
+  jnd_pop_motion_defaults(&mo);
+  jnd_pop_params pp;
+  jnd_pop_defaults(&pp);
+  pp.picture = 0;
+  double worst = -INFINITY;
+  CHECK(vs.count <= 8);
+  CHECK_OK(jnd_views_sample(s, &vs, views));
+  CHECK_OK(jnd_model_create(&jp.model, &m));
+  CHECK_OK(jnd_renderer_create(&jp.views.render, &R));
+  for (int v = 0; v < vs.count && m && R; v++) {
+    jnd_pop_result pr;
+    CHECK_OK(jnd_pop_render(m, R, s, &views[v], &mo, k - 1, 0, &pp, &pr));
+    if (pr.nregions && pr.max_rating > worst) worst = pr.max_rating;
+    jnd_pop_result_free(&pr);
+  }
+  jnd_renderer_free(R);
+  jnd_model_free(m);
+  return worst;
+}
+
+TEST(popping_decides_a_switch_and_the_switch_does_not_pop_there) {
+  /* the sphere's chain on a small 20 ppd screen with a lenient criterion
+   * (p 0.8): level 3 passes it against level 0 at the viewing condition,
+   * but the switch from level 2 pops there (largest R >= 1) — 000's
+   * criterion pools P over the object, 004's rating adds up a small region
+   * of large differences — so popping decides its distance */
+  static const double errors[4] = {0.0005, 0.001, 0.002, 0.004};
+  int copy = 0;
+  jnd_scene *s = sphere_chain(errors, 4, &copy);
+  if (!s) return;
+  jnd_poi_screen scr;
+  CHECK_OK(jnd_poi_screen_parse("320x240@20", &scr));
+  jnd_lod_switch_params p;
+  small_params(&p);
+  p.judge.views.sampling.count = 1;
+  p.max_px = 96;
+  p.pop = 1;
+  p.judge.criterion.p = 0.8;   /* lenient: the criterion lets coarse levels in near, where their switches pop */
+  jnd_lod_switch_result r;
+  if (!analysed(s, &scr, &p, &r)) return;
+  int decided = 0;
+  for (int k = 1; k < r.nlevels; k++) {
+    CHECK(r.switch_distance[k] >= r.switch_distance[k - 1]);
+    CHECK(r.switch_distance[k] >= r.switch_distance_criterion[k]);
+    if (!isnan(r.switch_distance_pop[k])) CHECK(r.switch_distance[k] >= r.switch_distance_pop[k]);
+    if (r.switch_by[k] != JND_LOD_SWITCH_POP || !isfinite(r.switch_distance[k])) continue;
+    decided++;
+    CHECK(r.switch_distance[k] == r.switch_distance_pop[k]);
+    CHECK(r.switch_distance_pop[k] > r.switch_distance_criterion[k]);
+    CHECK(r.pop_max_rating[k] < 1);
+    /* measured again at the distance written: below 1; and where the
+     * criterion and the finer level would have let it be shown: at least 1 */
+    double from = fmax(r.switch_distance_criterion[k], r.switch_distance[k - 1]);
+    CHECK(r.switch_distance[k] > from);
+    CHECK_LT(max_rating_at(s, &p, &r, k, r.switch_distance[k]), 1);
+    CHECK(max_rating_at(s, &p, &r, k, from) >= 1);
+  }
+  CHECK(decided >= 1);
+  CHECK(r.pop_evaluations > 0);
   jnd_lod_switch_result_free(&r);
   jnd_scene_free(s);
 }
@@ -182,6 +294,14 @@ TEST(bad_switch_parameters_are_refused) {
   small_params(&p);
   p.judge.views.sampling.count = 0;
   CHECK_STATUS(jnd_lod_switch_analyse(s, &scr, &p, &r), JND_ERR_ARG);
+  small_params(&p);
+  p.pop = 1;
+  p.pop_motion = JND_POP_TRANSLATE;   /* metres per second: not a switch table's speed */
+  CHECK_STATUS(jnd_lod_switch_analyse(s, &scr, &p, &r), JND_ERR_ARG);
+  small_params(&p);
+  p.pop = 1;
+  p.pop_speed = NAN;
+  CHECK_STATUS(jnd_lod_switch_analyse(s, &scr, &p, &r), JND_ERR_ARG);
   jnd_scene_free(s);
 }
 
@@ -189,5 +309,6 @@ RUN_TESTS(bisection_finds_the_nearest_passing_distance_of_every_threshold,
           the_perceptual_level_is_the_coarsest_passing_at_the_viewing_condition,
           switch_distances_grow_with_the_level_by_construction,
           a_level_failing_at_the_far_end_is_never_shown_nor_any_coarser, an_oracle_error_is_an_error,
+          a_switch_distance_is_the_farthest_of_its_components_and_the_finer_level,
           coverage_and_distance_are_inverses, a_level_identical_to_level_0_has_p_0_and_inherits_the_finer_distance,
-          bad_switch_parameters_are_refused)
+          popping_decides_a_switch_and_the_switch_does_not_pop_there, bad_switch_parameters_are_refused)
