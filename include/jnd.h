@@ -234,6 +234,10 @@ typedef struct {
   double masking_slope;      /* growth of the discrimination threshold with a masker's contrast,
                                 log-log (0.6, Legge 1981; 004's printed transducer: 0.3);
                                 docs/model.md "Masking" */
+  double masking_cross;      /* weight of the other two channels' maskers in each channel's masker,
+                                0..1 (1: one normalisation pool over A, a, b, as ColorVideoVDP's
+                                cross-channel masking; 0: each channel masks only itself, as 004);
+                                docs/model.md "Masking" */
   double min_band_cpd;       /* bands are added while their peak is >= this (004: 0.5 cpd;
                                 see docs/model.md for the default) */
   double summation_area_deg2; /* local probability summation over Rovamo et al.'s (1993) critical

@@ -67,6 +67,7 @@ void jnd_model_defaults(jnd_model_params *p) {
   jnd_display_defaults(&p->display);
   p->minkowski = 2.4; /* 004 §3.2 */
   p->masking_slope = 0.6; /* Legge 1981, as 004 §3.1 cites (docs/model.md) */
+  p->masking_cross = 1.0; /* one normalisation pool over the three channels (docs/model.md "Masking") */
   p->beta = 3.5;      /* 000 eq. 4 */
   p->fps = 60;
   /* Fitted on ../shared/data/csf/csf_train.csv (785 rows, nine data sets)
@@ -128,6 +129,8 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
     return jnd_fail(JND_ERR_ARG, "model: eccentricity constants must be positive");
   if (!(p->masking_slope >= 0 && p->masking_slope < 1))
     return jnd_fail(JND_ERR_ARG, "model: masking_slope must be in [0, 1)");
+  if (!(p->masking_cross >= 0 && p->masking_cross <= 1))
+    return jnd_fail(JND_ERR_ARG, "model: masking_cross must be in [0, 1]");
   if (!(p->minkowski >= 1) || !(p->beta > 0))
     return jnd_fail(JND_ERR_ARG, "model: Minkowski exponent must be >= 1 and beta > 0");
   jnd_model *m = jnd_calloc(1, sizeof *m);
@@ -356,14 +359,15 @@ typedef struct {
   float *opp[2][3], *logl[2], *sens[NCH], *eccf[NCH];
   float *mask[5][NCH]; /* ring of 5 rows: the mutual masker, pooled along the row */
   float *dif[3][NCH];  /* ring of 3 rows: |n_test − n_ref| per channel */
+  float *pooled[NCH];  /* the maskers of the row being finished, pooled in 5 × 5 */
   float *tmp;
   float *mem;
 } row_scratch;
 
 static int scratch_init(row_scratch *r, int w) {
   /* 12 caches × 3 rows; opponent values (2 × 3), adaptation (2), sensitivities (3), eccentricity
-   * factors (3), masker ring (5 × 3), difference ring (3 × 3), one row of scratch */
-  r->mem = malloc(sizeof(float) * (size_t)w * (36 + 6 + 2 + 3 + 3 + 15 + 9 + 1));
+   * factors (3), masker ring (5 × 3), difference ring (3 × 3), pooled maskers (3), one row of scratch */
+  r->mem = malloc(sizeof(float) * (size_t)w * (36 + 6 + 2 + 3 + 3 + 15 + 9 + 3 + 1));
   if (!r->mem) return 0;
   float *p = r->mem;
   for (int a = 0; a < 2; a++)
@@ -382,6 +386,7 @@ static int scratch_init(row_scratch *r, int w) {
     for (int c = 0; c < NCH; c++) r->mask[k][c] = p, p += w;
   for (int k = 0; k < 3; k++)
     for (int c = 0; c < NCH; c++) r->dif[k][c] = p, p += w;
+  for (int c = 0; c < NCH; c++) r->pooled[c] = p, p += w;
   r->tmp = p;
   return 1;
 }
@@ -608,29 +613,32 @@ JND_HOT static void band_rows(const band_ctx *k, row_scratch *r, int y0, int y1,
     }
     return;
   }
-  const float slope = (float)k->m->p.masking_slope;
+  const float slope = (float)k->m->p.masking_slope, cross = (float)k->m->p.masking_cross;
   for (int q = y0 - 2; q <= y1 + 1; q++) {
     response_row(k, r, jnd_mirror(q, h), r->dif[(q + 6) % 3], r->mask[(q + 10) % 5]);
     const int y = q - 2;
     if (y < y0) continue;
-    /* 004 §3.2: difference of the responses, Minkowski over channels */
-    float *drow = D + (size_t)y * w;
+    /* each channel's mutual masker, pooled with the 5 × 5 binomial kernel */
     for (int c = 0; c < NCH; c++) {
       const float *m0 = r->mask[(y + 8) % 5][c], *m1 = r->mask[(y + 9) % 5][c], *m2 = r->mask[(y + 10) % 5][c],
                   *m3 = r->mask[(y + 11) % 5][c], *m4 = r->mask[(y + 12) % 5][c];
+      float *mp = r->pooled[c];
+#pragma omp simd
+      for (int x = 0; x < w; x++) mp[x] = (m0[x] + 4 * m1[x] + 6 * m2[x] + 4 * m3[x] + m4[x]) * (1.0f / 16);
+    }
+    /* 004 §3.2: difference of the responses, Minkowski over channels; each
+     * channel is masked by its own masker plus `cross` times the other
+     * channels' (cross-channel masking, docs/model.md "Masking") */
+    float *drow = D + (size_t)y * w;
+    for (int c = 0; c < NCH; c++) {
       const float *d = r->dif[(y + 6) % 3][c];
+      const float *own = r->pooled[c], *o1 = r->pooled[(c + 1) % NCH], *o2 = r->pooled[(c + 2) % NCH];
       if (c == 0) {
 #pragma omp simd
-        for (int x = 0; x < w; x++) {
-          float m = (m0[x] + 4 * m1[x] + 6 * m2[x] + 4 * m3[x] + m4[x]) * (1.0f / 16);
-          drow[x] = jnd_fast_pow(d[x] * jnd_masking_gain(m, slope), e);
-        }
+        for (int x = 0; x < w; x++) drow[x] = jnd_fast_pow(d[x] * jnd_masking_gain(own[x] + cross * (o1[x] + o2[x]), slope), e);
       } else {
 #pragma omp simd
-        for (int x = 0; x < w; x++) {
-          float m = (m0[x] + 4 * m1[x] + 6 * m2[x] + 4 * m3[x] + m4[x]) * (1.0f / 16);
-          drow[x] += jnd_fast_pow(d[x] * jnd_masking_gain(m, slope), e);
-        }
+        for (int x = 0; x < w; x++) drow[x] += jnd_fast_pow(d[x] * jnd_masking_gain(own[x] + cross * (o1[x] + o2[x]), slope), e);
       }
     }
   }

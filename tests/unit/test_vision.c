@@ -420,6 +420,46 @@ TEST(a_texture_masks_a_change_whatever_its_phase) {
   jnd_model_free(m);
 }
 
+static jnd_image luminance_and_colour(int n, double cm, double fm, double d, double fd);
+static double jnd_of_xyz(jnd_model *m, const jnd_image *a, const jnd_image *b);
+
+/* docs/model.md "Masking": the three channels share one normalisation pool
+ * (masking_cross = 1), so a strong achromatic texture masks a red–green
+ * change on it as it masks an achromatic one; with masking_cross = 0 (004:
+ * each channel masks only itself) it does not mask it at all. On a uniform
+ * background there is no masker, so the pool cannot move a threshold of the
+ * human data (docs/csf.md). */
+TEST(an_achromatic_texture_masks_a_colour_change) {
+  double j[2], jflat[2];
+  for (int k = 0; k < 2; k++) {
+    jnd_model_params p;
+    jnd_model_defaults(&p);
+    p.display.ppd = 40;
+    p.threads = 1;
+    p.masking_cross = k;
+    jnd_model *m = NULL;
+    CHECK_OK(jnd_model_create(&p, &m));
+    /* masker: a 0.4-contrast achromatic grating at 4 cpd; signal: a 2%
+     * red–green grating at 4 cpd in the other orientation (the same band),
+     * a few JND on the uniform field */
+    jnd_image ref = luminance_and_colour(128, 0.4, 0.1, 0, 0.1), test = luminance_and_colour(128, 0.4, 0.1, 0.02, 0.1);
+    jnd_image flat = luminance_and_colour(128, 0, 0.1, 0, 0.1), flat_test = luminance_and_colour(128, 0, 0.1, 0.02, 0.1);
+    j[k] = jnd_of_xyz(m, &ref, &test);
+    jflat[k] = jnd_of_xyz(m, &flat, &flat_test);
+    jnd_image_free(&ref);
+    jnd_image_free(&test);
+    jnd_image_free(&flat);
+    jnd_image_free(&flat_test);
+    jnd_model_free(m);
+  }
+  fprintf(stderr, "red-green grating: %.3f JND on a uniform field, %.3f on the texture (own masking), %.3f (one pool)\n",
+          jflat[1], j[0], j[1]);
+  CHECK(jflat[0] > 1);
+  CHECK(jflat[0] == jflat[1]);           /* no masker on a uniform field */
+  CHECK_NEAR(j[0] / jflat[0], 1.0, 0.1); /* per-channel masking: the texture does not mask colour */
+  CHECK_LT(j[1], 0.5 * j[0]);            /* one pool: it does */
+}
+
 TEST(a_uniform_change_is_visible) {
   /* the baseband: a flat 16° field from 40 to 45 cd/m² has no contrast in
    * any band but is plainly seen; 40 to 40.1 is not */
@@ -617,24 +657,59 @@ static void inverse3(const double m[3][3], double r[3][3]) {
     }
 }
 
-/* An XYZ image whose cone excitations are a D65 grey of Y = 50 cd/m² times
- * (1 + c_k·g), g a windowed cosine grating: cone contrasts (cl, cm, cs). */
-static jnd_image cone_grating(int n, double cl, double cm, double cs, double f, double sigma) {
+/* XYZ images whose cone excitations are a D65 grey of Y = 50 cd/m² times
+ * (1 + k) per cone: the grey's cones and the inverse of HPE */
+static void grey_cones(double lms0[3], double inv[3][3]) {
   const double xyz0[3] = {0.95047 * 50, 50, 1.08883 * 50};
-  double lms0[3], inv[3][3];
   for (int i = 0; i < 3; i++) lms0[i] = HPE[i][0] * xyz0[0] + HPE[i][1] * xyz0[1] + HPE[i][2] * xyz0[2];
   inverse3(HPE, inv);
+}
+
+/* pixel i of img: the grey's cones times (1 + kl, 1 + km, 1 + ks), as XYZ */
+static void set_cones(jnd_image *img, size_t i, const double lms0[3], const double inv[3][3], double kl, double km,
+                      double ks) {
+  double lms[3] = {lms0[0] * (1 + kl), lms0[1] * (1 + km), lms0[2] * (1 + ks)};
+  for (int c = 0; c < 3; c++)
+    jnd_image_plane(img, c)[i] = (float)(inv[c][0] * lms[0] + inv[c][1] * lms[1] + inv[c][2] * lms[2]);
+}
+
+/* cone contrasts (cl, cm, cs) times g, a windowed cosine grating */
+static jnd_image cone_grating(int n, double cl, double cm, double cs, double f, double sigma) {
+  double lms0[3], inv[3][3];
+  grey_cones(lms0, inv);
   jnd_image img;
   jnd_image_alloc(&img, n, n, 3);
   for (int y = 0; y < n; y++)
     for (int x = 0; x < n; x++) {
       double dx = x - n / 2.0, dy = y - n / 2.0;
       double g = exp(-(dx * dx + dy * dy) / (2 * sigma * sigma)) * cos(2 * M_PI * f * dx);
-      double lms[3] = {lms0[0] * (1 + cl * g), lms0[1] * (1 + cm * g), lms0[2] * (1 + cs * g)};
-      for (int c = 0; c < 3; c++)
-        jnd_image_plane(&img, c)[(size_t)y * n + x] = (float)(inv[c][0] * lms[0] + inv[c][1] * lms[1] + inv[c][2] * lms[2]);
+      set_cones(&img, (size_t)y * n + x, lms0, inv, cl * g, cm * g, cs * g);
     }
   return img;
+}
+
+/* an achromatic grating of Weber contrast cm across x (cycles/pixel fm)
+ * plus an isoluminant red–green one of cone contrasts (d, −2d, 0) across y
+ * (fd), both filling the image */
+static jnd_image luminance_and_colour(int n, double cm, double fm, double d, double fd) {
+  double lms0[3], inv[3][3];
+  grey_cones(lms0, inv);
+  jnd_image img;
+  jnd_image_alloc(&img, n, n, 3);
+  for (int y = 0; y < n; y++)
+    for (int x = 0; x < n; x++) {
+      double a = cm * cos(2 * M_PI * fm * x), g = d * cos(2 * M_PI * fd * y);
+      set_cones(&img, (size_t)y * n + x, lms0, inv, a + g, a - 2 * g, a);
+    }
+  return img;
+}
+
+static double jnd_of_xyz(jnd_model *m, const jnd_image *a, const jnd_image *b) {
+  jnd_image map;
+  if (jnd_model_diff_xyz(m, a, b, NULL, &map) != JND_OK) return -1;
+  double v = max_of(&map);
+  jnd_image_free(&map);
+  return v;
 }
 
 /* 004 §3.2: differences are combined across channels (and bands) by
@@ -890,6 +965,7 @@ RUN_TESTS(flicker_sensitivity_is_band_pass_at_low_spatial_frequency_and_low_pass
           chromatic_flicker_is_flat_at_low_temporal_frequencies_and_fades_above_ten_hertz,
           red_green_sensitivity_falls_faster_with_eccentricity_than_luminance,
           moving_the_fixation_point_equals_a_model_made_with_it, a_texture_masks_a_change_whatever_its_phase,
+          an_achromatic_texture_masks_a_colour_change,
           a_uniform_change_is_visible, identical_images_have_zero_jnd, band_table_matches_the_filters, finest_band_peaks_near_nyquist_and_four_times_the_next,
           with_004s_limit_the_coarsest_band_peaks_at_or_above_half_a_cycle_per_degree, reduce_and_expand_keep_a_constant_image_constant,
           lms_luminance_weights_recover_y, opponent_channels_separate_luminance_from_colour,
