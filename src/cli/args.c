@@ -374,6 +374,8 @@ int cli_views_opt(cli_args *a, cli_views *v) {
 static const char *const views_names[] = {"--views", "--seed", "--size", "--coverage", "--distance",
                                            "--fov", "--elevation", "--lights", "--light-intensity", "--cameras",
                                            "--env", "--samples", "--anisotropy", "--platform", "--map-size"};
+_Static_assert(sizeof views_names / sizeof *views_names == 15 && CLI_MAP_SIZE == 1u << 14,
+               "views_names[k] names the option of bit k of cli_views.given");
 
 int cli_views_only(const cli_views *v, unsigned allowed, const char *cmd, const char *why) {
   for (unsigned k = 0; k < sizeof views_names / sizeof *views_names; k++)

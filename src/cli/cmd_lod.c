@@ -228,7 +228,6 @@ static int run(int argc, char **argv) {
                               CLI_SAMPLES | CLI_ANISOTROPY | CLI_PLATFORM | CLI_MAP_SIZE,
                      "lod", "its views are rendered at each screen's size around the object; see jnd lod --help"))
     return EXIT_BAD;
-  if (vo.set.sampling.coverage > 1) return cli_bad("lod: --coverage %g: the object must fit on the screen (at most 1)", vo.set.sampling.coverage);
   p.poi.views = vo.set.sampling.count;
   p.poi.seed = vo.set.sampling.seed;
   p.poi.coverage = vo.set.sampling.coverage;

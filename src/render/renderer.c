@@ -28,7 +28,7 @@ typedef struct {
 struct jnd_renderer {
   jnd_gl_context gl;
   char desc[320];
-  int w, h, samples, aniso;
+  int w, h, samples;
   float max_aniso;
   /* the PBR program in six variants: [pass][alpha mask], pass 0 shaded
    * colour, 1 auxiliary, 2 unlit colour; only the masked variant may
@@ -222,7 +222,6 @@ jnd_status jnd_renderer_create(const jnd_renderer_params *p, jnd_renderer **out)
   GLint max_samples = 1;
   glGetInternalformativ(GL_RENDERBUFFER, GL_RGBA32F, GL_SAMPLES, 1, &max_samples);
   r->samples = jnd_clampi(p->samples > 0 ? p->samples : 1, 1, max_samples > 0 ? max_samples : 1);
-  r->aniso = p->anisotropy;
   /* anisotropic filtering is the shader's (pbr_frag.glsl, sample_map): the
    * same on every driver, whatever it offers */
   r->max_aniso = (float)jnd_clampi(p->anisotropy, 1, 16);

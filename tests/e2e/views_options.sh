@@ -33,6 +33,8 @@ for c in "lod builtin -o $T/x --size 64x64" "lod builtin -o $T/x --cameras c.jso
 done
 expect_exit 2 "lod --coverage 2: exit 2" "$JND" lod builtin -o "$T/x" --coverage 2
 check "lod --coverage 2: one line" one_line_error
+check "lod --coverage 2: says the object must fit" grep -q "must fit on the screen" "$T/err.txt"
+check "lod --coverage 2: nothing written" [ ! -e "$T/x" ]
 "$JND" render builtin -o "$T/x" --size 0x0 2>"$T/err.txt"
 check "a bad size names its format WxH" grep -q "is not WxH" "$T/err.txt"
 finish
