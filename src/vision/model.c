@@ -39,8 +39,9 @@ struct jnd_model {
   double band_cpd[MAX_BANDS];
   int adapt_level;             /* Gaussian level where a pixel is about one degree */
   double lum_w[3];             /* Y from LMS */
-  float *lut;                  /* [band][ch][iv][iL]: CSF · sensitivity / amplitude, filled by
-                                  luminance column on first use (lut_fill) */
+  float *lut;                  /* [band][iv][iL][ch, -]: CSF · sensitivity / amplitude, the
+                                  channels side by side (one load reads a corner's three), filled
+                                  by luminance column on first use (lut_fill) */
   unsigned char lut_done[LUT_NL];
   double c0[LUT_NL], c1[LUT_NL]; /* 004 §3.1's adaptation of the achromatic CSF, per column */
   double lumf[2][LUT_NL];      /* the chromatic CSFs' luminance factors, per column */
@@ -109,8 +110,12 @@ int jnd_model_band_peaks(const jnd_model *m, double *cpd, int max) {
   return m->nbands;
 }
 
-static float *lut_at(const jnd_model *m, int band, int ch) {
-  return m->lut + ((size_t)band * NCH + ch) * LUT_NV * LUT_NL;
+/* LUT_SLOT floats a table entry: the NCH channels and one unused */
+#define LUT_SLOT 4
+#define LUT_IX(iv, il) (((size_t)(iv) * LUT_NL + (size_t)(il)) * LUT_SLOT)
+
+static float *lut_band(const jnd_model *m, int band) {
+  return m->lut + (size_t)band * LUT_NV * LUT_NL * LUT_SLOT;
 }
 
 jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
@@ -171,7 +176,7 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
   if (m->adapt_level < 0) m->adapt_level = 0;
   jnd_lms_luminance_weights(m->lum_w);
 
-  m->lut = jnd_alloc((size_t)(n + 1) * NCH * LUT_NV * LUT_NL, sizeof(float));
+  m->lut = jnd_alloc((size_t)(n + 1) * LUT_NV * LUT_NL * LUT_SLOT, sizeof(float));
   if (!m->lut) {
     jnd_model_free(m);
     return JND_ERR_NOMEM;
@@ -235,9 +240,9 @@ static void lut_fill(jnd_model *m, int il0, int il1) {
        * sensitivity while high frequencies, best seen at low velocity, keep
        * 004's values. */
       for (int ch = 0; ch < NCH; ch++) {
-        float *t = lut_at(m, b, ch);
+        float *t = lut_band(m, b) + ch;
         if (p->eye_velocity_dps <= 0) {
-          for (int iv = 0; iv < LUT_NV; iv++) t[(size_t)iv * LUT_NL + il] = col[ch][iv];
+          for (int iv = 0; iv < LUT_NV; iv++) t[LUT_IX(iv, il)] = col[ch][iv];
           continue;
         }
         int dq[LUT_NV], head = 0, tail = 0, next = 0; /* dq[head, tail): indices, values decreasing */
@@ -257,7 +262,7 @@ static void lut_fill(jnd_model *m, int il0, int il1) {
             f = jnd_clampd(f, 0, 1);
             best = jnd_maxf(best, (float)((1 - f) * col[ch][j] + f * col[ch][j + 1]));
           }
-          t[(size_t)iv * LUT_NL + il] = best;
+          t[LUT_IX(iv, il)] = best;
         }
       }
     }
@@ -321,18 +326,24 @@ static void axis_free(interp_axis *a) {
   free(a->run);
 }
 
-/* CSF look-up: bilinear in log luminance and log velocity. */
-static inline float lut_lookup(const float *t, float logL, float logv) {
+/* CSF look-up: bilinear in log luminance and log velocity, the three
+ * channels at once (a corner's entries are side by side). */
+typedef float lut_v4 __attribute__((vector_size(16)));
+
+static inline lut_v4 lut_lookup(const float *t, float logL, float logv) {
   float fl = (logL - (float)LUT_LOGL0) * (float)(1.0 / LUT_DLOGL);
   float fv = (logv - (float)LUT_LOGV0) * (float)(1.0 / LUT_DLOGV);
-  if (fl < 0) fl = 0;
-  if (fl > LUT_NL - 1.001f) fl = LUT_NL - 1.001f;
-  if (fv < 0) fv = 0;
-  if (fv > LUT_NV - 1.001f) fv = LUT_NV - 1.001f;
+  fl = jnd_minf(jnd_maxf(fl, 0), LUT_NL - 1.001f);
+  fv = jnd_minf(jnd_maxf(fv, 0), LUT_NV - 1.001f);
   int il = (int)fl, iv = (int)fv;
-  float tl = fl - il, tv = fv - iv;
-  const float *r0 = t + (size_t)iv * LUT_NL + il, *r1 = r0 + LUT_NL;
-  return (1 - tv) * ((1 - tl) * r0[0] + tl * r0[1]) + tv * ((1 - tl) * r1[0] + tl * r1[1]);
+  float tl = fl - (float)il, tv = fv - (float)iv;
+  const float *e = t + LUT_IX(iv, il);
+  lut_v4 c00, c01, c10, c11;
+  memcpy(&c00, e, sizeof c00);
+  memcpy(&c01, e + LUT_SLOT, sizeof c01);
+  memcpy(&c10, e + LUT_NL * LUT_SLOT, sizeof c10);
+  memcpy(&c11, e + (LUT_NL + 1) * LUT_SLOT, sizeof c11);
+  return (1 - tv) * ((1 - tl) * c00 + tl * c01) + tv * ((1 - tl) * c10 + tl * c11);
 }
 
 /* What every row of one band reads. */
@@ -342,7 +353,7 @@ typedef struct {
   int band, w, h, w1;
   int unmasked;         /* 1: one image is uniform, so the mutual masker is 0 */
   float *xexp[2][3];    /* EXPAND(G_{i+2}) at level i+1 */
-  const float *lut[NCH]; /* CSF tables over (velocity, luminance), with a motion map */
+  const float *lut;     /* the band's CSF tables over (velocity, luminance), with a motion map */
   float lut1[LUT_NL][4];   /* the tables at the one retinal velocity, without: [iL][A, a, b, -] */
   interp_axis ax, ay;   /* bilinear sampling of the adaptation map */
   double scale;         /* full-resolution pixels per pixel of this level */
@@ -356,7 +367,7 @@ typedef struct {
 /* One thread's rows: caches of expanded coarse rows and the row stages. */
 typedef struct {
   jnd_row_cache cache[2][3][2]; /* [image][cone][G_{i+1}, EXPAND(G_{i+2})] */
-  float *opp[2][3], *logl[2], *sens[NCH], *eccf[NCH];
+  float *opp[2][3], *logl, *logv, *sens[NCH], *eccf[NCH];
   float *mask[5][NCH]; /* ring of 5 rows: the mutual masker, pooled along the row */
   float *dif[3][NCH];  /* ring of 3 rows: |n_test − n_ref| per channel */
   float *pooled[NCH];  /* the maskers of the row being finished, pooled in 5 × 5 */
@@ -365,8 +376,9 @@ typedef struct {
 } row_scratch;
 
 static int scratch_init(row_scratch *r, int w) {
-  /* 12 caches × 3 rows; opponent values (2 × 3), adaptation (2), sensitivities (3), eccentricity
-   * factors (3), masker ring (5 × 3), difference ring (3 × 3), pooled maskers (3), one row of scratch */
+  /* 12 caches × 3 rows; opponent values (2 × 3), log adaptation and log velocity (2), sensitivities
+   * (3), eccentricity factors (3), masker ring (5 × 3), difference ring (3 × 3), pooled maskers (3),
+   * one row of scratch */
   r->mem = malloc(sizeof(float) * (size_t)w * (36 + 6 + 2 + 3 + 3 + 15 + 9 + 3 + 1));
   if (!r->mem) return 0;
   float *p = r->mem;
@@ -379,7 +391,8 @@ static int scratch_init(row_scratch *r, int w) {
       }
   for (int a = 0; a < 2; a++)
     for (int c = 0; c < 3; c++) r->opp[a][c] = p, p += w;
-  for (int a = 0; a < 2; a++) r->logl[a] = p, p += w;
+  r->logl = p, p += w;
+  r->logv = p, p += w;
   for (int c = 0; c < NCH; c++) r->sens[c] = p, p += w;
   for (int c = 0; c < NCH; c++) r->eccf[c] = p, p += w;
   for (int k = 0; k < 5; k++)
@@ -400,7 +413,7 @@ static int scratch_init(row_scratch *r, int w) {
 JND_HOT static void sens_row(const band_ctx *k, row_scratch *r, const float *adapt, int vimg, int y) {
   const diff_state *st = k->st;
   const int w = k->w, band = k->band;
-  float *ll = r->logl[0];
+  float *ll = r->logl;
   const float *ar0 = adapt + (size_t)k->ay.i0[y] * st->aw, *ar1 = adapt + (size_t)k->ay.i1[y] * st->aw;
   const float ty = k->ay.t[y];
   const float *t = k->ax.t;
@@ -421,11 +434,14 @@ JND_HOT static void sens_row(const band_ctx *k, row_scratch *r, const float *ada
   float *s0 = r->sens[0], *s1 = r->sens[1], *s2 = r->sens[2];
   if (st->has_vel) {
     const float *vr = st->vel[vimg].plane[band] + (size_t)y * w;
+    float *lv = r->logv;
+#pragma omp simd
+    for (int x = 0; x < w; x++) lv[x] = jnd_fast_log2(jnd_maxf(vr[x], 1e-3f)) * 0.30103f;
     for (int x = 0; x < w; x++) {
-      float logv = jnd_fast_log2(jnd_maxf(vr[x], 1e-3f)) * 0.30103f;
-      s0[x] = lut_lookup(k->lut[0], ll[x], logv);
-      s1[x] = lut_lookup(k->lut[1], ll[x], logv);
-      s2[x] = lut_lookup(k->lut[2], ll[x], logv);
+      lut_v4 v = lut_lookup(k->lut, ll[x], lv[x]);
+      s0[x] = v[0];
+      s1[x] = v[1];
+      s2[x] = v[2];
     }
   } else {
     /* the three channels' entries side by side: one row of lut1 per index */
@@ -663,7 +679,7 @@ static jnd_status band_setup(const jnd_model *m, const diff_state *st, int band,
   k->h = st->g[0][0].h[band];
   k->unmasked = st->uniform[0] || st->uniform[1];
   k->e = (float)m->p.minkowski;
-  for (int c = 0; c < NCH; c++) k->lut[c] = lut_at(m, band, c);
+  k->lut = lut_band(m, band);
   if (st->temporal_hz > 0) {
     /* a temporal modulation at ω under fixation (docs/model.md, "Time"):
      * Kelly's spatio-temporal surface at the band's peak, ω = ρ·v, with no
@@ -689,7 +705,7 @@ static jnd_status band_setup(const jnd_model *m, const diff_state *st, int band,
     for (int c = 0; c < NCH; c++)
       for (int il = st->il0; il <= st->il1; il++)
         k->lut1[il][c] =
-            (1 - tv) * k->lut[c][(size_t)iv * LUT_NL + il] + tv * k->lut[c][(size_t)(iv + 1) * LUT_NL + il];
+            (1 - tv) * k->lut[LUT_IX(iv, il) + c] + tv * k->lut[LUT_IX(iv + 1, il) + c];
   }
   k->scale = ldexp(1.0, band);
   k->dist_px = 1.0 / tan(M_PI / 180.0 / m->p.display.ppd);
