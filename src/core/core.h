@@ -17,6 +17,11 @@ void *jnd_calloc(size_t count, size_t size);
 /* Checks w × h × c against the stated limits. */
 jnd_status jnd_check_size(int w, int h, int c, const char *what);
 
+/* The index of the first of v[0..n) that is not in [lo, hi] (NaN never
+ * is), or n when all are: a branch-free pass over blocks, so that checking
+ * a whole image costs about as much as reading it. */
+size_t jnd_first_outside(const float *v, size_t n, float lo, float hi);
+
 /* Number of threads to use for a request (0 = OpenMP default). */
 int jnd_threads(int requested);
 /* Runs OpenMP regions without their own thread count on n threads (n > 0)

@@ -35,3 +35,17 @@ void jnd_image_free(jnd_image *img) {
 float *jnd_image_plane(const jnd_image *img, int ch) {
   return img->data + (size_t)ch * img->w * img->h;
 }
+
+size_t jnd_first_outside(const float *v, size_t n, float lo, float hi) {
+  enum { BLOCK = 4096 };
+  for (size_t b = 0; b < n; b += BLOCK) {
+    const size_t e = n - b < BLOCK ? n : b + BLOCK;
+    int bad = 0;
+#pragma omp simd reduction(| : bad)
+    for (size_t i = b; i < e; i++) bad |= !(v[i] >= lo && v[i] <= hi);
+    if (!bad) continue;
+    for (size_t i = b; i < e; i++)
+      if (!(v[i] >= lo && v[i] <= hi)) return i;
+  }
+  return n;
+}

@@ -3,6 +3,7 @@
  * Radiance HDR, through stb_image; OpenEXR through the OpenEXR core C API
  * (exr.c). Every decoder refuses sizes over the limits and non-finite
  * samples, and names the file in its one-line error. */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -17,13 +18,11 @@
 
 jnd_status jnd_image_check_finite(const char *name, const jnd_image *img) {
   size_t n = (size_t)img->w * img->h * img->c;
-  for (size_t i = 0; i < n; i++) {
-    if (!isfinite(img->data[i])) {
-      size_t px = i % ((size_t)img->w * img->h);
-      return jnd_fail(JND_ERR_FORMAT, "%s: pixel (%zu, %zu) channel %zu is %s", name,
-                      px % img->w, px / img->w, i / ((size_t)img->w * img->h),
-                      isnan(img->data[i]) ? "NaN" : "infinite");
-    }
+  size_t i = jnd_first_outside(img->data, n, -FLT_MAX, FLT_MAX);
+  if (i < n) {
+    size_t px = i % ((size_t)img->w * img->h);
+    return jnd_fail(JND_ERR_FORMAT, "%s: pixel (%zu, %zu) channel %zu is %s", name, px % img->w, px / img->w,
+                    i / ((size_t)img->w * img->h), isnan(img->data[i]) ? "NaN" : "infinite");
   }
   return JND_OK;
 }

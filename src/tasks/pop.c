@@ -24,6 +24,7 @@
  *
  * 004 ignores temporal integration and attention (§3): one frame, every
  * region assumed attended. So does this file. */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -159,21 +160,18 @@ static jnd_status check_input(const jnd_image *img, in_kind k, const char *name,
                     img->c, img->c == 1 ? "" : "s");
   const size_t n = (size_t)w * h;
   const int nch = k == K_COLOUR ? 3 : need; /* the channels that are used */
+  /* the values allowed: finite, and for depths ≥ 0, for unit maps in 0–1 */
+  const float lo = k == K_DEPTH || k == K_UNIT ? 0.0f : -FLT_MAX, hi = k == K_UNIT ? 1.0f : FLT_MAX;
   for (int c = 0; c < nch; c++) {
     const float *v = jnd_image_plane(img, c);
-    for (size_t i = 0; i < n; i++) {
-      float x = v[i];
-      const char *what = NULL;
-      if (!isfinite(x))
-        what = isnan(x) ? "is NaN" : "is infinite";
-      else if (k == K_DEPTH && x < 0)
-        what = "is a negative depth";
-      else if (k == K_UNIT && (x < 0 || x > 1))
-        what = "is outside 0–1";
-      if (what)
-        return jnd_fail(JND_ERR_ARG, "%s: value %g at pixel (%zu, %zu) %s", name, (double)x, i % (size_t)w,
-                        i / (size_t)w, what);
-    }
+    const size_t i = jnd_first_outside(v, n, lo, hi);
+    if (i == n) continue;
+    const float x = v[i];
+    const char *what = !isfinite(x) ? (isnan(x) ? "is NaN" : "is infinite")
+                       : k == K_DEPTH ? "is a negative depth"
+                                      : "is outside 0–1";
+    return jnd_fail(JND_ERR_ARG, "%s: value %g at pixel (%zu, %zu) %s", name, (double)x, i % (size_t)w, i / (size_t)w,
+                    what);
   }
   return JND_OK;
 }
@@ -486,12 +484,18 @@ jnd_status jnd_pop_files(jnd_model *m, const jnd_pop_paths *f, const jnd_pop_par
   jnd_status st[NIN];
   char msg[NIN][600];
   memset(img, 0, sizeof img);
-#pragma omp parallel for schedule(dynamic, 1)
+  /* one task a file; a decoder that splits its own work (OpenEXR's chunks)
+   * hands the pieces to the same threads */
+#pragma omp parallel
+#pragma omp single
   for (int t = 0; t < ntodo; t++) {
-    int k = todo[t];
-    st[k] = jnd_image_read(path[k], &img[k], &info[k]);
-    /* the message is thread-local: keep it for the calling thread */
-    if (st[k] != JND_OK) snprintf(msg[k], sizeof msg[k], "%s", jnd_last_error());
+#pragma omp task firstprivate(t) shared(st, img, info, msg)
+    {
+      int k = todo[t];
+      st[k] = jnd_image_read(path[k], &img[k], &info[k]);
+      /* the message is thread-local: keep it for the calling thread */
+      if (st[k] != JND_OK) snprintf(msg[k], sizeof msg[k], "%s", jnd_last_error());
+    }
   }
   jnd_status s = JND_OK;
   const jnd_display *d = &jnd_model_get_params(m)->display;

@@ -1,3 +1,5 @@
+#include <float.h>
+#include <math.h>
 #include "test.h"
 #include "core/core.h"
 #include "jnd.h"
@@ -65,5 +67,31 @@ TEST(fast_pow_matches_libm_to_1e5_relative) {
   CHECK_NEAR(jnd_fast_exp2(-3.0f), 0.125, 1e-9);
 }
 
-RUN_TESTS(fast_pow_matches_libm_to_1e5_relative, image_alloc_is_zeroed_and_planar, image_alloc_refuses_zero_and_oversized,
+TEST(first_outside_finds_the_first_bad_value_in_any_block) {
+  enum { N = 3 * 4096 + 17 };
+  static float v[N];
+  for (size_t i = 0; i < N; i++) v[i] = (float)(i % 11) / 10; /* 0 .. 1, both ends included */
+  CHECK(jnd_first_outside(v, N, 0, 1) == N);
+  CHECK(jnd_first_outside(v, 0, 0, 1) == 0);
+  CHECK(jnd_first_outside(v, N, 0.05f, 1) == 0); /* v[0] = 0 is below */
+  CHECK(jnd_first_outside(v, N, 0, 0.95f) == 10);
+  /* one bad value at a time, either side of the block edges */
+  const size_t at[] = {0, 4095, 4096, 4097, 2 * 4096 - 1, N - 1};
+  const float bad[] = {NAN, INFINITY, -INFINITY, -0.001f, 1.001f};
+  for (size_t a = 0; a < sizeof at / sizeof at[0]; a++)
+    for (size_t b = 0; b < sizeof bad / sizeof bad[0]; b++) {
+      float keep = v[at[a]];
+      v[at[a]] = bad[b];
+      CHECK(jnd_first_outside(v, N, 0, 1) == at[a]);
+      if (b < 3) CHECK(jnd_first_outside(v, N, -FLT_MAX, FLT_MAX) == at[a]); /* not finite */
+      else CHECK(jnd_first_outside(v, N, -FLT_MAX, FLT_MAX) == N);
+      v[at[a]] = keep;
+    }
+  /* two: the earlier */
+  v[9000] = NAN;
+  v[5000] = 2;
+  CHECK(jnd_first_outside(v, N, 0, 1) == 5000);
+}
+
+RUN_TESTS(first_outside_finds_the_first_bad_value_in_any_block, fast_pow_matches_libm_to_1e5_relative, image_alloc_is_zeroed_and_planar, image_alloc_refuses_zero_and_oversized,
           error_messages_are_one_line, rng_is_deterministic_and_uniform)
