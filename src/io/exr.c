@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <omp.h>
 #include <openexr.h>
 
 #include "core/core.h"
@@ -165,50 +166,82 @@ static exr_result_t decode_chunk(exr_context_t ctx, const exr_chunk_info_t *ci, 
   return exr_decoding_run(ctx, 0, dec);
 }
 
-static exr_result_t decode_scanlines(exr_context_t ctx, const exr_attr_box2i_t *dw, jnd_image *img,
-                                     const int *pick, const exr_attr_chlist_t *cl) {
-  int32_t lines = 0;
-  exr_result_t rv = exr_get_scanlines_per_chunk(ctx, 0, &lines);
-  if (rv != EXR_ERR_SUCCESS) return rv;
-  if (lines < 1) return EXR_ERR_INVALID_ATTR;
+/* Where the chunks are: scanline chunks of `lines` rows from the data
+ * window's top, or tiles of tw × th in rows of nx (the first level). */
+typedef struct {
+  int tiled, lines, nx, tw, th;
+  const exr_attr_box2i_t *dw;
+} chunk_grid;
+
+/* Decodes chunks [k0, k1) in order with one pipeline. */
+static exr_result_t decode_range(exr_context_t ctx, const chunk_grid *g, int k0, int k1, jnd_image *img,
+                                 const int *pick, const exr_attr_chlist_t *cl) {
   exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
+  exr_result_t rv = EXR_ERR_SUCCESS;
   int first = 1;
-  for (int64_t y = dw->min.y; y <= dw->max.y; y += lines) {
+  for (int k = k0; k < k1 && rv == EXR_ERR_SUCCESS; k++) {
     exr_chunk_info_t ci;
-    rv = exr_read_scanline_chunk_info(ctx, 0, (int)y, &ci);
+    int x0, y0;
+    if (g->tiled) {
+      int tx = k % g->nx, ty = k / g->nx;
+      rv = exr_read_tile_chunk_info(ctx, 0, tx, ty, 0, 0, &ci);
+      x0 = (int)((int64_t)tx * g->tw);
+      y0 = (int)((int64_t)ty * g->th);
+    } else {
+      rv = exr_read_scanline_chunk_info(ctx, 0, (int)(g->dw->min.y + (int64_t)k * g->lines), &ci);
+      x0 = ci.start_x - g->dw->min.x;
+      y0 = ci.start_y - g->dw->min.y;
+    }
     if (rv != EXR_ERR_SUCCESS) break;
-    rv = decode_chunk(ctx, &ci, first, &dec, img, pick, cl, ci.start_x - dw->min.x,
-                      ci.start_y - dw->min.y);
+    rv = decode_chunk(ctx, &ci, first, &dec, img, pick, cl, x0, y0);
     first = 0;
-    if (rv != EXR_ERR_SUCCESS) break;
   }
   if (!first) exr_decoding_destroy(ctx, &dec);
   return rv;
 }
 
-static exr_result_t decode_tiles(exr_context_t ctx, jnd_image *img, const int *pick,
-                                 const exr_attr_chlist_t *cl) {
-  int32_t tw = 0, th = 0, lw = 0, lh = 0;
-  exr_result_t rv = exr_get_tile_sizes(ctx, 0, 0, 0, &tw, &th);
-  if (rv == EXR_ERR_SUCCESS) rv = exr_get_level_sizes(ctx, 0, 0, 0, &lw, &lh);
-  if (rv != EXR_ERR_SUCCESS) return rv;
-  if (tw < 1 || th < 1 || lw != img->w || lh != img->h) return EXR_ERR_INVALID_ATTR;
-  int nx = (int)(((int64_t)lw + tw - 1) / tw), ny = (int)(((int64_t)lh + th - 1) / th);
-  exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
-  int first = 1;
-  for (int ty = 0; ty < ny && rv == EXR_ERR_SUCCESS; ty++) {
-    for (int tx = 0; tx < nx; tx++) {
-      exr_chunk_info_t ci;
-      rv = exr_read_tile_chunk_info(ctx, 0, tx, ty, 0, 0, &ci);
-      if (rv != EXR_ERR_SUCCESS) break;
-      rv = decode_chunk(ctx, &ci, first, &dec, img, pick, cl, (int)((int64_t)tx * tw),
-                        (int)((int64_t)ty * th));
-      first = 0;
-      if (rv != EXR_ERR_SUCCESS) break;
+enum { CHUNK_GROUPS = 32 }; /* pieces a decode is split into for the threads */
+
+/* Group q of ng of the nchunks chunks (consecutive ones, sizes within one). */
+static exr_result_t decode_group(exr_context_t ctx, const chunk_grid *g, int q, int ng, int nchunks, jnd_image *img,
+                                 const int *pick, const exr_attr_chlist_t *cl) {
+  return decode_range(ctx, g, (int)((int64_t)q * nchunks / ng), (int)((int64_t)(q + 1) * nchunks / ng), img, pick,
+                      cl);
+}
+
+/* Decodes every chunk. OpenEXR's core decodes chunks of one context
+ * concurrently, so groups of chunks go to the threads: as tasks of the
+ * caller's team inside a parallel region (a file read beside others), in a
+ * team of their own outside one. Should any group fail, the whole is
+ * decoded again in order, so that the error reported is the file's first,
+ * whatever the threads did. */
+static exr_result_t decode_all(exr_context_t ctx, exr_stream *st, const chunk_grid *g, int nchunks, jnd_image *img,
+                               const int *pick, const exr_attr_chlist_t *cl) {
+  const int ng = nchunks < CHUNK_GROUPS ? nchunks : CHUNK_GROUPS;
+  exr_chunk_info_t ci; /* the chunk table is read here, once, before the threads share it */
+  exr_result_t rv = g->tiled ? exr_read_tile_chunk_info(ctx, 0, 0, 0, 0, 0, &ci)
+                             : exr_read_scanline_chunk_info(ctx, 0, g->dw->min.y, &ci);
+  if (rv == EXR_ERR_SUCCESS && ng > 1) {
+    int failed = 0;
+    if (omp_in_parallel()) {
+#pragma omp taskloop grainsize(1) shared(failed)
+      for (int q = 0; q < ng; q++)
+        if (decode_group(ctx, g, q, ng, nchunks, img, pick, cl) != EXR_ERR_SUCCESS) {
+#pragma omp atomic write
+          failed = 1;
+        }
+    } else {
+#pragma omp parallel for schedule(dynamic, 1)
+      for (int q = 0; q < ng; q++)
+        if (decode_group(ctx, g, q, ng, nchunks, img, pick, cl) != EXR_ERR_SUCCESS) {
+#pragma omp atomic write
+          failed = 1;
+        }
     }
+    if (!failed) return EXR_ERR_SUCCESS;
   }
-  if (!first) exr_decoding_destroy(ctx, &dec);
-  return rv;
+  st->msg[0] = 0;
+  return decode_range(ctx, g, 0, nchunks, img, pick, cl);
 }
 
 /* Reads the first part of an open context into out. */
@@ -265,7 +298,23 @@ static jnd_status read_part(const char *name, exr_context_t ctx, exr_stream *st,
     if (s == JND_ERR_NOMEM) return jnd_fail(s, "%s: out of memory for %d × %d × %d", name, w, h, c);
     return s;
   }
-  rv = storage == EXR_STORAGE_TILED ? decode_tiles(ctx, out, pick, cl) : decode_scanlines(ctx, &dw, out, pick, cl);
+  chunk_grid g = {.tiled = storage == EXR_STORAGE_TILED, .dw = &dw};
+  if (g.tiled) {
+    int32_t lw = 0, lh = 0;
+    rv = exr_get_tile_sizes(ctx, 0, 0, 0, &g.tw, &g.th);
+    if (rv == EXR_ERR_SUCCESS) rv = exr_get_level_sizes(ctx, 0, 0, 0, &lw, &lh);
+    if (rv == EXR_ERR_SUCCESS && (g.tw < 1 || g.th < 1 || lw != w || lh != h)) rv = EXR_ERR_INVALID_ATTR;
+    if (rv == EXR_ERR_SUCCESS) {
+      g.nx = (int)(((int64_t)lw + g.tw - 1) / g.tw);
+      int64_t nt = (int64_t)g.nx * (((int64_t)lh + g.th - 1) / g.th);
+      if (nt > chunks) rv = EXR_ERR_INVALID_ATTR; /* more tiles than the offset table lists */
+      else rv = decode_all(ctx, st, &g, (int)nt, out, pick, cl);
+    }
+  } else {
+    rv = exr_get_scanlines_per_chunk(ctx, 0, &g.lines);
+    if (rv == EXR_ERR_SUCCESS && g.lines < 1) rv = EXR_ERR_INVALID_ATTR;
+    if (rv == EXR_ERR_SUCCESS) rv = decode_all(ctx, st, &g, (int)((h + (int64_t)g.lines - 1) / g.lines), out, pick, cl);
+  }
   if (rv != EXR_ERR_SUCCESS) {
     jnd_image_free(out);
     if (rv == EXR_ERR_FEATURE_NOT_IMPLEMENTED)

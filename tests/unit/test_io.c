@@ -411,6 +411,80 @@ TEST(every_truncation_of_an_exr_is_refused) {
   jnd_image_free(&img);
 }
 
+/* The file offset and size of the packed data of the scanline chunk that
+ * holds row y, through OpenEXR's own reader. */
+static int exr_chunk_bytes(const char *path, int y, uint64_t *off, uint64_t *size) {
+  exr_context_t ctx = NULL;
+  exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+  exr_chunk_info_t ci;
+  int ok = exr_start_read(&ctx, path, &init) == EXR_ERR_SUCCESS &&
+           exr_read_scanline_chunk_info(ctx, 0, y, &ci) == EXR_ERR_SUCCESS;
+  if (ok) {
+    *off = ci.data_offset;
+    *size = ci.packed_size;
+  }
+  exr_finish(&ctx);
+  return ok;
+}
+
+/* reads path on n threads (0: from inside a parallel region of two, as a
+ * file read beside others is); the status, and the message into msg */
+static jnd_status read_on(const char *path, int n, jnd_image *out, char *msg, size_t len) {
+  jnd_status s = JND_OK;
+  int prev = jnd_threads_enter(n ? n : 2);
+  if (n) {
+    s = jnd_image_read(path, out, NULL);
+    snprintf(msg, len, "%s", s ? jnd_last_error() : "");
+  } else {
+#pragma omp parallel
+#pragma omp single
+    {
+      s = jnd_image_read(path, out, NULL);
+      snprintf(msg, len, "%s", s ? jnd_last_error() : "");
+    }
+  }
+  jnd_threads_leave(prev);
+  return s;
+}
+
+TEST(exr_of_many_chunks_reads_the_same_on_any_threads_and_reports_its_first_bad_chunk) {
+  /* 48 × 1000, ZIP: 63 chunks of 16 rows, decoded in groups by the threads */
+  const char *path = tmp_file("chunks.exr"), *bad = tmp_file("chunks_bad.exr");
+  jnd_image img = pattern(48, 1000, 2, -3, 3, 21), back[3];
+  for (size_t i = 0; i < (size_t)48 * 1000 * 2; i++) img.data[i] = (float)(i % 97) / 8; /* deflates: not stored raw */
+  CHECK_OK(jnd_image_write_exr(path, &img, NULL, 0));
+  char msg[3][600];
+  for (int t = 0; t < 3; t++) {
+    CHECK_OK(read_on(path, (int[]){1, 2, 0}[t], &back[t], msg[t], sizeof msg[t]));
+    CHECK(same_shape(&img, &back[t]) && memcmp(back[t].data, img.data, (size_t)48 * 1000 * 2 * 4) == 0);
+    jnd_image_free(&back[t]);
+  }
+  /* garbage in the deflate data of the chunks holding rows 500 and 900 (one
+   * alone, then both): the message is the one of the first in the file,
+   * whatever the threads did */
+  size_t n;
+  unsigned char *buf = read_bytes(path, &n);
+  uint64_t off[2], size[2];
+  CHECK(buf && exr_chunk_bytes(path, 500, &off[0], &size[0]) && exr_chunk_bytes(path, 900, &off[1], &size[1]));
+  char first[600] = "", later[600] = "";
+  for (int c = 1; buf && c >= 0; c--) { /* the later chunk alone, then both */
+    for (uint64_t i = size[c] / 4; i < size[c] / 2; i++) buf[off[c] + i] ^= 0x5a;
+    CHECK(write_bytes(bad, buf, n));
+    for (int t = 0; t < 3; t++) {
+      CHECK_STATUS(read_on(bad, (int[]){1, 2, 0}[t], &back[t], msg[t], sizeof msg[t]), JND_ERR_FORMAT);
+      CHECK(back[t].data == NULL);
+      CHECK(strstr(msg[t], "chunks_bad.exr") && strchr(msg[t], '\n') == NULL);
+      CHECK(strcmp(msg[t], msg[0]) == 0);
+    }
+    snprintf(c ? later : first, sizeof first, "%s", msg[0]);
+  }
+  /* the library's message gives the chunk's packed size (481 and 479
+   * bytes here): with both chunks bad, it is the earlier one's */
+  CHECK(first[0] && later[0] && strcmp(first, later) != 0);
+  free(buf);
+  jnd_image_free(&img);
+}
+
 TEST(exr_errors_name_the_file_on_one_line) {
   static const unsigned char junk[] = {0x76, 0x2f, 0x31, 0x01, 2, 0, 0, 0, 'x', 'y'};
   jnd_image back;
@@ -1102,7 +1176,9 @@ RUN_TESTS(exr_float_round_trips_exactly, exr_half_round_trips_within_half_precis
           exr_writer_refuses_duplicate_channel_names, exr_tiled_file_reads_like_the_pixels_it_holds,
           exr_data_window_away_from_the_origin_is_the_image, exr_every_compression_reads_back,
           exr_uint_channel_reads_as_float_counts, exr_with_nan_is_refused, exr_with_infinity_is_refused,
-          every_truncation_of_an_exr_is_refused, exr_errors_name_the_file_on_one_line,
+          every_truncation_of_an_exr_is_refused,
+          exr_of_many_chunks_reads_the_same_on_any_threads_and_reports_its_first_bad_chunk,
+          exr_errors_name_the_file_on_one_line,
           exr_claiming_more_than_the_size_limit_is_refused, exr_with_subsampled_channels_is_refused,
           exr_write_is_atomic_and_leaves_no_temporary_file, png_8_bit_round_trips_for_1_to_4_channels,
           png_16_bit_round_trips_to_within_one_code,
