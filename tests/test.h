@@ -21,6 +21,12 @@ static int test_skips_;
   if (getenv("JND_NO_SKIP") && *getenv("JND_NO_SKIP")) { test_failures_++; \
   fprintf(stderr, "%s:%d: skipped, but JND_NO_SKIP is set\n", __FILE__, __LINE__); } } while (0)
 
+/* A skip of the file's remaining tests (each needs what is missing): exits
+ * as RUN_TESTS would, 77 or, where JND_NO_SKIP is set, 1. */
+#define TEST_SKIP_REST(...) do { TEST_SKIP(__VA_ARGS__); \
+  fprintf(stderr, "%d checks, %d failed, %d skipped\n", test_checks_, test_failures_, test_skips_); \
+  exit(test_failures_ ? 1 : 77); } while (0)
+
 #define TEST(name) static void name(void)
 
 #define CHECK(cond) do { test_checks_++; if (!(cond)) { test_failures_++; \

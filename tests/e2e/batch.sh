@@ -6,6 +6,7 @@
 # rows and run-wide errors; a glob and a JSON manifest; the report's files.
 set -uo pipefail
 . "$(dirname "$0")/lib.bash"
+need_renderer
 cd "$T" || exit 1
 TINY=(--views 2 --size 64x64 --map-size 64)
 "$JND" example -o pairs --size 96x64 >/dev/null 2>&1

@@ -7,6 +7,7 @@
 # local run's. Skips, with the reason, only where Slurm cannot start.
 set -uo pipefail
 . "$(dirname "$0")/lib.bash"
+need_renderer
 cd "$T" || exit 1
 for c in munged slurmctld slurmd sbatch squeue scontrol sinfo; do
   command -v "$c" >/dev/null 2>&1 || skip "$c is not installed (scripts/install-deps.sh installs munge, slurmctld, slurmd, slurm-client)"

@@ -4,6 +4,7 @@
 # jnd diff and jnd texres accept, and bad input.
 set -uo pipefail
 . "$(dirname "$0")/lib.bash"
+need_renderer
 SMALL=(--map-size 128 --views 2 --size 96x96 --quiet)
 command -v python3 >/dev/null || skip "needs python3"
 

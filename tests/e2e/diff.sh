@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # jnd diff end to end: the synthetic pair, identical images, gating, determinism, bad input.
 . "$(dirname "$0")/lib.bash"
+need_renderer
 
 expect_exit 0 help_exits_zero "$JND" diff --help
 expect_exit 0 example_writes_a_pair "$JND" example -o "$T/ex" --size 320x240

@@ -5,6 +5,7 @@
 # (one line naming the flag or file, exit 2, nothing written).
 set -uo pipefail
 . "$(dirname "$0")/lib.bash"
+need_renderer
 SMALL=(--map-size 32 --orientations 2 --distances 20,40,80 --eccentricities 0,10,30 --min-px 48 --max-px 64 --quiet)
 
 expect_exit 0 "builtin:sphere runs" "$JND" gaze builtin:sphere -o "$T/a" "${SMALL[@]}" --threads 1

@@ -8,6 +8,7 @@
 # the same for any thread count, and refuses bad input.
 set -uo pipefail
 . "$(dirname "$0")/lib.bash"
+need_renderer
 fit="$(dirname "$0")/../../scripts/gaze-defaults.json"
 
 expect_exit 0 "a one-cell table runs with the defaults" "$JND" gaze builtin:sphere -o "$T/a" --map-size 32 \

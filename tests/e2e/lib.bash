@@ -35,6 +35,20 @@ skip() {
   exit 1
 }
 shared_data() { [ -n "${JND_SHARED:-}" ] && [ -f "$JND_SHARED/data/README.md" ]; }
+# need_renderer: skips the test where no OpenGL 4.5 core context can be had
+# (jnd render then says so in one line), rather than failing every check
+need_renderer() {
+  local probe err
+  probe=$(mktemp -d)
+  if ! err=$("$JND" render builtin -o "$probe/r" --views 1 --size 16x16 --map-size 16 --quiet 2>&1); then
+    rm -rf "$probe"
+    case $err in
+      *"OpenGL"*|*"EGL"*) skip "no OpenGL renderer: $err" ;;
+      *) bad "the renderer probe failed: $err"; finish ;;
+    esac
+  fi
+  rm -rf "$probe"
+}
 finish() {
   echo "$((checks - fails)) passed, $fails failed"
   [ "$fails" -eq 0 ]

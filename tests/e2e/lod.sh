@@ -5,6 +5,7 @@
 # line, exit 2, nothing written, the input untouched).
 set -uo pipefail
 . "$(dirname "$0")/lib.bash"
+need_renderer
 SMALL=(--screens 320x240,800x600@40 --views 1 --map-size 64 --surface-samples 4096 --quiet
        --judge-views 1 --max-px 96 --tolerance 0.5 --far-coverage 0.05)
 

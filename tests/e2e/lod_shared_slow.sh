@@ -22,6 +22,7 @@
 #    strictly nearer on the phone than on 4K for level 1 of every mesh.
 set -uo pipefail
 . "$(dirname "$0")/lib.bash"
+need_renderer
 shared_data || skip "no shared data (../shared/data)"
 M="$JND_SHARED/data/meshes"
 for m in spot stanford-bunny teapot; do

@@ -7,8 +7,7 @@
 # P values are not asserted (the model's constants are being refitted), only
 # the properties every calibration must keep.
 . "$(dirname "$0")/lib.bash"
-"$JND" render builtin -o "$T/probe" --views 1 --size 16x16 --map-size 16 --quiet 2>"$T/probe.txt" ||
-  skip "no renderer ($(head -c 200 "$T/probe.txt"))"
+need_renderer
 R="--model builtin --map-size 128 --material builtin --views 4 --size 128x128 --anisotropy 1"
 
 # with a model and no criterion, the rendered choice at p = 0.2, q = 0.1 (000 §9) is the default

@@ -9,8 +9,7 @@
 . "$(dirname "$0")/../../bench/webxr_assets.sh"
 ASSETS=$(webxr_assets) ||
   skip "@webxr-input-profiles/assets $WEBXR_ASSETS_VERSION is not in $(webxr_assets_cache) (scripts/install-deps.sh fetches it)"
-"$JND" render builtin -o "$T/probe" --views 1 --size 16x16 --map-size 16 --quiet 2>/dev/null ||
-  skip "no renderer"
+need_renderer
 F="$ASSETS/dist/profiles/oculus-touch-v3/left.glb"
 [ -f "$F" ] || { bad "oculus-touch-v3/left.glb is in the package"; finish; }
 # the first material with maps, as `jnd render --list-maps` names it

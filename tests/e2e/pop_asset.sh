@@ -6,7 +6,7 @@
 # nothing written).
 . "$(dirname "$0")/lib.bash"
 command -v python3 >/dev/null || skip "needs python3"
-"$JND" render builtin -o "$T/probe" --size 16x16 --views 1 --map-size 8 --quiet 2>/dev/null || skip "no OpenGL context"
+need_renderer
 
 # a small OBJ: a UV sphere of 12 × 24 quads
 python3 - "$T/ball.obj" <<'PY'

@@ -12,7 +12,7 @@
 set -uo pipefail
 . "$(dirname "$0")/lib.bash"
 shared_data || skip "no shared data (../shared/data)"
-"$JND" render builtin -o "$T/probe" --size 16x16 --views 1 --map-size 8 --quiet 2>/dev/null || skip "no OpenGL context"
+need_renderer
 M="$JND_SHARED/data/meshes"
 V=(--size 128x128 --views 1 --quiet)
 expect_exit 0 "spot decisions run" "$JND" pop "$M/spot.obj" -o "$T/spot" "${V[@]}" --errors 0.002,0.008 --pan 0 --speeds 0,480

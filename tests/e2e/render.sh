@@ -2,6 +2,7 @@
 # jnd render: the manifest, the outputs, determinism, map edits and the errors.
 set -uo pipefail
 . "$(dirname "$0")/lib.bash"
+need_renderer
 # checke 'EXPRESSION' NAME: the expression is evaluated (it may use $T and pipes)
 checke() { if eval "$1"; then ok "$2"; else bad "$2"; fi; }
 MODELS=/usr/share/assimp/models

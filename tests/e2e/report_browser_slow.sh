@@ -6,6 +6,7 @@
 # reported; tests/browser/report.js checks the pages from file://.
 set -uo pipefail
 . "$(dirname "$0")/lib.bash"
+need_renderer
 cd "$T" || exit 1
 SRC=${JND_SRC:-$(cd "$(dirname "$0")/../.." && pwd)}
 command -v node >/dev/null 2>&1 || skip "node is not installed (scripts/install-deps.sh installs npm)"

@@ -3,6 +3,7 @@
 # the viewing condition, the model copy, held-out views, and bad input.
 set -uo pipefail
 . "$(dirname "$0")/lib.bash"
+need_renderer
 MODELS=/usr/share/assimp/models/glTF2
 SMALL=(--map-size 128 --size 96x96 --samples 1 --anisotropy 4 --quiet)
 command -v python3 >/dev/null || skip "needs python3"

@@ -8,8 +8,7 @@
 # the images the other materials use are untouched.
 . "$(dirname "$0")/lib.bash"
 command -v python3 >/dev/null || skip "needs python3"
-"$JND" render builtin -o "$T/probe" --views 1 --size 16x16 --map-size 16 --quiet 2>"$T/probe.txt" ||
-  skip "no renderer ($(head -c 200 "$T/probe.txt"))"
+need_renderer
 
 python3 - "$T" <<'PY'
 import json, math, struct, sys, zlib

@@ -6,6 +6,7 @@
 # when the cache is missing.
 set -uo pipefail
 . "$(dirname "$0")/lib.bash"
+need_renderer
 . "$(dirname "$0")/../../bench/webxr_assets.sh"
 ASSETS=$(webxr_assets) ||
   skip "@webxr-input-profiles/assets $WEBXR_ASSETS_VERSION is not in $(webxr_assets_cache) (scripts/install-deps.sh fetches it)"
