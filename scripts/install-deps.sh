@@ -6,7 +6,7 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake pkg-config
-  libstb-dev libopenexr-dev libcjson-dev zlib1g-dev  # image I/O, JSON
+  libstb-dev libopenexr-dev libcjson-dev zlib1g-dev libdeflate-dev  # image I/O, JSON
   fonts-dejavu-core                                # the font embedded in report pictures
   liblapacke-dev                                   # PCA
   libassimp-dev libmeshoptimizer-dev               # asset import, LOD

@@ -1,12 +1,16 @@
 /* PNG: chunk validation on read (stb_image skips CRCs), a decoder for the
- * common layouts that inflates with zlib straight into planar floats
- * (stb_image's own inflate takes about twice as long), and a writer for 8- and
+ * common layouts that inflates the image data with libdeflate in one call
+ * (twice zlib's speed; stb_image's own inflate takes four times as long),
+ * with zlib's streaming inflate for the files that are not exactly their
+ * rows (data past the last row, a short or corrupt stream: it decodes or
+ * reports them), straight into planar floats, and a writer for 8- and
  * 16-bit images (stb_image_write only writes 8-bit), filtered and deflated by
  * zlib in parallel pieces. */
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <libdeflate.h>
 #include <zlib.h>
 
 #include "core/core.h"
@@ -153,6 +157,34 @@ static unsigned png_paeth(unsigned a, unsigned b, unsigned c) {
   return pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
 }
 
+/* Paeth undone a pixel at a time for 8-bit RGB and RGBA (bpp 3 or 4): the
+ * channels of a pixel in the lanes of one vector, so that only the pixels,
+ * not the bytes, wait on each other. The same predictor as png_paeth:
+ * pa = |b − c|, pb = |a − c|, pc = |a + b − 2c|, a (left) on ties, then b
+ * (up); with no pixel to the left (a = c = 0) it predicts up. */
+typedef short png_v8 __attribute__((vector_size(16)));
+
+static void png_unpaeth_pixels(unsigned char *x, const unsigned char *b, size_t len, size_t bpp) {
+  png_v8 a = {0}, c = {0};
+  for (size_t i = 0; i + bpp <= len; i += bpp) {
+    const unsigned char *bp = b + i;
+    unsigned char *xp = x + i;
+    png_v8 up = {bp[0], bp[1], bp[2], bpp == 4 ? bp[3] : 0}, v = {xp[0], xp[1], xp[2], bpp == 4 ? xp[3] : 0};
+    png_v8 da = up - c, db = a - c, dc = a + up - c - c;
+    png_v8 pa = (da ^ (da >> 15)) - (da >> 15), pb = (db ^ (db >> 15)) - (db >> 15),
+           pc = (dc ^ (dc >> 15)) - (dc >> 15);         /* |·|, lanes of all ones where < 0 */
+    png_v8 ma = (pa <= pb) & (pa <= pc), mb = pb <= pc; /* lanes of all ones where true */
+    png_v8 pred = (a & ma) | (((up & mb) | (c & ~mb)) & ~ma);
+    png_v8 r = (v + pred) & 0xff;
+    xp[0] = (unsigned char)r[0];
+    xp[1] = (unsigned char)r[1];
+    xp[2] = (unsigned char)r[2];
+    if (bpp == 4) xp[3] = (unsigned char)r[3];
+    a = r;
+    c = up;
+  }
+}
+
 /* Undoes one row's filter in place (PNG spec §9.2, filter method 0): x is
  * the row, b the row above once unfiltered (zeros above the first row), bpp
  * the bytes of a complete pixel, the distance to the byte "to the left". */
@@ -170,6 +202,10 @@ static void png_unfilter(unsigned filter, unsigned char *x, const unsigned char 
     for (; i < len; i++) x[i] = (unsigned char)(x[i] + ((x[i - bpp] + b[i]) >> 1));
     break;
   case 4: /* Paeth; with no pixel to the left it predicts up */
+    if (bpp == 3 || bpp == 4) {
+      png_unpaeth_pixels(x, b, len, bpp);
+      break;
+    }
     for (i = 0; i < bpp; i++) x[i] = (unsigned char)(x[i] + b[i]);
     for (; i < len; i++) x[i] = (unsigned char)(x[i] + png_paeth(x[i - bpp], b[i], b[i - bpp]));
     break;
@@ -294,6 +330,54 @@ static jnd_status png_read_header(png_decoder *d, uint32_t *w, uint32_t *h, unsi
   return JND_OK;
 }
 
+/* The whole image data in one call: the IDAT chunks joined, their deflate
+ * stream inflated by libdeflate into every filtered row at once, then the
+ * rows unfiltered and written out. 1 when that decoded the image; 0 when the
+ * stream is not exactly the rows (shorter or longer, corrupt, a preset
+ * dictionary) or a row has an unknown filter: the streaming decoder then
+ * decodes what it can and reports the rest in its words. NOMEM: -1. */
+static int png_decode_whole(png_decoder *d, jnd_image *out) {
+  const size_t h = (size_t)out->h;
+  size_t raw_n, zn = 0, pos = d->pos;
+  png_chunk c;
+  if (!png_mul(h, d->stride, &raw_n)) return 0;
+  while (png_next_chunk(d->buf, d->n, &pos, &c))
+    if (png_chunk_is(&c, "IDAT")) zn += c.len;
+  if (zn < 2) return 0;
+  unsigned char *z = malloc(zn), *raw = malloc(raw_n), *zeros = calloc(1, d->stride);
+  struct libdeflate_decompressor *dd = libdeflate_alloc_decompressor();
+  int ok = -1;
+  if (z && raw && zeros && dd) {
+    zn = 0;
+    pos = d->pos;
+    while (png_next_chunk(d->buf, d->n, &pos, &c))
+      if (png_chunk_is(&c, "IDAT")) {
+        memcpy(z + zn, c.data, c.len);
+        zn += c.len;
+      }
+    /* the zlib header (RFC 1950): deflate, a valid check, no dictionary;
+     * the Adler-32 after the rows is not read, as the streaming path */
+    size_t got = 0;
+    ok = (z[0] & 0x0f) == 8 && (z[0] >> 4) <= 7 && ((unsigned)z[0] << 8 | z[1]) % 31 == 0 && !(z[1] & 0x20) &&
+         libdeflate_deflate_decompress_ex(dd, z + 2, zn - 2, raw, raw_n, NULL, &got) == LIBDEFLATE_SUCCESS &&
+         got == raw_n;
+    for (size_t y = 0; ok == 1 && y < h; y++) {
+      unsigned char *cur = raw + y * d->stride;
+      if (cur[0] > 4) {
+        ok = 0;
+        break;
+      }
+      png_unfilter(cur[0], cur + 1, y ? cur + 1 - d->stride : zeros + 1, d->row, d->bpp);
+      png_row_to_planes(d, cur + 1, y, out);
+    }
+  }
+  libdeflate_free_decompressor(dd);
+  free(z);
+  free(raw);
+  free(zeros);
+  return ok;
+}
+
 jnd_status jnd_png_decode(const char *name, const unsigned char *buf, size_t n, jnd_image *out, int *bits) {
   memset(out, 0, sizeof *out);
   png_decoder d;
@@ -309,6 +393,15 @@ jnd_status jnd_png_decode(const char *name, const unsigned char *buf, size_t n, 
   if ((s = jnd_image_alloc(out, (int)w, (int)h, (int)channels)) != JND_OK)
     return jnd_fail(s, "%s: out of memory for %u × %u × %u", name, (unsigned)w, (unsigned)h, channels);
   for (int v = 0; v < 256; v++) d.to_float[v] = (float)(v * (1.0 / 255));
+  int whole = png_decode_whole(&d, out);
+  if (whole) {
+    if (whole < 0) {
+      jnd_image_free(out);
+      return jnd_fail(JND_ERR_NOMEM, "%s: out of memory for %u × %u × %u", name, (unsigned)w, (unsigned)h, channels);
+    }
+    *bits = (int)d.depth;
+    return JND_OK;
+  }
   d.rows = jnd_calloc(1 + d.block, d.stride); /* the row above the first is zeros (§9.2) */
   if (!d.rows || inflateInit(&d.z) != Z_OK) {
     free(d.rows);
@@ -348,15 +441,21 @@ static void put_chunk(unsigned char *out, size_t *pos, const char *type, const u
 
 /* The writer: rows quantised, each row filtered with the PNG filter (None,
  * Sub, Up, Paeth) whose output has the smallest sum of absolute values as
- * signed bytes (libpng's heuristic), and deflated at level 1 in pieces of
- * about PIECE_BYTES that are compressed in parallel and joined into one zlib
- * stream (each piece a raw deflate ending on a byte boundary, the last one
- * final; the Adler-32 sums combined in order), as pigz does. Pieces are
- * fixed by the image, not by the thread count: the file is the same bytes
- * for any number of threads. Level 1 with filtering is 4–6× faster than
- * level 6 unfiltered and, on rendered and synthetic images, about as small
- * or smaller. */
+ * signed bytes (libpng's heuristic), and deflated at level 1 in pieces that
+ * are compressed in parallel and joined into one zlib stream (each piece a
+ * raw deflate, the Adler-32 sums combined in order), as pigz does. The last
+ * LAST_SHARE of the rows is one piece deflated by libdeflate, which ends the
+ * stream (its last block is final) and is started first; the rows before it
+ * are zlib pieces of about PIECE_BYTES, each ending on a byte boundary
+ * (Z_SYNC_FLUSH), so that the next piece can follow. libdeflate takes less
+ * than half of zlib's time (a 1080p picture: 44 against 98 ms), so with the
+ * split at about that ratio the two halves of the work end together on two
+ * threads. Pieces are fixed by the image, not by the thread count: the file
+ * is the same bytes for any number of threads. Level 1 with filtering is
+ * 4–6× faster than level 6 unfiltered and, on rendered and synthetic
+ * images, about as small or smaller. */
 enum { PIECE_BYTES = 1 << 18 };
+#define LAST_SHARE 0.7
 
 static void quantise_row(const jnd_image *img, int y, int bits, unsigned char *r) {
   const size_t bpp = (size_t)img->c * (bits / 8);
@@ -445,8 +544,11 @@ jnd_status jnd_image_write_png(const char *path, const jnd_image *img, int bits)
   const int h = img->h;
 #pragma omp parallel for schedule(static)
   for (int y = 0; y < h; y++) quantise_row(img, y, bits, raw + n * y);
+  /* rows [0, split) in zlib pieces of rows_per rows, [split, h) the last piece */
+  const int split = (int)(h * (1 - LAST_SHARE));
   const int rows_per = row >= PIECE_BYTES ? 1 : (int)(PIECE_BYTES / row);
-  const int npieces = (h + rows_per - 1) / rows_per;
+  const int npieces = (split + rows_per - 1) / rows_per + 1;
+  const int maxrows = h - split > rows_per ? h - split : rows_per;
   png_piece *pc = jnd_calloc((size_t)npieces, sizeof *pc);
   if (!pc) {
     free(raw);
@@ -455,40 +557,53 @@ jnd_status jnd_image_write_png(const char *path, const jnd_image *img, int bits)
   int fail = 0;
 #pragma omp parallel
   {
-    unsigned char *buf = malloc(row * rows_per + 5 * n); /* filtered rows, 4 candidates, zeros */
+    unsigned char *buf = malloc(row * maxrows + 5 * n); /* filtered rows, 4 candidates, zeros */
 #pragma omp for schedule(dynamic, 1)
-    for (int k = 0; k < npieces; k++) {
-      int y0 = k * rows_per, y1 = y0 + rows_per < h ? y0 + rows_per : h;
+    for (int t = 0; t < npieces; t++) {
+      const int k = t == 0 ? npieces - 1 : t - 1; /* the last, largest piece first */
+      const int last = k == npieces - 1;
+      const int y0 = last ? split : k * rows_per, y1 = last ? h : y0 + rows_per < split ? y0 + rows_per : split;
       png_piece *q = &pc[k];
-      z_stream zs;
-      memset(&zs, 0, sizeof zs);
-      if (!buf || deflateInit2(&zs, 1, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) {
+      if (!buf) {
 #pragma omp atomic write
         fail = 1;
         continue;
       }
-      unsigned char *try = buf + row * rows_per, *zeros = try + 4 * n;
+      unsigned char *try = buf + row * maxrows, *zeros = try + 4 * n;
       memset(zeros, 0, n);
       for (int y = y0; y < y1; y++)
         filter_row(raw + n * y, y ? raw + n * (y - 1) : zeros, n, bpp, try, buf + row * (y - y0));
       q->len = row * (size_t)(y1 - y0);
       q->adler = adler32(adler32(0L, Z_NULL, 0), buf, (uInt)q->len);
-      uLong bound = deflateBound(&zs, (uLong)q->len) + 16;
-      q->z = malloc(bound);
-      int last = k == npieces - 1, rc = Z_STREAM_ERROR;
-      if (q->z) {
-        zs.next_in = buf;
-        zs.avail_in = (uInt)q->len;
-        zs.next_out = q->z;
-        zs.avail_out = (uInt)bound;
-        rc = deflate(&zs, last ? Z_FINISH : Z_SYNC_FLUSH);
-        q->zn = zs.total_out;
+      int ok = 0;
+      if (last) { /* libdeflate: a raw deflate stream whose last block is final */
+        struct libdeflate_compressor *c = libdeflate_alloc_compressor(1);
+        size_t bound = c ? libdeflate_deflate_compress_bound(c, q->len) : 0;
+        q->z = c ? malloc(bound) : NULL;
+        q->zn = q->z ? libdeflate_deflate_compress(c, buf, q->len, q->z, bound) : 0;
+        libdeflate_free_compressor(c);
+        ok = q->zn > 0;
+      } else { /* zlib: raw deflate ending on a byte boundary, not final */
+        z_stream zs;
+        memset(&zs, 0, sizeof zs);
+        if (deflateInit2(&zs, 1, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) == Z_OK) {
+          uLong bound = deflateBound(&zs, (uLong)q->len) + 16;
+          q->z = malloc(bound);
+          if (q->z) {
+            zs.next_in = buf;
+            zs.avail_in = (uInt)q->len;
+            zs.next_out = q->z;
+            zs.avail_out = (uInt)bound;
+            ok = deflate(&zs, Z_SYNC_FLUSH) == Z_OK && zs.avail_in == 0;
+            q->zn = zs.total_out;
+          }
+          deflateEnd(&zs);
+        }
       }
-      if (rc != (last ? Z_STREAM_END : Z_OK) || zs.avail_in != 0) {
+      if (!ok) {
 #pragma omp atomic write
         fail = 1;
       }
-      deflateEnd(&zs);
     }
     free(buf);
   }
