@@ -224,9 +224,10 @@ static exr_result_t decode_all(exr_context_t ctx, exr_stream *st, const chunk_gr
   if (rv == EXR_ERR_SUCCESS && ng > 1) {
     int failed = 0;
     if (omp_in_parallel()) {
+      const unsigned ngu = (unsigned)ng; /* clang's taskloop compares its unsigned count with the bound */
 #pragma omp taskloop grainsize(1) shared(failed)
-      for (int q = 0; q < ng; q++)
-        if (decode_group(ctx, g, q, ng, nchunks, img, pick, cl) != EXR_ERR_SUCCESS) {
+      for (unsigned q = 0; q < ngu; q++)
+        if (decode_group(ctx, g, (int)q, ng, nchunks, img, pick, cl) != EXR_ERR_SUCCESS) {
 #pragma omp atomic write
           failed = 1;
         }
