@@ -18,7 +18,7 @@ PREFIX ?= /usr/local
 FUZZ_SECONDS ?= 20
 CMAKE_FLAGS ?=
 
-.PHONY: all deps build demo test unit asan fuzz fuzz-build bench install clean mutants
+.PHONY: all deps build demo test unit asan fuzz fuzz-build bench install clean mutants mutants-ci
 
 all: build
 
@@ -65,6 +65,11 @@ fuzz: fuzz-build
 
 mutants: deps
 	@MUTANTS_DIR=$(MUTANTS_BUILD) JOBS=$(JOBS) bash scripts/mutants.sh
+
+# CI's share (.ci/run): every entry checked for stale text, the [ci] sections run
+mutants-ci: deps
+	@bash scripts/mutants.sh --check
+	@MUTANTS_DIR=$(MUTANTS_BUILD) JOBS=$(JOBS) bash scripts/mutants.sh --ci
 
 bench: build
 	@bash bench/run.sh $(BUILD)

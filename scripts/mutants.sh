@@ -6,10 +6,13 @@
 # test. Exits 1 if a mutation survived, did not build, or is stale (its
 # original text is no longer in its file).
 #
-#   usage: scripts/mutants.sh [--list FILE] [--only NAME,...] [--all] [--check]
+#   usage: scripts/mutants.sh [--list FILE] [--only NAME,...] [--ci] [--all] [--check]
 #
 #   --list FILE   the mutations (default tests/mutants.txt; its header says the format)
 #   --only N,...  just these entries
+#   --ci          just the sections whose header line ends in "[ci]" (the
+#                 subset .ci/run runs, to keep CI within its time; make
+#                 mutants runs them all)
 #   --all         run the whole fast suite (every test not labelled slow) on each
 #                 mutation, to list every test that catches it
 #   --check       only check that every entry still finds its original text
@@ -28,15 +31,17 @@ set -uo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 list=$here/tests/mutants.txt
 only=""
+ci=0
 all=0
 check_only=0
 while [ $# -gt 0 ]; do
   case $1 in
     --list) list=$2; shift 2 ;;
     --only) only=",$2,"; shift 2 ;;
+    --ci) ci=1; shift ;;
     --all) all=1; shift ;;
     --check) check_only=1; shift ;;
-    -h|--help) sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,27p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "mutants: unknown option $1 (scripts/mutants.sh --help)" >&2; exit 2 ;;
   esac
 done
@@ -52,14 +57,14 @@ timeout_s=${MUTANTS_TEST_TIMEOUT:-600}
 # ---- the list: blocks of "key: value" lines separated by blank lines ----
 names=() files=() froms=() tos=() tests=() whys=()
 parse() {
-  local name="" file="" from="" to="" t="" why="" line key val n=0
+  local name="" file="" from="" to="" t="" why="" line key val n=0 in_ci=0
   flush() {
     if [ -n "$name$file$from$to$t" ]; then
       if [ -z "$name" ] || [ -z "$file" ] || [ -z "$from" ] || [ -z "$to" ] || [ -z "$t" ]; then
         echo "mutants: $list: entry ending at line $n needs name, file, from, to and tests" >&2
         exit 2
       fi
-      if [ -z "$only" ] || [[ $only == *",$name,"* ]]; then
+      if { [ -z "$only" ] || [[ $only == *",$name,"* ]]; } && { [ $ci -eq 0 ] || [ $in_ci -eq 1 ]; }; then
         names+=("$name") files+=("$file") froms+=("$from") tos+=("$to") tests+=("$t") whys+=("$why")
       fi
     fi
@@ -68,6 +73,8 @@ parse() {
   while IFS= read -r line || [ -n "$line" ]; do
     n=$((n + 1))
     case $line in
+      '# ----'*'[ci]') in_ci=1; continue ;;
+      '# ----'*) in_ci=0; continue ;;
       '#'*) continue ;;
       '') flush; continue ;;
     esac
