@@ -493,7 +493,10 @@ jnd_status jnd_pop_files(jnd_model *m, const jnd_pop_paths *f, const jnd_pop_par
     {
       int k = todo[t];
       st[k] = jnd_image_read(path[k], &img[k], &info[k]);
-      /* the message is thread-local: keep it for the calling thread */
+      /* the message is thread-local: keep it for the calling thread. Tasks
+       * are tied to their thread, and a read records its message after its
+       * last scheduling point (the EXR decoder's taskloop), so another task
+       * run meanwhile on this thread cannot have overwritten it */
       if (st[k] != JND_OK) snprintf(msg[k], sizeof msg[k], "%s", jnd_last_error());
     }
   }
