@@ -238,6 +238,11 @@ typedef struct {
                                 0..1 (1: one normalisation pool over A, a, b, as ColorVideoVDP's
                                 cross-channel masking; 0: each channel masks only itself, as 004);
                                 docs/model.md "Masking" */
+  double masking_band_oct;   /* frequency tuning of the masking pool: each band's masker adds the
+                                next coarser band's with weight 2^-(d/h)^2, d the octaves between
+                                their peaks and h this half-width at half height (1: contrast
+                                masking's tuning, Legge & Foley 1980; 0: each band masks only
+                                itself, as 004); docs/model.md "Masking" */
   double min_band_cpd;       /* bands are added while their peak is >= this (004: 0.5 cpd;
                                 see docs/model.md for the default) */
   double summation_area_deg2; /* local probability summation over Rovamo et al.'s (1993) critical

@@ -33,14 +33,14 @@ void jnd_gaze_model_defaults(jnd_gaze_model *m) {
    * scripts/gaze-defaults.json; tests/e2e/gaze_defaults.sh holds the two equal) */
   m->w_g = 1;
   m->b = 2;
-  m->alpha = 10.86;
-  m->beta = 0.05325;
+  m->alpha = 3.348;
+  m->beta = 0.03492;
   m->s_deg = 0;
-  m->w_vdp = 1.008;
-  m->k_s = 3.104;
-  m->gamma = 7.002;
-  m->w_t = 1.018;
-  m->gamma_t = 6.512;
+  m->w_vdp = 1.034;
+  m->k_s = 3.281;
+  m->gamma = 6.28;
+  m->w_t = 1.036;
+  m->gamma_t = 6.221;
 }
 
 void jnd_gaze_measure_defaults(jnd_gaze_measure_params *p) {

@@ -69,6 +69,7 @@ void jnd_model_defaults(jnd_model_params *p) {
   p->minkowski = 2.4; /* 004 §3.2 */
   p->masking_slope = 0.6; /* Legge 1981, as 004 §3.1 cites (docs/model.md) */
   p->masking_cross = 1.0; /* one normalisation pool over the three channels (docs/model.md "Masking") */
+  p->masking_band_oct = 1.0; /* masking tuned to about ±1 octave (Legge & Foley 1980; docs/model.md "Masking") */
   p->beta = 3.5;      /* 000 eq. 4 */
   p->fps = 60;
   /* Fitted on ../shared/data/csf/csf_train.csv (785 rows, nine data sets)
@@ -136,6 +137,8 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
     return jnd_fail(JND_ERR_ARG, "model: masking_slope must be in [0, 1)");
   if (!(p->masking_cross >= 0 && p->masking_cross <= 1))
     return jnd_fail(JND_ERR_ARG, "model: masking_cross must be in [0, 1]");
+  if (!(p->masking_band_oct >= 0 && p->masking_band_oct <= 8))
+    return jnd_fail(JND_ERR_ARG, "model: masking_band_oct must be in [0, 8]");
   if (!(p->minkowski >= 1) || !(p->beta > 0))
     return jnd_fail(JND_ERR_ARG, "model: Minkowski exponent must be >= 1 and beta > 0");
   jnd_model *m = jnd_calloc(1, sizeof *m);
@@ -362,6 +365,9 @@ typedef struct {
                            level pixels from it, i < ecc_n */
   int ecc_n;
   float e;              /* Minkowski exponent */
+  const float *coarse_mask[NCH]; /* the next coarser band's pooled maskers (at level band + 1), or NULL */
+  float coarse_w;       /* their weight in this band's masking pool (band_masking_weight) */
+  float *mask_out[NCH]; /* this band's pooled maskers for the next finer band, or NULL */
 } band_ctx;
 
 /* One thread's rows: caches of expanded coarse rows and the row stages. */
@@ -371,6 +377,7 @@ typedef struct {
   float *mask[5][NCH]; /* ring of 5 rows: the mutual masker, pooled along the row */
   float *dif[3][NCH];  /* ring of 3 rows: |n_test − n_ref| per channel */
   float *pooled[NCH];  /* the maskers of the row being finished, pooled in 5 × 5 */
+  jnd_row_cache coarse[NCH]; /* rows of the coarser band's maskers, expanded to this level */
   float *tmp;
   float *mem;
 } row_scratch;
@@ -378,8 +385,8 @@ typedef struct {
 static int scratch_init(row_scratch *r, int w) {
   /* 12 caches × 3 rows; opponent values (2 × 3), log adaptation and log velocity (2), sensitivities
    * (3), eccentricity factors (3), masker ring (5 × 3), difference ring (3 × 3), pooled maskers (3),
-   * one row of scratch */
-  r->mem = malloc(sizeof(float) * (size_t)w * (36 + 6 + 2 + 3 + 3 + 15 + 9 + 3 + 1));
+   * 3 caches × 3 rows of the coarser band's maskers, one row of scratch */
+  r->mem = malloc(sizeof(float) * (size_t)w * (36 + 6 + 2 + 3 + 3 + 15 + 9 + 3 + 9 + 1));
   if (!r->mem) return 0;
   float *p = r->mem;
   for (int a = 0; a < 2; a++)
@@ -400,6 +407,11 @@ static int scratch_init(row_scratch *r, int w) {
   for (int k = 0; k < 3; k++)
     for (int c = 0; c < NCH; c++) r->dif[k][c] = p, p += w;
   for (int c = 0; c < NCH; c++) r->pooled[c] = p, p += w;
+  for (int c = 0; c < NCH; c++) {
+    r->coarse[c].buf = p;
+    p += (size_t)3 * w;
+    r->coarse[c].row[0] = r->coarse[c].row[1] = r->coarse[c].row[2] = -1;
+  }
   r->tmp = p;
   return 1;
 }
@@ -606,12 +618,34 @@ JND_HOT static void response_row(const band_ctx *k, row_scratch *r, int y, float
   }
 }
 
+/* Adds the next coarser band's pooled maskers, expanded to row y of this
+ * band's level and weighted by k->coarse_w, to the row's own (r->pooled):
+ * the masking pool spans neighbouring frequencies (docs/model.md
+ * "Masking"). */
+static void add_coarse_maskers(const band_ctx *k, row_scratch *r, int y) {
+  const diff_state *st = k->st;
+  const int w = k->w, w1 = k->w1, h1 = st->g[0][0].h[k->band + 1];
+  int rows[3];
+  float wts[3] = {0, 0, 0};
+  int nr = jnd_pyr_expand_rows(y, h1, rows, wts);
+  if (nr == 2) rows[2] = rows[1]; /* weight 0: any valid row */
+  for (int c = 0; c < NCH; c++) {
+    const float *c0 = jnd_pyr_cached_row(&r->coarse[c], k->coarse_mask[c], w1, rows[0], w);
+    const float *c1 = jnd_pyr_cached_row(&r->coarse[c], k->coarse_mask[c], w1, rows[1], w);
+    const float *c2 = jnd_pyr_cached_row(&r->coarse[c], k->coarse_mask[c], w1, rows[2], w);
+    const float a0 = k->coarse_w * wts[0], a1 = k->coarse_w * wts[1], a2 = k->coarse_w * wts[2];
+    float *mp = r->pooled[c];
+#pragma omp simd
+    for (int x = 0; x < w; x++) mp[x] += a0 * c0[x] + a1 * c1[x] + a2 * c2[x];
+  }
+}
+
 /* Rows [y0, y1) of band i's difference, summed over channels:
  *   D_i = Σ_ch (|n_test − n_ref| · T′(m))^e
  * with n the CSF-normalised contrasts and m the mutual masker
- * min(|n_test|, |n_ref|) pooled with the pyramid's 5 × 5 binomial kernel
- * (004's transducer T, taken as its incremental gain at the masker: see
- * jnd_masking_gain). Rows are computed in order with rings of the last five
+ * min(|n_test|, |n_ref|) pooled with the pyramid's 5 × 5 binomial kernel,
+ * plus the next coarser band's (004's transducer T, taken as its
+ * incremental gain at the masker: see jnd_masking_gain). Rows are computed in order with rings of the last five
  * maskers and three differences, so that a row's vertical pooling reads
  * rows computed just before; a chunk recomputes the two rows either side of
  * it, and a row's value does not depend on the chunking. */
@@ -641,7 +675,9 @@ JND_HOT static void band_rows(const band_ctx *k, row_scratch *r, int y0, int y1,
       float *mp = r->pooled[c];
 #pragma omp simd
       for (int x = 0; x < w; x++) mp[x] = (m0[x] + 4 * m1[x] + 6 * m2[x] + 4 * m3[x] + m4[x]) * (1.0f / 16);
+      if (k->mask_out[c]) memcpy(k->mask_out[c] + (size_t)y * w, mp, sizeof(float) * (size_t)w);
     }
+    if (k->coarse_mask[0]) add_coarse_maskers(k, r, y);
     /* 004 §3.2: difference of the responses, Minkowski over channels; each
      * channel is masked by its own masker plus `cross` times the other
      * channels' (cross-channel masking, docs/model.md "Masking") */
@@ -740,14 +776,32 @@ static jnd_status band_parallel(const band_ctx *k, float *D,
   return fail ? jnd_fail(JND_ERR_NOMEM, "model: out of memory") : JND_OK;
 }
 
-/* Difference of band i, summed over channels (band_rows). */
+/* The weight of the next coarser band's masker in band `band`'s masking
+ * pool: a Gaussian in log frequency, 2^−(d/h)², d the octaves between the
+ * two bands' peaks and h = masking_band_oct the tuning's half-width at half
+ * height (docs/model.md "Masking"); 0 without inter-band masking. */
+static float band_masking_weight(const jnd_model *m, int band) {
+  const double h = m->p.masking_band_oct;
+  if (!(h > 0) || band + 1 >= m->nbands) return 0;
+  const double d = log2(m->band_cpd[band] / m->band_cpd[band + 1]) / h;
+  return (float)exp2(-d * d);
+}
+
+/* Difference of band i, summed over channels (band_rows). coarse: the next
+ * coarser band's pooled maskers (NULL: none); mask_out: where this band's
+ * go (NULL: not needed). */
 static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, float *xexp[2][3],
-                                  float *D) {
+                                  float *D, float *const coarse[NCH], float *const mask_out[NCH]) {
   band_ctx k;
   jnd_status s = band_setup(m, st, band, &k);
   if (s != JND_OK) return s;
   for (int a = 0; a < 2; a++)
     for (int c = 0; c < 3; c++) k.xexp[a][c] = xexp[a][c];
+  for (int c = 0; c < NCH; c++) {
+    k.coarse_mask[c] = coarse ? coarse[c] : NULL;
+    k.mask_out[c] = mask_out ? mask_out[c] : NULL;
+  }
+  k.coarse_w = coarse ? band_masking_weight(m, band) : 0;
   s = band_parallel(&k, D, band_rows);
   band_free(&k);
   return s;
@@ -1059,8 +1113,18 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
     if (st.vel_shared) st.vel[1] = st.vel[0];
   }
 
-  for (int b = 0; b < nb && s == JND_OK; b++) {
+  /* from the coarsest band to the finest, so that each band's masking pool
+   * can take in the next coarser band's pooled maskers (kept at that
+   * band's level: 3/4 of a float a pixel at most) */
+  const int xband = m->p.masking_band_oct > 0 && !st.uniform[0] && !st.uniform[1];
+  float *mk_coarse[NCH] = {0}, *mk_this[NCH] = {0};
+  for (int b = nb - 1; b >= 0 && s == JND_OK; b--) {
     int w1 = st.g[0][0].w[b + 1], h1 = st.g[0][0].h[b + 1];
+    if (xband && b > 0)
+      for (int c = 0; c < NCH && s == JND_OK; c++) {
+        mk_this[c] = jnd_alloc((size_t)st.g[0][0].w[b] * st.g[0][0].h[b], sizeof(float));
+        if (!mk_this[c]) s = jnd_fail(JND_ERR_NOMEM, "model: out of memory");
+      }
     float *xexp[2][3] = {{0}};
     /* EXPAND(G_{i+2}) at level i+1; the row loop expands it once more to level i */
     for (int a = 0; a < 2 && s == JND_OK; a++)
@@ -1076,12 +1140,20 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
       Dlev[b] = jnd_alloc((size_t)st.g[0][0].w[b] * st.g[0][0].h[b], sizeof(float));
       if (!Dlev[b]) s = JND_ERR_NOMEM;
     }
-    if (s == JND_OK) s = band_difference(m, &st, b, xexp, Dlev[b]);
+    if (s == JND_OK)
+      s = band_difference(m, &st, b, xexp, Dlev[b], xband && mk_coarse[0] ? mk_coarse : NULL,
+                          xband && b > 0 ? mk_this : NULL);
+    for (int c = 0; c < NCH; c++) {
+      free(mk_coarse[c]);
+      mk_coarse[c] = mk_this[c];
+      mk_this[c] = NULL;
+    }
     if (s == JND_OK && m->p.summation_area_deg2 > 0)
       s = local_summation(m, b, Dlev[b], st.g[0][0].w[b], st.g[0][0].h[b]);
     for (int a = 0; a < 2; a++)
       for (int c = 0; c < 3; c++) free(xexp[a][c]);
   }
+  for (int c = 0; c < NCH; c++) free(mk_coarse[c]);
   /* the baseband, as one more level below the coarsest band */
   if (s == JND_OK) {
     Dlev[nb] = jnd_alloc((size_t)st.g[0][0].w[nb] * st.g[0][0].h[nb], sizeof(float));

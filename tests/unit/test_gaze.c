@@ -32,9 +32,10 @@ TEST(weight_falls_with_eccentricity_to_its_floor) {
     CHECK(w > m.b);
     prev = w;
   }
-  /* at the edge of the visual field it is near its floor: within 2% of the
-   * fovea's excess over it */
-  CHECK_LT(jnd_gaze_weight(&m, 90) - m.b, 0.02 * (jnd_gaze_weight(&m, 0) - m.b));
+  /* at the edge of the visual field it is near its floor: within 10% of
+   * the fovea's excess over it (6% with the defaults fitted to the model
+   * with masking over bands, β = 0.035/°; 2% with the one before) */
+  CHECK_LT(jnd_gaze_weight(&m, 90) - m.b, 0.1 * (jnd_gaze_weight(&m, 0) - m.b));
 }
 
 TEST(no_difference_is_chance_and_unit_magnitude_is_the_midpoint) {

@@ -300,7 +300,10 @@ TEST(a_level_of_detail_is_a_state_the_judge_renders_and_recognises) {
   CHECK_OK(jnd_judge_add_views(j, extra, n, &first));
   CHECK(jnd_scene_lod_mesh_level(s, 0) == 1);   /* the level is back in place */
   CHECK_OK(jnd_judge_eval(j, first, 2, 0, P + 2, NULL));
-  CHECK(P[2] > 0 && P[3] > 0);
+  /* the level's difference on a 96² frame is far below threshold (P of
+   * 1e-8 to 1e-4), so one view's P may round to 0 in single precision;
+   * referenced at level 1, both would be exactly 0 */
+  CHECK(P[2] > 0 || P[3] > 0);
   /* the whole scene back at level 0: the reference, never rendered */
   CHECK_OK(jnd_scene_lod_select(s, 0));
   jnd_judge_get_counts(j, &c1);

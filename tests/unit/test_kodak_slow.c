@@ -112,7 +112,7 @@ TEST(stronger_distortions_are_more_visible_on_six_photographs) {
     return;
   }
   jnd_model *m = default_model();
-  /* strengths near threshold: P93 saturates at 1 soon after (noise sigma in
+  /* strengths from well below to about threshold (noise sigma in
    * signal units, blur sigma in pixels, fraction of a 2x down-up change) */
   const double noise[] = {0.001, 0.0017, 0.003};
   const double blur[] = {0.3, 0.33, 0.36};
@@ -186,7 +186,6 @@ TEST(a_jpeg_quality_series_rises_gradually) {
   fprintf(stderr, "JPEG quality:");
   for (int i = 0; i < NQ; i++) fprintf(stderr, " %5d", quality[i]);
   fprintf(stderr, "   (P93, standard-fhd display)\n");
-  int low_at_100 = 0, gradual = 0;
   for (int k = 1; k <= 6; k++) {
     char path[1200];
     snprintf(path, sizeof path, "%s/kodak/kodim%02d.png", data, k);
@@ -203,20 +202,23 @@ TEST(a_jpeg_quality_series_rises_gradually) {
     fprintf(stderr, "kodim%02d     ", k);
     for (int i = 0; i < NQ; i++) fprintf(stderr, " %5.3f", pq[i]);
     fprintf(stderr, "\n");
-    /* a lower quality is never less visible, and the lowest is seen */
-    for (int i = 0; i + 1 < NQ; i++) CHECK(pq[i + 1] >= pq[i] - 0.01);
-    CHECK(pq[NQ - 1] > 0.95);
-    low_at_100 += pq[0] < 0.5;
+    /* docs/model.md "Real images": a lower quality is never less visible;
+     * qualities 100–96 are at most about threshold (P 0.6 is 1.05 JND) and
+     * 100 below it; 94 and up are not yet certain to be seen, 50 and below
+     * are; and P passes through at least three qualities strictly between
+     * 0.05 and 0.95 rather than jumping */
+    for (int i = 0; i + 1 < NQ; i++) CHECK(pq[i + 1] >= pq[i] - 0.001);
+    for (int i = 0; i < NQ; i++) {
+      if (quality[i] >= 96) CHECK_LT(pq[i], 0.6);
+      if (quality[i] >= 94) CHECK_LT(pq[i], 0.95);
+      if (quality[i] <= 50) CHECK(pq[i] > 0.95);
+    }
+    CHECK_LT(pq[0], 0.35);
     int between = 0;
     for (int i = 0; i < NQ; i++) between += pq[i] > 0.05 && pq[i] < 0.95;
-    gradual += between >= 3;
+    CHECK(between >= 3);
     jnd_image_free(&ref);
   }
-  /* quality 100 is rarely seen, and P rises through at least three
-   * qualities rather than jumping, on five of the six photographs (kodim03's
-   * large smooth dark areas show quality 100's rounding: docs/model.md) */
-  CHECK(low_at_100 >= 5);
-  CHECK(gradual >= 5);
   jnd_model_free(m);
 }
 

@@ -302,7 +302,9 @@ TEST(faster_motion_lowers_the_rating_and_rest_raises_it) {
    * 0.15 deg/s of drift) */
   jnd_model *m = model_t(0);
   double still = detail_rating(m, NAN), slow = detail_rating(m, 8), fast = detail_rating(m, 32);
-  CHECK(isfinite(still) && isfinite(fast));
+  /* fast may leave no region at all (R = −inf: 1.8 JND at most, below the
+   * seeds' 2), the lowest rating there is */
+  CHECK(isfinite(still) && isfinite(slow));
   CHECK_LT(slow, still);
   CHECK_LT(fast, slow);
   /* zero displacement is at rest (the same up to the tables' interpolation) */

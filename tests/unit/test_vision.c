@@ -423,6 +423,19 @@ TEST(a_texture_masks_a_change_whatever_its_phase) {
 static jnd_image luminance_and_colour(int n, double cm, double fm, double d, double fd);
 static double jnd_of_xyz(jnd_model *m, const jnd_image *a, const jnd_image *b);
 
+/* the default model at 40 ppd, one thread, with the masking pool's weights
+ * over channels (masking_cross) and over bands (masking_band_oct) set */
+static jnd_model *masking_model(double cross, double band_oct) {
+  jnd_model_params p;
+  jnd_model_defaults(&p);
+  p.display.ppd = 40;
+  p.threads = 1;
+  p.masking_cross = cross;
+  p.masking_band_oct = band_oct;
+  jnd_model *m = NULL;
+  return jnd_model_create(&p, &m) == JND_OK ? m : NULL;
+}
+
 /* docs/model.md "Masking": the three channels share one normalisation pool
  * (masking_cross = 1), so a strong achromatic texture masks a red–green
  * change on it as it masks an achromatic one; with masking_cross = 0 (004:
@@ -432,13 +445,8 @@ static double jnd_of_xyz(jnd_model *m, const jnd_image *a, const jnd_image *b);
 TEST(an_achromatic_texture_masks_a_colour_change) {
   double j[2], jflat[2];
   for (int k = 0; k < 2; k++) {
-    jnd_model_params p;
-    jnd_model_defaults(&p);
-    p.display.ppd = 40;
-    p.threads = 1;
-    p.masking_cross = k;
-    jnd_model *m = NULL;
-    CHECK_OK(jnd_model_create(&p, &m));
+    jnd_model *m = masking_model(k, 1);
+    CHECK(m != NULL);
     /* masker: a 0.4-contrast achromatic grating at 4 cpd; signal: a 2%
      * red–green grating at 4 cpd in the other orientation (the same band),
      * a few JND on the uniform field */
@@ -458,6 +466,54 @@ TEST(an_achromatic_texture_masks_a_colour_change) {
   CHECK(jflat[0] == jflat[1]);           /* no masker on a uniform field */
   CHECK_NEAR(j[0] / jflat[0], 1.0, 0.1); /* per-channel masking: the texture does not mask colour */
   CHECK_LT(j[1], 0.5 * j[0]);            /* one pool: it does */
+}
+
+/* an achromatic plaid: a masker of contrast cm at fm cycles/pixel across
+ * rows plus a signal of contrast cd at fd cycles/pixel across columns */
+static jnd_image plaid(int n, double cm, double fm, double cd, double fd) {
+  jnd_image img;
+  jnd_image_alloc(&img, n, n, 3);
+  for (int y = 0; y < n; y++)
+    for (int x = 0; x < n; x++) {
+      double v = 50 * (1 + cm * cos(2 * M_PI * fm * y) + cd * cos(2 * M_PI * fd * x));
+      for (int ch = 0; ch < 3; ch++) jnd_image_plane(&img, ch)[(size_t)y * n + x] = (float)v;
+    }
+  return img;
+}
+
+/* docs/model.md "Masking": the masking pool spans neighbouring frequencies
+ * (masking_band_oct), so a strong texture an octave coarser than a change
+ * masks it; with masking_band_oct = 0 (004: each band masks only itself)
+ * much less. On a uniform background there is no masker, so it cannot move
+ * a threshold of the human data (docs/csf.md). */
+TEST(a_coarser_texture_masks_a_finer_change) {
+  /* masking_band_oct 0 (own band only), 1 (the default) and 0.5 (a narrower
+   * tuning: the coarser band, 1.2 octaves away, weighs 2^-5.5, not 2^-1.4) */
+  const double oct[3] = {0, 1, 0.5};
+  double j[3], jflat[3];
+  for (int k = 0; k < 3; k++) {
+    jnd_model *m = masking_model(1, oct[k]);
+    CHECK(m != NULL);
+    /* at 40 ppd band 1 peaks at 5 cpd (0.125 cycles/pixel), band 2 at
+     * 2.2 cpd: the masker is a 0.3-contrast grating at 2.2 cpd, the signal
+     * a 1% grating at 5 cpd */
+    jnd_image ref = plaid(128, 0.3, 0.056, 0, 0.125), test = plaid(128, 0.3, 0.056, 0.01, 0.125);
+    jnd_image flat = plaid(128, 0, 0.056, 0, 0.125), flat_test = plaid(128, 0, 0.056, 0.01, 0.125);
+    j[k] = jnd_of(m, &ref, &test, NULL);
+    jflat[k] = jnd_of(m, &flat, &flat_test, NULL);
+    jnd_image_free(&ref);
+    jnd_image_free(&test);
+    jnd_image_free(&flat);
+    jnd_image_free(&flat_test);
+    jnd_model_free(m);
+  }
+  fprintf(stderr, "5 cpd grating: %.3f JND on a uniform field, %.3f on a 2.2 cpd texture (own band), %.3f (pool over bands), %.3f (narrower pool)\n",
+          jflat[1], j[0], j[1], j[2]);
+  CHECK(jflat[0] > 1);
+  CHECK(jflat[0] == jflat[1] && jflat[0] == jflat[2]); /* no masker on a uniform field */
+  CHECK(j[2] < j[0] && j[2] > j[1]);                    /* a narrower tuning masks less */
+  CHECK_LT(j[1], 0.8 * j[0]);  /* the coarser band's texture masks the change more */
+  CHECK(j[1] > 0);
 }
 
 TEST(a_uniform_change_is_visible) {
@@ -965,7 +1021,7 @@ RUN_TESTS(flicker_sensitivity_is_band_pass_at_low_spatial_frequency_and_low_pass
           chromatic_flicker_is_flat_at_low_temporal_frequencies_and_fades_above_ten_hertz,
           red_green_sensitivity_falls_faster_with_eccentricity_than_luminance,
           moving_the_fixation_point_equals_a_model_made_with_it, a_texture_masks_a_change_whatever_its_phase,
-          an_achromatic_texture_masks_a_colour_change,
+          an_achromatic_texture_masks_a_colour_change, a_coarser_texture_masks_a_finer_change,
           a_uniform_change_is_visible, identical_images_have_zero_jnd, band_table_matches_the_filters, finest_band_peaks_near_nyquist_and_four_times_the_next,
           with_004s_limit_the_coarsest_band_peaks_at_or_above_half_a_cycle_per_degree, reduce_and_expand_keep_a_constant_image_constant,
           lms_luminance_weights_recover_y, opponent_channels_separate_luminance_from_colour,
