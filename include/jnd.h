@@ -746,6 +746,10 @@ typedef struct {
                               before a level's target (its topology or seams stop it),
                               meshopt_simplifySloppy makes that mesh's level if it gets fewer
                               triangles within the target; 0: never */
+  int slab_triangles;      /* 0 (default): 262144. A mesh with more triangles is cut into slabs of
+                              about this many, simplified in parallel with their cuts locked and
+                              joined before its level is made (docs/lod.md); only level 1 is then
+                              made from the input */
   int threads;             /* 0: OpenMP's default; the chain is the same for every count */
 } jnd_lod_params;
 
@@ -759,8 +763,9 @@ void jnd_lod_defaults(jnd_lod_params *p);
  * taken back per corner from the input's vertices (hard edges stay hard
  * where the surface still bends there). Each level is simplified from the
  * coarsest earlier level whose target is at most a quarter of its own (from
- * level 0 for the first ones), so that a 1 M-triangle mesh costs two passes
- * over the input. Level 0 is selected on return. JND_ERR_FORMAT "PATH:
+ * level 0 for the first ones; when a mesh has more than slab_triangles,
+ * only level 1 is, in parallel slabs), its error the sum of the steps'
+ * errors (an upper bound). Level 0 is selected on return. JND_ERR_FORMAT "PATH:
  * problem" for a scene whose triangles all have zero area; JND_ERR_ARG for
  * bad targets. */
 jnd_status jnd_scene_lod_build(jnd_scene *s, const jnd_lod_params *p);

@@ -20,23 +20,28 @@
  *     meshoptimizer measures error relative to the vertex buffer it gets);
  *     its result_error is the level's error. Levels aimed at triangle ratios
  *     run with a target count and no error bound.
- *  4. Sources. A pass over a 1 M-triangle input takes about a second, so not
- *     every level is made from the input: level k is made from the coarsest
- *     earlier level whose target is at most a quarter of its own (the input
- *     when there is none), with the error left over as its budget; its error
- *     is then the source's plus the step's, an upper bound. With the default
- *     doubling targets the first two levels come from the input and each
- *     later one from the level two before it, so at least 3/4 of every
- *     target is spent on the level itself. The sources are fixed by the
- *     targets alone, so levels of one wave are made in parallel and the
- *     chain does not depend on the thread count.
- *  5. Fallback. Where meshopt_simplify stopped short of the target because
+ *  4. Sources. Not every level is made from the input: level k is made
+ *     from the coarsest earlier level whose target is at most a quarter of
+ *     its own (the input when there is none), with the error left over as
+ *     its budget; its error is then the source's plus the step's, an upper
+ *     bound. With the default doubling targets the first two levels come
+ *     from the input and each later one from the level two before it, so
+ *     at least 3/4 of every target is spent on the level itself. A pass
+ *     over a 1 M-triangle input costs more than the rest of the chain, so
+ *     where a mesh of the input is large enough to be cut in slabs (step 5)
+ *     only level 1 is made from the input and level 2 from level 1 (half
+ *     its target left for the step). The sources are fixed by the targets
+ *     and level 0's size, so the chain does not depend on the thread count.
+ *  5. Slabs. meshopt_simplify runs on one thread; a large source is cut
+ *     into slabs simplified in parallel with their cuts locked, joined, and
+ *     the level made from the joined mesh (slab_of_triangles, below).
+ *  6. Fallback. Where meshopt_simplify stopped short of the target because
  *     no edge can collapse at all any more (a probe with no error bound
  *     collapses nothing), meshopt_simplifySloppy is tried from the same
  *     source with the same budget, and kept if it has fewer triangles; the
  *     level says so (JND_LOD_SLOPPY), since sloppy simplification ignores
  *     seams.
- *  6. Chain. A mesh never gets more triangles than at the level before, and
+ *  7. Chain. A mesh never gets more triangles than at the level before, and
  *     a level with no fewer triangles in all than the one before is dropped. */
 #include <float.h>
 #include <math.h>
@@ -392,6 +397,135 @@ typedef struct {
   double target;          /* the level's error target relative to the extent (errors), else NaN */
 } level_plan;
 
+/* Step 5: a large source in slabs. meshopt_simplify runs on one thread, and
+ * one pass over a 1 M-triangle source takes about 1.6 s of the 2 s a whole
+ * chain may take. A source of more than slab_triangles (2^18) triangles is cut into
+ * slabs of about equal triangle counts across the longest side of its
+ * bounding box (by triangle centroid, binned: the cut depends on the
+ * geometry alone, never on the thread count); each slab is simplified on
+ * its own, in parallel, with its cut locked (a cut is an open border to
+ * the slab: meshopt_SimplifyLockBorder) and the level's whole budget; the
+ * slabs are joined, and the level is made from the joined mesh with what is
+ * left of the budget, the cuts free again. The joined mesh's error (the
+ * largest slab's) adds to the level's bound. */
+enum { SLAB_TRIS = 1 << 18, SLAB_BINS = 4096, MAX_SLABS = 255 };
+
+static int slab_count(const compact_src *c, double budget_abs, size_t slab_tris) {
+  if (c->ntris <= slab_tris || !(budget_abs > 0)) return 0;
+  size_t n = (c->ntris + slab_tris - 1) / slab_tris;
+  return n > MAX_SLABS ? MAX_SLABS : (int)n;
+}
+
+/* slab[t]: the slab (0..nslabs − 1) triangle t of c falls in */
+static jnd_status slab_of_triangles(const compact_src *c, int nslabs, unsigned char *slab) {
+  float lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
+  for (size_t v = 0; v < c->nc; v++)
+    for (int k = 0; k < 3; k++) {
+      if (c->pos[3 * v + k] < lo[k]) lo[k] = c->pos[3 * v + k];
+      if (c->pos[3 * v + k] > hi[k]) hi[k] = c->pos[3 * v + k];
+    }
+  int a = 0;
+  for (int k = 1; k < 3; k++)
+    if (hi[k] - lo[k] > hi[a] - lo[a]) a = k;
+  double span = 3.0 * ((double)hi[a] - lo[a]), per = span > 0 ? SLAB_BINS / span : 0;
+  uint16_t *bin = jnd_alloc(c->ntris, sizeof *bin);
+  size_t *count = jnd_calloc(SLAB_BINS, sizeof *count);
+  if (!bin || !count) {
+    free(bin);
+    free(count);
+    return JND_ERR_NOMEM;
+  }
+  for (size_t t = 0; t < c->ntris; t++) {
+    const uint32_t *q = c->idx + 3 * t;
+    double x = (double)c->pos[3 * q[0] + a] + c->pos[3 * q[1] + a] + c->pos[3 * q[2] + a] - 3.0 * lo[a];
+    int b = (int)(x * per);
+    bin[t] = (uint16_t)(b < 0 ? 0 : b >= SLAB_BINS ? SLAB_BINS - 1 : b);
+    count[bin[t]]++;
+  }
+  /* a bin goes to the slab its middle triangle falls in, counted along the axis */
+  unsigned char of_bin[SLAB_BINS];
+  size_t before = 0;
+  for (int b = 0; b < SLAB_BINS; b++) {
+    size_t s = (before + count[b] / 2) * (size_t)nslabs / c->ntris;
+    of_bin[b] = (unsigned char)(s < (size_t)nslabs ? s : (size_t)nslabs - 1);
+    before += count[b];
+  }
+  for (size_t t = 0; t < c->ntris; t++) slab[t] = of_bin[bin[t]];
+  free(bin);
+  free(count);
+  return JND_OK;
+}
+
+typedef struct {
+  uint32_t *idx;          /* the slab simplified: c's compact ids */
+  size_t n;               /* indices */
+  double error_abs;       /* meshoptimizer's result error, object units */
+} slab_result;
+
+/* Simplifies slab s of c with its open borders locked: within the budget
+ * (errors) or to its share of target_count (ratios). */
+static jnd_status simplify_slab(const compact_src *c, const unsigned char *slab, int s, double budget_abs,
+                                size_t target_count, unsigned options, slab_result *out) {
+  memset(out, 0, sizeof *out);
+  size_t ni = 0;
+  for (size_t t = 0; t < c->ntris; t++) ni += slab[t] == s ? 3 : 0;
+  if (ni == 0) return JND_OK;
+  uint32_t *idx = jnd_alloc(ni, sizeof *idx), *remap = jnd_alloc(c->nc, sizeof *remap);
+  uint32_t *back = jnd_alloc(ni, sizeof *back), *dst = jnd_alloc(ni, sizeof *dst);
+  float *pos = jnd_alloc(ni, 3 * sizeof(float));
+  if (!idx || !remap || !back || !dst || !pos) {
+    free(idx), free(remap), free(back), free(dst), free(pos);
+    return JND_ERR_NOMEM;
+  }
+  for (size_t t = 0, i = 0; t < c->ntris; t++)
+    if (slab[t] == s) memcpy(idx + 3 * i++, c->idx + 3 * t, 3 * sizeof *idx);
+  size_t nv = meshopt_optimizeVertexFetchRemap(remap, idx, ni, c->nc);
+  for (size_t v = 0; v < c->nc; v++)
+    if (remap[v] != UINT32_MAX) {
+      memcpy(pos + 3 * (size_t)remap[v], c->pos + 3 * v, 3 * sizeof(float));
+      back[remap[v]] = (uint32_t)v;
+    }
+  for (size_t i = 0; i < ni; i++) idx[i] = remap[idx[i]];
+  free(remap);
+  double scale = meshopt_simplifyScale(pos, nv, 3 * sizeof(float));
+  float target = 10.0f;   /* no error bound: 10 × the extent */
+  size_t count = 0;
+  if (isfinite(budget_abs)) {
+    double rel = scale > 0 ? budget_abs / scale : 0;
+    target = (float)(rel > 10 ? 10 : rel);
+  } else {
+    count = 3 * (size_t)((double)(target_count / 3) * (double)(ni / 3) / (double)c->ntris);
+  }
+  float err = 0;
+  size_t n = meshopt_simplify(dst, idx, ni, pos, nv, 3 * sizeof(float), count, target,
+                              options | meshopt_SimplifyLockBorder, &err);
+  for (size_t i = 0; i < n; i++) dst[i] = back[dst[i]];
+  free(idx), free(back), free(pos);
+  out->idx = dst;
+  out->n = n;
+  out->error_abs = (double)err * scale;
+  return JND_OK;
+}
+
+/* The slabs of one mesh joined again, as a level over the input's vertices
+ * (representatives): what the level is then made from. */
+static jnd_status join_slabs(const compact_src *c, const slab_result *r, int nslabs, const jnd_lod_mesh *src,
+                             jnd_lod_mesh *out) {
+  memset(out, 0, sizeof *out);
+  size_t n = 0;
+  for (int s = 0; s < nslabs; s++) n += r[s].n;
+  if (!(out->indices = jnd_alloc(n ? n : 1, sizeof *out->indices))) return JND_ERR_NOMEM;
+  out->error_abs = 0;
+  for (int s = 0; s < nslabs; s++) {
+    for (size_t i = 0; i < r[s].n; i++) out->indices[out->ntris * 3 + i] = c->orig[r[s].idx[i]];
+    out->ntris += r[s].n / 3;
+    if (r[s].error_abs > out->error_abs) out->error_abs = r[s].error_abs;
+  }
+  out->error_abs += src->error_abs;
+  out->sloppy = src->sloppy;
+  return JND_OK;
+}
+
 /* Makes one mesh's level: out gets indices (input vertex ids), ntris, the
  * error bound (source's + step's) and whether sloppy made it. */
 static jnd_status simplify_one(const mesh_prep *p, const jnd_lod_mesh *src, const compact_src *cs,
@@ -427,7 +561,7 @@ static jnd_status simplify_one(const mesh_prep *p, const jnd_lod_mesh *src, cons
     n = ni;
   }
   int sloppy = 0;
-  /* Step 5: stuck short of the target? */
+  /* Step 6: stuck short of the target? */
   if (allow_sloppy && n > target_count && err < target && n >= 3) {
     float perr = 0;
     size_t pn = meshopt_simplify(probe, dst, n, c.pos, c.nc, 3 * sizeof(float), n - 3, 10.0f, options, &perr);
@@ -453,6 +587,78 @@ static jnd_status simplify_one(const mesh_prep *p, const jnd_lod_mesh *src, cons
 }
 
 /* ---- the chain ---- */
+
+/* Makes level k of every mesh from its source (step 4): each source is
+ * compacted, large ones are simplified in slabs first (step 5), then the
+ * level is made. Every job writes its own slot, so the level does not
+ * depend on the thread count. */
+static jnd_status make_level(const mesh_prep *prep, jnd_lod_level *lv, int k, const level_plan *plan, int nmeshes,
+                             size_t slab_tris, unsigned options, int allow_sloppy, int nthreads) {
+  size_t n = (size_t)nmeshes;
+  compact_src *cs = jnd_calloc(2 * n, sizeof *cs);     /* sources, then joined slabs */
+  jnd_lod_mesh *joined = jnd_calloc(n, sizeof *joined);
+  unsigned char **slab = jnd_calloc(n, sizeof *slab);
+  int *first = jnd_calloc(n + 1, sizeof *first);       /* mesh i's slab jobs: first[i] .. first[i + 1] − 1 */
+  jnd_status *res = jnd_calloc(n, sizeof *res);
+  double *left = jnd_calloc(n, sizeof *left);          /* the budget left after the source's own error */
+  slab_result *sr = NULL;
+  jnd_status st = cs && joined && slab && first && res && left ? JND_OK : JND_ERR_NOMEM;
+  const jnd_lod_mesh *src = lv[plan->source].mesh;
+  if (!st) {
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads)
+    for (int i = 0; i < nmeshes; i++) res[i] = make_compact(&prep[i], &src[i], &cs[i]);
+    for (int i = 0; i < nmeshes && !st; i++) st = res[i];
+  }
+  for (int i = 0; i < nmeshes && !st; i++) {
+    left[i] = isfinite(plan->budget_abs) ? fmax(0, plan->budget_abs - src[i].error_abs) : INFINITY;
+    int ns = slab_count(&cs[i], left[i], slab_tris);
+    first[i + 1] = first[i] + ns;
+    if (ns && !(slab[i] = jnd_alloc(cs[i].ntris, 1))) st = JND_ERR_NOMEM;
+    if (ns && !st) st = slab_of_triangles(&cs[i], ns, slab[i]);
+  }
+  int jobs = first[n];
+  if (!st && jobs) {
+    jnd_status *sres = jnd_calloc((size_t)jobs, sizeof *sres);
+    sr = jnd_calloc((size_t)jobs, sizeof *sr);
+    st = sres && sr ? JND_OK : JND_ERR_NOMEM;
+    if (!st) {
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads)
+      for (int j = 0; j < jobs; j++) {
+        int i = 0;
+        while (first[i + 1] <= j) i++;
+        size_t count = isfinite(plan->ratio) ? 3 * (size_t)floor(plan->ratio * (double)lv[0].mesh[i].ntris) : 0;
+        sres[j] = simplify_slab(&cs[i], slab[i], j - first[i], left[i], count, options, &sr[j]);
+      }
+      for (int j = 0; j < jobs && !st; j++) st = sres[j];
+    }
+    free(sres);
+    for (int i = 0; i < nmeshes && !st; i++)
+      if (first[i + 1] > first[i]) {
+        st = join_slabs(&cs[i], sr + first[i], first[i + 1] - first[i], &src[i], &joined[i]);
+        if (!st) st = make_compact(&prep[i], &joined[i], &cs[n + i]);
+        if (!st && isfinite(left[i])) left[i] = fmax(0, plan->budget_abs - joined[i].error_abs);
+      }
+  }
+  if (!st) {
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads)
+    for (int i = 0; i < nmeshes; i++) {
+      int slabs = first[i + 1] > first[i];
+      level_plan pl = *plan;
+      pl.budget_abs = left[i];
+      res[i] = simplify_one(&prep[i], slabs ? &joined[i] : &src[i], &cs[slabs ? n + (size_t)i : (size_t)i], &pl,
+                            lv[0].mesh[i].ntris, options, allow_sloppy, &lv[k].mesh[i]);
+    }
+    for (int i = 0; i < nmeshes && !st; i++) st = res[i];
+  }
+  for (int j = 0; sr && j < jobs; j++) free(sr[j].idx);
+  for (size_t i = 0; cs && i < 2 * n; i++) compact_free(&cs[i]);
+  for (size_t i = 0; i < n; i++) {
+    if (joined) free(joined[i].indices);
+    if (slab) free(slab[i]);
+  }
+  free(sr), free(left), free(cs), free(joined), free(slab), free(first), free(res);
+  return st;
+}
 
 jnd_status jnd_scene_lod_build(jnd_scene *s, const jnd_lod_params *p) {
   jnd_lod_params d;
@@ -489,26 +695,19 @@ jnd_status jnd_scene_lod_build(jnd_scene *s, const jnd_lod_params *p) {
   double extent = scene_extent(s);
   if (!(extent > 0) || !isfinite(extent)) return jnd_fail(JND_ERR_FORMAT, "%s: the meshes have no extent", s->path);
 
-  /* step 4: sources fixed by the targets; waves of levels whose sources are made */
+  /* step 4: each level's source, fixed by the targets and level 0's size */
+  size_t slab_tris = p->slab_triangles > 0 ? (size_t)p->slab_triangles : SLAB_TRIS;
+  int big = 0;
+  for (int i = 0; i < s->nmeshes; i++) big |= s->lod[0].mesh[i].ntris > slab_tris;
   level_plan plan[MAX_LEVELS];
-  int depth[MAX_LEVELS] = {0}, waves = 0;
   for (int k = 1; k <= nt; k++) {
     level_plan *L = &plan[k];
-    if (by_ratio) {
-      L->source = k - 1;
-      L->ratio = targets[k - 1];
-      L->target = NAN;
-      L->budget_abs = INFINITY;
-    } else {
-      L->source = 0;
-      for (int j = 1; j < k; j++)
-        if (targets[j - 1] <= targets[k - 1] / 4) L->source = j;
-      L->ratio = NAN;
-      L->target = targets[k - 1];
-      L->budget_abs = targets[k - 1] * extent;   /* minus the source's own error, per mesh */
-    }
-    depth[k] = depth[L->source] + 1;
-    if (depth[k] > waves) waves = depth[k];
+    L->source = by_ratio || (k > 1 && big) ? k - 1 : 0;
+    for (int j = 1; j < k && !by_ratio; j++)
+      if (targets[j - 1] <= targets[k - 1] / 4) L->source = j;
+    L->ratio = by_ratio ? targets[k - 1] : NAN;
+    L->target = by_ratio ? NAN : targets[k - 1];
+    L->budget_abs = by_ratio ? INFINITY : targets[k - 1] * extent;
   }
   int lock = p->lock_border < 0 ? s->nmeshes > 1 : p->lock_border != 0;
   unsigned options = lock ? meshopt_SimplifyLockBorder : 0;
@@ -525,54 +724,13 @@ jnd_status jnd_scene_lod_build(jnd_scene *s, const jnd_lod_params *p) {
     if (!(lv[k].mesh = jnd_calloc((size_t)s->nmeshes, sizeof *lv[k].mesh))) st = JND_ERR_NOMEM;
   for (int i = 0; i < s->nmeshes && !st; i++) st = prep_mesh(&lv[0].mesh[i], &prep[i]);
   int nthreads = jnd_threads(p->threads);
-  for (int w = 1; w <= waves && !st; w++) {
-    int jobs[MAX_LEVELS], nj = 0;
-    for (int k = 1; k <= nt; k++)
-      if (depth[k] == w) jobs[nj++] = k;
-    /* the sources of this wave, each compacted once */
-    int srcs[MAX_LEVELS], ns = 0;
-    for (int j = 0; j < nj; j++) {
-      int src = plan[jobs[j]].source, seen = 0;
-      for (int q = 0; q < ns; q++) seen |= srcs[q] == src;
-      if (!seen) srcs[ns++] = src;
-    }
-    int total = nj * s->nmeshes, ncs = ns * s->nmeshes;
-    jnd_status *res = jnd_calloc((size_t)(total + ncs), sizeof *res);
-    compact_src *cs = jnd_calloc((size_t)ncs, sizeof *cs);
-    if (!res || !cs) {
-      free(res);
-      free(cs);
-      st = JND_ERR_NOMEM;
-      break;
-    }
-    /* each job writes its own slot: the result does not depend on threads */
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads)
-    for (int j = 0; j < ncs; j++)
-      res[total + j] = make_compact(&prep[j % s->nmeshes], &lv[srcs[j / s->nmeshes]].mesh[j % s->nmeshes], &cs[j]);
-    for (int j = 0; j < ncs && !st; j++) st = res[total + j];
-    if (!st) {
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads)
-      for (int j = 0; j < total; j++) {
-        int k = jobs[j / s->nmeshes], i = j % s->nmeshes, q = 0;
-        level_plan pl = plan[k];
-        while (srcs[q] != pl.source) q++;
-        const jnd_lod_mesh *src = &lv[pl.source].mesh[i];
-        if (!by_ratio) pl.budget_abs -= src->error_abs;
-        if (!by_ratio && pl.budget_abs < 0) pl.budget_abs = 0;
-        res[j] = simplify_one(&prep[i], src, &cs[q * s->nmeshes + i], &pl, lv[0].mesh[i].ntris, options,
-                              p->allow_sloppy, &lv[k].mesh[i]);
-      }
-      for (int j = 0; j < total && !st; j++) st = res[j];
-    }
-    if (st == JND_ERR_NOMEM) st = jnd_fail(JND_ERR_NOMEM, "%s: out of memory", s->path);
-    for (int j = 0; j < ncs; j++) compact_free(&cs[j]);
-    free(cs);
-    free(res);
-  }
+  for (int k = 1; k <= nt && !st; k++)
+    st = make_level(prep, lv, k, &plan[k], s->nmeshes, slab_tris, options, p->allow_sloppy, nthreads);
+  if (st == JND_ERR_NOMEM) st = jnd_fail(JND_ERR_NOMEM, "%s: out of memory", s->path);
   for (int i = 0; i < s->nmeshes; i++) prep_free(&prep[i]);
   free(prep);
 
-  /* step 6: monotone per mesh; levels that add nothing are dropped */
+  /* step 7: monotone per mesh; levels that add nothing are dropped */
   int kept = 1;
   for (int k = 1; k <= nt && !st; k++) {
     jnd_lod_level *prev = &lv[kept - 1], *L = &lv[k];

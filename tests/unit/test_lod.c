@@ -151,6 +151,11 @@ static jnd_scene *faceted_sphere(int n, int own_uv) {
   return s;
 }
 
+static int cmp_u64(const void *a, const void *b) {
+  uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+  return (x > y) - (x < y);
+}
+
 static jnd_lod_level_info info(const jnd_scene *s, int k) {
   jnd_lod_level_info li;
   memset(&li, 0, sizeof li);
@@ -187,6 +192,25 @@ TEST(chain_levels_lose_triangles_and_stay_within_their_targets) {
   jnd_scene_free(s);
 }
 
+/* Corners of the selected level of a seam_sheet that take their uv from the
+ * other island than their triangle's (0 when the seam is kept); *seam
+ * counts corners on the seam. */
+static int seam_violations(const jnd_scene *s, int *seam) {
+  const jnd_mesh *m = &s->meshes[0];
+  int bad = 0;
+  for (size_t t = 0; t < m->ntris; t++) {
+    double cx = 0;
+    for (int c = 0; c < 3; c++) cx += m->vertices[(size_t)m->indices[3 * t + c] * JND_VTX_FLOATS] / 3.0;
+    for (int c = 0; c < 3; c++) {
+      const float *v = m->vertices + (size_t)m->indices[3 * t + c] * JND_VTX_FLOATS;
+      double want = cx < 0.5 ? v[0] : v[0] - 0.5;
+      if (fabs(v[10] - want) > 1e-6) bad++;
+      if (fabs(v[0] - 0.5) < 1e-6) (*seam)++;
+    }
+  }
+  return bad;
+}
+
 TEST(uv_seams_are_kept_at_every_level) {
   /* every triangle of every level takes all its corners from one uv island:
    * left of the seam u = x, right of it u = x − 0.5. Simplifying over
@@ -196,17 +220,7 @@ TEST(uv_seams_are_kept_at_every_level) {
   int n = jnd_scene_lod_count(s), bad = 0, seam_corners = 0;
   for (int k = 1; k < n; k++) {
     CHECK_OK(jnd_scene_lod_select(s, k));
-    const jnd_mesh *m = &s->meshes[0];
-    for (size_t t = 0; t < m->ntris; t++) {
-      double cx = 0;
-      for (int c = 0; c < 3; c++) cx += m->vertices[(size_t)m->indices[3 * t + c] * JND_VTX_FLOATS] / 3.0;
-      for (int c = 0; c < 3; c++) {
-        const float *v = m->vertices + (size_t)m->indices[3 * t + c] * JND_VTX_FLOATS;
-        double want = cx < 0.5 ? v[0] : v[0] - 0.5;
-        if (fabs(v[10] - want) > 1e-6) bad++;
-        if (fabs(v[0] - 0.5) < 1e-6) seam_corners++;
-      }
-    }
+    bad += seam_violations(s, &seam_corners);
   }
   CHECK(bad == 0);
   CHECK(seam_corners > 0);   /* the seam is still there */
@@ -366,6 +380,89 @@ TEST(the_chain_does_not_depend_on_the_thread_count) {
   }
   jnd_scene_free(a);
   jnd_scene_free(b);
+}
+
+/* Edges of the selected level of a seam_sheet, by position, that only one
+ * triangle uses and that do not lie on the sheet's outline: a crack. */
+static int inner_open_edges(const jnd_scene *s) {
+  const jnd_mesh *m = &s->meshes[0];
+  size_t ne = 3 * m->ntris;
+  uint64_t *e = calloc(ne ? ne : 1, sizeof *e);
+  /* a position's key: its grid cell on the sheet (vertices lie on a grid of at most 1024) */
+  for (size_t t = 0; t < m->ntris; t++)
+    for (int c = 0; c < 3; c++) {
+      const float *a = m->vertices + (size_t)m->indices[3 * t + c] * JND_VTX_FLOATS,
+                  *b = m->vertices + (size_t)m->indices[3 * t + (c + 1) % 3] * JND_VTX_FLOATS;
+      uint64_t ka = (uint64_t)lround(a[0] * 1024) << 16 | (uint64_t)lround(a[1] * 1024),
+               kb = (uint64_t)lround(b[0] * 1024) << 16 | (uint64_t)lround(b[1] * 1024);
+      e[3 * t + c] = ka < kb ? ka << 32 | kb : kb << 32 | ka;
+    }
+  qsort(e, ne, sizeof *e, cmp_u64);
+  int open = 0;
+  for (size_t i = 0; i < ne;) {
+    size_t j = i;
+    while (j < ne && e[j] == e[i]) j++;
+    if (j - i == 1) {
+      uint64_t ka = e[i] >> 32, kb = e[i] & 0xffffffffu;
+      int on_outline = 0;
+      /* both ends on one side of the unit square */
+      for (int side = 0; side < 4; side++) {
+        int axis = side / 2;
+        uint64_t want = side % 2 ? 1024 : 0;
+        uint64_t ca = axis ? ka & 0xffff : ka >> 16, cb = axis ? kb & 0xffff : kb >> 16;
+        on_outline |= ca == want && cb == want;
+      }
+      open += !on_outline;
+    }
+    i = j;
+  }
+  free(e);
+  return open;
+}
+
+TEST(a_mesh_cut_in_slabs_keeps_its_seams_targets_and_no_cracks) {
+  /* slabs of 1000 triangles: the sheet's 8192 are cut in 9, each simplified
+   * with its cut locked, then joined and simplified again */
+  jnd_scene *a = seam_sheet(64), *b = seam_sheet(64);
+  jnd_lod_params p;
+  jnd_lod_defaults(&p);
+  CHECK_OK(jnd_scene_lod_build(a, &p));
+  p.slab_triangles = 1000;
+  CHECK_OK(jnd_scene_lod_build(b, &p));
+  int n = jnd_scene_lod_count(b), bad = 0, seam_corners = 0;
+  CHECK(n >= 5);
+  for (int k = 1; k < n; k++) {
+    jnd_lod_level_info prev = info(b, k - 1), li = info(b, k);
+    CHECK(li.triangles < prev.triangles);
+    CHECK(li.error >= prev.error);
+    CHECK(li.error <= li.target_error * (1 + 1e-5));
+    CHECK_OK(jnd_scene_lod_select(b, k));
+    bad += seam_violations(b, &seam_corners);
+    CHECK(inner_open_edges(b) == 0);
+  }
+  CHECK(bad == 0);
+  CHECK(seam_corners > 0);
+  /* the slabs were used (level 1 differs from the one made whole), and cost
+   * few triangles: level 1 within a quarter of the whole one's */
+  size_t whole = info(a, 1).triangles, slabs = info(b, 1).triangles;
+  CHECK_OK(jnd_scene_lod_select(a, 1));
+  CHECK_OK(jnd_scene_lod_select(b, 1));
+  CHECK(slabs != whole || memcmp(a->meshes[0].indices, b->meshes[0].indices, 3 * whole * sizeof(uint32_t)) != 0);
+  CHECK(slabs * 4 <= whole * 5);
+  /* the slabs do not depend on the thread count */
+  jnd_scene *c = seam_sheet(64);
+  p.threads = 1;
+  CHECK_OK(jnd_scene_lod_build(c, &p));
+  CHECK(jnd_scene_lod_count(c) == n);
+  for (int k = 0; k < n && k < jnd_scene_lod_count(c); k++) {
+    jnd_scene_lod_select(b, k);
+    jnd_scene_lod_select(c, k);
+    CHECK(b->meshes[0].ntris == c->meshes[0].ntris);
+    CHECK(memcmp(b->meshes[0].indices, c->meshes[0].indices, 3 * b->meshes[0].ntris * sizeof(uint32_t)) == 0);
+  }
+  jnd_scene_free(a);
+  jnd_scene_free(b);
+  jnd_scene_free(c);
 }
 
 TEST(bad_chains_are_refused) {
@@ -693,6 +790,7 @@ TEST(an_unlit_rendering_shows_the_base_colour) {
 }
 
 RUN_TESTS(chain_levels_lose_triangles_and_stay_within_their_targets, uv_seams_are_kept_at_every_level,
+          a_mesh_cut_in_slabs_keeps_its_seams_targets_and_no_cracks,
           hard_edges_keep_their_normals, a_faceted_mesh_is_simplified_not_stuck,
           sloppy_is_the_named_fallback_where_seams_stop_the_simplifier, ratio_targets_reach_their_triangle_counts,
           every_mesh_of_a_multi_material_scene_gets_its_levels, the_chain_does_not_depend_on_the_thread_count,
