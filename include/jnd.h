@@ -1744,8 +1744,9 @@ typedef struct {
                                 screen's height there (0.02) */
   double tolerance;          /* ratio between neighbouring distances of the search, minus 1 (0.1):
                                 a switch distance is within a factor 1 + tolerance of the true one */
-  int max_px;                /* largest rendering side, pixels (512): a larger object is judged on a
-                                screen scaled down until it fits (fewer pixels per degree) */
+  int max_px;                /* largest rendering side, pixels (512): at a distance where the object is
+                                larger, it is judged on a screen scaled down until it fits (fewer
+                                pixels per degree); wherever it fits, at the screen's own scale */
   int pop;                   /* 1 (default): level k is also never shown nearer than where the switch
                                 from level k − 1 stops popping (004 §3.2, jnd_pop_switch_distance: the
                                 largest R over the same views below pop_rating_limit), searched from
@@ -1775,9 +1776,11 @@ typedef struct {
   int nlevels;
   double view_distance;      /* the viewing condition: camera distance, object units */
   double view_coverage;      /* and the fraction of the screen's height the sphere fills there */
-  int window_px;             /* side of the renderings */
+  int window_px;             /* side of the renderings at the viewing condition (each distance of the
+                                search has its own: the object's diameter plus margins, at most max_px) */
   double scale;              /* 1, or < 1 where the object at the viewing condition would not fit
-                                max_px: the screen's pixels and pixels per degree times scale */
+                                max_px: the screen's pixels and pixels per degree times scale (each
+                                distance has its own: 1 wherever the object fits, switch_scale) */
   int perceptual_level;      /* the coarsest level that passes at the viewing condition (0: none) */
   double *statistic;         /* per level at the viewing condition: the criterion's statistic (the
                                 (floor(q·n) + 1)-th largest P; a lower bound when decided early), NaN
@@ -1791,6 +1794,9 @@ typedef struct {
    * (monotone), lod_switch_combine: */
   double *switch_distance_criterion; /* (a) where level k passes the criterion against level 0 (the
                                 search of step 3; INFINITY: never). Owned */
+  double *switch_scale;      /* the screen's scale level k was judged at there: 1 where the object fits
+                                max_px at that distance (the screen's own pixels per degree), else
+                                below 1 (NaN: level 0, or never). Owned */
   double *switch_distance_pop; /* (b) where the switch from level k − 1 to k stops popping (pop on),
                                 searched from where (a) and level k − 1's switch distance allow level
                                 k on (nearer it cannot decide): that distance when the switch does not
@@ -1802,9 +1808,9 @@ typedef struct {
                                 searched). Owned */
   jnd_lod_switch_by *switch_by; /* what decided switch_distance[k]. Owned */
   int pop_evaluations;       /* distances at which switches were rendered and predicted */
-  int distances;             /* distances at which views were rendered */
+  int distances;             /* distances at which views were rendered (a judge, window and scale each) */
   int judgements;            /* judge evaluations (a level at a distance) */
-  jnd_judge_counts counts;   /* the judge's counts */
+  jnd_judge_counts counts;   /* the judges' counts, summed over the distances */
 } jnd_lod_switch_result;
 
 /* Runs the procedure above on scene's chain (at least two levels) for one

@@ -375,8 +375,11 @@ static int run(int argc, char **argv) {
         cJSON *sda = cJSON_AddArrayToObject(o, "switch_distance_criterion_m"),
               *sdb = cJSON_AddArrayToObject(o, "switch_distance_pop_m"), *sby = cJSON_AddArrayToObject(o, "switch_by"),
               *jpr = cJSON_AddArrayToObject(o, "pop");
+        /* the screen's scale each level was judged at at its criterion distance (1: the screen's own) */
+        cJSON *ssc = cJSON_AddArrayToObject(o, "switch_scale");
         for (int k = 0; k < W->nlevels; k++) {
           cJSON_AddItemToArray(sda, num_or_null(W->switch_distance_criterion[k]));
+          cJSON_AddItemToArray(ssc, num_or_null(W->switch_scale[k]));
           cJSON_AddItemToArray(sdb, num_or_null(W->switch_distance_pop[k]));
           cJSON_AddItemToArray(sby, cJSON_CreateString(jnd_lod_switch_by_name(W->switch_by[k])));
           if (k == 0) continue;

@@ -84,6 +84,7 @@ void jnd_lod_switch_result_free(jnd_lod_switch_result *r) {
   free(r->switch_distance);
   free(r->switch_coverage);
   free(r->switch_distance_criterion);
+  free(r->switch_scale);
   free(r->switch_distance_pop);
   free(r->pop_max_rating);
   free(r->switch_by);
@@ -147,13 +148,15 @@ void lod_switch_combine(int nlevels, const double *criterion, const double *pop,
   for (int k = 1; k < nlevels; k++) {
     double d = criterion[k];
     by[k] = JND_LOD_SWITCH_CRITERION;
-    if (pop[k] > d) {   /* NaN: no constraint */
-      d = pop[k];
-      by[k] = JND_LOD_SWITCH_POP;
-    }
     if (out[k - 1] > d) {
       d = out[k - 1];
       by[k] = JND_LOD_SWITCH_FINER;
+    }
+    /* popping decides only beyond both: its search starts at the farther of
+     * them, and a switch that does not pop there gets that very distance */
+    if (pop[k] > d) {   /* NaN: no constraint */
+      d = pop[k];
+      by[k] = JND_LOD_SWITCH_POP;
     }
     out[k] = d;
   }
@@ -163,28 +166,57 @@ void lod_switch_combine(int nlevels, const double *criterion, const double *pop,
 
 typedef struct {
   jnd_scene *scene;
-  jnd_judge *judge;
   const jnd_lod_switch_params *p;
-  jnd_view_sampling vs;      /* the views' sampling; distance set per grid point */
+  jnd_judge_params jp;       /* the judges' parameters but for the window, scale and distance */
+  double screen_h, ppd, fov; /* the screen's height and pixels per degree, the game's field of view */
+  double radius;             /* the bounding sphere's */
   int nviews, nlevels, ngrid;
   double *grid;              /* distances */
-  int *first;                /* per grid point: its first view in the judge (−1: not added yet) */
+  jnd_judge **judge;         /* per grid point: its judge (NULL: not made yet) */
+  double *scale;             /* per grid point: the screen's scale its judge renders at */
   signed char *known;        /* nlevels × ngrid: −1 not asked, 0 fails, 1 passes */
   double *P;                 /* nviews */
   jnd_lod_switch_result *out;
   jnd_status st;
 } oracle;
 
-static jnd_status views_at(oracle *o, int g, jnd_view **views) {
-  jnd_view_sampling vs = o->vs;
-  vs.distance = o->grid[g];
-  *views = jnd_calloc((size_t)o->nviews, sizeof **views);
-  if (!*views) return jnd_fail(JND_ERR_NOMEM, "lod: out of memory");
-  jnd_status st = jnd_views_sample(o->scene, &vs, *views);
-  if (st) {
-    free(*views);
-    *views = NULL;
+/* Step 1 at one distance: the window (side R) and the screen's scale. The
+ * object is rendered at the screen's own pixel scale wherever its diameter
+ * plus the crop margins fits in max_px, in a window just that large; a
+ * larger object is rendered whole, smaller, on a display with as many fewer
+ * pixels per degree: it keeps its angular size and its silhouette (where a
+ * coarser level shows first), at the price of the finest detail. */
+static void window_at(double object_px, int max_px, int *R, double *scale) {
+  *R = (int)ceil(object_px) + 2 * CROP_MARGIN;
+  *scale = 1;
+  if (*R > max_px) {
+    *R = max_px;
+    *scale = (max_px - 2 * CROP_MARGIN) / object_px;
   }
+}
+
+/* the object's diameter in the screen's pixels at distance d */
+static double object_px_at(const oracle *o, double d) {
+  return fmin(jnd_coverage_at_distance(o->radius, d, o->fov), 1.0) * o->screen_h;
+}
+
+/* The judge of grid point g: its window and scale from the object's size
+ * there, its views sampled at that distance (the same seed, so the same
+ * directions and lights at every distance), their references level 0. */
+static jnd_status judge_at(oracle *o, int g) {
+  int R;
+  double scale;
+  window_at(object_px_at(o, o->grid[g]), o->p->max_px, &R, &scale);
+  o->scale[g] = scale;
+  jnd_judge_params jp = o->jp;
+  jp.views.sampling.distance = o->grid[g];
+  jp.views.sampling.fov_y_deg = 2 * atan((double)R / (scale * o->screen_h) * tan(o->fov * M_PI / 360)) * 180 / M_PI;
+  jp.views.sampling.aspect = 1;
+  jp.views.render.width = jp.views.render.height = R;
+  jp.model.display.ppd = o->ppd * scale;
+  jnd_status st = jnd_scene_lod_select(o->scene, 0);
+  if (!st) st = jnd_judge_create(o->scene, &jp, &o->judge[g]);
+  if (!st) o->out->distances++;
   return st;
 }
 
@@ -192,18 +224,10 @@ static int rendered_passes(void *user, int k, int g) {
   oracle *o = user;
   signed char *kn = &o->known[(size_t)k * o->ngrid + g];
   if (*kn >= 0) return *kn;
-  jnd_status st = JND_OK;
-  if (o->first[g] < 0) {
-    jnd_view *views = NULL;
-    /* the references are level 0's */
-    if (!(st = jnd_scene_lod_select(o->scene, 0)) && !(st = views_at(o, g, &views)))
-      st = jnd_judge_add_views(o->judge, views, o->nviews, &o->first[g]);
-    free(views);
-    o->out->distances++;
-  }
+  jnd_status st = o->judge[g] ? JND_OK : judge_at(o, g);
   jnd_judgement r;
   if (!st) st = jnd_scene_lod_select(o->scene, k);
-  if (!st) st = jnd_judge_eval(o->judge, o->first[g], o->nviews, JND_JUDGE_DECIDE, o->P, &r);
+  if (!st) st = jnd_judge_eval(o->judge[g], 0, o->nviews, JND_JUDGE_DECIDE, o->P, &r);
   if (st) {
     o->st = st;
     return -1;
@@ -322,19 +346,6 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
   out->nlevels = n;
   out->view_distance = d0;
   out->view_coverage = jnd_coverage_at_distance(radius, d0, fov);
-  double object_px = fmin(out->view_coverage, 1.0) * screen->height_px;
-  /* an object larger than the window is rendered whole, smaller, on a
-   * display with as many fewer pixels per degree: it keeps its angular size
-   * and its silhouette (where a coarser level shows first), at the price of
-   * the finest detail */
-  int R = (int)ceil(object_px) + 2 * CROP_MARGIN;
-  double scale = 1;
-  if (R > p->max_px) {
-    R = p->max_px;
-    scale = (R - 2 * CROP_MARGIN) / object_px;
-  }
-  out->window_px = R;
-  out->scale = scale;
 
   oracle o;
   memset(&o, 0, sizeof o);
@@ -344,11 +355,19 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
   o.nlevels = n;
   o.ngrid = ngrid;
   o.out = out;
-  o.vs = *s0;
-  o.vs.fov_y_deg = 2 * atan((double)R / (scale * screen->height_px) * tan(fov * M_PI / 360)) * 180 / M_PI;
-  o.vs.aspect = 1;
+  o.screen_h = screen->height_px;
+  o.ppd = screen->ppd;
+  o.fov = fov;
+  o.radius = radius;
+  /* the judges: the screen's display, the views sampled as asked */
+  o.jp = p->judge;
+  o.jp.views.cameras = NULL;
+  o.jp.views.ncameras = 0;
+  screen_display(screen, &o.jp.model.display);
+  o.ppd = o.jp.model.display.ppd;
   o.grid = jnd_alloc((size_t)ngrid, sizeof *o.grid);
-  o.first = jnd_alloc((size_t)ngrid, sizeof *o.first);
+  o.judge = jnd_calloc((size_t)ngrid, sizeof *o.judge);
+  o.scale = jnd_alloc((size_t)ngrid, sizeof *o.scale);
   o.known = jnd_alloc((size_t)n * ngrid, 1);
   o.P = jnd_alloc((size_t)o.nviews, sizeof *o.P);
   int *idx = jnd_alloc((size_t)n, sizeof *idx);
@@ -357,52 +376,62 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
   out->switch_distance = jnd_alloc((size_t)n, sizeof *out->switch_distance);
   out->switch_coverage = jnd_alloc((size_t)n, sizeof *out->switch_coverage);
   out->switch_distance_criterion = jnd_alloc((size_t)n, sizeof *out->switch_distance_criterion);
+  out->switch_scale = jnd_alloc((size_t)n, sizeof *out->switch_scale);
   out->switch_distance_pop = jnd_alloc((size_t)n, sizeof *out->switch_distance_pop);
   out->pop_max_rating = jnd_alloc((size_t)n, sizeof *out->pop_max_rating);
   out->switch_by = jnd_alloc((size_t)n, sizeof *out->switch_by);
   jnd_status st = JND_OK;
-  if (!o.grid || !o.first || !o.known || !o.P || !idx || !out->statistic || !out->p_max || !out->switch_distance ||
-      !out->switch_coverage || !out->switch_distance_criterion || !out->switch_distance_pop || !out->pop_max_rating ||
-      !out->switch_by)
+  if (!o.grid || !o.judge || !o.scale || !o.known || !o.P || !idx || !out->statistic || !out->p_max || !out->switch_distance ||
+      !out->switch_coverage || !out->switch_distance_criterion || !out->switch_scale || !out->switch_distance_pop ||
+      !out->pop_max_rating || !out->switch_by)
     st = jnd_fail(JND_ERR_NOMEM, "lod: out of memory");
   if (!st) {
-    for (int g = 0; g < ngrid; g++) {
-      o.grid[g] = g == ngrid - 1 && ngrid > 1 ? dfar : d0 * pow(1 + p->tolerance, g);
-      o.first[g] = -1;
-    }
+    for (int g = 0; g < ngrid; g++) o.grid[g] = g == ngrid - 1 && ngrid > 1 ? dfar : d0 * pow(1 + p->tolerance, g);
     memset(o.known, -1, (size_t)n * ngrid);
-    for (int k = 0; k < n; k++) out->statistic[k] = out->p_max[k] = NAN;
+    for (int k = 0; k < n; k++) out->statistic[k] = out->p_max[k] = out->switch_scale[k] = NAN;
     out->statistic[0] = out->p_max[0] = 0;   /* the reference: P = 0 by definition */
+    window_at(object_px_at(&o, d0), p->max_px, &out->window_px, &out->scale);
   }
-  /* the judge: level 0 at the viewing condition is the reference */
-  jnd_judge_params jp = p->judge;
-  jp.views.sampling = o.vs;
-  jp.views.sampling.distance = d0;
-  jp.views.cameras = NULL;
-  jp.views.ncameras = 0;
-  jp.views.render.width = jp.views.render.height = R;
-  screen_display(screen, &jp.model.display);
-  jp.model.display.ppd *= scale;
-  if (!st) st = jnd_scene_lod_select(scene, 0);
-  if (!st) st = jnd_judge_create(scene, &jp, &o.judge);
+  /* the viewing condition's judge first (it tells a missing renderer early) */
+  if (!st) st = judge_at(&o, 0);
   if (!st) {
-    o.first[0] = 0;
-    out->distances = 1;
     st = lod_switch_search(n, ngrid, rendered_passes, &o, &out->perceptual_level, idx);
     if (st) st = o.st ? o.st : st;
   }
-  if (!st) {
-    for (int k = 0; k < n; k++) out->switch_distance_criterion[k] = k == 0 ? 0 : idx[k] < 0 ? INFINITY : o.grid[idx[k]];
-    jnd_judge_get_counts(o.judge, &out->counts);
+  if (!st)
+    for (int k = 0; k < n; k++) {
+      out->switch_distance_criterion[k] = k == 0 ? 0 : idx[k] < 0 ? INFINITY : o.grid[idx[k]];
+      if (k > 0 && idx[k] >= 0) out->switch_scale[k] = o.scale[idx[k]];
+    }
+  /* the judges' counts, summed; then freed before pop's renderer */
+  for (int g = 0; g < ngrid && o.judge; g++) {
+    if (!o.judge[g]) continue;
+    jnd_judge_counts c;
+    jnd_judge_get_counts(o.judge[g], &c);
+    out->counts.references += c.references;
+    out->counts.renderings += c.renderings;
+    out->counts.partial_renderings += c.partial_renderings;
+    out->counts.view_judgements += c.view_judgements;
+    out->counts.states += c.states;
+    out->counts.reused += c.reused;
+    jnd_judge_free(o.judge[g]);
   }
-  jnd_judge_free(o.judge);   /* before pop's renderer: one GL context at a time */
-  if (!st) st = pop_step(scene, &jp, &jp.views.sampling, p, radius, fov, scale * screen->height_px / R, out);
+  /* popping is rendered at the viewing condition's window and scale */
+  jnd_judge_params jp = o.jp;
+  jp.views.sampling.distance = d0;
+  jp.views.sampling.fov_y_deg =
+      2 * atan((double)out->window_px / (out->scale * screen->height_px) * tan(fov * M_PI / 360)) * 180 / M_PI;
+  jp.views.sampling.aspect = 1;
+  jp.views.render.width = jp.views.render.height = out->window_px;
+  jp.model.display.ppd = o.ppd * out->scale;
+  if (!st) st = pop_step(scene, &jp, &jp.views.sampling, p, radius, fov, out->scale * screen->height_px / out->window_px, out);
   if (!st)
     for (int k = 0; k < n; k++)
       out->switch_coverage[k] = k == 0 ? 1 : jnd_coverage_at_distance(radius, out->switch_distance[k], fov);
   jnd_scene_lod_select(scene, 0);
   free(o.grid);
-  free(o.first);
+  free(o.judge);
+  free(o.scale);
   free(o.known);
   free(o.P);
   free(idx);

@@ -88,17 +88,19 @@ TEST(an_oracle_error_is_an_error) {
 TEST(a_switch_distance_is_the_farthest_of_its_components_and_the_finer_level) {
   /* level 1: the criterion decides; 2: popping does; 3: the finer level's
    * distance (both components nearer); 4: a tie goes to the criterion; 5:
-   * popping not searched (NaN) leaves the criterion; 6: pops everywhere */
-  const double crit[7] = {0, 2, 3, 4, 9, 10, 11};
-  const double pop[7] = {NAN, 1, 8, 5, 9, NAN, INFINITY};
-  double d[7];
-  jnd_lod_switch_by by[7];
-  lod_switch_combine(7, crit, pop, d, by);
-  const double want[7] = {0, 2, 8, 8, 9, 10, INFINITY};
-  const jnd_lod_switch_by wby[7] = {JND_LOD_SWITCH_REFERENCE, JND_LOD_SWITCH_CRITERION, JND_LOD_SWITCH_POP,
+   * popping not searched (NaN) leaves the criterion; 6: popping ties with
+   * the finer level (its search started there and found no popping): the
+   * finer level decides; 7: pops everywhere */
+  const double crit[8] = {0, 2, 3, 4, 9, 10, 9.5, 11};
+  const double pop[8] = {NAN, 1, 8, 5, 9, NAN, 10, INFINITY};
+  double d[8];
+  jnd_lod_switch_by by[8];
+  lod_switch_combine(8, crit, pop, d, by);
+  const double want[8] = {0, 2, 8, 8, 9, 10, 10, INFINITY};
+  const jnd_lod_switch_by wby[8] = {JND_LOD_SWITCH_REFERENCE, JND_LOD_SWITCH_CRITERION, JND_LOD_SWITCH_POP,
                                     JND_LOD_SWITCH_FINER,     JND_LOD_SWITCH_CRITERION, JND_LOD_SWITCH_CRITERION,
-                                    JND_LOD_SWITCH_POP};
-  for (int k = 0; k < 7; k++) {
+                                    JND_LOD_SWITCH_FINER,     JND_LOD_SWITCH_POP};
+  for (int k = 0; k < 8; k++) {
     CHECK(d[k] == want[k]);
     CHECK_EQ(by[k], wby[k]);
   }
@@ -190,6 +192,47 @@ TEST(a_level_identical_to_level_0_has_p_0_and_inherits_the_finer_distance) {
   CHECK(r.switch_distance[1] > r.view_distance);   /* the coarse levels are seen where the copy is not */
   for (int k = 1; k < r.nlevels; k++)
     if (isfinite(r.switch_distance[k])) CHECK(r.switch_coverage[k] <= r.view_coverage + 1e-12);
+  jnd_lod_switch_result_free(&r);
+  jnd_scene_free(s);
+}
+
+TEST(a_far_distance_is_judged_at_the_screens_own_scale) {
+  /* a 4K screen: at the viewing condition (coverage 0.3, 648 px) the object
+   * does not fit the 128-pixel window and is judged on the screen scaled
+   * down; farther away, wherever it fits (below 96 px: coverage 0.089),
+   * at the screen's own pixels per degree */
+  static const double errors[3] = {0.0005, 0.001, 0.002};
+  int copy = 0;
+  jnd_scene *s = sphere_chain(errors, 3, &copy);
+  if (!s) return;
+  double centre[3], radius;
+  int ground;
+  jnd_scene_subject_bounds(s, centre, &radius, &ground);
+  jnd_poi_screen scr;
+  CHECK_OK(jnd_poi_screen_parse("standard-4k", &scr));
+  jnd_lod_switch_params p;
+  small_params(&p);
+  p.coverage = 0.3;
+  p.far_coverage = 0.03;
+  jnd_lod_switch_result r;
+  if (!analysed(s, &scr, &p, &r)) return;
+  CHECK_NEAR(r.scale, 96 / (0.3 * 2160), 0.01);
+  CHECK_EQ(r.window_px, 128);
+  int full = 0, judged = 0;
+  for (int k = 1; k < r.nlevels; k++) {
+    double d = r.switch_distance_criterion[k];
+    if (!isfinite(d)) continue;
+    judged++;
+    double px = jnd_coverage_at_distance(radius, d, 45) * 2160;
+    if (px + 32 <= 128) {
+      CHECK(r.switch_scale[k] == 1);
+      full++;
+    } else {
+      CHECK_NEAR(r.switch_scale[k], 96 / px, 1e-6);
+    }
+  }
+  CHECK(judged >= 1);
+  CHECK(full >= 1);   /* a level switches where the object fits: judged at full scale */
   jnd_lod_switch_result_free(&r);
   jnd_scene_free(s);
 }
@@ -311,4 +354,5 @@ RUN_TESTS(bisection_finds_the_nearest_passing_distance_of_every_threshold,
           a_level_failing_at_the_far_end_is_never_shown_nor_any_coarser, an_oracle_error_is_an_error,
           a_switch_distance_is_the_farthest_of_its_components_and_the_finer_level,
           coverage_and_distance_are_inverses, a_level_identical_to_level_0_has_p_0_and_inherits_the_finer_distance,
+          a_far_distance_is_judged_at_the_screens_own_scale,
           popping_decides_a_switch_and_the_switch_does_not_pop_there, bad_switch_parameters_are_refused)
