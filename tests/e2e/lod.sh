@@ -51,8 +51,9 @@ for s in res["screens"]:
     for k in range(1, n):
         want = max(da[k], db[k] if db[k] is not None else -inf, d[k - 1])
         assert d[k] == want, (k, d[k], want)
-        by = "finer level" if d[k - 1] > max(da[k], db[k] or -inf) else \
-             "popping" if db[k] is not None and db[k] > da[k] else "criterion"
+        # popping decides only beyond both the criterion and the finer level (its search starts there)
+        by = "popping" if db[k] is not None and db[k] > max(da[k], d[k - 1]) else \
+             "finer level" if d[k - 1] > da[k] else "criterion"
         assert s["switch_by"][k] == by, (k, s["switch_by"][k], by)
         row = s["pop"][k - 1]
         assert row["level"] == k
@@ -62,6 +63,13 @@ for s in res["screens"]:
         assert s["pop"][0]["searched"] and s["pop_evaluations"] > 0  # popping on by default
     vc = s["viewing_condition"]
     assert abs(vc["coverage"] - 0.5) < 1e-9 and vc["window_px"] == 96 and 0 < vc["scale"] < 1
+    # each switch judged at its own distance's scale: at least the viewing condition's, growing with
+    # the distance, at most the screen's own (1)
+    ss = s["switch_scale"]
+    assert ss[0] is None and all((ss[k] is None) == (da[k] == inf) for k in range(1, n)), ss
+    known = [(da[k], ss[k]) for k in range(1, n) if ss[k] is not None]
+    assert all(vc["scale"] - 1e-12 <= x <= 1 for _, x in known), ss
+    assert all(a[1] <= b[1] for a, b in zip(known, known[1:])), known
     for k in range(1, n):
         if sd[k] is not None:
             assert sd[k] >= vc["distance"] * (1 - 1e-12) and 0 < sc[k] <= 0.5 + 1e-9
@@ -217,6 +225,12 @@ expect_exit 2 "falling error targets: exit 2" "$JND" lod builtin -o "$T/x" --err
 check "one line" one_line_error
 expect_exit 2 "error targets that are not numbers: exit 2" "$JND" lod builtin -o "$T/x" --errors 0.01,abc --map-size 16
 check "one line naming --errors" bash -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q -- '--errors' '$T/err.txt'"
+# the library's limit on views (JND_LOD_MAX_VIEWS, 256) is the parser's, for both kinds of views
+for opt in --views --judge-views; do
+  expect_exit 2 "$opt 257: exit 2" "$JND" lod builtin -o "$T/x" "$opt" 257 --map-size 16
+  check "$opt 257: one line naming the limit" bash -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q -- \"^jnd: $opt: 257 is outside \\[1, 256\\]\" '$T/err.txt'"
+done
+check "--help states the limit" bash -c "'$JND' lod --help | grep -- '--views N .*1\.\.256' >/dev/null"
 expect_exit 2 "a --level file with another material: exit 2" "$JND" lod builtin --level "$B/range.obj" -o "$T/x" --map-size 16
 check "nothing written for bad options" [ ! -e "$T/x" ]
 check "--help prints the usage" bash -c "'$JND' lod --help | grep -- '--screens' >/dev/null"
