@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # jnd lod: (1) the chain of a 1 M-triangle mesh (the Stanford bunny of the
 # shared data, every triangle split in 4 twice: 1.1 M triangles) — the
-# target is 2 s; (2) 003's analysis of a 100 K-triangle asset (the teapot
+# target is 2 s; one pass over the input, cut in slabs on the 2 cores; (2) 003's analysis of a 100 K-triangle asset (the teapot
 # split twice: 101 K triangles) for the 4 default screens — the whole
 # `jnd lod`, perceptual step included, is to stay under 60 s on 2 cores.
 # Wall times are medians of BENCH_LOD_RUNS runs (3; the analysis 1 unless
@@ -58,10 +58,13 @@ print("   003 analysis of teapot_100k.obj (%d triangles, %d levels), %d views, v
 for s in res["screens"]:
     perc = s.get("perceptual_triangles")
     sd = " ".join("never" if x is None else "%.3g" % x for x in (s.get("switch_distance_m") or []))
-    print("     %-13s perceptual %6s  PoI lit %6d  unlit %6d  meshopt 1px %6d  px rule %6d triangles; switch %s;"
+    # the screen's scale each switch was judged at (1: its own pixels per degree; -: level 0 or never)
+    ss = " ".join("-" if x is None else "%.2g" % x for x in (s.get("switch_scale") or []))
+    print("     %-13s perceptual %6s  PoI lit %6d  unlit %6d  meshopt 1px %6d  px rule %6d triangles; switch %s"
+          " (judged at scale %s);"
           " judged %d distances, %d popping evaluations"
           % (s["name"], perc if perc is not None else "-", s["poi_triangles"], s["poi_triangles_unlit"],
-             s["rules"]["meshopt"]["triangles"], s["rules"]["pixel_error"]["triangles"], sd,
+             s["rules"]["meshopt"]["triangles"], s["rules"]["pixel_error"]["triangles"], sd, ss,
              s["judge"]["distances"], s.get("pop_evaluations", 0)))
 PY
 echo "     analysis: wall $(cut -d' ' -f4 "$out/analysis.txt" | median) s, user + sys $(cut -d' ' -f5 "$out/analysis.txt" | median) s" \
