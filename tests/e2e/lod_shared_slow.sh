@@ -65,8 +65,15 @@ for m in ("spot", "stanford-bunny", "teapot"):
     print("  %-15s                            fhd   %s" % (m, sd["standard-fhd"]))
     print("  %-15s                            4k    %s" % (m, sd["standard-4k"]))
     for k, (a, b, c) in enumerate(zip(sd["phone"], sd["standard-fhd"], sd["standard-4k"])):
-        assert a <= b <= c, (m, k, a, b, c)
+        assert a <= b and a <= c, (m, k, a, b, c)
+        # full HD against 4K: 003's order on spot and the teapot; the bunny's 4K switches are
+        # nearer than full HD's once each distance is judged at the screen's own scale
+        # (docs/lod.md, "The three answers side by side"), so it is not asserted there
+        if m != "stanford-bunny":
+            assert b <= c, (m, k, b, c)
     assert sd["phone"][1] < sd["standard-4k"][1], (m, sd["phone"][1], sd["standard-4k"][1])
+    if m != "stanford-bunny":   # strict where one window per screen made them tie (the teapot)
+        assert sd["standard-fhd"][1] < sd["standard-4k"][1], (m, sd["standard-fhd"][1], sd["standard-4k"][1])
     s0, cov = r["screens"][0], r["model"]["screen_coverage"]
     for k in range(len(cov) - 1):
         c = min(s0["switch_coverage"][k + 1], 1.0)
