@@ -1601,15 +1601,16 @@ typedef struct {
  * (vr has no pixel size: give WxH@PPD). */
 jnd_status jnd_poi_screen_parse(const char *spec, jnd_poi_screen *s);
 
-/* The most views of one analysis: 003's views (jnd_poi_params.views) and the
+/* The most views a rendering command takes, the CLI's --views limit in every
+ * command: also the most of 003's views (jnd_poi_params.views) and of the
  * perceptual step's views per distance (jnd_lod_switch_params.judge). */
-#define JND_LOD_MAX_VIEWS 256
+#define JND_VIEWS_MAX 4096
 
 typedef struct {
   const jnd_poi_screen *screens; /* target screens (NULL: standard-fhd, standard-4k, phone, laptop) */
   int nscreens;
   int views;                 /* views averaged (2; 003 used one, and proposes several; at most
-                                JND_LOD_MAX_VIEWS) */
+                                JND_VIEWS_MAX) */
   uint64_t seed;             /* view and light sampling seed (1) */
   double coverage;           /* fraction of each screen's height the bounding sphere fills (0.5) */
   double fov_y_deg;          /* vertical field of view (45) */
@@ -1739,7 +1740,7 @@ jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, int perceptu
  *     jnd_lod_switch_result_free(&r);
  */
 typedef struct {
-  jnd_judge_params judge;    /* views (count 4, at most JND_LOD_MAX_VIEWS; seed, fov 45, lights;
+  jnd_judge_params judge;    /* views (count 4, at most JND_VIEWS_MAX; seed, fov 45, lights;
                                 coverage and distance are set below), MSAA, environment, model constants, calibration, criterion;
                                 the display and the rendering size come from the screen */
   double coverage;           /* viewing condition of the perceptual choice: the sphere fills this

@@ -279,7 +279,7 @@ jnd_display cli_display_get(const cli_display *d) {
 /* ---- views ---- */
 
 /* The limits every rendering command shares. */
-#define VIEWS_MAX 4096
+#define VIEWS_MAX JND_VIEWS_MAX   /* jnd.h: the libraries' limit too */
 #define VIEW_SIZE_MIN 16      /* the vision model needs a few pyramid levels */
 #define VIEW_SIZE_MAX 16384   /* the renderer's limit */
 
@@ -317,7 +317,7 @@ int cli_views_opt(cli_args *a, cli_views *v) {
   jnd_renderer_params *rp = &v->set.render;
   if (cli_opt(a, "--views", &s)) {
     v->given |= CLI_VIEWS;
-    vs->count = cli_int(a, "--views", s, 1, v->max_views > 0 && v->max_views < VIEWS_MAX ? v->max_views : VIEWS_MAX);
+    vs->count = cli_int(a, "--views", s, 1, VIEWS_MAX);
   } else if (cli_opt(a, "--seed", &s)) {
     v->given |= CLI_SEED;
     vs->seed = (uint64_t)cli_double(a, "--seed", s, 0, 9007199254740992.0);

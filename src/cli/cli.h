@@ -103,8 +103,6 @@ typedef struct {
   jnd_view_set set;
   const char *cameras;     /* --cameras FILE (read by cli_views_make) */
   int map_size;            /* --map-size: side of the built-in asset's maps */
-  int max_views;           /* --views' upper limit where the command's library has a lower one
-                              than every command's (0: the shared limit) */
   unsigned given;          /* CLI_* bits of the options given */
 } cli_views;
 /* Defaults: jnd_view_set_defaults at width × height pixels. */

@@ -8,10 +8,10 @@
 
 #include "cli/cli.h"
 
-/* JND_LOD_MAX_VIEWS as text, for the help */
+/* JND_VIEWS_MAX as text, for the help */
 #define TEXT_OF(x) #x
 #define TEXT(x) TEXT_OF(x)
-#define MAX_VIEWS_TEXT TEXT(JND_LOD_MAX_VIEWS)
+#define MAX_VIEWS_TEXT TEXT(JND_VIEWS_MAX)
 
 static void help(void) {
   printf(
@@ -51,7 +51,7 @@ static void help(void) {
       "  --screens LIST      target screens: display presets (standard-fhd, standard-4k,\n"
       "                      phone, laptop) or WxH or WxH@PPD (default the four presets)\n"
       "  --coverage F        fraction of each screen's height the object fills (0.5)\n"
-      "  --views N           views around the object, averaged (2; 1..256)\n"
+      "  --views N           views around the object, averaged (2; 1.." MAX_VIEWS_TEXT ")\n"
       "  --seed S            view and light sampling seed (1)\n"
       "  --fov DEG           vertical field of view (45)\n"
       "  --lights N          directional lights of the lit renderings (1)\n"
@@ -70,7 +70,7 @@ static void help(void) {
       "the perceptual choice and switch distances (through the judge, docs/judge.md):\n"
       "  --distance D        the viewing condition as a camera distance (object units, metres in\n"
       "                      glTF) instead of --coverage\n"
-      "  --judge-views N     views per distance (4; 1..256), sampled with --seed, --fov, --lights\n"
+      "  --judge-views N     views per distance (4; 1.." MAX_VIEWS_TEXT "), sampled with --seed, --fov, --lights\n"
       "  --p P, --q Q        the criterion: at most a fraction Q of the views with P > P (0.2, 0.1)\n"
       "  --far-coverage F    the farthest distance searched: the sphere fills F of the screen's\n"
       "                      height (0.02)\n"
@@ -137,7 +137,6 @@ static int run(int argc, char **argv) {
   jnd_poi_screen screens[16];
   cli_views vo;   /* lod's defaults, read back after parsing */
   cli_views_init(&vo, 0, 0);
-  vo.max_views = JND_LOD_MAX_VIEWS;   /* the library's limit, for --views and --judge-views alike */
   vo.set.sampling.count = p.poi.views;
   vo.set.sampling.seed = p.poi.seed;
   vo.set.sampling.coverage = p.poi.coverage;
@@ -200,7 +199,7 @@ static int run(int argc, char **argv) {
     } else if (cli_flag(ap, "--no-textures")) {
       p.poi.textures = 0;
     } else if (cli_opt(ap, "--judge-views", &v)) {
-      p.sw.judge.views.sampling.count = cli_int(ap, "--judge-views", v, 1, JND_LOD_MAX_VIEWS);
+      p.sw.judge.views.sampling.count = cli_int(ap, "--judge-views", v, 1, JND_VIEWS_MAX);
     } else if (cli_criterion_opt(ap, &p.sw.judge.criterion)) {
     } else if (cli_opt(ap, "--far-coverage", &v)) {
       p.sw.far_coverage = cli_double(ap, "--far-coverage", v, 1e-4, 1);

@@ -573,8 +573,8 @@ jnd_status jnd_poi_analyse(jnd_scene *scene, const jnd_poi_params *pp, jnd_poi_r
   int n = jnd_scene_lod_count(scene);
   if (n < 2) return jnd_fail(JND_ERR_ARG, "%s: no levels of detail to compare (build or add a chain)", jnd_scene_path(scene));
   if (n > 64) return jnd_fail(JND_ERR_LIMIT, "%s: %d levels (at most 64)", jnd_scene_path(scene), n);
-  if (p->views < 1 || p->views > JND_LOD_MAX_VIEWS)
-    return jnd_fail(JND_ERR_ARG, "poi: %d views (1..%d)", p->views, JND_LOD_MAX_VIEWS);
+  if (p->views < 1 || p->views > JND_VIEWS_MAX)
+    return jnd_fail(JND_ERR_ARG, "poi: %d views (1..%d)", p->views, JND_VIEWS_MAX);
   if (!(p->coverage > 0 && p->coverage <= 1)) return jnd_fail(JND_ERR_ARG, "lod: coverage %g outside (0, 1]: the object must fit on the screen", p->coverage);
   if (!(p->virtual_scale >= 1)) return jnd_fail(JND_ERR_ARG, "poi: virtual scale %g is below 1", p->virtual_scale);
   if (p->surface_samples < 16) return jnd_fail(JND_ERR_ARG, "poi: %d surface samples (at least 16)", p->surface_samples);

@@ -320,8 +320,8 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
   if (n < 2) return jnd_fail(JND_ERR_ARG, "%s: no levels of detail to compare (build or add a chain)", jnd_scene_path(scene));
   const jnd_view_sampling *s0 = &p->judge.views.sampling;
   double fov = s0->fov_y_deg > 0 ? s0->fov_y_deg : 45;
-  if (s0->count < 1 || s0->count > JND_LOD_MAX_VIEWS)
-    return jnd_fail(JND_ERR_ARG, "lod: %d views (1..%d)", s0->count, JND_LOD_MAX_VIEWS);
+  if (s0->count < 1 || s0->count > JND_VIEWS_MAX)
+    return jnd_fail(JND_ERR_ARG, "lod: %d views (1..%d)", s0->count, JND_VIEWS_MAX);
   if (!(p->distance > 0) && !(p->coverage > 0 && p->coverage <= 1))
     return jnd_fail(JND_ERR_ARG, "lod: coverage %g outside (0, 1]", p->coverage);
   if (!(p->far_coverage > 0 && p->far_coverage <= 1)) return jnd_fail(JND_ERR_ARG, "lod: far coverage %g outside (0, 1]", p->far_coverage);

@@ -225,12 +225,12 @@ expect_exit 2 "falling error targets: exit 2" "$JND" lod builtin -o "$T/x" --err
 check "one line" one_line_error
 expect_exit 2 "error targets that are not numbers: exit 2" "$JND" lod builtin -o "$T/x" --errors 0.01,abc --map-size 16
 check "one line naming --errors" bash -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q -- '--errors' '$T/err.txt'"
-# the library's limit on views (JND_LOD_MAX_VIEWS, 256) is the parser's, for both kinds of views
+# one limit on views (JND_VIEWS_MAX, 4096): the library's and every command's parser, for both kinds of views
 for opt in --views --judge-views; do
-  expect_exit 2 "$opt 257: exit 2" "$JND" lod builtin -o "$T/x" "$opt" 257 --map-size 16
-  check "$opt 257: one line naming the limit" bash -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q -- \"^jnd: $opt: 257 is outside \\[1, 256\\]\" '$T/err.txt'"
+  expect_exit 2 "$opt 4097: exit 2" "$JND" lod builtin -o "$T/x" "$opt" 4097 --map-size 16
+  check "$opt 4097: one line naming the limit" bash -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q -- \"^jnd: $opt: 4097 is outside \\[1, 4096\\]\" '$T/err.txt'"
 done
-check "--help states the limit" bash -c "'$JND' lod --help | grep -- '--views N .*1\.\.256' >/dev/null"
+check "--help states the limit" bash -c "'$JND' lod --help | grep -- '--judge-views N .*1\.\.4096' >/dev/null"
 expect_exit 2 "a --level file with another material: exit 2" "$JND" lod builtin --level "$B/range.obj" -o "$T/x" --map-size 16
 check "nothing written for bad options" [ ! -e "$T/x" ]
 check "--help prints the usage" bash -c "'$JND' lod --help | grep -- '--screens' >/dev/null"

@@ -337,7 +337,7 @@ TEST(bad_switch_parameters_are_refused) {
   small_params(&p);
   p.judge.views.sampling.count = 0;
   CHECK_STATUS(jnd_lod_switch_analyse(s, &scr, &p, &r), JND_ERR_ARG);
-  p.judge.views.sampling.count = JND_LOD_MAX_VIEWS + 1;   /* the CLI's --judge-views limit too */
+  p.judge.views.sampling.count = JND_VIEWS_MAX + 1;   /* the CLI's --judge-views limit too */
   CHECK_STATUS(jnd_lod_switch_analyse(s, &scr, &p, &r), JND_ERR_ARG);
   small_params(&p);
   p.pop = 1;

@@ -172,7 +172,7 @@ TEST(an_analysis_needs_a_chain) {
   CHECK_OK(jnd_scene_lod_build(s, NULL));
   jnd_poi_params p;
   jnd_poi_defaults(&p);
-  p.views = JND_LOD_MAX_VIEWS + 1;
+  p.views = JND_VIEWS_MAX + 1;
   CHECK_STATUS(jnd_poi_analyse(s, &p, &r), JND_ERR_ARG);
   CHECK(strstr(jnd_last_error(), "views") != NULL);
   jnd_scene_free(s);
