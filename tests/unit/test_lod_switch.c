@@ -199,11 +199,12 @@ TEST(a_level_identical_to_level_0_has_p_0_and_inherits_the_finer_distance) {
 TEST(a_far_distance_is_judged_at_the_screens_own_scale) {
   /* a 4K screen: at the viewing condition (coverage 0.3, 648 px) the object
    * does not fit the 128-pixel window and is judged on the screen scaled
-   * down; farther away, wherever it fits (below 96 px: coverage 0.089),
-   * at the screen's own pixels per degree */
-  static const double errors[3] = {0.0005, 0.001, 0.002};
+   * down; farther away, wherever it fits (below 96 px: coverage 0.044),
+   * at the screen's own pixels per degree. The chain goes coarse enough
+   * (3% of the extent) for a level to switch only there. */
+  static const double errors[5] = {0.0005, 0.001, 0.002, 0.008, 0.03};
   int copy = 0;
-  jnd_scene *s = sphere_chain(errors, 3, &copy);
+  jnd_scene *s = sphere_chain(errors, 5, &copy);
   if (!s) return;
   double centre[3], radius;
   int ground;
@@ -213,7 +214,7 @@ TEST(a_far_distance_is_judged_at_the_screens_own_scale) {
   jnd_lod_switch_params p;
   small_params(&p);
   p.coverage = 0.3;
-  p.far_coverage = 0.03;
+  p.far_coverage = 0.01;
   jnd_lod_switch_result r;
   if (!analysed(s, &scr, &p, &r)) return;
   CHECK_NEAR(r.scale, 96 / (0.3 * 2160), 0.01);
