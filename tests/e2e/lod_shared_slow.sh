@@ -71,9 +71,14 @@ for m in ("spot", "stanford-bunny", "teapot"):
         # (docs/lod.md, "The three answers side by side"), so it is not asserted there
         if m != "stanford-bunny":
             assert b <= c, (m, k, b, c)
-    assert sd["phone"][1] < sd["standard-4k"][1], (m, sd["phone"][1], sd["standard-4k"][1])
+    # strict at the first level 4K does not show at the viewing condition already (levels shown
+    # there on every screen tie at its distance)
+    d0 = by["standard-4k"]["viewing_condition"]["distance"]
+    k1 = next((k for k in range(1, len(sd["standard-4k"])) if sd["standard-4k"][k] > d0 * (1 + 1e-9)), None)
+    assert k1 is not None, (m, sd["standard-4k"])
+    assert sd["phone"][k1] < sd["standard-4k"][k1], (m, k1, sd["phone"][k1], sd["standard-4k"][k1])
     if m != "stanford-bunny":   # strict where one window per screen made them tie (the teapot)
-        assert sd["standard-fhd"][1] < sd["standard-4k"][1], (m, sd["standard-fhd"][1], sd["standard-4k"][1])
+        assert sd["standard-fhd"][k1] < sd["standard-4k"][k1], (m, k1, sd["standard-fhd"][k1], sd["standard-4k"][k1])
     s0, cov = r["screens"][0], r["model"]["screen_coverage"]
     for k in range(len(cov) - 1):
         c = min(s0["switch_coverage"][k + 1], 1.0)
