@@ -548,7 +548,6 @@ jnd_status jnd_image_write_png(const char *path, const jnd_image *img, int bits)
   const int split = (int)(h * (1 - LAST_SHARE));
   const int rows_per = row >= PIECE_BYTES ? 1 : (int)(PIECE_BYTES / row);
   const int npieces = (split + rows_per - 1) / rows_per + 1;
-  const int maxrows = h - split > rows_per ? h - split : rows_per;
   png_piece *pc = jnd_calloc((size_t)npieces, sizeof *pc);
   if (!pc) {
     free(raw);
@@ -557,31 +556,34 @@ jnd_status jnd_image_write_png(const char *path, const jnd_image *img, int bits)
   int fail = 0;
 #pragma omp parallel
   {
-    unsigned char *buf = malloc(row * maxrows + 5 * n); /* filtered rows, 4 candidates, zeros */
+    unsigned char *buf = malloc(row * rows_per + 5 * n); /* a zlib piece's filtered rows, 4 candidates, zeros */
 #pragma omp for schedule(dynamic, 1)
     for (int t = 0; t < npieces; t++) {
       const int k = t == 0 ? npieces - 1 : t - 1; /* the last, largest piece first */
       const int last = k == npieces - 1;
       const int y0 = last ? split : k * rows_per, y1 = last ? h : y0 + rows_per < split ? y0 + rows_per : split;
       png_piece *q = &pc[k];
-      if (!buf) {
+      q->len = row * (size_t)(y1 - y0);
+      /* the last piece's rows in a buffer of their own, the thread's for the others */
+      unsigned char *rows = last && buf ? malloc(q->len) : buf;
+      if (!rows) {
 #pragma omp atomic write
         fail = 1;
         continue;
       }
-      unsigned char *try = buf + row * maxrows, *zeros = try + 4 * n;
+      unsigned char *try = buf + row * rows_per, *zeros = try + 4 * n;
       memset(zeros, 0, n);
       for (int y = y0; y < y1; y++)
-        filter_row(raw + n * y, y ? raw + n * (y - 1) : zeros, n, bpp, try, buf + row * (y - y0));
-      q->len = row * (size_t)(y1 - y0);
-      q->adler = adler32(adler32(0L, Z_NULL, 0), buf, (uInt)q->len);
+        filter_row(raw + n * y, y ? raw + n * (y - 1) : zeros, n, bpp, try, rows + row * (y - y0));
+      q->adler = adler32(adler32(0L, Z_NULL, 0), rows, (uInt)q->len);
       int ok = 0;
       if (last) { /* libdeflate: a raw deflate stream whose last block is final */
         struct libdeflate_compressor *c = libdeflate_alloc_compressor(1);
         size_t bound = c ? libdeflate_deflate_compress_bound(c, q->len) : 0;
         q->z = c ? malloc(bound) : NULL;
-        q->zn = q->z ? libdeflate_deflate_compress(c, buf, q->len, q->z, bound) : 0;
+        q->zn = q->z ? libdeflate_deflate_compress(c, rows, q->len, q->z, bound) : 0;
         libdeflate_free_compressor(c);
+        free(rows);
         ok = q->zn > 0;
       } else { /* zlib: raw deflate ending on a byte boundary, not final */
         z_stream zs;
