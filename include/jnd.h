@@ -1095,6 +1095,13 @@ typedef struct {
   jnd_criterion criterion;     /* p 0.2, q 0.1 (000 §9) */
   int partial;                 /* 1 (default): re-render only the pixels of materials whose maps
                                   changed; 0: render every view whole (same results, slower) */
+  jnd_renderer *renderer;      /* NULL (default): the judge opens its own renderer with
+                                  views.render. Otherwise it renders with this one, borrowed (it
+                                  must outlive the judge and is not freed), sized to views.render's
+                                  width and height before each rendering; the renderer's own
+                                  samples, environment and platform apply. Judges of one scene at
+                                  several window sizes then share one context, environment and
+                                  uploaded scene. */
   void (*progress)(void *user, int renderings); /* NULL or called after each rendering */
   void *progress_user;
 } jnd_judge_params;
@@ -1103,9 +1110,9 @@ typedef struct {
 void jnd_judge_defaults(jnd_judge_params *p);
 
 /* Makes a judge for scene, whose state now is the reference: samples (or
- * takes) the views, opens a renderer and the vision model, and renders each
- * view's reference. The scene must outlive the judge; the caller changes
- * its maps between judgements. JND_ERR_GL without an OpenGL context,
+ * takes) the views, opens a renderer (or borrows p->renderer) and the
+ * vision model, and renders each view's reference. The scene must outlive
+ * the judge; the caller changes its maps between judgements. JND_ERR_GL without an OpenGL context,
  * JND_ERR_ARG for bad parameters. *out is the caller's (jnd_judge_free). */
 jnd_status jnd_judge_create(jnd_scene *scene, const jnd_judge_params *p, jnd_judge **out);
 
@@ -1742,7 +1749,9 @@ jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, int perceptu
 typedef struct {
   jnd_judge_params judge;    /* views (count 4, at most JND_VIEWS_MAX; seed, fov 45, lights;
                                 coverage and distance are set below), MSAA, environment, model constants, calibration, criterion;
-                                the display and the rendering size come from the screen */
+                                the display and the rendering size come from the screen;
+                                judge.renderer lends every distance's judge (and popping) one
+                                renderer, NULL: one is opened per call */
   double coverage;           /* viewing condition of the perceptual choice: the sphere fills this
                                 fraction of the screen's height (0.5, as 003's analysis) ... */
   double distance;           /* ... or, when > 0, this camera distance (object units: metres in glTF) */

@@ -71,6 +71,7 @@ struct jnd_judge {
   jnd_scene *scene;
   jnd_judge_params p;
   jnd_renderer *r;
+  int own_r;   /* r is the judge's (not p.renderer, borrowed) */
   jnd_model *m;
   int ground;            /* the ground plane's material or -1 */
   int blend_any;         /* a blended material: no partial re-renders */
@@ -269,13 +270,20 @@ static void view_free(jnd_judge *j, jview *v) {
   v->mip_min = NULL;
 }
 
+/* A borrowed renderer may have been sized by another judge since: its
+ * targets back to this judge's size (nothing to do on the judge's own). */
+static jnd_status sized(jnd_judge *j) {
+  return jnd_renderer_resize(j->r, j->p.views.render.width, j->p.views.render.height);
+}
+
 /* Renders the reference of view jv (the scene must be in its reference state). */
 static jnd_status render_reference(jnd_judge *j, jview *jv) {
   const jnd_scene *s = j->scene;
   jnd_view vv = jv->view;
   vv.outputs = JND_OUT_COLOR | JND_OUT_MASK | JND_OUT_MIP | (vv.has_prev ? JND_OUT_MOTION : 0);
   jnd_frame f;
-  jnd_status st = jnd_render(j->r, s, &vv, &f);
+  jnd_status st = sized(j);
+  if (st == JND_OK) st = jnd_render(j->r, s, &vv, &f);
   if (st != JND_OK) return st;
   j->counts.references++;
   int W = f.mask.w, H = f.mask.h;
@@ -389,8 +397,9 @@ static jnd_status material_render(jnd_judge *j, int v, int m, const jnd_image **
   if (!only) return JND_ERR_NOMEM;
   only[m] = 1;
   jnd_image img = {0};
-  jnd_status st = jnd_render_materials(j->r, j->scene, &j->v[v].view, j->v[v].depth, only, pt->x0, pt->y0, pt->w,
-                                       pt->h, &img);
+  jnd_status st = sized(j);
+  if (st == JND_OK)
+    st = jnd_render_materials(j->r, j->scene, &j->v[v].view, j->v[v].depth, only, pt->x0, pt->y0, pt->w, pt->h, &img);
   free(only);
   if (st != JND_OK) return st;
   img.c = 3;   /* the coverage plane stays allocated behind the colour */
@@ -479,7 +488,7 @@ static jnd_status render_state(jnd_judge *j, int v, const change_set *c, jnd_ima
   jnd_view vv = jv->view;
   vv.outputs = JND_OUT_COLOR;
   jnd_frame f;
-  if ((st = jnd_render(j->r, s, &vv, &f)) != JND_OK) return st;
+  if ((st = sized(j)) != JND_OK || (st = jnd_render(j->r, s, &vv, &f)) != JND_OK) return st;
   j->counts.renderings++;
   progress(j);
   jnd_image lin = {0};
@@ -647,7 +656,7 @@ void jnd_judge_free(jnd_judge *j) {
   free(j->cur_key);
   free(j->hashed_version);
   jnd_model_free(j->m);
-  jnd_renderer_free(j->r);
+  if (j->own_r) jnd_renderer_free(j->r);
   free(j);
 }
 
@@ -691,7 +700,11 @@ jnd_status jnd_judge_create(jnd_scene *scene, const jnd_judge_params *p, jnd_jud
   jnd_view *views = NULL;
   int n = 0;
   if (st == JND_OK) st = jnd_view_set_make(scene, &p->views, &views, &n);
-  if (st == JND_OK) st = jnd_renderer_create(&p->views.render, &j->r);
+  if (st == JND_OK) {
+    j->own_r = !p->renderer;
+    if (p->renderer) j->r = p->renderer;
+    else st = jnd_renderer_create(&p->views.render, &j->r);
+  }
   if (st == JND_OK) st = make_model(j);
   if (st == JND_OK) st = take_reference(j);
   if (st == JND_OK) st = jnd_judge_add_views(j, views, n, NULL);

@@ -1015,11 +1015,19 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
       vs->lights = p->poi.lights;
       sp.judge.views.render.env_path = p->poi.env_path;
       sp.judge.views.render.platform = p->poi.platform;
+      /* one renderer for every screen's judges (each sizes it to its window) */
+      jnd_renderer *r = NULL;
+      if (!sp.judge.renderer) {
+        jnd_renderer_params rp = sp.judge.views.render;
+        rp.width = rp.height = 64;   /* each judge sizes it */
+        if (!(st = jnd_renderer_create(&rp, &r))) sp.judge.renderer = r;
+      }
       for (int i = 0; i < out->poi.nscreens && !st; i++) {
         if (p->progress) p->progress(p->progress_user, "perceptual choice", i, out->poi.nscreens);
         st = jnd_lod_switch_analyse(s, &out->poi.screens[i].screen, &sp, &out->sw[i]);
         if (!st) out->nsw = i + 1;
       }
+      jnd_renderer_free(r);
       if (p->progress) p->progress(p->progress_user, "perceptual choice", out->poi.nscreens, out->poi.nscreens);
       if (st) {
         jnd_lod_report_free(out);

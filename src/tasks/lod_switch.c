@@ -281,12 +281,12 @@ static jnd_status pop_step(jnd_scene *scene, const jnd_judge_params *jp, const j
   sp.rating_limit = p->pop_rating_limit;
   sp.tolerance = p->tolerance;
   jnd_model *m = NULL;
-  jnd_renderer *r = NULL;
+  jnd_renderer *r = jp->renderer;   /* the judges' (jnd_lod_switch_analyse always gives one) */
   jnd_view *views = jnd_calloc((size_t)vs->count, sizeof *views);
   if (!views) return jnd_fail(JND_ERR_NOMEM, "lod: out of memory");
   jnd_status st = jnd_views_sample(scene, vs, views);
   if (!st) st = jnd_model_create(&jp->model, &m);
-  if (!st) st = jnd_renderer_create(&jp->views.render, &r);
+  if (!st) st = jnd_renderer_resize(r, jp->views.render.width, jp->views.render.height);
   /* a level never shown (by (a), or after a level never shown) needs no search */
   for (int k = 1; k < n && !st && isfinite(out->switch_distance[k]); k++) {
     /* nearer than (a) and the finer level's distance, popping cannot
@@ -307,7 +307,6 @@ static jnd_status pop_step(jnd_scene *scene, const jnd_judge_params *jp, const j
     out->pop_evaluations += sw.evaluations;
     lod_switch_combine(n, out->switch_distance_criterion, out->switch_distance_pop, out->switch_distance, out->switch_by);
   }
-  jnd_renderer_free(r);
   jnd_model_free(m);
   free(views);
   return st;
@@ -393,7 +392,16 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
     out->statistic[0] = out->p_max[0] = 0;   /* the reference: P = 0 by definition */
     window_at(object_px_at(&o, d0), p->max_px, &out->window_px, &out->scale);
   }
-  /* the viewing condition's judge first (it tells a missing renderer early) */
+  /* One renderer for every distance's judge and for popping, sized to each
+   * window in turn: one context, environment and uploaded scene instead of
+   * one per distance (made here unless the caller lends one, e.g. for all
+   * screens). Made first: it tells a missing renderer early. */
+  jnd_renderer *own = NULL;
+  if (!st && !o.jp.renderer) {
+    jnd_renderer_params rp = o.jp.views.render;
+    rp.width = rp.height = out->window_px;
+    if (!(st = jnd_renderer_create(&rp, &own))) o.jp.renderer = own;
+  }
   if (!st) st = judge_at(&o, 0);
   if (!st) {
     st = lod_switch_search(n, ngrid, rendered_passes, &o, &out->perceptual_level, idx);
@@ -430,6 +438,7 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
     for (int k = 0; k < n; k++)
       out->switch_coverage[k] = k == 0 ? 1 : jnd_coverage_at_distance(radius, out->switch_distance[k], fov);
   jnd_scene_lod_select(scene, 0);
+  jnd_renderer_free(own);
   free(o.grid);
   free(o.judge);
   free(o.scale);

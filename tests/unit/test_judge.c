@@ -84,6 +84,56 @@ done:
   jnd_scene_free(s);
 }
 
+/* Judges of two window sizes lending one renderer, asked in turn (each
+ * resizes it; partial re-renders read depths kept at their own size), give
+ * what judges with renderers of their own give, and do not free it. */
+TEST(judges_sharing_a_renderer_judge_as_their_own_renderers_do) {
+  if (!test_renderer_available()) {
+    TEST_SKIP("no OpenGL context");
+    return;
+  }
+  jnd_scene *s = parts_scene(2, 0);
+  jnd_judge_params pa, pb;
+  small(&pa, 2, 1);
+  small(&pb, 2, 1);
+  pb.views.render.width = pb.views.render.height = 64;
+  jnd_renderer_params rp = pa.views.render;
+  rp.width = rp.height = 40;   /* neither judge's size */
+  jnd_renderer *shared = NULL;
+  CHECK_OK(jnd_renderer_create(&rp, &shared));
+  jnd_judge *own[2] = {NULL, NULL}, *lent[2] = {NULL, NULL};
+  CHECK_OK(jnd_judge_create(s, &pa, &own[0]));
+  CHECK_OK(jnd_judge_create(s, &pb, &own[1]));
+  pa.renderer = pb.renderer = shared;
+  CHECK_OK(jnd_judge_create(s, &pa, &lent[0]));
+  CHECK_OK(jnd_judge_create(s, &pb, &lent[1]));
+  if (!shared || !own[0] || !own[1] || !lent[0] || !lent[1]) goto done;
+  int i = map_of(s, "part1/baseColor");
+  for (int size = 8; size <= 16; size *= 2) {
+    CHECK_OK(jnd_scene_map_resize(s, i, size, size));
+    for (int k = 0; k < 2; k++) {
+      double P[2], Q[2];
+      CHECK_OK(jnd_judge_eval(lent[k], 0, 2, 0, P, NULL));
+      CHECK_OK(jnd_judge_eval(own[k], 0, 2, 0, Q, NULL));
+      for (int v = 0; v < 2; v++) CHECK(P[v] == Q[v] && P[v] > 0);
+    }
+  }
+  jnd_judge_counts c;
+  jnd_judge_get_counts(lent[1], &c);
+  CHECK(c.partial_renderings >= 2);   /* the partial path ran on the lent renderer */
+  jnd_judge_free(lent[0]);
+  jnd_judge_free(lent[1]);
+  lent[0] = lent[1] = NULL;
+  CHECK_OK(jnd_renderer_resize(shared, 32, 32));   /* still the caller's */
+done:
+  for (int k = 0; k < 2; k++) {
+    jnd_judge_free(own[k]);
+    jnd_judge_free(lent[k]);
+  }
+  jnd_renderer_free(shared);
+  jnd_scene_free(s);
+}
+
 TEST(the_reference_state_is_invisible_and_never_rendered) {
   if (!test_renderer_available()) {
     TEST_SKIP("no OpenGL context");
@@ -319,7 +369,7 @@ done:
   jnd_scene_free(s);
 }
 
-RUN_TESTS(partial_rendering_equals_the_full_rendering, the_reference_state_is_invisible_and_never_rendered,
+RUN_TESTS(partial_rendering_equals_the_full_rendering, judges_sharing_a_renderer_judge_as_their_own_renderers_do, the_reference_state_is_invisible_and_never_rendered,
           a_state_judged_before_is_answered_from_memory, deciding_stops_at_the_first_failing_view,
           views_added_later_are_referenced_in_the_reference_state,
           views_of_an_asset_on_the_ground_come_from_above_and_frame_the_asset,
