@@ -306,6 +306,62 @@ TEST(environment_changes_the_specular_response) {
   jnd_scene_free(s);
 }
 
+/* A polished metal under a uniform environment of colour rgb (an EXR file
+ * of w × h), rendered by a renderer of its own: the mean red and green. */
+static void metal_in(jnd_scene *s, const char *path, int w, const float rgb[3], double out[2]) {
+  jnd_image env;
+  out[0] = out[1] = -1;
+  CHECK_OK(jnd_image_alloc(&env, w, w / 2, 3));
+  for (int c = 0; c < 3; c++)
+    for (size_t i = 0; i < (size_t)env.w * env.h; i++) env.data[(size_t)c * env.w * env.h + i] = rgb[c];
+  CHECK_OK(jnd_image_write_exr(path, &env, NULL, 0));
+  jnd_image_free(&env);
+  jnd_renderer_params p;
+  jnd_renderer_defaults(&p);
+  p.width = p.height = SIZE;
+  p.env_path = path;
+  jnd_renderer *r = NULL;
+  CHECK_OK(jnd_renderer_create(&p, &r));
+  jnd_view v = front_view(s, 0.8);
+  v.nlights = 0;
+  jnd_frame f;
+  if (r && jnd_render(r, s, &v, &f) == JND_OK) {
+    out[0] = mean(&f.color, 0);
+    out[1] = mean(&f.color, 1);
+    jnd_frame_free(&f);
+  }
+  jnd_renderer_free(r);
+}
+
+/* Renderers keep the last prepared environment for the next one (it is
+ * slow to prefilter): a file rewritten in between must be prepared again,
+ * and the same file give the same light. */
+TEST(an_environment_file_rewritten_between_renderers_lights_the_next_one) {
+  jnd_scene *s = builtin_scene(1);
+  if (!s || !renderer()) return;
+  int i = jnd_scene_map_find(s, "builtin/metallicRoughness");
+  jnd_image mr;
+  CHECK_OK(jnd_image_alloc(&mr, 2, 2, 3));
+  for (int k = 0; k < 4; k++) {
+    mr.data[k] = 1;
+    mr.data[4 + k] = 0.1f;
+    mr.data[8 + k] = 1;
+  }
+  CHECK_OK(jnd_scene_map_set(s, i, &mr));
+  char path[1100];
+  snprintf(path, sizeof path, "%s/environment.exr", test_tmp_dir());
+  const float red[3] = {2, 0.1f, 0.1f}, green[3] = {0.1f, 2, 0.1f};
+  double a[2], b[2], c[2];
+  metal_in(s, path, 32, red, a);
+  metal_in(s, path, 32, red, b);   /* the same size: the cache's identity is not the size alone */
+  metal_in(s, path, 32, green, c);
+  CHECK(a[0] > 2 * a[1]);          /* red light */
+  CHECK(a[0] == b[0] && a[1] == b[1]);
+  CHECK(c[1] > 2 * c[0]);          /* green light, not the red file's */
+  jnd_image_free(&mr);
+  jnd_scene_free(s);
+}
+
 TEST(rendering_is_deterministic) {
   jnd_scene *s = builtin_scene(0);
   if (!s) return;
@@ -890,7 +946,8 @@ RUN_TESTS(views_json_is_parsed_and_impossible_cameras_are_refused, gltf_texture_
           colour_maps_are_filtered_in_linear_light, resampled_normal_maps_hold_unit_vectors,
           broken_files_are_refused_as_malformed, truncated_glb_is_refused,
           obj_with_missing_texture_falls_back_to_the_factor_with_a_warning, object_fills_the_coverage_asked_for,
-          normal_map_changes_shading, environment_changes_the_specular_response, rendering_is_deterministic,
+          normal_map_changes_shading, environment_changes_the_specular_response,
+          an_environment_file_rewritten_between_renderers_lights_the_next_one, rendering_is_deterministic,
           restoring_a_map_restores_the_image_exactly, mip_level_rises_by_one_per_halving_of_size_on_screen,
           motion_vectors_follow_the_camera, view_sampling_is_deterministic_and_seeded,
           golden_builtin_frame_matches, golden_box_textured_frame_matches,
