@@ -273,10 +273,8 @@ TEST(normal_map_changes_shading) {
   jnd_scene_free(s);
 }
 
-TEST(environment_changes_the_specular_response) {
-  jnd_scene *s = builtin_scene(1);
-  if (!s) return;
-  /* a polished metal: what it shows is the environment */
+/* The builtin sphere as a polished metal: what it shows is the environment. */
+static void polish(jnd_scene *s) {
   int i = jnd_scene_map_find(s, "builtin/metallicRoughness");
   jnd_image mr;
   CHECK_OK(jnd_image_alloc(&mr, 2, 2, 3));
@@ -286,6 +284,13 @@ TEST(environment_changes_the_specular_response) {
     mr.data[8 + k] = 1;
   }
   CHECK_OK(jnd_scene_map_set(s, i, &mr));
+  jnd_image_free(&mr);
+}
+
+TEST(environment_changes_the_specular_response) {
+  jnd_scene *s = builtin_scene(1);
+  if (!s) return;
+  polish(s);
   jnd_view v = front_view(s, 0.8);
   v.nlights = 0;
   jnd_frame a, b, off;
@@ -302,7 +307,6 @@ TEST(environment_changes_the_specular_response) {
     }
     jnd_frame_free(&a);
   }
-  jnd_image_free(&mr);
   jnd_scene_free(s);
 }
 
@@ -339,15 +343,7 @@ static void metal_in(jnd_scene *s, const char *path, int w, const float rgb[3], 
 TEST(an_environment_file_rewritten_between_renderers_lights_the_next_one) {
   jnd_scene *s = builtin_scene(1);
   if (!s || !renderer()) return;
-  int i = jnd_scene_map_find(s, "builtin/metallicRoughness");
-  jnd_image mr;
-  CHECK_OK(jnd_image_alloc(&mr, 2, 2, 3));
-  for (int k = 0; k < 4; k++) {
-    mr.data[k] = 1;
-    mr.data[4 + k] = 0.1f;
-    mr.data[8 + k] = 1;
-  }
-  CHECK_OK(jnd_scene_map_set(s, i, &mr));
+  polish(s);
   char path[1100];
   snprintf(path, sizeof path, "%s/environment.exr", test_tmp_dir());
   const float red[3] = {2, 0.1f, 0.1f}, green[3] = {0.1f, 2, 0.1f};
@@ -358,7 +354,6 @@ TEST(an_environment_file_rewritten_between_renderers_lights_the_next_one) {
   CHECK(a[0] > 2 * a[1]);          /* red light */
   CHECK(a[0] == b[0] && a[1] == b[1]);
   CHECK(c[1] > 2 * c[0]);          /* green light, not the red file's */
-  jnd_image_free(&mr);
   jnd_scene_free(s);
 }
 
