@@ -1297,11 +1297,14 @@ typedef struct {
 
 void jnd_csf_options_defaults(jnd_csf_options *o);
 
-/* RMS of 20 log10(predicted / measured) over a set of rows, dB. NaN: no rows. */
+/* RMS of 20 log10(predicted / measured) over a set of rows, dB, and its
+ * mean, the bias (> 0: the model is too sensitive; the spread about the
+ * bias is sqrt(rmse² − bias²)). NaN: no rows. */
 typedef struct {
   int rows, static_rows;     /* static: t_frequency = 0 */
   double rmse_db, rmse_db_static;        /* with the constants predictions used */
   double cv_rmse_db, cv_rmse_db_static;  /* leave-one-data-set-out (NaN without it) */
+  double bias_db, cv_bias_db;            /* mean error over all the rows, training and cross-validated */
 } jnd_csf_score;
 
 #define JND_MAX_CONSTANTS 32

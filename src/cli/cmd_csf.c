@@ -121,16 +121,18 @@ static cJSON *score_json(const jnd_csf_score *s) {
   cJSON_AddNumberToObject(o, "static_rows", s->static_rows);
   if (s->static_rows) cJSON_AddNumberToObject(o, "rmse_db_static", s->rmse_db_static);
   cJSON_AddNumberToObject(o, "rmse_db", s->rmse_db);
+  cJSON_AddNumberToObject(o, "bias_db", s->bias_db);
   if (!isnan(s->cv_rmse_db)) {
     if (s->static_rows) cJSON_AddNumberToObject(o, "cv_rmse_db_static", s->cv_rmse_db_static);
     cJSON_AddNumberToObject(o, "cv_rmse_db", s->cv_rmse_db);
+    cJSON_AddNumberToObject(o, "cv_bias_db", s->cv_bias_db);
   }
   return o;
 }
 
 static void print_score(const cli_common *c, const char *name, const jnd_csf_score *s, int cv) {
   cli_info(c, "%-14s %6d %10.2f %10.2f", name, s->rows, s->static_rows ? s->rmse_db_static : NAN, s->rmse_db);
-  if (cv) cli_info(c, " %12.2f %10.2f", s->static_rows ? s->cv_rmse_db_static : NAN, s->cv_rmse_db);
+  if (cv) cli_info(c, " %12.2f %10.2f %10.2f", s->static_rows ? s->cv_rmse_db_static : NAN, s->cv_rmse_db, s->cv_bias_db);
   cli_info(c, "\n");
 }
 
@@ -324,7 +326,7 @@ static int run(int argc, char **argv) {
 
   cJSON *per = cJSON_AddObjectToObject(result, "datasets");
   cli_info(&common, "%-14s %6s %10s %10s", "dataset", "rows", "static dB", "all dB");
-  if (cv) cli_info(&common, " %12s %10s", "LOSO static", "LOSO all");
+  if (cv) cli_info(&common, " %12s %10s %10s", "LOSO static", "LOSO all", "LOSO bias");
   cli_info(&common, "\n");
   for (int ds = 0; ds < d.ndatasets; ds++) {
     if (!res.dataset[ds].rows) continue;

@@ -250,13 +250,14 @@ static double rms_of(const double *e, int n) { return n ? sqrt(sumsq(e, n) / n) 
 static void score(const jnd_csf_data *d, const double *pred, int cv, jnd_csf_result *r) {
   int nsets = d->ndatasets;
   for (int ds = -1; ds < nsets; ds++) {
-    double sa = 0, ss = 0;
+    double sa = 0, ss = 0, se = 0;
     int na = 0, ns = 0;
     for (int i = 0; i < d->nrows; i++) {
       const jnd_csf_row *row = &d->rows[i];
       if (!row->use || isnan(pred[i]) || (ds >= 0 && row->dataset != ds)) continue;
       double e = 20 * log10(pred[i] / row->measured);
       sa += e * e;
+      se += e;
       na++;
       if (row->st.t_frequency <= 0) {
         ss += e * e;
@@ -264,15 +265,17 @@ static void score(const jnd_csf_data *d, const double *pred, int cv, jnd_csf_res
       }
     }
     jnd_csf_score *sc = ds < 0 ? &r->pooled : &r->dataset[ds];
-    double all = na ? sqrt(sa / na) : NAN, st = ns ? sqrt(ss / ns) : NAN;
+    double all = na ? sqrt(sa / na) : NAN, st = ns ? sqrt(ss / ns) : NAN, bias = na ? se / na : NAN;
     if (cv) {
       sc->cv_rmse_db = all;
       sc->cv_rmse_db_static = st;
+      sc->cv_bias_db = bias;
     } else {
       sc->rows = na;
       sc->static_rows = ns;
       sc->rmse_db = all;
       sc->rmse_db_static = st;
+      sc->bias_db = bias;
     }
   }
 }
@@ -428,8 +431,9 @@ jnd_status jnd_csf_evaluate(const jnd_csf_data *d, const jnd_model_params *base,
       if (n > 1) r->fold_sd_ln[f.idx[k]] = sqrt(fmax(m2 / n - (m / n) * (m / n), 0) * n / (n - 1));
     }
   } else {
-    r->pooled.cv_rmse_db = r->pooled.cv_rmse_db_static = NAN;
-    for (int ds = 0; ds < d->ndatasets; ds++) r->dataset[ds].cv_rmse_db = r->dataset[ds].cv_rmse_db_static = NAN;
+    r->pooled.cv_rmse_db = r->pooled.cv_rmse_db_static = r->pooled.cv_bias_db = NAN;
+    for (int ds = 0; ds < d->ndatasets; ds++)
+      r->dataset[ds].cv_rmse_db = r->dataset[ds].cv_rmse_db_static = r->dataset[ds].cv_bias_db = NAN;
   }
   r->model_passes = f.passes;
 done:

@@ -40,6 +40,11 @@ check the_fit_moves_the_constant_back_and_lowers_the_error jq -e --slurpfile l "
 expect_exit 0 cross_validation_runs "$JND" csf "$T/data.csv" --cross-validate --fit-only sensitivity,sens_rg -o "$T/cv.csv" --json "$T/cv.json" --quiet
 check every_data_set_is_predicted_by_the_others jq -e '[.result.datasets[] | select(.cv_rmse_db > 0)] | length == 5' "$T/cv.json"
 check cv_columns_are_written bash -c "head -1 '$T/cv.csv' | grep -q 'predicted_cv,error_cv_db,note'"
+# each data set's bias is the mean of its rows' errors (training and cross-validated), not their RMS
+mean_err() { awk -F, -v ds="$2" -v col="$3" 'NR==1{for(i=1;i<=NF;i++) if($i==col) c=i; next} $9==ds{s+=$c; n++} END{printf "%.6f", s/n}' "$1"; }
+check the_bias_is_the_mean_error_of_each_data_set jq -e \
+  --argjson t "$(mean_err "$T/cv.csv" achromatic error_db)" --argjson v "$(mean_err "$T/cv.csv" achromatic error_cv_db)" \
+  '.result.datasets.achromatic | ((.bias_db - $t) | fabs) < 1e-3 and ((.cv_bias_db - $v) | fabs) < 1e-3 and (.cv_bias_db | fabs) <= .cv_rmse_db' "$T/cv.json"
 check each_fold_reports_its_constants jq -e '.parameters.constants.sensitivity.without | length == 5' "$T/cv.json"
 "$JND" csf "$T/data.csv" --cross-validate --fit-only sensitivity,sens_rg --threads 1 --json "$T/cv1.json" --quiet
 check cross_validation_does_not_depend_on_the_thread_count cmp -s "$T/cv.json" "$T/cv1.json"
