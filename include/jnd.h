@@ -1112,8 +1112,9 @@ void jnd_judge_defaults(jnd_judge_params *p);
 /* Makes a judge for scene, whose state now is the reference: samples (or
  * takes) the views, opens a renderer (or borrows p->renderer) and the
  * vision model, and renders each view's reference. The scene must outlive
- * the judge; the caller changes its maps between judgements. JND_ERR_GL without an OpenGL context,
- * JND_ERR_ARG for bad parameters. *out is the caller's (jnd_judge_free). */
+ * the judge; the caller changes its maps between judgements. JND_ERR_GL
+ * without an OpenGL context, JND_ERR_ARG for bad parameters. *out is the
+ * caller's (jnd_judge_free). */
 jnd_status jnd_judge_create(jnd_scene *scene, const jnd_judge_params *p, jnd_judge **out);
 
 /* Frees the judge (not the scene); safe on NULL. */
