@@ -409,10 +409,6 @@ static int run(int argc, char **argv) {
     cli_error("%s", jnd_last_error());
     goto done;
   }
-  if (jnd_make_dirs(dir) != JND_OK) {
-    cli_error("%s", jnd_last_error());
-    goto done;
-  }
   unsigned gl_outputs = JND_OUT_COLOR | JND_OUT_MASK;
   if (outputs & O_DEPTH) gl_outputs |= JND_OUT_DEPTH;
   if (outputs & O_MOTION) gl_outputs |= JND_OUT_MOTION;
@@ -441,6 +437,11 @@ static int run(int argc, char **argv) {
     goto done;
   }
   double t_renderer = cli_now() - t1;
+  /* the folder only now: a bad environment or no OpenGL leaves nothing behind either */
+  if (jnd_make_dirs(dir) != JND_OK) {
+    cli_error("%s", jnd_last_error());
+    goto done;
+  }
 
   report = cli_report_new("render");
   cJSON *in = cli_report_section(report, "inputs");

@@ -54,6 +54,16 @@ checke '"$JND" render builtin --map-size 64 --list-maps | grep -q "builtin/norma
 "$JND" render builtin --map-size 256 -o "$T/h" --size 96x64 --cameras "$T/a/views.json" --quiet
 checke 'cmp -s "$T/a/view_002.png" "$T/h/view_002.png"' "a views.json given back as --cameras reproduces the views"
 
+# a bad environment: one line naming the file, exit 2, nothing written; the
+# renderer keeps the last prepared environment, so a good one after it still
+# lights the scene
+expect_exit 2 "a missing environment file is refused" \
+    "$JND" render builtin --size 64x64 --views 1 --map-size 64 --env "$T/none.hdr" -o "$T/env1" --quiet
+checke 'one_line_error && grep -q "none.hdr" "$T/err.txt" && [ ! -e "$T/env1" ]' "in one line naming it, nothing written"
+expect_exit 2 "an 8-bit environment is refused" \
+    "$JND" render builtin --size 64x64 --views 1 --map-size 64 --env "$T/a/view_000.png" -o "$T/env2" --quiet
+checke 'one_line_error && grep -q "must be linear" "$T/err.txt" && [ ! -e "$T/env2" ]' "in one line: it must be linear"
+
 # errors: one line "jnd: FILE: problem", exit 2, nothing written
 err() {  # expected-substring, args...
   local want=$1; shift
