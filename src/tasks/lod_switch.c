@@ -200,6 +200,19 @@ static double object_px_at(const oracle *o, double d) {
   return fmin(jnd_coverage_at_distance(o->radius, d, o->fov), 1.0) * o->screen_h;
 }
 
+/* The judges' parameters for views at distance d in a window of side R on
+ * the screen scaled by scale: the window's field of view, its pixels and
+ * the scaled display's pixels per degree. */
+static jnd_judge_params params_at(const oracle *o, double d, int R, double scale) {
+  jnd_judge_params jp = o->jp;
+  jp.views.sampling.distance = d;
+  jp.views.sampling.fov_y_deg = 2 * atan((double)R / (scale * o->screen_h) * tan(o->fov * M_PI / 360)) * 180 / M_PI;
+  jp.views.sampling.aspect = 1;
+  jp.views.render.width = jp.views.render.height = R;
+  jp.model.display.ppd = o->ppd * scale;
+  return jp;
+}
+
 /* The judge of grid point g: its window and scale from the object's size
  * there, its views sampled at that distance (the same seed, so the same
  * directions and lights at every distance), their references level 0. */
@@ -208,12 +221,7 @@ static jnd_status judge_at(oracle *o, int g) {
   double scale;
   window_at(object_px_at(o, o->grid[g]), o->p->max_px, &R, &scale);
   o->scale[g] = scale;
-  jnd_judge_params jp = o->jp;
-  jp.views.sampling.distance = o->grid[g];
-  jp.views.sampling.fov_y_deg = 2 * atan((double)R / (scale * o->screen_h) * tan(o->fov * M_PI / 360)) * 180 / M_PI;
-  jp.views.sampling.aspect = 1;
-  jp.views.render.width = jp.views.render.height = R;
-  jp.model.display.ppd = o->ppd * scale;
+  jnd_judge_params jp = params_at(o, o->grid[g], R, scale);
   jnd_status st = jnd_scene_lod_select(o->scene, 0);
   if (!st) st = jnd_judge_create(o->scene, &jp, &o->judge[g]);
   if (!st) o->out->distances++;
@@ -412,7 +420,7 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
       out->switch_distance_criterion[k] = k == 0 ? 0 : idx[k] < 0 ? INFINITY : o.grid[idx[k]];
       if (k > 0 && idx[k] >= 0) out->switch_scale[k] = o.scale[idx[k]];
     }
-  /* the judges' counts, summed; then freed before pop's renderer */
+  /* the judges' counts, summed; the judges freed (not the renderer, which popping uses next) */
   for (int g = 0; g < ngrid && o.judge; g++) {
     if (!o.judge[g]) continue;
     jnd_judge_counts c;
@@ -426,13 +434,7 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
     jnd_judge_free(o.judge[g]);
   }
   /* popping is rendered at the viewing condition's window and scale */
-  jnd_judge_params jp = o.jp;
-  jp.views.sampling.distance = d0;
-  jp.views.sampling.fov_y_deg =
-      2 * atan((double)out->window_px / (out->scale * screen->height_px) * tan(fov * M_PI / 360)) * 180 / M_PI;
-  jp.views.sampling.aspect = 1;
-  jp.views.render.width = jp.views.render.height = out->window_px;
-  jp.model.display.ppd = o.ppd * out->scale;
+  jnd_judge_params jp = params_at(&o, d0, out->window_px, out->scale);
   if (!st) st = pop_step(scene, &jp, &jp.views.sampling, p, radius, fov, out->scale * screen->height_px / out->window_px, out);
   if (!st)
     for (int k = 0; k < n; k++)
