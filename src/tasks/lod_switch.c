@@ -29,11 +29,13 @@
  *     (INFINITY, and for every coarser level) when k fails at the far end,
  *     and bisects the grid otherwise: P falls with distance, so the
  *     nearest passing grid distance is within a factor 1 + tolerance of
- *     where the criterion starts to hold.  lod_switch_search()
+ *     where the criterion starts to hold. A step asks a distance already
+ *     judged near its bracket's middle first.  lod_switch_search()
  *  6. Popping (pop on; 004 §3.2 through jnd_pop_switch_distance): for each
  *     level k shown somewhere by step 5, the nearest distance at which the
- *     switch from level k − 1 to k, rendered on the same views (same seed,
- *     display and pixel scale) with the chosen motion, has its largest
+ *     switch from level k − 1 to k, rendered on the same views (same seed
+ *     and display; the window and pixel scale of step 1 where the search
+ *     starts) with the chosen motion, has its largest
  *     rating R below pop_rating_limit — a continuous bisection on log
  *     distance to the same tolerance, assuming, as pop does, that popping
  *     fades with distance. It starts where step 5 and the finer level
@@ -98,9 +100,23 @@ double jnd_coverage_at_distance(double radius, double distance, double fov_y_deg
   return tan(asin(radius / distance)) / tan(fov_y_deg * M_PI / 360);
 }
 
+/* A bisection step's distance in the bracket (lo, hi): its middle, or the
+ * ready distance nearest to it (the nearer one on a tie) within the
+ * bracket's middle half — a judge already made costs no references, and
+ * the bracket still shrinks by at least a quarter. */
+static int bisection_point(lod_ready_fn ready, void *user, int lo, int hi) {
+  int mid = lo + (hi - lo) / 2;
+  if (!ready || ready(user, mid)) return mid;
+  for (int off = 1; off <= (hi - lo) / 4; off++) {
+    if (ready(user, mid - off)) return mid - off;
+    if (ready(user, mid + off)) return mid + off;
+  }
+  return mid;
+}
+
 /* steps 4 and 5 on any pass/fail oracle (tasks.h) */
-jnd_status lod_switch_search(int nlevels, int ngrid, lod_passes_fn passes, void *user, int *perceptual,
-                             int *switch_idx) {
+jnd_status lod_switch_search(int nlevels, int ngrid, lod_passes_fn passes, lod_ready_fn ready, void *user,
+                             int *perceptual, int *switch_idx) {
   int r;
   *perceptual = 0;
   for (int k = nlevels - 1; k >= 1; k--) {
@@ -130,7 +146,7 @@ jnd_status lod_switch_search(int nlevels, int ngrid, lod_passes_fn passes, void 
     if (r < 0) return JND_ERR_INTERNAL;
     /* fails at lo, passes at hi */
     while (hi - lo > 1) {
-      int mid = lo + (hi - lo) / 2;
+      int mid = bisection_point(ready, user, lo, hi);
       if ((r = passes(user, k, mid)) < 0) return JND_ERR_INTERNAL;
       if (r) hi = mid;
       else lo = mid;
@@ -228,6 +244,10 @@ static jnd_status judge_at(oracle *o, int g) {
   return st;
 }
 
+static int rendered_ready(void *user, int g) {
+  return ((oracle *)user)->judge[g] != NULL;
+}
+
 static int rendered_passes(void *user, int k, int g) {
   oracle *o = user;
   signed char *kn = &o->known[(size_t)k * o->ngrid + g];
@@ -266,13 +286,15 @@ static void screen_display(const jnd_poi_screen *s, jnd_display *d) {
   d->diagonal_in = d->distance_m = 0;
 }
 
-/* step 6: where each switch stops popping, on the judge's views, display
- * and renderings (jp), the same sampling vs at the viewing condition; the
- * views' field of view is the window's, so coverages are the window's:
- * window_cov fractions of its height per fraction of the screen's */
-static jnd_status pop_step(jnd_scene *scene, const jnd_judge_params *jp, const jnd_view_sampling *vs,
-                           const jnd_lod_switch_params *p, double radius, double fov, double window_cov,
-                           jnd_lod_switch_result *out) {
+/* step 6: where each switch stops popping, on the judges' renderer
+ * (o->jp.renderer), display and view sampling. Each level's search is
+ * rendered in the window and at the screen's scale of the distance where
+ * it starts (step 1's rule: the object is largest there, so it fits at
+ * every distance the search tries), the views sampled there; pop's
+ * coverages are the window's: window_cov fractions of its height per
+ * fraction of the screen's. */
+static jnd_status pop_step(oracle *o, jnd_lod_switch_result *out) {
+  const jnd_lod_switch_params *p = o->p;
   int n = out->nlevels;
   for (int k = 0; k < n; k++) out->switch_distance_pop[k] = out->pop_max_rating[k] = NAN;
   lod_switch_combine(n, out->switch_distance_criterion, out->switch_distance_pop, out->switch_distance, out->switch_by);
@@ -289,12 +311,10 @@ static jnd_status pop_step(jnd_scene *scene, const jnd_judge_params *jp, const j
   sp.rating_limit = p->pop_rating_limit;
   sp.tolerance = p->tolerance;
   jnd_model *m = NULL;
-  jnd_renderer *r = jp->renderer;   /* the judges' (jnd_lod_switch_analyse always gives one) */
-  jnd_view *views = jnd_calloc((size_t)vs->count, sizeof *views);
+  double m_scale = NAN;   /* the scale m's display was made for */
+  jnd_view *views = jnd_calloc((size_t)o->nviews, sizeof *views);
   if (!views) return jnd_fail(JND_ERR_NOMEM, "lod: out of memory");
-  jnd_status st = jnd_views_sample(scene, vs, views);
-  if (!st) st = jnd_model_create(&jp->model, &m);
-  if (!st) st = jnd_renderer_resize(r, jp->views.render.width, jp->views.render.height);
+  jnd_status st = JND_OK;
   /* a level never shown (by (a), or after a level never shown) needs no search */
   for (int k = 1; k < n && !st && isfinite(out->switch_distance[k]); k++) {
     /* nearer than (a) and the finer level's distance, popping cannot
@@ -302,11 +322,24 @@ static jnd_status pop_step(jnd_scene *scene, const jnd_judge_params *jp, const j
      * not pop there), out to far_coverage (a little beyond where that is
      * nearer than the start) */
     double from = fmax(out->switch_distance_criterion[k], out->switch_distance[k - 1]);
-    double cfrom = jnd_coverage_at_distance(radius, from, fov);
+    int R;
+    double scale;
+    window_at(object_px_at(o, from), p->max_px, &R, &scale);
+    jnd_judge_params jp = params_at(o, from, R, scale);
+    if (!(scale == m_scale)) {   /* the model's display has the scaled pixels per degree */
+      jnd_model_free(m);
+      m = NULL;
+      if ((st = jnd_model_create(&jp.model, &m))) break;
+      m_scale = scale;
+    }
+    if ((st = jnd_views_sample(o->scene, &jp.views.sampling, views))) break;
+    if ((st = jnd_renderer_resize(o->jp.renderer, R, R))) break;
+    double window_cov = scale * o->screen_h / R;
+    double cfrom = jnd_coverage_at_distance(o->radius, from, o->fov);
     sp.coverage_near = cfrom * window_cov;
     sp.coverage_far = fmin(p->far_coverage, cfrom / (1 + p->tolerance)) * window_cov;
     jnd_pop_switch sw;
-    if ((st = jnd_pop_switch_distance(m, r, scene, views, vs->count, &mo, k, &pp, &sp, &sw))) break;
+    if ((st = jnd_pop_switch_distance(m, o->jp.renderer, o->scene, views, o->nviews, &mo, k, &pp, &sp, &sw))) break;
     /* popping-free where the search started: that distance exactly (pop's is
      * the same up to the rounding of its coverage-to-distance conversion,
      * which must not make popping look decisive) */
@@ -412,7 +445,7 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
   }
   if (!st) st = judge_at(&o, 0);
   if (!st) {
-    st = lod_switch_search(n, ngrid, rendered_passes, &o, &out->perceptual_level, idx);
+    st = lod_switch_search(n, ngrid, rendered_passes, rendered_ready, &o, &out->perceptual_level, idx);
     if (st) st = o.st ? o.st : st;
   }
   if (!st)
@@ -433,9 +466,7 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
     out->counts.reused += c.reused;
     jnd_judge_free(o.judge[g]);
   }
-  /* popping is rendered at the viewing condition's window and scale */
-  jnd_judge_params jp = params_at(&o, d0, out->window_px, out->scale);
-  if (!st) st = pop_step(scene, &jp, &jp.views.sampling, p, radius, fov, out->scale * screen->height_px / out->window_px, out);
+  if (!st) st = pop_step(&o, out);
   if (!st)
     for (int k = 0; k < n; k++)
       out->switch_coverage[k] = k == 0 ? 1 : jnd_coverage_at_distance(radius, out->switch_distance[k], fov);

@@ -59,15 +59,22 @@ double poi_mp_sum(const float *y1, const float *y2, int w, int h, double ppd);
  * error. */
 typedef int (*lod_passes_fn)(void *user, int level, int grid);
 
+/* Whether asking about grid distance `grid` is cheap now (its references
+ * are rendered): 1 yes, 0 no. */
+typedef int (*lod_ready_fn)(void *user, int grid);
+
 /* The decisions of jnd_lod_switch_analyse on any oracle: *perceptual gets
  * the coarsest level passing at grid 0 (0: none); switch_idx[k] (nlevels,
  * caller's) the grid index from which level k is shown — level 0 at 0,
  * level k searched from level k − 1's index up by bisection (the oracle is
  * taken to be monotone in the distance), −1 when it fails at the far end
- * (ngrid − 1), and then for every coarser level. JND_ERR_INTERNAL when the
- * oracle fails. */
-jnd_status lod_switch_search(int nlevels, int ngrid, lod_passes_fn passes, void *user, int *perceptual,
-                             int *switch_idx);
+ * (ngrid − 1), and then for every coarser level. ready (may be NULL): a
+ * bisection step asks, instead of the middle of its bracket, the ready
+ * distance nearest to it within the bracket's middle half, if any (the
+ * same answers on a monotone oracle, fewer distances to render).
+ * JND_ERR_INTERNAL when the oracle fails. */
+jnd_status lod_switch_search(int nlevels, int ngrid, lod_passes_fn passes, lod_ready_fn ready, void *user,
+                             int *perceptual, int *switch_idx);
 
 /* The switch distances from their two components (jnd_lod_switch_result):
  * out[0] = 0; out[k] = the farthest of criterion[k], pop[k] (NaN: no
