@@ -283,7 +283,10 @@ static jnd_status import_mesh(jnd_scene *s, const struct aiMesh *am, jnd_mesh *o
   out->material = (int)am->mMaterialIndex;
   out->nverts = am->mNumVertices;
   out->ntris = nt;
-  out->vertices = jnd_alloc(out->nverts, JND_VTX_FLOATS * sizeof(float));
+  /* zeroed: what the file lacks (normals, tangents, uvs) must not be the
+   * allocator's leftovers (garbage uvs made split_mirrored_vertices
+   * duplicate vertices at random) */
+  out->vertices = jnd_calloc(out->nverts, JND_VTX_FLOATS * sizeof(float));
   out->indices = jnd_alloc(nt * 3, sizeof(uint32_t));
   if (!out->vertices || !out->indices) return JND_ERR_NOMEM;
   size_t t = 0;
