@@ -355,31 +355,45 @@ typedef struct {
   double scale;        /* meshopt_simplifyScale of pos */
 } compact_src;
 
+/* The vertices that idx (ni indices into nverts vertices whose positions
+ * are `positions`, stride floats apart) uses, gathered in first-use order
+ * (meshopt_optimizeVertexFetchRemap): *pos (× 3 floats) and *orig (the
+ * original vertex of each), idx rewritten to the compact ids; *nc of them. */
+static jnd_status compact_vertices(uint32_t *idx, size_t ni, size_t nverts, const float *positions, size_t stride,
+                                   float **pos_out, uint32_t **orig_out, size_t *nc_out) {
+  *pos_out = NULL;
+  *orig_out = NULL;
+  *nc_out = 0;
+  uint32_t *remap = jnd_alloc(nverts ? nverts : 1, sizeof *remap);
+  if (!remap) return JND_ERR_NOMEM;
+  size_t nc = meshopt_optimizeVertexFetchRemap(remap, idx, ni, nverts);
+  float *cp = jnd_alloc(nc ? nc : 1, 3 * sizeof(float));
+  uint32_t *orig = jnd_alloc(nc ? nc : 1, sizeof *orig);
+  if (!cp || !orig) {
+    free(remap), free(cp), free(orig);
+    return JND_ERR_NOMEM;
+  }
+  for (size_t v = 0; v < nverts; v++) {
+    if (remap[v] == UINT32_MAX) continue;
+    memcpy(cp + 3 * (size_t)remap[v], positions + v * stride, 3 * sizeof(float));
+    orig[remap[v]] = (uint32_t)v;
+  }
+  for (size_t i = 0; i < ni; i++) idx[i] = remap[idx[i]];
+  free(remap);
+  *pos_out = cp;
+  *orig_out = orig;
+  *nc_out = nc;
+  return JND_OK;
+}
+
 static jnd_status make_compact(const mesh_prep *p, const jnd_lod_mesh *src, compact_src *c) {
   memset(c, 0, sizeof *c);
   size_t ni = 3 * src->ntris;
   c->ntris = src->ntris;
-  c->idx = jnd_alloc(ni ? ni : 1, sizeof *c->idx);
-  uint32_t *remap = jnd_alloc(p->nverts ? p->nverts : 1, sizeof *remap);
-  if (!c->idx || !remap) {
-    free(remap);
-    return JND_ERR_NOMEM;
-  }
+  if (!(c->idx = jnd_alloc(ni ? ni : 1, sizeof *c->idx))) return JND_ERR_NOMEM;
   for (size_t i = 0; i < ni; i++) c->idx[i] = p->rep[src->indices[i]];
-  c->nc = meshopt_optimizeVertexFetchRemap(remap, c->idx, ni, p->nverts);
-  c->pos = jnd_alloc(c->nc ? c->nc : 1, 3 * sizeof(float));
-  c->orig = jnd_alloc(c->nc ? c->nc : 1, sizeof *c->orig);
-  if (!c->pos || !c->orig) {
-    free(remap);
-    return JND_ERR_NOMEM;
-  }
-  for (size_t v = 0; v < p->nverts; v++) {
-    if (remap[v] == UINT32_MAX) continue;
-    memcpy(c->pos + 3 * (size_t)remap[v], pos(p->verts, (uint32_t)v), 3 * sizeof(float));
-    c->orig[remap[v]] = (uint32_t)v;
-  }
-  for (size_t i = 0; i < ni; i++) c->idx[i] = remap[c->idx[i]];
-  free(remap);
+  jnd_status st = compact_vertices(c->idx, ni, p->nverts, p->verts, JND_VTX_FLOATS, &c->pos, &c->orig, &c->nc);
+  if (st) return st;
   c->scale = c->nc ? meshopt_simplifyScale(c->pos, c->nc, 3 * sizeof(float)) : 0;
   return JND_OK;
 }
@@ -470,23 +484,20 @@ static jnd_status simplify_slab(const compact_src *c, const unsigned char *slab,
   size_t ni = 0;
   for (size_t t = 0; t < c->ntris; t++) ni += slab[t] == s ? 3 : 0;
   if (ni == 0) return JND_OK;
-  uint32_t *idx = jnd_alloc(ni, sizeof *idx), *remap = jnd_alloc(c->nc, sizeof *remap);
-  uint32_t *back = jnd_alloc(ni, sizeof *back), *dst = jnd_alloc(ni, sizeof *dst);
-  float *pos = jnd_alloc(ni, 3 * sizeof(float));
-  if (!idx || !remap || !back || !dst || !pos) {
-    free(idx), free(remap), free(back), free(dst), free(pos);
+  uint32_t *idx = jnd_alloc(ni, sizeof *idx), *dst = jnd_alloc(ni, sizeof *dst), *back = NULL;
+  float *pos = NULL;
+  size_t nv = 0;
+  if (!idx || !dst) {
+    free(idx), free(dst);
     return JND_ERR_NOMEM;
   }
   for (size_t t = 0, i = 0; t < c->ntris; t++)
     if (slab[t] == s) memcpy(idx + 3 * i++, c->idx + 3 * t, 3 * sizeof *idx);
-  size_t nv = meshopt_optimizeVertexFetchRemap(remap, idx, ni, c->nc);
-  for (size_t v = 0; v < c->nc; v++)
-    if (remap[v] != UINT32_MAX) {
-      memcpy(pos + 3 * (size_t)remap[v], c->pos + 3 * v, 3 * sizeof(float));
-      back[remap[v]] = (uint32_t)v;
-    }
-  for (size_t i = 0; i < ni; i++) idx[i] = remap[idx[i]];
-  free(remap);
+  jnd_status st = compact_vertices(idx, ni, c->nc, c->pos, 3, &pos, &back, &nv);
+  if (st) {
+    free(idx), free(dst);
+    return st;
+  }
   double scale = meshopt_simplifyScale(pos, nv, 3 * sizeof(float));
   float target = 10.0f;   /* no error bound: 10 × the extent */
   size_t count = 0;
