@@ -1867,6 +1867,9 @@ typedef struct {
   jnd_lod_switch_params sw;  /* their parameters (jnd_lod_switch_defaults; coverage is poi's) */
   int builtin_map_size;      /* map side of MODEL "builtin" / "builtin:sphere" (512) */
   const char *out_dir;       /* NULL: nothing written; else created, and the model and plots written */
+  int threads;               /* screens judged at once by the perceptual step, each on a thread with
+                                a renderer of its own (0: OpenMP's default, the cores); the report
+                                is the same for every count */
   void (*progress)(void *user, const char *stage, int done, int total); /* also the analysis's */
   void *progress_user;
 } jnd_lod_run_params;

@@ -33,7 +33,8 @@ static void help(void) {
       "with P > p) against level 0 at the viewing condition (--coverage or --distance), and\n"
       "each level's switch distance (from which camera distance it may be shown), found by\n"
       "bisection on a log scale; the model's MSFT_screencoverage then comes from the first\n"
-      "screen's switch distances. See docs/lod.md.\n"
+      "screen's switch distances; screens are judged in parallel, one per --threads.\n"
+      "See docs/lod.md.\n"
       "\n"
       "chain:\n"
       "  --errors LIST       error targets relative to the model's extent, ascending\n"
@@ -245,6 +246,7 @@ static int run(int argc, char **argv) {
   p.sw.judge.views.render.samples = vo.set.render.samples;
   p.builtin_map_size = vo.map_size;
   p.chain.threads = common.threads;
+  p.threads = common.threads;
   if (!model) return cli_bad("lod: give a MODEL (a .gltf/.glb/.obj file or builtin); jnd lod --help");
   if (!dir) return cli_bad("lod: give an output folder with -o OUTDIR; jnd lod --help");
   if (p.chain.errors && p.chain.ratios) return cli_bad("lod: give --errors or --ratios, not both");

@@ -40,8 +40,29 @@ jnd_scene *jnd_scene_new(const char *path) {
   return s;
 }
 
+jnd_scene *jnd_scene_twin(const jnd_scene *s) {
+  jnd_scene *t = jnd_alloc(1, sizeof *t);
+  jnd_mesh *m = jnd_alloc(s->nmeshes ? (size_t)s->nmeshes : 1, sizeof *m);
+  if (!t || !m) {
+    free(t);
+    free(m);
+    return NULL;
+  }
+  *t = *s;
+  memcpy(m, s->meshes, (size_t)s->nmeshes * sizeof *m);
+  t->meshes = m;
+  t->id = jnd_scene_next_version();   /* a renderer tells it from s */
+  t->twin_of = s;
+  return t;
+}
+
 void jnd_scene_free(jnd_scene *s) {
   if (!s) return;
+  if (s->twin_of) {   /* the rest is its original's */
+    free(s->meshes);
+    free(s);
+    return;
+  }
   if (s->nlod > 0) {
     jnd_scene_lod_free(s);   /* the levels own every mesh array */
   } else {

@@ -81,6 +81,7 @@ struct jnd_scene {
   int threads;             /* threads resampling its maps (0: OpenMP's default); a judge on a CPU
                               rasteriser sets 1, since OpenMP workers spinning after each resize
                               take the cores the rasteriser's threads render on */
+  const jnd_scene *twin_of; /* a twin (jnd_scene_twin): owns only its meshes array */
 };
 
 /* The map in use now. */
@@ -89,6 +90,12 @@ static inline const jnd_image *jnd_map_image(const jnd_map *m) {
 }
 
 jnd_scene *jnd_scene_new(const char *path);
+/* A second handle on s for another thread (jnd_lod_run judges screens in
+ * parallel): its own level of detail shown (jnd_scene_lod_select), sharing
+ * s's levels, materials, maps and warnings, which neither may change while
+ * the twin lives. jnd_scene_free frees the twin's own part; s must outlive
+ * it. NULL when out of memory. */
+jnd_scene *jnd_scene_twin(const jnd_scene *s);
 jnd_status jnd_scene_add_warning(jnd_scene *s, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
 /* Adds a map for (material, slot); takes ownership of img. Returns its index or -1. */

@@ -37,6 +37,7 @@
  */
 #include <errno.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -936,6 +937,96 @@ static void coverage_rule(const jnd_scene *s, const jnd_poi_screen *ref, double 
            px, ref->name, ref->width_px, ref->height_px);
 }
 
+/* ---- the perceptual step's screens, in parallel ----
+ *
+ * The screens are independent, and one screen's judging keeps about one core
+ * busy on a CPU rasteriser: a small window's rendering is mostly the
+ * triangles' setup on the calling thread, and the model runs one thread
+ * beside the rasteriser's. So `threads` workers (0: the cores) take the
+ * screens w, w + W, w + 2W, ..., each with a twin of the scene (its own level
+ * shown; jnd_scene_twin) and a renderer of its own, which every judge of its
+ * screens borrows and sizes to its window. A screen's result depends on the
+ * screen alone, so the report is the same for every thread count; an error
+ * is the first failing screen's, in screen order. */
+typedef struct {
+  jnd_scene *scene;                  /* the run's (worker 0) or a twin */
+  const jnd_lod_switch_params *sp;
+  const jnd_lod_run_params *p;
+  jnd_lod_report *out;
+  int first, step;
+  jnd_status *status;                /* per screen */
+  char (*error)[512];                /* per screen: its message */
+  pthread_mutex_t *lock;             /* the progress callback and its count */
+  int *done;
+} screen_worker;
+
+static void *judge_screen_worker(void *arg) {
+  screen_worker *w = arg;
+  int n = w->out->poi.nscreens;
+  jnd_lod_switch_params sp = *w->sp;
+  jnd_renderer *r = NULL;
+  jnd_status st = JND_OK;
+  if (!sp.judge.renderer) {
+    jnd_renderer_params rp = sp.judge.views.render;
+    rp.width = rp.height = 64;   /* each judge sizes it */
+    if (!(st = jnd_renderer_create(&rp, &r))) sp.judge.renderer = r;
+  }
+  for (int i = w->first; i < n; i += w->step) {
+    if (!st) st = jnd_lod_switch_analyse(w->scene, &w->out->poi.screens[i].screen, &sp, &w->out->sw[i]);
+    w->status[i] = st;
+    if (st) {
+      snprintf(w->error[i], sizeof w->error[i], "%s", jnd_last_error());
+      continue;   /* the worker's later screens fail with it */
+    }
+    pthread_mutex_lock(w->lock);
+    ++*w->done;
+    if (w->p->progress) w->p->progress(w->p->progress_user, "perceptual choice", *w->done, n);
+    pthread_mutex_unlock(w->lock);
+  }
+  jnd_renderer_free(r);
+  return NULL;
+}
+
+static jnd_status judge_screens(jnd_scene *s, const jnd_lod_switch_params *sp, const jnd_lod_run_params *p,
+                                jnd_lod_report *out) {
+  int n = out->poi.nscreens;
+  int nw = jnd_threads(p->threads);
+  if (nw > n) nw = n;
+  if (nw > MAX_SCREENS) nw = MAX_SCREENS;
+  /* a lent renderer is one GL context: one thread */
+  if (sp->judge.renderer || nw < 1) nw = 1;
+  jnd_status status[MAX_SCREENS];
+  char error[MAX_SCREENS][512];
+  screen_worker w[MAX_SCREENS];
+  pthread_t tid[MAX_SCREENS];
+  int started[MAX_SCREENS] = {0}, done = 0;
+  pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
+  if (n > MAX_SCREENS) return jnd_fail(JND_ERR_ARG, "lod: %d screens (at most %d)", n, MAX_SCREENS);
+  for (int i = 0; i < n; i++) status[i] = JND_OK, error[i][0] = 0;
+  if (p->progress) p->progress(p->progress_user, "perceptual choice", 0, n);
+  jnd_status st = JND_OK;
+  memset(w, 0, sizeof w);
+  for (int k = 0; k < nw; k++) {
+    w[k] = (screen_worker){k == 0 ? s : jnd_scene_twin(s), sp, p, out, k, nw, status, error, &lock, &done};
+    if (!w[k].scene) {
+      st = jnd_fail(JND_ERR_NOMEM, "lod: out of memory");
+      break;
+    }
+    if (k > 0 && pthread_create(&tid[k], NULL, judge_screen_worker, &w[k]) == 0) started[k] = 1;
+  }
+  if (!st) judge_screen_worker(&w[0]);
+  for (int k = 1; k < nw; k++) {
+    if (started[k]) pthread_join(tid[k], NULL);
+    else if (!st && w[k].scene) judge_screen_worker(&w[k]);   /* no thread: on this one */
+    if (w[k].scene) jnd_scene_free(w[k].scene);
+  }
+  jnd_scene_lod_select(s, 0);
+  if (st) return st;
+  for (int i = 0; i < n; i++)
+    if (status[i]) return jnd_fail(status[i], "%s", error[i]);
+  return JND_OK;
+}
+
 jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_lod_report *out) {
   jnd_lod_run_params d;
   if (!p) {
@@ -1015,20 +1106,8 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
       vs->lights = p->poi.lights;
       sp.judge.views.render.env_path = p->poi.env_path;
       sp.judge.views.render.platform = p->poi.platform;
-      /* one renderer for every screen's judges (each sizes it to its window) */
-      jnd_renderer *r = NULL;
-      if (!sp.judge.renderer) {
-        jnd_renderer_params rp = sp.judge.views.render;
-        rp.width = rp.height = 64;   /* each judge sizes it */
-        if (!(st = jnd_renderer_create(&rp, &r))) sp.judge.renderer = r;
-      }
-      for (int i = 0; i < out->poi.nscreens && !st; i++) {
-        if (p->progress) p->progress(p->progress_user, "perceptual choice", i, out->poi.nscreens);
-        st = jnd_lod_switch_analyse(s, &out->poi.screens[i].screen, &sp, &out->sw[i]);
-        if (!st) out->nsw = i + 1;
-      }
-      jnd_renderer_free(r);
-      if (p->progress) p->progress(p->progress_user, "perceptual choice", out->poi.nscreens, out->poi.nscreens);
+      out->nsw = out->poi.nscreens;
+      st = judge_screens(s, &sp, p, out);
       if (st) {
         jnd_lod_report_free(out);
         return st;

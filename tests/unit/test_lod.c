@@ -674,6 +674,29 @@ TEST(a_written_chain_loads_back_with_every_level) {
   jnd_scene_free(s);
 }
 
+TEST(a_twin_shows_its_own_level_and_shares_the_rest) {
+  /* jnd_lod_run judges screens on threads, each on a twin of the scene:
+   * selecting a level on one must not change what the other shows */
+  jnd_scene *s = sphere_chain(32);
+  if (!s) return;
+  jnd_scene *t = jnd_scene_twin(s);
+  CHECK(t != NULL);
+  if (!t) {
+    jnd_scene_free(s);
+    return;
+  }
+  CHECK_OK(jnd_scene_lod_select(t, 2));
+  CHECK(jnd_scene_lod_selected(t) == 2 && jnd_scene_lod_selected(s) == 0);
+  CHECK(t->meshes[0].ntris == info(s, 2).triangles && s->meshes[0].ntris == info(s, 0).triangles);
+  CHECK_OK(jnd_scene_lod_select(s, 1));
+  CHECK(t->meshes[0].ntris == info(s, 2).triangles && s->meshes[0].ntris == info(s, 1).triangles);
+  CHECK(t->id != s->id);                                    /* a renderer tells them apart */
+  CHECK(t->maps == s->maps && t->lod == s->lod);           /* shared, not copied */
+  jnd_scene_free(t);                                       /* its own part only */
+  CHECK(jnd_scene_lod_count(s) >= 3 && s->meshes[0].ntris == info(s, 1).triangles);
+  jnd_scene_free(s);
+}
+
 TEST(a_mesh_without_uvs_or_normals_imports_the_same_whatever_the_heap_held) {
   /* An OBJ of positions and faces only (as bench/subdivide_obj.py writes):
    * the attributes it lacks must come out as the importer's defaults, not as
@@ -846,4 +869,5 @@ RUN_TESTS(chain_levels_lose_triangles_and_stay_within_their_targets, uv_seams_ar
           an_unlit_rendering_shows_the_base_colour, level_distances_match_a_brute_force_search,
           distance_to_a_parallel_surface_is_its_offset, surface_samples_spread_by_area,
           a_written_chain_loads_back_with_every_level, msft_lod_variants_swap_nodes_and_refuse_bad_ids,
-          a_mesh_without_uvs_or_normals_imports_the_same_whatever_the_heap_held)
+          a_mesh_without_uvs_or_normals_imports_the_same_whatever_the_heap_held,
+          a_twin_shows_its_own_level_and_shares_the_rest)
