@@ -865,6 +865,25 @@ static void box_row(const float *s, float *d, int w, int r) {
 /* one box pass down cw columns (row strides ss and ds), zero beyond the
  * first and last rows: a running sum per column, the rows walked in order
  * (vectorises across x) */
+/* box_row on BOX_ROWS rows at once: the same arithmetic, row by row, as
+ * box_row (so the same results), with the rows' running sums interleaved —
+ * one row's sum is a chain of dependent additions, and BOX_ROWS independent
+ * chains keep the adder busy. */
+#define BOX_ROWS 4
+static void box_rows(const float *const s[BOX_ROWS], float *const d[BOX_ROWS], int w, int r) {
+  const float inv = 1.0f / (float)(2 * r + 1);
+  double acc[BOX_ROWS] = {0};
+  for (int k = 0; k < BOX_ROWS; k++)
+    for (int i = 0; i <= r && i < w; i++) acc[k] += s[k][i];
+  for (int x = 0; x < w; x++) {
+    for (int k = 0; k < BOX_ROWS; k++) d[k][x] = (float)(acc[k] * inv);
+    if (x + r + 1 < w)
+      for (int k = 0; k < BOX_ROWS; k++) acc[k] += s[k][x + r + 1];
+    if (x - r >= 0)
+      for (int k = 0; k < BOX_ROWS; k++) acc[k] -= s[k][x - r];
+  }
+}
+
 JND_HOT static void box_cols(const float *src, size_t ss, float *dst, size_t ds, int cw, int h, int r) {
   const float inv = 1.0f / (float)(2 * r + 1);
   double acc[BOX_COLS];
@@ -917,7 +936,7 @@ static double summation_sigma_cycles(const jnd_model_params *p, double rho) {
  *   j'(x) = (Σ_y g(x − y) j(y)^beta)^(1/beta),  g's area counted in cycles²,
  * which makes large stimuli more visible than small ones of equal contrast
  * (area summation, Rovamo et al. 1993). D holds j^e and is updated.
- * The three horizontal passes run on one row at a time and the three
+ * The three horizontal passes run on BOX_ROWS rows at a time and the three
  * vertical ones on one block of columns at a time, in cache. */
 static jnd_status local_summation(const jnd_model *m, int band, float *D, int w, int h) {
   const double e = m->p.minkowski, beta = m->p.summation_beta;
@@ -953,21 +972,40 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, int w,
   int fail = 0;
 #pragma omp parallel num_threads(threads)
   {
-    /* two rows, then two column blocks, of scratch */
-    size_t need = (size_t)2 * w > (size_t)2 * BOX_COLS * h ? (size_t)2 * w : (size_t)2 * BOX_COLS * h;
+    /* two rows of each of BOX_ROWS rows, then two column blocks, of scratch */
+    size_t need = (size_t)2 * BOX_ROWS * w > (size_t)2 * BOX_COLS * h ? (size_t)2 * BOX_ROWS * w
+                                                                        : (size_t)2 * BOX_COLS * h;
     float *a = malloc(sizeof(float) * need);
     if (!a) {
 #pragma omp atomic write
       fail = 1;
     }
+    /* the horizontal passes, BOX_ROWS rows at a time (the last few alone) */
+    const int ngroups = (h + BOX_ROWS - 1) / BOX_ROWS;
 #pragma omp for schedule(static)
-    for (int y = 0; y < h; y++) {
+    for (int g = 0; g < ngroups; g++) {
       if (!a) continue;
-      float *t0 = a, *t1 = a + w, *out = P + (size_t)y * w;
-      pow_span(D + (size_t)y * w, t0, (size_t)w, up);
-      box_row(t0, t1, w, rk[0]);
-      box_row(t1, t0, w, rk[1]);
-      box_row(t0, out, w, rk[2]);
+      const int y0 = g * BOX_ROWS;
+      if (y0 + BOX_ROWS <= h) {
+        float *t0[BOX_ROWS], *t1[BOX_ROWS], *out[BOX_ROWS];
+        for (int k = 0; k < BOX_ROWS; k++) {
+          t0[k] = a + (size_t)2 * k * w;
+          t1[k] = t0[k] + w;
+          out[k] = P + (size_t)(y0 + k) * w;
+          pow_span(D + (size_t)(y0 + k) * w, t0[k], (size_t)w, up);
+        }
+        box_rows((const float *const *)t0, t1, w, rk[0]);
+        box_rows((const float *const *)t1, t0, w, rk[1]);
+        box_rows((const float *const *)t0, out, w, rk[2]);
+        continue;
+      }
+      for (int y = y0; y < h; y++) {
+        float *t0 = a, *t1 = a + w, *out = P + (size_t)y * w;
+        pow_span(D + (size_t)y * w, t0, (size_t)w, up);
+        box_row(t0, t1, w, rk[0]);
+        box_row(t1, t0, w, rk[1]);
+        box_row(t0, out, w, rk[2]);
+      }
     }
     const int nblocks = (w + BOX_COLS - 1) / BOX_COLS;
 #pragma omp for schedule(static)
