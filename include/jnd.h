@@ -250,6 +250,10 @@ typedef struct {
                                 (0: none, as 004); docs/model.md */
   double summation_f0_cpd;   /* f0 of that area, cycles/degree */
   double summation_beta;     /* exponent of that summation */
+  double summation_chroma_f0_cpd; /* f0 of the red–green and yellow–violet channels' own critical
+                                area A0 / (1 + (rho/f0)^2) (0: the achromatic f0 and one window
+                                for the three channels); docs/model.md "Area summation" */
+  double summation_chroma_beta; /* exponent of the chromatic channels' summation (0: summation_beta) */
   double eye_velocity_dps;   /* fixational eye movements: sensitivity to static content is the best
                                 over retinal velocities [v, v + this] (0: v only, as 004) */
   double chroma_sat_td;      /* retinal illuminance (trolands) where the chromatic square-root

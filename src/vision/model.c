@@ -130,6 +130,8 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
       !(p->eye_velocity_dps >= 0) || !(p->chroma_sat_td >= 0) || !(p->rg_cutoff_cpd > 0) || !(p->yv_cutoff_cpd > 0) ||
       !(p->chroma_temporal_hz > 0) || !(p->kelly_c2 > 0) || !(p->flicker_gain > 0))
     return jnd_fail(JND_ERR_ARG, "model: summation, eye velocity, saturation and cut-offs must be positive");
+  if (!(p->summation_chroma_f0_cpd >= 0) || !(p->summation_chroma_beta == 0 || p->summation_chroma_beta >= 1))
+    return jnd_fail(JND_ERR_ARG, "model: summation_chroma_f0_cpd must be >= 0 and summation_chroma_beta 0 or >= 1");
   if (!(p->ecc_e2_deg > 0) || !(p->ecc_achromatic >= 0) || !(p->ecc_rg >= 0) || !(p->ecc_yv >= 0) ||
       !(p->ecc_freq >= 0))
     return jnd_fail(JND_ERR_ARG, "model: eccentricity constants must be positive");
@@ -368,6 +370,8 @@ typedef struct {
   const float *coarse_mask[NCH]; /* the next coarser band's pooled maskers (at level band + 1), or NULL */
   float coarse_w;       /* their weight in this band's masking pool (band_masking_weight) */
   float *mask_out[NCH]; /* this band's pooled maskers for the next finer band, or NULL */
+  float *Dc;            /* the chromatic channels' difference, summed apart from the achromatic
+                           one (chroma_summation_apart), or NULL: all three into D */
 } band_ctx;
 
 /* One thread's rows: caches of expanded coarse rows and the row stages. */
@@ -658,8 +662,17 @@ JND_HOT static void band_rows(const band_ctx *k, row_scratch *r, int y0, int y1,
       response_row(k, r, y, r->dif[0], NULL);
       float *drow = D + (size_t)y * w;
       const float *d0 = r->dif[0][0], *d1 = r->dif[0][1], *d2 = r->dif[0][2];
+      if (k->Dc) {
+        float *crow = k->Dc + (size_t)y * w;
 #pragma omp simd
-      for (int x = 0; x < w; x++) drow[x] = jnd_fast_pow(d0[x], e) + jnd_fast_pow(d1[x], e) + jnd_fast_pow(d2[x], e);
+        for (int x = 0; x < w; x++) {
+          drow[x] = jnd_fast_pow(d0[x], e);
+          crow[x] = jnd_fast_pow(d1[x], e) + jnd_fast_pow(d2[x], e);
+        }
+      } else {
+#pragma omp simd
+        for (int x = 0; x < w; x++) drow[x] = jnd_fast_pow(d0[x], e) + jnd_fast_pow(d1[x], e) + jnd_fast_pow(d2[x], e);
+      }
     }
     return;
   }
@@ -685,7 +698,8 @@ JND_HOT static void band_rows(const band_ctx *k, row_scratch *r, int y0, int y1,
     for (int c = 0; c < NCH; c++) {
       const float *d = r->dif[(y + 6) % 3][c];
       const float *own = r->pooled[c], *o1 = r->pooled[(c + 1) % NCH], *o2 = r->pooled[(c + 2) % NCH];
-      if (c == 0) {
+      if (c == 1 && k->Dc) drow = k->Dc + (size_t)y * w; /* the chromatic channels apart */
+      if (c == 0 || (c == 1 && k->Dc)) {
 #pragma omp simd
         for (int x = 0; x < w; x++) drow[x] = jnd_fast_pow(d[x] * jnd_masking_gain(own[x] + cross * (o1[x] + o2[x]), slope), e);
       } else {
@@ -791,10 +805,11 @@ static float band_masking_weight(const jnd_model *m, int band) {
  * coarser band's pooled maskers (NULL: none); mask_out: where this band's
  * go (NULL: not needed). */
 static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, float *xexp[2][3],
-                                  float *D, float *const coarse[NCH], float *const mask_out[NCH]) {
+                                  float *D, float *Dc, float *const coarse[NCH], float *const mask_out[NCH]) {
   band_ctx k;
   jnd_status s = band_setup(m, st, band, &k);
   if (s != JND_OK) return s;
+  k.Dc = Dc;
   for (int a = 0; a < 2; a++)
     for (int c = 0; c < 3; c++) k.xexp[a][c] = xexp[a][c];
   for (int c = 0; c < NCH; c++) {
@@ -831,17 +846,23 @@ static void baseband_rows(const band_ctx *k, row_scratch *r, int y0, int y1, flo
       }
       float o[3];
       jnd_opponent(dc[0], dc[1], dc[2], &o[0], &o[1], &o[2]);
-      float d = 0;
-      for (int c = 0; c < NCH; c++) d += jnd_fast_pow(fabsf(o[c] * r->sens[c][x]), k->e);
-      drow[x] = d;
+      float d[NCH];
+      for (int c = 0; c < NCH; c++) d[c] = jnd_fast_pow(fabsf(o[c] * r->sens[c][x]), k->e);
+      if (k->Dc) {
+        drow[x] = d[0];
+        k->Dc[(size_t)y * k->w + x] = d[1] + d[2];
+      } else {
+        drow[x] = d[0] + d[1] + d[2];
+      }
     }
   }
 }
 
-static jnd_status baseband_difference(const jnd_model *m, diff_state *st, float *D) {
+static jnd_status baseband_difference(const jnd_model *m, diff_state *st, float *D, float *Dc) {
   band_ctx k;
   jnd_status s = band_setup(m, st, m->nbands, &k);
   if (s != JND_OK) return s;
+  k.Dc = Dc;
   s = band_parallel(&k, D, baseband_rows);
   band_free(&k);
   return s;
@@ -911,8 +932,18 @@ JND_HOT static void pow_span(const float *src, float *dst, size_t n, float e) {
   for (size_t i = 0; i < n; i++) dst[i] = jnd_fast_pow(src[i], e);
 }
 
-/* pooled = (gain · sum)^down, at most bound × the pixel's own value */
-JND_HOT static void pool_cap_span(const float *sum, float *d, size_t n, float gain, float down, float bound) {
+/* pooled = (gain · sum)^down, at most bound × the pixel's own value d,
+ * into d, or added to acc where acc is given */
+JND_HOT static void pool_cap_span(const float *sum, float *d, float *acc, size_t n, float gain, float down,
+                                  float bound) {
+  if (acc) {
+#pragma omp simd
+    for (size_t i = 0; i < n; i++) {
+      float pooled = jnd_fast_pow(sum[i] * gain, down), cap = bound * d[i];
+      acc[i] += pooled < cap ? pooled : cap;
+    }
+    return;
+  }
 #pragma omp simd
   for (size_t i = 0; i < n; i++) {
     float pooled = jnd_fast_pow(sum[i] * gain, down), cap = bound * d[i];
@@ -924,9 +955,23 @@ JND_HOT static void pool_cap_span(const float *sum, float *d, size_t n, float ga
  * σ in cycles of the band: its area 2πσ² (deg², at ρ cycles a degree) is
  * Rovamo, Luntinen & Näsänen's (1993) critical area A_c = A0 / (1 + (ρ/f0)²),
  * the area up to which sensitivity grows with stimulus area. */
-static double summation_sigma_cycles(const jnd_model_params *p, double rho) {
-  double ac = p->summation_area_deg2 / (1.0 + (rho / p->summation_f0_cpd) * (rho / p->summation_f0_cpd));
+static double summation_sigma_cycles(const jnd_model_params *p, double rho, double f0) {
+  double ac = p->summation_area_deg2 / (1.0 + (rho / f0) * (rho / f0));
   return sqrt(ac / (2.0 * M_PI)) * rho;
+}
+
+/* Whether the chromatic channels are summed over their own window
+ * (docs/model.md "Area summation"): a chromatic f0 or exponent of its own.
+ * Chromatic gratings, too, grow more visible with their number of cycles
+ * (Lucassen et al. 2018, experiment 2), but over a critical area of their
+ * own: castleCSF (Ashraf et al. 2024) gives each colour mechanism its own
+ * A0 / (1 + (rho/f0)^2). We share A0 (the saturation at the lowest
+ * frequencies) and give the two chromatic channels their own f0 and
+ * exponent; 0 keeps the one window of the three channels. */
+static int chroma_summation_apart(const jnd_model_params *p) {
+  return p->summation_area_deg2 > 0 &&
+         ((p->summation_chroma_f0_cpd > 0 && p->summation_chroma_f0_cpd != p->summation_f0_cpd) ||
+          (p->summation_chroma_beta > 0 && p->summation_chroma_beta != p->summation_beta));
 }
 
 /* Local probability summation (our extension of 004, docs/model.md): a band's
@@ -935,14 +980,17 @@ static double summation_sigma_cycles(const jnd_model_params *p, double rho) {
  * (summation_sigma_cycles, three box passes) with exponent summation_beta:
  *   j'(x) = (Σ_y g(x − y) j(y)^beta)^(1/beta),  g's area counted in cycles²,
  * which makes large stimuli more visible than small ones of equal contrast
- * (area summation, Rovamo et al. 1993). D holds j^e and is updated.
- * The three horizontal passes run on BOX_ROWS rows at a time and the three
- * vertical ones on one block of columns at a time, in cache. */
-static jnd_status local_summation(const jnd_model *m, int band, float *D, int w, int h) {
-  const double e = m->p.minkowski, beta = m->p.summation_beta;
+ * (area summation, Rovamo et al. 1993). D holds j^e and is updated, or,
+ * with acc, the pooled values are added to acc. The three horizontal passes
+ * run on BOX_ROWS rows at a time and the three vertical ones on one block
+ * of columns at a time, in cache. f0 and beta: the channels' own critical
+ * area and exponent (summation_levels). */
+static jnd_status local_summation(const jnd_model *m, int band, float *D, float *acc, int w, int h, double f0,
+                                  double beta) {
+  const double e = m->p.minkowski;
   /* samples of this level per cycle of the band's peak frequency */
   const double spc = 1.0 / (m->band_cpp[band] * ldexp(1.0, band));
-  const double sigma = summation_sigma_cycles(&m->p, m->band_cpd[band]) * spc;
+  const double sigma = summation_sigma_cycles(&m->p, m->band_cpd[band], f0) * spc;
   /* three boxes of widths n_k = 2 r_k + 1 have variance Σ (n_k² − 1) / 12;
    * radii r and r + 1 mixed so that it comes within a fraction of a step of
    * σ² (the window, and the fit's derivatives, then change smoothly with σ) */
@@ -1017,12 +1065,27 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, int w,
       box_cols(b0, BOX_COLS, b1, BOX_COLS, cw, h, rk[1]);
       box_cols(b1, BOX_COLS, b0, BOX_COLS, cw, h, rk[2]);
       for (int y = 0; y < h; y++)
-        pool_cap_span(b0 + (size_t)y * BOX_COLS, D + (size_t)y * w + x0, (size_t)cw, gain, down, bound);
+        pool_cap_span(b0 + (size_t)y * BOX_COLS, D + (size_t)y * w + x0, acc ? acc + (size_t)y * w + x0 : NULL,
+                      (size_t)cw, gain, down, bound);
     }
     free(a);
   }
   free(P);
   return fail ? jnd_fail(JND_ERR_NOMEM, "model: out of memory") : JND_OK;
+}
+
+/* Local summation of one level's difference: D holds all three channels,
+ * or, with Dc, the achromatic one while Dc holds the two chromatic ones,
+ * each summed over its own window and the two then added (Minkowski over
+ * the channels, as before summation). */
+static jnd_status summation_levels(const jnd_model *m, int band, float *D, float *Dc, int w, int h) {
+  const jnd_model_params *p = &m->p;
+  if (!(p->summation_area_deg2 > 0)) return JND_OK;
+  jnd_status s = local_summation(m, band, D, NULL, w, h, p->summation_f0_cpd, p->summation_beta);
+  if (s != JND_OK || !Dc) return s;
+  const double f0 = p->summation_chroma_f0_cpd > 0 ? p->summation_chroma_f0_cpd : p->summation_f0_cpd;
+  const double beta = p->summation_chroma_beta > 0 ? p->summation_chroma_beta : p->summation_beta;
+  return local_summation(m, band, Dc, D, w, h, f0, beta); /* pooled into D */
 }
 
 static void state_free(diff_state *st) {
@@ -1155,6 +1218,7 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
    * can take in the next coarser band's pooled maskers (kept at that
    * band's level: 3/4 of a float a pixel at most) */
   const int xband = m->p.masking_band_oct > 0 && !st.uniform[0] && !st.uniform[1];
+  const int apart = chroma_summation_apart(&m->p);
   float *mk_coarse[NCH] = {0}, *mk_this[NCH] = {0};
   for (int b = nb - 1; b >= 0 && s == JND_OK; b--) {
     int w1 = st.g[0][0].w[b + 1], h1 = st.g[0][0].h[b + 1];
@@ -1174,32 +1238,42 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
           break;
         }
       }
+    float *Dc = NULL;
     if (s == JND_OK) {
       Dlev[b] = jnd_alloc((size_t)st.g[0][0].w[b] * st.g[0][0].h[b], sizeof(float));
       if (!Dlev[b]) s = JND_ERR_NOMEM;
     }
+    if (s == JND_OK && apart) {
+      Dc = jnd_alloc((size_t)st.g[0][0].w[b] * st.g[0][0].h[b], sizeof(float));
+      if (!Dc) s = JND_ERR_NOMEM;
+    }
     if (s == JND_OK)
-      s = band_difference(m, &st, b, xexp, Dlev[b], xband && mk_coarse[0] ? mk_coarse : NULL,
+      s = band_difference(m, &st, b, xexp, Dlev[b], Dc, xband && mk_coarse[0] ? mk_coarse : NULL,
                           xband && b > 0 ? mk_this : NULL);
     for (int c = 0; c < NCH; c++) {
       free(mk_coarse[c]);
       mk_coarse[c] = mk_this[c];
       mk_this[c] = NULL;
     }
-    if (s == JND_OK && m->p.summation_area_deg2 > 0)
-      s = local_summation(m, b, Dlev[b], st.g[0][0].w[b], st.g[0][0].h[b]);
+    if (s == JND_OK) s = summation_levels(m, b, Dlev[b], Dc, st.g[0][0].w[b], st.g[0][0].h[b]);
+    free(Dc);
     for (int a = 0; a < 2; a++)
       for (int c = 0; c < 3; c++) free(xexp[a][c]);
   }
   for (int c = 0; c < NCH; c++) free(mk_coarse[c]);
   /* the baseband, as one more level below the coarsest band */
   if (s == JND_OK) {
+    float *Dc = NULL;
     Dlev[nb] = jnd_alloc((size_t)st.g[0][0].w[nb] * st.g[0][0].h[nb], sizeof(float));
     if (!Dlev[nb]) s = JND_ERR_NOMEM;
+    if (s == JND_OK && apart) {
+      Dc = jnd_alloc((size_t)st.g[0][0].w[nb] * st.g[0][0].h[nb], sizeof(float));
+      if (!Dc) s = JND_ERR_NOMEM;
+    }
+    if (s == JND_OK) s = baseband_difference(m, &st, Dlev[nb], Dc);
+    if (s == JND_OK) s = summation_levels(m, nb, Dlev[nb], Dc, st.g[0][0].w[nb], st.g[0][0].h[nb]);
+    free(Dc);
   }
-  if (s == JND_OK) s = baseband_difference(m, &st, Dlev[nb]);
-  if (s == JND_OK && m->p.summation_area_deg2 > 0)
-    s = local_summation(m, nb, Dlev[nb], st.g[0][0].w[nb], st.g[0][0].h[nb]);
   if (s != JND_OK) goto done;
   state_free(&st);
   memset(&st, 0, sizeof st);

@@ -768,6 +768,62 @@ static double jnd_of_xyz(jnd_model *m, const jnd_image *a, const jnd_image *b) {
   return v;
 }
 
+/* docs/model.md "Area summation": the chromatic channels may be summed over
+ * a critical area of their own (summation_chroma_f0_cpd). A smaller
+ * chromatic window takes size summation from a red–green patch (a large
+ * one gains less over a small one) and leaves an achromatic one exactly as
+ * it was; equal constants give the one shared window. */
+static jnd_model *chroma_summation_model(double chroma_f0) {
+  jnd_model_params p;
+  jnd_model_defaults(&p);
+  p.display.ppd = 32;
+  p.summation_chroma_f0_cpd = chroma_f0;
+  p.summation_chroma_beta = 0;
+  jnd_model *m = NULL;
+  return jnd_model_create(&p, &m) == JND_OK ? m : NULL;
+}
+
+TEST(colour_is_summed_over_its_own_window_and_luminance_over_its_own) {
+  const int n = 512; /* 16°: the shared window (σ up to 5°) stays inside the image */
+  const double f = 2.0 / 32; /* 2 cpd */
+  double ach[2][2], rg[2][2]; /* [model: shared, apart][small, large] */
+  jnd_model_params d;
+  jnd_model_defaults(&d);
+  for (int k = 0; k < 2; k++) {
+    jnd_model *m = chroma_summation_model(k ? 0.1 * d.summation_f0_cpd : 0);
+    CHECK(m != NULL);
+    jnd_image flat = cone_grating(n, 0, 0, 0, f, 8);
+    for (int z = 0; z < 2; z++) {
+      double sigma = z ? 48 : 8;
+      jnd_image a = cone_grating(n, 0.004, 0.004, 0.004, f, sigma), c = cone_grating(n, 0.002, -0.004, 0, f, sigma);
+      ach[k][z] = jnd_of_xyz(m, &flat, &a);
+      rg[k][z] = jnd_of_xyz(m, &flat, &c);
+      jnd_image_free(&a);
+      jnd_image_free(&c);
+    }
+    jnd_image_free(&flat);
+    jnd_model_free(m);
+  }
+  fprintf(stderr, "achromatic small/large %.4f/%.4f vs %.4f/%.4f; red-green %.4f/%.4f vs %.4f/%.4f\n", ach[0][0],
+          ach[0][1], ach[1][0], ach[1][1], rg[0][0], rg[0][1], rg[1][0], rg[1][1]);
+  for (int z = 0; z < 2; z++) {
+    CHECK(ach[0][z] > 0);
+    CHECK_NEAR(ach[1][z] / ach[0][z], 1.0, 1e-4); /* luminance keeps its window */
+  }
+  CHECK_LT(rg[1][1], rg[0][1]);                              /* less summation over a large red–green patch */
+  CHECK_LT(rg[1][1] / rg[1][0], 0.95 * (rg[0][1] / rg[0][0])); /* a large patch gains less over a small one */
+
+  /* equal constants: the one shared window, whichever path computes it */
+  jnd_model *shared = chroma_summation_model(0), *same = chroma_summation_model(d.summation_f0_cpd * (1 + 1e-9));
+  CHECK(shared != NULL && same != NULL);
+  jnd_image flat = cone_grating(n, 0, 0, 0, f, 8), both = cone_grating(n, 0.006, -0.002, 0.004, f, 24);
+  CHECK_NEAR(jnd_of_xyz(same, &flat, &both) / jnd_of_xyz(shared, &flat, &both), 1.0, 1e-4);
+  jnd_image_free(&flat);
+  jnd_image_free(&both);
+  jnd_model_free(shared);
+  jnd_model_free(same);
+}
+
 /* 004 §3.2: differences are combined across channels (and bands) by
  * Minkowski summation with exponent 2.4. Equal cone contrasts (c, c, c) move
  * only Hunt's A; cone contrasts (d, −2d, 0) move only a and b (A's row
@@ -1035,6 +1091,7 @@ RUN_TESTS(flicker_sensitivity_is_band_pass_at_low_spatial_frequency_and_low_pass
           psychometric_function_follows_000_eq4_at_hand_values, masking_gain_is_the_slope_of_004s_transducer_at_hand_values,
           suprathreshold_pedestal_raises_the_threshold_with_legges_slope,
           channels_combine_by_minkowski_summation_with_exponent_2_4,
+          colour_is_summed_over_its_own_window_and_luminance_over_its_own,
           motion_map_becomes_retinal_velocity_through_fps_ppd_and_daly, barten_csf_follows_004_at_hand_values,
           achromatic_csf_follows_004_at_hand_values,
           chromatic_csf_scales_with_the_square_root_of_retinal_illuminance,
