@@ -768,6 +768,67 @@ static double jnd_of_xyz(jnd_model *m, const jnd_image *a, const jnd_image *b) {
   return v;
 }
 
+/* The model is separable and symmetric in x and y (the pyramid's 5 × 5
+ * binomial, the masking pool, local summation's box passes along rows and
+ * columns; no fixation point), so a transposed pair gives
+ * the transposed map: a check that the row passes, which run on several
+ * rows at once, give every row its own sums. The sizes are not multiples
+ * of four, so the last rows of a level take the one-row path. */
+static jnd_image transposed(const jnd_image *a) {
+  jnd_image t;
+  jnd_image_alloc(&t, a->h, a->w, a->c);
+  for (int c = 0; c < a->c; c++)
+    for (int y = 0; y < a->h; y++)
+      for (int x = 0; x < a->w; x++)
+        jnd_image_plane(&t, c)[(size_t)x * a->h + y] = jnd_image_plane(a, c)[(size_t)y * a->w + x];
+  return t;
+}
+
+TEST(a_transposed_image_gives_the_transposed_map) {
+  const int w = 203, h = 131;
+  jnd_image ref, test;
+  jnd_image_alloc(&ref, w, h, 3);
+  jnd_image_alloc(&test, w, h, 3);
+  for (int y = 0; y < h; y++)
+    for (int x = 0; x < w; x++) {
+      /* a small Gabor off the centre and a bar: rows differ from each other */
+      double dx = x - 70.0, dy = y - 41.0;
+      double g = 0.02 * exp(-(dx * dx + dy * dy) / (2 * 6.0 * 6.0)) * cos(2 * M_PI * 0.1 * (dx + 0.5 * dy));
+      double bar = (x > 120 && x < 180 && y > 90 && y < 96) ? 0.01 : 0;
+      for (int c = 0; c < 3; c++) {
+        jnd_image_plane(&ref, c)[(size_t)y * w + x] = 40.0f;
+        jnd_image_plane(&test, c)[(size_t)y * w + x] = (float)(40.0 * (1 + g + bar));
+      }
+    }
+  jnd_image rt = transposed(&ref), tt = transposed(&test);
+  jnd_model_params p;
+  jnd_model_defaults(&p);
+  p.display.ppd = 30;
+  p.threads = 1;
+  jnd_model *m = NULL;
+  CHECK(jnd_model_create(&p, &m) == JND_OK);
+  jnd_image map, mapt;
+  CHECK(jnd_model_diff(m, &ref, &test, NULL, &map) == JND_OK);
+  CHECK(jnd_model_diff(m, &rt, &tt, NULL, &mapt) == JND_OK);
+  double worst = 0, peak = 0;
+  for (int y = 0; y < h; y++)
+    for (int x = 0; x < w; x++) {
+      double a = map.data[(size_t)y * w + x], b = mapt.data[(size_t)x * h + y];
+      worst = fmax(worst, fabs(a - b));
+      peak = fmax(peak, a);
+    }
+  fprintf(stderr, "transposed: peak %.4f JND, largest difference %.2g\n", peak, worst);
+  CHECK(peak > 0.3);
+  CHECK_LT(worst, 1e-3 * peak);
+  jnd_image_free(&map);
+  jnd_image_free(&mapt);
+  jnd_image_free(&ref);
+  jnd_image_free(&test);
+  jnd_image_free(&rt);
+  jnd_image_free(&tt);
+  jnd_model_free(m);
+}
+
 /* docs/model.md "Area summation": the chromatic channels may be summed over
  * a critical area of their own (summation_chroma_f0_cpd). A smaller
  * chromatic window takes size summation from a red–green patch (a large
@@ -1092,6 +1153,7 @@ RUN_TESTS(flicker_sensitivity_is_band_pass_at_low_spatial_frequency_and_low_pass
           suprathreshold_pedestal_raises_the_threshold_with_legges_slope,
           channels_combine_by_minkowski_summation_with_exponent_2_4,
           colour_is_summed_over_its_own_window_and_luminance_over_its_own,
+          a_transposed_image_gives_the_transposed_map,
           motion_map_becomes_retinal_velocity_through_fps_ppd_and_daly, barten_csf_follows_004_at_hand_values,
           achromatic_csf_follows_004_at_hand_values,
           chromatic_csf_scales_with_the_square_root_of_retinal_illuminance,
