@@ -216,10 +216,15 @@ static double object_px_at(const oracle *o, double d) {
   return fmin(jnd_coverage_at_distance(o->radius, d, o->fov), 1.0) * o->screen_h;
 }
 
-/* The judges' parameters for views at distance d in a window of side R on
- * the screen scaled by scale: the window's field of view, its pixels and
- * the scaled display's pixels per degree. */
-static jnd_judge_params params_at(const oracle *o, double d, int R, double scale) {
+/* The judges' parameters for views at distance d: step 1's window (side
+ * *R) and screen scale (*scale) there, the window's field of view, its
+ * pixels and the scaled display's pixels per degree. */
+static jnd_judge_params params_at(const oracle *o, double d, int *Rp, double *scalep) {
+  int R;
+  double scale;
+  window_at(object_px_at(o, d), o->p->max_px, &R, &scale);
+  *Rp = R;
+  *scalep = scale;
   jnd_judge_params jp = o->jp;
   jp.views.sampling.distance = d;
   jp.views.sampling.fov_y_deg = 2 * atan((double)R / (scale * o->screen_h) * tan(o->fov * M_PI / 360)) * 180 / M_PI;
@@ -234,10 +239,7 @@ static jnd_judge_params params_at(const oracle *o, double d, int R, double scale
  * directions and lights at every distance), their references level 0. */
 static jnd_status judge_at(oracle *o, int g) {
   int R;
-  double scale;
-  window_at(object_px_at(o, o->grid[g]), o->p->max_px, &R, &scale);
-  o->scale[g] = scale;
-  jnd_judge_params jp = params_at(o, o->grid[g], R, scale);
+  jnd_judge_params jp = params_at(o, o->grid[g], &R, &o->scale[g]);
   jnd_status st = jnd_scene_lod_select(o->scene, 0);
   if (!st) st = jnd_judge_create(o->scene, &jp, &o->judge[g]);
   if (!st) o->out->distances++;
@@ -324,8 +326,7 @@ static jnd_status pop_step(oracle *o, jnd_lod_switch_result *out) {
     double from = fmax(out->switch_distance_criterion[k], out->switch_distance[k - 1]);
     int R;
     double scale;
-    window_at(object_px_at(o, from), p->max_px, &R, &scale);
-    jnd_judge_params jp = params_at(o, from, R, scale);
+    jnd_judge_params jp = params_at(o, from, &R, &scale);
     if (!(scale == m_scale)) {   /* the model's display has the scaled pixels per degree */
       jnd_model_free(m);
       m = NULL;
