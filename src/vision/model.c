@@ -883,9 +883,6 @@ static void box_row(const float *s, float *d, int w, int r) {
   }
 }
 
-/* one box pass down cw columns (row strides ss and ds), zero beyond the
- * first and last rows: a running sum per column, the rows walked in order
- * (vectorises across x) */
 /* box_row on BOX_ROWS rows at once: the same arithmetic, row by row, as
  * box_row (so the same results), with the rows' running sums interleaved —
  * one row's sum is a chain of dependent additions, and BOX_ROWS independent
@@ -905,6 +902,9 @@ static void box_rows(const float *const s[BOX_ROWS], float *const d[BOX_ROWS], i
   }
 }
 
+/* one box pass down cw columns (row strides ss and ds), zero beyond the
+ * first and last rows: a running sum per column, the rows walked in order
+ * (vectorises across x) */
 JND_HOT static void box_cols(const float *src, size_t ss, float *dst, size_t ds, int cw, int h, int r) {
   const float inv = 1.0f / (float)(2 * r + 1);
   double acc[BOX_COLS];
