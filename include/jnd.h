@@ -289,6 +289,9 @@ typedef struct {
   double prior_sd;           /* its width, natural-log units */
   double lo, hi;             /* bounds */
   const char *source;        /* where the prior comes from */
+  int held;                  /* 1: a fit keeps it at its prior unless asked to fit it
+                                (jnd_csf_options.fit_mask), because one data set alone
+                                would set it for all the others (docs/model.md) */
 } jnd_model_constant;
 
 /* The fittable constants: fills list[0..max) (list may be NULL) and returns
@@ -1291,7 +1294,7 @@ typedef struct {
   int search_every;          /* fits use every N-th row of each data set (1: all); the reported
                                 predictions always use every row */
   int max_iterations;        /* Levenberg–Marquardt iterations of a fit (default 40) */
-  int fit_mask_set;          /* 1: fit_mask says which constants to fit; 0: all of them */
+  int fit_mask_set;          /* 1: fit_mask says which constants to fit; 0: all not held */
   unsigned long long fit_mask; /* bit k: jnd_model_constants()[k] */
   double prior_weight_db;    /* the priors weigh as much as one row off by this × (constant −
                                 prior) / prior_sd, in dB (default 4) */

@@ -33,7 +33,8 @@ static void help(void) {
       "                      docs/model.md) and predict with them\n"
       "  --cross-validate    leave-one-data-set-out: refit on all data sets but one,\n"
       "                      predict that one, for each data set\n"
-      "  --fit-only A,B,...  fit only these constants (default: all of them)\n"
+      "  --fit-only A,B,...  fit only these constants (default: all but those\n"
+      "                      --list-constants shows as held at their prior)\n"
       "  --search-every N    fits search on every N-th row of each data set (default 1);\n"
       "                      every reported figure uses all rows\n"
       "  --iterations N      Levenberg-Marquardt iterations of a fit (default 40)\n"
@@ -59,10 +60,10 @@ static int list_constants(void) {
   int n = jnd_model_constants(c, JND_MAX_CONSTANTS);
   jnd_model_params p;
   jnd_model_defaults(&p);
-  printf("%-20s %12s %12s %8s  %s\n", "constant", "default", "prior", "prior sd", "what (prior's source)");
+  printf("%-24s %12s %12s %8s %6s  %s\n", "constant", "default", "prior", "prior sd", "fitted", "what (prior's source)");
   for (int k = 0; k < n; k++)
-    printf("%-20s %12.5g %12.5g %8.2f  %s (%s)\n", c[k]->name, jnd_model_constant_get(&p, k), c[k]->prior,
-           c[k]->prior_sd, c[k]->what, c[k]->source);
+    printf("%-24s %12.5g %12.5g %8.2f %6s  %s (%s)\n", c[k]->name, jnd_model_constant_get(&p, k), c[k]->prior,
+           c[k]->prior_sd, c[k]->held ? "held" : "yes", c[k]->what, c[k]->source);
   return EXIT_OK;
 }
 

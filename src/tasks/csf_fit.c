@@ -308,7 +308,7 @@ jnd_status jnd_csf_evaluate(const jnd_csf_data *d, const jnd_model_params *base,
   const jnd_model_constant *list[JND_MAX_CONSTANTS];
   const int nc = jnd_model_constants(list, JND_MAX_CONSTANTS);
   for (int k = 0; k < nc; k++) {
-    if (opt->fit_mask_set && !(opt->fit_mask >> k & 1)) continue;
+    if (opt->fit_mask_set ? !(opt->fit_mask >> k & 1) : list[k]->held) continue;
     double v = jnd_model_constant_get(base, k);
     if (!(v > 0)) continue; /* a constant at 0 is switched off, not fitted */
     f.idx[f.K] = k;

@@ -76,24 +76,26 @@ void jnd_model_defaults(jnd_model_params *p) {
    * by jnd csf --fit (scripts/fit-model.sh): maximum a posteriori with the
    * priors of constants.c; the comment is one posterior standard deviation.
    * docs/model.md has the procedure and the errors. */
-  p->sensitivity = 0.80465; /* ±8% */
-  p->sens_rg = 648.51; /* ±14% */
-  p->sens_yv = 447.76; /* ±16% */
-  p->rg_cutoff_cpd = 1.3536; /* ±13% */
-  p->yv_cutoff_cpd = 1.0834; /* ±16% */
-  p->chroma_sat_td = 133.39; /* ±38% */
-  p->chroma_temporal_hz = 9.2752; /* ±6% */
-  p->kelly_c2 = 0.84877; /* ±4% */
-  p->flicker_gain = 0.8244; /* ±7% */
-  p->eye_velocity_dps = 108.69; /* ±95% */
-  p->summation_area_deg2 = 363.16; /* ±33% */
-  p->summation_f0_cpd = 1.5988; /* ±27% */
-  p->summation_beta = 4.0373; /* ±8% */
-  p->ecc_e2_deg = 4.4019; /* ±45% */
-  p->ecc_achromatic = 0.30769; /* ±37% */
-  p->ecc_rg = 1.2651; /* ±21% */
-  p->ecc_yv = 0.71028; /* ±32% */
-  p->ecc_freq = 0.052035; /* ±11% */
+  p->sensitivity = 0.65437; /* ±8% */
+  p->sens_rg = 612.41; /* ±14% */
+  p->sens_yv = 434.51; /* ±15% */
+  p->rg_cutoff_cpd = 1.3558; /* ±18% */
+  p->yv_cutoff_cpd = 1.1493; /* ±20% */
+  p->chroma_sat_td = 100; /* held at its prior (constants.c): not fitted */
+  p->chroma_temporal_hz = 9.3662; /* ±6% */
+  p->kelly_c2 = 0.85294; /* ±3% */
+  p->flicker_gain = 0.795; /* ±8% */
+  p->eye_velocity_dps = 80.373; /* ±84% */
+  p->summation_area_deg2 = 336.73; /* ±28% */
+  p->summation_f0_cpd = 1.237; /* ±55% */
+  p->summation_beta = 3.1786; /* ±9% */
+  p->summation_chroma_f0_cpd = 0.1708; /* ±34% */
+  p->summation_chroma_beta = 3.5296; /* ±24% */
+  p->ecc_e2_deg = 6.5192; /* ±45% */
+  p->ecc_achromatic = 0.24409; /* ±44% */
+  p->ecc_rg = 1.3104; /* ±23% */
+  p->ecc_yv = 0.71233; /* ±35% */
+  p->ecc_freq = 0.058665; /* ±10% */
   p->min_band_cpd = 0.125; /* chosen, not fitted: the lowest frequency in the data */
 }
 
@@ -868,18 +870,25 @@ static jnd_status baseband_difference(const jnd_model *m, diff_state *st, float 
   return s;
 }
 
-/* One box pass of odd width 2r+1 along a row, zero beyond its ends: the
- * viewer sees nothing past the image's border, so a difference near it is
- * summed over fewer detectors (mirroring would add reflected copies of it,
- * and make a small stimulus in a small image look like a large one). */
-static void box_row(const float *s, float *d, int w, int r) {
+/* One box pass of odd width 2r+1 along a row of n samples, zero beyond its
+ * ends: d[i] = mean of s[from + i − r … from + i + r], for m outputs. With
+ * from < 0 and m > n the output runs past the row's ends, so that the next
+ * pass still has what this one spread beyond the border: three such passes
+ * are one window over the image's samples, each sample counted however near
+ * the border it lies (docs/model.md "Area summation"). Zero, not mirrored:
+ * the viewer sees nothing past the image's border, so a difference near it
+ * is summed over fewer detectors (mirroring would add reflected copies of
+ * it, and make a small stimulus in a small image look like a large one). */
+static void box_row(const float *s, int n, float *d, int from, int m, int r) {
   const float inv = 1.0f / (float)(2 * r + 1);
   double acc = 0;
-  for (int i = 0; i <= r && i < w; i++) acc += s[i];
-  for (int x = 0; x < w; x++) {
-    d[x] = (float)(acc * inv);
-    if (x + r + 1 < w) acc += s[x + r + 1];
-    if (x - r >= 0) acc -= s[x - r];
+  for (int j = from - r; j <= from + r; j++)
+    if (j >= 0 && j < n) acc += s[j];
+  for (int i = 0; i < m; i++) {
+    d[i] = (float)(acc * inv);
+    const int add = from + i + r + 1, sub = from + i - r;
+    if (add >= 0 && add < n) acc += s[add];
+    if (sub >= 0 && sub < n) acc -= s[sub];
   }
 }
 
@@ -888,41 +897,47 @@ static void box_row(const float *s, float *d, int w, int r) {
  * one row's sum is a chain of dependent additions, and BOX_ROWS independent
  * chains keep the adder busy. */
 #define BOX_ROWS 4
-static void box_rows(const float *const s[BOX_ROWS], float *const d[BOX_ROWS], int w, int r) {
+static void box_rows(const float *const s[BOX_ROWS], int n, float *const d[BOX_ROWS], int from, int m, int r) {
   const float inv = 1.0f / (float)(2 * r + 1);
   double acc[BOX_ROWS] = {0};
-  for (int k = 0; k < BOX_ROWS; k++)
-    for (int i = 0; i <= r && i < w; i++) acc[k] += s[k][i];
-  for (int x = 0; x < w; x++) {
-    for (int k = 0; k < BOX_ROWS; k++) d[k][x] = (float)(acc[k] * inv);
-    if (x + r + 1 < w)
-      for (int k = 0; k < BOX_ROWS; k++) acc[k] += s[k][x + r + 1];
-    if (x - r >= 0)
-      for (int k = 0; k < BOX_ROWS; k++) acc[k] -= s[k][x - r];
+  for (int j = from - r; j <= from + r; j++)
+    if (j >= 0 && j < n)
+      for (int k = 0; k < BOX_ROWS; k++) acc[k] += s[k][j];
+  for (int i = 0; i < m; i++) {
+    for (int k = 0; k < BOX_ROWS; k++) d[k][i] = (float)(acc[k] * inv);
+    const int add = from + i + r + 1, sub = from + i - r;
+    if (add >= 0 && add < n)
+      for (int k = 0; k < BOX_ROWS; k++) acc[k] += s[k][add];
+    if (sub >= 0 && sub < n)
+      for (int k = 0; k < BOX_ROWS; k++) acc[k] -= s[k][sub];
   }
 }
 
-/* one box pass down cw columns (row strides ss and ds), zero beyond the
- * first and last rows: a running sum per column, the rows walked in order
- * (vectorises across x) */
-JND_HOT static void box_cols(const float *src, size_t ss, float *dst, size_t ds, int cw, int h, int r) {
+/* box_row down cw columns at once (row strides ss and ds): src has n rows,
+ * dst gets m, dst row i the mean of src rows from + i − r … from + i + r,
+ * zero beyond src's first and last rows; a running sum per column, the
+ * rows walked in order (vectorises across x) */
+JND_HOT static void box_cols(const float *src, size_t ss, int n, float *dst, size_t ds, int from, int m, int cw,
+                             int r) {
   const float inv = 1.0f / (float)(2 * r + 1);
   double acc[BOX_COLS];
   for (int x = 0; x < cw; x++) acc[x] = 0;
-  for (int i = 0; i <= r && i < h; i++) {
-    const float *row = src + (size_t)i * ss;
+  for (int j = from - r; j <= from + r; j++) {
+    if (j < 0 || j >= n) continue;
+    const float *row = src + (size_t)j * ss;
     for (int x = 0; x < cw; x++) acc[x] += row[x];
   }
-  for (int y = 0; y < h; y++) {
-    float *d = dst + (size_t)y * ds;
+  for (int i = 0; i < m; i++) {
+    float *d = dst + (size_t)i * ds;
     for (int x = 0; x < cw; x++) d[x] = (float)(acc[x] * inv);
-    if (y + r + 1 < h) {
-      const float *add = src + (size_t)(y + r + 1) * ss;
-      for (int x = 0; x < cw; x++) acc[x] += add[x];
+    const int add = from + i + r + 1, sub = from + i - r;
+    if (add >= 0 && add < n) {
+      const float *row = src + (size_t)add * ss;
+      for (int x = 0; x < cw; x++) acc[x] += row[x];
     }
-    if (y - r >= 0) {
-      const float *sub = src + (size_t)(y - r) * ss;
-      for (int x = 0; x < cw; x++) acc[x] -= sub[x];
+    if (sub >= 0 && sub < n) {
+      const float *row = src + (size_t)sub * ss;
+      for (int x = 0; x < cw; x++) acc[x] -= row[x];
     }
   }
 }
@@ -983,7 +998,9 @@ static int chroma_summation_apart(const jnd_model_params *p) {
  * (area summation, Rovamo et al. 1993). D holds j^e and is updated, or,
  * with acc, the pooled values are added to acc. The three horizontal passes
  * run on BOX_ROWS rows at a time and the three vertical ones on one block
- * of columns at a time, in cache. f0 and beta: the channels' own critical
+ * of columns at a time, in cache; the first two passes keep what they
+ * spread beyond the image's border, so that the window over the image's
+ * samples is the same however far the border is (box_row). f0 and beta: the channels' own critical
  * area and exponent (summation_levels). */
 static jnd_status local_summation(const jnd_model *m, int band, float *D, float *acc, int w, int h, double f0,
                                   double beta) {
@@ -1020,9 +1037,10 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
   int fail = 0;
 #pragma omp parallel num_threads(threads)
   {
-    /* two rows of each of BOX_ROWS rows, then two column blocks, of scratch */
-    size_t need = (size_t)2 * BOX_ROWS * w > (size_t)2 * BOX_COLS * h ? (size_t)2 * BOX_ROWS * w
-                                                                        : (size_t)2 * BOX_COLS * h;
+    /* two rows of each of BOX_ROWS rows, then two column blocks, of scratch,
+     * each long enough for what the first two passes spread beyond the ends */
+    const size_t wp = (size_t)w + 2 * (size_t)(rk[1] + rk[2]), hp = (size_t)h + 2 * (size_t)(rk[1] + rk[2]);
+    size_t need = 2 * BOX_ROWS * wp > 2 * BOX_COLS * hp ? 2 * BOX_ROWS * wp : 2 * BOX_COLS * hp;
     float *a = malloc(sizeof(float) * need);
     if (!a) {
 #pragma omp atomic write
@@ -1037,22 +1055,22 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
       if (y0 + BOX_ROWS <= h) {
         float *t0[BOX_ROWS], *t1[BOX_ROWS], *out[BOX_ROWS];
         for (int k = 0; k < BOX_ROWS; k++) {
-          t0[k] = a + (size_t)2 * k * w;
-          t1[k] = t0[k] + w;
+          t0[k] = a + 2 * k * wp;
+          t1[k] = t0[k] + wp;
           out[k] = P + (size_t)(y0 + k) * w;
           pow_span(D + (size_t)(y0 + k) * w, t0[k], (size_t)w, up);
         }
-        box_rows((const float *const *)t0, t1, w, rk[0]);
-        box_rows((const float *const *)t1, t0, w, rk[1]);
-        box_rows((const float *const *)t0, out, w, rk[2]);
+        box_rows((const float *const *)t0, w, t1, -(rk[1] + rk[2]), w + 2 * (rk[1] + rk[2]), rk[0]);
+        box_rows((const float *const *)t1, w + 2 * (rk[1] + rk[2]), t0, rk[1], w + 2 * rk[2], rk[1]);
+        box_rows((const float *const *)t0, w + 2 * rk[2], out, rk[2], w, rk[2]);
         continue;
       }
       for (int y = y0; y < h; y++) {
-        float *t0 = a, *t1 = a + w, *out = P + (size_t)y * w;
+        float *t0 = a, *t1 = a + wp, *out = P + (size_t)y * w;
         pow_span(D + (size_t)y * w, t0, (size_t)w, up);
-        box_row(t0, t1, w, rk[0]);
-        box_row(t1, t0, w, rk[1]);
-        box_row(t0, out, w, rk[2]);
+        box_row(t0, w, t1, -(rk[1] + rk[2]), w + 2 * (rk[1] + rk[2]), rk[0]);
+        box_row(t1, w + 2 * (rk[1] + rk[2]), t0, rk[1], w + 2 * rk[2], rk[1]);
+        box_row(t0, w + 2 * rk[2], out, rk[2], w, rk[2]);
       }
     }
     const int nblocks = (w + BOX_COLS - 1) / BOX_COLS;
@@ -1060,10 +1078,10 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
     for (int bk = 0; bk < nblocks; bk++) {
       if (!a) continue;
       int x0 = bk * BOX_COLS, cw = w - x0 < BOX_COLS ? w - x0 : BOX_COLS;
-      float *b0 = a, *b1 = a + (size_t)BOX_COLS * h; /* row stride BOX_COLS */
-      box_cols(P + x0, (size_t)w, b0, BOX_COLS, cw, h, rk[0]);
-      box_cols(b0, BOX_COLS, b1, BOX_COLS, cw, h, rk[1]);
-      box_cols(b1, BOX_COLS, b0, BOX_COLS, cw, h, rk[2]);
+      float *b0 = a, *b1 = a + BOX_COLS * hp; /* row stride BOX_COLS */
+      box_cols(P + x0, (size_t)w, h, b0, BOX_COLS, -(rk[1] + rk[2]), h + 2 * (rk[1] + rk[2]), cw, rk[0]);
+      box_cols(b0, BOX_COLS, h + 2 * (rk[1] + rk[2]), b1, BOX_COLS, rk[1], h + 2 * rk[2], cw, rk[1]);
+      box_cols(b1, BOX_COLS, h + 2 * rk[2], b0, BOX_COLS, rk[2], h, cw, rk[2]);
       for (int y = 0; y < h; y++)
         pool_cap_span(b0 + (size_t)y * BOX_COLS, D + (size_t)y * w + x0, acc ? acc + (size_t)y * w + x0 : NULL,
                       (size_t)cw, gain, down, bound);

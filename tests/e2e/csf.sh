@@ -33,10 +33,16 @@ check the_periphery_is_less_visible_than_the_fovea bash -c "awk -F, 'NR==8{f=\$1
 # constants: listed, set, fitted, cross-validated
 expect_exit 0 constants_are_listed "$JND" csf --list-constants
 check the_list_names_the_priors grep -q "^sensitivity .*004" "$T/out.txt"
+check the_list_says_which_constants_are_held grep -q "^chroma_sat_td .* held  " "$T/out.txt"
 "$JND" csf "$T/data.csv" --set sensitivity=0.1 --json "$T/low.json" --quiet
 check set_changes_a_constant jq -e --slurpfile a "$T/csf.json" '.parameters.constants.sensitivity.value == 0.1 and .result.datasets.achromatic.rmse_db != $a[0].result.datasets.achromatic.rmse_db' "$T/low.json"
 expect_exit 0 a_fit_runs "$JND" csf "$T/data.csv" --set sensitivity=0.1 --fit --fit-only sensitivity --json "$T/fit.json" --quiet
 check the_fit_moves_the_constant_back_and_lowers_the_error jq -e --slurpfile l "$T/low.json" '.parameters.constants.sensitivity.value > 0.2 and .parameters.constants.sensitivity.fitted and .parameters.constants.sensitivity.sd_ln > 0 and .result.rmse_db < $l[0].result.rmse_db' "$T/fit.json"
+# a constant held at its prior is fitted only when --fit-only names it
+expect_exit 0 a_fit_of_every_constant_runs "$JND" csf "$T/data.csv" --fit --iterations 0 --json "$T/all.json" --quiet
+check held_constants_are_not_fitted jq -e '.parameters.constants.chroma_sat_td.fitted == false and .parameters.constants.chroma_sat_td.value == 100 and .parameters.constants.sensitivity.fitted and .parameters.constants.ecc_freq.fitted' "$T/all.json"
+"$JND" csf "$T/data.csv" --fit --iterations 0 --fit-only chroma_sat_td --json "$T/held.json" --quiet
+check a_held_constant_is_fitted_when_named jq -e '.parameters.constants.chroma_sat_td.fitted and (.parameters.constants.sensitivity.fitted | not)' "$T/held.json"
 expect_exit 0 cross_validation_runs "$JND" csf "$T/data.csv" --cross-validate --fit-only sensitivity,sens_rg -o "$T/cv.csv" --json "$T/cv.json" --quiet
 check every_data_set_is_predicted_by_the_others jq -e '[.result.datasets[] | select(.cv_rmse_db > 0)] | length == 5' "$T/cv.json"
 check cv_columns_are_written bash -c "head -1 '$T/cv.csv' | grep -q 'predicted_cv,error_cv_db,note'"
