@@ -35,6 +35,7 @@
 #define FD_STEP 0.02      /* forward-difference step, natural-log units */
 #define MAX_STEP 1.0      /* largest change of one ln(constant) in a step */
 #define STOP_GAIN 1e-4    /* a fit stops when a step gains less than this fraction of the objective */
+#define MAX_REJECTS 8     /* or when this many steps in a row, each damped 4× more, do not lower it */
 
 void jnd_csf_options_defaults(jnd_csf_options *o) {
   memset(o, 0, sizeof *o);
@@ -216,13 +217,18 @@ static jnd_status lm_fit(fit_ctx *f, const int *rows, int n, double *theta, doub
       }
     } else {
       lambda *= 4;
-      if (++rejects >= 3) {
-        if (fresh || fd_refreshes <= 0) break;
+      ++rejects;
+      if (rejects >= 3 && !fresh && fd_refreshes > 0) {
+        /* Broyden's Jacobian has gone stale: a fresh one */
         if ((s = jacobian(f, theta, rows, n, r, J)) != JND_OK) break;
         fd_refreshes--;
         fresh = 1;
         rejects = 0;
         lambda = 1e-3;
+      } else if (rejects >= MAX_REJECTS) {
+        /* the damping has made the step a short one down the gradient,
+         * and it still does not lower the cost: a minimum */
+        break;
       }
     }
   }
