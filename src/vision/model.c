@@ -380,6 +380,7 @@ typedef struct {
 typedef struct {
   jnd_row_cache cache[2][3][2]; /* [image][cone][G_{i+1}, EXPAND(G_{i+2})] */
   float *opp[2][3], *logl, *logv, *sens[NCH], *eccf[NCH];
+  int *lix;            /* the CSF table column of each pixel (sens_row) */
   float *mask[5][NCH]; /* ring of 5 rows: the mutual masker, pooled along the row */
   float *dif[3][NCH];  /* ring of 3 rows: |n_test − n_ref| per channel */
   float *pooled[NCH];  /* the maskers of the row being finished, pooled in 5 × 5 */
@@ -391,8 +392,9 @@ typedef struct {
 static int scratch_init(row_scratch *r, int w) {
   /* 12 caches × 3 rows; opponent values (2 × 3), log adaptation and log velocity (2), sensitivities
    * (3), eccentricity factors (3), masker ring (5 × 3), difference ring (3 × 3), pooled maskers (3),
-   * 3 caches × 3 rows of the coarser band's maskers, one row of scratch */
-  r->mem = malloc(sizeof(float) * (size_t)w * (36 + 6 + 2 + 3 + 3 + 15 + 9 + 3 + 9 + 1));
+   * 3 caches × 3 rows of the coarser band's maskers, the CSF table columns, one row of scratch */
+  _Static_assert(sizeof(int) == sizeof(float), "the column indices share the float scratch");
+  r->mem = malloc(sizeof(float) * (size_t)w * (36 + 6 + 2 + 3 + 3 + 15 + 9 + 3 + 9 + 1 + 1));
   if (!r->mem) return 0;
   float *p = r->mem;
   for (int a = 0; a < 2; a++)
@@ -418,6 +420,7 @@ static int scratch_init(row_scratch *r, int w) {
     p += (size_t)3 * w;
     r->coarse[c].row[0] = r->coarse[c].row[1] = r->coarse[c].row[2] = -1;
   }
+  r->lix = (int *)(void *)p, p += w;
   r->tmp = p;
   return 1;
 }
@@ -462,17 +465,29 @@ JND_HOT static void sens_row(const band_ctx *k, row_scratch *r, const float *ada
       s2[x] = v[2];
     }
   } else {
+    /* Linear in log luminance: each pixel's column and weight in a
+     * vectorised pass, then the look-ups (indexed loads, which keep a loop
+     * that also does the arithmetic from vectorising) */
+    int *ix = r->lix;
+    float *tl = r->logv;
+#pragma omp simd
+    for (int x = 0; x < w; x++) {
+      float fl = (ll[x] - (float)LUT_LOGL0) * (float)(1.0 / LUT_DLOGL);
+      fl = jnd_minf(jnd_maxf(fl, 0), LUT_NL - 1.001f);
+      /* floorf, not (int) then back: GCC turns that pair into a branch that
+       * stops the loop vectorising (the same values: fl >= 0) */
+      const float f = floorf(fl);
+      ix[x] = (int)f;
+      tl[x] = fl - f;
+    }
     /* the three channels' entries side by side: one row of lut1 per index */
     const float(*l)[4] = k->lut1;
     for (int x = 0; x < w; x++) {
-      float fl = (ll[x] - (float)LUT_LOGL0) * (float)(1.0 / LUT_DLOGL);
-      fl = fl < 0 ? 0 : fl > LUT_NL - 1.001f ? LUT_NL - 1.001f : fl;
-      int il = (int)fl;
-      float tl = fl - il;
-      const float *e0 = l[il], *e1 = l[il + 1];
-      s0[x] = e0[0] + tl * (e1[0] - e0[0]);
-      s1[x] = e0[1] + tl * (e1[1] - e0[1]);
-      s2[x] = e0[2] + tl * (e1[2] - e0[2]);
+      const float *e0 = l[ix[x]], *e1 = l[ix[x] + 1];
+      const float u = tl[x];
+      s0[x] = e0[0] + u * (e1[0] - e0[0]);
+      s1[x] = e0[1] + u * (e1[1] - e0[1]);
+      s2[x] = e0[2] + u * (e1[2] - e0[2]);
     }
   }
   if (k->m->p.has_gaze)
