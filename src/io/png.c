@@ -163,23 +163,56 @@ static unsigned png_paeth(unsigned a, unsigned b, unsigned c) {
  * pa = |b − c|, pb = |a − c|, pc = |a + b − 2c|, a (left) on ties, then b
  * (up); with no pixel to the left (a = c = 0) it predicts up. */
 typedef short png_v8 __attribute__((vector_size(16)));
+typedef unsigned char png_b16 __attribute__((vector_size(16)));
 
-static void png_unpaeth_pixels(unsigned char *x, const unsigned char *b, size_t len, size_t bpp) {
+/* One pixel: v its filtered bytes, up and c the unfiltered ones above and
+ * above-left, a the one to the left; lanes outside `lanes` (0 or 0xff) come
+ * out 0 whatever v holds there. */
+static inline png_v8 png_unpaeth_one(png_v8 a, png_v8 up, png_v8 c, png_v8 v, png_v8 lanes) {
+  png_v8 da = up - c, db = a - c, dc = da + db;
+  png_v8 pa = (da ^ (da >> 15)) - (da >> 15), pb = (db ^ (db >> 15)) - (db >> 15),
+         pc = (dc ^ (dc >> 15)) - (dc >> 15);         /* |·|, lanes of all ones where < 0 */
+  png_v8 ma = (pa <= pb) & (pa <= pc), mb = pb <= pc; /* lanes of all ones where true */
+  png_v8 pred = (a & ma) | (((up & mb) | (c & ~mb)) & ~ma);
+  return (v + pred) & lanes;
+}
+
+/* four bytes at p into the low lanes of a vector of shorts, and back */
+static inline png_v8 png_load4(const unsigned char *p) {
+  png_b16 v = {0};
+  memcpy(&v, p, 4);
+  const png_b16 zero = {0}, widen = {0, 16, 1, 16, 2, 16, 3, 16, 4, 16, 5, 16, 6, 16, 7, 16};
+  return (png_v8)__builtin_shuffle(v, zero, widen);
+}
+static inline void png_store(unsigned char *p, png_v8 r, size_t bpp) {
+  const png_b16 narrow = {0, 2, 4, 6, 8, 10, 12, 14, 0, 2, 4, 6, 8, 10, 12, 14};
+  png_b16 v = __builtin_shuffle((png_b16)r, narrow);
+  memcpy(p, &v, bpp == 4 ? 4 : 2);
+  if (bpp == 3) p[2] = v[2];
+}
+
+JND_HOT static void png_unpaeth_pixels(unsigned char *x, const unsigned char *b, size_t len, size_t bpp) {
+  const png_v8 lanes = {0xff, 0xff, 0xff, bpp == 4 ? 0xff : 0};
   png_v8 a = {0}, c = {0};
-  for (size_t i = 0; i + bpp <= len; i += bpp) {
-    const unsigned char *bp = b + i;
-    unsigned char *xp = x + i;
-    png_v8 up = {bp[0], bp[1], bp[2], bpp == 4 ? bp[3] : 0}, v = {xp[0], xp[1], xp[2], bpp == 4 ? xp[3] : 0};
-    png_v8 da = up - c, db = a - c, dc = a + up - c - c;
-    png_v8 pa = (da ^ (da >> 15)) - (da >> 15), pb = (db ^ (db >> 15)) - (db >> 15),
-           pc = (dc ^ (dc >> 15)) - (dc >> 15);         /* |·|, lanes of all ones where < 0 */
-    png_v8 ma = (pa <= pb) & (pa <= pc), mb = pb <= pc; /* lanes of all ones where true */
-    png_v8 pred = (a & ma) | (((up & mb) | (c & ~mb)) & ~ma);
-    png_v8 r = (v + pred) & 0xff;
-    xp[0] = (unsigned char)r[0];
-    xp[1] = (unsigned char)r[1];
-    xp[2] = (unsigned char)r[2];
-    if (bpp == 4) xp[3] = (unsigned char)r[3];
+  size_t i = 0;
+  /* four bytes loaded at once while the row has them (with 3 bytes a pixel
+   * the fourth is the next pixel's first, masked off): the byte loads and
+   * lane inserts of a 3-byte pixel cost more than the predictor. Stores
+   * stay inside the pixel, so that the next pixel's load does not wait for
+   * a store it overlaps. */
+  for (; i + 4 <= len; i += bpp) {
+    png_v8 up = png_load4(b + i) & lanes, v = png_load4(x + i);
+    png_v8 r = png_unpaeth_one(a, up, c, v, lanes);
+    png_store(x + i, r, bpp);
+    a = r;
+    c = up;
+  }
+  for (; i + bpp <= len; i += bpp) { /* the last 3-byte pixel */
+    png_v8 up = {b[i], b[i + 1], b[i + 2], 0}, v = {x[i], x[i + 1], x[i + 2], 0};
+    png_v8 r = png_unpaeth_one(a, up, c, v, lanes);
+    x[i] = (unsigned char)r[0];
+    x[i + 1] = (unsigned char)r[1];
+    x[i + 2] = (unsigned char)r[2];
     a = r;
     c = up;
   }
@@ -188,7 +221,7 @@ static void png_unpaeth_pixels(unsigned char *x, const unsigned char *b, size_t 
 /* Undoes one row's filter in place (PNG spec §9.2, filter method 0): x is
  * the row, b the row above once unfiltered (zeros above the first row), bpp
  * the bytes of a complete pixel, the distance to the byte "to the left". */
-static void png_unfilter(unsigned filter, unsigned char *x, const unsigned char *b, size_t len, size_t bpp) {
+JND_HOT static void png_unfilter(unsigned filter, unsigned char *x, const unsigned char *b, size_t len, size_t bpp) {
   size_t i;
   switch (filter) {
   case 1: /* Sub */
