@@ -52,18 +52,20 @@ static uint32_t order_key(float f) {
   return (u & 0x80000000u) ? ~u : u | 0x80000000u;
 }
 
-jnd_status jnd_order_stats(const float *v, size_t n, const size_t *ks, int nk, float *out) {
-  /* One pass counts the values per bin of their top 12 key bits (sign,
-   * exponent, 3 mantissa bits); the bins holding the wanted ranks are
-   * gathered in a second pass and sorted. Exact, O(n), and v is unchanged.
-   * Both passes split v into the same nt ranges; each range's counts place
-   * its values, so the result depends on neither timing nor team size. */
-  enum { SHIFT = 20, NBIN = 1 << (32 - SHIFT) };
-  if (nk > 64) return jnd_fail(JND_ERR_INTERNAL, "order statistics: at most 64 ranks");
-  for (int i = 0; i < nk; i++)
-    if (ks[i] >= n || (i > 0 && ks[i] < ks[i - 1])) return jnd_fail(JND_ERR_INTERNAL, "order statistics: bad index");
-  const int nt = omp_get_max_threads() > 0 ? omp_get_max_threads() : 1;
-  size_t *hist = jnd_calloc((size_t)nt * NBIN, sizeof *hist); /* [thread][bin] */
+/* Ranks ks (ascending) of v[0, n), whose keys all agree above bit shift + 12
+ * (shift 20: any values): one pass counts the values per bin of key bits
+ * [shift, shift + 12); the bins holding the wanted ranks are gathered in a
+ * second pass, and each is searched one level finer (shift 8) or, at that
+ * level, sorted. Exact, O(n), and v is unchanged. Both passes split v into
+ * the same nt ranges; each range's counts place its values, so the result
+ * depends on neither timing nor team size. */
+static jnd_status order_stats_level(const float *v, size_t n, const size_t *ks, int nk, float *out, int shift,
+                                    int nt) {
+  enum { NBIN = 1 << 12, FINE = 8 };
+  /* [thread][4][bin]: four counts a range, summed into the first after the
+   * pass, so that neighbouring values in one bin (most of a smooth map) do
+   * not each wait for the previous one's increment */
+  size_t *hist = jnd_calloc((size_t)nt * 4 * NBIN, sizeof *hist);
   size_t *start = jnd_calloc(NBIN + 1, sizeof *start);
   int *slot = malloc(sizeof(int) * NBIN);
   if (!hist || !start || !slot) {
@@ -76,11 +78,14 @@ jnd_status jnd_order_stats(const float *v, size_t n, const size_t *ks, int nk, f
 #pragma omp parallel for num_threads(nt) schedule(static)
   for (int t = 0; t < nt; t++) {
     size_t i0 = n * (size_t)t / (size_t)nt, i1 = n * (size_t)(t + 1) / (size_t)nt;
-    size_t *h = hist + (size_t)t * NBIN;
-    for (size_t i = i0; i < i1; i++) h[order_key(v[i]) >> SHIFT]++;
+    size_t *h = hist + (size_t)t * 4 * NBIN, i = i0;
+    for (; i + 4 <= i1; i += 4)
+      for (int q = 0; q < 4; q++) h[(size_t)q * NBIN + (order_key(v[i + q]) >> shift & (NBIN - 1))]++;
+    for (; i < i1; i++) h[order_key(v[i]) >> shift & (NBIN - 1)]++;
+    for (int b = 0; b < NBIN; b++) h[b] += h[NBIN + b] + h[2 * NBIN + b] + h[3 * NBIN + b];
   }
   for (int t = 0; t < nt; t++)
-    for (int b = 0; b < NBIN; b++) start[b + 1] += hist[(size_t)t * NBIN + b];
+    for (int b = 0; b < NBIN; b++) start[b + 1] += hist[(size_t)t * 4 * NBIN + b];
   for (int b = 0; b < NBIN; b++) start[b + 1] += start[b];
   /* the bin of each wanted rank, and a gather buffer per distinct bin */
   int bin_of[64], nbins = 0, bins[64];
@@ -110,25 +115,43 @@ jnd_status jnd_order_stats(const float *v, size_t n, const size_t *ks, int nk, f
       size_t fill[64];
       for (int j = 0; j < nbins; j++) {
         fill[j] = off[j];
-        for (int u = 0; u < t; u++) fill[j] += hist[(size_t)u * NBIN + bins[j]];
+        for (int u = 0; u < t; u++) fill[j] += hist[(size_t)u * 4 * NBIN + bins[j]];
       }
       for (size_t i = i0; i < i1; i++) {
-        int sl = slot[order_key(v[i]) >> SHIFT];
+        int sl = slot[order_key(v[i]) >> shift & (NBIN - 1)];
         if (sl >= 0) buf[fill[sl]++] = v[i];
       }
     }
-    for (int j = 0; j < nbins && s == JND_OK; j++) s = jnd_sort_floats(buf + off[j], off[j + 1] - off[j]);
   }
-  if (s == JND_OK)
-    for (int i = 0; i < nk; i++) {
-      int j = slot[bin_of[i]];
-      out[i] = buf[off[j] + (ks[i] - start[bin_of[i]])];
+  /* each gathered bin: its ranks (consecutive in ks, as the bins ascend) */
+  for (int i = 0; i < nk && s == JND_OK;) {
+    const int j = slot[bin_of[i]];
+    const size_t m = off[j + 1] - off[j];
+    float *b = buf + off[j];
+    size_t local[64];
+    int e = i;
+    for (; e < nk && bin_of[e] == bin_of[i]; e++) local[e - i] = ks[e] - start[bin_of[i]];
+    if (shift > FINE && m > 4096) {
+      s = order_stats_level(b, m, local, e - i, out + i, FINE, 1);
+    } else {
+      s = jnd_sort_floats(b, m);
+      for (int q = i; q < e && s == JND_OK; q++) out[q] = b[local[q - i]];
     }
+    i = e;
+  }
   free(buf);
   free(hist);
   free(start);
   free(slot);
   return s;
+}
+
+jnd_status jnd_order_stats(const float *v, size_t n, const size_t *ks, int nk, float *out) {
+  if (nk > 64) return jnd_fail(JND_ERR_INTERNAL, "order statistics: at most 64 ranks");
+  for (int i = 0; i < nk; i++)
+    if (ks[i] >= n || (i > 0 && ks[i] < ks[i - 1])) return jnd_fail(JND_ERR_INTERNAL, "order statistics: bad index");
+  const int nt = omp_get_max_threads() > 0 ? omp_get_max_threads() : 1;
+  return order_stats_level(v, n, ks, nk, out, 20, nt);
 }
 
 /* ---- percentiles from order statistics ---- */

@@ -50,6 +50,30 @@ TEST(order_statistics_equal_the_sorted_values) {
     }
 }
 
+/* Most values in one bin of the top 12 key bits (as in a smooth map): the
+ * ranks are found one level finer (pool.c, order_stats_level), and must
+ * still be the sorted values, ties and neighbours in one fine bin included. */
+TEST(order_statistics_of_values_crowded_in_one_bin_equal_the_sorted_values) {
+  const size_t n = 300000;
+  float *v = malloc(n * sizeof *v), *s = malloc(n * sizeof *s);
+  jnd_rng r;
+  jnd_rng_seed(&r, 99);
+  for (size_t i = 0; i < n; i++) {
+    double u = jnd_rng_uniform(&r);
+    /* [1, 1.125): one coarse bin; a few values outside it and many ties */
+    v[i] = u < 0.05 ? (float)(4 * u) : u < 0.2 ? 1.0625f : (float)(1 + jnd_rng_uniform(&r) / 8);
+  }
+  memcpy(s, v, n * sizeof *s);
+  qsort(s, n, sizeof *s, cmp_float);
+  size_t ks[9] = {0, n / 20, n / 7, n / 2, n / 2 + 1, (size_t)(0.93 * (n - 1)), (size_t)(0.93 * (n - 1)) + 1,
+                  n - 2, n - 1};
+  float out[9];
+  CHECK_OK(jnd_order_stats(v, n, ks, 9, out));
+  for (int i = 0; i < 9; i++) CHECK(out[i] == s[ks[i]]);
+  free(v);
+  free(s);
+}
+
 TEST(order_statistics_of_a_constant_map) {
   size_t n = 10000, ks[3] = {0, 9299, 9999};
   float *v = malloc(n * sizeof *v), out[3];
@@ -409,7 +433,8 @@ TEST(knee_of_a_line_or_a_short_curve_is_the_first_point) {
 
 RUN_TESTS(knee_of_a_flat_then_steep_curve_is_its_corner, knee_ties_within_the_tolerance_go_to_the_first_point, knee_of_an_exponential_is_where_its_slope_equals_the_chord,
           knee_of_a_line_or_a_short_curve_is_the_first_point, criterion_allows_floor_q_n_views_above_p, criterion_refuses_bad_arguments,
-          binomial_upper_bound_matches_closed_forms, order_statistics_equal_the_sorted_values, order_statistics_of_a_constant_map,
+          binomial_upper_bound_matches_closed_forms, order_statistics_equal_the_sorted_values,
+          order_statistics_of_values_crowded_in_one_bin_equal_the_sorted_values, order_statistics_of_a_constant_map,
           order_statistics_refuse_bad_indices, sort_matches_qsort_for_both_paths, percentiles_interpolate_linearly,
           percentiles_of_a_large_map_match_a_full_sort,
           diff_summary_percentiles_match_a_full_sort, pooling_names_parse_and_print,
