@@ -480,14 +480,22 @@ JND_HOT static void sens_row(const band_ctx *k, row_scratch *r, const float *ada
       ix[x] = (int)f;
       tl[x] = fl - f;
     }
-    /* the three channels' entries side by side: one row of lut1 per index */
-    const float(*l)[4] = k->lut1;
-    for (int x = 0; x < w; x++) {
-      const float *e0 = l[ix[x]], *e1 = l[ix[x] + 1];
-      const float u = tl[x];
-      s0[x] = e0[0] + u * (e1[0] - e0[0]);
-      s1[x] = e0[1] + u * (e1[1] - e0[1]);
-      s2[x] = e0[2] + u * (e1[2] - e0[2]);
+    /* The adaptation map is coarse, so neighbouring pixels mostly share a
+     * column: along each run of one column its entries are held and the run
+     * interpolated in a vectorised loop (the same arithmetic, pixel by
+     * pixel, as one look-up each). */
+    const float(*l)[4] = k->lut1; /* the three channels' entries side by side */
+    for (int x0 = 0, x1; x0 < w; x0 = x1) {
+      const int i = ix[x0];
+      for (x1 = x0 + 1; x1 < w && ix[x1] == i; x1++) {}
+      const float e0 = l[i][0], e1 = l[i][1], e2 = l[i][2];
+      const float d0 = l[i + 1][0] - e0, d1 = l[i + 1][1] - e1, d2 = l[i + 1][2] - e2;
+#pragma omp simd
+      for (int x = x0; x < x1; x++) {
+        s0[x] = e0 + tl[x] * d0;
+        s1[x] = e1 + tl[x] * d1;
+        s2[x] = e2 + tl[x] * d2;
+      }
     }
   }
   if (k->m->p.has_gaze)
