@@ -1342,17 +1342,11 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
     int cw = w, ch = h, fw = w, fh = h;
     for (int k = 0; k < b; k++) { cw = (cw + 1) / 2; ch = (ch + 1) / 2; }
     for (int k = 0; k < b - 1; k++) { fw = (fw + 1) / 2; fh = (fh + 1) / 2; }
-    float *tmp = jnd_alloc((size_t)fw * fh, sizeof(float));
-    if (!tmp || !jnd_pyr_expand(Dlev[b], cw, ch, tmp, fw, fh, threads)) {
-      free(tmp);
+    /* acc_{b-1} += max(EXPAND(acc_b), 0), a row at a time */
+    if (!jnd_pyr_expand_add(Dlev[b], cw, ch, Dlev[b - 1], fw, fh, threads)) {
       s = jnd_fail(JND_ERR_NOMEM, "model: out of memory");
       goto done;
     }
-    float *dst = Dlev[b - 1];
-    const ptrdiff_t nn = (ptrdiff_t)fw * fh;
-#pragma omp parallel for num_threads(threads) schedule(static)
-    for (ptrdiff_t i = 0; i < nn; i++) dst[i] += jnd_maxf(tmp[i], 0.0f);
-    free(tmp);
     free(Dlev[b]);
     Dlev[b] = NULL;
   }

@@ -128,6 +128,11 @@ JND_HOT static void expand_col(const float *const rb[3], const float wts[3], int
   for (int x = 0; x < dw; x++) o[x] = w0 * r0[x] + w1 * r1[x] + w2 * r2[x];
 }
 
+/* dst += max(o, 0) along a row */
+JND_HOT static void add_positive(const float *o, float *dst, int n) {
+  for (int x = 0; x < n; x++) dst[x] += jnd_maxf(o[x], 0.0f);
+}
+
 const float *jnd_pyr_cached_row(jnd_row_cache *c, const float *src, int cw, int crow, int fw) {
   int slot = crow % 3;
   float *dst = c->buf + (size_t)slot * fw;
@@ -138,11 +143,14 @@ const float *jnd_pyr_cached_row(jnd_row_cache *c, const float *src, int cw, int 
   return dst;
 }
 
-int jnd_pyr_expand(const float *src, int w, int h, float *dst, int dw, int dh, int threads) {
+/* EXPAND into dst, or, with add, max(EXPAND, 0) added to dst a row at a
+ * time (no expanded image is stored) */
+static int expand(const float *src, int w, int h, float *dst, int dw, int dh, int threads, int add) {
   int ok = 1;
 #pragma omp parallel num_threads(threads)
   {
-    jnd_row_cache cache = {malloc(sizeof(float) * (size_t)dw * 3), {-1, -1, -1}};
+    /* three cached rows, and with add one for the expanded row */
+    jnd_row_cache cache = {malloc(sizeof(float) * (size_t)dw * (add ? 4 : 3)), {-1, -1, -1}};
     if (!cache.buf) {
 #pragma omp atomic write
       ok = 0;
@@ -155,11 +163,26 @@ int jnd_pyr_expand(const float *src, int w, int h, float *dst, int dw, int dh, i
       int n = jnd_pyr_expand_rows(y, h, rows, wts);
       const float *rb[3];
       for (int k = 0; k < n; k++) rb[k] = jnd_pyr_cached_row(&cache, src, w, rows[k], dw);
-      expand_col(rb, wts, n, dst + (size_t)y * dw, dw);
+      float *d = dst + (size_t)y * dw;
+      if (!add) {
+        expand_col(rb, wts, n, d, dw);
+        continue;
+      }
+      float *o = cache.buf + (size_t)3 * dw;
+      expand_col(rb, wts, n, o, dw);
+      add_positive(o, d, dw);
     }
     free(cache.buf);
   }
   return ok;
+}
+
+int jnd_pyr_expand(const float *src, int w, int h, float *dst, int dw, int dh, int threads) {
+  return expand(src, w, h, dst, dw, dh, threads, 0);
+}
+
+int jnd_pyr_expand_add(const float *src, int w, int h, float *dst, int dw, int dh, int threads) {
+  return expand(src, w, h, dst, dw, dh, threads, 1);
 }
 
 jnd_status jnd_gauss_build(jnd_gauss *g, float *plane0, int w, int h, int levels, int threads) {

@@ -46,6 +46,9 @@ void jnd_gauss_free(jnd_gauss *g);
 int jnd_pyr_reduce(const float *src, int w, int h, float *dst, int dw, int dh, int threads); /* 0: out of memory */
 /* one EXPAND step: to (dw, dh) from (w, h), interpolating with 2× the kernel */
 int jnd_pyr_expand(const float *src, int w, int h, float *dst, int dw, int dh, int threads); /* 0: out of memory */
+/* dst += max(EXPAND(src), 0), pixel by pixel the same as jnd_pyr_expand into a
+ * temporary and adding, without the temporary (collapsing a pyramid) */
+int jnd_pyr_expand_add(const float *src, int w, int h, float *dst, int dw, int dh, int threads); /* 0: out of memory */
 /* horizontally expands one coarse row of width cw to width fw */
 void jnd_pyr_expand_row(const float *src, int cw, float *dst, int fw);
 /* weights and rows of the vertical EXPAND for fine row y: n (2 or 3) rows */

@@ -108,6 +108,31 @@ TEST(reduce_and_expand_keep_a_constant_image_constant) {
   for (int i = 0; i < 35 * 23; i++) CHECK_NEAR(up[i], 7.0, 1e-5);
 }
 
+/* the pyramid's collapse adds max(EXPAND, 0) in place: the same floats as
+ * expanding into an image and adding its positive part, for any thread count */
+TEST(expand_add_equals_expanding_then_adding_the_positive_part) {
+  enum { W = 37, H = 21, CW = 19, CH = 11 };
+  float coarse[CW * CH], up[W * H], want[W * H], got[W * H];
+  jnd_rng r;
+  jnd_rng_seed(&r, 3);
+  for (int i = 0; i < CW * CH; i++) coarse[i] = (float)(jnd_rng_uniform(&r) - 0.3);
+  for (int i = 0; i < W * H; i++) want[i] = (float)jnd_rng_uniform(&r);
+  CHECK(jnd_pyr_expand(coarse, CW, CH, up, W, H, 1));
+  int negative = 0;
+  for (int i = 0; i < W * H; i++) {
+    negative += up[i] < 0;
+    want[i] += up[i] > 0 ? up[i] : 0.0f;
+  }
+  CHECK(negative > 0); /* the clamp at 0 is exercised */
+  for (int threads = 1; threads <= 3; threads++) {
+    jnd_rng_seed(&r, 3);
+    for (int i = 0; i < CW * CH; i++) (void)jnd_rng_uniform(&r);
+    for (int i = 0; i < W * H; i++) got[i] = (float)jnd_rng_uniform(&r);
+    CHECK(jnd_pyr_expand_add(coarse, CW, CH, got, W, H, threads));
+    CHECK(memcmp(got, want, sizeof got) == 0);
+  }
+}
+
 TEST(lms_luminance_weights_recover_y) {
   double w[3];
   jnd_lms_luminance_weights(w);
@@ -1174,6 +1199,7 @@ RUN_TESTS(flicker_sensitivity_is_band_pass_at_low_spatial_frequency_and_low_pass
           an_achromatic_texture_masks_a_colour_change, a_coarser_texture_masks_a_finer_change,
           a_uniform_change_is_visible, identical_images_have_zero_jnd, band_table_matches_the_filters, finest_band_peaks_near_nyquist_and_four_times_the_next,
           with_004s_limit_the_coarsest_band_peaks_at_or_above_half_a_cycle_per_degree, reduce_and_expand_keep_a_constant_image_constant,
+          expand_add_equals_expanding_then_adding_the_positive_part,
           lms_luminance_weights_recover_y, opponent_channels_separate_luminance_from_colour,
           csf_adaptation_is_identity_at_100_cdm2_and_follows_barten_peaks_elsewhere, barten_csf_peaks_near_a_few_cycles_per_degree,
           pupil_follows_le_grand, daly_eye_movement_leaves_drift_on_static_images,
