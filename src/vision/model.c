@@ -580,22 +580,18 @@ JND_HOT static void image_row(const band_ctx *k, row_scratch *r, int a, int y, c
       o[x] = (g0[x] - s1) / jnd_maxf(s2, CONTRAST_FLOOR);
     }
   }
-  /* 004 §3.1: Hunt's opponent channels */
+  /* 004 §3.1: Hunt's opponent channels, each normalised by its CSF (one
+   * pass for both) */
+  sens_row(k, r, st->adapt[a], a, y);
   float *o0 = r->opp[a][0], *o1 = r->opp[a][1], *o2 = r->opp[a][2];
+  const float *s0 = r->sens[0], *s1 = r->sens[1], *s2 = r->sens[2];
 #pragma omp simd
   for (int x = 0; x < w; x++) {
     float A, ca, cb;
     jnd_opponent(o0[x], o1[x], o2[x], &A, &ca, &cb);
-    o0[x] = A;
-    o1[x] = ca;
-    o2[x] = cb;
-  }
-  sens_row(k, r, st->adapt[a], a, y);
-  for (int c = 0; c < NCH; c++) {
-    float *o = r->opp[a][c];
-    const float *sc = r->sens[c];
-#pragma omp simd
-    for (int x = 0; x < w; x++) o[x] *= sc[x];
+    o0[x] = A * s0[x];
+    o1[x] = ca * s1[x];
+    o2[x] = cb * s2[x];
   }
 }
 
