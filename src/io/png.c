@@ -177,16 +177,16 @@ static inline png_v8 png_unpaeth_one(png_v8 a, png_v8 up, png_v8 c, png_v8 v, pn
   return (v + pred) & lanes;
 }
 
-/* four bytes at p into the low lanes of a vector of shorts, and back */
+/* four bytes at p into the low lanes of a vector of shorts (one load and
+ * one widening shuffle: GCC >= 12 and clang), and a pixel's bytes back */
 static inline png_v8 png_load4(const unsigned char *p) {
   png_b16 v = {0};
   memcpy(&v, p, 4);
-  const png_b16 zero = {0}, widen = {0, 16, 1, 16, 2, 16, 3, 16, 4, 16, 5, 16, 6, 16, 7, 16};
-  return (png_v8)__builtin_shuffle(v, zero, widen);
+  const png_b16 zero = {0};
+  return (png_v8)__builtin_shufflevector(v, zero, 0, 16, 1, 16, 2, 16, 3, 16, 4, 16, 5, 16, 6, 16, 7, 16);
 }
 static inline void png_store(unsigned char *p, png_v8 r, size_t bpp) {
-  const png_b16 narrow = {0, 2, 4, 6, 8, 10, 12, 14, 0, 2, 4, 6, 8, 10, 12, 14};
-  png_b16 v = __builtin_shuffle((png_b16)r, narrow);
+  png_b16 v = __builtin_shufflevector((png_b16)r, (png_b16)r, 0, 2, 4, 6, 8, 10, 12, 14, 0, 2, 4, 6, 8, 10, 12, 14);
   memcpy(p, &v, bpp == 4 ? 4 : 2);
   if (bpp == 3) p[2] = v[2];
 }
