@@ -466,8 +466,8 @@ JND_HOT static void sens_row(const band_ctx *k, row_scratch *r, const float *ada
     }
   } else {
     /* Linear in log luminance: each pixel's column and weight in a
-     * vectorised pass, then the look-ups (indexed loads, which keep a loop
-     * that also does the arithmetic from vectorising) */
+     * vectorised pass (the weights in logv's row, unused without a motion
+     * map), then the interpolation */
     int *ix = r->lix;
     float *tl = r->logv;
 #pragma omp simd
