@@ -203,17 +203,19 @@ TEST(a_jpeg_quality_series_rises_gradually) {
     for (int i = 0; i < NQ; i++) fprintf(stderr, " %5.3f", pq[i]);
     fprintf(stderr, "\n");
     /* docs/model.md "Real images": a lower quality is never less visible;
-     * qualities 100–96 are at most about threshold (P 0.6 is 1.05 JND) and
-     * 100 below it; 94 and up are not yet certain to be seen, 50 and below
-     * are; and P passes through at least three qualities strictly between
-     * 0.05 and 0.95 rather than jumping */
+     * quality 100 is below threshold (P 0.5, 1 JND), 98 and 96 at most a
+     * little above it (P 0.75 is 1.2 JND; Butteraugli puts quality 95 at
+     * 1.1–1.2 times its own threshold on these images); 94 and up are not
+     * yet certain to be seen, 50 and below are; and P passes through at
+     * least three qualities strictly between 0.05 and 0.95 rather than
+     * jumping */
     for (int i = 0; i + 1 < NQ; i++) CHECK(pq[i + 1] >= pq[i] - 0.001);
     for (int i = 0; i < NQ; i++) {
-      if (quality[i] >= 96) CHECK_LT(pq[i], 0.6);
+      if (quality[i] >= 96) CHECK_LT(pq[i], 0.75);
       if (quality[i] >= 94) CHECK_LT(pq[i], 0.95);
       if (quality[i] <= 50) CHECK(pq[i] > 0.95);
     }
-    CHECK_LT(pq[0], 0.35);
+    CHECK_LT(pq[0], 0.5);
     int between = 0;
     for (int i = 0; i < NQ; i++) between += pq[i] > 0.05 && pq[i] < 0.95;
     CHECK(between >= 3);
