@@ -1054,6 +1054,9 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
    * neighbours' (it would smear low-frequency differences over degrees).
    * At a local maximum — where thresholds are read — the bound never acts. */
   const float bound = jnd_fast_pow(gain, down);
+  /* how far past each end the first and the second pass keep their output:
+   * as far as the passes after them reach (box_row) */
+  const int spill1 = rk[1] + rk[2], spill2 = rk[2];
   const int threads = jnd_threads(m->p.threads);
   if (acc) {
     /* What this level adds to acc is at most bound × its largest value
@@ -1074,8 +1077,8 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
 #pragma omp parallel num_threads(threads)
   {
     /* two rows of each of BOX_ROWS rows, then two column blocks, of scratch,
-     * each long enough for what the first two passes spread beyond the ends */
-    const size_t wp = (size_t)w + 2 * (size_t)(rk[1] + rk[2]), hp = (size_t)h + 2 * (size_t)(rk[1] + rk[2]);
+     * each long enough for what the first pass spreads beyond the ends */
+    const size_t wp = (size_t)w + 2 * (size_t)spill1, hp = (size_t)h + 2 * (size_t)spill1;
     size_t need = 2 * BOX_ROWS * wp > 2 * BOX_COLS * hp ? 2 * BOX_ROWS * wp : 2 * BOX_COLS * hp;
     float *a = malloc(sizeof(float) * need);
     if (!a) {
@@ -1096,17 +1099,17 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
           out[k] = P + (size_t)(y0 + k) * w;
           pow_span(D + (size_t)(y0 + k) * w, t0[k], (size_t)w, up);
         }
-        box_rows((const float *const *)t0, w, t1, -(rk[1] + rk[2]), w + 2 * (rk[1] + rk[2]), rk[0]);
-        box_rows((const float *const *)t1, w + 2 * (rk[1] + rk[2]), t0, rk[1], w + 2 * rk[2], rk[1]);
-        box_rows((const float *const *)t0, w + 2 * rk[2], out, rk[2], w, rk[2]);
+        box_rows((const float *const *)t0, w, t1, -spill1, w + 2 * spill1, rk[0]);
+        box_rows((const float *const *)t1, w + 2 * spill1, t0, rk[1], w + 2 * spill2, rk[1]);
+        box_rows((const float *const *)t0, w + 2 * spill2, out, spill2, w, rk[2]);
         continue;
       }
       for (int y = y0; y < h; y++) {
         float *t0 = a, *t1 = a + wp, *out = P + (size_t)y * w;
         pow_span(D + (size_t)y * w, t0, (size_t)w, up);
-        box_row(t0, w, t1, -(rk[1] + rk[2]), w + 2 * (rk[1] + rk[2]), rk[0]);
-        box_row(t1, w + 2 * (rk[1] + rk[2]), t0, rk[1], w + 2 * rk[2], rk[1]);
-        box_row(t0, w + 2 * rk[2], out, rk[2], w, rk[2]);
+        box_row(t0, w, t1, -spill1, w + 2 * spill1, rk[0]);
+        box_row(t1, w + 2 * spill1, t0, rk[1], w + 2 * spill2, rk[1]);
+        box_row(t0, w + 2 * spill2, out, spill2, w, rk[2]);
       }
     }
     const int nblocks = (w + BOX_COLS - 1) / BOX_COLS;
@@ -1115,9 +1118,9 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
       if (!a) continue;
       int x0 = bk * BOX_COLS, cw = w - x0 < BOX_COLS ? w - x0 : BOX_COLS;
       float *b0 = a, *b1 = a + BOX_COLS * hp; /* row stride BOX_COLS */
-      box_cols(P + x0, (size_t)w, h, b0, BOX_COLS, -(rk[1] + rk[2]), h + 2 * (rk[1] + rk[2]), cw, rk[0]);
-      box_cols(b0, BOX_COLS, h + 2 * (rk[1] + rk[2]), b1, BOX_COLS, rk[1], h + 2 * rk[2], cw, rk[1]);
-      box_cols(b1, BOX_COLS, h + 2 * rk[2], b0, BOX_COLS, rk[2], h, cw, rk[2]);
+      box_cols(P + x0, (size_t)w, h, b0, BOX_COLS, -spill1, h + 2 * spill1, cw, rk[0]);
+      box_cols(b0, BOX_COLS, h + 2 * spill1, b1, BOX_COLS, rk[1], h + 2 * spill2, cw, rk[1]);
+      box_cols(b1, BOX_COLS, h + 2 * spill2, b0, BOX_COLS, spill2, h, cw, rk[2]);
       for (int y = 0; y < h; y++)
         pool_cap_span(b0 + (size_t)y * BOX_COLS, D + (size_t)y * w + x0, acc ? acc + (size_t)y * w + x0 : NULL,
                       (size_t)cw, gain, down, bound);
@@ -1140,6 +1143,17 @@ static jnd_status summation_levels(const jnd_model *m, int band, float *D, float
   const double f0 = p->summation_chroma_f0_cpd > 0 ? p->summation_chroma_f0_cpd : p->summation_f0_cpd;
   const double beta = p->summation_chroma_beta > 0 ? p->summation_chroma_beta : p->summation_beta;
   return local_summation(m, band, Dc, D, w, h, f0, beta); /* pooled into D */
+}
+
+/* The difference planes of level b: D, and with apart Dc for the chromatic
+ * channels (summation_levels); on failure *Dc is NULL and *D is freed by
+ * the caller with the other levels */
+static jnd_status level_planes(const diff_state *st, int b, int apart, float **D, float **Dc) {
+  const size_t n = (size_t)st->g[0][0].w[b] * st->g[0][0].h[b];
+  *D = jnd_alloc(n, sizeof(float));
+  if (!*D) return JND_ERR_NOMEM;
+  if (apart && !(*Dc = jnd_alloc(n, sizeof(float)))) return JND_ERR_NOMEM;
+  return JND_OK;
 }
 
 static void state_free(diff_state *st) {
@@ -1293,14 +1307,7 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
         }
       }
     float *Dc = NULL;
-    if (s == JND_OK) {
-      Dlev[b] = jnd_alloc((size_t)st.g[0][0].w[b] * st.g[0][0].h[b], sizeof(float));
-      if (!Dlev[b]) s = JND_ERR_NOMEM;
-    }
-    if (s == JND_OK && apart) {
-      Dc = jnd_alloc((size_t)st.g[0][0].w[b] * st.g[0][0].h[b], sizeof(float));
-      if (!Dc) s = JND_ERR_NOMEM;
-    }
+    if (s == JND_OK) s = level_planes(&st, b, apart, &Dlev[b], &Dc);
     if (s == JND_OK)
       s = band_difference(m, &st, b, xexp, Dlev[b], Dc, xband && mk_coarse[0] ? mk_coarse : NULL,
                           xband && b > 0 ? mk_this : NULL);
@@ -1318,12 +1325,7 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
   /* the baseband, as one more level below the coarsest band */
   if (s == JND_OK) {
     float *Dc = NULL;
-    Dlev[nb] = jnd_alloc((size_t)st.g[0][0].w[nb] * st.g[0][0].h[nb], sizeof(float));
-    if (!Dlev[nb]) s = JND_ERR_NOMEM;
-    if (s == JND_OK && apart) {
-      Dc = jnd_alloc((size_t)st.g[0][0].w[nb] * st.g[0][0].h[nb], sizeof(float));
-      if (!Dc) s = JND_ERR_NOMEM;
-    }
+    s = level_planes(&st, nb, apart, &Dlev[nb], &Dc);
     if (s == JND_OK) s = baseband_difference(m, &st, Dlev[nb], Dc);
     if (s == JND_OK) s = summation_levels(m, nb, Dlev[nb], Dc, st.g[0][0].w[nb], st.g[0][0].h[nb]);
     free(Dc);
