@@ -57,6 +57,9 @@ check cross_validation_does_not_depend_on_the_thread_count cmp -s "$T/cv.json" "
 expect_exit 2 unknown_constant_exits_two "$JND" csf "$T/data.csv" --set nonsense=1
 check unknown_constant_error_is_one_line one_line_error
 expect_exit 2 constant_out_of_bounds_exits_two "$JND" csf "$T/data.csv" --set sensitivity=-1
+expect_exit 2 unknown_constant_to_fit_exits_two "$JND" csf "$T/data.csv" --fit --fit-only chroma_sat_td,nonsense
+check unknown_constant_to_fit_is_named grep -q "no constant 'nonsense'" "$T/err.txt"
+check unknown_constant_to_fit_error_is_one_line one_line_error
 
 # bad input
 printf 'luminance,s_frequency\n1,2\n' >"$T/bad.csv"
