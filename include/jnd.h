@@ -260,6 +260,7 @@ typedef struct {
                                 law turns into Weber's law (0: pure square root, as 004) */
   double rg_cutoff_cpd;      /* red–green CSF centre cut-off (Kelly 1983 form, docs/model.md) */
   double yv_cutoff_cpd;      /* yellow–violet CSF centre cut-off */
+  double chroma_tail;        /* exponent q of the chromatic centre's spatial fall, exp(-(rho/cutoff)^q) */
   double chroma_temporal_hz; /* temporal cut-off of the chromatic CSFs' centre, Hz */
   double kelly_c2;           /* velocity scale c2 of the achromatic CSF (004: 1.7; docs/model.md) */
   double flicker_gain;       /* sensitivity to a flicker's amplitude relative to a travelling

@@ -63,14 +63,17 @@ double jnd_pupil_diameter_mm(double L) { return 5.0 - 3.0 * tanh(0.4 * log10(L))
  * linear combination of two space–time-separable low-pass functions, a
  * centre and a surround. 004 does not print Kelly's constants; the form and
  * the constants below are our choice, documented in docs/model.md: each
- * component is an exponential low-pass in spatial frequency times a
+ * component is a low-pass in spatial frequency times a
  * low-pass in temporal frequency; the surround is broader in space and
  * slower, so motion or flicker removes it first and the peak sensitivity
  * rises with velocity while the curve stays low-pass. The centre's temporal
  * low-pass is of second order, 1 / (1 + (ω/ω_c)²), ω_c = temporal_hz fitted
  * (docs/model.md): chromatic flicker sensitivity is flat at low frequencies
  * and falls by about a decade from 10 to 25 Hz, faster than a first-order
- * filter allows. */
+ * filter allows. The centre's spatial low-pass is a stretched exponential,
+ * exp(−(ρ/ρ_c)^q), q = tail fitted (docs/model.md): the exponential (q = 1)
+ * falls far faster above a few cpd than red–green and S-cone thresholds do;
+ * the surround keeps the exponential. */
 static const struct {
   double k_s, rho_s, omega_s;
 } CHROM[2] = {
@@ -98,10 +101,10 @@ double jnd_csf_chromatic_luminance(double L, double sat_td) {
   return sqrt(i / r);
 }
 
-double jnd_csf_chromatic(double rho, double omega, int ch, double cutoff, double temporal_hz) {
+double jnd_csf_chromatic(double rho, double omega, int ch, double cutoff, double tail, double temporal_hz) {
   double tc = 1.0 / (1.0 + (omega / temporal_hz) * (omega / temporal_hz));
   double ts = 1.0 / sqrt(1.0 + (omega / CHROM[ch].omega_s) * (omega / CHROM[ch].omega_s));
-  double s = exp(-rho / cutoff) * tc - CHROM[ch].k_s * exp(-rho / CHROM[ch].rho_s) * ts;
+  double s = exp(-pow(rho / cutoff, tail)) * tc - CHROM[ch].k_s * exp(-rho / CHROM[ch].rho_s) * ts;
   return fmax(s, 0.0);
 }
 

@@ -76,26 +76,27 @@ void jnd_model_defaults(jnd_model_params *p) {
    * by jnd csf --fit (scripts/fit-model.sh): maximum a posteriori with the
    * priors of constants.c; the comment is one posterior standard deviation.
    * docs/model.md has the procedure and the errors. */
-  p->sensitivity = 0.65437; /* ±8% */
-  p->sens_rg = 612.41; /* ±14% */
-  p->sens_yv = 434.51; /* ±15% */
-  p->rg_cutoff_cpd = 1.3558; /* ±18% */
-  p->yv_cutoff_cpd = 1.1493; /* ±20% */
+  p->sensitivity = 0.629013; /* ±8% */
+  p->sens_rg = 816.515; /* ±22% */
+  p->sens_yv = 649.137; /* ±23% */
+  p->rg_cutoff_cpd = 1.12159; /* ±40% */
+  p->yv_cutoff_cpd = 0.657875; /* ±40% */
+  p->chroma_tail = 0.564568; /* ±15% */
   p->chroma_sat_td = 100; /* held at its prior (constants.c): not fitted */
-  p->chroma_temporal_hz = 9.3662; /* ±6% */
-  p->kelly_c2 = 0.85294; /* ±3% */
-  p->flicker_gain = 0.795; /* ±8% */
-  p->eye_velocity_dps = 80.373; /* ±84% */
-  p->summation_area_deg2 = 336.73; /* ±28% */
-  p->summation_f0_cpd = 1.237; /* ±55% */
-  p->summation_beta = 3.1786; /* ±9% */
-  p->summation_chroma_f0_cpd = 0.1708; /* ±34% */
-  p->summation_chroma_beta = 3.5296; /* ±24% */
-  p->ecc_e2_deg = 6.5192; /* ±45% */
-  p->ecc_achromatic = 0.24409; /* ±44% */
-  p->ecc_rg = 1.3104; /* ±23% */
-  p->ecc_yv = 0.71233; /* ±35% */
-  p->ecc_freq = 0.058665; /* ±10% */
+  p->chroma_temporal_hz = 8.94704; /* ±5% */
+  p->kelly_c2 = 0.842482; /* ±3% */
+  p->flicker_gain = 0.794263; /* ±8% */
+  p->eye_velocity_dps = 79.7175; /* ±44% */
+  p->summation_area_deg2 = 270.099; /* ±62% */
+  p->summation_f0_cpd = 1.02246; /* ±46% */
+  p->summation_beta = 3.12483; /* ±10% */
+  p->summation_chroma_f0_cpd = 0.104529; /* ±12% */
+  p->summation_chroma_beta = 3.66446; /* ±27% */
+  p->ecc_e2_deg = 6.4311; /* ±44% */
+  p->ecc_achromatic = 0.296071; /* ±43% */
+  p->ecc_rg = 1.31605; /* ±22% */
+  p->ecc_yv = 0.640394; /* ±34% */
+  p->ecc_freq = 0.0559652; /* ±11% */
   p->min_band_cpd = 0.125; /* chosen, not fitted: the lowest frequency in the data */
 }
 
@@ -129,7 +130,7 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
     return jnd_fail(JND_ERR_ARG, "model: sensitivities must be positive");
   if (!(p->min_band_cpd > 0.01)) return jnd_fail(JND_ERR_ARG, "model: min_band_cpd must be > 0.01");
   if (!(p->summation_area_deg2 >= 0) || !(p->summation_f0_cpd > 0) || !(p->summation_beta >= 1) ||
-      !(p->eye_velocity_dps >= 0) || !(p->chroma_sat_td >= 0) || !(p->rg_cutoff_cpd > 0) || !(p->yv_cutoff_cpd > 0) ||
+      !(p->eye_velocity_dps >= 0) || !(p->chroma_sat_td >= 0) || !(p->rg_cutoff_cpd > 0) || !(p->yv_cutoff_cpd > 0) || !(p->chroma_tail > 0) ||
       !(p->chroma_temporal_hz > 0) || !(p->kelly_c2 > 0) || !(p->flicker_gain > 0))
     return jnd_fail(JND_ERR_ARG, "model: summation, eye velocity, saturation and cut-offs must be positive");
   if (!(p->summation_chroma_f0_cpd >= 0) || !(p->summation_chroma_beta == 0 || p->summation_chroma_beta >= 1))
@@ -234,9 +235,9 @@ static void lut_fill(jnd_model *m, int il0, int il1) {
       for (int iv = 0; iv < LUT_NV; iv++) {
         double v = m->vgrid[iv];
         col[0][iv] = (float)(p->sensitivity * jnd_csf_achromatic(rho, v, m->c0[il], m->c1[il], p->kelly_c2) / amp);
-        col[1][iv] = (float)(p->sens_rg * jnd_csf_chromatic(rho, rho * v, 0, p->rg_cutoff_cpd, p->chroma_temporal_hz) *
+        col[1][iv] = (float)(p->sens_rg * jnd_csf_chromatic(rho, rho * v, 0, p->rg_cutoff_cpd, p->chroma_tail, p->chroma_temporal_hz) *
                              m->lumf[0][il] / amp);
-        col[2][iv] = (float)(p->sens_yv * jnd_csf_chromatic(rho, rho * v, 1, p->yv_cutoff_cpd, p->chroma_temporal_hz) *
+        col[2][iv] = (float)(p->sens_yv * jnd_csf_chromatic(rho, rho * v, 1, p->yv_cutoff_cpd, p->chroma_tail, p->chroma_temporal_hz) *
                              m->lumf[1][il] / amp);
       }
       /* Fixational eye movements (our extension, docs/model.md): drift and
@@ -761,9 +762,9 @@ static jnd_status band_setup(const jnd_model *m, const diff_state *st, int band,
     for (int il = st->il0; il <= st->il1; il++) {
       k->lut1[il][0] =
           (float)(p->sensitivity * jnd_csf_achromatic(rho, om / rho, m->c0[il], m->c1[il], p->kelly_c2) / amp);
-      k->lut1[il][1] = (float)(p->sens_rg * jnd_csf_chromatic(rho, om, 0, p->rg_cutoff_cpd, p->chroma_temporal_hz) *
+      k->lut1[il][1] = (float)(p->sens_rg * jnd_csf_chromatic(rho, om, 0, p->rg_cutoff_cpd, p->chroma_tail, p->chroma_temporal_hz) *
                                m->lumf[0][il] / amp);
-      k->lut1[il][2] = (float)(p->sens_yv * jnd_csf_chromatic(rho, om, 1, p->yv_cutoff_cpd, p->chroma_temporal_hz) *
+      k->lut1[il][2] = (float)(p->sens_yv * jnd_csf_chromatic(rho, om, 1, p->yv_cutoff_cpd, p->chroma_tail, p->chroma_temporal_hz) *
                                m->lumf[1][il] / amp);
     }
   } else if (!st->has_vel) {

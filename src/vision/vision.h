@@ -87,9 +87,10 @@ double jnd_csf_achromatic(double rho_cpd, double vel_dps, double c0, double c1, 
 void jnd_csf_adaptation(double lum_cdm2, double *c0, double *c1);
 /* The spatio-temporal shape of Kelly's (1983) chromatic CSF, centre +
  * surround, at spatial frequency rho_cpd and temporal frequency omega_hz;
- * channel 0 red–green, 1 yellow–violet; cutoff_cpd is the centre's spatial
- * cut-off, temporal_hz its temporal one (docs/model.md). Peak ≈ 1. */
-double jnd_csf_chromatic(double rho_cpd, double omega_hz, int channel, double cutoff_cpd, double temporal_hz);
+ * channel 0 red–green, 1 yellow–violet; the centre falls as
+ * exp(−(rho/cutoff_cpd)^tail), temporal_hz is its temporal cut-off
+ * (docs/model.md). Peak ≈ 1. */
+double jnd_csf_chromatic(double rho_cpd, double omega_hz, int channel, double cutoff_cpd, double tail, double temporal_hz);
 /* The chromatic CSF's luminance factor: the square root of the retinal
  * illuminance relative to 35 cd/m² (004 §3.1), turning into Weber's law
  * above sat_td trolands (0: never) */

@@ -204,13 +204,25 @@ TEST(daly_eye_movement_leaves_drift_on_static_images) {
 }
 
 TEST(chromatic_csf_is_low_pass_and_rises_with_temporal_frequency_at_low_spatial_frequency) {
-  CHECK(jnd_csf_chromatic(0.5, 0.5 * 0.15, 0, 2.6, 7) > jnd_csf_chromatic(8, 8 * 0.15, 0, 2.6, 7));
-  CHECK(jnd_csf_chromatic(0.1, 0.1 * 5, 0, 2.6, 7) > jnd_csf_chromatic(0.1, 0.1 * 0.15, 0, 2.6, 7));
+  CHECK(jnd_csf_chromatic(0.5, 0.5 * 0.15, 0, 2.6, 1, 7) > jnd_csf_chromatic(8, 8 * 0.15, 0, 2.6, 1, 7));
+  CHECK(jnd_csf_chromatic(0.1, 0.1 * 5, 0, 2.6, 1, 7) > jnd_csf_chromatic(0.1, 0.1 * 0.15, 0, 2.6, 1, 7));
   /* chromatic flicker fades above ~10 Hz */
-  CHECK(jnd_csf_chromatic(0.3, 25, 0, 2.6, 7) < 0.2 * jnd_csf_chromatic(0.3, 3, 0, 2.6, 7));
+  CHECK(jnd_csf_chromatic(0.3, 25, 0, 2.6, 1, 7) < 0.2 * jnd_csf_chromatic(0.3, 3, 0, 2.6, 1, 7));
   /* square-root law of retinal illuminance */
   CHECK(jnd_csf_chromatic_luminance(200, 0) > 1.5 && jnd_csf_chromatic_luminance(35, 0) == 1.0);
   CHECK(jnd_csf_chromatic_luminance(2000, 160) < jnd_csf_chromatic_luminance(2000, 0));
+}
+
+TEST(chromatic_centre_falls_as_a_stretched_exponential_of_frequency) {
+  /* exp(−(ρ/ρ_c)^q): e^−1 of the peak at the cut-off whatever q (static, so
+   * the surround's exp(−ρ/ρ_s) term is all that differs from the centre) */
+  const double rc = 1.2, surround = 0.25 * exp(-rc / 0.25);
+  CHECK_NEAR(jnd_csf_chromatic(rc, 0, 0, rc, 1, 7), exp(-1) - surround, 1e-12);
+  CHECK_NEAR(jnd_csf_chromatic(rc, 0, 0, rc, 0.5, 7), exp(-1) - surround, 1e-12);
+  /* at 16 cpd q = 0.5 keeps exp(−√(16/1.2)) = 2.6% of the peak, q = 1 only
+   * exp(−16/1.2) = 1.6·10⁻⁶: the slower fall the chromatic data above 4 cpd want */
+  CHECK_NEAR(jnd_csf_chromatic(16, 0, 0, rc, 0.5, 7), exp(-sqrt(16 / rc)), 1e-9);
+  CHECK_NEAR(jnd_csf_chromatic(16, 0, 0, rc, 1, 7), exp(-16 / rc), 1e-9);
 }
 
 TEST(same_weber_contrast_is_about_equally_visible_at_100_and_200_but_not_at_0_1) {
@@ -1204,6 +1216,7 @@ RUN_TESTS(flicker_sensitivity_is_band_pass_at_low_spatial_frequency_and_low_pass
           csf_adaptation_is_identity_at_100_cdm2_and_follows_barten_peaks_elsewhere, barten_csf_peaks_near_a_few_cycles_per_degree,
           pupil_follows_le_grand, daly_eye_movement_leaves_drift_on_static_images,
           chromatic_csf_is_low_pass_and_rises_with_temporal_frequency_at_low_spatial_frequency,
+          chromatic_centre_falls_as_a_stretched_exponential_of_frequency,
           same_weber_contrast_is_about_equally_visible_at_100_and_200_but_not_at_0_1, jnd_grows_with_contrast,
           results_do_not_depend_on_thread_count, motion_hides_fine_detail, eccentricity_lowers_sensitivity,
           zero_weights_remove_differences, mismatched_sizes_are_refused, probability_is_half_at_one_jnd,
