@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
 # The model against the 785 human thresholds of csf_train's nine data sets
 # (issue 10). The headline is leave-one-data-set-out cross-validation: each
-# data set predicted by the constants refitted on the other eight. The
-# bounds are what the model achieves at this commit (docs/model.md): the
-# issue's targets are <= 5 dB over static rows (not reached: 5.29) and <= 7 dB
-# over all rows (met: 6.17). Training: 4.70 static, 4.12 all rows.
+# data set predicted by the constants refitted on the other eight, searching
+# the same rows (every second of each set) as the fit of the defaults
+# (scripts/fit-model.sh). The bounds are what the model achieves at this
+# commit (docs/model.md): the issue's targets are <= 5 dB over static rows
+# (not reached: 5.03) and <= 7 dB over all rows (met: 5.33). Training: 4.48
+# static, 3.97 all rows.
 . "$(dirname "$0")/lib.bash"
 shared_data || skip "no shared data"
 D="$JND_SHARED/data/csf/csf_train.csv"
-expect_exit 0 cross_validation_runs "$JND" csf "$D" --cross-validate --search-every 3 -o "$T/pred.csv" --json "$T/r.json" --quiet
+expect_exit 0 cross_validation_runs "$JND" csf "$D" --cross-validate --search-every 2 -o "$T/pred.csv" --json "$T/r.json" --quiet
 jq -c '.result | del(.derived_directions)' "$T/r.json"
 check every_row_is_predicted jq -e '.result.rows == 785 and .result.skipped == 0' "$T/r.json"
 check nine_data_sets_each_cross_validated \
@@ -22,8 +24,11 @@ check the_constants_of_each_fold_are_reported \
 # kept it would predict its left-out set with constants fitted on that set)
 check every_fold_moves_from_the_all_data_fit \
   jq -e '.parameters.constants as $c | ($c.sensitivity.without | keys) | all(. as $ds | [$c[] | select(((.without[$ds] / .value) - 1 | fabs) > 1e-6)] | length > 0)' "$T/r.json"
-check training_rmse_static_at_most_4_75_db jq -e '.result.rmse_db_static <= 4.75' "$T/r.json"
-check training_rmse_all_rows_at_most_4_2_db jq -e '.result.rmse_db <= 4.2' "$T/r.json"
-check loso_rmse_static_at_most_5_35_db jq -e '.result.cv_rmse_db_static <= 5.35' "$T/r.json"
-check loso_rmse_all_rows_at_most_6_25_db jq -e '.result.cv_rmse_db <= 6.25' "$T/r.json"
+# the chromatic centre falls slower than Kelly's exponential (q = 1) by
+# every fold's data, colorfest's (the only chromatic set above 8 cpd) left out too
+check chroma_tail_below_0_8_in_every_fold jq -e '[.parameters.constants.chroma_tail.without[]] | length == 9 and max < 0.8' "$T/r.json"
+check training_rmse_static_at_most_4_55_db jq -e '.result.rmse_db_static <= 4.55' "$T/r.json"
+check training_rmse_all_rows_at_most_4_05_db jq -e '.result.rmse_db <= 4.05' "$T/r.json"
+check loso_rmse_static_at_most_5_1_db jq -e '.result.cv_rmse_db_static <= 5.1' "$T/r.json"
+check loso_rmse_all_rows_at_most_5_4_db jq -e '.result.cv_rmse_db <= 5.4' "$T/r.json"
 finish
