@@ -1061,11 +1061,12 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
   const int threads = jnd_threads(m->p.threads);
   if (acc) {
     /* What this level adds to acc is at most bound × its largest value
-     * anywhere. Where that is negligible — the chromatic channels at the
-     * finest band, whose CSF has fallen by orders of magnitude (1e-12 on the
-     * bench's pair at 18 cpd) — the level is left out: the map changes by
-     * less than SUMMATION_NEGLIGIBLE (a JND of 2e-4 on its own), and
-     * jnd diff saves a quarter of a second summation. */
+     * anywhere. Where that is negligible — a pair without colour
+     * differences at this band's frequencies — the level is left out: the
+     * map changes by less than SUMMATION_NEGLIGIBLE (a JND of 2e-4 on its
+     * own). (With chroma_tail's slower fall the bench pair's chromatic
+     * difference at 18 cpd is bounded at 0.08 JND, no longer 1e-12: it is
+     * summed; docs/model.md "Speed".) */
     float mx = 0;
     const size_t n = (size_t)w * h;
 #pragma omp parallel for reduction(max : mx) num_threads(threads) schedule(static)
