@@ -132,7 +132,7 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
   if (!(p->summation_area_deg2 >= 0) || !(p->summation_f0_cpd > 0) || !(p->summation_beta >= 1) ||
       !(p->eye_velocity_dps >= 0) || !(p->chroma_sat_td >= 0) || !(p->rg_cutoff_cpd > 0) || !(p->yv_cutoff_cpd > 0) || !(p->chroma_tail > 0) ||
       !(p->chroma_temporal_hz > 0) || !(p->kelly_c2 > 0) || !(p->flicker_gain > 0))
-    return jnd_fail(JND_ERR_ARG, "model: summation, eye velocity, saturation and cut-offs must be positive");
+    return jnd_fail(JND_ERR_ARG, "model: summation, eye velocity, saturation, cut-offs and chroma_tail must be positive");
   if (!(p->summation_chroma_f0_cpd >= 0) || !(p->summation_chroma_beta == 0 || p->summation_chroma_beta >= 1))
     return jnd_fail(JND_ERR_ARG, "model: summation_chroma_f0_cpd must be >= 0 and summation_chroma_beta 0 or >= 1");
   if (!(p->ecc_e2_deg > 0) || !(p->ecc_achromatic >= 0) || !(p->ecc_rg >= 0) || !(p->ecc_yv >= 0) ||

@@ -223,6 +223,13 @@ TEST(chromatic_centre_falls_as_a_stretched_exponential_of_frequency) {
    * exp(−16/1.2) = 1.6·10⁻⁶: the slower fall the chromatic data above 4 cpd want */
   CHECK_NEAR(jnd_csf_chromatic(16, 0, 0, rc, 0.5, 7), exp(-sqrt(16 / rc)), 1e-9);
   CHECK_NEAR(jnd_csf_chromatic(16, 0, 0, rc, 1, 7), exp(-16 / rc), 1e-9);
+  /* q = 0 would make the centre flat at e^−1: refused */
+  jnd_model_params p;
+  jnd_model_defaults(&p);
+  p.chroma_tail = 0;
+  jnd_model *m = NULL;
+  CHECK_STATUS(jnd_model_create(&p, &m), JND_ERR_ARG);
+  CHECK(m == NULL);
 }
 
 TEST(same_weber_contrast_is_about_equally_visible_at_100_and_200_but_not_at_0_1) {
