@@ -194,6 +194,14 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
   return JND_OK;
 }
 
+/* Chromatic channel ch's sensitivity (0 red–green, 1 yellow–violet) at
+ * spatial frequency rho and temporal frequency omega, before the luminance
+ * factor: the channel's scale times Kelly's chromatic CSF with its cut-off */
+static double chromatic_sensitivity(const jnd_model_params *p, int ch, double rho, double omega) {
+  return (ch ? p->sens_yv : p->sens_rg) *
+         jnd_csf_chromatic(rho, omega, ch, ch ? p->yv_cutoff_cpd : p->rg_cutoff_cpd, p->chroma_tail, p->chroma_temporal_hz);
+}
+
 /* The CSF tables of luminance columns [il0, il1], those not filled yet: the
  * achromatic CSF from c0(L), c1(L) (Barten-adapted, 004 §3.1), the chromatic
  * CSFs as a spatio-temporal shape (temporal frequency ω = ρ·v) times their
@@ -235,10 +243,8 @@ static void lut_fill(jnd_model *m, int il0, int il1) {
       for (int iv = 0; iv < LUT_NV; iv++) {
         double v = m->vgrid[iv];
         col[0][iv] = (float)(p->sensitivity * jnd_csf_achromatic(rho, v, m->c0[il], m->c1[il], p->kelly_c2) / amp);
-        col[1][iv] = (float)(p->sens_rg * jnd_csf_chromatic(rho, rho * v, 0, p->rg_cutoff_cpd, p->chroma_tail, p->chroma_temporal_hz) *
-                             m->lumf[0][il] / amp);
-        col[2][iv] = (float)(p->sens_yv * jnd_csf_chromatic(rho, rho * v, 1, p->yv_cutoff_cpd, p->chroma_tail, p->chroma_temporal_hz) *
-                             m->lumf[1][il] / amp);
+        for (int ch = 0; ch < 2; ch++)
+          col[1 + ch][iv] = (float)(chromatic_sensitivity(p, ch, rho, rho * v) * m->lumf[ch][il] / amp);
       }
       /* Fixational eye movements (our extension, docs/model.md): drift and
        * microsaccades sweep the retinal velocity from v up to v + eye_velocity,
@@ -762,10 +768,8 @@ static jnd_status band_setup(const jnd_model *m, const diff_state *st, int band,
     for (int il = st->il0; il <= st->il1; il++) {
       k->lut1[il][0] =
           (float)(p->sensitivity * jnd_csf_achromatic(rho, om / rho, m->c0[il], m->c1[il], p->kelly_c2) / amp);
-      k->lut1[il][1] = (float)(p->sens_rg * jnd_csf_chromatic(rho, om, 0, p->rg_cutoff_cpd, p->chroma_tail, p->chroma_temporal_hz) *
-                               m->lumf[0][il] / amp);
-      k->lut1[il][2] = (float)(p->sens_yv * jnd_csf_chromatic(rho, om, 1, p->yv_cutoff_cpd, p->chroma_tail, p->chroma_temporal_hz) *
-                               m->lumf[1][il] / amp);
+      for (int ch = 0; ch < 2; ch++)
+        k->lut1[il][1 + ch] = (float)(chromatic_sensitivity(p, ch, rho, om) * m->lumf[ch][il] / amp);
     }
   } else if (!st->has_vel) {
     /* without a motion map every pixel has the same retinal velocity: the
