@@ -76,27 +76,27 @@ void jnd_model_defaults(jnd_model_params *p) {
    * by jnd csf --fit (scripts/fit-model.sh): maximum a posteriori with the
    * priors of constants.c; the comment is one posterior standard deviation.
    * docs/model.md has the procedure and the errors. */
-  p->sensitivity = 0.629013; /* ±8% */
-  p->sens_rg = 816.515; /* ±22% */
-  p->sens_yv = 649.137; /* ±23% */
-  p->rg_cutoff_cpd = 1.12159; /* ±40% */
-  p->yv_cutoff_cpd = 0.657875; /* ±40% */
-  p->chroma_tail = 0.564568; /* ±15% */
+  p->sensitivity = 0.633394; /* ±8% */
+  p->sens_rg = 857.805; /* ±23% */
+  p->sens_yv = 738.963; /* ±26% */
+  p->rg_cutoff_cpd = 1.05063; /* ±45% */
+  p->yv_cutoff_cpd = 0.502555; /* ±45% */
+  p->chroma_tail = 0.537454; /* ±15% */
   p->chroma_sat_td = 100; /* held at its prior (constants.c): not fitted */
-  p->chroma_temporal_hz = 8.94704; /* ±5% */
-  p->kelly_c2 = 0.842482; /* ±3% */
-  p->flicker_gain = 0.794263; /* ±8% */
-  p->eye_velocity_dps = 79.7175; /* ±44% */
-  p->summation_area_deg2 = 270.099; /* ±62% */
-  p->summation_f0_cpd = 1.02246; /* ±46% */
-  p->summation_beta = 3.12483; /* ±10% */
-  p->summation_chroma_f0_cpd = 0.104529; /* ±12% */
-  p->summation_chroma_beta = 3.66446; /* ±27% */
-  p->ecc_e2_deg = 6.4311; /* ±44% */
-  p->ecc_achromatic = 0.296071; /* ±43% */
-  p->ecc_rg = 1.31605; /* ±22% */
-  p->ecc_yv = 0.640394; /* ±34% */
-  p->ecc_freq = 0.0559652; /* ±11% */
+  p->chroma_temporal_hz = 8.85637; /* ±5% */
+  p->kelly_c2 = 0.840448; /* ±3% */
+  p->flicker_gain = 0.790521; /* ±8% */
+  p->eye_velocity_dps = 82.5354; /* ±93% */
+  p->summation_area_deg2 = 388.612; /* ±60% */
+  p->summation_f0_cpd = 1.24591; /* ±58% */
+  p->summation_beta = 3.26615; /* ±9% */
+  p->summation_chroma_f0_cpd = 0.0716869; /* ±47% */
+  p->summation_chroma_beta = 3.2717; /* ±29% */
+  p->ecc_e2_deg = 7.66082; /* ±43% */
+  p->ecc_achromatic = 0.296978; /* ±42% */
+  p->ecc_rg = 1.41907; /* ±23% */
+  p->ecc_yv = 0.72169; /* ±34% */
+  p->ecc_freq = 0.0567307; /* ±10% */
   p->min_band_cpd = 0.125; /* chosen, not fitted: the lowest frequency in the data */
 }
 
@@ -894,25 +894,29 @@ static jnd_status baseband_difference(const jnd_model *m, diff_state *st, float 
   return s;
 }
 
-/* One box pass of odd width 2r+1 along a row of n samples, zero beyond its
- * ends: d[i] = mean of s[from + i − r … from + i + r], for m outputs. With
- * from < 0 and m > n the output runs past the row's ends, so that the next
- * pass still has what this one spread beyond the border: three such passes
- * are one window over the image's samples, each sample counted however near
- * the border it lies (docs/model.md "Area summation"). Zero, not mirrored:
- * the viewer sees nothing past the image's border, so a difference near it
- * is summed over fewer detectors (mirroring would add reflected copies of
- * it, and make a small stimulus in a small image look like a large one). */
-static void box_row(const float *s, int n, float *d, int from, int m, int r) {
-  const float inv = 1.0f / (float)(2 * r + 1);
+/* One box pass along a row: weight 1 on the 2r+1 samples within r of the
+ * centre and a on the two at r+1, the weights normalised to sum 1; d[i] for
+ * centres from + i, m outputs. s is read from from − r − 1 to
+ * from + m + r: the caller pads it (zeros beyond the image), so the loop has
+ * no bounds to check. The end weight a ∈ [0, 1] makes the box's variance a
+ * continuous function of its length (box_radius): whole-sample radii alone
+ * gave a window that moved in steps as σ moved, and the fit's objective was
+ * a staircase (docs/model.md "Area summation"). Each pass's output runs past
+ * the image's ends by as far as the passes after it reach, so three passes
+ * are one window over the image's samples, each sample counted however
+ * near the border it lies. Zero, not mirrored: the viewer sees nothing past
+ * the image's border, so a difference near it is summed over fewer
+ * detectors (mirroring would add reflected copies of it, and make a small
+ * stimulus in a small image look like a large one). */
+static void box_row(const float *s, float *d, int from, int m, int r, float a) {
+  const double inv = 1.0 / (2.0 * r + 1.0 + 2.0 * a);
   double acc = 0;
-  for (int j = from - r; j <= from + r; j++)
-    if (j >= 0 && j < n) acc += s[j];
+  for (int j = from - r; j <= from + r; j++) acc += s[j];
   for (int i = 0; i < m; i++) {
-    d[i] = (float)(acc * inv);
-    const int add = from + i + r + 1, sub = from + i - r;
-    if (add >= 0 && add < n) acc += s[add];
-    if (sub >= 0 && sub < n) acc -= s[sub];
+    const int c = from + i;
+    d[i] = (float)((acc + a * ((double)s[c - r - 1] + s[c + r + 1])) * inv);
+    acc += s[c + r + 1];
+    acc -= s[c - r];
   }
 }
 
@@ -921,29 +925,29 @@ static void box_row(const float *s, int n, float *d, int from, int m, int r) {
  * one row's sum is a chain of dependent additions, and BOX_ROWS independent
  * chains keep the adder busy. */
 #define BOX_ROWS 4
-static void box_rows(const float *const s[BOX_ROWS], int n, float *const d[BOX_ROWS], int from, int m, int r) {
-  const float inv = 1.0f / (float)(2 * r + 1);
+JND_HOT static void box_rows(const float *const s[BOX_ROWS], float *const d[BOX_ROWS], int from, int m, int r, float a) {
+  const double inv = 1.0 / (2.0 * r + 1.0 + 2.0 * a);
   double acc[BOX_ROWS] = {0};
   for (int j = from - r; j <= from + r; j++)
-    if (j >= 0 && j < n)
-      for (int k = 0; k < BOX_ROWS; k++) acc[k] += s[k][j];
+    for (int k = 0; k < BOX_ROWS; k++) acc[k] += s[k][j];
   for (int i = 0; i < m; i++) {
-    for (int k = 0; k < BOX_ROWS; k++) d[k][i] = (float)(acc[k] * inv);
-    const int add = from + i + r + 1, sub = from + i - r;
-    if (add >= 0 && add < n)
-      for (int k = 0; k < BOX_ROWS; k++) acc[k] += s[k][add];
-    if (sub >= 0 && sub < n)
-      for (int k = 0; k < BOX_ROWS; k++) acc[k] -= s[k][sub];
+    const int c = from + i;
+    for (int k = 0; k < BOX_ROWS; k++) {
+      d[k][i] = (float)((acc[k] + a * ((double)s[k][c - r - 1] + s[k][c + r + 1])) * inv);
+      acc[k] += s[k][c + r + 1];
+      acc[k] -= s[k][c - r];
+    }
   }
 }
 
 /* box_row down cw columns at once (row strides ss and ds): src has n rows,
- * dst gets m, dst row i the mean of src rows from + i − r … from + i + r,
- * zero beyond src's first and last rows; a running sum per column, the
- * rows walked in order (vectorises across x) */
+ * dst gets m, dst row i centred on src row from + i, zero beyond src's first
+ * and last rows; a running sum per column over the rows within r, the two
+ * rows at r + 1 added with weight a, the rows walked in order (vectorises
+ * across x) */
 JND_HOT static void box_cols(const float *src, size_t ss, int n, float *dst, size_t ds, int from, int m, int cw,
-                             int r) {
-  const float inv = 1.0f / (float)(2 * r + 1);
+                             int r, float a) {
+  const double inv = 1.0 / (2.0 * r + 1.0 + 2.0 * a);
   double acc[BOX_COLS];
   for (int x = 0; x < cw; x++) acc[x] = 0;
   for (int j = from - r; j <= from + r; j++) {
@@ -953,8 +957,17 @@ JND_HOT static void box_cols(const float *src, size_t ss, int n, float *dst, siz
   }
   for (int i = 0; i < m; i++) {
     float *d = dst + (size_t)i * ds;
-    for (int x = 0; x < cw; x++) d[x] = (float)(acc[x] * inv);
-    const int add = from + i + r + 1, sub = from + i - r;
+    const int c = from + i, lo = c - r - 1, hi = c + r + 1;
+    const float *rl = lo >= 0 && lo < n ? src + (size_t)lo * ss : NULL;
+    const float *rh = hi >= 0 && hi < n ? src + (size_t)hi * ss : NULL;
+    if (rl && rh)
+      for (int x = 0; x < cw; x++) d[x] = (float)((acc[x] + a * ((double)rl[x] + rh[x])) * inv);
+    else if (rl || rh) {
+      const float *re = rl ? rl : rh;
+      for (int x = 0; x < cw; x++) d[x] = (float)((acc[x] + a * (double)re[x]) * inv);
+    } else
+      for (int x = 0; x < cw; x++) d[x] = (float)(acc[x] * inv);
+    const int add = c + r + 1, sub = c - r;
     if (add >= 0 && add < n) {
       const float *row = src + (size_t)add * ss;
       for (int x = 0; x < cw; x++) acc[x] += row[x];
@@ -988,6 +1001,28 @@ JND_HOT static void pool_cap_span(const float *sum, float *d, float *acc, size_t
     float pooled = jnd_fast_pow(sum[i] * gain, down), cap = bound * d[i];
     d[i] = pooled < cap ? pooled : cap;
   }
+}
+
+/* The box of box_row whose variance is v (samples²): whole radius r and
+ * end weight a ∈ [0, 1). Weights 1 on |j| ≤ r and a on |j| = r + 1, over
+ * their sum 2r + 1 + 2a, have variance
+ *   (r (r+1) (2r+1) / 3 + 2 a (r+1)²) / (2r + 1 + 2a),
+ * which rises with a from r (r+1) / 3 (the box of width 2r + 1) to
+ * (r+1) (r+2) / 3 (the next one) — continuous in v, where whole radii alone
+ * move in steps. Returns the variance the box has (v, to rounding). */
+static double box_radius(double v, int *r, float *a) {
+  if (!(v > 0)) v = 0;
+  int k = (int)floor((sqrt(12.0 * v + 1.0) - 1.0) / 2.0);
+  if (k < 0) k = 0;
+  while ((double)(k + 1) * (k + 2) / 3.0 <= v) k++;
+  while (k > 0 && (double)k * (k + 1) / 3.0 > v) k--;
+  const double m2 = (double)k * (k + 1) * (2 * k + 1) / 3.0, r1 = (double)(k + 1) * (k + 1);
+  double al = (v * (2 * k + 1) - m2) / (2.0 * (r1 - v));
+  if (al < 0) al = 0;
+  if (al > 1) al = 1;
+  *r = k;
+  *a = (float)al;
+  return (m2 + 2.0 * (double)*a * r1) / (2.0 * k + 1.0 + 2.0 * (double)*a);
 }
 
 /* The Gaussian window of local summation for a band of peak frequency ρ, as
@@ -1036,21 +1071,10 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
   /* samples of this level per cycle of the band's peak frequency */
   const double spc = 1.0 / (m->band_cpp[band] * ldexp(1.0, band));
   const double sigma = summation_sigma_cycles(&m->p, m->band_cpd[band], f0) * spc;
-  /* three boxes of widths n_k = 2 r_k + 1 have variance Σ (n_k² − 1) / 12;
-   * radii r and r + 1 mixed so that it comes within a fraction of a step of
-   * σ² (the window, and the fit's derivatives, then change smoothly with σ) */
-  int r = (int)floor((sqrt(4.0 * sigma * sigma + 1.0) - 1.0) / 2.0);
-  if (r < 1) r = 1;
-  int rk[3] = {r, r, r};
-  double var = 3.0 * (double)r * (r + 1) / 3.0; /* (n² − 1) / 12 = r (r + 1) / 3 per box */
-  for (int k = 0; k < 3; k++) {
-    double more = var + ((double)(r + 1) * (r + 2) - (double)r * (r + 1)) / 3.0;
-    if (fabs(more - sigma * sigma) < fabs(var - sigma * sigma)) {
-      rk[k] = r + 1;
-      var = more;
-    }
-  }
-  const double sig_eff = sqrt(var);
+  /* three equal boxes of variance σ²/3 each (box_radius) */
+  int r;
+  float endw;
+  const double sig_eff = sqrt(3.0 * box_radius(sigma * sigma / 3.0, &r, &endw));
   /* the window's weights sum to its area in cycles²: 2π σ² / spc² */
   const float gain = (float)(2.0 * M_PI * sig_eff * sig_eff / (spc * spc));
   const float up = (float)(beta / e), down = (float)(e / beta);
@@ -1061,7 +1085,7 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
   const float bound = jnd_fast_pow(gain, down);
   /* how far past each end the first and the second pass keep their output:
    * as far as the passes after them reach (box_row) */
-  const int spill1 = rk[1] + rk[2], spill2 = rk[2];
+  const int spill1 = 2 * (r + 1), spill2 = r + 1;
   const int threads = jnd_threads(m->p.threads);
   if (acc) {
     /* What this level adds to acc is at most bound × its largest value
@@ -1082,40 +1106,56 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
   int fail = 0;
 #pragma omp parallel num_threads(threads)
   {
-    /* two rows of each of BOX_ROWS rows, then two column blocks, of scratch,
-     * each long enough for what the first pass spreads beyond the ends */
-    const size_t wp = (size_t)w + 2 * (size_t)spill1, hp = (size_t)h + 2 * (size_t)spill1;
-    size_t need = 2 * BOX_ROWS * wp > 2 * BOX_COLS * hp ? 2 * BOX_ROWS * wp : 2 * BOX_COLS * hp;
-    float *a = malloc(sizeof(float) * need);
+    /* three rows of scratch for each of BOX_ROWS rows — the first pass's
+     * input, padded with the zeros it reads beyond the image's ends, and the
+     * first and the second pass's outputs — then two column blocks, each
+     * long enough for what the first pass spreads beyond the ends */
+    const int pad = spill1 + r + 1;
+    const size_t w0 = (size_t)w + 2 * (size_t)pad, w1 = (size_t)w + 2 * (size_t)spill1,
+                 w2 = (size_t)w + 2 * (size_t)spill2, hp = (size_t)h + 2 * (size_t)spill1;
+    const size_t rows = BOX_ROWS * (w0 + w1 + w2), cols = 2 * BOX_COLS * hp;
+    float *a = calloc(rows > cols ? rows : cols, sizeof(float));
     if (!a) {
 #pragma omp atomic write
       fail = 1;
     }
-    /* the horizontal passes, BOX_ROWS rows at a time (the last few alone) */
+    /* the horizontal passes, BOX_ROWS rows at a time (the last few alone),
+     * each buffer addressed by image position (0 .. w − 1 the image's) */
+    const float *in[BOX_ROWS], *o1c[BOX_ROWS], *o2c[BOX_ROWS];
+    float *t0[BOX_ROWS], *o1[BOX_ROWS], *o2[BOX_ROWS], *out[BOX_ROWS];
+    for (int k = 0; a && k < BOX_ROWS; k++) {
+      t0[k] = a + k * (w0 + w1 + w2) + pad;
+      o1[k] = t0[k] - pad + w0 + spill1;
+      o2[k] = o1[k] - spill1 + w1 + spill2;
+      in[k] = t0[k];
+      o1c[k] = o1[k];
+      o2c[k] = o2[k];
+    }
     const int ngroups = (h + BOX_ROWS - 1) / BOX_ROWS;
 #pragma omp for schedule(static)
     for (int g = 0; g < ngroups; g++) {
       if (!a) continue;
       const int y0 = g * BOX_ROWS;
       if (y0 + BOX_ROWS <= h) {
-        float *t0[BOX_ROWS], *t1[BOX_ROWS], *out[BOX_ROWS];
         for (int k = 0; k < BOX_ROWS; k++) {
-          t0[k] = a + 2 * k * wp;
-          t1[k] = t0[k] + wp;
           out[k] = P + (size_t)(y0 + k) * w;
           pow_span(D + (size_t)(y0 + k) * w, t0[k], (size_t)w, up);
         }
-        box_rows((const float *const *)t0, w, t1, -spill1, w + 2 * spill1, rk[0]);
-        box_rows((const float *const *)t1, w + 2 * spill1, t0, rk[1], w + 2 * spill2, rk[1]);
-        box_rows((const float *const *)t0, w + 2 * spill2, out, spill2, w, rk[2]);
+        float *d1[BOX_ROWS], *d2[BOX_ROWS];
+        for (int k = 0; k < BOX_ROWS; k++) {
+          d1[k] = o1[k] - spill1;
+          d2[k] = o2[k] - spill2;
+        }
+        box_rows(in, d1, -spill1, w + 2 * spill1, r, endw);
+        box_rows(o1c, d2, -spill2, w + 2 * spill2, r, endw);
+        box_rows(o2c, out, 0, w, r, endw);
         continue;
       }
       for (int y = y0; y < h; y++) {
-        float *t0 = a, *t1 = a + wp, *out = P + (size_t)y * w;
-        pow_span(D + (size_t)y * w, t0, (size_t)w, up);
-        box_row(t0, w, t1, -spill1, w + 2 * spill1, rk[0]);
-        box_row(t1, w + 2 * spill1, t0, rk[1], w + 2 * spill2, rk[1]);
-        box_row(t0, w + 2 * spill2, out, spill2, w, rk[2]);
+        pow_span(D + (size_t)y * w, t0[0], (size_t)w, up);
+        box_row(t0[0], o1[0] - spill1, -spill1, w + 2 * spill1, r, endw);
+        box_row(o1[0], o2[0] - spill2, -spill2, w + 2 * spill2, r, endw);
+        box_row(o2[0], P + (size_t)y * w, 0, w, r, endw);
       }
     }
     const int nblocks = (w + BOX_COLS - 1) / BOX_COLS;
@@ -1124,9 +1164,9 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
       if (!a) continue;
       int x0 = bk * BOX_COLS, cw = w - x0 < BOX_COLS ? w - x0 : BOX_COLS;
       float *b0 = a, *b1 = a + BOX_COLS * hp; /* row stride BOX_COLS */
-      box_cols(P + x0, (size_t)w, h, b0, BOX_COLS, -spill1, h + 2 * spill1, cw, rk[0]);
-      box_cols(b0, BOX_COLS, h + 2 * spill1, b1, BOX_COLS, rk[1], h + 2 * spill2, cw, rk[1]);
-      box_cols(b1, BOX_COLS, h + 2 * spill2, b0, BOX_COLS, spill2, h, cw, rk[2]);
+      box_cols(P + x0, (size_t)w, h, b0, BOX_COLS, -spill1, h + 2 * spill1, cw, r, endw);
+      box_cols(b0, BOX_COLS, h + 2 * spill1, b1, BOX_COLS, r + 1, h + 2 * spill2, cw, r, endw);
+      box_cols(b1, BOX_COLS, h + 2 * spill2, b0, BOX_COLS, spill2, h, cw, r, endw);
       for (int y = 0; y < h; y++)
         pool_cap_span(b0 + (size_t)y * BOX_COLS, D + (size_t)y * w + x0, acc ? acc + (size_t)y * w + x0 : NULL,
                       (size_t)cw, gain, down, bound);

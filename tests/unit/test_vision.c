@@ -906,6 +906,39 @@ TEST(a_stimulus_is_summed_the_same_however_far_the_border) {
   jnd_model_free(m);
 }
 
+/* docs/model.md "Area summation": the window's variance follows σ² exactly
+ * (boxes with fractional end weights), so a Gabor's JND moves smoothly with
+ * the critical area. With whole-sample box radii it moved in steps: equal
+ * JNDs over a range of A0, then a jump, and the fit's derivatives were
+ * those of a staircase. Twelve steps of 0.2% in A0 must each raise the JND
+ * of a 4-cycle Gabor, by amounts within a factor of 3 of each other. */
+TEST(the_summation_window_moves_smoothly_with_the_critical_area) {
+  jnd_model_params d;
+  jnd_model_defaults(&d);
+  jnd_image a = grating(192, 192, 40, 0, 1.0 / 4, 32), b = grating(192, 192, 40, 0.002, 1.0 / 4, 32);
+  double j[13], lo = INFINITY, hi = 0;
+  for (int k = 0; k < 13; k++) {
+    jnd_model_params p = d;
+    p.display.ppd = 32;
+    p.threads = 1;
+    p.summation_area_deg2 = d.summation_area_deg2 * (1 + 0.002 * k);
+    jnd_model *m = NULL;
+    CHECK(jnd_model_create(&p, &m) == JND_OK);
+    j[k] = jnd_of(m, &a, &b, NULL);
+    jnd_model_free(m);
+    if (k) {
+      lo = fmin(lo, j[k] - j[k - 1]);
+      hi = fmax(hi, j[k] - j[k - 1]);
+    }
+  }
+  fprintf(stderr, "JND over A0 x (1 .. 1.024): %.6f .. %.6f, steps %.3g .. %.3g\n", j[0], j[12], lo, hi);
+  CHECK(j[0] > 0.05);
+  CHECK(lo > 0);
+  CHECK_LT(hi, 3 * lo);
+  jnd_image_free(&a);
+  jnd_image_free(&b);
+}
+
 /* docs/model.md "Area summation": the chromatic channels may be summed over
  * a critical area of their own (summation_chroma_f0_cpd). A smaller
  * chromatic window takes size summation from a red–green patch (a large
@@ -1232,6 +1265,7 @@ RUN_TESTS(flicker_sensitivity_is_band_pass_at_low_spatial_frequency_and_low_pass
           suprathreshold_pedestal_raises_the_threshold_with_legges_slope,
           channels_combine_by_minkowski_summation_with_exponent_2_4,
           colour_is_summed_over_its_own_window_and_luminance_over_its_own, a_stimulus_is_summed_the_same_however_far_the_border,
+          the_summation_window_moves_smoothly_with_the_critical_area,
           a_transposed_image_gives_the_transposed_map,
           motion_map_becomes_retinal_velocity_through_fps_ppd_and_daly, barten_csf_follows_004_at_hand_values,
           achromatic_csf_follows_004_at_hand_values,
