@@ -76,27 +76,27 @@ void jnd_model_defaults(jnd_model_params *p) {
    * by jnd csf --fit (scripts/fit-model.sh): maximum a posteriori with the
    * priors of constants.c; the comment is one posterior standard deviation.
    * docs/model.md has the procedure and the errors. */
-  p->sensitivity = 0.633394; /* ±8% */
-  p->sens_rg = 857.805; /* ±23% */
-  p->sens_yv = 738.963; /* ±26% */
-  p->rg_cutoff_cpd = 1.05063; /* ±45% */
-  p->yv_cutoff_cpd = 0.502555; /* ±45% */
-  p->chroma_tail = 0.537454; /* ±15% */
+  p->sensitivity = 0.624072; /* ±8% */
+  p->sens_rg = 907.842; /* ±22% */
+  p->sens_yv = 803.104; /* ±25% */
+  p->rg_cutoff_cpd = 1.01758; /* ±44% */
+  p->yv_cutoff_cpd = 0.471771; /* ±44% */
+  p->chroma_tail = 0.495567; /* ±13% */
   p->chroma_sat_td = 100; /* held at its prior (constants.c): not fitted */
-  p->chroma_temporal_hz = 8.85637; /* ±5% */
-  p->kelly_c2 = 0.840448; /* ±3% */
-  p->flicker_gain = 0.790521; /* ±8% */
-  p->eye_velocity_dps = 82.5354; /* ±93% */
-  p->summation_area_deg2 = 388.612; /* ±60% */
-  p->summation_f0_cpd = 1.24591; /* ±58% */
-  p->summation_beta = 3.26615; /* ±9% */
-  p->summation_chroma_f0_cpd = 0.0716869; /* ±47% */
-  p->summation_chroma_beta = 3.2717; /* ±29% */
-  p->ecc_e2_deg = 7.66082; /* ±43% */
-  p->ecc_achromatic = 0.296978; /* ±42% */
-  p->ecc_rg = 1.41907; /* ±23% */
-  p->ecc_yv = 0.72169; /* ±34% */
-  p->ecc_freq = 0.0567307; /* ±10% */
+  p->chroma_temporal_hz = 8.92361; /* ±5% */
+  p->kelly_c2 = 0.840116; /* ±3% */
+  p->flicker_gain = 0.762525; /* ±8% */
+  p->eye_velocity_dps = 74.4514; /* ±86% */
+  p->summation_area_deg2 = 381.784; /* ±59% */
+  p->summation_f0_cpd = 1.25523; /* ±58% */
+  p->summation_beta = 3.12089; /* ±8% */
+  p->summation_chroma_f0_cpd = 0.0670529; /* ±43% */
+  p->summation_chroma_beta = 3.27922; /* ±28% */
+  p->ecc_e2_deg = 8.27192; /* ±42% */
+  p->ecc_achromatic = 0.285979; /* ±42% */
+  p->ecc_rg = 1.46145; /* ±22% */
+  p->ecc_yv = 0.791331; /* ±33% */
+  p->ecc_freq = 0.056308; /* ±10% */
   p->min_band_cpd = 0.125; /* chosen, not fitted: the lowest frequency in the data */
 }
 
@@ -376,6 +376,7 @@ typedef struct {
                            level pixels from it, i < ecc_n */
   int ecc_n;
   float e;              /* Minkowski exponent */
+  float lum_w[2];       /* Y's weights on L and M (S's, −6e-6, is left out) */
   const float *coarse_mask[NCH]; /* the next coarser band's pooled maskers (at level band + 1), or NULL */
   float coarse_w;       /* their weight in this band's masking pool (band_masking_weight) */
   float *mask_out[NCH]; /* this band's pooled maskers for the next finer band, or NULL */
@@ -392,6 +393,7 @@ typedef struct {
   float *dif[3][NCH];  /* ring of 3 rows: |n_test − n_ref| per channel */
   float *pooled[NCH];  /* the maskers of the row being finished, pooled in 5 × 5 */
   jnd_row_cache coarse[NCH]; /* rows of the coarser band's maskers, expanded to this level */
+  float *ylum[2];      /* the luminance contrast's numerator and denominator (image_row) */
   float *tmp;
   float *mem;
 } row_scratch;
@@ -399,9 +401,10 @@ typedef struct {
 static int scratch_init(row_scratch *r, int w) {
   /* 12 caches × 3 rows; opponent values (2 × 3), log adaptation and log velocity (2), sensitivities
    * (3), eccentricity factors (3), masker ring (5 × 3), difference ring (3 × 3), pooled maskers (3),
-   * 3 caches × 3 rows of the coarser band's maskers, the CSF table columns, one row of scratch */
+   * 3 caches × 3 rows of the coarser band's maskers, the CSF table columns, the luminance contrast's
+   * two terms, one row of scratch */
   _Static_assert(sizeof(int) == sizeof(float), "the column indices share the float scratch");
-  r->mem = malloc(sizeof(float) * (size_t)w * (36 + 6 + 2 + 3 + 3 + 15 + 9 + 3 + 9 + 1 + 1));
+  r->mem = malloc(sizeof(float) * (size_t)w * (36 + 6 + 2 + 3 + 3 + 15 + 9 + 3 + 9 + 1 + 2 + 1));
   if (!r->mem) return 0;
   float *p = r->mem;
   for (int a = 0; a < 2; a++)
@@ -428,6 +431,8 @@ static int scratch_init(row_scratch *r, int w) {
     r->coarse[c].row[0] = r->coarse[c].row[1] = r->coarse[c].row[2] = -1;
   }
   r->lix = (int *)(void *)p, p += w;
+  r->ylum[0] = p, p += w;
+  r->ylum[1] = p, p += w;
   r->tmp = p;
   return 1;
 }
@@ -569,6 +574,9 @@ JND_HOT static void ecc_row(const band_ctx *k, row_scratch *r, int y) {
 JND_HOT static void image_row(const band_ctx *k, row_scratch *r, int a, int y, const int rows[3], const float wts[3]) {
   const diff_state *st = k->st;
   const int w = k->w, w1 = k->w1, band = k->band;
+  /* the achromatic channel's band-limited luminance contrast, summed from
+   * the L and M cones' terms (jnd_luminance_contrast) */
+  float *yn = r->ylum[0], *yd = r->ylum[1];
   /* 004 §3.1: band-limited contrast (G_i − G_{i+1}) / G_{i+2} (Lubin 1995), per cone */
   for (int c = 0; c < 3; c++) {
     const float *g0 = st->g[a][c].plane[band] + (size_t)y * w;
@@ -580,23 +588,45 @@ JND_HOT static void image_row(const band_ctx *k, row_scratch *r, int a, int y, c
     const float *q2 = jnd_pyr_cached_row(&r->cache[a][c][1], k->xexp[a][c], w1, rows[2], w);
     float *o = r->opp[a][c];
     const float w0 = wts[0], w1_ = wts[1], w2 = wts[2];
+    if (c == 0) {
+      const float wl = k->lum_w[0];
 #pragma omp simd
-    for (int x = 0; x < w; x++) {
-      float s1 = w0 * p0[x] + w1_ * p1[x] + w2 * p2[x];
-      float s2 = w0 * q0[x] + w1_ * q1[x] + w2 * q2[x];
-      o[x] = (g0[x] - s1) / jnd_maxf(s2, CONTRAST_FLOOR);
+      for (int x = 0; x < w; x++) {
+        float s1 = w0 * p0[x] + w1_ * p1[x] + w2 * p2[x];
+        float s2 = w0 * q0[x] + w1_ * q1[x] + w2 * q2[x];
+        o[x] = (g0[x] - s1) / jnd_maxf(s2, CONTRAST_FLOOR);
+        yn[x] = wl * (g0[x] - s1);
+        yd[x] = wl * s2;
+      }
+    } else if (c == 1) {
+      const float wm = k->lum_w[1];
+#pragma omp simd
+      for (int x = 0; x < w; x++) {
+        float s1 = w0 * p0[x] + w1_ * p1[x] + w2 * p2[x];
+        float s2 = w0 * q0[x] + w1_ * q1[x] + w2 * q2[x];
+        o[x] = (g0[x] - s1) / jnd_maxf(s2, CONTRAST_FLOOR);
+        yn[x] += wm * (g0[x] - s1);
+        yd[x] += wm * s2;
+      }
+    } else {
+#pragma omp simd
+      for (int x = 0; x < w; x++) {
+        float s1 = w0 * p0[x] + w1_ * p1[x] + w2 * p2[x];
+        float s2 = w0 * q0[x] + w1_ * q1[x] + w2 * q2[x];
+        o[x] = (g0[x] - s1) / jnd_maxf(s2, CONTRAST_FLOOR);
+      }
     }
   }
-  /* 004 §3.1: Hunt's opponent channels, each normalised by its CSF (one
-   * pass for both) */
+  /* the opponent channels (docs/model.md "Channels"), each normalised by
+   * its CSF (one pass for both) */
   sens_row(k, r, st->adapt[a], a, y);
   float *o0 = r->opp[a][0], *o1 = r->opp[a][1], *o2 = r->opp[a][2];
   const float *s0 = r->sens[0], *s1 = r->sens[1], *s2 = r->sens[2];
 #pragma omp simd
   for (int x = 0; x < w; x++) {
-    float A, ca, cb;
-    jnd_opponent(o0[x], o1[x], o2[x], &A, &ca, &cb);
-    o0[x] = A * s0[x];
+    float ca, cb;
+    jnd_opponent_colour(o0[x], o1[x], o2[x], &ca, &cb);
+    o0[x] = yn[x] / jnd_maxf(yd[x], CONTRAST_FLOOR) * s0[x];
     o1[x] = ca * s1[x];
     o2[x] = cb * s2[x];
   }
@@ -757,6 +787,8 @@ static jnd_status band_setup(const jnd_model *m, const diff_state *st, int band,
   k->h = st->g[0][0].h[band];
   k->unmasked = st->uniform[0] || st->uniform[1];
   k->e = (float)m->p.minkowski;
+  k->lum_w[0] = (float)m->lum_w[0];
+  k->lum_w[1] = (float)m->lum_w[1];
   k->lut = lut_band(m, band);
   if (st->temporal_hz > 0) {
     /* a temporal modulation at ω under fixation (docs/model.md, "Time"):
@@ -865,13 +897,18 @@ static void baseband_rows(const band_ctx *k, row_scratch *r, int y0, int y1, flo
     sens_row(k, r, st->adapt_mid, 0, y); /* the reference's velocity */
     float *drow = D + (size_t)y * k->w;
     for (int x = 0; x < k->w; x++) {
-      float dc[3];
+      float dc[3], yn = 0, yd = 0;
       for (int c = 0; c < 3; c++) {
         float gr = st->g[0][c].plane[nb][(size_t)y * k->w + x], gt = st->g[1][c].plane[nb][(size_t)y * k->w + x];
         dc[c] = (gt - gr) / jnd_maxf(0.5f * (gt + gr), CONTRAST_FLOOR);
+        if (c < 2) {
+          yn += k->lum_w[c] * (gt - gr);
+          yd += k->lum_w[c] * 0.5f * (gt + gr);
+        }
       }
       float o[3];
-      jnd_opponent(dc[0], dc[1], dc[2], &o[0], &o[1], &o[2]);
+      o[0] = yn / jnd_maxf(yd, CONTRAST_FLOOR);
+      jnd_opponent_colour(dc[0], dc[1], dc[2], &o[1], &o[2]);
       float d[NCH];
       for (int c = 0; c < NCH; c++) d[c] = jnd_fast_pow(fabsf(o[c] * r->sens[c][x]), k->e);
       if (k->Dc) {

@@ -14,11 +14,11 @@ void jnd_xyz_to_lms(jnd_image *img);
 void jnd_rgb_to_lms(jnd_image *img); /* the two above in one pass */
 /* luminance Y from HPE LMS (the second row of the inverse matrix) */
 void jnd_lms_luminance_weights(double w[3]);
-/* Hunt's opponent channels A, a, b from LMS contrasts (004 §3.1). A is
- * divided by 3.05 (the sum of its row) so that it equals the Weber contrast
- * of an achromatic stimulus; see docs/model.md. */
-static inline void jnd_opponent(float cl, float cm, float cs, float *A, float *a, float *b) {
-  *A = (2.0f * cl + cm + cs * (1.0f / 20.0f)) * (1.0f / 3.05f);
+/* The two colour-opponent channels a (red–green) and b (yellow–violet)
+ * from LMS contrasts: Hunt's rows (004 §3.1). The achromatic channel is
+ * not Hunt's A but the luminance contrast, computed from the cones' terms
+ * where they are at hand (model.c image_row; docs/model.md "Channels"). */
+static inline void jnd_opponent_colour(float cl, float cm, float cs, float *a, float *b) {
   *a = cl - (12.0f / 11.0f) * cm + (1.0f / 11.0f) * cs;
   *b = (cl + cm - 2.0f * cs) * (1.0f / 9.0f);
 }

@@ -3,10 +3,10 @@
 # (issue 10). The headline is leave-one-data-set-out cross-validation: each
 # data set predicted by the constants refitted on the other eight, searching
 # the same rows (every second of each set) as the fit of the defaults
-# (scripts/fit-model.sh). The bounds are what the model achieves at this
-# commit (docs/model.md): the issue's targets are <= 5 dB over static rows
-# (not reached: 5.03) and <= 7 dB over all rows (met: 5.33). Training: 4.48
-# static, 3.97 all rows.
+# (scripts/fit-model.sh). The issue's targets are <= 5 dB over static rows
+# (the model gives 4.89, docs/model.md) and <= 7 dB over all rows (5.45; the
+# bound is what the model achieves, a little above). Training: 4.25 static,
+# 3.84 all rows.
 . "$(dirname "$0")/lib.bash"
 shared_data || skip "no shared data"
 D="$JND_SHARED/data/csf/csf_train.csv"
@@ -27,8 +27,8 @@ check every_fold_moves_from_the_all_data_fit \
 # the chromatic centre falls slower than Kelly's exponential (q = 1) by
 # every fold's data, colorfest's (the only chromatic set above 8 cpd) left out too
 check chroma_tail_below_0_8_in_every_fold jq -e '[.parameters.constants.chroma_tail.without[]] | length == 9 and max < 0.8' "$T/r.json"
-check training_rmse_static_at_most_4_55_db jq -e '.result.rmse_db_static <= 4.55' "$T/r.json"
-check training_rmse_all_rows_at_most_4_05_db jq -e '.result.rmse_db <= 4.05' "$T/r.json"
-check loso_rmse_static_at_most_5_1_db jq -e '.result.cv_rmse_db_static <= 5.1' "$T/r.json"
-check loso_rmse_all_rows_at_most_5_4_db jq -e '.result.cv_rmse_db <= 5.4' "$T/r.json"
+check training_rmse_static_at_most_4_35_db jq -e '.result.rmse_db_static <= 4.35' "$T/r.json"
+check training_rmse_all_rows_at_most_3_95_db jq -e '.result.rmse_db <= 3.95' "$T/r.json"
+check loso_rmse_static_at_most_5_db jq -e '.result.cv_rmse_db_static <= 5.0' "$T/r.json"
+check loso_rmse_all_rows_at_most_5_6_db jq -e '.result.cv_rmse_db <= 5.6' "$T/r.json"
 finish
