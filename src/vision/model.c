@@ -574,8 +574,9 @@ JND_HOT static void ecc_row(const band_ctx *k, row_scratch *r, int y) {
 JND_HOT static void image_row(const band_ctx *k, row_scratch *r, int a, int y, const int rows[3], const float wts[3]) {
   const diff_state *st = k->st;
   const int w = k->w, w1 = k->w1, band = k->band;
-  /* the achromatic channel's band-limited luminance contrast, summed from
-   * the L and M cones' terms (jnd_luminance_contrast) */
+  /* the achromatic channel's band-limited luminance contrast: numerator
+   * and denominator summed from the L and M cones' terms with Y's weights
+   * (docs/model.md "Channels") */
   float *yn = r->ylum[0], *yd = r->ylum[1];
   /* 004 §3.1: band-limited contrast (G_i − G_{i+1}) / G_{i+2} (Lubin 1995), per cone */
   for (int c = 0; c < 3; c++) {
@@ -588,33 +589,14 @@ JND_HOT static void image_row(const band_ctx *k, row_scratch *r, int a, int y, c
     const float *q2 = jnd_pyr_cached_row(&r->cache[a][c][1], k->xexp[a][c], w1, rows[2], w);
     float *o = r->opp[a][c];
     const float w0 = wts[0], w1_ = wts[1], w2 = wts[2];
-    if (c == 0) {
-      const float wl = k->lum_w[0];
+    const float wc = c < 2 ? k->lum_w[c] : 0.0f; /* S's weight in Y is left out */
 #pragma omp simd
-      for (int x = 0; x < w; x++) {
-        float s1 = w0 * p0[x] + w1_ * p1[x] + w2 * p2[x];
-        float s2 = w0 * q0[x] + w1_ * q1[x] + w2 * q2[x];
-        o[x] = (g0[x] - s1) / jnd_maxf(s2, CONTRAST_FLOOR);
-        yn[x] = wl * (g0[x] - s1);
-        yd[x] = wl * s2;
-      }
-    } else if (c == 1) {
-      const float wm = k->lum_w[1];
-#pragma omp simd
-      for (int x = 0; x < w; x++) {
-        float s1 = w0 * p0[x] + w1_ * p1[x] + w2 * p2[x];
-        float s2 = w0 * q0[x] + w1_ * q1[x] + w2 * q2[x];
-        o[x] = (g0[x] - s1) / jnd_maxf(s2, CONTRAST_FLOOR);
-        yn[x] += wm * (g0[x] - s1);
-        yd[x] += wm * s2;
-      }
-    } else {
-#pragma omp simd
-      for (int x = 0; x < w; x++) {
-        float s1 = w0 * p0[x] + w1_ * p1[x] + w2 * p2[x];
-        float s2 = w0 * q0[x] + w1_ * q1[x] + w2 * q2[x];
-        o[x] = (g0[x] - s1) / jnd_maxf(s2, CONTRAST_FLOOR);
-      }
+    for (int x = 0; x < w; x++) {
+      float s1 = w0 * p0[x] + w1_ * p1[x] + w2 * p2[x];
+      float s2 = w0 * q0[x] + w1_ * q1[x] + w2 * q2[x];
+      o[x] = (g0[x] - s1) / jnd_maxf(s2, CONTRAST_FLOOR);
+      yn[x] = (c ? yn[x] : 0.0f) + wc * (g0[x] - s1);
+      yd[x] = (c ? yd[x] : 0.0f) + wc * s2;
     }
   }
   /* the opponent channels (docs/model.md "Channels"), each normalised by
