@@ -939,22 +939,30 @@ static void box_row(const float *s, float *d, int from, int m, int r, float a) {
   }
 }
 
-/* box_row on BOX_ROWS rows at once: the same arithmetic, row by row, as
- * box_row (so the same results), with the rows' running sums interleaved —
- * one row's sum is a chain of dependent additions, and BOX_ROWS independent
- * chains keep the adder busy. */
+/* box_row on BOX_ROWS rows at once, interleaved (sample j of row k at
+ * s[BOX_ROWS·j + k], and so d): the same arithmetic, row by row, as box_row
+ * (so the same results), with the rows' running sums side by side in one
+ * vector — one row's sum is a chain of dependent additions, and BOX_ROWS
+ * independent chains in one register keep the adder busy. */
 #define BOX_ROWS 4
-JND_HOT static void box_rows(const float *const s[BOX_ROWS], float *const d[BOX_ROWS], int from, int m, int r, float a) {
+JND_HOT static void box_rows(const float *s, float *d, int from, int m, int r, float a) {
   const double inv = 1.0 / (2.0 * r + 1.0 + 2.0 * a);
   double acc[BOX_ROWS] = {0};
-  for (int j = from - r; j <= from + r; j++)
-    for (int k = 0; k < BOX_ROWS; k++) acc[k] += s[k][j];
+  for (int j = from - r; j <= from + r; j++) {
+    const float *sj = s + (ptrdiff_t)BOX_ROWS * j;
+#pragma omp simd
+    for (int k = 0; k < BOX_ROWS; k++) acc[k] += sj[k];
+  }
   for (int i = 0; i < m; i++) {
     const int c = from + i;
+    const float *lo = s + (ptrdiff_t)BOX_ROWS * (c - r - 1), *hi = s + (ptrdiff_t)BOX_ROWS * (c + r + 1),
+                *sub = s + (ptrdiff_t)BOX_ROWS * (c - r);
+    float *o = d + (size_t)BOX_ROWS * i;
+#pragma omp simd
     for (int k = 0; k < BOX_ROWS; k++) {
-      d[k][i] = (float)((acc[k] + a * ((double)s[k][c - r - 1] + s[k][c + r + 1])) * inv);
-      acc[k] += s[k][c + r + 1];
-      acc[k] -= s[k][c - r];
+      o[k] = (float)((acc[k] + a * ((double)lo[k] + hi[k])) * inv);
+      acc[k] += hi[k];
+      acc[k] -= sub[k];
     }
   }
 }
@@ -1125,30 +1133,31 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
   int fail = 0;
 #pragma omp parallel num_threads(threads)
   {
-    /* three rows of scratch for each of BOX_ROWS rows — the first pass's
-     * input, padded with the zeros it reads beyond the image's ends, and the
-     * first and the second pass's outputs — then two column blocks, each
-     * long enough for what the first pass spreads beyond the ends */
+    /* scratch for the horizontal passes: the first pass's input, padded
+     * with the zeros it reads beyond the image's ends, and the first and
+     * the second pass's outputs, once for BOX_ROWS interleaved rows and
+     * once for one row; then two column blocks, each long enough for what
+     * the first pass spreads beyond the ends */
     const int pad = spill1 + r + 1;
     const size_t w0 = (size_t)w + 2 * (size_t)pad, w1 = (size_t)w + 2 * (size_t)spill1,
                  w2 = (size_t)w + 2 * (size_t)spill2, hp = (size_t)h + 2 * (size_t)spill1;
-    const size_t rows = BOX_ROWS * (w0 + w1 + w2), cols = 2 * BOX_COLS * hp;
+    const size_t rows = (BOX_ROWS + 1) * (w0 + w1 + w2), cols = 2 * BOX_COLS * hp;
     float *a = calloc(rows > cols ? rows : cols, sizeof(float));
     if (!a) {
 #pragma omp atomic write
       fail = 1;
     }
-    /* the horizontal passes, BOX_ROWS rows at a time (the last few alone),
-     * each buffer addressed by image position (0 .. w − 1 the image's) */
-    const float *in[BOX_ROWS], *o1c[BOX_ROWS], *o2c[BOX_ROWS];
-    float *t0[BOX_ROWS], *o1[BOX_ROWS], *o2[BOX_ROWS], *out[BOX_ROWS];
-    for (int k = 0; a && k < BOX_ROWS; k++) {
-      t0[k] = a + k * (w0 + w1 + w2) + pad;
-      o1[k] = t0[k] - pad + w0 + spill1;
-      o2[k] = o1[k] - spill1 + w1 + spill2;
-      in[k] = t0[k];
-      o1c[k] = o1[k];
-      o2c[k] = o2[k];
+    /* each buffer addressed by image position (0 .. w − 1 the image's):
+     * t0, o1, o2 interleaved; t1, p1, p2 one row */
+    float *t0 = NULL, *o1 = NULL, *o2 = NULL, *t1 = NULL, *p1 = NULL, *p2 = NULL;
+    if (a) {
+      t0 = a + (size_t)BOX_ROWS * pad;
+      o1 = a + (size_t)BOX_ROWS * (w0 + spill1);
+      o2 = a + (size_t)BOX_ROWS * (w0 + w1 + spill2);
+      float *one = a + (size_t)BOX_ROWS * (w0 + w1 + w2);
+      t1 = one + pad;
+      p1 = one + w0 + spill1;
+      p2 = one + w0 + w1 + spill2;
     }
     const int ngroups = (h + BOX_ROWS - 1) / BOX_ROWS;
 #pragma omp for schedule(static)
@@ -1156,25 +1165,27 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
       if (!a) continue;
       const int y0 = g * BOX_ROWS;
       if (y0 + BOX_ROWS <= h) {
+        /* the rows to the exponent, through o2's space, interleaved into t0 */
+        float *row = o2 - (size_t)BOX_ROWS * spill2;
         for (int k = 0; k < BOX_ROWS; k++) {
-          out[k] = P + (size_t)(y0 + k) * w;
-          pow_span(D + (size_t)(y0 + k) * w, t0[k], (size_t)w, up);
+          pow_span(D + (size_t)(y0 + k) * w, row, (size_t)w, up);
+          for (int x = 0; x < w; x++) t0[(size_t)BOX_ROWS * x + k] = row[x];
         }
-        float *d1[BOX_ROWS], *d2[BOX_ROWS];
+        box_rows(t0, o1 - (size_t)BOX_ROWS * spill1, -spill1, w + 2 * spill1, r, endw);
+        box_rows(o1, o2 - (size_t)BOX_ROWS * spill2, -spill2, w + 2 * spill2, r, endw);
+        float *o3 = a + (size_t)BOX_ROWS * w0; /* o1's space, free again */
+        box_rows(o2, o3, 0, w, r, endw);
         for (int k = 0; k < BOX_ROWS; k++) {
-          d1[k] = o1[k] - spill1;
-          d2[k] = o2[k] - spill2;
+          float *out = P + (size_t)(y0 + k) * w;
+          for (int x = 0; x < w; x++) out[x] = o3[(size_t)BOX_ROWS * x + k];
         }
-        box_rows(in, d1, -spill1, w + 2 * spill1, r, endw);
-        box_rows(o1c, d2, -spill2, w + 2 * spill2, r, endw);
-        box_rows(o2c, out, 0, w, r, endw);
         continue;
       }
       for (int y = y0; y < h; y++) {
-        pow_span(D + (size_t)y * w, t0[0], (size_t)w, up);
-        box_row(t0[0], o1[0] - spill1, -spill1, w + 2 * spill1, r, endw);
-        box_row(o1[0], o2[0] - spill2, -spill2, w + 2 * spill2, r, endw);
-        box_row(o2[0], P + (size_t)y * w, 0, w, r, endw);
+        pow_span(D + (size_t)y * w, t1, (size_t)w, up);
+        box_row(t1, p1 - spill1, -spill1, w + 2 * spill1, r, endw);
+        box_row(p1, p2 - spill2, -spill2, w + 2 * spill2, r, endw);
+        box_row(p2, P + (size_t)y * w, 0, w, r, endw);
       }
     }
     const int nblocks = (w + BOX_COLS - 1) / BOX_COLS;
