@@ -52,7 +52,7 @@ webxr() {
 import json, sys
 r = json.load(open(sys.argv[1]))["result"]; rd = r["rendered"]; t = r["timings_s"]
 print(f"   --p 0.2 on {sys.argv[2]} ({rd['material']}, {r['width']}x{r['height']} x {r['channel_count']} channels), "
-      f"{rd['views']} views at {rd['width']}x{rd['height']} on {rd['renderer']}:")
+      f"{rd['views']} views at {rd['view_set']['width']}x{rd['view_set']['height']} on {rd['renderer']}:")
 print(f"     K={r['components_kept']}, {r['storage_bytes']/1e3:.0f} KB of {r['original_bytes']/1e3:.0f} KB; "
       f"{rd['search']['rendered']} of {rd['search']['candidates']} candidates rendered (+ reference, 3 BC variants); "
       f"P per view {' '.join(f'{p:.3f}' for p in rd['p_per_view'])}")

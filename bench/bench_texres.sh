@@ -21,6 +21,7 @@ fi
 # measure NAME MODEL: RUNS runs, the median's figures
 measure() {
   local name=$1 model=$2 d="$out/$1" walls=()
+  mkdir -p "$(dirname "$d")" # the controllers' names have a folder: pico-4u/left.glb
   for r in $(seq "$RUNS"); do
     /usr/bin/time -f "%e %U %S" -o "$d.time.$r" "$JND" texres "$model" -o "$d.$r" --verify-views 8 --quiet
     echo "$?" >"$d.rc.$r"
