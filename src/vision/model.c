@@ -913,37 +913,23 @@ static jnd_status baseband_difference(const jnd_model *m, diff_state *st, float 
   return s;
 }
 
-/* One box pass along a row: weight 1 on the 2r+1 samples within r of the
- * centre and a on the two at r+1, the weights normalised to sum 1; d[i] for
- * centres from + i, m outputs. s is read from from − r − 1 to
- * from + m + r: the caller pads it (zeros beyond the image), so the loop has
- * no bounds to check. The end weight a ∈ [0, 1] makes the box's variance a
- * continuous function of its length (box_radius): whole-sample radii alone
- * gave a window that moved in steps as σ moved, and the fit's objective was
- * a staircase (docs/model.md "Area summation"). Each pass's output runs past
- * the image's ends by as far as the passes after it reach, so three passes
- * are one window over the image's samples, each sample counted however
- * near the border it lies. Zero, not mirrored: the viewer sees nothing past
- * the image's border, so a difference near it is summed over fewer
- * detectors (mirroring would add reflected copies of it, and make a small
- * stimulus in a small image look like a large one). */
-static void box_row(const float *s, float *d, int from, int m, int r, float a) {
-  const double inv = 1.0 / (2.0 * r + 1.0 + 2.0 * a);
-  double acc = 0;
-  for (int j = from - r; j <= from + r; j++) acc += s[j];
-  for (int i = 0; i < m; i++) {
-    const int c = from + i;
-    d[i] = (float)((acc + a * ((double)s[c - r - 1] + s[c + r + 1])) * inv);
-    acc += s[c + r + 1];
-    acc -= s[c - r];
-  }
-}
-
-/* box_row on BOX_ROWS rows at once, interleaved (sample j of row k at
- * s[BOX_ROWS·j + k], and so d): the same arithmetic, row by row, as box_row
- * (so the same results), with the rows' running sums side by side in one
- * vector — one row's sum is a chain of dependent additions, and BOX_ROWS
- * independent chains in one register keep the adder busy. */
+/* One box pass along BOX_ROWS rows at once: weight 1 on the 2r+1 samples
+ * within r of the centre and a on the two at r+1, the weights normalised to
+ * sum 1; d[i] for centres from + i, m outputs. The rows are interleaved
+ * (sample j of row k at s[BOX_ROWS·j + k], and so d), so their running
+ * sums, each a chain of dependent additions, step side by side in one
+ * vector. s is read from from − r − 1 to from + m + r: the caller pads it
+ * (zeros beyond the image), so the loop has no bounds to check. The end
+ * weight a ∈ [0, 1] makes the box's variance a continuous function of its
+ * length (box_radius): whole-sample radii alone gave a window that moved in
+ * steps as σ moved, and the fit's objective was a staircase (docs/model.md
+ * "Area summation"). Each pass's output runs past the image's ends by as
+ * far as the passes after it reach, so three passes are one window over
+ * the image's samples, each sample counted however near the border it
+ * lies. Zero, not mirrored: the viewer sees nothing past the image's
+ * border, so a difference near it is summed over fewer detectors
+ * (mirroring would add reflected copies of it, and make a small stimulus
+ * in a small image look like a large one). */
 #define BOX_ROWS 4
 JND_HOT static void box_rows(const float *s, float *d, int from, int m, int r, float a) {
   const double inv = 1.0 / (2.0 * r + 1.0 + 2.0 * a);
@@ -967,7 +953,7 @@ JND_HOT static void box_rows(const float *s, float *d, int from, int m, int r, f
   }
 }
 
-/* box_row down cw columns at once (row strides ss and ds): src has n rows,
+/* box_rows's pass down cw columns at once (row strides ss and ds): src has n rows,
  * dst gets m, dst row i centred on src row from + i, zero beyond src's first
  * and last rows; a running sum per column over the rows within r, the two
  * rows at r + 1 added with weight a, the rows walked in order (vectorises
@@ -984,16 +970,12 @@ JND_HOT static void box_cols(const float *src, size_t ss, int n, float *dst, siz
   }
   for (int i = 0; i < m; i++) {
     float *d = dst + (size_t)i * ds;
+    /* the end rows, or a row of zeros beyond src's first and last */
+    static const float zeros[BOX_COLS];
     const int c = from + i, lo = c - r - 1, hi = c + r + 1;
-    const float *rl = lo >= 0 && lo < n ? src + (size_t)lo * ss : NULL;
-    const float *rh = hi >= 0 && hi < n ? src + (size_t)hi * ss : NULL;
-    if (rl && rh)
-      for (int x = 0; x < cw; x++) d[x] = (float)((acc[x] + a * ((double)rl[x] + rh[x])) * inv);
-    else if (rl || rh) {
-      const float *re = rl ? rl : rh;
-      for (int x = 0; x < cw; x++) d[x] = (float)((acc[x] + a * (double)re[x]) * inv);
-    } else
-      for (int x = 0; x < cw; x++) d[x] = (float)(acc[x] * inv);
+    const float *rl = lo >= 0 && lo < n ? src + (size_t)lo * ss : zeros;
+    const float *rh = hi >= 0 && hi < n ? src + (size_t)hi * ss : zeros;
+    for (int x = 0; x < cw; x++) d[x] = (float)((acc[x] + a * ((double)rl[x] + rh[x])) * inv);
     const int add = c + r + 1, sub = c - r;
     if (add >= 0 && add < n) {
       const float *row = src + (size_t)add * ss;
@@ -1030,7 +1012,7 @@ JND_HOT static void pool_cap_span(const float *sum, float *d, float *acc, size_t
   }
 }
 
-/* The box of box_row whose variance is v (samples²): whole radius r and
+/* The box of box_rows whose variance is v (samples²): whole radius r and
  * end weight a ∈ [0, 1). Weights 1 on |j| ≤ r and a on |j| = r + 1, over
  * their sum 2r + 1 + 2a, have variance
  *   (r (r+1) (2r+1) / 3 + 2 a (r+1)²) / (2r + 1 + 2a),
@@ -1090,7 +1072,7 @@ static int chroma_summation_apart(const jnd_model_params *p) {
  * run on BOX_ROWS rows at a time and the three vertical ones on one block
  * of columns at a time, in cache; the first two passes keep what they
  * spread beyond the image's border, so that the window over the image's
- * samples is the same however far the border is (box_row). f0 and beta: the channels' own critical
+ * samples is the same however far the border is (box_rows). f0 and beta: the channels' own critical
  * area and exponent (summation_levels). */
 static jnd_status local_summation(const jnd_model *m, int band, float *D, float *acc, int w, int h, double f0,
                                   double beta) {
@@ -1111,7 +1093,7 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
    * At a local maximum — where thresholds are read — the bound never acts. */
   const float bound = jnd_fast_pow(gain, down);
   /* how far past each end the first and the second pass keep their output:
-   * as far as the passes after them reach (box_row) */
+   * as far as the passes after them reach (box_rows) */
   const int spill1 = 2 * (r + 1), spill2 = r + 1;
   const int threads = jnd_threads(m->p.threads);
   if (acc) {
@@ -1133,59 +1115,50 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
   int fail = 0;
 #pragma omp parallel num_threads(threads)
   {
-    /* scratch for the horizontal passes: the first pass's input, padded
-     * with the zeros it reads beyond the image's ends, and the first and
-     * the second pass's outputs, once for BOX_ROWS interleaved rows and
-     * once for one row; then two column blocks, each long enough for what
-     * the first pass spreads beyond the ends */
+    /* scratch for the horizontal passes, BOX_ROWS rows interleaved: the
+     * first pass's input, padded with the zeros it reads beyond the image's
+     * ends, and the first and the second pass's outputs; then two column
+     * blocks, each long enough for what the first pass spreads beyond the
+     * ends */
     const int pad = spill1 + r + 1;
     const size_t w0 = (size_t)w + 2 * (size_t)pad, w1 = (size_t)w + 2 * (size_t)spill1,
                  w2 = (size_t)w + 2 * (size_t)spill2, hp = (size_t)h + 2 * (size_t)spill1;
-    const size_t rows = (BOX_ROWS + 1) * (w0 + w1 + w2), cols = 2 * BOX_COLS * hp;
+    const size_t rows = BOX_ROWS * (w0 + w1 + w2), cols = 2 * BOX_COLS * hp;
     float *a = calloc(rows > cols ? rows : cols, sizeof(float));
     if (!a) {
 #pragma omp atomic write
       fail = 1;
     }
-    /* each buffer addressed by image position (0 .. w − 1 the image's):
-     * t0, o1, o2 interleaved; t1, p1, p2 one row */
-    float *t0 = NULL, *o1 = NULL, *o2 = NULL, *t1 = NULL, *p1 = NULL, *p2 = NULL;
+    /* each buffer addressed by image position (0 .. w − 1 the image's) */
+    float *t0 = NULL, *o1 = NULL, *o2 = NULL;
     if (a) {
       t0 = a + (size_t)BOX_ROWS * pad;
       o1 = a + (size_t)BOX_ROWS * (w0 + spill1);
       o2 = a + (size_t)BOX_ROWS * (w0 + w1 + spill2);
-      float *one = a + (size_t)BOX_ROWS * (w0 + w1 + w2);
-      t1 = one + pad;
-      p1 = one + w0 + spill1;
-      p2 = one + w0 + w1 + spill2;
     }
     const int ngroups = (h + BOX_ROWS - 1) / BOX_ROWS;
 #pragma omp for schedule(static)
     for (int g = 0; g < ngroups; g++) {
       if (!a) continue;
-      const int y0 = g * BOX_ROWS;
-      if (y0 + BOX_ROWS <= h) {
-        /* the rows to the exponent, through o2's space, interleaved into t0 */
-        float *row = o2 - (size_t)BOX_ROWS * spill2;
-        for (int k = 0; k < BOX_ROWS; k++) {
+      /* the rows to the exponent, through o2's space, interleaved into t0;
+       * past the level's last row (its last group) rows of zeros, whose
+       * sums are not kept */
+      const int y0 = g * BOX_ROWS, nk = h - y0 < BOX_ROWS ? h - y0 : BOX_ROWS;
+      float *row = o2 - (size_t)BOX_ROWS * spill2;
+      for (int k = 0; k < BOX_ROWS; k++) {
+        if (k < nk)
           pow_span(D + (size_t)(y0 + k) * w, row, (size_t)w, up);
-          for (int x = 0; x < w; x++) t0[(size_t)BOX_ROWS * x + k] = row[x];
-        }
-        box_rows(t0, o1 - (size_t)BOX_ROWS * spill1, -spill1, w + 2 * spill1, r, endw);
-        box_rows(o1, o2 - (size_t)BOX_ROWS * spill2, -spill2, w + 2 * spill2, r, endw);
-        float *o3 = a + (size_t)BOX_ROWS * w0; /* o1's space, free again */
-        box_rows(o2, o3, 0, w, r, endw);
-        for (int k = 0; k < BOX_ROWS; k++) {
-          float *out = P + (size_t)(y0 + k) * w;
-          for (int x = 0; x < w; x++) out[x] = o3[(size_t)BOX_ROWS * x + k];
-        }
-        continue;
+        else
+          memset(row, 0, sizeof(float) * (size_t)w);
+        for (int x = 0; x < w; x++) t0[(size_t)BOX_ROWS * x + k] = row[x];
       }
-      for (int y = y0; y < h; y++) {
-        pow_span(D + (size_t)y * w, t1, (size_t)w, up);
-        box_row(t1, p1 - spill1, -spill1, w + 2 * spill1, r, endw);
-        box_row(p1, p2 - spill2, -spill2, w + 2 * spill2, r, endw);
-        box_row(p2, P + (size_t)y * w, 0, w, r, endw);
+      box_rows(t0, o1 - (size_t)BOX_ROWS * spill1, -spill1, w + 2 * spill1, r, endw);
+      box_rows(o1, o2 - (size_t)BOX_ROWS * spill2, -spill2, w + 2 * spill2, r, endw);
+      float *o3 = a + (size_t)BOX_ROWS * w0; /* o1's space, free again */
+      box_rows(o2, o3, 0, w, r, endw);
+      for (int k = 0; k < nk; k++) {
+        float *out = P + (size_t)(y0 + k) * w;
+        for (int x = 0; x < w; x++) out[x] = o3[(size_t)BOX_ROWS * x + k];
       }
     }
     const int nblocks = (w + BOX_COLS - 1) / BOX_COLS;

@@ -883,7 +883,8 @@ static double jnd_of_xyz(jnd_model *m, const jnd_image *a, const jnd_image *b) {
  * columns; no fixation point), so a transposed pair gives
  * the transposed map: a check that the row passes, which run on several
  * rows at once, give every row its own sums. The sizes are not multiples
- * of four, so the last rows of a level take the one-row path. */
+ * of four, so a level's last group of rows is filled out with rows of
+ * zeros. */
 static jnd_image transposed(const jnd_image *a) {
   jnd_image t;
   jnd_image_alloc(&t, a->h, a->w, a->c);
