@@ -7,6 +7,7 @@
 #   make asan   the suite under AddressSanitizer + UndefinedBehaviorSanitizer
 #   make mutants  each mutation of tests/mutants.txt applied to a scratch copy,
 #               rebuilt and tested: fails unless the suite catches every one
+#   make python  the Python package `jnd` (python/), built into build/python
 #   make install PREFIX=/usr/local
 SHELL := /bin/bash
 BUILD ?= build
@@ -18,7 +19,7 @@ PREFIX ?= /usr/local
 FUZZ_SECONDS ?= 20
 CMAKE_FLAGS ?=
 
-.PHONY: all deps build demo test unit asan fuzz fuzz-build bench install clean mutants mutants-ci
+.PHONY: all deps build demo test unit asan fuzz fuzz-build bench install clean mutants mutants-ci python
 
 all: build
 
@@ -73,6 +74,11 @@ mutants-ci: deps
 
 bench: build
 	@bash bench/run.sh $(BUILD)
+
+# the Python package, built into $(BUILD)/python (also part of `make build`)
+python: build
+	@echo "python: PYTHONPATH=$(BUILD)/python /usr/bin/python3 -c 'import jnd; print(jnd.version())'"
+	@PYTHONPATH=$(BUILD)/python /usr/bin/python3 -c 'import jnd; print("jnd", jnd.version())'
 
 install: build
 	@cmake --install $(BUILD) --prefix $(PREFIX)

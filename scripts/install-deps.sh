@@ -18,6 +18,7 @@ PACKAGES=(
   libsquish-dev                                    # BC1/BC4/BC5 reference encoder
   munge slurmctld slurmd slurm-client              # jnd batch --slurm, tested on a real one-node Slurm
   chromium                                         # the HTML report's browser test (headless)
+  python3-dev python3-cffi python3-numpy python3-pytest  # the Python package (python/) and its tests
 )
 
 missing=()

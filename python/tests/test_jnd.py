@@ -1,0 +1,211 @@
+"""The Python package gives the command's numbers, round-trips arrays, and
+turns every bad input into a JndError with libjnd's message."""
+import json
+import os
+import resource
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import jnd
+
+JND = os.environ["JND"]          # the command-line tool of the same build
+TMP = os.environ.get("JND_TMP", "/tmp")
+
+
+@pytest.fixture(scope="module")
+def demo(tmp_path_factory):
+    d = tmp_path_factory.mktemp("demo")
+    subprocess.run([JND, "example", "-o", str(d)], check=True, capture_output=True)
+    return str(d / "reference.png"), str(d / "test.png")
+
+
+def cli_diff(ref, test, *args):
+    out = subprocess.run([JND, "diff", ref, test, "--json", "-", *args], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    return json.loads(out.stdout)["result"]
+
+
+def test_diff_of_files_gives_the_commands_figures(demo):
+    for disp in ("standard-fhd", "phone"):
+        want = cli_diff(*demo, "--display", disp)
+        got = jnd.diff(*demo, display=disp)
+        # cJSON prints 15 significant digits when they read back within its
+        # epsilon of the value, so the JSON is the value to about 1e-15
+        for k in ("p_detect", "p_p50", "p_p93", "p_p99", "p_max", "p_mean", "jnd_mean", "jnd_p93", "jnd_max",
+                  "jnd_minkowski"):
+            assert getattr(got, k) == pytest.approx(want[k], rel=1e-14, abs=1e-300), k
+        for k in ("width", "height", "bands_cpd"):
+            assert getattr(got, k) == want[k], k
+
+
+def test_diff_of_arrays_equals_the_diff_of_their_files(demo):
+    a, enc = jnd.read_image(demo[0])
+    b, _ = jnd.read_image(demo[1])
+    assert enc == "srgb" and a.dtype == np.float32 and a.ndim == 3
+    from_files = jnd.diff(*demo)
+    from_arrays = jnd.diff(a, b)
+    assert from_arrays.p_detect == from_files.p_detect
+    assert np.array_equal(from_arrays.jnd_map, from_files.jnd_map)
+    # uint8 arrays are scaled by 255, as an 8-bit PNG is
+    a8 = np.round(a * 255).astype(np.uint8)
+    b8 = np.round(b * 255).astype(np.uint8)
+    assert jnd.diff(a8, b8).p_detect == from_files.p_detect
+
+
+def test_the_jnd_map_is_written_per_pixel_where_the_images_differ():
+    ref = np.full((64, 256, 3), 0.5, np.float32)
+    test = ref.copy()
+    test[20:40, 200:220] += 0.1
+    r = jnd.diff(ref, test)
+    assert r.jnd_map.shape == (64, 256) and r.jnd_map.dtype == np.float32
+    y, x = np.unravel_index(np.argmax(r.jnd_map), r.jnd_map.shape)
+    assert 15 <= y < 45 and 195 <= x < 225          # the peak is at the patch (row, column order)
+    inside = r.jnd_map[25:35, 205:215].mean()
+    far = r.jnd_map[:, :40].max()                   # 4 degrees away on standard-fhd
+    assert inside > 1 and far < 0.2 * inside
+    assert r.width == 256 and r.height == 64
+
+
+def test_identical_images_are_not_noticed():
+    a = np.random.default_rng(1).random((48, 48, 3), dtype=np.float32)
+    r = jnd.diff(a, a.copy())
+    assert r.p_detect == 0 and r.jnd_max == 0
+
+
+def test_a_larger_change_is_more_visible():
+    ref = np.full((64, 64), 0.4, np.float32)
+    ps = [jnd.diff(ref, ref + d).jnd_max for d in (0.002, 0.01, 0.05)]
+    assert ps[0] < ps[1] < ps[2]
+
+
+def test_linear_arrays_go_through_the_displays_exr_scale():
+    ref = np.full((64, 64, 3), 50.0, np.float32)
+    test = ref.copy()
+    test[16:48, 16:48] *= 1.05
+    d1 = jnd.display("standard-fhd", exr_scale=1.0)
+    r1 = jnd.diff(ref, test, display=d1, encoding="linear")
+    r2 = jnd.diff(ref / 2, test / 2, display=jnd.display("standard-fhd", exr_scale=2.0), encoding="linear")
+    assert r1.jnd_max == pytest.approx(r2.jnd_max, rel=1e-5)
+
+
+def test_display_presets_and_ppd():
+    names = jnd.display_presets()
+    assert "standard-fhd" in names and "standard-4k" in names
+    for name in names:
+        d = jnd.display(name)
+        if d.diagonal_in > 0:
+            assert d.ppd == pytest.approx(jnd.ppd_from_geometry(d.diagonal_in, d.width_px, d.height_px,
+                                                                d.distance_m), rel=1e-12), name
+    # the model's finest band peaks at a fixed fraction of the display's ppd
+    fhd, uhd = jnd.Model("standard-fhd"), jnd.Model("standard-4k")
+    ratio = uhd.display.ppd / fhd.display.ppd
+    assert uhd.bands_cpd()[0] == pytest.approx(ratio * fhd.bands_cpd()[0], rel=1e-3)
+
+
+def test_gaze_makes_the_periphery_less_visible():
+    ref = np.full((96, 384, 3), 0.5, np.float32)
+    test = ref.copy()
+    test[40:56, 300:316] += 0.05
+    fovea = jnd.diff(ref, test, gaze=(308, 48)).jnd_max
+    periphery = jnd.diff(ref, test, gaze=(8, 48)).jnd_max
+    assert periphery < fovea
+
+
+def test_probability_is_000_eq_4():
+    assert jnd.probability(1.0) == pytest.approx(0.5)
+    assert jnd.probability(2.0, 3.5) == pytest.approx(1 - np.exp(np.log(0.5) * 2 ** 3.5))
+
+
+@pytest.mark.parametrize("bad,needle", [
+    (np.zeros((8, 8, 5), np.float32), "C = 1..4"),
+    (np.zeros((8,), np.float32), "shape"),
+    (np.zeros((8, 8), np.int32), "dtype"),
+    (np.full((8, 8), np.nan, np.float32), "NaN"),
+    (np.full((8, 8), -1, np.float32), "negative"),
+    ([[0.5]], "NumPy array"),
+])
+def test_bad_arrays_raise_with_a_message(bad, needle):
+    with pytest.raises(jnd.JndError, match=needle):
+        jnd.diff(bad, np.zeros((8, 8), np.float32))
+
+
+def test_library_errors_carry_jnds_message(tmp_path):
+    missing = str(tmp_path / "missing.png")
+    with pytest.raises(jnd.JndError) as e:
+        jnd.diff(missing, missing)
+    assert str(e.value).startswith(missing) and e.value.status == "JND_ERR_IO"
+    with pytest.raises(jnd.JndError, match="sizes differ"):
+        jnd.diff(np.zeros((8, 8), np.float32), np.zeros((8, 9), np.float32))
+    with pytest.raises(jnd.JndError, match="standard-fhd"):   # the message lists the presets
+        jnd.display("cinema")
+    with pytest.raises(jnd.JndError):
+        jnd.diff(np.zeros((8, 8), np.float32), np.zeros((8, 8), np.float32), pooling="p200")
+    with pytest.raises(jnd.JndError, match="encoding"):
+        jnd.diff(np.zeros((8, 8), np.float32), np.zeros((8, 8), np.float32), encoding="gamma")
+
+
+def test_repeated_calls_do_not_leak():
+    m = jnd.Model()
+    ref = np.random.default_rng(2).random((128, 128, 3), dtype=np.float32)
+    test = np.clip(ref + 0.01, 0, 1)
+
+    def rss_kib():
+        with open("/proc/self/statm") as f:
+            return int(f.read().split()[1]) * resource.getpagesize() // 1024
+
+    for _ in range(20):
+        m.diff(ref, test)
+    before = rss_kib()
+    for _ in range(200):
+        m.diff(ref, test)
+        try:
+            m.diff("/nonexistent.png", test)
+        except jnd.JndError:
+            pass
+    grown = rss_kib() - before
+    # each call allocates about 0.4 MiB of images and maps: 200 leaked calls would be 80 MiB
+    assert grown < 8 * 1024, f"resident memory grew by {grown} KiB over 200 calls"
+
+
+def test_the_gil_is_released_during_a_comparison():
+    ref = np.random.default_rng(3).random((1024, 1024, 3), dtype=np.float32)
+    test = np.clip(ref + 0.02, 0, 1)
+    m = jnd.Model(threads=1)
+    ticks = []
+    done = threading.Event()
+
+    def count():
+        while not done.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.001)
+
+    t = threading.Thread(target=count)
+    t.start()
+    time.sleep(0.01)
+    t0 = time.perf_counter()
+    m.diff(ref, test)
+    t1 = time.perf_counter()
+    done.set()
+    t.join()
+    during = [x for x in ticks if t0 < x < t1]
+    # a held GIL would let the other thread tick at most once or twice during the call
+    assert (t1 - t0) < 0.05 or len(during) >= 5, (t1 - t0, len(during))
+
+
+def test_one_model_serves_several_threads():
+    m = jnd.Model()
+    ref = np.full((64, 64, 3), 0.5, np.float32)
+    test = ref.copy()
+    test[10:30, 10:30] += 0.03
+    want = m.diff(ref, test).jnd_max
+    got = []
+    ts = [threading.Thread(target=lambda: got.append(m.diff(ref, test).jnd_max)) for _ in range(4)]
+    for t in ts:
+        t.start()
+    for t in ts:
+        t.join()
+    assert got == [want] * 4
