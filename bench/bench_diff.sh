@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # jnd diff on a 1920x1080 pair: whole-process seconds, megapixels per second and
 # peak memory in bytes per pixel, and the same for Debian's butteraugli_main
-# (libjxl-devtools) on the same pair in the same run, with the ratio.
+# (libjxl-devtools) and NVIDIA FLIP's C++ tool on the same pair in the same
+# run, with the ratios. FLIP is built from ../shared/anchors/flip (its README's
+# build line) into the build folder's bench/ when that folder is there; it is
+# never copied into the repository.
 set -uo pipefail
 : "${JND:?}"
 here=$(cd "$(dirname "$0")" && pwd)
@@ -35,13 +38,32 @@ read -r jt jm < <(measure "$JND" diff "$out/reference.png" "$out/test.png" --jso
 awk -v t="$jt" -v m="$jm" -v px="$px" -v n="$RUNS" 'BEGIN{
   printf "   jnd diff         1920x1080: %.3f s (median of %d), %.2f Mpixel/s, peak %.1f MB = %.1f bytes/pixel\n",
          t, n, px / 1e6 / t, m / 1024, m * 1024 / px }'
+peer() { # peer NAME SECONDS PEAK_KIB
+  awk -v name="$1" -v t="$2" -v m="$3" -v px="$px" -v n="$RUNS" 'BEGIN{
+    printf "   %-16s 1920x1080: %.3f s (median of %d), %.2f Mpixel/s, peak %.1f MB = %.1f bytes/pixel\n",
+           name, t, n, px / 1e6 / t, m / 1024, m * 1024 / px }'
+  awk -v name="$1" -v a="$jt" -v b="$2" -v ma="$jm" -v mb="$3" 'BEGIN{
+    printf "   ratio: jnd is %.1fx faster than %s (target 10x) and uses %.2fx its peak memory\n", b / a, name, ma / mb }'
+}
+flip_src=${JND_SHARED:-$here/../../shared}/anchors/flip
+flip_bin=$(dirname "$JND")/bench/flip
+if [ -f "$flip_src/tool/FLIP-tool.cpp" ]; then
+  if [ ! -x "$flip_bin" ] || [ "$flip_src/tool/FLIP-tool.cpp" -nt "$flip_bin" ]; then
+    mkdir -p "$(dirname "$flip_bin")"
+    echo "   building FLIP's C++ tool from $flip_src (about a minute)"
+    command -v g++ >/dev/null || { echo "   g++ missing (apt-get install g++)"; exit 1; }
+    g++ -O3 -march=native -fopenmp -std=c++17 -I"$flip_src" "$flip_src/tool/FLIP-tool.cpp" -o "$flip_bin" ||
+      { echo "   FLIP did not build"; exit 1; }
+  fi
+  # FLIP writes its outputs into the working folder; -nexm -nerm: no error maps
+  read -r ft fm < <(cd "$out" && measure "$flip_bin" --reference reference.png --test test.png -nexm -nerm -v 1) || exit 1
+  peer "FLIP (C++ tool)" "$ft" "$fm"
+else
+  echo "   FLIP's source not found at $flip_src (../shared/anchors/flip) — no FLIP figures"
+fi
 if command -v butteraugli_main >/dev/null 2>&1; then
   read -r bt bm < <(measure butteraugli_main "$out/reference.png" "$out/test.png") || exit 1
-  awk -v t="$bt" -v m="$bm" -v px="$px" -v n="$RUNS" 'BEGIN{
-    printf "   butteraugli_main 1920x1080: %.3f s (median of %d), %.2f Mpixel/s, peak %.1f MB = %.1f bytes/pixel\n",
-           t, n, px / 1e6 / t, m / 1024, m * 1024 / px }'
-  awk -v a="$jt" -v b="$bt" -v ma="$jm" -v mb="$bm" 'BEGIN{
-    printf "   ratio: jnd is %.1fx faster than butteraugli_main and uses %.2fx its peak memory\n", b / a, ma / mb }'
+  peer butteraugli_main "$bt" "$bm"
 else
   echo "   butteraugli_main not installed (apt-get install libjxl-devtools) — no peer figures"
 fi

@@ -15,7 +15,7 @@ if [ -n "${JND_SANITIZED:-}" ]; then
   rt=$(clang -print-file-name=libclang_rt.asan-x86_64.so)
   env+=(LD_PRELOAD="$rt" ASAN_OPTIONS="detect_leaks=0:abort_on_error=1:intercept_tls_get_addr=0")
 fi
-if env "${env[@]}" "$py" -m pytest -q -p no:cacheprovider "$JND_SRC/python/tests" >"$T/pytest.txt" 2>&1; then
+if env "${env[@]}" "$py" -m pytest -q -p no:cacheprovider --basetemp="$T/pytest" "$JND_SRC/python/tests" >"$T/pytest.txt" 2>&1; then
   ok "pytest: $(tail -1 "$T/pytest.txt")"
 else
   cat "$T/pytest.txt"
