@@ -269,12 +269,12 @@ static jnd_status add_output(jnd_output *w, const char *path, int is_dir, const 
   o.inside = -1;
   jnd_status s = node_make(path, &o.n);
   if (s) return s;
+  for (int k = 0; k < w->n_in && !s; k++) s = check_pair(&w->in[k], &o);
   struct stat st;
-  if (o.n.exists && stat(o.n.canon, &st) == 0) {
+  if (!s && o.n.exists && stat(o.n.canon, &st) == 0) {
     if (is_dir && !S_ISDIR(st.st_mode)) s = jnd_fail(JND_ERR_ARG, "%s: is a file, not a folder", path);
     if (!is_dir && S_ISDIR(st.st_mode)) s = jnd_fail(JND_ERR_ARG, "%s: is a folder, not a file", path);
   }
-  for (int k = 0; k < w->n_in && !s; k++) s = check_pair(&w->in[k], &o);
   for (int k = 0; k < w->n_out && !s; k++) {
     const output *p = &w->out[k];
     if (same(&p->n, &o.n))
