@@ -226,6 +226,12 @@ jnd_status jnd_output_add_file(jnd_output *w, const char *path, const char **sta
  * is an existing file. Register a folder before the outputs inside it. */
 jnd_status jnd_output_add_dir(jnd_output *w, const char *path, const char **staged);
 
+/* Only the refusals of jnd_output_add_dir against the inputs registered so
+ * far, for a folder that is not staged (jnd batch's folder, shared by
+ * shards and resumed: each asset's outputs there are published whole by
+ * the batch). Makes nothing. */
+jnd_status jnd_output_check_dir(jnd_output *w, const char *path);
+
 /* Publishes every output, by rename. A new folder is renamed into place
  * whole. An existing folder is never removed: the staged files are moved
  * into it one by one; when it carries the marker an earlier jnd run left

@@ -324,6 +324,17 @@ static jnd_status add_output(jnd_output *w, const char *path, int is_dir, const 
   return JND_OK;
 }
 
+jnd_status jnd_output_check_dir(jnd_output *w, const char *path) {
+  node n;
+  jnd_status s = node_make(path, &n);
+  if (s) return s;
+  output o = {.n = n, .is_dir = 1, .inside = -1};
+  for (int k = 0; k < w->n_in && !s; k++) s = check_pair(&w->in[k], &o);
+  free(n.canon);
+  free(n.given);
+  return s;
+}
+
 jnd_status jnd_output_add_file(jnd_output *w, const char *path, const char **staged) {
   return add_output(w, path, 0, staged);
 }
