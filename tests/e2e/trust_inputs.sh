@@ -106,6 +106,15 @@ refuse "batch -o the manifest's folder" batch assets.csv -o .
 refuse "batch -o a folder holding an asset" batch assets.csv -o pics
 refuse "batch --json the manifest" batch assets.csv -o out --json assets.csv
 refuse "gaze fit --json the data" gaze fit rates.csv --json rates.csv
+# report: OUT/report made a symlink to an asset's folder, which holds the
+# report it reads
+expect_exit 0 "a batch to report on" env -C "$W" "$JND" batch assets.csv -o bo --quiet
+expect_exit 0 "its merge" env -C "$W" "$JND" batch merge bo
+ln -s pair "$W/bo/report"
+refuse "report into an asset's folder through a symlink" report bo
+rm "$W/bo/report"
+expect_exit 0 "report runs" env -C "$W" "$JND" report bo --quiet
+check "  its files are published, no staging left" bash -c "[ -f '$W/bo/report/index.html' ] && ! ls -d '$W'/bo/report.jnd-partial-* 2>/dev/null"
 
 # ---- failing midway leaves nothing ----
 before=$(snap)
