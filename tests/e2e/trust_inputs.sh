@@ -106,6 +106,7 @@ refuse "batch -o the manifest's folder" batch assets.csv -o .
 refuse "batch -o a folder holding an asset" batch assets.csv -o pics
 refuse "batch --json the manifest" batch assets.csv -o out --json assets.csv
 refuse "gaze fit --json the data" gaze fit rates.csv --json rates.csv
+refuse "csf -o the thresholds" csf rates.csv -o rates.csv
 # report: OUT/report made a symlink to an asset's folder, which holds the
 # report it reads
 expect_exit 0 "a batch to report on" env -C "$W" "$JND" batch assets.csv -o bo --quiet
