@@ -5,6 +5,7 @@
  * that no run writes over a file the asset reads (docs/outputs.md). The
  * same resolution as the importer's (import.c, assimp's OBJ reader). */
 #include <ctype.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -143,6 +144,30 @@ static int obj_refs(const char *path, const unsigned char *file, size_t n, int i
   return ok;
 }
 
+/* a GLB's header and JSON chunk only (the binary chunk can be most of a
+ * large file, and holds no references): 1 when read, as a GLB that
+ * jnd_glb_split takes (its binary chunk left off) */
+static int glb_head(const char *path, unsigned char **out, size_t *n) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return 0;
+  unsigned char h[20];
+  int ok = fread(h, 1, 20, f) == 20 && memcmp(h, "glTF", 4) == 0 && memcmp(h + 16, "JSON", 4) == 0;
+  uint32_t len = ok ? (uint32_t)h[12] | (uint32_t)h[13] << 8 | (uint32_t)h[14] << 16 | (uint32_t)h[15] << 24 : 0;
+  unsigned char *b = ok && len < (1u << 30) ? malloc(20 + (size_t)len) : NULL;
+  ok = b && fread(b + 20, 1, len, f) == len;
+  fclose(f);
+  if (!ok) {
+    free(b);
+    return 0;
+  }
+  memcpy(b, h, 20);
+  uint32_t total = 20 + len;   /* the container's length as if it ended after the JSON chunk */
+  for (int k = 0; k < 4; k++) b[8 + k] = (unsigned char)(total >> (8 * k));
+  *out = b;
+  *n = total;
+  return 1;
+}
+
 jnd_status jnd_asset_files(const char *path, char ***files, int *count) {
   *files = NULL;
   *count = 0;
@@ -152,8 +177,11 @@ jnd_status jnd_asset_files(const char *path, char ***files, int *count) {
   size_t n = 0;
   const char *ext = strrchr(path, '.');
   int ok = 1;
-  if (ext && (strcasecmp(ext, ".gltf") == 0 || strcasecmp(ext, ".glb") == 0 || strcasecmp(ext, ".obj") == 0) &&
-      jnd_read_file(path, MAX_ASSET_BYTES, &file, &n) == JND_OK) {
+  if (ext && strcasecmp(ext, ".glb") == 0 && glb_head(path, &file, &n)) {
+    ok = gltf_refs(path, file, n, &l);
+    free(file);
+  } else if (ext && (strcasecmp(ext, ".gltf") == 0 || strcasecmp(ext, ".glb") == 0 || strcasecmp(ext, ".obj") == 0) &&
+             jnd_read_file(path, MAX_ASSET_BYTES, &file, &n) == JND_OK) {
     ok = strcasecmp(ext, ".obj") == 0 ? obj_refs(path, file, n, 0, &l) : gltf_refs(path, file, n, &l);
     free(file);
   }

@@ -222,6 +222,22 @@ TEST(an_assets_referenced_files_are_listed) {
   CHECK_OK(jnd_asset_files("m/a.gltf", &f, &n));
   CHECK(n == 3 && strcmp(f[0], "m/a.gltf") == 0 && strcmp(f[1], "m/a b.bin") == 0 && strcmp(f[2], "m/tex/c.png") == 0);
   jnd_asset_files_free(f, n);
+  /* a GLB: its JSON chunk names an external image; the binary chunk is not read for it */
+  const char js[] = "{\"asset\":{\"version\":\"2.0\"},\"images\":[{\"uri\":\"tex/g.png\"}]}";
+  unsigned char glb[256];
+  unsigned jl = (unsigned)(sizeof js - 1 + 3) / 4 * 4, total = 12 + 8 + jl + 8 + 4;
+  memset(glb, ' ', sizeof glb);
+  memcpy(glb, "glTF", 4);
+  unsigned hdr[] = {2, total, jl};
+  memcpy(glb + 4, hdr, 12);
+  memcpy(glb + 16, "JSON", 4);
+  memcpy(glb + 20, js, sizeof js - 1);
+  unsigned bin[] = {4, 0x004E4942u, 0};
+  memcpy(glb + 20 + jl, bin, 12);
+  jnd_write_file_atomic("m/g.glb", glb, total);
+  CHECK_OK(jnd_asset_files("m/g.glb", &f, &n));
+  CHECK(n == 2 && strcmp(f[1], "m/tex/g.png") == 0);
+  jnd_asset_files_free(f, n);
   CHECK_OK(jnd_asset_files("m/o.obj", &f, &n));
   CHECK(n == 4 && strcmp(f[1], "m/o.mtl") == 0 && strcmp(f[2], "m/tex/d.png") == 0 && strcmp(f[3], "m/tex/n.png") == 0);
   jnd_asset_files_free(f, n);
