@@ -180,6 +180,74 @@ jnd_status jnd_write_file_atomic(const char *path, const void *data, size_t n);
  * folder is fine. JND_ERR_IO "PATH: cannot create the folder (reason)". */
 jnd_status jnd_make_dirs(const char *path);
 
+/* ---- The output writer: never over an input, all or nothing ----
+ *
+ * Every file a run writes goes out through one jnd_output (docs/outputs.md):
+ *
+ *     jnd_output *w;  jnd_output_open(&w);
+ *     jnd_output_add_input(w, "model.gltf");             // and what it references
+ *     const char *dir;                                   // where the run writes
+ *     if (jnd_output_add_dir(w, "out", &dir) != JND_OK) { ...refused: nothing written }
+ *     ... the run writes into dir ...
+ *     if (ok) s = jnd_output_commit(w);                  // publishes everything
+ *     jnd_output_free(w);                                // without a commit: removes it all
+ *
+ * Paths are resolved as the system will: relative to the working folder,
+ * through symlinks, `.` and `..`; an existing file's identity is its device
+ * and inode. Register every input before the outputs (an input registered
+ * later is still checked against the outputs so far). */
+typedef struct jnd_output jnd_output;
+
+/* A writer for one run. *out is owned by the caller (jnd_output_free). */
+jnd_status jnd_output_open(jnd_output **out);
+
+/* Registers a file the run reads. "-", NULL, a name that is not an existing
+ * regular file (builtin:..., a file the reader will report missing) are
+ * ignored. JND_ERR_ARG when an output registered before it is this file or
+ * a folder that holds it. */
+jnd_status jnd_output_add_input(jnd_output *w, const char *path);
+
+/* Registers an output file and makes its staging area: *staged (owned by w,
+ * valid until jnd_output_free) is where the run writes it — PATH.jnd-partial-
+ * PID beside it, or inside the staging of a registered output folder that
+ * holds it. Folders missing on the way are created (and removed again on
+ * abort). "-" (standard output) is allowed: *staged = "-". Refused with one
+ * line naming both paths (JND_ERR_ARG) when the path is an input (directly,
+ * through a symlink or a hard link), another output of the run, lies inside
+ * an output file, or holds an output registered earlier; JND_ERR_IO when its
+ * folder is not writable. Nothing is left behind on refusal. A file the run
+ * leaves unwritten is not published. */
+jnd_status jnd_output_add_file(jnd_output *w, const char *path, const char **staged);
+
+/* Registers an output folder: the run writes into *staged, a sibling folder
+ * PATH.jnd-partial-PID (or a folder inside the staging of an enclosing
+ * output folder). Refused like jnd_output_add_file, and also when the folder
+ * holds any input (`-o .` beside the input: publishing could replace it) or
+ * is an existing file. Register a folder before the outputs inside it. */
+jnd_status jnd_output_add_dir(jnd_output *w, const char *path, const char **staged);
+
+/* Only the refusals of jnd_output_add_dir against the inputs registered so
+ * far, for a folder that is not staged (jnd batch's folder, shared by
+ * shards and resumed: each asset's outputs there are published whole by
+ * the batch). Makes nothing. */
+jnd_status jnd_output_check_dir(jnd_output *w, const char *path);
+
+/* Publishes every output, by rename. A new folder is renamed into place
+ * whole. An existing folder is never removed: the staged files are moved
+ * into it one by one; when it carries the marker an earlier jnd run left
+ * (".jnd-output", the list of the files that run wrote), the files that list
+ * names and this run did not write are removed; the user's other files stay.
+ * Each published folder gets the marker. JND_ERR_IO when a rename fails
+ * (then free the writer: what is left staged is removed). */
+jnd_status jnd_output_commit(jnd_output *w);
+
+/* Removes every staged file and folder and the folders the writer created;
+ * an earlier run's outputs are untouched. Nothing after a commit. */
+void jnd_output_abort(jnd_output *w);
+
+/* Aborts unless committed, and frees w (NULL is fine). */
+void jnd_output_free(jnd_output *w);
+
 /* ------------------------------------------------------------------------ */
 /* Display model (004 §3.1, first stage)                                    */
 /* ------------------------------------------------------------------------ */
@@ -576,6 +644,16 @@ jnd_map_kind jnd_map_slot_kind(jnd_map_slot slot);
  * without triangles, is JND_ERR_FORMAT "PATH: problem"; a missing model
  * JND_ERR_IO. *out is owned by the caller (jnd_scene_free). */
 jnd_status jnd_scene_load(const char *path, jnd_scene **out);
+
+/* The files the asset at path is made of, for the output writer
+ * (jnd_output_add_input): path itself, then what it references — a glTF's
+ * buffers and images given by URI (resolved beside the model; data: URIs
+ * and GLB chunks are inside it), an OBJ's mtllib files and the texture maps
+ * they name. Files are listed whether or not they exist; a file that does
+ * not parse lists only itself (the importer reports it). *files and its
+ * strings are the caller's (jnd_asset_files_free). JND_ERR_NOMEM only. */
+jnd_status jnd_asset_files(const char *path, char ***files, int *count);
+void jnd_asset_files_free(char **files, int count);
 
 /* Parameters of the built-in procedural asset. */
 typedef struct {

@@ -486,9 +486,22 @@ jnd_status jnd_batch_report(const char *out_dir, char *index_path, size_t n) {
   free(sum_path);
   const cJSON *assets = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "result"), "assets");
   jnd_status s = cJSON_IsArray(assets) ? JND_OK : jnd_fail(JND_ERR_FORMAT, "%s/summary.json: no result.assets", out_dir);
-  char *report_dir = jnd_path_join(out_dir, "report");
-  if (s == JND_OK) s = report_dir ? jnd_mkdirs(report_dir) : JND_ERR_NOMEM;
+  /* through the output writer: the reports read are inputs (an asset whose
+   * id is "report" would have its folder replaced), OUT/report is staged
+   * and published whole at the end */
+  char *final_dir = jnd_path_join(out_dir, "report"), *sum = jnd_path_join(out_dir, "summary.json");
+  jnd_output *w = NULL;
+  const char *report_dir = NULL;
+  if (s == JND_OK) s = final_dir && sum ? jnd_output_open(&w) : JND_ERR_NOMEM;
+  if (s == JND_OK) s = jnd_output_add_input(w, sum);
   const cJSON *e, *prev = NULL;
+  cJSON_ArrayForEach(e, assets) {
+    if (s != JND_OK || !str(e, "report")) continue;
+    char *p = jnd_path_join(out_dir, str(e, "report"));
+    s = p ? jnd_output_add_input(w, p) : JND_ERR_NOMEM;
+    free(p);
+  }
+  if (s == JND_OK) s = jnd_output_add_dir(w, final_dir, &report_dir);
   cJSON_ArrayForEach(e, assets) {
     if (s != JND_OK) break;
     s = asset_page(out_dir, report_dir, e, prev ? str(prev, "id") : NULL, e->next ? str(e->next, "id") : NULL);
@@ -497,8 +510,10 @@ jnd_status jnd_batch_report(const char *out_dir, char *index_path, size_t n) {
   char *html = s == JND_OK ? index_page(doc, assets) : NULL;
   char *path = report_dir ? jnd_path_join(report_dir, "index.html") : NULL;
   if (s == JND_OK) s = html && path ? jnd_write_file_atomic(path, html, strlen(html)) : JND_ERR_NOMEM;
-  if (s == JND_OK && index_path && n) snprintf(index_path, n, "%s", path);
-  free(html), free(path), free(report_dir);
+  if (s == JND_OK) s = jnd_output_commit(w);
+  jnd_output_free(w);
+  if (s == JND_OK && index_path && n) snprintf(index_path, n, "%s/index.html", final_dir);
+  free(html), free(path), free(final_dir), free(sum);
   cJSON_Delete(doc);
   return s;
 }

@@ -146,6 +146,20 @@ cJSON *cli_criterion_json(const jnd_criterion *c, const jnd_criterion_result *r)
 /* Writes the report to path ("-" = stdout) atomically; returns EXIT_OK or EXIT_BAD. */
 int cli_report_write(cJSON *report, const char *path);
 
+/* The run's output writer (jnd_output, docs/outputs.md), opened before any
+ * work: inputs (each an asset or image: the files it references too) and
+ * then outputs are registered, the run writes to the staged names, and
+ * cli_out_end publishes them or removes them all. Each returns EXIT_OK, or
+ * EXIT_BAD after printing the writer's one-line refusal. A NULL path is
+ * skipped (*staged NULL); "-" stays "-". */
+int cli_out_open(jnd_output **w);
+int cli_out_inputs(jnd_output *w, const char *const *paths, int n);
+int cli_out_file(jnd_output *w, const char *path, const char **staged);
+int cli_out_dir(jnd_output *w, const char *path, const char **staged);
+/* Commits when rc is EXIT_OK or EXIT_ABOVE (a failed commit: EXIT_BAD),
+ * else removes every staged output; frees w (NULL is fine); returns rc. */
+int cli_out_end(jnd_output *w, int rc);
+
 /* Progress on stderr unless quiet: a bar when stderr is a terminal; else a
  * line per stage (cli_progress_line), with the elapsed time. */
 typedef struct {

@@ -230,7 +230,26 @@ static int run(int argc, char **argv) {
   if (jnd_batch_manifest_read(manifest, command, options, &m) != JND_OK) return cli_bad("%s", jnd_last_error());
   int bad_rows = 0;
   for (int i = 0; i < m.nrows; i++) bad_rows += m.rows[i].error != NULL;
-  int rc = EXIT_OK;
+  /* the manifest and its assets are inputs: the output folder may not hold
+   * them (each asset's command checks its own outputs too) */
+  jnd_output *outw = NULL;
+  const char *json_out = common.json_path;
+  int rc = cli_out_open(&outw);
+  if (rc == EXIT_OK) rc = cli_out_inputs(outw, &manifest, 1);
+  for (int i = 0; i < m.nrows && rc == EXIT_OK; i++) {
+    char full[4200];
+    const char *slash = strrchr(manifest, '/');
+    if (m.rows[i].asset[0] == '/' || !slash) snprintf(full, sizeof full, "%s", m.rows[i].asset);
+    else snprintf(full, sizeof full, "%.*s/%s", (int)(slash - manifest), manifest, m.rows[i].asset);
+    const char *one[] = {full};
+    rc = cli_out_inputs(outw, one, 1);
+  }
+  if (rc == EXIT_OK && jnd_output_check_dir(outw, p.out_dir) != JND_OK) rc = cli_lib_error();
+  if (rc == EXIT_OK) rc = cli_out_file(outw, common.json_path, &json_out);
+  if (rc != EXIT_OK) {
+    jnd_batch_manifest_free(&m);
+    return cli_out_end(outw, rc);
+  }
   if (slurm) {
     char *a = NULL, *b = NULL;
     int scripts = jnd_slurm_scripts(&m, command, options, &p, &sp, &a, &b) == JND_OK;
@@ -256,7 +275,7 @@ static int run(int argc, char **argv) {
     free(a);
     free(b);
     jnd_batch_manifest_free(&m);
-    return rc;
+    return cli_out_end(outw, rc);
   }
   progress_ctx pc = {.quiet = common.quiet, .tty = isatty(2)};
   p.progress = on_asset;
@@ -284,12 +303,12 @@ static int run(int argc, char **argv) {
       cJSON_AddNumberToObject(res, "ok", t.ok);
       cJSON_AddNumberToObject(res, "above", t.above);
       cJSON_AddNumberToObject(res, "failed", t.failed);
-      rc = cli_report_write(r, common.json_path);
+      rc = cli_report_write(r, json_out);
       cJSON_Delete(r);
     }
   }
   jnd_batch_manifest_free(&m);
-  return rc;
+  return cli_out_end(outw, rc);
 }
 
 const jnd_command jnd_cmd_batch = {"batch", "a library of assets: a manifest, shards, Slurm, merge (docs/batch.md)", run};

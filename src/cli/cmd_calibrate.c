@@ -186,6 +186,15 @@ static int run(int argc, char **argv) {
   jnd_calibrate_result R = {0};
   jnd_model *model = NULL;
   cJSON *report = NULL;
+  /* the outputs checked before any work, written staged, published at the
+   * end; the files the tables name join the inputs as they are read */
+  jnd_output *outw = NULL;
+  const char *ins[] = {csv_path, pairs_path, vo.set.render.env_path, vo.cameras}, *final_out = out_path,
+             *final_hist = hist_path, *json_out = common.json_path;
+  if (cli_out_open(&outw) != EXIT_OK || cli_out_inputs(outw, ins, 4) != EXIT_OK ||
+      cli_out_file(outw, final_out, &out_path) != EXIT_OK || cli_out_file(outw, final_hist, &hist_path) != EXIT_OK ||
+      cli_out_file(outw, common.json_path, &json_out) != EXIT_OK)
+    goto out;
   if (jnd_csv_read(csv_path, &csv) != JND_OK) {
     cli_error("%s", jnd_last_error());
     goto out;
@@ -230,6 +239,8 @@ static int run(int argc, char **argv) {
         jnd_builtin_defaults(&bp);
         if (jnd_builtin_parse(m, &bp) != 0) snprintf(sc[k].model, sizeof sc[k].model, "%s", m);
         else rel_path(csv_path, m, sc[k].model, sizeof sc[k].model);
+        const char *one[] = {sc[k].model};
+        if (cli_out_inputs(outw, one, 1) != EXIT_OK) goto out;
       }
     }
     if (by_mu && *csv.cells[r][c_mu]) {
@@ -280,6 +291,13 @@ static int run(int argc, char **argv) {
     if (p_scene < 0 || p_res < 0 || p_ref < 0 || p_test < 0) {
       cli_error("%s: missing column (need scene, resolution, reference, test)", pairs_path);
       goto out;
+    }
+    for (int r = 0; r < pairs.nrows; r++) {
+      char rp[4200], tpth[4200];
+      rel_path(pairs_path, pairs.cells[r][p_ref], rp, sizeof rp);
+      rel_path(pairs_path, pairs.cells[r][p_test], tpth, sizeof tpth);
+      const char *two[] = {rp, tpth};
+      if (cli_out_inputs(outw, two, 2) != EXIT_OK) goto out;
     }
     jnd_model_params mp = jp.model;
     mp.threads = 1;
@@ -417,18 +435,19 @@ static int run(int argc, char **argv) {
   }
   if (hist_path) {
     if (!write_histogram(hist_path, R.errors_px, R.nscenes)) goto out;
-    cJSON_AddStringToObject(res, "histogram", hist_path);
+    cJSON_AddStringToObject(res, "histogram", final_hist);
   }
   if (cli_report_write(report, out_path) != EXIT_OK) goto out;
-  if (common.json_path && cli_report_write(report, common.json_path) != EXIT_OK) goto out;
+  if (json_out && cli_report_write(report, json_out) != EXIT_OK) goto out;
   cli_info(&common, "calibration: p%g, JND -> max(0, %.4f JND %+.4f), beta %.2f\n", R.cal.percentile, R.cal.scale,
            R.cal.bias, R.cal.beta);
   cli_info(&common, "threshold error at P = %.2f: train MAE %.1f px; held out (%d folds) MAE %.1f px [", cp.threshold_p,
            R.mae_px, R.folds, R.cv_mae_px);
   for (int k = 0; k < R.folds; k++) cli_info(&common, "%s%.1f", k ? " " : "", R.fold_mae_px[k]);
-  cli_info(&common, "]\n%d scenes -> %s\n", nsc, out_path);
+  cli_info(&common, "]\n%d scenes -> %s\n", nsc, final_out);
   rc = EXIT_OK;
 out:
+  rc = cli_out_end(outw, rc);
   cJSON_Delete(report);
   jnd_calibrate_result_free(&R);
   jnd_model_free(model);

@@ -258,6 +258,12 @@ static int run(int argc, char **argv) {
   jnd_csf_result res = {0};
   cJSON *report = NULL;
   int rc = EXIT_BAD;
+  /* the outputs checked before any work, written staged, published at the end */
+  jnd_output *outw = NULL;
+  const char *ins[] = {data, colors, bkgs}, *json_out = NULL;
+  if (cli_out_open(&outw) != EXIT_OK || cli_out_inputs(outw, ins, 3) != EXIT_OK ||
+      cli_out_file(outw, out_csv, &out_csv) != EXIT_OK || cli_out_file(outw, common.json_path, &json_out) != EXIT_OK)
+    goto out;
   if (jnd_csf_data_read(data, colors, bkgs, &d) != JND_OK) {
     cli_error("%s", jnd_last_error());
     goto out;
@@ -386,9 +392,10 @@ static int run(int argc, char **argv) {
   cJSON_AddNumberToObject(result, "derived_direction_rows", nderived);
 
   if (out_csv && write_rows(out_csv, &d, &res, cv) != EXIT_OK) goto out;
-  if (common.json_path && cli_report_write(report, common.json_path) != EXIT_OK) goto out;
+  if (json_out && cli_report_write(report, json_out) != EXIT_OK) goto out;
   rc = EXIT_OK;
 out:
+  rc = cli_out_end(outw, rc);
   cJSON_Delete(report);
   jnd_csf_result_free(&res);
   jnd_csf_data_free(&d);

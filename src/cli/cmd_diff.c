@@ -143,6 +143,14 @@ static int run(int argc, char **argv) {
   int rc = EXIT_BAD;
   jnd_model *model = NULL;
   cJSON *report = NULL;
+  /* outputs checked before any work, written staged, published together */
+  jnd_output *outw = NULL;
+  const char *ins[] = {paths[0], paths[1], motion_path, weights_path, cal_path};
+  const char *map_out = NULL, *heat_out = NULL, *json_out = NULL;
+  if (cli_out_open(&outw) != EXIT_OK || cli_out_inputs(outw, ins, 5) != EXIT_OK ||
+      cli_out_file(outw, map_path, &map_out) != EXIT_OK || cli_out_file(outw, heat_path, &heat_out) != EXIT_OK ||
+      cli_out_file(outw, common.json_path, &json_out) != EXIT_OK)
+    goto out;
   /* the two files decode at the same time */
   int ok[2];
   char msg[2][1024] = {"", ""};
@@ -206,7 +214,7 @@ static int run(int argc, char **argv) {
   double t_model = cli_now() - t0 - t_load;
   if (map_path) {
     const char *name[1] = {"JND"};
-    if (jnd_image_write_exr(map_path, &map, name, 0) != JND_OK) {
+    if (jnd_image_write_exr(map_out, &map, name, 0) != JND_OK) {
       cli_error("%s", jnd_last_error());
       goto out;
     }
@@ -215,7 +223,7 @@ static int run(int argc, char **argv) {
     jnd_image back = {0}, heat = {0};
     if (!heatmap_backdrop(paths[0], &mp.display, &back)) goto out;
     jnd_status s = jnd_heatmap(&back, &map, heat_max, &heat);
-    if (s == JND_OK) s = jnd_image_write_png(heat_path, &heat, 8);
+    if (s == JND_OK) s = jnd_image_write_png(heat_out, &heat, 8);
     jnd_image_free(&back);
     jnd_image_free(&heat);
     if (s != JND_OK) {
@@ -277,12 +285,13 @@ static int run(int argc, char **argv) {
     cJSON_AddNumberToObject(t, "total_s", t_total);
     cJSON_AddNumberToObject(t, "megapixels_per_s", (double)w * h / 1e6 / t_total);
   }
-  if (common.json_path && cli_report_write(report, common.json_path) != EXIT_OK) goto out;
+  if (json_out && cli_report_write(report, json_out) != EXIT_OK) goto out;
   cli_info(&common, "P(detect) %s = %.3f   (p50 %.3f, p99 %.3f, max %.3f)   JND p93 %.2f, max %.2f   %dx%d, %.2f s\n",
            pname, st.p_detect, st.p_p50, st.p_p99, st.p_max, st.jnd_p93, st.jnd_max, w, h, t_total);
   if (above) cli_info(&common, "above --fail-above %.3f\n", fail_above);
   rc = above ? EXIT_ABOVE : EXIT_OK;
 out:
+  rc = cli_out_end(outw, rc);
   cJSON_Delete(report);
   jnd_model_free(model);
   jnd_image_free(&ref);

@@ -31,24 +31,27 @@ static int run(int argc, char **argv) {
     cli_error("example: needs -o DIR (jnd example --help)");
     return EXIT_BAD;
   }
-  if (jnd_make_dirs(dir) != JND_OK) return cli_lib_error();
+  /* staged and published together (docs/outputs.md) */
+  jnd_output *outw = NULL;
+  const char *staged = NULL;
+  if (cli_out_open(&outw) != EXIT_OK || cli_out_dir(outw, dir, &staged) != EXIT_OK) return cli_out_end(outw, EXIT_BAD);
   jnd_image ref, test;
   if (jnd_example_pair(w, h, &ref, &test) != JND_OK) {
     cli_error("example: %s", jnd_last_error());
-    return EXIT_BAD;
+    return cli_out_end(outw, EXIT_BAD);
   }
   char p1[4096], p2[4096];
-  snprintf(p1, sizeof p1, "%s/reference.png", dir);
-  snprintf(p2, sizeof p2, "%s/test.png", dir);
+  snprintf(p1, sizeof p1, "%s/reference.png", staged);
+  snprintf(p2, sizeof p2, "%s/test.png", staged);
   int rc = EXIT_OK;
   if (jnd_image_write_png(p1, &ref, 8) != JND_OK || jnd_image_write_png(p2, &test, 8) != JND_OK) {
     cli_error("%s", jnd_last_error());
     rc = EXIT_BAD;
-  } else {
-    fprintf(stderr, "wrote %s and %s (%dx%d)\n", p1, p2, w, h);
   }
   jnd_image_free(&ref);
   jnd_image_free(&test);
+  rc = cli_out_end(outw, rc);
+  if (rc == EXIT_OK) fprintf(stderr, "wrote %s/reference.png and %s/test.png (%dx%d)\n", dir, dir, w, h);
   return rc;
 }
 

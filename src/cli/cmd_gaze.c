@@ -131,12 +131,18 @@ static int run_fit(int argc, char **argv) {
   }
   if (args.bad) return EXIT_BAD;
   if (!data) return cli_bad("gaze fit: give a DATA.csv of trials; jnd gaze fit --help");
+  /* the outputs checked before any work, written staged, published at the end */
+  jnd_output *outw = NULL;
+  const char *json_out = NULL;
+  if (cli_out_open(&outw) != EXIT_OK || cli_out_inputs(outw, &data, 1) != EXIT_OK ||
+      cli_out_dir(outw, dir, &dir) != EXIT_OK || cli_out_file(outw, common.json_path, &json_out) != EXIT_OK)
+    return cli_out_end(outw, EXIT_BAD);
   jnd_gaze_data d;
-  if (jnd_gaze_data_read(data, &d) != JND_OK) return cli_lib_error();
+  if (jnd_gaze_data_read(data, &d) != JND_OK) return cli_out_end(outw, cli_lib_error());
   jnd_gaze_fit_result r;
   jnd_status st = jnd_gaze_fit(&d, &fp, &r);
   jnd_gaze_data_free(&d);
-  if (st != JND_OK) return cli_lib_error();
+  if (st != JND_OK) return cli_out_end(outw, cli_lib_error());
 
   cJSON *report = cli_report_new("gaze fit");
   cJSON *in = cli_report_section(report, "inputs"), *par = cli_report_section(report, "parameters"),
@@ -179,7 +185,8 @@ static int run_fit(int argc, char **argv) {
     if (jnd_make_dirs(dir) != JND_OK) rc = cli_lib_error();
     if (rc == EXIT_OK) rc = cli_report_write(report, path);
   }
-  if (rc == EXIT_OK && common.json_path) rc = cli_report_write(report, common.json_path);
+  if (rc == EXIT_OK && json_out) rc = cli_report_write(report, json_out);
+  rc = cli_out_end(outw, rc);
   cJSON_Delete(report);
   cli_info(&common, "jnd gaze fit: %s, %s model, %d trials of %d stimuli\n", data, r.temporal ? "temporal" : "spatial",
            r.trials, r.stimuli);
@@ -283,6 +290,13 @@ static int run_observers(int argc, char **argv) {
   if (p.max_px < p.min_px) return cli_bad("--max-px: %d is below --min-px %d", p.max_px, p.min_px);
   jnd_scene *scenes[64] = {0};
   int rc = EXIT_OK;
+  /* the outputs checked before any work, written staged, published at the end */
+  jnd_output *outw = NULL;
+  const char *json_out = NULL, *final_dir = dir;
+  if (cli_out_open(&outw) != EXIT_OK || cli_out_inputs(outw, models, nmodels) != EXIT_OK ||
+      cli_out_inputs(outw, &p.render.env_path, 1) != EXIT_OK || cli_out_dir(outw, final_dir, &dir) != EXIT_OK ||
+      cli_out_file(outw, common.json_path, &json_out) != EXIT_OK)
+    return cli_out_end(outw, EXIT_BAD);
   for (int i = 0; i < nmodels && rc == EXIT_OK; i++)
     if (jnd_scene_open(models[i], map_size, &scenes[i]) != JND_OK) rc = cli_lib_error();
   jnd_gaze_observers O = {0};
@@ -320,11 +334,12 @@ static int run_observers(int argc, char **argv) {
     cJSON_AddStringToObject(res, "temporal_csv", "temporal.csv");
     snprintf(path, sizeof path, "%s/observers.json", dir);
     rc = cli_report_write(report, path);
-    if (rc == EXIT_OK && common.json_path) rc = cli_report_write(report, common.json_path);
+    if (rc == EXIT_OK && json_out) rc = cli_report_write(report, json_out);
     cJSON_Delete(report);
     cli_info(&common, "jnd gaze observers: %d stimuli x %d answers; mean P spatial %.3f, switch %.3f; wrote %s\n",
-             O.n, O.answers, O.n ? ps / O.n : 0, O.n ? pw / O.n : 0, dir);
+             O.n, O.answers, O.n ? ps / O.n : 0, O.n ? pw / O.n : 0, final_dir);
   }
+  rc = cli_out_end(outw, rc);
   jnd_gaze_observers_free(&O);
   for (int i = 0; i < nmodels; i++) jnd_scene_free(scenes[i]);
   return rc;
@@ -404,11 +419,18 @@ static int run(int argc, char **argv) {
   if (!dir) return cli_bad("gaze: give an output folder with -o OUTDIR; jnd gaze --help");
   if (p.max_px < p.min_px) return cli_bad("--max-px: %d is below --min-px %d", p.max_px, p.min_px);
   p.measure.model.display = cli_display_get(&disp);
+  /* the outputs checked before any work, written staged, published at the end */
+  jnd_output *outw = NULL;
+  const char *json_out = NULL, *final_dir = dir, *ins[] = {model, p.render.env_path};
+  if (cli_out_open(&outw) != EXIT_OK || cli_out_inputs(outw, ins, 2) != EXIT_OK ||
+      cli_out_inputs(outw, params_files, nparams) != EXIT_OK || cli_out_dir(outw, final_dir, &dir) != EXIT_OK ||
+      cli_out_file(outw, common.json_path, &json_out) != EXIT_OK)
+    return cli_out_end(outw, EXIT_BAD);
   for (int i = 0; i < nparams; i++)
-    if (jnd_gaze_model_read(params_files[i], &p.model) != JND_OK) return cli_lib_error();
+    if (jnd_gaze_model_read(params_files[i], &p.model) != JND_OK) return cli_out_end(outw, cli_lib_error());
 
   jnd_scene *scene = NULL;
-  if (jnd_scene_open(model, map_size, &scene) != JND_OK) return cli_lib_error();
+  if (jnd_scene_open(model, map_size, &scene) != JND_OK) return cli_out_end(outw, cli_lib_error());
   int input_levels = jnd_scene_lod_count(scene);
   cli_progress bar;
   cli_progress_start(&bar, &common, "gaze", 1);
@@ -420,7 +442,7 @@ static int run(int argc, char **argv) {
   cli_progress_end(&bar);
   if (st != JND_OK) {
     jnd_scene_free(scene);
-    return cli_lib_error();
+    return cli_out_end(outw, cli_lib_error());
   }
   double run_s = cli_now() - t0;
 
@@ -490,7 +512,8 @@ static int run(int argc, char **argv) {
   if (common.timings) cJSON_AddNumberToObject(res, "table_s", run_s);
   snprintf(path, sizeof path, "%s/gaze.json", dir);
   if (rc == EXIT_OK) rc = cli_report_write(report, path);
-  if (rc == EXIT_OK && common.json_path) rc = cli_report_write(report, common.json_path);
+  if (rc == EXIT_OK && json_out) rc = cli_report_write(report, json_out);
+  rc = cli_out_end(outw, rc);
   cJSON_Delete(report);
 
   /* the human summary: the table */
@@ -512,7 +535,7 @@ static int run(int argc, char **argv) {
   if (nwindowed)
     cli_info(&common, "note: %d of %d distances judged on %d-pixel windows at the display's ppd around the fixation "
                       "point or the silhouette facing it: .result.windowed\n", nwindowed, T.nd, p.max_px);
-  if (rc == EXIT_OK) cli_info(&common, "wrote %s/gaze.json, gaze.csv, gaze.png (%.1f s)\n", dir, run_s);
+  if (rc == EXIT_OK) cli_info(&common, "wrote %s/gaze.json, gaze.csv, gaze.png (%.1f s)\n", final_dir, run_s);
   jnd_gaze_table_free(&T);
   jnd_scene_free(scene);
   return rc;

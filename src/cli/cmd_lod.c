@@ -252,6 +252,13 @@ static int run(int argc, char **argv) {
   if (p.chain.errors && p.chain.ratios) return cli_bad("lod: give --errors or --ratios, not both");
   p.level_paths = levels;
   p.nlevel_paths = nlevels;
+  /* the outputs checked before the analysis, written staged, published at the end */
+  jnd_output *outw = NULL;
+  const char *ins[64 + 2] = {model, p.poi.env_path}, *final_dir = dir, *json_out = common.json_path;
+  for (int i = 0; i < nlevels; i++) ins[2 + i] = levels[i];
+  if (cli_out_open(&outw) != EXIT_OK || cli_out_inputs(outw, ins, 2 + nlevels) != EXIT_OK ||
+      cli_out_dir(outw, final_dir, &dir) != EXIT_OK || cli_out_file(outw, common.json_path, &json_out) != EXIT_OK)
+    return cli_out_end(outw, EXIT_BAD);
   p.out_dir = dir;
   progress_state ps = {&common, {0}, NULL, cli_now()};
   p.progress = on_progress;
@@ -260,7 +267,7 @@ static int run(int argc, char **argv) {
   jnd_lod_report R;
   jnd_status st = jnd_lod_run(model, &p, &R);
   if (ps.stage) cli_progress_end(&ps.bar);
-  if (st != JND_OK) return cli_bad("%s", jnd_last_error());
+  if (st != JND_OK) return cli_out_end(outw, cli_bad("%s", jnd_last_error()));
   jnd_scene *scene = R.scene;
   for (int i = 0; i < jnd_scene_warning_count(scene); i++) cli_info(&common, "jnd: warning: %s\n", jnd_scene_warning(scene, i));
 
@@ -494,7 +501,8 @@ static int run(int argc, char **argv) {
   char path[4400];
   snprintf(path, sizeof path, "%s/lod.json", dir);
   int rc = cli_report_write(report, path);
-  if (rc == EXIT_OK && common.json_path) rc = cli_report_write(report, common.json_path);
+  if (rc == EXIT_OK && json_out) rc = cli_report_write(report, json_out);
+  rc = cli_out_end(outw, rc);
   cJSON_Delete(report);
 
   /* the human summary */
@@ -540,7 +548,8 @@ static int run(int argc, char **argv) {
       cli_info(&common, "\n");
     }
   }
-  cli_info(&common, "wrote %s/lod.json and %s\n", dir, R.model_path);
+  const char *model_rel = strstr(R.model_path, "/model/");
+  if (rc == EXIT_OK) cli_info(&common, "wrote %s/lod.json and %s%s\n", final_dir, final_dir, model_rel ? model_rel : "");
   jnd_lod_report_free(&R);
   return rc;
 }

@@ -269,6 +269,14 @@ static int run(int argc, char **argv) {
   p.render.builtin_map_size = vo.map_size;
   if (vo.cameras) return cli_bad("pca: --cameras is not supported here yet (sampled views only)");
 
+  /* the outputs checked before any work, written staged, published at the end */
+  jnd_output *outw = NULL;
+  const char *ins[JND_PCA_MAX_MAPS + 4] = {p.model, p.render.judge.views.render.env_path, cal.path}, *final_dir = outdir;
+  const char *json_out = common.json_path;
+  for (int k = 0; k < npaths; k++) ins[3 + k] = paths[k];
+  if (cli_out_open(&outw) != EXIT_OK || cli_out_inputs(outw, ins, 3 + npaths) != EXIT_OK ||
+      cli_out_dir(outw, final_dir, &outdir) != EXIT_OK || cli_out_file(outw, common.json_path, &json_out) != EXIT_OK)
+    return cli_out_end(outw, EXIT_BAD);
   cli_progress prog;
   cli_progress_start(&prog, &common, "pca", 1);
   p.progress = cli_progress_callback;
@@ -277,11 +285,7 @@ static int run(int argc, char **argv) {
   jnd_pca_result R;
   jnd_status st = jnd_pca_run(&p, &R);
   cli_progress_end(&prog);
-  if (st != JND_OK) return cli_lib_error();
-  if (jnd_make_dirs(outdir) != JND_OK) {   /* after the run: bad input leaves nothing behind */
-    jnd_pca_result_free(&R);
-    return cli_lib_error();
-  }
+  if (st != JND_OK) return cli_out_end(outw, cli_lib_error());
   int rc = EXIT_BAD;
   cJSON *report = cli_report_new("pca");
   cJSON *inputs = cli_report_section(report, "inputs"), *params = cli_report_section(report, "parameters"),
@@ -449,7 +453,7 @@ static int run(int argc, char **argv) {
   char path[4200];
   snprintf(path, sizeof path, "%s/pca.json", outdir);
   if (cli_report_write(report, path) != EXIT_OK) goto out;
-  if (common.json_path && cli_report_write(report, common.json_path) != EXIT_OK) goto out;
+  if (json_out && cli_report_write(report, json_out) != EXIT_OK) goto out;
 
   /* human summary */
   cli_info(&common, "jnd pca: %d maps, %d x %d, %d channels; energy in the first 5: %.1f%%, knee at %d\n", R.set.nmaps,
@@ -483,9 +487,10 @@ static int run(int argc, char **argv) {
       print_views(&common, "plain BC", &R.vis_bc[2]);
     }
   }
-  cli_info(&common, "  %.1f s; wrote %s/pca.json\n", cli_now() - t0, outdir);
+  cli_info(&common, "  %.1f s; wrote %s/pca.json\n", cli_now() - t0, final_dir);
   rc = EXIT_OK;
 out:
+  rc = cli_out_end(outw, rc);
   cJSON_Delete(report);
   jnd_pca_result_free(&R);
   return rc;

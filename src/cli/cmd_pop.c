@@ -300,6 +300,50 @@ static void asset_json(cJSON *inputs, cJSON *params, cJSON *res, const char *mod
   cJSON_AddStringToObject(cJSON_GetObjectItem(res, "outputs"), "switch", "switch.png");
 }
 
+/* frame i's name from a --frames pattern (one %d or %0Nd field, %% a
+ * percent sign); 0 for a pattern jnd_pop_sequence refuses anyway */
+static int frame_name(const char *pattern, int i, char *out, size_t n) {
+  size_t k = 0;
+  int fields = 0;
+  for (const char *c = pattern; *c && k + 16 < n; c++) {
+    if (*c != '%') {
+      out[k++] = *c;
+      continue;
+    }
+    if (c[1] == '%') {
+      out[k++] = '%';
+      c++;
+      continue;
+    }
+    int width = 0;
+    const char *d = c + 1;
+    if (*d == '0')
+      while (*d >= '0' && *d <= '9') width = width * 10 + (*d++ - '0');
+    if (*d != 'd' || width > 12 || fields++) return 0;
+    k += (size_t)snprintf(out + k, n - k, "%0*d", width, i);
+    c = d;
+  }
+  out[k] = 0;
+  return fields == 1;
+}
+
+/* every file the frame form reads, frame by frame for a sequence */
+static int pop_inputs(jnd_output *w, const jnd_pop_paths *f, int sequence, int first, int last) {
+  const char *const pat[] = {f->actual, f->expected, f->displacement, f->displacement_expected, f->depth,
+                             f->depth_expected, f->prev_depth, f->prev_depth_expected, f->weights, f->prev_color,
+                             f->prev_shading, f->mask};
+  int np = (int)(sizeof pat / sizeof pat[0]);
+  if (!sequence) return cli_out_inputs(w, pat, np);
+  for (int i = first; i <= last; i++)
+    for (int k = 0; k < np; k++) {
+      char name[4200];
+      if (!pat[k] || !frame_name(pat[k], i, name, sizeof name)) continue;
+      const char *one[] = {name};
+      if (cli_out_inputs(w, one, 1) != EXIT_OK) return EXIT_BAD;
+    }
+  return EXIT_OK;
+}
+
 static int run(int argc, char **argv) {
   cli_common common = {0};
   jnd_model_params mp;
@@ -454,6 +498,19 @@ static int run(int argc, char **argv) {
   jnd_pop_asset_report R;
   memset(&R, 0, sizeof R);
   const jnd_pop_result *res_pair = &r;
+  /* the outputs checked before any work, written staged, published at the end */
+  jnd_output *outw = NULL;
+  const char *json_out = NULL, *final_dir = dir;
+  if (!asset) {
+    f.actual = paths[0];
+    f.expected = paths[1];
+  }
+  const char *ains[66] = {asset ? paths[0] : NULL, views.set.render.env_path, views.cameras};
+  for (int i = 0; i < nlevels; i++) ains[3 + i] = levels[i];
+  if (cli_out_open(&outw) != EXIT_OK || cli_out_inputs(outw, ains, 3 + nlevels) != EXIT_OK ||
+      (!asset && pop_inputs(outw, &f, sequence, seq.first, seq.last) != EXIT_OK) ||
+      cli_out_dir(outw, final_dir, &dir) != EXIT_OK || cli_out_file(outw, common.json_path, &json_out) != EXIT_OK)
+    goto out;
   if (jnd_model_create(&mp, &model) != JND_OK) {
     cli_error("pop: %s", jnd_last_error());
     goto out;
@@ -560,7 +617,7 @@ static int run(int argc, char **argv) {
   char jpath[4400];
   snprintf(jpath, sizeof jpath, "%s/pop.json", dir);
   if (cli_report_write(report, jpath) != EXIT_OK) goto out;
-  if (common.json_path && cli_report_write(report, common.json_path) != EXIT_OK) goto out;
+  if (json_out && cli_report_write(report, json_out) != EXIT_OK) goto out;
   if (sequence)
     cli_info(&common, "%d frames; frames.csv has each; the worst, frame %d:\n", Q.nrows, Q.rows[Q.worst].frame);
   if (res_pair->nregions)
@@ -578,6 +635,7 @@ static int run(int argc, char **argv) {
   if (above) cli_info(&common, "above --fail-above %g\n", fail_above);
   rc = above ? EXIT_ABOVE : EXIT_OK;
 out:
+  rc = cli_out_end(outw, rc);
   cJSON_Delete(report);
   jnd_pop_result_free(&r);
   jnd_pop_sequence_free(&Q);

@@ -363,6 +363,16 @@ static int run(int argc, char **argv) {
   cJSON *report = NULL;
   double t0 = cli_now();
   jnd_status st;
+  /* the outputs checked before any work, written staged, published at the end */
+  jnd_output *outw = NULL;
+  const char *json_out = common.json_path;
+  if (dir && !list_maps && !list_lods) {
+    const char *ins[3 + MAX_EDITS] = {model, vo.set.render.env_path, vo.cameras};
+    for (int e = 0; e < nedits; e++) ins[3 + e] = edits[e].file;
+    if (cli_out_open(&outw) != EXIT_OK || cli_out_inputs(outw, ins, 3 + nedits) != EXIT_OK ||
+        cli_out_dir(outw, dir, &dir) != EXIT_OK || cli_out_file(outw, common.json_path, &json_out) != EXIT_OK)
+      goto done;
+  }
   if ((st = jnd_scene_open(model, vo.map_size, &scene)) != JND_OK) {
     cli_error("%s", jnd_last_error());
     goto done;
@@ -617,12 +627,13 @@ static int run(int argc, char **argv) {
   char manifest[4200];
   snprintf(manifest, sizeof manifest, "%s/views.json", dir);
   if (cli_report_write(report, manifest) != EXIT_OK) goto done;
-  if (common.json_path && cli_report_write(report, common.json_path) != EXIT_OK) goto done;
+  if (json_out && cli_report_write(report, json_out) != EXIT_OK) goto done;
   cli_info(&common, "jnd render: %d views of %s (%zu triangles) at %dx%d on %s; load %.2f s, %.1f frames/s\n",
            nviews, model, jnd_scene_triangle_count(scene), width, height, jnd_renderer_description(r), t_load,
            t_render > 0 ? nviews / t_render : 0);
   rc = EXIT_OK;
 done:
+  rc = cli_out_end(outw, rc);
   for (int e = 0; e < nedits; e++) free((char *)edits[e].map);
   cJSON_Delete(report);
   free(views);

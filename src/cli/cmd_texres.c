@@ -138,7 +138,14 @@ static int run(int argc, char **argv) {
   jnd_scene *scene = NULL;
   jnd_view *views = NULL;
   int nviews = 0;
-  if (jnd_scene_open(model, vo.map_size, &scene) != JND_OK) return cli_lib_error();
+  /* the outputs checked before any work, written staged, published at the end */
+  jnd_output *outw = NULL;
+  const char *ins[] = {model, vo.set.render.env_path, vo.cameras, cal.path}, *final_dir = dir;
+  const char *json_out = common.json_path;
+  if (cli_out_open(&outw) != EXIT_OK || cli_out_inputs(outw, ins, 4) != EXIT_OK ||
+      cli_out_dir(outw, final_dir, &dir) != EXIT_OK || cli_out_file(outw, common.json_path, &json_out) != EXIT_OK)
+    return cli_out_end(outw, EXIT_BAD);
+  if (jnd_scene_open(model, vo.map_size, &scene) != JND_OK) return cli_out_end(outw, cli_lib_error());
   for (int i = 0; i < jnd_scene_warning_count(scene); i++) cli_info(&common, "jnd: warning: %s\n", jnd_scene_warning(scene, i));
   int rc = EXIT_BAD;
   cJSON *report = NULL, *written = NULL;
@@ -356,7 +363,11 @@ static int run(int argc, char **argv) {
     cJSON_AddStringToObject(o, "png", name);
     cJSON_AddItemToArray(jmx, o);
   }
-  if (model_out[0]) cJSON_AddStringToObject(res, "model", model_out);
+  if (model_out[0]) {   /* where it will be: the final folder, not the staging */
+    char final_model[4600];
+    snprintf(final_model, sizeof final_model, "%s%s", final_dir, model_out + strlen(dir));
+    cJSON_AddStringToObject(res, "model", final_model);
+  }
   cJSON_AddItemToObject(res, "map_files", written);
   written = NULL;
   cJSON_AddNumberToObject(res, "ppd", R.ppd);
@@ -375,7 +386,7 @@ static int run(int argc, char **argv) {
   }
   snprintf(path, sizeof path, "%s/texres.json", dir);
   if (cli_report_write(report, path) != EXIT_OK) goto out;
-  if (common.json_path && cli_report_write(report, common.json_path) != EXIT_OK) goto out;
+  if (json_out && cli_report_write(report, json_out) != EXIT_OK) goto out;
 
   cli_info(&common, "%-40s %11s %11s %11s %11s %9s\n", "map", "original", "chosen", "mip bound", "eye bound",
            "fit P=p");
@@ -402,6 +413,7 @@ static int run(int argc, char **argv) {
            cli_now() - t0, R.renderer);
   rc = (R.views.pass && (R.verify_views == 0 || R.verify.pass)) ? EXIT_OK : EXIT_ABOVE;
 out:
+  rc = cli_out_end(outw, rc);
   cJSON_Delete(report);
   cJSON_Delete(written);
   jnd_texres_result_free(&R);

@@ -68,6 +68,42 @@ int cli_report_write(cJSON *report, const char *path) {
   return rc;
 }
 
+int cli_out_open(jnd_output **w) {
+  return jnd_output_open(w) == JND_OK ? EXIT_OK : cli_lib_error();
+}
+
+int cli_out_inputs(jnd_output *w, const char *const *paths, int n) {
+  for (int k = 0; k < n; k++) {
+    if (!paths[k]) continue;
+    char **files = NULL;
+    int count = 0;
+    if (jnd_asset_files(paths[k], &files, &count) != JND_OK) return cli_lib_error();
+    jnd_status s = JND_OK;
+    for (int f = 0; f < count && s == JND_OK; f++) s = jnd_output_add_input(w, files[f]);
+    jnd_asset_files_free(files, count);
+    if (s != JND_OK) return cli_lib_error();
+  }
+  return EXIT_OK;
+}
+
+int cli_out_file(jnd_output *w, const char *path, const char **staged) {
+  *staged = NULL;
+  if (!path) return EXIT_OK;
+  return jnd_output_add_file(w, path, staged) == JND_OK ? EXIT_OK : cli_lib_error();
+}
+
+int cli_out_dir(jnd_output *w, const char *path, const char **staged) {
+  *staged = NULL;
+  if (!path) return EXIT_OK;
+  return jnd_output_add_dir(w, path, staged) == JND_OK ? EXIT_OK : cli_lib_error();
+}
+
+int cli_out_end(jnd_output *w, int rc) {
+  if (w && (rc == EXIT_OK || rc == EXIT_ABOVE) && jnd_output_commit(w) != JND_OK) rc = cli_lib_error();
+  jnd_output_free(w);
+  return rc;
+}
+
 void cli_progress_start(cli_progress *p, const cli_common *c, const char *label, int total) {
   p->enabled = !(c && c->quiet);
   p->tty = isatty(2);

@@ -34,21 +34,6 @@ static jnd_status decode_blob(const char *name, const unsigned char *buf, size_t
   return jnd_fail(JND_ERR_FORMAT, "%s: not a PNG or JPEG image", name);
 }
 
-/* "%20"-style escapes of glTF URIs. */
-static void uri_decode(char *s) {
-  char *o = s;
-  for (char *p = s; *p; p++) {
-    if (p[0] == '%' && isxdigit((unsigned char)p[1]) && isxdigit((unsigned char)p[2])) {
-      char hex[3] = {p[1], p[2], 0};
-      *o++ = (char)strtol(hex, NULL, 16);
-      p += 2;
-    } else {
-      *o++ = *p;
-    }
-  }
-  *o = 0;
-}
-
 /* Loads the image a material refers to: "*N" for an embedded texture, else a
  * path relative to the model's folder. */
 static jnd_status load_texture(const struct aiScene *sc, const char *model, const char *ref,
@@ -73,16 +58,8 @@ static jnd_status load_texture(const struct aiScene *sc, const char *model, cons
     }
     return JND_OK;
   }
-  char rel[1024], full[2048];
-  snprintf(rel, sizeof rel, "%s", ref);
-  uri_decode(rel);
-  for (char *p = rel; *p; p++)
-    if (*p == '\\') *p = '/';
-  const char *slash = strrchr(model, '/');
-  if (rel[0] == '/' || !slash)
-    snprintf(full, sizeof full, "%s", rel);
-  else
-    snprintf(full, sizeof full, "%.*s/%s", (int)(slash - model), model, rel);
+  char full[2048];
+  jnd_model_relative(model, ref, 1, full, sizeof full);
   snprintf(desc, ndesc, "%s", full);
   unsigned char *buf = NULL;
   size_t n = 0;

@@ -122,6 +122,11 @@ jnd_status jnd_scene_points_distance(const jnd_scene *s, int level, const double
  * JND_ERR_FORMAT "NAME: ..." for a malformed MSFT_lod. */
 jnd_status jnd_gltf_lod_variant(const char *name, const unsigned char *file, size_t n, int level, int *nlevels,
                                 unsigned char **out, size_t *out_n);
+/* references.c: "%20"-style escapes of a glTF URI decoded in place; and
+ * ref (a URI when uri is 1, else a file name) as a path beside model: in
+ * model's folder unless absolute, backslashes read as slashes. */
+void jnd_uri_decode(char *s);
+void jnd_model_relative(const char *model, const char *ref, int uri, char *full, size_t n);
 /* The largest side of level 0's bounding box, over every mesh (the unit of
  * meshoptimizer's relative errors, lod.c). */
 double jnd_scene_extent(const jnd_scene *s);
