@@ -786,6 +786,25 @@ jnd_status jnd_scene_lod_build(jnd_scene *s, const jnd_lod_params *p);
  * has a material this scene lacks. */
 jnd_status jnd_scene_lod_add(jnd_scene *s, jnd_scene *level, const char *source);
 
+/* Where the chain a task measures comes from (jnd lod, jnd pop). */
+typedef struct {
+  const jnd_lod_params *chain;    /* how a chain is made; NULL: jnd_lod_defaults */
+  int rebuild;                    /* 1: make one even when the file has MSFT_lod levels (0) */
+  const char *const *level_paths; /* levels from other files, finest first (jnd_scene_load), as
+                                     levels 1.. instead of a made chain; NULL */
+  int nlevel_paths;
+} jnd_lod_chain_params;
+
+/* Gives a scene just opened (jnd_scene_open) the chain a task measures, the
+ * one way every command does: the level files of p (jnd_scene_lod_add), else
+ * the file's own MSFT_lod levels (unless rebuild), else a chain made with
+ * meshoptimizer (jnd_scene_lod_build). *source is then "levels", "file" or
+ * "made" (static strings); name is the model's name for messages. p may be
+ * NULL (a file's levels, or a chain with the defaults). JND_ERR_ARG for
+ * level files given to a file that has levels; JND_ERR_FORMAT "NAME: ..."
+ * when the chain has one level (nothing simpler could be made). */
+jnd_status jnd_scene_lod_chain(jnd_scene *s, const char *name, const jnd_lod_chain_params *p, const char **source);
+
 /* Number of levels (1: the file's meshes only), and the description of level k. */
 int jnd_scene_lod_count(const jnd_scene *s);
 jnd_status jnd_scene_lod_info(const jnd_scene *s, int level, jnd_lod_level_info *out);

@@ -1036,43 +1036,16 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
   memset(out, 0, sizeof *out);
   jnd_status st;
   double t0 = seconds(), c0 = cpu_seconds();
-  /* the asset */
-  if (strncmp(model_path, "builtin", 7) == 0 && (!model_path[7] || model_path[7] == ':')) {
-    jnd_builtin_params bp;
-    jnd_builtin_defaults(&bp);
-    bp.map_size = p->builtin_map_size > 0 ? p->builtin_map_size : 512;
-    bp.shape = strcmp(model_path, "builtin:sphere") == 0;
-    st = jnd_scene_builtin(&bp, &out->scene);
-  } else {
-    st = jnd_scene_load(model_path, &out->scene);
-  }
+  /* the asset and its chain */
+  st = jnd_scene_open(model_path, p->builtin_map_size > 0 ? p->builtin_map_size : 512, &out->scene);
   if (st) return st;
   jnd_scene *s = out->scene;
   out->load_s = seconds() - t0;
   out->load_cpu_s = cpu_seconds() - c0;
   t0 = seconds();
   c0 = cpu_seconds();
-  /* its chain */
-  if (p->nlevel_paths > 0) {
-    if (jnd_scene_lod_count(s) > 1) {
-      jnd_lod_report_free(out);
-      return jnd_fail(JND_ERR_ARG, "%s: has MSFT_lod levels already; give levels from files only for a file without", model_path);
-    }
-    out->chain_source = "levels";
-    for (int i = 0; i < p->nlevel_paths && !st; i++) {
-      jnd_scene *lv = NULL;
-      if (!(st = jnd_scene_load(p->level_paths[i], &lv))) st = jnd_scene_lod_add(s, lv, p->level_paths[i]);
-    }
-  } else if (jnd_scene_lod_count(s) > 1 && !p->rebuild) {
-    out->chain_source = "file";
-  } else {
-    out->chain_source = "made";
-    st = jnd_scene_lod_build(s, &p->chain);
-    if (!st && jnd_scene_lod_count(s) < 2)
-      st = jnd_fail(JND_ERR_FORMAT, "%s: meshoptimizer made no level with fewer triangles (%zu triangles; try larger "
-                    "error targets)", model_path, jnd_scene_triangle_count(s));
-  }
-  if (st) {
+  jnd_lod_chain_params cp = {&p->chain, p->rebuild, p->level_paths, p->nlevel_paths};
+  if ((st = jnd_scene_lod_chain(s, model_path, &cp, &out->chain_source))) {
     jnd_lod_report_free(out);
     return st;
   }

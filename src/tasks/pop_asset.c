@@ -349,44 +349,6 @@ static double wall_s(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* the asset and its chain: the file's MSFT_lod levels, levels from files, or one made */
-static jnd_status load_chain(const char *path, const jnd_pop_asset_params *p, jnd_scene **out, const char **source) {
-  jnd_status st;
-  jnd_scene *s = NULL;
-  if (strncmp(path, "builtin", 7) == 0 && (!path[7] || path[7] == ':')) {
-    jnd_builtin_params bp;
-    jnd_builtin_defaults(&bp);
-    bp.map_size = p->builtin_map_size > 0 ? p->builtin_map_size : 512;
-    bp.shape = strcmp(path, "builtin:sphere") == 0;
-    st = jnd_scene_builtin(&bp, &s);
-  } else {
-    st = jnd_scene_load(path, &s);
-  }
-  if (st) return st;
-  if (p->nlevel_paths > 0) {
-    *source = "levels";
-    if (jnd_scene_lod_count(s) > 1)
-      st = jnd_fail(JND_ERR_ARG, "%s: has MSFT_lod levels already; give level files only for a file without", path);
-    for (int i = 0; i < p->nlevel_paths && !st; i++) {
-      jnd_scene *lv = NULL;
-      if (!(st = jnd_scene_load(p->level_paths[i], &lv))) st = jnd_scene_lod_add(s, lv, p->level_paths[i]);
-    }
-  } else if (jnd_scene_lod_count(s) > 1 && !p->rebuild) {
-    *source = "file";
-  } else {
-    *source = "made";
-    st = jnd_scene_lod_build(s, &p->chain);
-  }
-  if (!st && jnd_scene_lod_count(s) < 2)
-    st = jnd_fail(JND_ERR_FORMAT, "%s: the chain has one level; a switch needs two (try larger error targets)", path);
-  if (st) {
-    jnd_scene_free(s);
-    return st;
-  }
-  *out = s;
-  return JND_OK;
-}
-
 static jnd_status switch_plot(const jnd_pop_asset_report *r, const double *speeds, int nspeeds, jnd_image *out) {
   int nl = r->nlevels - 1;
   double *x = malloc(sizeof(double) * (size_t)nl * (nspeeds + 2));
@@ -447,8 +409,13 @@ jnd_status jnd_pop_asset_run(jnd_model *m, const char *model_path, const jnd_pop
   jnd_renderer *r = NULL;
   jnd_view *views = NULL, *cams = NULL;
   int nviews = 0;
-  jnd_status st = load_chain(model_path, p, &scene, &out->chain_source);
+  jnd_status st = jnd_scene_open(model_path, p->builtin_map_size > 0 ? p->builtin_map_size : 512, &scene);
   if (st) return st;
+  jnd_lod_chain_params cp = {&p->chain, p->rebuild, p->level_paths, p->nlevel_paths};
+  if ((st = jnd_scene_lod_chain(scene, model_path, &cp, &out->chain_source))) {
+    jnd_scene_free(scene);
+    return st;
+  }
   out->nlevels = jnd_scene_lod_count(scene);
   if (out->nlevels > 64) out->nlevels = 64;
   for (int k = 0; k < out->nlevels && !st; k++) st = jnd_scene_lod_info(scene, k, &out->levels[k]);

@@ -162,6 +162,20 @@ assert d["chain_source"] == "levels" and len(d["levels"]) == 2
 assert d["levels"][1]["triangles"] == c["levels"][0]["triangles"] and d["levels"][1]["source"].endswith(".glb")
 PY
 
+# a built-in asset's options load what jnd render loads (one chain loader, jnd_scene_open's)
+"$JND" render builtin:box,parts=3 -o "$T/rparts" --views 1 --size 16x16 --map-size 16 --quiet
+expect_exit 0 "builtin:box,parts=3 runs" "$JND" lod builtin:box,parts=3 -o "$T/parts" --chain-only --map-size 16 --quiet
+check "builtin:box,parts=3: level 0 is what jnd render loads (triangles, materials)" python3 - "$T/rparts/views.json" "$T/parts/lod.json" "$T/parts" <<'PY2'
+import json, struct, sys
+r = json.load(open(sys.argv[1]))["result"]
+l = json.load(open(sys.argv[2]))["result"]
+glb = open(sys.argv[3] + "/" + l["model"]["path"], "rb").read()
+n, = struct.unpack_from("<I", glb, 12)
+g = json.loads(glb[20:20 + n])
+assert r["materials"] == 3 and l["levels"][0]["triangles"] == r["triangles"], (r["triangles"], l["levels"][0])
+assert len(g["materials"]) == r["materials"], len(g["materials"])
+PY2
+
 # without the perceptual step: null, said so, and the model's coverages by meshoptimizer's rule
 expect_exit 0 "--no-pop runs" "$JND" lod builtin:sphere -o "$T/nopop" "${SMALL[@]}" --no-pop --no-textures --screens 320x240
 check "--no-pop: switch distances from the criterion alone" python3 - "$T/nopop/lod.json" <<'PY'
