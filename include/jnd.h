@@ -74,6 +74,13 @@ const char *jnd_last_error(void);
 /* The library's version, "MAJOR.MINOR.PATCH". */
 const char *jnd_version(void);
 
+/* Seconds on a monotonic clock (CLOCK_MONOTONIC; only differences mean
+ * anything), and the CPU seconds of every thread of the process so far:
+ * what the timings in every report are measured with. Never part of a
+ * decision. */
+double jnd_seconds(void);
+double jnd_cpu_seconds(void);
+
 /* ------------------------------------------------------------------------ */
 /* Images and image files                                                   */
 /* ------------------------------------------------------------------------ */

@@ -8,7 +8,6 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "cli/cli.h"
 
@@ -182,12 +181,6 @@ int cli_double_list(cli_args *a, const char *opt, const char *v, double lo, doub
   }
   if (n == 0) fail(a, "%s: an empty list", opt);
   return n;
-}
-
-double cli_now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
 /* ---- common ---- */

@@ -160,7 +160,7 @@ void cli_progress_end(cli_progress *p);
 /* The library's progress callback shape: line NULL after a step, else a stage summary. */
 void cli_progress_callback(void *user, const char *line, int done, int total);
 
-double cli_now(void);   /* monotonic seconds */
+static inline double cli_now(void) { return jnd_seconds(); } /* the library's monotonic clock */
 
 /* Subcommands (each in cmd_<name>.c). Missing ones are weak and skipped. */
 #define JND_COMMANDS(X) \

@@ -43,7 +43,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 
 #include "core/core.h"
 #include "io/draw.h"
@@ -880,19 +879,6 @@ void jnd_lod_report_free(jnd_lod_report *r) {
   memset(r, 0, sizeof *r);
 }
 
-static double seconds(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
-/* user + system time of every thread of the process */
-static double cpu_seconds(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
 static jnd_status mkdir_p(const char *dir) {
   char buf[4300];
   snprintf(buf, sizeof buf, "%s", dir);
@@ -1035,25 +1021,25 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
   }
   memset(out, 0, sizeof *out);
   jnd_status st;
-  double t0 = seconds(), c0 = cpu_seconds();
+  double t0 = jnd_seconds(), c0 = jnd_cpu_seconds();
   /* the asset and its chain */
   st = jnd_scene_open(model_path, p->builtin_map_size > 0 ? p->builtin_map_size : 512, &out->scene);
   if (st) return st;
   jnd_scene *s = out->scene;
-  out->load_s = seconds() - t0;
-  out->load_cpu_s = cpu_seconds() - c0;
-  t0 = seconds();
-  c0 = cpu_seconds();
+  out->load_s = jnd_seconds() - t0;
+  out->load_cpu_s = jnd_cpu_seconds() - c0;
+  t0 = jnd_seconds();
+  c0 = jnd_cpu_seconds();
   jnd_lod_chain_params cp = {&p->chain, p->rebuild, p->level_paths, p->nlevel_paths};
   if ((st = jnd_scene_lod_chain(s, model_path, &cp, &out->chain_source))) {
     jnd_lod_report_free(out);
     return st;
   }
   int n = jnd_scene_lod_count(s);
-  out->chain_s = seconds() - t0;
-  out->chain_cpu_s = cpu_seconds() - c0;
+  out->chain_s = jnd_seconds() - t0;
+  out->chain_cpu_s = jnd_cpu_seconds() - c0;
   /* 003's analysis */
-  double t1 = seconds(), c1 = cpu_seconds();
+  double t1 = jnd_seconds(), c1 = jnd_cpu_seconds();
   if (p->analyse) {
     jnd_poi_params pp = p->poi;
     if (!pp.progress) {
@@ -1087,11 +1073,11 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
       }
     }
   }
-  out->analysis_s = seconds() - t1;
-  out->analysis_cpu_s = cpu_seconds() - c1;
+  out->analysis_s = jnd_seconds() - t1;
+  out->analysis_cpu_s = jnd_cpu_seconds() - c1;
   /* the switch coverages of the model: each level's error in object units
    * (measured where meshoptimizer gives none) */
-  double t2 = seconds();
+  double t2 = jnd_seconds();
   jnd_poi_screen ref;
   if (p->poi.screens && p->poi.nscreens > 0) ref = p->poi.screens[0];
   else jnd_poi_screen_parse("standard-fhd", &ref);
@@ -1143,7 +1129,7 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
     }
     if (p->progress) p->progress(p->progress_user, "writing", 1, 1);
   }
-  out->write_s = seconds() - t2;
+  out->write_s = jnd_seconds() - t2;
   if (st) {
     jnd_lod_report_free(out);
     return st;

@@ -23,7 +23,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "core/core.h"
 #include "io/draw.h"
@@ -343,12 +342,6 @@ void jnd_pop_asset_report_free(jnd_pop_asset_report *r) {
   memset(r, 0, sizeof *r);
 }
 
-static double wall_s(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static jnd_status switch_plot(const jnd_pop_asset_report *r, const double *speeds, int nspeeds, jnd_image *out) {
   int nl = r->nlevels - 1;
   double *x = malloc(sizeof(double) * (size_t)nl * (nspeeds + 2));
@@ -404,7 +397,7 @@ jnd_status jnd_pop_asset_run(jnd_model *m, const char *model_path, const jnd_pop
   for (int s = 0; s < nspeeds; s++)
     if (!isfinite(speeds[s])) return jnd_fail(JND_ERR_ARG, "pop: a speed is not finite");
   if (p->decide && nspeeds < 1) return jnd_fail(JND_ERR_ARG, "pop: no speeds");
-  double t0 = wall_s();
+  double t0 = jnd_seconds();
   jnd_scene *scene = NULL;
   jnd_renderer *r = NULL;
   jnd_view *views = NULL, *cams = NULL;
@@ -431,18 +424,18 @@ jnd_status jnd_pop_asset_run(jnd_model *m, const char *model_path, const jnd_pop
   }
   if (!st) st = jnd_view_set_make(scene, &vs, &views, &nviews);
   out->nviews = nviews;
-  out->load_s = wall_s() - t0;
+  out->load_s = jnd_seconds() - t0;
   if (!st) st = jnd_renderer_create(&vs.render, &r);
   if (!st) snprintf(out->renderer, sizeof out->renderer, "%s", jnd_renderer_description(r));
-  double t1 = wall_s();
+  double t1 = jnd_seconds();
   if (!st) {
     if (p->progress) p->progress(p->progress_user, "the switch", 0, 1);
     const double *e = views[0].camera.eye, *c = views[0].camera.target;
     out->pair_distance = sqrt((e[0] - c[0]) * (e[0] - c[0]) + (e[1] - c[1]) * (e[1] - c[1]) + (e[2] - c[2]) * (e[2] - c[2]));
     st = jnd_pop_render(m, r, scene, &views[0], &p->motion, p->level, p->frame, &p->pop, &out->pair);
   }
-  out->render_s = wall_s() - t1;
-  double t2 = wall_s();
+  out->render_s = jnd_seconds() - t1;
+  double t2 = jnd_seconds();
   if (!st && p->decide) {
     int nl = out->nlevels - 1;
     out->rows = calloc((size_t)nl * nspeeds, sizeof *out->rows);
@@ -464,7 +457,7 @@ jnd_status jnd_pop_asset_run(jnd_model *m, const char *model_path, const jnd_pop
     if (!st && p->progress) p->progress(p->progress_user, "switch distances", nl * nspeeds, nl * nspeeds);
     if (!st) st = switch_plot(out, speeds, nspeeds, &out->plot);
   }
-  out->decide_s = wall_s() - t2;
+  out->decide_s = jnd_seconds() - t2;
   free(views);
   free(cams);
   jnd_renderer_free(r);
