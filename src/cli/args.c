@@ -183,6 +183,51 @@ int cli_double_list(cli_args *a, const char *opt, const char *v, double lo, doub
   return n;
 }
 
+/* ---- a chain's error targets ---- */
+
+/* a number or a fraction of two ("0.001", "1/1024"); the end in *end */
+static int number_or_fraction(const char *s, char **end, double *x) {
+  errno = 0;
+  *x = strtod(s, end);
+  if (*end == s || errno || !isfinite(*x)) return 0;
+  if (**end != '/') return 1;
+  const char *d = *end + 1;
+  double den = strtod(d, end);
+  if (*end == d || errno || !isfinite(den) || !(den > 0)) return 0;
+  *x /= den;
+  return isfinite(*x);
+}
+
+int cli_errors(cli_args *a, const char *v, double *out, int max) {
+  int n = 0;
+  const char *s = v;
+  while (*s) {
+    char *e;
+    double x;
+    if (!number_or_fraction(s, &e, &x) || (*e && *e != ',')) {
+      fail(a, "--errors: '%s' is not a list of numbers or fractions like 1/1024,1/256", v);
+      return 0;
+    }
+    if (n >= max) {
+      fail(a, "--errors: more than %d targets", max);
+      return 0;
+    }
+    if (!(x >= CLI_ERRORS_MIN && x <= 1)) {
+      fail(a, "--errors: %g is outside [%g, 1] (a fraction of the model's extent)", x, CLI_ERRORS_MIN);
+      return 0;
+    }
+    if (n && !(x > out[n - 1])) {
+      fail(a, "--errors: the targets must rise (%g after %g)", x, out[n - 1]);
+      return 0;
+    }
+    out[n++] = x;
+    if (!*e) break;
+    s = e + 1;
+  }
+  if (n == 0) fail(a, "--errors: an empty list");
+  return n;
+}
+
 /* ---- common ---- */
 
 const char *const cli_common_help =

@@ -55,6 +55,14 @@ void cli_size(cli_args *a, const char *opt, const char *v, int lo, int hi, int *
 int cli_int_list(cli_args *a, const char *opt, const char *v, int lo, int hi, int *out, int max);
 /* "1,2.5,10": numbers in lo..hi, at most max; returns the count */
 int cli_double_list(cli_args *a, const char *opt, const char *v, double lo, double hi, double *out, int max);
+/* --errors LIST, the one parser of every command that makes a chain: error
+ * targets relative to the model's extent (the largest side of its bounding
+ * box), numbers or fractions ("0.001,1/256"), rising, each in
+ * [CLI_ERRORS_MIN, 1] (docs/lod.md). Returns the count (at most max). The
+ * lower bound: float32 positions resolve about 1e-7 of an extent, so a
+ * smaller target asks meshoptimizer for nothing it can measure. */
+#define CLI_ERRORS_MIN 1e-6
+int cli_errors(cli_args *a, const char *v, double *out, int max);
 
 /* Prints "jnd: MSG" to stderr (one line). */
 void cli_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
