@@ -6,22 +6,27 @@
  * viewer sees them on a given display, and the probability that a viewer
  * notices.
  *
- * Ten lines to compare two images:
+ * Ten lines to compare two images (tests/e2e/exports.sh compiles and runs them):
  *
- *     jnd_image ref, test;  jnd_image_info ri, ti;
- *     jnd_image_read("ref.png", &ref, &ri);  jnd_image_read("test.png", &test, &ti);
+ *     jnd_image ref = {0}, test = {0};  jnd_image_info ri, ti;
  *     jnd_model_params p;  jnd_model_defaults(&p);          // standard-fhd display
- *     jnd_model *m;  jnd_model_create(&p, &m);
- *     jnd_diff_stats st;                                     // ref, test are consumed
- *     if (jnd_diff_files(m, &ref, &ri, &test, &ti, NULL, NULL, NULL, &st) != JND_OK)
- *         fprintf(stderr, "%s\n", jnd_last_error());
+ *     jnd_model *m = NULL;  jnd_diff_stats st;
+ *     if (jnd_image_read("ref.png", &ref, &ri) != JND_OK || jnd_image_read("test.png", &test, &ti) != JND_OK ||
+ *         jnd_model_create(&p, &m) != JND_OK ||
+ *         jnd_diff_files(m, &ref, &ri, &test, &ti, NULL, NULL, NULL, &st) != JND_OK) { // frees ref, test
+ *       fprintf(stderr, "jnd: %s\n", jnd_last_error());
+ *       jnd_image_free(&ref);  jnd_image_free(&test);  jnd_model_free(m);
+ *       return 2;
+ *     }
  *     printf("P(detect) = %.3f, max JND = %.2f\n", st.p_detect, st.jnd_max);
  *     jnd_model_free(m);
  *
  * Conventions: functions return jnd_status (JND_OK = 0); results go through
  * out-parameters; jnd_last_error() is a one-line message "FILE: what is wrong"
- * for the calling thread. The caller owns every image it passes in and every
- * image an out-parameter fills (free with jnd_image_free). Images inside the
+ * for the calling thread. The caller owns every image it passes in — except
+ * where a function says it consumes (frees) them, as jnd_diff_files does —
+ * and every image an out-parameter fills (free with jnd_image_free; freeing
+ * a zeroed or consumed image is safe, as is jnd_model_free(NULL)). Images inside the
  * library are linear: after a display model, values are cd/m².
  * Limits: images of at most JND_MAX_SIDE pixels a side and JND_MAX_PIXELS
  * pixels; larger inputs are refused with JND_ERR_LIMIT.
