@@ -6,22 +6,27 @@
  * viewer sees them on a given display, and the probability that a viewer
  * notices.
  *
- * Ten lines to compare two images:
+ * Ten lines to compare two images (tests/e2e/exports.sh compiles and runs them):
  *
- *     jnd_image ref, test;  jnd_image_info ri, ti;
- *     jnd_image_read("ref.png", &ref, &ri);  jnd_image_read("test.png", &test, &ti);
+ *     jnd_image ref = {0}, test = {0};  jnd_image_info ri, ti;
  *     jnd_model_params p;  jnd_model_defaults(&p);          // standard-fhd display
- *     jnd_model *m;  jnd_model_create(&p, &m);
- *     jnd_diff_stats st;                                     // ref, test are consumed
- *     if (jnd_diff_files(m, &ref, &ri, &test, &ti, NULL, NULL, NULL, &st) != JND_OK)
- *         fprintf(stderr, "%s\n", jnd_last_error());
+ *     jnd_model *m = NULL;  jnd_diff_stats st;
+ *     if (jnd_image_read("ref.png", &ref, &ri) != JND_OK || jnd_image_read("test.png", &test, &ti) != JND_OK ||
+ *         jnd_model_create(&p, &m) != JND_OK ||
+ *         jnd_diff_files(m, &ref, &ri, &test, &ti, NULL, NULL, NULL, &st) != JND_OK) { // frees ref, test
+ *       fprintf(stderr, "jnd: %s\n", jnd_last_error());
+ *       jnd_image_free(&ref);  jnd_image_free(&test);  jnd_model_free(m);
+ *       return 2;
+ *     }
  *     printf("P(detect) = %.3f, max JND = %.2f\n", st.p_detect, st.jnd_max);
  *     jnd_model_free(m);
  *
  * Conventions: functions return jnd_status (JND_OK = 0); results go through
  * out-parameters; jnd_last_error() is a one-line message "FILE: what is wrong"
- * for the calling thread. The caller owns every image it passes in and every
- * image an out-parameter fills (free with jnd_image_free). Images inside the
+ * for the calling thread. The caller owns every image it passes in — except
+ * where a function says it consumes (frees) them, as jnd_diff_files does —
+ * and every image an out-parameter fills (free with jnd_image_free; freeing
+ * a zeroed or consumed image is safe, as is jnd_model_free(NULL)). Images inside the
  * library are linear: after a display model, values are cd/m².
  * Limits: images of at most JND_MAX_SIDE pixels a side and JND_MAX_PIXELS
  * pixels; larger inputs are refused with JND_ERR_LIMIT.
@@ -73,6 +78,13 @@ const char *jnd_last_error(void);
 
 /* The library's version, "MAJOR.MINOR.PATCH". */
 const char *jnd_version(void);
+
+/* Seconds on a monotonic clock (CLOCK_MONOTONIC; only differences mean
+ * anything), and the CPU seconds of every thread of the process so far:
+ * what the timings in every report are measured with. Never part of a
+ * decision. */
+double jnd_seconds(void);
+double jnd_cpu_seconds(void);
 
 /* ------------------------------------------------------------------------ */
 /* Images and image files                                                   */
@@ -863,6 +875,25 @@ jnd_status jnd_scene_lod_build(jnd_scene *s, const jnd_lod_params *p);
  * source names it in jnd_lod_level_info. JND_ERR_ARG "SOURCE: ..." when it
  * has a material this scene lacks. */
 jnd_status jnd_scene_lod_add(jnd_scene *s, jnd_scene *level, const char *source);
+
+/* Where the chain a task measures comes from (jnd lod, jnd pop). */
+typedef struct {
+  const jnd_lod_params *chain;    /* how a chain is made; NULL: jnd_lod_defaults */
+  int rebuild;                    /* 1: make one even when the file has MSFT_lod levels (0) */
+  const char *const *level_paths; /* levels from other files, finest first (jnd_scene_load), as
+                                     levels 1.. instead of a made chain; NULL */
+  int nlevel_paths;
+} jnd_lod_chain_params;
+
+/* Gives a scene just opened (jnd_scene_open) the chain a task measures, the
+ * one way every command does: the level files of p (jnd_scene_lod_add), else
+ * the file's own MSFT_lod levels (unless rebuild), else a chain made with
+ * meshoptimizer (jnd_scene_lod_build). *source is then "levels", "file" or
+ * "made" (static strings); name is the model's name for messages. p may be
+ * NULL (a file's levels, or a chain with the defaults). JND_ERR_ARG for
+ * level files given to a file that has levels; JND_ERR_FORMAT "NAME: ..."
+ * when the chain has one level (nothing simpler could be made). */
+jnd_status jnd_scene_lod_chain(jnd_scene *s, const char *name, const jnd_lod_chain_params *p, const char **source);
 
 /* Number of levels (1: the file's meshes only), and the description of level k. */
 int jnd_scene_lod_count(const jnd_scene *s);

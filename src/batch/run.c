@@ -40,12 +40,6 @@ void jnd_batch_defaults(jnd_batch_params *p) {
   p->jobs = 1;
 }
 
-static double now_s(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 static int cpu_count(void) {
   cpu_set_t set;
   if (sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0) return CPU_COUNT(&set);
@@ -120,7 +114,7 @@ static void emit(run_ctx *c, const jnd_batch_row *r, jnd_asset_status st, int sk
   if (!c->p->progress) return;
   jnd_batch_event e = {.id = r->id, .command = r->command, .status = st, .skipped = skipped,
                        .exit_status = exit_status, .error = error, .seconds = seconds, .done = c->done,
-                       .total = c->total, .failed = c->failed, .elapsed_s = now_s() - c->t0};
+                       .total = c->total, .failed = c->failed, .elapsed_s = jnd_seconds() - c->t0};
   c->p->progress(c->p->progress_user, &e);
 }
 
@@ -228,7 +222,7 @@ static jnd_status start(run_ctx *c, int row, slot *s) {
   char **env = st == JND_OK ? child_env(c->p) : NULL;
   if (st == JND_OK && !env) st = JND_ERR_NOMEM;
   if (st == JND_OK) {
-    s->t0 = now_s();
+    s->t0 = jnd_seconds();
     pid_t pid = fork();
     if (pid < 0) {
       st = jnd_fail(JND_ERR_INTERNAL, "cannot start a process for %s: %s", r->id, strerror(errno));
@@ -333,7 +327,7 @@ static char *command_line(run_ctx *c, const jnd_batch_row *r, const jnd_batch_co
 static jnd_status finish(run_ctx *c, slot *s, int wstatus) {
   const jnd_batch_row *r = &c->m->rows[s->row];
   const jnd_batch_command *cmd = jnd_batch_command_find(r->command);
-  double seconds = now_s() - s->t0;
+  double seconds = jnd_seconds() - s->t0;
   int code = -1, sig = 0;
   if (WIFEXITED(wstatus)) code = WEXITSTATUS(wstatus);
   else if (WIFSIGNALED(wstatus)) sig = WTERMSIG(wstatus);
@@ -426,7 +420,7 @@ jnd_status jnd_batch_run(const jnd_batch_manifest *m, const jnd_batch_params *p,
   memset(totals, 0, sizeof *totals);
   jnd_status s = check_params(p);
   if (s != JND_OK) return s;
-  run_ctx c = {.m = m, .p = p, .tot = totals, .t0 = now_s()};
+  run_ctx c = {.m = m, .p = p, .tot = totals, .t0 = jnd_seconds()};
   slot *slots = jnd_calloc((size_t)p->jobs, sizeof *slots);
   int *rows = jnd_calloc((size_t)m->nrows + 1, sizeof *rows);
   if (!slots || !rows) s = JND_ERR_NOMEM;
@@ -482,7 +476,7 @@ jnd_status jnd_batch_run(const jnd_batch_manifest *m, const jnd_batch_params *p,
         memset(&slots[k], 0, sizeof slots[k]);
         running--;
         reaped++;
-      } else if (p->timeout_s > 0 && !slots[k].timed_out && now_s() - slots[k].t0 > p->timeout_s) {
+      } else if (p->timeout_s > 0 && !slots[k].timed_out && jnd_seconds() - slots[k].t0 > p->timeout_s) {
         kill(slots[k].pid, SIGKILL);
         slots[k].timed_out = 1;
       }

@@ -8,7 +8,6 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "cli/cli.h"
 
@@ -184,10 +183,49 @@ int cli_double_list(cli_args *a, const char *opt, const char *v, double lo, doub
   return n;
 }
 
-double cli_now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+/* ---- a chain's error targets ---- */
+
+/* a number or a fraction of two ("0.001", "1/1024"); the end in *end */
+static int number_or_fraction(const char *s, char **end, double *x) {
+  errno = 0;
+  *x = strtod(s, end);
+  if (*end == s || errno || !isfinite(*x)) return 0;
+  if (**end != '/') return 1;
+  const char *d = *end + 1;
+  double den = strtod(d, end);
+  if (*end == d || errno || !isfinite(den) || !(den > 0)) return 0;
+  *x /= den;
+  return isfinite(*x);
+}
+
+int cli_errors(cli_args *a, const char *v, double *out, int max) {
+  int n = 0;
+  const char *s = v;
+  while (*s) {
+    char *e;
+    double x;
+    if (!number_or_fraction(s, &e, &x) || (*e && *e != ',')) {
+      fail(a, "--errors: '%s' is not a list of numbers or fractions like 1/1024,1/256", v);
+      return 0;
+    }
+    if (n >= max) {
+      fail(a, "--errors: more than %d targets", max);
+      return 0;
+    }
+    if (!(x >= CLI_ERRORS_MIN && x <= 1)) {
+      fail(a, "--errors: %g is outside [%g, 1] (a fraction of the model's extent)", x, CLI_ERRORS_MIN);
+      return 0;
+    }
+    if (n && !(x > out[n - 1])) {
+      fail(a, "--errors: the targets must rise (%g after %g)", x, out[n - 1]);
+      return 0;
+    }
+    out[n++] = x;
+    if (!*e) break;
+    s = e + 1;
+  }
+  if (n == 0) fail(a, "--errors: an empty list");
+  return n;
 }
 
 /* ---- common ---- */
@@ -274,6 +312,28 @@ jnd_display cli_display_get(const cli_display *d) {
   if (d->given & (1u << D_REFL)) r.reflectivity = d->value[D_REFL];
   if (d->given & (1u << D_EXR)) r.exr_scale = d->value[D_EXR];
   return r;
+}
+
+/* An EXR/HDR's values are cd/m² × --exr-scale (1 by default). A file whose
+ * brightest pixel is a few units at most was more likely written relative
+ * (1 = white), and at the default scale its white would be 1 cd/m², where
+ * the eye sees little: said in one line, once per file. */
+#define EXR_RELATIVE_MAX 10.0
+
+void cli_exr_scale_warn(const cli_common *c, const cli_display *d, const char *path, const jnd_image *img,
+                        const jnd_image_info *info) {
+  if (!info || info->encoding != JND_ENCODING_LINEAR || (d->given & (1u << D_EXR)) || !img->data) return;
+  size_t n = (size_t)img->w * img->h;
+  const float *r = jnd_image_plane(img, 0), *g = img->c >= 3 ? jnd_image_plane(img, 1) : r,
+              *b = img->c >= 3 ? jnd_image_plane(img, 2) : r;
+  double top = 0;
+  for (size_t i = 0; i < n; i++) {
+    double y = 0.2126 * r[i] + 0.7152 * g[i] + 0.0722 * b[i];
+    if (y > top) top = y;
+  }
+  if (top <= EXR_RELATIVE_MAX)
+    cli_info(c, "jnd: warning: %s: its brightest pixel is %.3g, read as cd/m2 (--exr-scale 1): if 1 means white, "
+             "give --exr-scale the display's white in cd/m2 (e.g. %g)\n", path, top, cli_display_get(d).peak_cdm2);
 }
 
 /* ---- views ---- */

@@ -55,6 +55,14 @@ void cli_size(cli_args *a, const char *opt, const char *v, int lo, int hi, int *
 int cli_int_list(cli_args *a, const char *opt, const char *v, int lo, int hi, int *out, int max);
 /* "1,2.5,10": numbers in lo..hi, at most max; returns the count */
 int cli_double_list(cli_args *a, const char *opt, const char *v, double lo, double hi, double *out, int max);
+/* --errors LIST, the one parser of every command that makes a chain: error
+ * targets relative to the model's extent (the largest side of its bounding
+ * box), numbers or fractions ("0.001,1/256"), rising, each in
+ * [CLI_ERRORS_MIN, 1] (docs/lod.md). Returns the count (at most max). The
+ * lower bound: float32 positions resolve about 1e-7 of an extent, so a
+ * smaller target asks meshoptimizer for nothing it can measure. */
+#define CLI_ERRORS_MIN 1e-6
+int cli_errors(cli_args *a, const char *v, double *out, int max);
 
 /* Prints "jnd: MSG" to stderr (one line). */
 void cli_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
@@ -89,6 +97,11 @@ void cli_display_init(cli_display *d);
 int cli_display_opt(cli_args *a, cli_display *d);
 jnd_display cli_display_get(const cli_display *d);
 extern const char *const cli_display_help;
+/* One line (unless --quiet) when a linear (EXR/HDR) input looks relative —
+ * its brightest luminance at most 10 — and --exr-scale was not given: at the
+ * default scale its white is 1 cd/m² (docs/model.md). */
+void cli_exr_scale_warn(const cli_common *c, const cli_display *d, const char *path, const jnd_image *img,
+                        const jnd_image_info *info);
 
 /* The views of every rendering command: --views --seed --size --coverage
  * --distance --fov --elevation --lights --light-intensity --cameras
@@ -174,7 +187,7 @@ void cli_progress_end(cli_progress *p);
 /* The library's progress callback shape: line NULL after a step, else a stage summary. */
 void cli_progress_callback(void *user, const char *line, int done, int total);
 
-double cli_now(void);   /* monotonic seconds */
+static inline double cli_now(void) { return jnd_seconds(); } /* the library's monotonic clock */
 
 /* Subcommands (each in cmd_<name>.c). Missing ones are weak and skipped. */
 #define JND_COMMANDS(X) \

@@ -172,6 +172,8 @@ static int run(int argc, char **argv) {
     cli_error("%s", msg[ok[0] ? 1 : 0]);
     goto out;
   }
+  cli_exr_scale_warn(&common, &disp, paths[0], &ref, &ri);
+  cli_exr_scale_warn(&common, &disp, paths[1], &test, &ti);
   if (ref.w != test.w || ref.h != test.h) {
     cli_error("%s: size %d x %d differs from %s (%d x %d)", paths[1], test.w, test.h, paths[0], ref.w, ref.h);
     goto out;

@@ -31,7 +31,8 @@ static void help(void) {
       "  --orientations N    object orientations per distance (8; the worst decides)\n"
       "  --seed S            seed of the orientations and lights (1)\n"
       "  --threshold P       2AFC probability both models must stay below (0.75, 002)\n"
-      "  --errors LIST       a plain mesh's chain: error targets (default 1/1024,1/256,1/64)\n"
+      "  --errors LIST       a plain mesh's chain: error targets, rising, in [1e-6, 1] of its\n"
+      "                      extent (default 1/1024,1/256,1/64)\n"
       "  --min-px N, --max-px N  rendering side: the object's window at the display's\n"
       "                      ppd, within these (64, 192)\n"
       "  --whole-near        judge a near object whole at reduced ppd (default: windows of\n"
@@ -215,7 +216,8 @@ static void observers_help(void) {
       "  --orientations N    per size (2)\n"
       "  --answers N         Bernoulli answers per stimulus (40)\n"
       "  --seed S            of the orientations, lights and answers (1)\n"
-      "  --errors LIST       a plain mesh's chain: error targets (default 1/1024,1/256,1/64)\n"
+      "  --errors LIST       a plain mesh's chain: error targets, rising, in [1e-6, 1] of its\n"
+      "                      extent (default 1/1024,1/256,1/64)\n"
       "  --min-px N, --max-px N  rendering side (64, 192)\n"
       "  --map-size N        texture size of built-in models (512)\n"
       "  -o, --output DIR    the folder (created)\n"
@@ -259,7 +261,7 @@ static int run_observers(int argc, char **argv) {
     } else if (cli_opt(ap, "--answers", &v)) {
       p.answers = cli_int(ap, "--answers", v, 1, 10000);
     } else if (cli_opt(ap, "--errors", &v)) {
-      chain.nerrors = cli_double_list(ap, "--errors", v, 1e-6, 1, errors, 63);
+      chain.nerrors = cli_errors(ap, v, errors, 63);
       chain.errors = errors;
       p.chain = &chain;
     } else if (cli_opt(ap, "--min-px", &v)) {
@@ -383,7 +385,7 @@ static int run(int argc, char **argv) {
     } else if (cli_opt(ap, "--threshold", &v)) {
       p.threshold = cli_double(ap, "--threshold", v, 0.501, 0.999);
     } else if (cli_opt(ap, "--errors", &v)) {
-      chain.nerrors = cli_double_list(ap, "--errors", v, 1e-6, 1, errors, 63);
+      chain.nerrors = cli_errors(ap, v, errors, 63);
       chain.errors = errors;
       p.chain = &chain;
     } else if (cli_opt(ap, "--min-px", &v)) {

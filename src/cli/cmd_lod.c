@@ -37,8 +37,8 @@ static void help(void) {
       "See docs/lod.md.\n"
       "\n"
       "chain:\n"
-      "  --errors LIST       error targets relative to the model's extent, ascending\n"
-      "                      (default 1/4096,1/2048,...,1/16), e.g. 0.001,0.002,0.005\n"
+      "  --errors LIST       error targets relative to the model's extent, rising, each in\n"
+      "                      [1e-6, 1], numbers or fractions (default 1/4096,1/2048,...,1/16)\n"
       "  --ratios LIST       triangle ratios instead, descending, e.g. 0.5,0.25,0.1\n"
       "  --level FILE        a level from another file, finest first (repeatable): the chain\n"
       "                      is MODEL and these, matched by material name\n"
@@ -158,7 +158,7 @@ static int run(int argc, char **argv) {
     } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
       dir = v;
     } else if (cli_opt(ap, "--errors", &v)) {
-      p.chain.nerrors = cli_double_list(ap, "--errors", v, 0, 1, errors, 63);   /* the library: rising in (0, 1] */
+      p.chain.nerrors = cli_errors(ap, v, errors, 63);
       p.chain.errors = errors;
     } else if (cli_opt(ap, "--ratios", &v)) {
       p.chain.nratios = cli_double_list(ap, "--ratios", v, 0, 1, ratios, 63);   /* the library: falling in [0, 1) */

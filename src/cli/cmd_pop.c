@@ -63,7 +63,8 @@ static void help(void) {
       "  --pan DPS              the camera turns in place about +Y, degrees/s\n"
       "  --unit-m U             metres per object unit (1)\n"
       "  --level FILE           a level from another file, finest first (repeatable)\n"
-      "  --errors LIST          error targets of a chain made here (docs/lod.md)\n"
+      "  --errors LIST          error targets of a chain made here: rising, in [1e-6, 1] of\n"
+      "                         the model's extent, e.g. 1/1024,1/256 (docs/lod.md)\n"
       "  --rebuild              make a chain even when the file has levels\n"
       "decisions (asset form):\n"
       "  --decide               the popping-free switch distance of every level and\n"
@@ -434,7 +435,7 @@ static int run(int argc, char **argv) {
       levels[nlevels++] = v;
       asset_opts++;
     } else if (cli_opt(ca, "--errors", &v)) {
-      int n = cli_double_list(ca, "--errors", v, 1e-9, 1, errors, 63);
+      int n = cli_errors(ca, v, errors, 63);
       ap.chain.errors = errors;
       ap.chain.nerrors = n;
       asset_opts++;

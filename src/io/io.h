@@ -69,6 +69,10 @@ typedef struct {
 void jnd_buf_put(jnd_buf *b, const void *data, size_t n);
 void jnd_buf_pad4(jnd_buf *b, unsigned char fill);
 void jnd_buf_free(jnd_buf *b);
+/* An image (0..1, 1 to 4 channels) as 8-bit PNG (jpeg 0) or JPEG (quality
+ * 95; 1 or 3 channels) appended to out: the codes jnd_image_write_png
+ * writes, for the textures a written model embeds. */
+jnd_status jnd_image_encode_8bit(const jnd_image *img, int jpeg, jnd_buf *out);
 /* Splits a file into its glTF JSON and binary chunk: 1 for a GLB (json and
  * bin point into file; bin NULL when it has no BIN chunk), 0 for plain JSON
  * (json is the whole file), −1 for a malformed GLB header or JSON chunk. */

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <libdeflate.h>
+#include <stb/stb_image_write.h>
 #include <zlib.h>
 
 #include "core/core.h"
@@ -703,4 +704,22 @@ jnd_status jnd_image_write_png(const char *path, const jnd_image *img, int bits)
   s = jnd_write_file_atomic(path, out, pos);
   free(out);
   return s;
+}
+
+/* ---- an image into memory, for a model's embedded textures ---- */
+
+static void put_buf(void *ctx, void *data, int size) { jnd_buf_put(ctx, data, (size_t)size); }
+
+jnd_status jnd_image_encode_8bit(const jnd_image *img, int jpeg, jnd_buf *out) {
+  if (img->c < 1 || img->c > 4) return jnd_fail(JND_ERR_ARG, "an image of %d channels cannot be encoded", img->c);
+  jnd_status s = jnd_check_size(img->w, img->h, img->c, "texture");
+  if (s != JND_OK) return s;
+  const size_t n = (size_t)img->w * img->c;
+  unsigned char *q = jnd_alloc(n * img->h, 1);
+  if (!q) return JND_ERR_NOMEM;
+  for (int y = 0; y < img->h; y++) quantise_row(img, y, 8, q + n * y);
+  int ok = jpeg ? stbi_write_jpg_to_func(put_buf, out, img->w, img->h, img->c, q, 95)
+                : stbi_write_png_to_func(put_buf, out, img->w, img->h, img->c, q, (int)n);
+  free(q);
+  return ok && !out->failed ? JND_OK : jnd_fail(JND_ERR_NOMEM, "cannot encode a %d x %d map", img->w, img->h);
 }

@@ -53,12 +53,14 @@ jnd_status jnd_gltf_lod_variant(const char *name, const unsigned char *file, siz
   int glb = jnd_glb_split(file, n, &json, &json_n, &bin, &bin_n);
   if (glb < 0) {
     *nlevels = 0;
-    return jnd_fail(JND_ERR_FORMAT, "%s: not a binary glTF (bad header or JSON chunk)", name);
+    return jnd_fail(JND_ERR_FORMAT, "%s: GLB parse error: its JSON chunk is missing or runs past the end of the file", name);
   }
   cJSON *root = cJSON_ParseWithLength((const char *)json, json_n);
   if (!root) {
     *nlevels = 0;
-    return jnd_fail(JND_ERR_FORMAT, "%s: the glTF JSON does not parse", name);
+    const char *at = cJSON_GetErrorPtr();
+    size_t off = at && at >= (const char *)json && at <= (const char *)json + json_n ? (size_t)(at - (const char *)json) : 0;
+    return jnd_fail(JND_ERR_FORMAT, "%s: glTF parse error: the JSON does not parse (at byte %zu of it)", name, off);
   }
   jnd_status st = JND_OK;
   cJSON *nodes = get(root, "nodes");

@@ -14,7 +14,6 @@
  * as now, with their samplers and KHR_texture_transform. */
 #include <cjson/cJSON.h>
 #include <math.h>
-#include <stb/stb_image_write.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -123,27 +122,13 @@ static jnd_status add_primitive(writer *w, cJSON *prims, const float *verts, siz
   return JND_OK;
 }
 
-static void put_stb(void *ctx, void *data, int size) { jnd_buf_put(ctx, data, (size_t)size); }
-
 /* map i as a PNG image, its sampler and texture; returns the texture index or −1 */
 static int add_texture(writer *w, const jnd_scene *s, int i, cJSON *images, cJSON *samplers, cJSON *textures,
                        jnd_status *st) {
   const jnd_map *m = &s->maps[i];
-  const jnd_image *im = jnd_map_image(m);
-  size_t px = (size_t)im->w * im->h;
-  unsigned char *q = jnd_alloc(px ? px * im->c : 1, 1);
-  if (!q) {
-    *st = JND_ERR_NOMEM;
-    return -1;
-  }
-  for (int c = 0; c < im->c; c++)
-    for (size_t k = 0; k < px; k++) q[k * im->c + c] = (unsigned char)lrintf(255.0f * (float)jnd_clampd(im->data[c * px + k], 0, 1));
   jnd_buf png = {0};
-  int ok = stbi_write_png_to_func(put_stb, &png, im->w, im->h, im->c, q, im->w * im->c);
-  free(q);
-  if (!ok || png.failed) {
+  if ((*st = jnd_image_encode_8bit(jnd_map_image(m), 0, &png))) {
     jnd_buf_free(&png);
-    *st = jnd_fail(JND_ERR_NOMEM, "cannot encode a %d x %d map", im->w, im->h);
     return -1;
   }
   int view = add_view(w, png.p, png.n, 0);

@@ -528,11 +528,15 @@ jnd_status jnd_scene_load(const char *path, jnd_scene **out) {
   jnd_status st = jnd_read_file(path, MAX_MODEL_BYTES, &file, &n);
   if (st) return st;
   int levels = 1;
-  st = jnd_gltf_lod_variant(path, file, n, 0, &levels, NULL, NULL);
+  if (strcasecmp(ext, ".glb") == 0 && (n < 4 || memcmp(file, "glTF", 4) != 0))
+    st = jnd_fail(JND_ERR_FORMAT, "%s: GLB parse error: it does not start with a glTF binary header ('glTF')", path);
+  else
+    st = jnd_gltf_lod_variant(path, file, n, 0, &levels, NULL, NULL);
   if (st || levels < 2) {
     free(file);
-    /* a file our JSON reader refuses is assimp's to judge; a malformed MSFT_lod is ours */
-    return levels == 0 ? load_scene(path, NULL, 0, 1, out) : st ? st : load_scene(path, NULL, 0, 1, out);
+    /* a file that is no glTF (its container or JSON broken) is not handed to assimp, whose other readers
+     * would guess another format by content (a corrupt GLB once read as "OBJ: Invalid face index") */
+    return st ? st : load_scene(path, NULL, 0, 1, out);
   }
   jnd_scene *s = NULL;
   for (int k = 0; k < levels && !st; k++) {

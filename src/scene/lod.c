@@ -866,3 +866,31 @@ jnd_status jnd_scene_lod_add(jnd_scene *s, jnd_scene *level, const char *source)
   s->nlod++;
   return level_counts(s, &s->lod[s->nlod - 1]);
 }
+
+/* ---- the chain a task measures ---- */
+
+jnd_status jnd_scene_lod_chain(jnd_scene *s, const char *name, const jnd_lod_chain_params *p, const char **source) {
+  jnd_lod_chain_params d = {0};
+  if (!p) p = &d;
+  jnd_status st = JND_OK;
+  if (p->nlevel_paths > 0) {
+    *source = "levels";
+    if (jnd_scene_lod_count(s) > 1)
+      return jnd_fail(JND_ERR_ARG, "%s: has MSFT_lod levels already; give level files only for a file without", name);
+    for (int i = 0; i < p->nlevel_paths && !st; i++) {
+      jnd_scene *lv = NULL;
+      if (!(st = jnd_scene_load(p->level_paths[i], &lv))) st = jnd_scene_lod_add(s, lv, p->level_paths[i]);
+    }
+  } else if (jnd_scene_lod_count(s) > 1 && !p->rebuild) {
+    *source = "file";
+  } else {
+    *source = "made";
+    jnd_lod_params lp;
+    jnd_lod_defaults(&lp);
+    st = jnd_scene_lod_build(s, p->chain ? p->chain : &lp);
+  }
+  if (!st && jnd_scene_lod_count(s) < 2)
+    st = jnd_fail(JND_ERR_FORMAT, "%s: meshoptimizer made no level with fewer triangles (%zu triangles; try larger "
+                  "error targets)", name, jnd_scene_triangle_count(s));
+  return st;
+}

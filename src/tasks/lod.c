@@ -43,9 +43,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 
 #include "core/core.h"
+#include "core/fastmath.h"
 #include "io/draw.h"
 #include "jnd.h"
 #include "scene/scene.h"
@@ -120,44 +120,20 @@ static void codes_free(codes *c) {
   c->px = NULL;
 }
 
-/* The display's 8-bit quantiser: code c is shown for linear values in
- * [t[c−1], t[c]), t[c] the linear value of the signal (c + 0.5)/255 (IEC
- * 61966-2-1), found from a 4096-cell table and at most a few comparisons:
- * exact, and no pow per pixel. */
-typedef struct {
-  double t[255];
-  uint8_t start[4097];
-} srgb_quantiser;
-
-static double srgb_decode(double v) { return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4); }
-
-static void quantiser_init(srgb_quantiser *q) {
-  for (int c = 0; c < 255; c++) q->t[c] = srgb_decode((c + 0.5) / 255.0);
-  int c = 0;
-  for (int i = 0; i <= 4096; i++) {
-    while (c < 255 && q->t[c] <= i / 4096.0) c++;
-    q->start[i] = (uint8_t)c;
-  }
-}
-
-static inline uint8_t quantise(const srgb_quantiser *q, float v) {
-  if (!(v > 0)) return 0;
-  if (v >= 1) return 255;
-  int c = q->start[(int)(v * 4096.0f)];
-  while (c < 255 && v >= q->t[c]) c++;
-  return (uint8_t)c;
-}
-
-/* linear RGB (a rendering) → sRGB 8-bit codes, into out (allocated once) */
-static jnd_status codes_from_linear(const srgb_quantiser *q, const jnd_image *lin, codes *out) {
+/* linear RGB (a rendering) → sRGB 8-bit codes, into out (allocated once):
+ * the display's curve (jnd_srgb_encode) rounded as the PNG writer rounds, so
+ * that the codes are those of the frame jnd_render_to_srgb shows */
+static jnd_status codes_from_linear(const jnd_image *lin, codes *out) {
   size_t n = (size_t)lin->w * lin->h * 3;
   if (!out->px || out->w != lin->w || out->h != lin->h) {
     codes_free(out);
     if (!(out->px = jnd_alloc(n, 1))) return JND_ERR_NOMEM;
   }
   out->w = lin->w, out->h = lin->h, out->c = 3;
-#pragma omp parallel for schedule(static)
-  for (size_t i = 0; i < n; i++) out->px[i] = quantise(q, lin->data[i]);
+  const float *v = lin->data;
+  uint8_t *px = out->px;
+#pragma omp parallel for simd schedule(static)
+  for (size_t i = 0; i < n; i++) px[i] = (uint8_t)(jnd_srgb_encode(v[i]) * 255.0 + 0.5);
   return JND_OK;
 }
 
@@ -543,15 +519,14 @@ static void progress(const jnd_poi_params *p, const char *stage, int done, int t
 }
 
 /* renders the selected level from view v (unlit or lit) as codes into out */
-static jnd_status render_codes(jnd_renderer *r, jnd_scene *s, const jnd_view *v, int unlit,
-                               const srgb_quantiser *q, codes *out) {
+static jnd_status render_codes(jnd_renderer *r, jnd_scene *s, const jnd_view *v, int unlit, codes *out) {
   jnd_view w = *v;
   w.unlit = unlit;
   w.outputs = JND_OUT_COLOR;
   jnd_frame f;
   jnd_status st = jnd_render(r, s, &w, &f);
   if (st) return st;
-  st = codes_from_linear(q, &f.color, out);
+  st = codes_from_linear(&f.color, out);
   jnd_frame_free(&f);
   return st;
 }
@@ -677,8 +652,6 @@ jnd_status jnd_poi_analyse(jnd_scene *scene, const jnd_poi_params *pp, jnd_poi_r
   snprintf(out->renderer, sizeof out->renderer, "%s", jnd_renderer_description(r));
 
   /* steps 5 and 6, view by view; buffers allocated once */
-  srgb_quantiser quant;
-  quantiser_init(&quant);
   axis_weights aw[MAX_SCREENS];
   memset(aw, 0, sizeof aw);
   for (int s = 0; s < nscr && !st; s++) st = axis_make(S1, out->screens[s].m2_px, &aw[s]);
@@ -696,8 +669,8 @@ jnd_status jnd_poi_analyse(jnd_scene *scene, const jnd_poi_params *pp, jnd_poi_r
   for (int v = 0; v < p->views && !st; v++) {
     for (int k = 0; k < n && !st; k++) {
       if ((st = jnd_scene_lod_select(scene, k))) break;
-      if (!(st = render_codes(r, scene, &views[v], 1, &quant, k == 0 ? &ref : &u)))
-        st = render_codes(r, scene, &views[v], 0, &quant, &l);
+      if (!(st = render_codes(r, scene, &views[v], 1, k == 0 ? &ref : &u)))
+        st = render_codes(r, scene, &views[v], 0, &l);
       out->renderings += 2;
       if (st) break;
       /* the lit rendering's luma on M1 (003 §4.2 weighs luminance) */
@@ -880,19 +853,6 @@ void jnd_lod_report_free(jnd_lod_report *r) {
   memset(r, 0, sizeof *r);
 }
 
-static double seconds(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
-/* user + system time of every thread of the process */
-static double cpu_seconds(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
 static jnd_status mkdir_p(const char *dir) {
   char buf[4300];
   snprintf(buf, sizeof buf, "%s", dir);
@@ -1035,52 +995,25 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
   }
   memset(out, 0, sizeof *out);
   jnd_status st;
-  double t0 = seconds(), c0 = cpu_seconds();
-  /* the asset */
-  if (strncmp(model_path, "builtin", 7) == 0 && (!model_path[7] || model_path[7] == ':')) {
-    jnd_builtin_params bp;
-    jnd_builtin_defaults(&bp);
-    bp.map_size = p->builtin_map_size > 0 ? p->builtin_map_size : 512;
-    bp.shape = strcmp(model_path, "builtin:sphere") == 0;
-    st = jnd_scene_builtin(&bp, &out->scene);
-  } else {
-    st = jnd_scene_load(model_path, &out->scene);
-  }
+  double t0 = jnd_seconds(), c0 = jnd_cpu_seconds();
+  /* the asset and its chain */
+  st = jnd_scene_open(model_path, p->builtin_map_size > 0 ? p->builtin_map_size : 512, &out->scene);
   if (st) return st;
   jnd_scene *s = out->scene;
-  out->load_s = seconds() - t0;
-  out->load_cpu_s = cpu_seconds() - c0;
-  t0 = seconds();
-  c0 = cpu_seconds();
-  /* its chain */
-  if (p->nlevel_paths > 0) {
-    if (jnd_scene_lod_count(s) > 1) {
-      jnd_lod_report_free(out);
-      return jnd_fail(JND_ERR_ARG, "%s: has MSFT_lod levels already; give levels from files only for a file without", model_path);
-    }
-    out->chain_source = "levels";
-    for (int i = 0; i < p->nlevel_paths && !st; i++) {
-      jnd_scene *lv = NULL;
-      if (!(st = jnd_scene_load(p->level_paths[i], &lv))) st = jnd_scene_lod_add(s, lv, p->level_paths[i]);
-    }
-  } else if (jnd_scene_lod_count(s) > 1 && !p->rebuild) {
-    out->chain_source = "file";
-  } else {
-    out->chain_source = "made";
-    st = jnd_scene_lod_build(s, &p->chain);
-    if (!st && jnd_scene_lod_count(s) < 2)
-      st = jnd_fail(JND_ERR_FORMAT, "%s: meshoptimizer made no level with fewer triangles (%zu triangles; try larger "
-                    "error targets)", model_path, jnd_scene_triangle_count(s));
-  }
-  if (st) {
+  out->load_s = jnd_seconds() - t0;
+  out->load_cpu_s = jnd_cpu_seconds() - c0;
+  t0 = jnd_seconds();
+  c0 = jnd_cpu_seconds();
+  jnd_lod_chain_params cp = {&p->chain, p->rebuild, p->level_paths, p->nlevel_paths};
+  if ((st = jnd_scene_lod_chain(s, model_path, &cp, &out->chain_source))) {
     jnd_lod_report_free(out);
     return st;
   }
   int n = jnd_scene_lod_count(s);
-  out->chain_s = seconds() - t0;
-  out->chain_cpu_s = cpu_seconds() - c0;
+  out->chain_s = jnd_seconds() - t0;
+  out->chain_cpu_s = jnd_cpu_seconds() - c0;
   /* 003's analysis */
-  double t1 = seconds(), c1 = cpu_seconds();
+  double t1 = jnd_seconds(), c1 = jnd_cpu_seconds();
   if (p->analyse) {
     jnd_poi_params pp = p->poi;
     if (!pp.progress) {
@@ -1114,11 +1047,11 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
       }
     }
   }
-  out->analysis_s = seconds() - t1;
-  out->analysis_cpu_s = cpu_seconds() - c1;
+  out->analysis_s = jnd_seconds() - t1;
+  out->analysis_cpu_s = jnd_cpu_seconds() - c1;
   /* the switch coverages of the model: each level's error in object units
    * (measured where meshoptimizer gives none) */
-  double t2 = seconds();
+  double t2 = jnd_seconds();
   jnd_poi_screen ref;
   if (p->poi.screens && p->poi.nscreens > 0) ref = p->poi.screens[0];
   else jnd_poi_screen_parse("standard-fhd", &ref);
@@ -1170,7 +1103,7 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
     }
     if (p->progress) p->progress(p->progress_user, "writing", 1, 1);
   }
-  out->write_s = seconds() - t2;
+  out->write_s = jnd_seconds() - t2;
   if (st) {
     jnd_lod_report_free(out);
     return st;

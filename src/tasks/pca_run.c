@@ -10,7 +10,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "core/core.h"
 
@@ -34,12 +33,6 @@ void jnd_pca_result_free(jnd_pca_result *r) {
   jnd_pca_encoded_free(&r->enc_float);
   free(r->log);
   memset(r, 0, sizeof *r);
-}
-
-static double now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
 __attribute__((format(printf, 2, 3))) static void stage(const jnd_pca_params *p, const char *fmt, ...) {
@@ -98,7 +91,7 @@ jnd_status jnd_pca_run(const jnd_pca_params *p, jnd_pca_result *out) {
   if (rule == JND_PCA_RULE_ENERGY && !(p->energy > 0 && p->energy <= 1))
     return jnd_fail(JND_ERR_ARG, "pca: energy target %g is outside (0, 1]", p->energy);
   out->rule = rule;
-  double t0 = now();
+  double t0 = jnd_seconds();
   jnd_pca_render *rr = NULL;
   jnd_status s = JND_OK;
   size_t orig_bytes = 0;
@@ -111,16 +104,16 @@ jnd_status jnd_pca_run(const jnd_pca_params *p, jnd_pca_result *out) {
   }
   if (s == JND_OK && p->model && p->nmaps) s = slots_for_maps(p, &out->set, out->slots);
   out->original_bytes = p->nmaps ? maps_8bit_bytes(&out->set) : orig_bytes;
-  out->seconds[0] = now() - t0;
+  out->seconds[0] = jnd_seconds() - t0;
   /* every input checked before the first progress line or rendering */
-  double t1 = now();
+  double t1 = jnd_seconds();
   if (s == JND_OK) s = jnd_texset_parse_weights(&out->set, p->weights, out->weights);
   if (s == JND_OK) s = jnd_pca_analyse(&out->set, out->weights, &out->pca);
-  out->seconds[1] = now() - t1;
+  out->seconds[1] = jnd_seconds() - t1;
   if (s == JND_OK && p->model) {
-    double tr = now();
+    double tr = jnd_seconds();
     s = jnd_pca_render_bind(rr, &out->set, out->slots);
-    out->seconds[5] += now() - tr;
+    out->seconds[5] += jnd_seconds() - tr;
     if (s == JND_OK) {
       out->rendered = 1;
       snprintf(out->renderer, sizeof out->renderer, "%s", jnd_pca_render_description(rr));
@@ -134,7 +127,7 @@ jnd_status jnd_pca_run(const jnd_pca_params *p, jnd_pca_result *out) {
   int C = out->set.c;
   jnd_pca_encoding e;
   jnd_pca_encoding_default(&out->pca, &e);
-  double t2 = now();
+  double t2 = jnd_seconds();
   switch (rule) {
   case JND_PCA_RULE_COMPONENTS:
     e.components = p->components < 0 || p->components > C ? C : p->components;
@@ -159,30 +152,30 @@ jnd_status jnd_pca_run(const jnd_pca_params *p, jnd_pca_result *out) {
     s = jnd_pca_choose_psnr(&out->set, &out->pca, p->psnr_db, p->max_scale, &e);
     break;
   default: {
-    double tr = now();
+    double tr = jnd_seconds();
     out->log = jnd_calloc(1, sizeof *out->log);
     s = out->log ? jnd_pca_choose_rendered(rr, &out->set, &out->pca, p->max_scale, &e, &out->vis, out->log)
                  : JND_ERR_NOMEM;
-    out->seconds[5] += now() - tr;
+    out->seconds[5] += jnd_seconds() - tr;
     break;
   }
   }
-  out->seconds[2] = now() - t2;
+  out->seconds[2] = jnd_seconds() - t2;
   if (s != JND_OK) goto done;
-  double t3 = now();
+  double t3 = jnd_seconds();
   if ((s = jnd_pca_encode(&out->set, &out->pca, &e, &out->enc)) != JND_OK) goto done;
   /* the same K without resizing or quantisation: PSNR "in float" */
   jnd_pca_encoding ef = e;
   for (int k = 0; k < C; k++) ef.scale[k] = ef.bits[k] = 0;
   if ((s = jnd_pca_encode(&out->set, &out->pca, &ef, &out->enc_float)) != JND_OK) goto done;
-  out->seconds[3] = now() - t3;
+  out->seconds[3] = jnd_seconds() - t3;
   stage(p, "chose %d of %d components (%s), %zu bytes", out->enc.enc.components, C,
         rule == JND_PCA_RULE_RENDERED ? "rendered" : rule == JND_PCA_RULE_ENERGY ? "energy"
                                     : rule == JND_PCA_RULE_PSNR                  ? "psnr"
                                                                                  : "components",
         out->enc.storage_bytes);
   if (p->model) {
-    double tr = now();
+    double tr = jnd_seconds();
     jnd_image rec = {0};
     if (rule != JND_PCA_RULE_RENDERED) {   /* the encoding chosen otherwise, measured as it is */
       s = jnd_pca_reconstruct(&out->enc, NULL, &rec);
@@ -194,16 +187,16 @@ jnd_status jnd_pca_run(const jnd_pca_params *p, jnd_pca_result *out) {
       if (s == JND_OK) s = jnd_pca_render_measure(rr, &rec, &out->vis_bc[v]);
       jnd_image_free(&rec);
     }
-    out->seconds[5] += now() - tr;
+    out->seconds[5] += jnd_seconds() - tr;
     if (s != JND_OK) goto done;
     stage(p, "rendered: %d of %d views above P = %g", out->vis.above, out->vis.views, p->render.judge.criterion.p);
   }
-  double t4 = now();
+  double t4 = jnd_seconds();
   if (p->block_compression) {
     if ((s = jnd_pca_block_compression(&out->set, &out->enc, &out->bc)) != JND_OK) goto done;
     out->has_bc = 1;
   }
-  out->seconds[4] = now() - t4;
+  out->seconds[4] = jnd_seconds() - t4;
 done:
   jnd_pca_render_free(rr);
   if (s != JND_OK) jnd_pca_result_free(out);

@@ -29,7 +29,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "core/core.h"
 #include "io/io.h"
@@ -108,13 +107,6 @@ void jnd_pop_result_free(jnd_pop_result *r) {
   jnd_image_free(&r->weights);
   jnd_image_free(&r->picture);
   memset(r, 0, sizeof *r);
-}
-
-/* wall-clock seconds, for the timings a result reports (never in a decision) */
-static double now_s(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return (double)t.tv_sec + t.tv_nsec * 1e-9;
 }
 
 /* ---- inputs ---- */
@@ -394,7 +386,7 @@ static jnd_status predict(jnd_model *m, const jnd_pop_inputs *in, const char *co
   uint8_t *seed = jnd_alloc(n, 1);
   jnd_image de = {0}, grey = {0}, still = {0};
   if (!seed) return JND_ERR_NOMEM;
-  double t = now_s();
+  double t = jnd_seconds();
   const size_t ndiff = colours_differ(act, exp, seed); /* 1 */
   /* 2: only where the colours differ (ΔE is 0 elsewhere) */
   if ((s = jnd_delta_e94_map_where(&mp->display, exp, act, seed, &de, &out->max_delta_e94)) != JND_OK) goto fail;
@@ -402,8 +394,8 @@ static jnd_status predict(jnd_model *m, const jnd_pop_inputs *in, const char *co
   jnd_image_free(&de);
   /* the picture's backdrop now, before the model may use up the frames */
   if (p->picture && (s = pop_backdrop(&mp->display, act, &grey)) != JND_OK) goto fail;
-  out->timings.weights_s = now_s() - t;
-  t = now_s();
+  out->timings.weights_s = jnd_seconds() - t;
+  t = jnd_seconds();
   /* 4: expected is the reference, actual the test, each with its own motion */
   jnd_diff_inputs di = {0};
   di.motion = in->expected.displacement; /* NULL with motion_test set: a static reference */
@@ -431,17 +423,17 @@ static jnd_status predict(jnd_model *m, const jnd_pop_inputs *in, const char *co
 #pragma omp parallel for reduction(max : jmax) schedule(static)
   for (ptrdiff_t i = 0; i < nn; i++) jmax = J[i] > jmax ? J[i] : jmax;
   out->jnd_max = jmax;
-  out->timings.model_s = now_s() - t;
-  t = now_s();
+  out->timings.model_s = jnd_seconds() - t;
+  t = jnd_seconds();
   if ((s = find_regions(seed, p, out)) != JND_OK) goto fail; /* 5, 6 */
   free(seed);
   seed = NULL;
   scores(in, p, out); /* 7 */
-  out->timings.regions_s = now_s() - t;
-  t = now_s();
+  out->timings.regions_s = jnd_seconds() - t;
+  t = jnd_seconds();
   if (p->picture && (s = pop_picture(&grey, out, &out->picture)) != JND_OK) goto fail; /* 8 */
   jnd_image_free(&grey);
-  out->timings.picture_s = now_s() - t;
+  out->timings.picture_s = jnd_seconds() - t;
   return JND_OK;
 fail:
   free(seed);
@@ -478,7 +470,7 @@ jnd_status jnd_pop_files(jnd_model *m, const jnd_pop_paths *f, const jnd_pop_par
       }
     if (src[k] == k) todo[ntodo++] = k;
   }
-  const double t0 = now_s();
+  const double t0 = jnd_seconds();
   jnd_image img[NIN];
   jnd_image_info info[NIN];
   jnd_status st[NIN];
@@ -530,7 +522,7 @@ jnd_status jnd_pop_files(jnd_model *m, const jnd_pop_paths *f, const jnd_pop_par
     in.prev_color = I[IN_PREV_COLOR];
     in.prev_shading = I[IN_PREV_SHADING];
     in.mask = I[IN_MASK];
-    const double t_read = now_s() - t0;
+    const double t_read = jnd_seconds() - t0;
     /* the frames were read for this call: the model may work in them */
     s = predict(m, &in, path, p, &img[src[IN_EXPECTED]], &img[src[IN_ACTUAL]], out);
     out->timings.read_s = t_read;

@@ -23,7 +23,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "core/core.h"
 #include "io/draw.h"
@@ -343,50 +342,6 @@ void jnd_pop_asset_report_free(jnd_pop_asset_report *r) {
   memset(r, 0, sizeof *r);
 }
 
-static double wall_s(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-/* the asset and its chain: the file's MSFT_lod levels, levels from files, or one made */
-static jnd_status load_chain(const char *path, const jnd_pop_asset_params *p, jnd_scene **out, const char **source) {
-  jnd_status st;
-  jnd_scene *s = NULL;
-  if (strncmp(path, "builtin", 7) == 0 && (!path[7] || path[7] == ':')) {
-    jnd_builtin_params bp;
-    jnd_builtin_defaults(&bp);
-    bp.map_size = p->builtin_map_size > 0 ? p->builtin_map_size : 512;
-    bp.shape = strcmp(path, "builtin:sphere") == 0;
-    st = jnd_scene_builtin(&bp, &s);
-  } else {
-    st = jnd_scene_load(path, &s);
-  }
-  if (st) return st;
-  if (p->nlevel_paths > 0) {
-    *source = "levels";
-    if (jnd_scene_lod_count(s) > 1)
-      st = jnd_fail(JND_ERR_ARG, "%s: has MSFT_lod levels already; give level files only for a file without", path);
-    for (int i = 0; i < p->nlevel_paths && !st; i++) {
-      jnd_scene *lv = NULL;
-      if (!(st = jnd_scene_load(p->level_paths[i], &lv))) st = jnd_scene_lod_add(s, lv, p->level_paths[i]);
-    }
-  } else if (jnd_scene_lod_count(s) > 1 && !p->rebuild) {
-    *source = "file";
-  } else {
-    *source = "made";
-    st = jnd_scene_lod_build(s, &p->chain);
-  }
-  if (!st && jnd_scene_lod_count(s) < 2)
-    st = jnd_fail(JND_ERR_FORMAT, "%s: the chain has one level; a switch needs two (try larger error targets)", path);
-  if (st) {
-    jnd_scene_free(s);
-    return st;
-  }
-  *out = s;
-  return JND_OK;
-}
-
 static jnd_status switch_plot(const jnd_pop_asset_report *r, const double *speeds, int nspeeds, jnd_image *out) {
   int nl = r->nlevels - 1;
   double *x = malloc(sizeof(double) * (size_t)nl * (nspeeds + 2));
@@ -442,13 +397,18 @@ jnd_status jnd_pop_asset_run(jnd_model *m, const char *model_path, const jnd_pop
   for (int s = 0; s < nspeeds; s++)
     if (!isfinite(speeds[s])) return jnd_fail(JND_ERR_ARG, "pop: a speed is not finite");
   if (p->decide && nspeeds < 1) return jnd_fail(JND_ERR_ARG, "pop: no speeds");
-  double t0 = wall_s();
+  double t0 = jnd_seconds();
   jnd_scene *scene = NULL;
   jnd_renderer *r = NULL;
   jnd_view *views = NULL, *cams = NULL;
   int nviews = 0;
-  jnd_status st = load_chain(model_path, p, &scene, &out->chain_source);
+  jnd_status st = jnd_scene_open(model_path, p->builtin_map_size > 0 ? p->builtin_map_size : 512, &scene);
   if (st) return st;
+  jnd_lod_chain_params cp = {&p->chain, p->rebuild, p->level_paths, p->nlevel_paths};
+  if ((st = jnd_scene_lod_chain(scene, model_path, &cp, &out->chain_source))) {
+    jnd_scene_free(scene);
+    return st;
+  }
   out->nlevels = jnd_scene_lod_count(scene);
   if (out->nlevels > 64) out->nlevels = 64;
   for (int k = 0; k < out->nlevels && !st; k++) st = jnd_scene_lod_info(scene, k, &out->levels[k]);
@@ -464,18 +424,18 @@ jnd_status jnd_pop_asset_run(jnd_model *m, const char *model_path, const jnd_pop
   }
   if (!st) st = jnd_view_set_make(scene, &vs, &views, &nviews);
   out->nviews = nviews;
-  out->load_s = wall_s() - t0;
+  out->load_s = jnd_seconds() - t0;
   if (!st) st = jnd_renderer_create(&vs.render, &r);
   if (!st) snprintf(out->renderer, sizeof out->renderer, "%s", jnd_renderer_description(r));
-  double t1 = wall_s();
+  double t1 = jnd_seconds();
   if (!st) {
     if (p->progress) p->progress(p->progress_user, "the switch", 0, 1);
     const double *e = views[0].camera.eye, *c = views[0].camera.target;
     out->pair_distance = sqrt((e[0] - c[0]) * (e[0] - c[0]) + (e[1] - c[1]) * (e[1] - c[1]) + (e[2] - c[2]) * (e[2] - c[2]));
     st = jnd_pop_render(m, r, scene, &views[0], &p->motion, p->level, p->frame, &p->pop, &out->pair);
   }
-  out->render_s = wall_s() - t1;
-  double t2 = wall_s();
+  out->render_s = jnd_seconds() - t1;
+  double t2 = jnd_seconds();
   if (!st && p->decide) {
     int nl = out->nlevels - 1;
     out->rows = calloc((size_t)nl * nspeeds, sizeof *out->rows);
@@ -497,7 +457,7 @@ jnd_status jnd_pop_asset_run(jnd_model *m, const char *model_path, const jnd_pop
     if (!st && p->progress) p->progress(p->progress_user, "switch distances", nl * nspeeds, nl * nspeeds);
     if (!st) st = switch_plot(out, speeds, nspeeds, &out->plot);
   }
-  out->decide_s = wall_s() - t2;
+  out->decide_s = jnd_seconds() - t2;
   free(views);
   free(cams);
   jnd_renderer_free(r);

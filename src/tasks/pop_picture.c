@@ -19,12 +19,6 @@
 
 static const jnd_rgb INK = {0.13f, 0.13f, 0.13f};
 
-/* sRGB OETF of a relative linear value */
-static float srgb_encode(float v) {
-  v = v < 0 ? 0 : v > 1 ? 1 : v;
-  return v <= 0.0031308f ? 12.92f * v : 1.055f * jnd_fast_pow(v, 1 / 2.4f) - 0.055f;
-}
-
 /* a row of the frame in dimmed grey: its luminance back through the display
  * model to a signal */
 JND_HOT static void grey_row(const float *r, const float *g, const float *b, float lo, float inv_range, float *out,
@@ -32,7 +26,7 @@ JND_HOT static void grey_row(const float *r, const float *g, const float *b, flo
 #pragma omp simd
   for (int x = 0; x < w; x++) {
     float lum = 0.2126f * r[x] + 0.7152f * g[x] + 0.0722f * b[x];
-    out[x] = 0.12f + 0.5f * srgb_encode((lum - lo) * inv_range);
+    out[x] = 0.12f + 0.5f * jnd_srgb_encode((lum - lo) * inv_range);
   }
 }
 

@@ -12,7 +12,6 @@
  * place of the old ones; a .gltf gets its images and external buffers as
  * files beside it. */
 #include <cjson/cJSON.h>
-#include <stb/stb_image_write.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,8 +20,6 @@
 #include "io/io.h"
 
 #define MAX_MODEL (1u << 30)
-
-static void put_stb(void *ctx, void *data, int size) { jnd_buf_put(ctx, data, (size_t)size); }
 
 static const cJSON *item(const cJSON *o, const char *k) { return cJSON_GetObjectItemCaseSensitive(o, k); }
 
@@ -125,24 +122,6 @@ static int is_jpeg(const cJSON *img) {
     return dot && (strcasecmp(dot, ".jpg") == 0 || strcasecmp(dot, ".jpeg") == 0);
   }
   return 0;
-}
-
-/* 8-bit interleaved pixels of a map, encoded as PNG or JPEG into out */
-static jnd_status encode(const jnd_image *im, int jpeg, jnd_buf *out) {
-  size_t px = (size_t)im->w * im->h;
-  unsigned char *q = jnd_alloc(px * im->c, 1);
-  if (!q) return JND_ERR_NOMEM;
-  for (int ch = 0; ch < im->c; ch++) {
-    const float *pl = im->data + (size_t)ch * px;
-    for (size_t i = 0; i < px; i++) {
-      float v = pl[i] * 255.0f + 0.5f;
-      q[i * im->c + ch] = (unsigned char)(v < 0 ? 0 : v > 255 ? 255 : v);
-    }
-  }
-  int ok = jpeg ? stbi_write_jpg_to_func(put_stb, out, im->w, im->h, im->c, q, 95)
-                                             : stbi_write_png_to_func(put_stb, out, im->w, im->h, im->c, q, im->w * im->c);
-  free(q);
-  return ok && !out->failed ? JND_OK : jnd_fail(JND_ERR_NOMEM, "cannot encode a %d x %d map", im->w, im->h);
 }
 
 static void dir_of(const char *path, char *dir, size_t n) {
@@ -288,7 +267,7 @@ jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src, const
         goto done;
       }
       enc_jpeg[nenc] = is_jpeg(cJSON_GetArrayItem(images, u->img)) && im.c != 2 && im.c != 4;
-      s = encode(&im, enc_jpeg[nenc], &enc[nenc]);
+      s = jnd_image_encode_8bit(&im, enc_jpeg[nenc], &enc[nenc]);
       jnd_image_free(&im);
       if (s != JND_OK) {
         free(enc_img);

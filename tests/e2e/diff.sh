@@ -109,6 +109,23 @@ expect_exit 2 empty_file_exits_two "$JND" diff "$T/empty.png" "$T/ex/test.png"
 "$JND" example -o "$T/small" --size 128x96 2>/dev/null
 expect_exit 2 mismatched_sizes_exit_two "$JND" diff "$T/ex/reference.png" "$T/small/test.png"
 check mismatched_sizes_error_is_one_line one_line_error
+# an EXR at the default --exr-scale whose brightest pixel is a few units (written relative, 1 = white) is said
+# to be read as cd/m2, in one line per file; not with --exr-scale, nor for an absolute one, nor with --quiet
+PYTHONPATH="$(dirname "$0")" python3 -B - "$T" <<'PY2'
+import sys
+from exrwrite import exr
+t = sys.argv[1]
+exr(t + "/rel_a.exr", 32, 32, {"R": lambda x, y: 0.5, "G": lambda x, y: 0.5, "B": lambda x, y: 0.5})
+exr(t + "/rel_b.exr", 32, 32, {"R": lambda x, y: 0.5 + 0.2 * (x % 2), "G": lambda x, y: 0.5, "B": lambda x, y: 0.5})
+exr(t + "/abs_a.exr", 32, 32, {"R": lambda x, y: 100.0, "G": lambda x, y: 100.0, "B": lambda x, y: 100.0})
+exr(t + "/abs_b.exr", 32, 32, {"R": lambda x, y: 100 + 20 * (x % 2), "G": lambda x, y: 100.0, "B": lambda x, y: 100.0})
+PY2
+expect_exit 0 relative_exr_runs "$JND" diff "$T/rel_a.exr" "$T/rel_b.exr"
+check relative_exr_at_the_default_scale_is_said_once_per_file bash -c "[ \$(grep -c '^jnd: warning: .*rel_[ab].exr: .*--exr-scale' '$T/err.txt') -eq 2 ]"
+expect_exit 0 relative_exr_with_a_scale_runs "$JND" diff "$T/rel_a.exr" "$T/rel_b.exr" --exr-scale 200
+check no_warning_with_exr_scale bash -c "! grep -q 'warning' '$T/err.txt'"
+expect_exit 0 absolute_exr_runs "$JND" diff "$T/abs_a.exr" "$T/abs_b.exr"
+check no_warning_for_an_absolute_exr bash -c "! grep -q 'warning' '$T/err.txt'"
 expect_exit 2 unknown_option_exits_two "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --frobnicate
 expect_exit 2 unknown_display_exits_two "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --display crt
 expect_exit 2 bad_pooling_exits_two "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" --pool p200

@@ -19,4 +19,34 @@ comm -23 "$T/exported.txt" "$T/declared.txt" >"$T/extra.txt"
 check "libjnd.so exports nothing the header does not declare ($(head -c 300 "$T/extra.txt" | tr '\n' ' '))" [ ! -s "$T/extra.txt" ]
 comm -13 "$T/exported.txt" "$T/declared.txt" >"$T/missing.txt"
 check "every function the header declares is exported ($(head -c 300 "$T/missing.txt" | tr '\n' ' '))" [ ! -s "$T/missing.txt" ]
+# installed (cmake --install, as `make install PREFIX=` does) and linked the way the README says (pkg-config),
+# the header's first example compiles, runs without LD_LIBRARY_PATH, and checks its reads: a missing file is
+# one line and exit 2, never "P(detect) = 0.000"
+if command -v cc >/dev/null && command -v pkg-config >/dev/null; then
+  cmake --install "$(dirname "$JND_LIB")" --prefix "$T/prefix" >"$T/install.log" 2>&1
+  check "installs into a prefix" [ -f "$T/prefix/include/jnd.h" ]
+  pc=$(find "$T/prefix" -name jnd.pc | head -1)
+  python3 - "$JND_SRC/include/jnd.h" >"$T/first.c" <<'PY'
+import re, sys
+text = open(sys.argv[1]).read()
+body = text.split("Ten lines to compare two images", 1)[1].split("\n *\n", 1)[1].split("\n *\n", 1)[0]
+lines = [re.sub(r"^ \*     ", "", l) for l in body.splitlines()]
+print('#include <stdio.h>\n#include <jnd.h>\nint main(void) {\n' + "\n".join(lines) + '\n  return 0;\n}')
+PY
+  flags=$(PKG_CONFIG_PATH=$(dirname "$pc") pkg-config --cflags --libs jnd)
+  check "the header's first example compiles against the installed library ($flags)" \
+    cc -std=c11 -Wall -Werror -o "$T/first" "$T/first.c" $flags
+  check "pkg-config's flags give the program an rpath" bash -c "readelf -d '$T/first' | grep -Eq 'RPATH|RUNPATH'"
+  mkdir -p "$T/run"
+  (cd "$T/run" && env -u LD_LIBRARY_PATH "$T/first" >"$T/out.txt" 2>"$T/err.txt"; echo $? >"$T/rc.txt")
+  check "a missing file: exit 2, one line naming it, no P(detect)" \
+    bash -c "[ \$(cat '$T/rc.txt') -eq 2 ] && [ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q '^jnd: ref.png' '$T/err.txt' && ! grep -q 'P(detect)' '$T/out.txt'"
+  "$JND" example -o "$T/run/ex" --size 96x64 >/dev/null 2>&1
+  cp "$T/run/ex/reference.png" "$T/run/ref.png" && cp "$T/run/ex/test.png" "$T/run/test.png"
+  (cd "$T/run" && env -u LD_LIBRARY_PATH "$T/first" >"$T/out.txt" 2>"$T/err.txt"; echo $? >"$T/rc.txt")
+  check "the example pair: exit 0 and a probability" \
+    bash -c "[ \$(cat '$T/rc.txt') -eq 0 ] && grep -Eq '^P\(detect\) = [01]\.[0-9]{3}, max JND' '$T/out.txt'"
+else
+  skip "needs cc and pkg-config to build the header's example"
+fi
 finish

@@ -162,6 +162,20 @@ assert d["chain_source"] == "levels" and len(d["levels"]) == 2
 assert d["levels"][1]["triangles"] == c["levels"][0]["triangles"] and d["levels"][1]["source"].endswith(".glb")
 PY
 
+# a built-in asset's options load what jnd render loads (one chain loader, jnd_scene_open's)
+"$JND" render builtin:box,parts=3 -o "$T/rparts" --views 1 --size 16x16 --map-size 16 --quiet
+expect_exit 0 "builtin:box,parts=3 runs" "$JND" lod builtin:box,parts=3 -o "$T/parts" --chain-only --map-size 16 --quiet
+check "builtin:box,parts=3: level 0 is what jnd render loads (triangles, materials)" python3 - "$T/rparts/views.json" "$T/parts/lod.json" "$T/parts" <<'PY2'
+import json, struct, sys
+r = json.load(open(sys.argv[1]))["result"]
+l = json.load(open(sys.argv[2]))["result"]
+glb = open(sys.argv[3] + "/" + l["model"]["path"], "rb").read()
+n, = struct.unpack_from("<I", glb, 12)
+g = json.loads(glb[20:20 + n])
+assert r["materials"] == 3 and l["levels"][0]["triangles"] == r["triangles"], (r["triangles"], l["levels"][0])
+assert len(g["materials"]) == r["materials"], len(g["materials"])
+PY2
+
 # without the perceptual step: null, said so, and the model's coverages by meshoptimizer's rule
 expect_exit 0 "--no-pop runs" "$JND" lod builtin:sphere -o "$T/nopop" "${SMALL[@]}" --no-pop --no-textures --screens 320x240
 check "--no-pop: switch distances from the criterion alone" python3 - "$T/nopop/lod.json" <<'PY'
@@ -225,6 +239,18 @@ expect_exit 2 "falling error targets: exit 2" "$JND" lod builtin -o "$T/x" --err
 check "one line" one_line_error
 expect_exit 2 "error targets that are not numbers: exit 2" "$JND" lod builtin -o "$T/x" --errors 0.01,abc --map-size 16
 check "one line naming --errors" bash -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q -- '--errors' '$T/err.txt'"
+# --errors: one parser (src/cli/args.c) for every command that makes a chain: fractions as gaze --help and
+# docs/gaze.md write them, one range [1e-6, 1], rising
+expect_exit 0 "--errors takes fractions" "$JND" lod builtin -o "$T/frac" --errors 1/1024,0.001,1/256 --chain-only --map-size 16 --quiet
+check "--errors fractions are the numbers they name" jq -e '.parameters.chain.errors == [0.0009765625, 0.001, 0.00390625]' "$T/frac/lod.json"
+for cmd in lod pop gaze "gaze observers"; do
+  for bad in 0 2 1e-7 1/0 1/-4 0.01,1/1024 1/1024,x; do
+    expect_exit 2 "$cmd --errors $bad: exit 2" "$JND" $cmd builtin -o "$T/x" --errors "$bad" --map-size 16
+    check "$cmd --errors $bad: one line naming --errors" bash -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q -- '^jnd: --errors: ' '$T/err.txt'"
+    [ "$bad" = 1e-7 ] && check "$cmd --errors 1e-7: the one range" grep -qF -- '--errors: 1e-07 is outside [1e-06, 1]' "$T/err.txt"
+  done
+done
+check "nothing written for a bad --errors" [ ! -e "$T/x" ]
 # one limit on views (JND_VIEWS_MAX, 4096): the library's and every command's parser, for both kinds of views
 for opt in --views --judge-views; do
   expect_exit 2 "$opt 4097: exit 2" "$JND" lod builtin -o "$T/x" "$opt" 4097 --map-size 16

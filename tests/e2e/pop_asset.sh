@@ -31,6 +31,10 @@ check the_mask_is_the_object jq -e '.result.object_pixels > 0 and .result.object
 check regions_png_is_written bash -c "head -c 8 '$T/a/regions.png' | od -An -c | grep -q 'P   N   G'"
 check no_switch_table_without_decide jq -e '.result.switch == null' "$T/a/pop.json"
 
+"$JND" render builtin:sphere,ground -o "$T/rsg" --views 1 --size 16x16 --map-size 16 --quiet
+expect_exit 0 builtin_options_run "$JND" pop builtin:sphere,ground -o "$T/sg" "${SMALL[@]}" --map-size 16 --errors 0.1
+check builtin_options_load_what_render_loads bash -c "[ \"\$(jq .result.triangles '$T/rsg/views.json')\" = \"\$(jq '.result.levels[0].triangles' '$T/sg/pop.json')\" ]"
+
 expect_exit 0 a_level_file_identical_to_the_model "$JND" pop "$T/ball.obj" --level "$T/ball.obj" -o "$T/same" "${SMALL[@]}" --pan 90
 check identical_levels_do_not_pop jq -e '.result.region_count == 0 and .result.max_delta_e94 == 0 and .result.chain_source == "levels" and .inputs.levels == ["'"$T/ball.obj"'"]' "$T/same/pop.json"
 expect_exit 0 a_static_pair_runs "$JND" pop "$T/ball.obj" -o "$T/still" "${SMALL[@]}" --errors 0.05

@@ -71,6 +71,16 @@ err() {  # expected-substring, args...
   [ $rc -eq 2 ] && [ "$(wc -l <"$T/err")" -eq 1 ] && grep -q "^jnd: .*$want" "$T/err" || { cat "$T/err"; return 1; }
 }
 checke 'err "no such file" /nonexistent.glb -o "$T/x"' "a missing model: exit 2, one line"
+# a corrupt .glb/.gltf is said to be one (not guessed as another format by content: assimp's OBJ reader once
+# answered "OBJ: Invalid face index" for it)
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n' >"$T/objlike.glb"
+printf 'glTF\002\000\000\000\100\000\000\000\377\000\000\000JSON{"asset":' >"$T/short.glb"
+printf '{"asset": {"version": "2.0"}, oops' >"$T/broken.gltf"
+checke 'err "objlike.glb: GLB parse error" "$T/objlike.glb" -o "$T/x" && ! grep -q OBJ "$T/err"' \
+    "a .glb that is not one: one line, a GLB parse error naming the file, no OBJ"
+checke 'err "short.glb: GLB parse error" "$T/short.glb" -o "$T/x"' "a .glb whose JSON chunk runs past its end: a GLB parse error"
+checke 'err "broken.gltf: glTF parse error: the JSON does not parse" "$T/broken.gltf" -o "$T/x"' \
+    "a .gltf whose JSON is broken: a glTF parse error"
 if [ -d "$MODELS" ]; then
   for f in glTF2/MissingBin/BoxTextured.gltf glTF2/RecursiveNodes/RecursiveNodes.gltf \
            glTF2/wrongTypes/badNumber.gltf glTF2/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb \

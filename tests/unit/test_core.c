@@ -93,5 +93,25 @@ TEST(first_outside_finds_the_first_bad_value_in_any_block) {
   CHECK(jnd_first_outside(v, N, 0, 1) == 5000);
 }
 
-RUN_TESTS(first_outside_finds_the_first_bad_value_in_any_block, fast_pow_matches_libm_to_1e5_relative, image_alloc_is_zeroed_and_planar, image_alloc_refuses_zero_and_oversized,
+TEST(clocks_advance_with_work_and_never_go_back) {
+  double w0 = jnd_seconds(), c0 = jnd_cpu_seconds(), prev = w0;
+  volatile double x = 0;
+  int backwards = 0;
+  for (int i = 0; i < 2000000; i++) {
+    x += sqrt((double)i);
+    if (i % 100000 == 0) {
+      double t = jnd_seconds();
+      backwards += t < prev;
+      prev = t;
+    }
+  }
+  double w1 = jnd_seconds(), c1 = jnd_cpu_seconds();
+  CHECK(backwards == 0);
+  CHECK_LT(w0, w1); /* 2 M square roots take more than a nanosecond */
+  CHECK_LT(c0, c1);
+  CHECK_LT(w1 - w0, 60); /* seconds, not milliseconds or nanoseconds */
+  CHECK(x > 0);
+}
+
+RUN_TESTS(clocks_advance_with_work_and_never_go_back, first_outside_finds_the_first_bad_value_in_any_block, fast_pow_matches_libm_to_1e5_relative, image_alloc_is_zeroed_and_planar, image_alloc_refuses_zero_and_oversized,
           error_messages_are_one_line, rng_is_deterministic_and_uniform)

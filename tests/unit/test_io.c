@@ -1167,7 +1167,37 @@ TEST(csv_numbers_parse_and_missing_values_are_nan) {
   CHECK(!jnd_csv_number("1e999", &v));
 }
 
-RUN_TESTS(exr_float_round_trips_exactly, exr_half_round_trips_within_half_precision,
+/* A model's embedded textures (gltf_write.c, texres_model.c) and a written
+ * PNG are one quantisation: the same codes, halfway values rounded up. */
+TEST(embedded_texture_has_the_codes_the_png_writer_writes) {
+  jnd_image im = {0}, a = {0}, b = {0};
+  CHECK_OK(jnd_image_alloc(&im, 37, 11, 3));
+  for (size_t i = 0; i < (size_t)37 * 11 * 3; i++) /* ties, values between, and out of range */
+    im.data[i] = i % 3 == 0 ? (float)((i % 256) + 0.5) / 255.0f : i % 3 == 1 ? (float)(i % 997) / 996.0f : (float)(i % 7) - 3.0f;
+  jnd_buf enc = {0};
+  CHECK_OK(jnd_image_encode_8bit(&im, 0, &enc));
+  int bits = 0;
+  CHECK_OK(jnd_png_decode("embedded", enc.p, enc.n, &a, &bits));
+  CHECK(bits == 8);
+  const char *path = tmp_file("embedded.png");
+  CHECK_OK(jnd_image_write_png(path, &im, 8));
+  CHECK_OK(jnd_image_read(path, &b, NULL));
+  CHECK(a.w == 37 && a.h == 11 && a.c == 3 && b.w == 37 && b.c == 3);
+  size_t same = 0;
+  for (size_t i = 0; a.data && b.data && i < (size_t)37 * 11 * 3; i++) same += a.data[i] == b.data[i];
+  CHECK(same == (size_t)37 * 11 * 3);
+  CHECK(a.data && a.data[0] == 1.0f / 255); /* 0.5/255 rounds up to code 1 */
+  jnd_buf jpg = {0};
+  CHECK_OK(jnd_image_encode_8bit(&im, 1, &jpg));
+  CHECK(jpg.n > 2 && jpg.p[0] == 0xFF && jpg.p[1] == 0xD8);
+  jnd_buf_free(&enc);
+  jnd_buf_free(&jpg);
+  jnd_image_free(&im);
+  jnd_image_free(&a);
+  jnd_image_free(&b);
+}
+
+RUN_TESTS(embedded_texture_has_the_codes_the_png_writer_writes, exr_float_round_trips_exactly, exr_half_round_trips_within_half_precision,
           exr_half_write_clamps_to_the_half_range_instead_of_infinity,
           exr_default_names_give_back_the_same_channel_order,
           exr_channels_are_read_as_r_g_b_a_whatever_their_order,
