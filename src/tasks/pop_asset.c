@@ -411,8 +411,9 @@ static jnd_status switch_plot(const jnd_pop_asset_report *r, const double *speed
       snprintf(labels[s], sizeof labels[s], "max R < 1 at %g deg/s", speeds[s]);
     else
       snprintf(labels[s], sizeof labels[s], "1-pixel geometric error");
-    ser[s] = (jnd_plot_series){x, y, nl, labels[s], s < nspeeds ? jnd_palette(s) : (jnd_rgb){0.4f, 0.4f, 0.4f}, 1,
-                               s < nspeeds ? 1 : 2, s < nspeeds ? 2.0 : 1.0};
+    ser[s] = (jnd_plot_series){.x = x, .y = y, .n = nl, .label = labels[s],
+                               .colour = s < nspeeds ? jnd_palette(s) : (jnd_rgb){0.4f, 0.4f, 0.4f}, .line = 1,
+                               .markers = s < nspeeds ? 1 : 2, .width = s < nspeeds ? 2.0 : 1.0};
   }
   jnd_plot_axes ax;
   memset(&ax, 0, sizeof ax);

@@ -5,6 +5,7 @@
  * chosen sizes whether or not the matrices ran. */
 #include "test.h"
 
+#include "batch/plots.h"
 #include "io/draw.h"
 #include "jnd.h"
 
@@ -153,6 +154,83 @@ TEST(the_contribution_picture_names_channels_and_has_a_legend) {
   jnd_image_free(&plain);
 }
 
+static int ink_near(const jnd_image *img, double x, double y, int r, jnd_rgb c) {
+  for (int dy = -r; dy <= r; dy++)
+    for (int dx = -r; dx <= r; dx++) {
+      int X = (int)floor(x) + dx, Y = (int)floor(y) + dy;
+      if (X < 0 || Y < 0 || X >= img->w || Y >= img->h) continue;
+      float v[3], want[3] = {c.r, c.g, c.b};
+      px(img, X, Y, v);
+      if (dist(v, want) < 0.3) return 1;
+    }
+  return 0;
+}
+
+static int box_overlap(const jnd_box *a, const jnd_box *b) {
+  return a->x0 < b->x1 && b->x0 < a->x1 && a->y0 < b->y1 && b->y0 < a->y1;
+}
+
+TEST(texres_series_draws_early_stopped_values_as_bounds_and_the_threshold) {
+  /* the zig-zag of issue 25: 256 and 64 were judged until they failed, so
+   * 0.357 and 0.97 are lower bounds; 512 and 128 were judged on every view */
+  cJSON *r = cJSON_Parse("{\"parameters\": {\"criterion\": {\"p\": 0.25, \"q\": 0.1}}, \"result\": {\"maps\": [{"
+                         "\"name\": \"body/normal\", \"searched\": true,"
+                         "\"candidates\": [[512, 512], [256, 256], [128, 128], [64, 64], [32, 32]],"
+                         "\"series\": [0, 0.357, 0.104, 0.97, null],"
+                         "\"series_decided_early\": [false, true, false, true, false]}]}}");
+  CHECK(r != NULL);
+  jnd_image img;
+  jnd_plot_layout L;
+  CHECK(jnd_plot_texres_series_image(r, &img, &L) == 1);
+  jnd_rgb c = jnd_palette(0);
+  double x[4] = {512, 256, 128, 64}, y[4] = {0, 0.357, 0.104, 0.97}, X[4], Y[4];
+  for (int i = 0; i < 4; i++) X[i] = jnd_plot_layout_map(&L, 0, x[i]), Y[i] = jnd_plot_layout_map(&L, 1, y[i]);
+  /* the line joins the measured values 512 and 128 ... */
+  CHECK(ink_near(&img, 0.5 * (X[0] + X[2]), 0.5 * (Y[0] + Y[2]), 1, c));
+  /* ... and goes neither to 256's bound nor on to 64's */
+  CHECK(!ink_near(&img, 0.5 * (X[0] + X[1]), 0.5 * (Y[0] + Y[1]), 2, c));
+  CHECK(!ink_near(&img, 0.5 * (X[2] + X[3]), 0.5 * (Y[2] + Y[3]), 2, c));
+  /* each bound: its marker, an arrow up, nothing below */
+  for (int i = 1; i < 4; i += 2) {
+    CHECK(ink_near(&img, X[i], Y[i], 5, c));
+    CHECK(ink_near(&img, X[i], Y[i] - 14, 1, c) || Y[i] - 14 < L.plot.y0 + 2);
+    CHECK(!ink_near(&img, X[i], Y[i] + 14, 2, c));
+  }
+  /* the threshold p = 0.25 (parameters.criterion.p) is drawn across */
+  double ty = jnd_plot_layout_map(&L, 1, 0.25);
+  int drawn = 0, n = 0;
+  for (double xx = L.plot.x0 + 4; xx < L.plot.x1 - 4; xx++, n++) drawn += ink_near(&img, xx, ty, 0, (jnd_rgb){0.45f, 0.45f, 0.45f});
+  CHECK(drawn > n / 2);
+  /* the legend, outside the data, names the map, the threshold and the bounds */
+  int named = 0;
+  for (int i = 0; i < L.ntexts; i++) {
+    if (L.text_kind[i] != 'l') continue;
+    CHECK(!box_overlap(&L.text_box[i], &L.plot));
+    named |= (strcmp(L.text[i], "body/normal") == 0) | (strstr(L.text[i], "p = 0.25") ? 2 : 0) |
+             (strstr(L.text[i], "lower bound") ? 4 : 0);
+  }
+  CHECK(named == 7);
+  CHECK(!box_overlap(&L.legend, &L.plot));
+  jnd_image_free(&img);
+  cJSON_Delete(r);
+}
+
+TEST(pca_energy_marks_the_components_kept_with_their_share) {
+  cJSON *r = cJSON_Parse("{\"result\": {\"components_kept\": 2, \"energy_fraction\": [0.7, 0.2, 0.06, 0.04],"
+                         "\"cumulative_energy\": [0.7, 0.9, 0.96, 1.0]}}");
+  jnd_image img;
+  jnd_plot_layout L;
+  CHECK(jnd_plot_pca_energy_image(r, &img, &L) == 1);
+  int mark = 0;
+  for (int i = 0; i < L.ntexts; i++)
+    if (L.text_kind[i] == 'm') mark += strcmp(L.text[i], "2 kept: 90.0 % of the energy") == 0;
+  CHECK(mark == 1);
+  /* components are whole numbers: no tick between them */
+  for (int i = 0; i < L.nticks[0]; i++) CHECK(L.tick[0][i] == floor(L.tick[0][i]));
+  jnd_image_free(&img);
+  cJSON_Delete(r);
+}
+
 static int renderer_available(void) {
   jnd_renderer_params rp;
   jnd_renderer_defaults(&rp);
@@ -200,4 +278,6 @@ TEST(the_worst_view_shows_the_chosen_sizes_whether_or_not_the_matrices_ran) {
 
 RUN_TESTS(the_heatmap_keeps_differences_above_one_jnd_apart, a_small_heatmap_is_magnified_to_a_readable_size,
           the_texres_matrix_picture_outlines_the_chosen_pair, the_contribution_picture_names_channels_and_has_a_legend,
+          texres_series_draws_early_stopped_values_as_bounds_and_the_threshold,
+          pca_energy_marks_the_components_kept_with_their_share,
           the_worst_view_shows_the_chosen_sizes_whether_or_not_the_matrices_ran)
