@@ -2638,8 +2638,10 @@ typedef struct {
                               was measured (distance / distance_popping <= 1 + tolerance); NaN else */
   double max_rating;       /* the largest R over the views at distance (−inf: no region; at the
                               farthest distance for NONE) */
-  double distance_pixel_rule; /* where level's error_abs covers one pixel at the image's height
-                              (docs/lod.md's meshoptimizer rule); NaN for imported levels */
+  double distance_pixel_rule; /* where level's geometric error covers one pixel at the image's
+                              height (docs/lod.md's meshoptimizer rule): error_abs, or for levels
+                              read from a file the largest distance of 16384 points of level 0's
+                              surface from the level's (jnd_scene_lod_distance); NaN when it is 0 */
   int evaluations;         /* distances rendered and predicted */
 } jnd_pop_switch;
 
@@ -2699,6 +2701,9 @@ typedef struct {
   jnd_pop_switch_row *rows; /* decide: levels 1.. × speeds, level-major; owned */
   int nrows;
   jnd_image plot;          /* decide: distance per level, one line per speed (sRGB 0..1) */
+  const char *distance_unit; /* the unit of the rows' distance_m: "m" for glTF (metres by its
+                              specification) or a motion.unit_m other than 1, else "object units"
+                              (OBJ and the built-in assets carry no unit) */
   char renderer[256];
   double load_s, render_s, decide_s;
 } jnd_pop_asset_report;

@@ -191,10 +191,11 @@ static int boxes_overlap(const jnd_box *a, const jnd_box *b, double gap) {
   return a->x0 < b->x1 + gap && b->x0 < a->x1 + gap && a->y0 < b->y1 + gap && b->y0 < a->y1 + gap;
 }
 
-static int series_has_bounds(const jnd_plot_series *s, int n) {
+/* whether a series has a bound pointing dir (+1 up, −1 down) */
+static int series_has_bounds(const jnd_plot_series *s, int n, int dir) {
   for (int k = 0; k < n; k++)
     for (int i = 0; s[k].bound && i < s[k].n; i++)
-      if (s[k].bound[i]) return 1;
+      if (s[k].bound[i] == dir) return 1;
   return 0;
 }
 
@@ -204,7 +205,9 @@ static double legend_entry_width(const char *label) { return SAMPLE_W + 6 + jnd_
 
 static const char *legend_label(const jnd_plot_axes *ax, const jnd_plot_series *s, int kind, int index) {
   return kind == LEG_SERIES ? s[index].label : kind == LEG_HLINE ? ax->hlines[index].label
-                                                                  : ax->bound_label ? ax->bound_label : "lower bound";
+                                                                  : ax->bound_label ? ax->bound_label
+                                                                  : index < 0       ? "upper bound"
+                                                                                    : "lower bound";
 }
 
 /* ticks of axis a and their labels; labels that would overlap are left out
@@ -216,7 +219,7 @@ static void layout_ticks(plan *P, const jnd_plot_axes *ax, int a) {
   if (a == 0 && ax->integer_x && !f->log[0]) {
     int m = 0;
     double step = n > 1 ? L->tick[0][1] - L->tick[0][0] : 1;
-    if (step < 1) {
+    if (step < 1 || f->hi[0] - f->lo[0] <= 16) { /* every whole number while they are few */
       for (double v = ceil(f->lo[0] - 1e-9); v <= f->hi[0] + 1e-9 && m < MAX_TICKS; v++) L->tick[0][m++] = v;
     } else {
       for (int i = 0; i < n; i++)
@@ -361,7 +364,8 @@ static jnd_status plot_plan(const jnd_plot_axes *ax, const jnd_plot_series *seri
     if (series[k].label) P->leg[nleg++] = (legend_entry){LEG_SERIES, k, 0, 0};
   for (int k = 0; k < ax->nhlines && nleg < MAX_LEGEND; k++)
     if (ax->hlines[k].label && isfinite(ax->hlines[k].y)) P->leg[nleg++] = (legend_entry){LEG_HLINE, k, 0, 0};
-  if (series_has_bounds(series, nseries) && nleg < MAX_LEGEND) P->leg[nleg++] = (legend_entry){LEG_BOUND, 0, 0, 0};
+  for (int dir = 1; dir >= -1; dir -= 2)
+    if (series_has_bounds(series, nseries, dir) && nleg < MAX_LEGEND) P->leg[nleg++] = (legend_entry){LEG_BOUND, dir, 0, 0};
   P->nleg = nleg;
   int lrows = 0;
   double lx = f->x0;
@@ -504,6 +508,13 @@ jnd_status jnd_plot_lines(const jnd_plot_axes *ax, const jnd_plot_series *series
     int t = m < MAX_MARKS ? P->mark_text[m] : -1;
     if (t < 0) continue;
     jnd_draw_line(out, p, L->text_box[t].y1, p, f->y0, 1, ax->marks[m].colour);
+  }
+  /* their labels over the joins of the labels in the rows above (on white) */
+  for (int m = 0; m < ax->nmarks && m < MAX_MARKS; m++) {
+    int t = P->mark_text[m];
+    if (t < 0) continue;
+    const jnd_box *b = &L->text_box[t];
+    jnd_draw_rect(out, b->x0, b->y0 + 2, b->x1, b->y1, WHITE, 1);
     jnd_draw_text(out, P->at[t].x, P->at[t].y, L->text[t], TICK_PX, ax->marks[m].colour, JND_ALIGN_CENTRE, 0);
   }
 
@@ -550,7 +561,7 @@ jnd_status jnd_plot_lines(const jnd_plot_axes *ax, const jnd_plot_series *series
       dashed(out, x, y, x + SAMPLE_W, y, 2, ax->hlines[P->leg[e].index].colour);
     } else {
       frame fr = {0, y - 12, 0, y + 12, {0, 0}, {1, 1}, {0, 0}};
-      draw_bound(out, &fr, x + 0.5 * SAMPLE_W, y + 4, 1, INK);
+      draw_bound(out, &fr, x + 0.5 * SAMPLE_W, y + 4 * P->leg[e].index, P->leg[e].index, INK);
     }
     while (t < L->ntexts && L->text_kind[t] != 'l') t++;
     if (t < L->ntexts) {

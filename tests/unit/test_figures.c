@@ -8,6 +8,7 @@
 #include "batch/plots.h"
 #include "io/draw.h"
 #include "jnd.h"
+#include "tasks/tasks.h"
 
 static void px(const jnd_image *img, int x, int y, float rgb[3]) {
   for (int c = 0; c < 3; c++) rgb[c] = jnd_image_plane(img, c)[(size_t)y * img->w + x];
@@ -231,6 +232,73 @@ TEST(pca_energy_marks_the_components_kept_with_their_share) {
   cJSON_Delete(r);
 }
 
+TEST(pop_switch_plot_draws_the_pixel_rule_and_names_the_units_and_a_nearer_level) {
+  /* three switches at two speeds; level 3 pops less than level 2 and comes
+   * out nearer (as measured); the pixel rule's distances exist for every level */
+  jnd_pop_asset_report r;
+  memset(&r, 0, sizeof r);
+  r.nlevels = 4;
+  r.distance_unit = "object units";
+  jnd_pop_switch_row rows[6];
+  double d[3][2] = {{20, 15}, {60, 40}, {30, 25}}, pix[3] = {2, 5, 12};
+  for (int k = 0; k < 3; k++)
+    for (int s = 0; s < 2; s++) {
+      jnd_pop_switch_row *w = &rows[k * 2 + s];
+      memset(w, 0, sizeof *w);
+      w->level = k + 1;
+      w->distance_m = d[k][s];
+      w->distance_m_pixel_rule = pix[k];
+    }
+  r.rows = rows;
+  r.nrows = 6;
+  double speeds[2] = {0, 120};
+  jnd_image img;
+  jnd_plot_layout L;
+  CHECK_OK(pop_switch_plot(&r, speeds, 2, &img, &L));
+  int ylabel = 0, title = 0, legend = 0;
+  for (int i = 0; i < L.ntexts; i++) {
+    ylabel += L.text_kind[i] == 'y' && strcmp(L.text[i], "camera distance (object units)") == 0;
+    title += L.text_kind[i] == 't' && strstr(L.text[i], "pops less") != NULL;
+    legend += L.text_kind[i] == 'l' && strstr(L.text[i], "1-pixel") != NULL;
+    CHECK(L.text_box[i].x0 >= 0 && L.text_box[i].x1 <= L.width);
+  }
+  CHECK(ylabel == 1 && title == 1 && legend == 1);
+  /* the pixel rule's points are drawn where their distances are, and the
+   * measured distances where theirs are, level 3 below level 2 */
+  jnd_rgb grey = {0.4f, 0.4f, 0.4f};
+  for (int k = 0; k < 3; k++) {
+    CHECK(ink_near(&img, jnd_plot_layout_map(&L, 0, k + 1), jnd_plot_layout_map(&L, 1, pix[k]), 6, grey));
+    CHECK(ink_near(&img, jnd_plot_layout_map(&L, 0, k + 1), jnd_plot_layout_map(&L, 1, d[k][0]), 2, jnd_palette(0)));
+  }
+  CHECK(jnd_plot_layout_map(&L, 1, d[2][0]) > jnd_plot_layout_map(&L, 1, d[1][0]));
+  /* levels on whole-number ticks */
+  for (int i = 0; i < L.nticks[0]; i++) CHECK(L.tick[0][i] == floor(L.tick[0][i]));
+  jnd_image_free(&img);
+  /* a glTF's metres; and no "pops less" where every level is farther */
+  r.distance_unit = "m";
+  d[2][0] = 90, d[2][1] = 80;
+  for (int k = 0; k < 3; k++)
+    for (int s = 0; s < 2; s++) rows[k * 2 + s].distance_m = d[k][s];
+  CHECK_OK(pop_switch_plot(&r, speeds, 2, &img, &L));
+  ylabel = title = 0;
+  for (int i = 0; i < L.ntexts; i++) {
+    ylabel += L.text_kind[i] == 'y' && strcmp(L.text[i], "camera distance (m)") == 0;
+    title += L.text_kind[i] == 't' && strstr(L.text[i], "pops less") != NULL;
+  }
+  CHECK(ylabel == 1 && title == 0);
+  jnd_image_free(&img);
+  /* popping-free already at the nearest distance searched: an upper bound,
+   * an arrow down from it, named in the legend */
+  rows[0].sw.status = JND_POP_SWITCH_NEAREST;
+  CHECK_OK(pop_switch_plot(&r, speeds, 2, &img, &L));
+  int at_most = 0;
+  for (int i = 0; i < L.ntexts; i++) at_most += L.text_kind[i] == 'l' && strncmp(L.text[i], "at most", 7) == 0;
+  CHECK(at_most == 1);
+  double bx = jnd_plot_layout_map(&L, 0, 1), by = jnd_plot_layout_map(&L, 1, d[0][0]);
+  CHECK(ink_near(&img, bx, by + 14, 1, jnd_palette(0)) && !ink_near(&img, bx, by - 14, 1, jnd_palette(0)));
+  jnd_image_free(&img);
+}
+
 static int renderer_available(void) {
   jnd_renderer_params rp;
   jnd_renderer_defaults(&rp);
@@ -280,4 +348,5 @@ RUN_TESTS(the_heatmap_keeps_differences_above_one_jnd_apart, a_small_heatmap_is_
           the_texres_matrix_picture_outlines_the_chosen_pair, the_contribution_picture_names_channels_and_has_a_legend,
           texres_series_draws_early_stopped_values_as_bounds_and_the_threshold,
           pca_energy_marks_the_components_kept_with_their_share,
+          pop_switch_plot_draws_the_pixel_rule_and_names_the_units_and_a_nearer_level,
           the_worst_view_shows_the_chosen_sizes_whether_or_not_the_matrices_ran)
