@@ -233,19 +233,26 @@ static double max_r(jnd_model *m, jnd_scene *s, const jnd_view *v, const jnd_pop
   return x;
 }
 
+/* the built-in asset and one level of it at 10 % error: coarse enough to
+ * pop when the object fills the image height */
+static jnd_scene *builtin_with_a_coarse_level(void) {
+  jnd_scene *s = builtin();
+  jnd_lod_params lp;
+  jnd_lod_defaults(&lp);
+  double errors[1] = {0.1};
+  lp.errors = errors;
+  lp.nerrors = 1;
+  CHECK_OK(jnd_scene_lod_build(s, &lp));
+  CHECK(jnd_scene_lod_count(s) == 2);
+  return s;
+}
+
 TEST(the_switch_distance_brackets_the_limit) {
   if (!test_renderer_available()) {
     TEST_SKIP("no OpenGL context");
     return;
   }
-  jnd_scene *s = builtin();
-  jnd_lod_params lp;
-  jnd_lod_defaults(&lp);
-  double errors[1] = {0.1}; /* coarse enough to pop when the object fills the image height */
-  lp.errors = errors;
-  lp.nerrors = 1;
-  CHECK_OK(jnd_scene_lod_build(s, &lp));
-  CHECK(jnd_scene_lod_count(s) == 2);
+  jnd_scene *s = builtin_with_a_coarse_level();
   jnd_model *m = model();
   jnd_view v = view(s, 0.8);
   jnd_pop_params pp;
@@ -285,13 +292,7 @@ TEST(a_level_read_from_a_file_has_a_pixel_rule_distance_from_its_measured_error)
     TEST_SKIP("no OpenGL context");
     return;
   }
-  jnd_scene *s = builtin();
-  jnd_lod_params lp;
-  jnd_lod_defaults(&lp);
-  double errors[1] = {0.1};
-  lp.errors = errors;
-  lp.nerrors = 1;
-  CHECK_OK(jnd_scene_lod_build(s, &lp));
+  jnd_scene *s = builtin_with_a_coarse_level();
   char path[4096];
   snprintf(path, sizeof path, "%s/pop_levels.glb", test_tmp_dir());
   double cov[3] = {0.5, 0.1, 0};
