@@ -1584,6 +1584,13 @@ jnd_status jnd_calibrate_fit(const jnd_calib_scene *scenes, int n, const jnd_cal
 /* Frees the arrays of a result; safe on a zeroed struct. */
 void jnd_calibrate_result_free(jnd_calibrate_result *r);
 
+/* The picture of 000 Fig. 9/11: how many scenes' held-out errors
+ * (r->errors_px, predicted − measured) fall in each 32-pixel bin centred on
+ * a multiple of 32 (the end bins, ±512, hold everything beyond), as bars on
+ * labelled axes with the mean absolute error in the title. out is a canvas
+ * (sRGB 0..1) the caller frees. JND_ERR_ARG without scenes. */
+jnd_status jnd_calibrate_histogram(const jnd_calibrate_result *r, jnd_image *out);
+
 /* ------------------------------------------------------------------------ */
 /* Point of Imperceptibility of a level-of-detail chain (003)              */
 /* ------------------------------------------------------------------------ */

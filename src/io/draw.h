@@ -102,7 +102,7 @@ typedef struct {
   int nhlines;
   const char *bound_label;     /* the legend's entry for bound markers ("lower bound"), shown when a
                                   series has bounds */
-  int integer_x;               /* 1: x ticks only at whole numbers (levels, components) */
+  int integer_x, integer_y;    /* 1: ticks only at whole numbers (levels, components, counts) */
 } jnd_plot_axes;
 
 /* Where jnd_plot_lines puts things, so that tests can check that nothing

@@ -216,14 +216,14 @@ static void layout_ticks(plan *P, const jnd_plot_axes *ax, int a) {
   jnd_plot_layout *L = P->L;
   frame *f = &P->f;
   int n = axis_ticks(f->lo[a], f->hi[a], f->log[a], L->tick[a]);
-  if (a == 0 && ax->integer_x && !f->log[0]) {
+  if ((a == 0 ? ax->integer_x : ax->integer_y) && !f->log[a]) {
     int m = 0;
-    double step = n > 1 ? L->tick[0][1] - L->tick[0][0] : 1;
-    if (step < 1 || f->hi[0] - f->lo[0] <= 16) { /* every whole number while they are few */
-      for (double v = ceil(f->lo[0] - 1e-9); v <= f->hi[0] + 1e-9 && m < MAX_TICKS; v++) L->tick[0][m++] = v;
+    double step = n > 1 ? L->tick[a][1] - L->tick[a][0] : 1;
+    if (step < 1 || (a == 0 && f->hi[0] - f->lo[0] <= 16)) { /* every whole number while they are few */
+      for (double v = ceil(f->lo[a] - 1e-9); v <= f->hi[a] + 1e-9 && m < MAX_TICKS; v++) L->tick[a][m++] = v;
     } else {
       for (int i = 0; i < n; i++)
-        if (fabs(L->tick[0][i] - round(L->tick[0][i])) < 1e-9) L->tick[0][m++] = L->tick[0][i];
+        if (fabs(L->tick[a][i] - round(L->tick[a][i])) < 1e-9) L->tick[a][m++] = L->tick[a][i];
     }
     n = m;
   }

@@ -299,6 +299,53 @@ TEST(pop_switch_plot_draws_the_pixel_rule_and_names_the_units_and_a_nearer_level
   jnd_image_free(&img);
 }
 
+TEST(the_calibration_histogram_has_a_bar_per_bin_as_tall_as_its_count) {
+  /* bins of 32 px: −40 → −32, 0 and 10 → 0, 70 → 64, 600 → the open end bin 512 */
+  double err[5] = {-40, 0, 10, 70, 600};
+  jnd_calibrate_result r;
+  memset(&r, 0, sizeof r);
+  r.errors_px = err;
+  r.nscenes = 5;
+  r.cv_mae_px = 144;
+  jnd_image img;
+  CHECK_OK(jnd_calibrate_histogram(&r, &img));
+  jnd_rgb c = jnd_palette(0);
+  float want[3] = {c.r, c.g, c.b}, v[3];
+  int bottom = -1;
+  for (int y = 0; y < img.h; y++)
+    for (int x = 0; x < img.w; x++) {
+      px(&img, x, y, v);
+      if (dist(v, want) < 0.05) bottom = y;
+    }
+  CHECK(bottom > img.h / 2);
+  /* the bars along a row just above the axis, and the height of each */
+  int bars = 0, height[8] = {0};
+  for (int x = 0, run = 0; x <= img.w; x++) {
+    int in = 0;
+    if (x < img.w) {
+      px(&img, x, bottom - 1, v);
+      in = dist(v, want) < 0.05;
+    }
+    if (in) run++;
+    if (!in && run > 3 && bars < 8) {
+      int mid = x - run / 2, h = 0;
+      for (int y = bottom; y >= 0; y--) {
+        px(&img, mid, y, v);
+        if (dist(v, want) < 0.05) h++;
+      }
+      height[bars++] = h;
+    }
+    if (!in) run = 0;
+  }
+  CHECK(bars == 4);
+  CHECK_NEAR((double)height[1] / height[0], 2, 0.1); /* the 0 bin holds two */
+  CHECK_NEAR((double)height[2] / height[0], 1, 0.05);
+  CHECK_NEAR((double)height[3] / height[0], 1, 0.05);
+  jnd_image_free(&img);
+  r.nscenes = 0;
+  CHECK_STATUS(jnd_calibrate_histogram(&r, &img), JND_ERR_ARG);
+}
+
 static int renderer_available(void) {
   jnd_renderer_params rp;
   jnd_renderer_defaults(&rp);
@@ -349,4 +396,5 @@ RUN_TESTS(the_heatmap_keeps_differences_above_one_jnd_apart, a_small_heatmap_is_
           texres_series_draws_early_stopped_values_as_bounds_and_the_threshold,
           pca_energy_marks_the_components_kept_with_their_share,
           pop_switch_plot_draws_the_pixel_rule_and_names_the_units_and_a_nearer_level,
+          the_calibration_histogram_has_a_bar_per_bin_as_tall_as_its_count,
           the_worst_view_shows_the_chosen_sizes_whether_or_not_the_matrices_ran)
