@@ -379,7 +379,7 @@ static jnd_status plot_plan(const jnd_plot_axes *ax, const jnd_plot_series *seri
     P->leg[e].y = lrows; /* the row for now */
     lx += w;
   }
-  double below = 34 + (ax->xlabel ? 24 : 0) + (lrows ? 20.0 * lrows + 6 : 0);
+  double below = 34 + (ax->xlabel ? 24 : 0) + (lrows ? 20.0 * lrows + 10 : 0);
   f->y1 = H - below;
   if (f->y1 - f->y0 < 60) return jnd_fail(JND_ERR_ARG, "plot: %d pixels are too low for its labels", H);
 
@@ -396,8 +396,20 @@ static jnd_status plot_plan(const jnd_plot_axes *ax, const jnd_plot_series *seri
   for (int i = 0; i < L->nticks[1]; i++)
     add_text(P, 'Y', L->tick_label[1][i], f->x0 - 8, map_axis(f, 1, L->tick[1][i]) + 0.35 * TICK_PX, TICK_PX,
              JND_ALIGN_RIGHT, 0);
-  if (ax->xlabel) add_text(P, 'x', ax->xlabel, 0.5 * (f->x0 + f->x1), f->y1 + 50, LABEL_PX, JND_ALIGN_CENTRE, 0);
-  if (ax->ylabel) add_text(P, 'y', ax->ylabel, 6 + 0.93 * LABEL_PX, 0.5 * (f->y0 + f->y1), LABEL_PX, JND_ALIGN_CENTRE, 1);
+  /* axis labels centred on the plot area, moved in and made smaller where
+   * they would not fit the picture */
+  if (ax->xlabel) {
+    double px = LABEL_PX;
+    while (px > 9 && jnd_text_width(ax->xlabel, px) > W - 12) px -= 1;
+    double w = jnd_text_width(ax->xlabel, px), c = fmin(fmax(0.5 * (f->x0 + f->x1), 6 + 0.5 * w), W - 6 - 0.5 * w);
+    add_text(P, 'x', ax->xlabel, c, f->y1 + 50, px, JND_ALIGN_CENTRE, 0);
+  }
+  if (ax->ylabel) {
+    double px = LABEL_PX;
+    while (px > 9 && jnd_text_width(ax->ylabel, px) > H - 12) px -= 1;
+    double w = jnd_text_width(ax->ylabel, px), c = fmin(fmax(0.5 * (f->y0 + f->y1), 6 + 0.5 * w), H - 6 - 0.5 * w);
+    add_text(P, 'y', ax->ylabel, 6 + 0.93 * LABEL_PX, c, px, JND_ALIGN_CENTRE, 1);
+  }
   L->legend = (jnd_box){W, H, 0, 0};
   double ly0 = f->y1 + 34 + (ax->xlabel ? 24 : 0);
   for (int e = 0; e < nleg; e++) {

@@ -35,9 +35,9 @@ jnd_status jnd_calibrate_histogram(const jnd_calibrate_result *r, jnd_image *out
   jnd_plot_series s = {.x = x, .y = count, .n = 2 * HALF + 1, .label = NULL, .colour = jnd_palette(0),
                        .bar_width = 0.8 * BIN_PX};
   jnd_plot_axes ax = {.title = title,
-                      .xlabel = "predicted − measured threshold resolution (pixels; bins of 32, the ends ±512 and beyond)",
+                      .xlabel = "predicted − measured threshold (pixels; bins of 32, the end bins ±512 and beyond)",
                       .ylabel = "scenes",
                       .xmin = -(widest + 0.5) * BIN_PX, .xmax = (widest + 0.5) * BIN_PX,
-                      .ymin = 0, .ymax = NAN, .width = 640, .height = 360, .integer_y = 1};
+                      .ymin = 0, .ymax = NAN, .width = 720, .height = 380, .integer_y = 1};
   return jnd_plot_lines(&ax, &s, 1, out);
 }

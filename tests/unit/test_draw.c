@@ -222,8 +222,9 @@ TEST(every_text_of_a_plot_is_inside_the_picture_and_none_covers_another_or_the_d
   for (int i = 0; i < L.ntexts; i++)
     if (L.text_kind[i] == 'm' && strncmp(L.text[i], "perceptual", 10) == 0)
       CHECK(L.text_box[i].x1 - L.text_box[i].x0 >= jnd_text_width(L.text[i], 13));
-  /* the title shrinks to fit a narrow picture rather than being cut */
-  ax.width = 300;
+  /* the title and the axis labels shrink to fit a narrow picture rather than being cut */
+  ax.xlabel = "predicted − measured threshold resolution (pixels; bins of 32, the ends ±512 and beyond)";
+  ax.width = 420;
   CHECK_OK(jnd_plot_lines_layout(&ax, s, 2, &L));
   for (int i = 0; i < L.ntexts; i++) CHECK(L.text_box[i].x0 >= 0 && L.text_box[i].x1 <= L.width);
 }
