@@ -30,7 +30,7 @@ static int axis_ticks(double lo, double hi, int log_axis, double *t) {
   int n = 0;
   if (log_axis) {
     int d0 = (int)floor(log10(lo) + 1e-9), d1 = (int)ceil(log10(hi) - 1e-9);
-    int fine = d1 - d0 <= 2;
+    int fine = log10(hi / lo) <= 2.5 + 1e-9;
     for (int d = d0; d <= d1 && n < MAX_TICKS - 3; d++) {
       double m[3] = {1, 2, 5};
       for (int k = 0; k < (fine ? 3 : 1); k++) {
@@ -61,8 +61,16 @@ static void axis_range(double *lo, double *hi, int log_axis) {
     }
   }
   if (log_axis) {
-    *lo = pow(10, floor(log10(*lo) + 1e-9));
-    *hi = pow(10, ceil(log10(*hi) - 1e-9));
+    /* to 1, 2 or 5 × 10^k: 32..1024 reads on 20..2000, not 10..10000 */
+    static const double m[3] = {1, 2, 5};
+    double d = pow(10, floor(log10(*lo) + 1e-9)), l = d, u = pow(10, ceil(log10(*hi) - 1e-9));
+    for (int k = 0; k < 3; k++)
+      if (m[k] * d <= *lo * (1 + 1e-9)) l = m[k] * d;
+    double e = u / 10, h = u;
+    for (int k = 2; k >= 0; k--)
+      if (m[k] * e >= *hi * (1 - 1e-9)) h = m[k] * e;
+    *lo = l;
+    *hi = h;
   } else {
     double step = nice_step(*hi - *lo, 5);
     *lo = floor(*lo / step + 1e-9) * step;
