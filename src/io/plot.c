@@ -471,13 +471,20 @@ static void draw_bound(jnd_image *img, const frame *f, double x, double y, int d
   jnd_draw_line(img, x + 4, end - 5 * s, x, end, 2, c);
 }
 
-static void dashed(jnd_image *img, double x0, double y0, double x1, double y1, double width, jnd_rgb c) {
+/* dashes of 6 pixels every 10; phase j of n draws every n-th dash from the
+ * j-th, so that n lines on one place alternate their colours */
+static void dashed_phase(jnd_image *img, double x0, double y0, double x1, double y1, double width, jnd_rgb c, int j,
+                         int n) {
   double len = hypot(x1 - x0, y1 - y0);
-  for (double t = 0; t < len; t += 10) {
+  for (double t = 10.0 * j; t < len; t += 10.0 * n) {
     double u = fmin(t + 6, len);
     jnd_draw_line(img, x0 + (x1 - x0) * t / len, y0 + (y1 - y0) * t / len, x0 + (x1 - x0) * u / len,
                   y0 + (y1 - y0) * u / len, width, c);
   }
+}
+
+static void dashed(jnd_image *img, double x0, double y0, double x1, double y1, double width, jnd_rgb c) {
+  dashed_phase(img, x0, y0, x1, y1, width, c, 0, 1);
 }
 
 jnd_status jnd_plot_lines(const jnd_plot_axes *ax, const jnd_plot_series *series, int nseries, jnd_image *out) {
@@ -524,7 +531,15 @@ jnd_status jnd_plot_lines(const jnd_plot_axes *ax, const jnd_plot_series *series
     double x = ax->marks[m].x;
     if (!isfinite(x) || (f->log[0] && x <= 0) || x < f->lo[0] || x > f->hi[0]) continue;
     double p = map_axis(f, 0, x);
-    dashed(out, p, f->y0, p, f->y1, 2, ax->marks[m].colour);
+    /* markers on one place (a rule choosing the same level as another) take turns */
+    int j = 0, n = 0;
+    for (int o = 0; o < ax->nmarks; o++) {
+      double q = ax->marks[o].x;
+      if (!isfinite(q) || (f->log[0] && q <= 0) || fabs(map_axis(f, 0, q) - p) > 1) continue;
+      j += o < m;
+      n++;
+    }
+    dashed_phase(out, p, f->y0, p, f->y1, 2, ax->marks[m].colour, j, n);
     int t = m < MAX_MARKS ? P->mark_text[m] : -1;
     if (t < 0) continue;
     jnd_draw_line(out, p, L->text_box[t].y1, p, f->y0, 1, ax->marks[m].colour);

@@ -269,6 +269,25 @@ TEST(a_bound_is_drawn_off_the_line_with_an_arrow_and_a_threshold_across_the_plot
   jnd_image_free(&img);
 }
 
+TEST(two_markers_on_one_place_both_show) {
+  /* lod's pixel rule and perceptual choice on the same level: one dashed
+   * line used to hide the other */
+  double x[2] = {1, 10}, y[2] = {0, 1};
+  jnd_rgb green = {0, 0.6f, 0}, blue = {0, 0, 1};
+  jnd_plot_series s = {.x = x, .y = y, .n = 2, .colour = RED, .line = 1};
+  jnd_plot_mark m[2] = {{5, "px rule 5", green}, {5, "perceptual 5", blue}};
+  jnd_plot_axes ax = {.xmin = 0, .xmax = 10, .ymin = 0, .ymax = 1, .width = 400, .height = 300, .marks = m, .nmarks = 2};
+  jnd_plot_layout L;
+  jnd_image img;
+  CHECK_OK(jnd_plot_lines_layout(&ax, &s, 1, &L));
+  CHECK_OK(jnd_plot_lines(&ax, &s, 1, &img));
+  double px = jnd_plot_layout_map(&L, 0, 5);
+  int g = 0, b = 0;
+  for (double yy = L.plot.y0 + 2; yy < L.plot.y1 - 2; yy++) g += ink_near(&img, px, yy, 0, green), b += ink_near(&img, px, yy, 0, blue);
+  CHECK(g > 20 && b > 20);
+  jnd_image_free(&img);
+}
+
 TEST(grid_cells_take_the_colour_of_their_value) {
   double v[4] = {0, 1, 2, NAN};
   const char *rows[2] = {"2048", "1024"}, *cols[2] = {"512", "256"};
@@ -315,5 +334,6 @@ TEST(colour_scale_rises_in_lightness) {
 RUN_TESTS(a_thick_line_covers_its_path_and_nothing_far_from_it, text_is_drawn_within_its_measured_width,
           a_line_plot_maps_its_data_range_onto_the_plot_area, the_tick_labels_of_an_axis_share_one_number_format,
           every_text_of_a_plot_is_inside_the_picture_and_none_covers_another_or_the_data,
-          a_bound_is_drawn_off_the_line_with_an_arrow_and_a_threshold_across_the_plot, grid_cells_take_the_colour_of_their_value,
+          a_bound_is_drawn_off_the_line_with_an_arrow_and_a_threshold_across_the_plot, two_markers_on_one_place_both_show,
+          grid_cells_take_the_colour_of_their_value,
           colour_scale_rises_in_lightness)
