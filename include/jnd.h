@@ -1693,6 +1693,13 @@ jnd_status jnd_calibrate_fit(const jnd_calib_scene *scenes, int n, const jnd_cal
 /* Frees the arrays of a result; safe on a zeroed struct. */
 void jnd_calibrate_result_free(jnd_calibrate_result *r);
 
+/* The picture of 000 Fig. 9/11: how many scenes' held-out errors
+ * (r->errors_px, predicted − measured) fall in each 32-pixel bin centred on
+ * a multiple of 32 (the end bins, ±512, hold everything beyond), as bars on
+ * labelled axes with the mean absolute error in the title. out is a canvas
+ * (sRGB 0..1) the caller frees. JND_ERR_ARG without scenes. */
+jnd_status jnd_calibrate_histogram(const jnd_calibrate_result *r, jnd_image *out);
+
 /* ------------------------------------------------------------------------ */
 /* Point of Imperceptibility of a level-of-detail chain (003)              */
 /* ------------------------------------------------------------------------ */
@@ -2747,8 +2754,10 @@ typedef struct {
                               was measured (distance / distance_popping <= 1 + tolerance); NaN else */
   double max_rating;       /* the largest R over the views at distance (−inf: no region; at the
                               farthest distance for NONE) */
-  double distance_pixel_rule; /* where level's error_abs covers one pixel at the image's height
-                              (docs/lod.md's meshoptimizer rule); NaN for imported levels */
+  double distance_pixel_rule; /* where level's geometric error covers one pixel at the image's
+                              height (docs/lod.md's meshoptimizer rule): error_abs, or for levels
+                              read from a file the largest distance of 16384 points of level 0's
+                              surface from the level's (jnd_scene_lod_distance); NaN when it is 0 */
   int evaluations;         /* distances rendered and predicted */
 } jnd_pop_switch;
 
@@ -2808,6 +2817,9 @@ typedef struct {
   jnd_pop_switch_row *rows; /* decide: levels 1.. × speeds, level-major; owned */
   int nrows;
   jnd_image plot;          /* decide: distance per level, one line per speed (sRGB 0..1) */
+  const char *distance_unit; /* the unit of the rows' distance_m: "m" for glTF (metres by its
+                              specification) or a motion.unit_m other than 1, else "object units"
+                              (OBJ and the built-in assets carry no unit) */
   char renderer[256];
   double load_s, render_s, decide_s;
 } jnd_pop_asset_report;

@@ -178,7 +178,8 @@ static const jnd_batch_command COMMANDS[] = {
                                  "criterion statistic over the views; the chosen pair is outlined in red (000 Fig. 13)"}},
         .plots = {{"series.png", jnd_plot_texres_series,
                    "Each map alone at each candidate size: the criterion statistic (the view quantile of pooled P) "
-                   "against the size; the grey line is the threshold p"}},
+                   "against the size; open triangles with an arrow up are lower bounds (judging stopped once the "
+                   "candidate failed); the dashed grey line is the threshold p"}},
     },
     {
         .name = "pca",
@@ -216,7 +217,8 @@ static const jnd_batch_command COMMANDS[] = {
                       .caption = "How much each channel feeds each component (001's |S·Tᵀ|)"},
                      {.path = "result.textures[].file", .caption = "The stored components, packed four to a texture"}},
         .plots = {{"energy.png", jnd_plot_pca_energy,
-                   "Energy of each component and the cumulative share; the line marks the components kept"}},
+                   "Energy of each component and the cumulative share; the dashed line marks the components kept and the "
+                   "share of the energy they hold"}},
     },
     {
         .name = "diff",

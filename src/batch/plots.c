@@ -13,67 +13,75 @@
 #define MAX_MAPS 16
 #define MAX_POINTS 64
 
-static int write_plot(const jnd_plot_axes *ax, const jnd_plot_series *s, int n, const char *path) {
-  jnd_image img;
-  if (jnd_plot_lines(ax, s, n, &img) != JND_OK) return -1;
-  int ok = jnd_image_write_png(path, &img, 8) == JND_OK;
-  jnd_image_free(&img);
+static int write_image(jnd_image *img, const char *path) {
+  int ok = jnd_image_write_png(path, img, 8) == JND_OK;
+  jnd_image_free(img);
   return ok ? 1 : -1;
 }
 
-int jnd_plot_texres_series(const cJSON *report, const char *path) {
+static int draw(const jnd_plot_axes *ax, const jnd_plot_series *s, int n, jnd_image *img, jnd_plot_layout *layout) {
+  if (layout && jnd_plot_lines_layout(ax, s, n, layout) != JND_OK) return -1;
+  return jnd_plot_lines(ax, s, n, img) == JND_OK ? 1 : -1;
+}
+
+int jnd_plot_texres_series_image(const cJSON *report, jnd_image *img, jnd_plot_layout *layout) {
+  memset(img, 0, sizeof *img);
   const cJSON *maps[MAX_MAPS];
   int nm = jnd_json_select(report, "result.maps[]", maps, MAX_MAPS);
   if (nm > MAX_MAPS) nm = MAX_MAPS;
   double x[MAX_MAPS][MAX_POINTS], y[MAX_MAPS][MAX_POINTS];
-  jnd_plot_series s[MAX_MAPS + 1];
+  signed char bound[MAX_MAPS][MAX_POINTS];
+  jnd_plot_series s[MAX_MAPS];
   int ns = 0;
-  double xlo = INFINITY, xhi = -INFINITY;
   for (int m = 0; m < nm; m++) {
     const cJSON *cand = cJSON_GetObjectItemCaseSensitive(maps[m], "candidates");
     const cJSON *ser = cJSON_GetObjectItemCaseSensitive(maps[m], "series");
+    const cJSON *early = cJSON_GetObjectItemCaseSensitive(maps[m], "series_decided_early");
     const cJSON *name = cJSON_GetObjectItemCaseSensitive(maps[m], "name");
     const cJSON *searched = cJSON_GetObjectItemCaseSensitive(maps[m], "searched");
     if (!cJSON_IsArray(cand) || !cJSON_IsArray(ser) || cJSON_IsFalse(searched)) continue;
-    int n = 0, finite = 0;
+    /* the candidates judged (bisection leaves the others out): a value
+     * judged on every view is measured; one whose judging stopped once it
+     * failed (series_decided_early) is only a lower bound */
+    int n = 0;
     for (int k = 0; k < cJSON_GetArraySize(cand) && n < MAX_POINTS; k++) {
       const cJSON *c = cJSON_GetArrayItem(cand, k), *v = cJSON_GetArrayItem(ser, k);
       const cJSON *w = cJSON_GetArrayItem(c, 0), *h = cJSON_GetArrayItem(c, 1);
-      if (!cJSON_IsNumber(w) || !cJSON_IsNumber(h)) continue;
+      if (!cJSON_IsNumber(w) || !cJSON_IsNumber(h) || !cJSON_IsNumber(v)) continue;
       x[ns][n] = fmax(w->valuedouble, h->valuedouble);
-      y[ns][n] = cJSON_IsNumber(v) ? v->valuedouble : NAN;
-      finite += isfinite(y[ns][n]);
-      xlo = fmin(xlo, x[ns][n]);
-      xhi = fmax(xhi, x[ns][n]);
+      y[ns][n] = v->valuedouble;
+      bound[ns][n] = cJSON_IsTrue(cJSON_GetArrayItem(early, k)) ? 1 : 0;
       n++;
     }
-    if (!finite) continue;
+    if (!n) continue;
     s[ns] = (jnd_plot_series){.x = x[ns], .y = y[ns], .n = n, .label = cJSON_IsString(name) ? name->valuestring : NULL,
-                              .colour = jnd_palette(ns), .line = 1, .markers = 1};
+                              .colour = jnd_palette(ns), .line = 1, .markers = 1, .bound = bound[ns]};
     ns++;
   }
   if (!ns) return 0;
-  double p = jnd_json_number(report, "parameters.p");
-  double tx[2], ty[2];
+  double p = jnd_json_number(report, "parameters.criterion.p");
   char plabel[64];
-  if (isfinite(p)) {
-    tx[0] = xlo;
-    tx[1] = xhi;
-    ty[0] = ty[1] = p;
-    snprintf(plabel, sizeof plabel, "threshold p = %g", p);
-    s[ns++] = (jnd_plot_series){.x = tx, .y = ty, .n = 2, .label = plabel, .colour = {0.45f, 0.45f, 0.45f},
-                                .line = 1, .width = 1};
-  }
+  snprintf(plabel, sizeof plabel, "threshold p = %g", p);
+  jnd_plot_hline threshold = {.y = p, .label = plabel, .colour = {0.45f, 0.45f, 0.45f}};
   jnd_plot_axes ax = {.title = "Each map alone: visibility against size",
                       .xlabel = "longer side of the map (pixels)",
                       .ylabel = "criterion statistic (P)",
                       .log_x = 1,
                       .xmin = NAN, .xmax = NAN, .ymin = 0, .ymax = 1,
-                      .width = 760, .height = 440};
-  return write_plot(&ax, s, ns, path);
+                      .width = 760, .height = 460,
+                      .hlines = &threshold, .nhlines = isfinite(p) ? 1 : 0,
+                      .bound_label = "judged until it failed: a lower bound"};
+  return draw(&ax, s, ns, img, layout);
 }
 
-int jnd_plot_pca_energy(const cJSON *report, const char *path) {
+int jnd_plot_texres_series(const cJSON *report, const char *path) {
+  jnd_image img;
+  int r = jnd_plot_texres_series_image(report, &img, NULL);
+  return r == 1 ? write_image(&img, path) : r;
+}
+
+int jnd_plot_pca_energy_image(const cJSON *report, jnd_image *img, jnd_plot_layout *layout) {
+  memset(img, 0, sizeof *img);
   const cJSON *frac[MAX_POINTS], *cum[MAX_POINTS];
   int n = jnd_json_select(report, "result.energy_fraction[]", frac, MAX_POINTS);
   int nc = jnd_json_select(report, "result.cumulative_energy[]", cum, MAX_POINTS);
@@ -88,14 +96,21 @@ int jnd_plot_pca_energy(const cJSON *report, const char *path) {
       {.x = x, .y = f, .n = n, .label = "share of the energy", .colour = jnd_palette(0), .line = 1, .markers = 1},
       {.x = x, .y = c, .n = n, .label = "cumulative share", .colour = jnd_palette(1), .line = 1, .markers = 2}};
   double kept = jnd_json_number(report, "result.components_kept");
-  char label[64];
-  snprintf(label, sizeof label, "%d kept", isfinite(kept) ? (int)kept : 0);
+  int k = isfinite(kept) ? (int)kept : 0;
+  char label[96];
+  snprintf(label, sizeof label, "%d kept: %.1f %% of the energy", k, k >= 1 && k <= n ? 100 * c[k - 1] : 0.0);
   jnd_plot_mark mark = {.x = isfinite(kept) ? kept : NAN, .label = label, .colour = {0.8f, 0.1f, 0.1f}};
   jnd_plot_axes ax = {.title = "Energy of the principal components",
                       .xlabel = "component",
                       .ylabel = "fraction of the total variance",
                       .xmin = 1, .xmax = n > 1 ? n : 2, .ymin = 0, .ymax = 1,
-                      .width = 760, .height = 440,
+                      .width = 760, .height = 440, .integer_x = 1,
                       .marks = &mark, .nmarks = isfinite(kept) ? 1 : 0};
-  return write_plot(&ax, s, 2, path);
+  return draw(&ax, s, 2, img, layout);
+}
+
+int jnd_plot_pca_energy(const cJSON *report, const char *path) {
+  jnd_image img;
+  int r = jnd_plot_pca_energy_image(report, &img, NULL);
+  return r == 1 ? write_image(&img, path) : r;
 }

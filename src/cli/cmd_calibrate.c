@@ -92,26 +92,11 @@ static int find_scene(scene_rec *s, int n, const char *name, const char *map) {
 }
 
 /* 000 Fig. 9/11: counts of held-out signed errors in 32-pixel bins */
-static int write_histogram(const char *path, const double *err, int n) {
-  const int bins = 33, bw = 8, H = 120;
-  int count[33] = {0}, mx = 1;
-  for (int i = 0; i < n; i++) {
-    if (!isfinite(err[i])) continue;
-    int b = (int)floor(err[i] / 32.0 + 0.5) + bins / 2;
-    b = b < 0 ? 0 : b >= bins ? bins - 1 : b;
-    if (++count[b] > mx) mx = count[b];
-  }
+static int write_histogram(const char *path, const jnd_calibrate_result *R) {
   jnd_image img;
-  if (jnd_image_alloc(&img, bins * bw, H, 3) != JND_OK) return 0;
-  for (size_t i = 0; i < (size_t)img.w * H * 3; i++) img.data[i] = 1;
-  for (int b = 0; b < bins; b++) {
-    int h = (int)lround((double)count[b] / mx * (H - 10));
-    for (int y = H - h; y < H; y++)
-      for (int x = b * bw + 1; x < (b + 1) * bw - 1; x++) {
-        img.data[(size_t)y * img.w + x] = b == bins / 2 ? 0.2f : 0.3f;
-        img.data[((size_t)H + y) * img.w + x] = 0.4f;
-        img.data[((size_t)2 * H + y) * img.w + x] = b == bins / 2 ? 0.2f : 0.8f;
-      }
+  if (jnd_calibrate_histogram(R, &img) != JND_OK) {
+    cli_error("%s", jnd_last_error());
+    return 0;
   }
   int ok = jnd_image_write_png(path, &img, 8) == JND_OK;
   if (!ok) cli_error("%s", jnd_last_error());
@@ -434,7 +419,7 @@ static int run(int argc, char **argv) {
     cJSON_AddItemToArray(js, o);
   }
   if (hist_path) {
-    if (!write_histogram(hist_path, R.errors_px, R.nscenes)) goto out;
+    if (!write_histogram(hist_path, &R)) goto out;
     cJSON_AddStringToObject(res, "histogram", final_hist);
   }
   if (cli_report_write(report, out_path) != EXIT_OK) goto out;

@@ -455,9 +455,10 @@ static int run(int argc, char **argv) {
   if (cli_report_write(report, path) != EXIT_OK) goto out;
   if (json_out && cli_report_write(report, json_out) != EXIT_OK) goto out;
 
-  /* human summary */
-  cli_info(&common, "jnd pca: %d maps, %d x %d, %d channels; energy in the first 5: %.1f%%, knee at %d\n", R.set.nmaps,
-           R.set.w, R.set.h, C, 100.0 * cum[C < 5 ? C - 1 : 4], R.pca.knee);
+  /* human summary; the energy is the share of the variance the kept components hold */
+  cli_info(&common, "jnd pca: %d maps, %d x %d, %d channels; the %d component%s kept hold%s %.1f%% of the energy, knee at %d\n",
+           R.set.nmaps, R.set.w, R.set.h, C, K, K == 1 ? "" : "s", K == 1 ? "s" : "", K > 0 ? 100.0 * cum[K - 1] : 0.0,
+           R.pca.knee);
   for (int i = 0; i < R.set.nmaps; i++)
     if (R.set.maps[i].duplicates)
       cli_info(&common, "  %s: %d identical channel(s) counted once\n", R.set.maps[i].name, R.set.maps[i].duplicates);

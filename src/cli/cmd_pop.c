@@ -284,6 +284,7 @@ static void asset_json(cJSON *inputs, cJSON *params, cJSON *res, const char *mod
   }
   cJSON_AddNumberToObject(res, "views", R->nviews);
   cJSON_AddNumberToObject(res, "distance_m", R->pair_distance * ap->motion.unit_m);
+  cJSON_AddStringToObject(res, "distance_unit", R->distance_unit); /* of every distance_m */
   if (!ap->decide) return;
   cJSON *sw = cJSON_AddArrayToObject(res, "switch");
   for (int i = 0; i < R->nrows; i++) {
@@ -631,8 +632,9 @@ static int run(int argc, char **argv) {
     cli_info(&common, "no popping region (detection score 1 of 5); max dE94 %.2f   %dx%d, %.2f s\n",
              res_pair->max_delta_e94, res_pair->w, res_pair->h, cli_now() - t0);
   for (int i = 0; i < R.nrows; i++)
-    cli_info(&common, "  level %d at %g deg/s: switch from %.3g m (max R %.2f); 1-pixel rule %.3g m\n", R.rows[i].level,
-             R.rows[i].speed_dps, R.rows[i].distance_m, R.rows[i].sw.max_rating, R.rows[i].distance_m_pixel_rule);
+    cli_info(&common, "  level %d at %g deg/s: switch from %.3g %s (max R %.2f); 1-pixel rule %.3g %s\n", R.rows[i].level,
+             R.rows[i].speed_dps, R.rows[i].distance_m, R.distance_unit, R.rows[i].sw.max_rating,
+             R.rows[i].distance_m_pixel_rule, R.distance_unit);
   if (above) cli_info(&common, "above --fail-above %g\n", fail_above);
   rc = above ? EXIT_ABOVE : EXIT_OK;
 out:

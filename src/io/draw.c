@@ -170,6 +170,31 @@ double jnd_text_width(const char *text, double size_px) {
   return w;
 }
 
+jnd_box jnd_text_box(double x, double y, const char *text, double size_px, jnd_align align, int vertical) {
+  stbtt_fontinfo f;
+  jnd_box b = {x, y, x, y};
+  if (!text || !*text || !font_open(&f)) return b;
+  float scale = stbtt_ScaleForMappingEmToPixels(&f, (float)size_px);
+  int asc, desc, gap;
+  stbtt_GetFontVMetrics(&f, &asc, &desc, &gap);
+  double w = jnd_text_width(text, size_px), off = align == JND_ALIGN_CENTRE ? -0.5 * w : align == JND_ALIGN_RIGHT ? -w : 0;
+  /* as jnd_draw_text places its mask: the pen starts one pixel in, the
+   * anchor rounded, glyphs may reach a pixel past their advance */
+  double a = ceil(scale * asc) + 1, d = ceil(-scale * desc) + 1, s0 = lround(off) - 1, s1 = lround(off) + ceil(w) + 3;
+  if (vertical) {
+    b.x0 = lround(x) - a;
+    b.x1 = lround(x) + d;
+    b.y0 = lround(y) - s1 + 1;
+    b.y1 = lround(y) - s0 + 1;
+  } else {
+    b.x0 = lround(x) + s0;
+    b.x1 = lround(x) + s1;
+    b.y0 = lround(y) - a;
+    b.y1 = lround(y) + d;
+  }
+  return b;
+}
+
 void jnd_draw_text(jnd_image *img, double x, double y, const char *text, double size_px, jnd_rgb c, jnd_align align,
                    int vertical) {
   stbtt_fontinfo f;

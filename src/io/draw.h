@@ -54,6 +54,14 @@ double jnd_text_width(const char *text, double size_px);
  * clipped to img. */
 void jnd_draw_image(jnd_image *img, int x, int y, const jnd_image *src, int scale);
 
+/* The box a text drawn with jnd_draw_text(x, y, text, size_px, align,
+ * vertical) covers: [x0, x1) × [y0, y1) in pixels, from the font's ascent
+ * and descent and the text's advance width (the ink lies inside it). */
+typedef struct {
+  double x0, y0, x1, y1;
+} jnd_box;
+jnd_box jnd_text_box(double x, double y, const char *text, double size_px, jnd_align align, int vertical);
+
 /* ---- plots ---- */
 
 typedef struct {
@@ -61,16 +69,27 @@ typedef struct {
   int n;
   const char *label;   /* legend entry (NULL: none) */
   jnd_rgb colour;
-  int line;            /* draw the polyline */
+  int line;            /* draw the polyline (through the measured points only) */
   int markers;         /* 0 none, 1 discs, 2 rings */
   double width;        /* line width in pixels (0: 2) */
+  const signed char *bound; /* per point, or NULL (all measured): 0 a measured value; +1 a lower
+                          bound (the value is y or more: an open triangle with an arrow up, off
+                          the line); −1 an upper bound (arrow down) */
+  double bar_width;    /* > 0: a bar per point, this wide in x units, from the axis' bottom to y */
 } jnd_plot_series;
 
 typedef struct {
-  double x;            /* a vertical marker at this x (NaN: none) */
+  double x;            /* a vertical marker at this x (NaN: none), labelled above the plot area */
   const char *label;
   jnd_rgb colour;
 } jnd_plot_mark;
+
+typedef struct {
+  double y;            /* a horizontal reference line at this y (a threshold), dashed across the
+                          plot area, its label in the legend (NaN: none) */
+  const char *label;
+  jnd_rgb colour;
+} jnd_plot_hline;
 
 typedef struct {
   const char *title, *xlabel, *ylabel;
@@ -79,10 +98,50 @@ typedef struct {
   int width, height;           /* pixels (0: 800 × 500) */
   const jnd_plot_mark *marks;  /* vertical markers, e.g. a chosen level */
   int nmarks;
+  const jnd_plot_hline *hlines; /* horizontal reference lines, e.g. a threshold */
+  int nhlines;
+  const char *bound_label;     /* the legend's entry for bound markers ("lower bound"), shown when a
+                                  series has bounds */
+  int integer_x, integer_y;    /* 1: ticks only at whole numbers (levels, components, counts) */
 } jnd_plot_axes;
+
+/* Where jnd_plot_lines puts things, so that tests can check that nothing
+ * overlaps and nothing is clipped: the plot (data) area, the legend (below
+ * the axes, outside the data), the tick labels of each axis (one number
+ * format per axis: plain decimals with the same decimals on a linear axis,
+ * or m×10ⁿ for all when a tick needs more than 7 digits), the markers'
+ * labels (above the plot area, in rows that do not overlap) and every text's
+ * box. */
+#define JND_PLOT_MAX_TICKS 40
+#define JND_PLOT_MAX_TEXTS 160
+typedef struct {
+  int width, height;
+  jnd_box plot;                /* the data area */
+  double lo[2], hi[2];         /* the axes' ranges (x, y) */
+  int log[2];
+  jnd_box legend;              /* the legend's entries (x1 <= x0 when there is none) */
+  int nticks[2];               /* x, y */
+  double tick[2][JND_PLOT_MAX_TICKS];
+  char tick_label[2][JND_PLOT_MAX_TICKS][32];
+  int ntexts;                  /* every text the picture holds, with its box */
+  jnd_box text_box[JND_PLOT_MAX_TEXTS];
+  const char *text[JND_PLOT_MAX_TEXTS];
+  char text_kind[JND_PLOT_MAX_TEXTS]; /* 't' title, 'x'/'y' axis label, 'X'/'Y' tick, 'm' marker, 'l' legend */
+} jnd_plot_layout;
+
+/* The pixel coordinate of value v on axis 0 (x) or 1 (y) of a layout. */
+double jnd_plot_layout_map(const jnd_plot_layout *L, int axis, double v);
+
+/* The layout of jnd_plot_lines(axes, series) without drawing it. */
+jnd_status jnd_plot_lines_layout(const jnd_plot_axes *axes, const jnd_plot_series *series, int nseries,
+                                 jnd_plot_layout *out);
 
 /* Line plot of series on labelled axes with ticks, grid and a legend. */
 jnd_status jnd_plot_lines(const jnd_plot_axes *axes, const jnd_plot_series *series, int nseries, jnd_image *out);
+
+/* Labels for the ticks t[0..n) of an axis in one format (see
+ * jnd_plot_layout): label[i] for t[i]. */
+void jnd_plot_tick_labels(const double *t, int n, int log_axis, char (*label)[32]);
 
 /* A vertical colour bar into img at (x, y), w × h, mapping vmin (bottom) to
  * vmax (top) through map (NULL: jnd_colour_scale), with ticks at the given

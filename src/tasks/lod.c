@@ -782,7 +782,9 @@ jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, int perceptu
   char lu[96], ll[96], t[160], m[5][96];
   snprintf(lu, sizeof lu, "unlit, eq. 1 (largest %.3g)", mu);
   snprintf(ll, sizeof ll, "lit, eq. 3 (largest %.3g)", ml);
-  jnd_plot_series ser[2] = {{x, yu, n, lu, jnd_palette(0), 1, 1, 2}, {x, yl, n, ll, jnd_palette(1), 1, 1, 2}};
+  jnd_plot_series ser[2] = {
+      {.x = x, .y = yu, .n = n, .label = lu, .colour = jnd_palette(0), .line = 1, .markers = 1, .width = 2},
+      {.x = x, .y = yl, .n = n, .label = ll, .colour = jnd_palette(1), .line = 1, .markers = 1, .width = 2}};
   snprintf(t, sizeof t, "003 Pareto curves: %s (%d x %d, %.0f px/deg)", R->screen.name, R->screen.width_px,
            R->screen.height_px, R->screen.ppd);
   snprintf(m[0], sizeof m[0], "003 lit %zu", r->levels[R->poi_level].triangles);

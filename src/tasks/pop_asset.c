@@ -23,6 +23,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "core/core.h"
 #include "io/draw.h"
@@ -282,7 +283,16 @@ jnd_status jnd_pop_switch_distance(jnd_model *m, jnd_renderer *r, jnd_scene *sce
   if (st) return st;
   int wpx, hpx;
   jnd_renderer_size(r, &wpx, &hpx); /* the images the views are rendered at */
-  out->distance_pixel_rule = isfinite(li.error_abs) ? li.error_abs * hpx / (2 * tan(fov * M_PI / 360)) : NAN;
+  /* the level's geometric error in object units: meshoptimizer's where it
+   * made the level, else (levels read from a file, jnd lod's GLB among
+   * them) measured from level 0's surface as lod does (docs/lod.md) */
+  double err = li.error_abs;
+  if (!isfinite(err)) {
+    jnd_surface_distance dist;
+    if ((st = jnd_scene_lod_distance(scene, level, 16384, 1, &dist))) return st;
+    err = dist.max;
+  }
+  out->distance_pixel_rule = isfinite(err) && err > 0 ? err * hpx / (2 * tan(fov * M_PI / 360)) : NAN;
 
   double lo = jnd_camera_distance_for_coverage(radius, sp->coverage_near, fov);
   double hi = jnd_camera_distance_for_coverage(radius, sp->coverage_far, fov);
@@ -342,11 +352,26 @@ void jnd_pop_asset_report_free(jnd_pop_asset_report *r) {
   memset(r, 0, sizeof *r);
 }
 
-static jnd_status switch_plot(const jnd_pop_asset_report *r, const double *speeds, int nspeeds, jnd_image *out) {
+/* the unit of distances × motion.unit_m: glTF is in metres by its
+ * specification; OBJ and the built-in assets carry no unit */
+static const char *distance_unit(const char *path, const jnd_pop_motion *mo) {
+  const char *dot = strrchr(path, '.');
+  int gltf = dot && (strcasecmp(dot, ".gltf") == 0 || strcasecmp(dot, ".glb") == 0);
+  return gltf || (mo->unit_m > 0 && mo->unit_m != 1) ? "m" : "object units";
+}
+
+/* switch.png: each level's popping-free distance per speed and where its
+ * geometric error covers a pixel. Each point is measured on its own (the
+ * switch from level k − 1 to k), so a level can pop less than the one
+ * before and come out nearer: the plot shows it as measured and says so. */
+jnd_status pop_switch_plot(const jnd_pop_asset_report *r, const double *speeds, int nspeeds, jnd_image *out,
+                           jnd_plot_layout *layout) {
+  memset(out, 0, sizeof *out);
   int nl = r->nlevels - 1;
-  double *x = malloc(sizeof(double) * (size_t)nl * (nspeeds + 2));
+  if (nl < 1 || nspeeds < 1) return jnd_fail(JND_ERR_ARG, "pop: no switch to draw");
+  double *x = malloc((sizeof(double) + 1) * (size_t)nl * (nspeeds + 2));
   jnd_plot_series *ser = calloc((size_t)nspeeds + 1, sizeof *ser);
-  char(*labels)[48] = calloc((size_t)nspeeds + 1, sizeof *labels);
+  char(*labels)[64] = calloc((size_t)nspeeds + 1, sizeof *labels);
   if (!x || !ser || !labels) {
     free(x);
     free(ser);
@@ -354,31 +379,50 @@ static jnd_status switch_plot(const jnd_pop_asset_report *r, const double *speed
     return jnd_fail(JND_ERR_NOMEM, "pop: out of memory");
   }
   double *ys = x + nl;
+  signed char *bound = (signed char *)(ys + (size_t)nl * (nspeeds + 1));
   for (int k = 0; k < nl; k++) x[k] = k + 1;
+  int nearer = 0, bounds = 0; /* a level found nearer than the one before; a bound drawn */
   for (int s = 0; s <= nspeeds; s++) {
     double *y = ys + (size_t)s * nl;
+    signed char *b = bound + (size_t)s * nl;
     for (int k = 0; k < nl; k++) {
       const jnd_pop_switch_row *row = &r->rows[(size_t)k * nspeeds + (s < nspeeds ? s : 0)];
       double v = s < nspeeds ? row->distance_m : row->distance_m_pixel_rule;
       y[k] = isfinite(v) && v > 0 ? v : NAN;
+      /* popping-free already at the nearest distance searched: the switch
+       * could come nearer still, so the distance is an upper bound */
+      b[k] = s < nspeeds && row->sw.status == JND_POP_SWITCH_NEAREST ? -1 : 0;
+      bounds |= b[k] != 0 && isfinite(y[k]);
+      const jnd_pop_switch_row *prev = k > 0 ? row - nspeeds : NULL;
+      if (s < nspeeds && prev && row->sw.status == JND_POP_SWITCH_FOUND && prev->sw.status == JND_POP_SWITCH_FOUND &&
+          y[k] < y[k - 1])
+        nearer = 1;
     }
     if (s < nspeeds)
       snprintf(labels[s], sizeof labels[s], "max R < 1 at %g deg/s", speeds[s]);
     else
       snprintf(labels[s], sizeof labels[s], "1-pixel geometric error");
-    ser[s] = (jnd_plot_series){x, y, nl, labels[s], s < nspeeds ? jnd_palette(s) : (jnd_rgb){0.4f, 0.4f, 0.4f}, 1,
-                               s < nspeeds ? 1 : 2, s < nspeeds ? 2.0 : 1.0};
+    ser[s] = (jnd_plot_series){.x = x, .y = y, .n = nl, .label = labels[s],
+                               .colour = s < nspeeds ? jnd_palette(s) : (jnd_rgb){0.4f, 0.4f, 0.4f}, .line = 1,
+                               .markers = s < nspeeds ? 1 : 2, .width = s < nspeeds ? 2.0 : 1.5, .bound = b};
   }
+  char ylabel[64];
+  snprintf(ylabel, sizeof ylabel, "camera distance (%s)", r->distance_unit ? r->distance_unit : "object units");
   jnd_plot_axes ax;
   memset(&ax, 0, sizeof ax);
-  ax.title = "popping-free switch distance per level (004: largest R < 1)";
-  ax.xlabel = "level that takes over";
-  ax.ylabel = "camera distance, m";
+  ax.title = nearer ? "popping-free switch distance per level (004: largest R < 1); a level below the one before "
+                      "pops less than it, as measured"
+                    : "popping-free switch distance per level (004: largest R < 1)";
+  ax.xlabel = "level that takes over (the switch from the level before)";
+  ax.ylabel = ylabel;
   ax.log_y = 1;
   ax.xmin = 0.5;
   ax.xmax = nl + 0.5;
   ax.ymin = ax.ymax = NAN;
-  jnd_status st = jnd_plot_lines(&ax, ser, nspeeds + 1, out);
+  ax.integer_x = 1;
+  ax.bound_label = bounds ? "at most: popping-free already at the nearest distance searched" : NULL;
+  jnd_status st = layout ? jnd_plot_lines_layout(&ax, ser, nspeeds + 1, layout) : JND_OK;
+  if (!st) st = jnd_plot_lines(&ax, ser, nspeeds + 1, out);
   free(x);
   free(ser);
   free(labels);
@@ -409,6 +453,7 @@ jnd_status jnd_pop_asset_run(jnd_model *m, const char *model_path, const jnd_pop
     jnd_scene_free(scene);
     return st;
   }
+  out->distance_unit = distance_unit(model_path, &p->motion);
   out->nlevels = jnd_scene_lod_count(scene);
   if (out->nlevels > 64) out->nlevels = 64;
   for (int k = 0; k < out->nlevels && !st; k++) st = jnd_scene_lod_info(scene, k, &out->levels[k]);
@@ -455,7 +500,7 @@ jnd_status jnd_pop_asset_run(jnd_model *m, const char *model_path, const jnd_pop
         out->nrows++;
       }
     if (!st && p->progress) p->progress(p->progress_user, "switch distances", nl * nspeeds, nl * nspeeds);
-    if (!st) st = switch_plot(out, speeds, nspeeds, &out->plot);
+    if (!st) st = pop_switch_plot(out, speeds, nspeeds, &out->plot, NULL);
   }
   out->decide_s = jnd_seconds() - t2;
   free(views);

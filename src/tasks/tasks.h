@@ -6,6 +6,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include "jnd.h"
+#include "io/draw.h"
 
 /* ---- linalg.c: small dense linear algebra for pca.c (begin) ---- */
 
@@ -117,6 +118,12 @@ jnd_status pop_backdrop(const jnd_display *d, const jnd_image *frame, jnd_image 
 jnd_status pop_picture(const jnd_image *grey, const jnd_pop_result *r, jnd_image *out);
 
 /* ---- pop_picture.c (end) ---- */
+
+/* pop_asset.c: switch.png of a report with rows (decide): the popping-free
+ * distance per level, one line per speed, and the 1-pixel rule's distances,
+ * on a log axis labelled in r->distance_unit; its layout too unless NULL */
+jnd_status pop_switch_plot(const jnd_pop_asset_report *r, const double *speeds, int nspeeds, jnd_image *out,
+                           jnd_plot_layout *layout);
 
 /* ---- texres_figures.c: pictures of a texres result (begin) ---- */
 

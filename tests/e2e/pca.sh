@@ -34,6 +34,19 @@ check default_keeps_99_percent_of_the_energy_with_fewer_components \
          and (.result.components_kept == 1 or .result.cumulative_energy[.result.components_kept - 2] < 0.99)' "$T/dflt/pca.json"
 check one_baseline_for_sizes jq -e '.result.original_bytes == 3 * 96 * 64 * 3 and .result.storage_bytes < .result.original_bytes' "$T/dflt/pca.json"
 
+# the summary prints the energy of the components kept (it printed the first
+# 5's, 100 % here, whatever it kept)
+expect_exit 0 one_component_runs "$JND" pca $M -o "$T/one" --components 1
+check the_summary_prints_the_energy_of_the_components_kept python3 - "$T/err.txt" "$T/one/pca.json" <<'PY'
+import json, re, sys
+line = open(sys.argv[1]).read()
+r = json.load(open(sys.argv[2]))["result"]
+m = re.search(r"the (\d+) components? kept holds? ([0-9.]+)% of the energy", line)
+assert m and int(m.group(1)) == r["components_kept"] == 1, line
+assert abs(float(m.group(2)) - 100 * r["cumulative_energy"][0]) < 0.051, (m.group(2), r["cumulative_energy"])
+assert r["cumulative_energy"][0] < 0.9995  # not 100 %: the check can tell
+PY
+
 # all components: float reconstruction, energies summing to the total variance
 expect_exit 0 all_components_run "$JND" pca $M -o "$T/all" --components all --quiet
 check writes_json_components_and_plot test -s "$T/all/pca.json" -a -s "$T/all/components_0.png" -a -s "$T/all/contribution.png"

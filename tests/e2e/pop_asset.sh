@@ -47,6 +47,13 @@ check the_search_is_reported jq -e '.parameters.search.speeds_dps == [0, 240] an
 check switch_png_is_a_plot python3 -c "
 import struct, sys; b = open('$T/d/switch.png', 'rb').read(); w, h = struct.unpack('>II', b[16:24]); sys.exit(0 if b[:4] == b'\x89PNG' and w >= 400 and h >= 300 else 1)"
 
+check distances_of_the_builtin_are_in_object_units jq -e '.result.distance_unit == "object units"' "$T/d/pop.json"
+# jnd lod's own GLB: its levels carry no meshoptimizer error, so the pixel
+# rule comes from their measured error (it was null); glTF is in metres
+"$JND" lod "$T/ball.obj" -o "$T/l" --chain-only --errors 0.05 --quiet
+expect_exit 0 decisions_on_jnds_own_glb "$JND" pop "$T/l/model/ball.glb" -o "$T/g" "${SMALL[@]}" --speeds 0 --tolerance 0.3
+check the_pixel_rule_of_a_glbs_levels_is_drawn jq -e '(.result.switch | length >= 1) and all(.result.switch[]; .distance_m_pixel_rule > 0) and .result.distance_unit == "m"' "$T/g/pop.json"
+
 "$JND" pop builtin -o "$T/t1" "${SMALL[@]}" --errors 0.1 --orbit 60 --threads 1
 "$JND" pop builtin -o "$T/t2" "${SMALL[@]}" --errors 0.1 --orbit 60 --threads 2
 check report_is_byte_identical_across_thread_counts cmp -s "$T/t1/pop.json" "$T/t2/pop.json"

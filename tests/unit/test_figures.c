@@ -5,8 +5,10 @@
  * chosen sizes whether or not the matrices ran. */
 #include "test.h"
 
+#include "batch/plots.h"
 #include "io/draw.h"
 #include "jnd.h"
+#include "tasks/tasks.h"
 
 static void px(const jnd_image *img, int x, int y, float rgb[3]) {
   for (int c = 0; c < 3; c++) rgb[c] = jnd_image_plane(img, c)[(size_t)y * img->w + x];
@@ -153,6 +155,197 @@ TEST(the_contribution_picture_names_channels_and_has_a_legend) {
   jnd_image_free(&plain);
 }
 
+static int ink_near(const jnd_image *img, double x, double y, int r, jnd_rgb c) {
+  for (int dy = -r; dy <= r; dy++)
+    for (int dx = -r; dx <= r; dx++) {
+      int X = (int)floor(x) + dx, Y = (int)floor(y) + dy;
+      if (X < 0 || Y < 0 || X >= img->w || Y >= img->h) continue;
+      float v[3], want[3] = {c.r, c.g, c.b};
+      px(img, X, Y, v);
+      if (dist(v, want) < 0.3) return 1;
+    }
+  return 0;
+}
+
+static int box_overlap(const jnd_box *a, const jnd_box *b) {
+  return a->x0 < b->x1 && b->x0 < a->x1 && a->y0 < b->y1 && b->y0 < a->y1;
+}
+
+TEST(texres_series_draws_early_stopped_values_as_bounds_and_the_threshold) {
+  /* the zig-zag of issue 25: 256 and 64 were judged until they failed, so
+   * 0.357 and 0.97 are lower bounds; 512 and 128 were judged on every view */
+  cJSON *r = cJSON_Parse("{\"parameters\": {\"criterion\": {\"p\": 0.25, \"q\": 0.1}}, \"result\": {\"maps\": [{"
+                         "\"name\": \"body/normal\", \"searched\": true,"
+                         "\"candidates\": [[512, 512], [256, 256], [128, 128], [64, 64], [32, 32]],"
+                         "\"series\": [0, 0.357, 0.104, 0.97, null],"
+                         "\"series_decided_early\": [false, true, false, true, false]}]}}");
+  CHECK(r != NULL);
+  jnd_image img;
+  jnd_plot_layout L;
+  CHECK(jnd_plot_texres_series_image(r, &img, &L) == 1);
+  jnd_rgb c = jnd_palette(0);
+  double x[4] = {512, 256, 128, 64}, y[4] = {0, 0.357, 0.104, 0.97}, X[4], Y[4];
+  for (int i = 0; i < 4; i++) X[i] = jnd_plot_layout_map(&L, 0, x[i]), Y[i] = jnd_plot_layout_map(&L, 1, y[i]);
+  /* the line joins the measured values 512 and 128 ... */
+  CHECK(ink_near(&img, 0.5 * (X[0] + X[2]), 0.5 * (Y[0] + Y[2]), 1, c));
+  /* ... and goes neither to 256's bound nor on to 64's */
+  CHECK(!ink_near(&img, 0.5 * (X[0] + X[1]), 0.5 * (Y[0] + Y[1]), 2, c));
+  CHECK(!ink_near(&img, 0.5 * (X[2] + X[3]), 0.5 * (Y[2] + Y[3]), 2, c));
+  /* each bound: its marker, an arrow up, nothing below */
+  for (int i = 1; i < 4; i += 2) {
+    CHECK(ink_near(&img, X[i], Y[i], 5, c));
+    CHECK(ink_near(&img, X[i], Y[i] - 14, 1, c) || Y[i] - 14 < L.plot.y0 + 2);
+    CHECK(!ink_near(&img, X[i], Y[i] + 14, 2, c));
+  }
+  /* the threshold p = 0.25 (parameters.criterion.p) is drawn across */
+  double ty = jnd_plot_layout_map(&L, 1, 0.25);
+  int drawn = 0, n = 0;
+  for (double xx = L.plot.x0 + 4; xx < L.plot.x1 - 4; xx++, n++) drawn += ink_near(&img, xx, ty, 0, (jnd_rgb){0.45f, 0.45f, 0.45f});
+  CHECK(drawn > n / 2);
+  /* the legend, outside the data, names the map, the threshold and the bounds */
+  int named = 0;
+  for (int i = 0; i < L.ntexts; i++) {
+    if (L.text_kind[i] != 'l') continue;
+    CHECK(!box_overlap(&L.text_box[i], &L.plot));
+    named |= (strcmp(L.text[i], "body/normal") == 0) | (strstr(L.text[i], "p = 0.25") ? 2 : 0) |
+             (strstr(L.text[i], "lower bound") ? 4 : 0);
+  }
+  CHECK(named == 7);
+  CHECK(!box_overlap(&L.legend, &L.plot));
+  jnd_image_free(&img);
+  cJSON_Delete(r);
+}
+
+TEST(pca_energy_marks_the_components_kept_with_their_share) {
+  cJSON *r = cJSON_Parse("{\"result\": {\"components_kept\": 2, \"energy_fraction\": [0.7, 0.2, 0.06, 0.04],"
+                         "\"cumulative_energy\": [0.7, 0.9, 0.96, 1.0]}}");
+  jnd_image img;
+  jnd_plot_layout L;
+  CHECK(jnd_plot_pca_energy_image(r, &img, &L) == 1);
+  int mark = 0;
+  for (int i = 0; i < L.ntexts; i++)
+    if (L.text_kind[i] == 'm') mark += strcmp(L.text[i], "2 kept: 90.0 % of the energy") == 0;
+  CHECK(mark == 1);
+  /* components are whole numbers: no tick between them */
+  for (int i = 0; i < L.nticks[0]; i++) CHECK(L.tick[0][i] == floor(L.tick[0][i]));
+  jnd_image_free(&img);
+  cJSON_Delete(r);
+}
+
+TEST(pop_switch_plot_draws_the_pixel_rule_and_names_the_units_and_a_nearer_level) {
+  /* three switches at two speeds; level 3 pops less than level 2 and comes
+   * out nearer (as measured); the pixel rule's distances exist for every level */
+  jnd_pop_asset_report r;
+  memset(&r, 0, sizeof r);
+  r.nlevels = 4;
+  r.distance_unit = "object units";
+  jnd_pop_switch_row rows[6];
+  double d[3][2] = {{20, 15}, {60, 40}, {30, 25}}, pix[3] = {2, 5, 12};
+  for (int k = 0; k < 3; k++)
+    for (int s = 0; s < 2; s++) {
+      jnd_pop_switch_row *w = &rows[k * 2 + s];
+      memset(w, 0, sizeof *w);
+      w->level = k + 1;
+      w->distance_m = d[k][s];
+      w->distance_m_pixel_rule = pix[k];
+    }
+  r.rows = rows;
+  r.nrows = 6;
+  double speeds[2] = {0, 120};
+  jnd_image img;
+  jnd_plot_layout L;
+  CHECK_OK(pop_switch_plot(&r, speeds, 2, &img, &L));
+  int ylabel = 0, title = 0, legend = 0;
+  for (int i = 0; i < L.ntexts; i++) {
+    ylabel += L.text_kind[i] == 'y' && strcmp(L.text[i], "camera distance (object units)") == 0;
+    title += L.text_kind[i] == 't' && strstr(L.text[i], "pops less") != NULL;
+    legend += L.text_kind[i] == 'l' && strstr(L.text[i], "1-pixel") != NULL;
+    CHECK(L.text_box[i].x0 >= 0 && L.text_box[i].x1 <= L.width);
+  }
+  CHECK(ylabel == 1 && title == 1 && legend == 1);
+  /* the pixel rule's points are drawn where their distances are, and the
+   * measured distances where theirs are, level 3 below level 2 */
+  jnd_rgb grey = {0.4f, 0.4f, 0.4f};
+  for (int k = 0; k < 3; k++) {
+    CHECK(ink_near(&img, jnd_plot_layout_map(&L, 0, k + 1), jnd_plot_layout_map(&L, 1, pix[k]), 6, grey));
+    CHECK(ink_near(&img, jnd_plot_layout_map(&L, 0, k + 1), jnd_plot_layout_map(&L, 1, d[k][0]), 2, jnd_palette(0)));
+  }
+  CHECK(jnd_plot_layout_map(&L, 1, d[2][0]) > jnd_plot_layout_map(&L, 1, d[1][0]));
+  /* levels on whole-number ticks */
+  for (int i = 0; i < L.nticks[0]; i++) CHECK(L.tick[0][i] == floor(L.tick[0][i]));
+  jnd_image_free(&img);
+  /* a glTF's metres; and no "pops less" where every level is farther */
+  r.distance_unit = "m";
+  d[2][0] = 90, d[2][1] = 80;
+  for (int k = 0; k < 3; k++)
+    for (int s = 0; s < 2; s++) rows[k * 2 + s].distance_m = d[k][s];
+  CHECK_OK(pop_switch_plot(&r, speeds, 2, &img, &L));
+  ylabel = title = 0;
+  for (int i = 0; i < L.ntexts; i++) {
+    ylabel += L.text_kind[i] == 'y' && strcmp(L.text[i], "camera distance (m)") == 0;
+    title += L.text_kind[i] == 't' && strstr(L.text[i], "pops less") != NULL;
+  }
+  CHECK(ylabel == 1 && title == 0);
+  jnd_image_free(&img);
+  /* popping-free already at the nearest distance searched: an upper bound,
+   * an arrow down from it, named in the legend */
+  rows[0].sw.status = JND_POP_SWITCH_NEAREST;
+  CHECK_OK(pop_switch_plot(&r, speeds, 2, &img, &L));
+  int at_most = 0;
+  for (int i = 0; i < L.ntexts; i++) at_most += L.text_kind[i] == 'l' && strncmp(L.text[i], "at most", 7) == 0;
+  CHECK(at_most == 1);
+  double bx = jnd_plot_layout_map(&L, 0, 1), by = jnd_plot_layout_map(&L, 1, d[0][0]);
+  CHECK(ink_near(&img, bx, by + 14, 1, jnd_palette(0)) && !ink_near(&img, bx, by - 14, 1, jnd_palette(0)));
+  jnd_image_free(&img);
+}
+
+TEST(the_calibration_histogram_has_a_bar_per_bin_as_tall_as_its_count) {
+  /* bins of 32 px: −40 → −32, 0 and 10 → 0, 70 → 64, 600 → the open end bin 512 */
+  double err[5] = {-40, 0, 10, 70, 600};
+  jnd_calibrate_result r;
+  memset(&r, 0, sizeof r);
+  r.errors_px = err;
+  r.nscenes = 5;
+  r.cv_mae_px = 144;
+  jnd_image img;
+  CHECK_OK(jnd_calibrate_histogram(&r, &img));
+  jnd_rgb c = jnd_palette(0);
+  float want[3] = {c.r, c.g, c.b}, v[3];
+  int bottom = -1;
+  for (int y = 0; y < img.h; y++)
+    for (int x = 0; x < img.w; x++) {
+      px(&img, x, y, v);
+      if (dist(v, want) < 0.05) bottom = y;
+    }
+  CHECK(bottom > img.h / 2);
+  /* the bars along a row just above the axis, and the height of each */
+  int bars = 0, height[8] = {0};
+  for (int x = 0, run = 0; x <= img.w; x++) {
+    int in = 0;
+    if (x < img.w) {
+      px(&img, x, bottom - 1, v);
+      in = dist(v, want) < 0.05;
+    }
+    if (in) run++;
+    if (!in && run > 3 && bars < 8) {
+      int mid = x - run / 2, h = 0;
+      for (int y = bottom; y >= 0; y--) {
+        px(&img, mid, y, v);
+        if (dist(v, want) < 0.05) h++;
+      }
+      height[bars++] = h;
+    }
+    if (!in) run = 0;
+  }
+  CHECK(bars == 4);
+  CHECK_NEAR((double)height[1] / height[0], 2, 0.1); /* the 0 bin holds two */
+  CHECK_NEAR((double)height[2] / height[0], 1, 0.05);
+  CHECK_NEAR((double)height[3] / height[0], 1, 0.05);
+  jnd_image_free(&img);
+  r.nscenes = 0;
+  CHECK_STATUS(jnd_calibrate_histogram(&r, &img), JND_ERR_ARG);
+}
+
 static int renderer_available(void) {
   jnd_renderer_params rp;
   jnd_renderer_defaults(&rp);
@@ -200,4 +393,8 @@ TEST(the_worst_view_shows_the_chosen_sizes_whether_or_not_the_matrices_ran) {
 
 RUN_TESTS(the_heatmap_keeps_differences_above_one_jnd_apart, a_small_heatmap_is_magnified_to_a_readable_size,
           the_texres_matrix_picture_outlines_the_chosen_pair, the_contribution_picture_names_channels_and_has_a_legend,
+          texres_series_draws_early_stopped_values_as_bounds_and_the_threshold,
+          pca_energy_marks_the_components_kept_with_their_share,
+          pop_switch_plot_draws_the_pixel_rule_and_names_the_units_and_a_nearer_level,
+          the_calibration_histogram_has_a_bar_per_bin_as_tall_as_its_count,
           the_worst_view_shows_the_chosen_sizes_whether_or_not_the_matrices_ran)

@@ -233,19 +233,26 @@ static double max_r(jnd_model *m, jnd_scene *s, const jnd_view *v, const jnd_pop
   return x;
 }
 
+/* the built-in asset and one level of it at 10 % error: coarse enough to
+ * pop when the object fills the image height */
+static jnd_scene *builtin_with_a_coarse_level(void) {
+  jnd_scene *s = builtin();
+  jnd_lod_params lp;
+  jnd_lod_defaults(&lp);
+  double errors[1] = {0.1};
+  lp.errors = errors;
+  lp.nerrors = 1;
+  CHECK_OK(jnd_scene_lod_build(s, &lp));
+  CHECK(jnd_scene_lod_count(s) == 2);
+  return s;
+}
+
 TEST(the_switch_distance_brackets_the_limit) {
   if (!test_renderer_available()) {
     TEST_SKIP("no OpenGL context");
     return;
   }
-  jnd_scene *s = builtin();
-  jnd_lod_params lp;
-  jnd_lod_defaults(&lp);
-  double errors[1] = {0.1}; /* coarse enough to pop when the object fills the image height */
-  lp.errors = errors;
-  lp.nerrors = 1;
-  CHECK_OK(jnd_scene_lod_build(s, &lp));
-  CHECK(jnd_scene_lod_count(s) == 2);
+  jnd_scene *s = builtin_with_a_coarse_level();
   jnd_model *m = model();
   jnd_view v = view(s, 0.8);
   jnd_pop_params pp;
@@ -278,7 +285,50 @@ TEST(the_switch_distance_brackets_the_limit) {
   jnd_scene_free(s);
 }
 
+TEST(a_level_read_from_a_file_has_a_pixel_rule_distance_from_its_measured_error) {
+  /* jnd lod's GLB carries no meshoptimizer error: its levels' pixel rule
+   * used to be null; now their error is measured from level 0's surface */
+  if (!test_renderer_available()) {
+    TEST_SKIP("no OpenGL context");
+    return;
+  }
+  jnd_scene *s = builtin_with_a_coarse_level();
+  char path[4096];
+  snprintf(path, sizeof path, "%s/pop_levels.glb", test_tmp_dir());
+  double cov[3] = {0.5, 0.1, 0};
+  CHECK_OK(jnd_scene_write_lod_glb(s, path, cov));
+  jnd_lod_level_info made;
+  CHECK_OK(jnd_scene_lod_info(s, 1, &made));
+  jnd_scene_free(s);
+  CHECK_OK(jnd_scene_load(path, &s));
+  CHECK(jnd_scene_lod_count(s) == 2);
+  jnd_lod_level_info li;
+  CHECK_OK(jnd_scene_lod_info(s, 1, &li));
+  CHECK(!isfinite(li.error_abs)); /* the file holds none */
+  jnd_model *m = model();
+  jnd_view v = view(s, 0.8);
+  jnd_pop_params pp;
+  jnd_pop_defaults(&pp);
+  jnd_pop_switch_params sp;
+  jnd_pop_switch_defaults(&sp);
+  sp.tolerance = 0.5;
+  jnd_pop_motion mo;
+  jnd_pop_motion_defaults(&mo);
+  jnd_pop_switch sw;
+  CHECK_OK(jnd_pop_switch_distance(m, renderer(), s, &v, 1, &mo, 1, &pp, &sp, &sw));
+  jnd_surface_distance d;
+  CHECK_OK(jnd_scene_lod_distance(s, 1, 16384, 1, &d));
+  CHECK(isfinite(sw.distance_pixel_rule) && d.max > 0);
+  CHECK_NEAR(d.max * SIZE / (2 * sw.distance_pixel_rule * tan(45 * M_PI / 360)), 1, 1e-9);
+  /* the measured error is of the order of meshoptimizer's bound for the level */
+  CHECK(d.max > 0.1 * made.error_abs && d.max < 3 * made.error_abs);
+  remove(path);
+  jnd_model_free(m);
+  jnd_scene_free(s);
+}
+
 RUN_TESTS(an_orbit_turns_the_eye_about_the_target_at_its_speed,
           a_translation_moves_eye_and_target_along_the_cameras_axes_in_metres,
           a_spin_rotates_the_object_about_the_target_not_the_camera, identical_levels_do_not_pop_at_rest_or_in_motion,
-          the_switch_distance_brackets_the_limit, shading_with_the_previous_setup_matches_the_previous_frame)
+          the_switch_distance_brackets_the_limit, a_level_read_from_a_file_has_a_pixel_rule_distance_from_its_measured_error,
+          shading_with_the_previous_setup_matches_the_previous_frame)
