@@ -824,6 +824,14 @@ int jnd_scene_lod_mesh_level(const jnd_scene *s, int mesh);
  * PNGs of the maps in use. jnd_scene_load reads the levels back. */
 jnd_status jnd_scene_write_lod_glb(const jnd_scene *s, const char *path, const double *coverage);
 
+/* The bytes level `level` takes as jnd_scene_write_lod_glb stores it and a
+ * GPU holds it: per mesh, the vertices its triangles use times the float
+ * attributes written for it (POSITION and NORMAL; a uv set only where one
+ * of its material's maps samples it, TANGENT only with a normal map,
+ * COLOR_0 where a colour is not white) plus 32-bit indices. Textures are
+ * not included. */
+jnd_status jnd_scene_lod_bytes(const jnd_scene *s, int level, size_t *bytes);
+
 /* How far a level's surface lies from level 0's, in object units: points
  * sampled on level 0 uniformly by area (stratified, seeded), each taken to
  * the nearest point of the level's surface (003 eq. 1's l^p(T_i, S2)). */
