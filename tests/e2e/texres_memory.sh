@@ -17,7 +17,8 @@ import json, struct, sys
 from gltfwrite import png_bytes, write_glb
 d = sys.argv[1]
 # 0: the shells' shared colour; 1: metal's packed occlusion-roughness-metal;
-# 2: metal's colour; 3: the unused material's; 4: the variant's own
+# 2: metal's colour and emission (BC7 and BC1 slots: the image needs BC7);
+# 3: the unused material's; 4: the variant's own
 sizes = [(64, 64), (64, 64), (64, 32), (48, 48), (40, 40)]
 imgs = [png_bytes(w, h, k) for k, (w, h) in enumerate(sizes)]
 def quad(x0):
@@ -43,7 +44,7 @@ g = {
     {"name": "shellA", "pbrMetallicRoughness": {"baseColorTexture": tex(0)}},
     {"name": "shellB", "pbrMetallicRoughness": {"baseColorTexture": tex(0)}},
     {"name": "metal", "pbrMetallicRoughness": {"baseColorTexture": tex(2), "metallicRoughnessTexture": tex(1)},
-     "occlusionTexture": tex(1)},
+     "occlusionTexture": tex(1), "emissiveTexture": tex(2), "emissiveFactor": [0.2, 0.2, 0.2]},
     {"name": "gold", "pbrMetallicRoughness": {"baseColorTexture": tex(4), "metallicRoughnessTexture": tex(1)}}],
   "meshes": [
     {"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 3}, "indices": 4, "material": 1,
@@ -135,7 +136,7 @@ for run in "mem.gltf all" "mem.glb all" "mem.gltf some" "mem.glb some"; do
   m=$1 O=$T/out_$1_$2
   case $2 in
     all) "$JND" texres "$T/$m" -o "$O" $L ;;
-    some) "$JND" texres "$T/$m" -o "$O" --maps metal/occlusion,shellA/baseColor,metal/baseColor $L ;;
+    some) "$JND" texres "$T/$m" -o "$O" --maps metal/occlusion,shellA/baseColor,metal/baseColor,metal/emissive $L ;;
   esac
   rc=$?
   check "$m ($2): texres runs (exit 0 or 1)" [ $rc -le 1 ]
@@ -148,9 +149,10 @@ r = json.load(open(rep))["result"]
 mem = r["memory"]
 b_rgba, b_block, b_imgs, _ = memory(src)
 a_rgba, a_block, a_imgs, _ = memory(out)
-# shellA and shellB share one image, metal's occlusion and metallicRoughness another: 3 images, 5 slots
+# shellA and shellB share one image, metal's occlusion and metallicRoughness
+# another, its baseColor and emissive a third: 3 images, 6 slots
 assert len(b_imgs) == 3 and len(a_imgs) == 3, (b_imgs, a_imgs)
-assert sorted(len(s) for _, s in a_imgs.values()) == [1, 2, 2], a_imgs
+assert sorted(len(s) for _, s in a_imgs.values()) == [2, 2, 2], a_imgs
 assert mem["before_bytes"] == b_rgba, (mem["before_bytes"], b_rgba)
 assert mem["after_bytes"] == a_rgba, (mem["after_bytes"], a_rgba)
 assert mem["block_before_bytes"] == b_block, (mem["block_before_bytes"], b_block)
