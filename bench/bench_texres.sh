@@ -46,8 +46,8 @@ print("   %s: %d maps; wall %.1f s (median of %d: %s), user+sys %.1f s; %d rende
 print("     chosen on %d views (P = %.3f): %d above P = 0.2; held out: %d of %d above (%s; fraction of all views above: <= %.0f%% at 90%% confidence)"
       % (res["views"]["count"], json.load(open("%s.%d/texres.json" % (d, r)))["parameters"]["choice_p"], res["views"]["criterion"]["above"],
          v["criterion"]["above"], v["views"], "passes" if v["passes"] else "FAILS", 100 * v["criterion"]["fraction_upper"]))
-print("     memory RGBA8 + mips: %.2f MB -> %.2f MB (-%.0f%%); block-compressed %.2f -> %.2f MB"
-      % (mem["before_bytes"] / 2**20, mem["after_bytes"] / 2**20, 100 * mem["reduction"],
+print("     memory (%d unique images) RGBA8 + mips: %.2f MiB -> %.2f MiB (-%.0f%%); block-compressed %.2f -> %.2f MiB"
+      % (len(mem["images"]), mem["before_bytes"] / 2**20, mem["after_bytes"] / 2**20, 100 * mem["reduction"],
          mem["block_before_bytes"] / 2**20, mem["block_after_bytes"] / 2**20))
 sizes = {}
 for m in res["maps"]:

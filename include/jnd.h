@@ -741,6 +741,10 @@ typedef struct {
   float uv_transform[6]; /* glTF KHR_texture_transform as an affine map of the uvs:
                             u' = t[0]u + t[1]v + t[2], v' = t[3]u + t[4]v + t[5];
                             {1, 0, 0, 0, 1, 0} without one */
+  int image;             /* the image of the file the map samples, as the index of the first map
+                            that samples it (i itself when no earlier map does): maps sharing an
+                            image (a packed occlusion-roughness-metal image, a texture two
+                            materials use) have the same index, and a GPU holds it once */
 } jnd_map_info;
 
 /* Number of texture maps (material slots that have a texture), and the
@@ -928,6 +932,14 @@ int jnd_scene_lod_mesh_level(const jnd_scene *s, int mesh);
  * alpha, double-sidedness, uv sets, KHR_texture_transform), maps as 8-bit
  * PNGs of the maps in use. jnd_scene_load reads the levels back. */
 jnd_status jnd_scene_write_lod_glb(const jnd_scene *s, const char *path, const double *coverage);
+
+/* The bytes level `level` takes as jnd_scene_write_lod_glb stores it and a
+ * GPU holds it: per mesh, the vertices its triangles use times the float
+ * attributes written for it (POSITION and NORMAL; a uv set only where one
+ * of its material's maps samples it, TANGENT only with a normal map,
+ * COLOR_0 where a colour is not white) plus 32-bit indices. Textures are
+ * not included. */
+jnd_status jnd_scene_lod_bytes(const jnd_scene *s, int level, size_t *bytes);
 
 /* How far a level's surface lies from level 0's, in object units: points
  * sampled on level 0 uniformly by area (stratified, seeded), each taken to
@@ -1551,8 +1563,21 @@ typedef struct {
   int fit_ok;
   double fit_res;            /* continuous resolution at P = p (longer side, pixels) */
   int fit_cand[2];           /* rounded up to a candidate */
-  size_t bytes_before[JND_TEX_FORMATS], bytes_after[JND_TEX_FORMATS]; /* with mip chains */
+  int image;                 /* the image it samples: index into the result's images */
 } jnd_texres_map;
+
+/* One image of the file as a GPU holds it: every map (slot) that samples it
+ * shares it — a packed occlusion-roughness-metal image, a texture several
+ * materials use — so it is counted once, with its mip chain, and kept at one
+ * size: the largest any of its maps needs (docs/texres.md "Memory"). */
+typedef struct {
+  int first_map;             /* the first map (index into the result's maps) that samples it */
+  int nmaps;                 /* how many maps sample it */
+  int orig[2], chosen[2];    /* width, height in pixels */
+  jnd_tex_format block_format; /* the format its slots need together: the one with the most
+                                bytes per texel among its maps' jnd_slot_block_format */
+  size_t bytes_before[JND_TEX_FORMATS], bytes_after[JND_TEX_FORMATS]; /* with mip chains */
+} jnd_texres_image;
 
 /* A full two-map matrix (000 Fig. 13): p[(v·na + a)·nb + b], v a view,
  * a the first map's candidate, b the second's. */
@@ -1581,7 +1606,11 @@ typedef struct {
   jnd_image worst_heatmap;   /* its heatmap (jnd_heatmap), sRGB 0..1 */
   int nmatrix;
   jnd_texres_matrix *matrix; /* owned */
-  size_t before_bytes[JND_TEX_FORMATS], after_bytes[JND_TEX_FORMATS]; /* all maps, mip chains */
+  int nimages;
+  jnd_texres_image *images;  /* owned: the unique images the maps sample */
+  size_t before_bytes[JND_TEX_FORMATS], after_bytes[JND_TEX_FORMATS]; /* every unique image once,
+                                with its mip chain */
+  size_t block_before_bytes, block_after_bytes; /* each image in its block_format */
   double ppd;                /* the display's pixels per degree */
   int evaluations;           /* states judged */
   int renderings;            /* all renderings: references, whole frames, partial re-renders */

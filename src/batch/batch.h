@@ -53,7 +53,7 @@ typedef enum {
   JND_FMT_TEXT = 0, /* a string, or a number with %g */
   JND_FMT_NUMBER,   /* a number, 4 significant digits */
   JND_FMT_P,        /* a probability, 3 decimals */
-  JND_FMT_BYTES,    /* bytes as KiB/MiB with the exact count in a tooltip */
+  JND_FMT_BYTES,    /* bytes in MiB with the exact count in a tooltip */
   JND_FMT_PERCENT,  /* a fraction as a percentage */
   JND_FMT_SIZE,     /* [w, h] as w × h */
   JND_FMT_BOOL,     /* yes / no */

@@ -83,16 +83,11 @@ static void url(jnd_text *t, const char *s) {
   }
 }
 
+/* bytes in one unit everywhere jnd shows memory: MiB (2^20 bytes), with
+ * four decimals under 0.01 MiB so that a small asset does not read 0.00 */
 static void bytes_text(jnd_text *t, double v) {
-  const char *unit[] = {"B", "KiB", "MiB", "GiB", "TiB"};
-  int u = 0;
-  double x = v;
-  while (fabs(x) >= 1024 && u < 4) {
-    x /= 1024;
-    u++;
-  }
-  if (u == 0) jnd_text_printf(t, "%.0f B", v);
-  else jnd_text_printf(t, "%.1f %s", x, unit[u]);
+  double x = v / 1048576.0;
+  jnd_text_printf(t, fabs(x) >= 0.01 || x == 0 ? "%.2f MiB" : "%.4f MiB", x);
 }
 
 static void number_text(jnd_text *t, double v, jnd_batch_fmt fmt) {

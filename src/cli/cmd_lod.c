@@ -270,6 +270,14 @@ static int run(int argc, char **argv) {
   if (st != JND_OK) return cli_out_end(outw, cli_bad("%s", jnd_last_error()));
   jnd_scene *scene = R.scene;
   for (int i = 0; i < jnd_scene_warning_count(scene); i++) cli_info(&common, "jnd: warning: %s\n", jnd_scene_warning(scene, i));
+  /* memory before and after: level 0 and the first screen's perceptual choice */
+  size_t mem_before = 0, mem_after = 0;
+  if (R.nsw > 0 && (jnd_scene_lod_bytes(scene, 0, &mem_before) != JND_OK ||
+                    jnd_scene_lod_bytes(scene, R.sw[0].perceptual_level, &mem_after) != JND_OK)) {
+    cli_error("%s", jnd_last_error());
+    jnd_lod_report_free(&R);
+    return cli_out_end(outw, EXIT_BAD);
+  }
 
   cJSON *report = cli_report_new("lod");
   cJSON *in = cli_report_section(report, "inputs"), *par = cli_report_section(report, "parameters"),
@@ -434,15 +442,15 @@ static int run(int argc, char **argv) {
     }
     if (R.nsw == 0) cJSON_AddStringToObject(res, "perceptual", "not asked (--no-perceptual)");
     /* before and after: level 0 and the first screen's perceptual choice, as
-     * the written model stores a level (float POSITION, NORMAL, TANGENT,
-     * TEXCOORD_0 per vertex, 32-bit indices) */
+     * the written model stores a level and a GPU holds it (jnd_scene_lod_bytes:
+     * the attributes each mesh's material uses, 32-bit indices) */
     if (R.nsw > 0) {
       const jnd_lod_level_info *l0 = &P->levels[0], *l1 = &P->levels[R.sw[0].perceptual_level];
       cJSON *mem = cJSON_AddObjectToObject(res, "memory"), *tri = cJSON_AddObjectToObject(res, "triangles");
       cJSON_AddStringToObject(mem, "screen", R.sw[0].screen.name);
       cJSON_AddNumberToObject(mem, "level", R.sw[0].perceptual_level);
-      cJSON_AddNumberToObject(mem, "before_bytes", (double)(l0->vertices * 48 + l0->triangles * 12));
-      cJSON_AddNumberToObject(mem, "after_bytes", (double)(l1->vertices * 48 + l1->triangles * 12));
+      cJSON_AddNumberToObject(mem, "before_bytes", (double)mem_before);
+      cJSON_AddNumberToObject(mem, "after_bytes", (double)mem_after);
       cJSON_AddNumberToObject(tri, "before", (double)l0->triangles);
       cJSON_AddNumberToObject(tri, "after", (double)l1->triangles);
     }
@@ -548,6 +556,9 @@ static int run(int argc, char **argv) {
       cli_info(&common, "\n");
     }
   }
+  if (R.nsw > 0)
+    cli_info(&common, "memory (vertices and indices as written): level 0 %.3f MiB, level %d (%s) %.3f MiB\n",
+             mem_before / 1048576.0, R.sw[0].perceptual_level, R.sw[0].screen.name, mem_after / 1048576.0);
   const char *model_rel = strstr(R.model_path, "/model/");
   if (rc == EXIT_OK) cli_info(&common, "wrote %s/lod.json and %s%s\n", final_dir, final_dir, model_rel ? model_rel : "");
   jnd_lod_report_free(&R);

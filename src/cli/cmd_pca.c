@@ -462,8 +462,8 @@ static int run(int argc, char **argv) {
   for (int i = 0; i < R.set.nmaps; i++)
     if (R.set.maps[i].duplicates)
       cli_info(&common, "  %s: %d identical channel(s) counted once\n", R.set.maps[i].name, R.set.maps[i].duplicates);
-  cli_info(&common, "  kept %d components (rule: %s), %.3f MB against %.3f MB of the maps as stored\n", K,
-           rule_name(R.rule), enc->storage_bytes / 1e6, R.original_bytes / 1e6);
+  cli_info(&common, "  kept %d components (rule: %s), %.3f MiB against %.3f MiB of the maps as stored\n", K,
+           rule_name(R.rule), enc->storage_bytes / 1048576.0, R.original_bytes / 1048576.0);
   cli_info(&common, "  %-22s %9s %9s", "channel", "PSNR dB", "float");
   if (R.has_bc) cli_info(&common, " %9s %9s %9s", "PCA+BC4", "PCA+BC1", "plain BC");
   cli_info(&common, "\n");
@@ -475,8 +475,8 @@ static int run(int argc, char **argv) {
     cli_info(&common, "\n");
   }
   if (R.has_bc)
-    cli_info(&common, "  block-compressed: PCA+BC4 %.2f MB, PCA+BC1 %.2f MB, plain BC %.2f MB\n", R.bc.bytes_pca_bc4 / 1e6,
-             R.bc.bytes_pca_bc1 / 1e6, R.bc.bytes_plain / 1e6);
+    cli_info(&common, "  block-compressed: PCA+BC4 %.2f MiB, PCA+BC1 %.2f MiB, plain BC %.2f MiB\n",
+             R.bc.bytes_pca_bc4 / 1048576.0, R.bc.bytes_pca_bc1 / 1048576.0, R.bc.bytes_plain / 1048576.0);
   if (R.rendered) {
     cli_info(&common, "  rendered: %d views of %s on %s; criterion P <= %.3g in all but %d view(s)\n", R.vis.views,
              p.material, R.renderer, p.render.judge.criterion.p, R.vis.allowed);

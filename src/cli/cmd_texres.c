@@ -272,39 +272,32 @@ static int run(int argc, char **argv) {
       cJSON_AddItemToObject(f, "rounded_up", pair(m->fit_cand));
     }
     cJSON_AddStringToObject(o, "block_format", jnd_tex_format_name(jnd_slot_block_format(m->slot, m->channels)));
-    cJSON_AddItemToObject(o, "bytes_before", bytes_json(m->bytes_before));
-    cJSON_AddItemToObject(o, "bytes_after", bytes_json(m->bytes_after));
+    cJSON_AddNumberToObject(o, "image", m->image);
     cJSON_AddItemToArray(jm, o);
   }
-  /* memory: RGBA8 with mip chains is the headline, block formats beside it */
+  /* memory as a GPU holds it: each unique image once, with its mip chain;
+   * RGBA8 is the headline, block formats beside it */
   cJSON *mem = cJSON_AddObjectToObject(res, "memory");
   size_t bb = R.before_bytes[JND_TEX_RGBA8], ba = R.after_bytes[JND_TEX_RGBA8];
   cJSON_AddNumberToObject(mem, "before_bytes", (double)bb);
   cJSON_AddNumberToObject(mem, "after_bytes", (double)ba);
   cJSON_AddNumberToObject(mem, "reduction", bb ? 1.0 - (double)ba / bb : 0);
-  size_t blk_b = 0, blk_a = 0;
-  for (int i = 0; i < R.nmaps; i++) {
-    jnd_tex_format f = jnd_slot_block_format(R.maps[i].slot, R.maps[i].channels);
-    blk_b += R.maps[i].bytes_before[f];
-    blk_a += R.maps[i].bytes_after[f];
-  }
-  cJSON_AddNumberToObject(mem, "block_before_bytes", (double)blk_b);
-  cJSON_AddNumberToObject(mem, "block_after_bytes", (double)blk_a);
+  cJSON_AddNumberToObject(mem, "block_before_bytes", (double)R.block_before_bytes);
+  cJSON_AddNumberToObject(mem, "block_after_bytes", (double)R.block_after_bytes);
   cJSON_AddItemToObject(mem, "formats_before", bytes_json(R.before_bytes));
   cJSON_AddItemToObject(mem, "formats_after", bytes_json(R.after_bytes));
-  cJSON *pm = cJSON_AddArrayToObject(mem, "materials");
-  for (int mat = 0; mat < jnd_scene_material_count(scene); mat++) {
-    size_t b0 = 0, a0 = 0;
-    int any = 0;
+  cJSON *jimg = cJSON_AddArrayToObject(mem, "images");
+  for (int t = 0; t < R.nimages; t++) {
+    const jnd_texres_image *im = &R.images[t];
+    cJSON *o = cJSON_CreateObject(), *users = cJSON_AddArrayToObject(o, "maps");
     for (int i = 0; i < R.nmaps; i++)
-      if (R.maps[i].material == mat) any = 1, b0 += R.maps[i].bytes_before[0], a0 += R.maps[i].bytes_after[0];
-    if (!any) continue;
-    cJSON *o = cJSON_CreateObject();
-    cJSON_AddStringToObject(o, "material", jnd_scene_material_name(scene, mat));
-    cJSON_AddNumberToObject(o, "before_bytes", (double)b0);
-    cJSON_AddNumberToObject(o, "after_bytes", (double)a0);
-    cJSON_AddNumberToObject(o, "reduction", b0 ? 1.0 - (double)a0 / b0 : 0);
-    cJSON_AddItemToArray(pm, o);
+      if (R.maps[i].image == t) cJSON_AddItemToArray(users, cJSON_CreateString(R.maps[i].name));
+    cJSON_AddItemToObject(o, "original", pair(im->orig));
+    cJSON_AddItemToObject(o, "chosen", pair(im->chosen));
+    cJSON_AddStringToObject(o, "block_format", jnd_tex_format_name(im->block_format));
+    cJSON_AddItemToObject(o, "bytes_before", bytes_json(im->bytes_before));
+    cJSON_AddItemToObject(o, "bytes_after", bytes_json(im->bytes_after));
+    cJSON_AddItemToArray(jimg, o);
   }
   cJSON *jv = cJSON_AddObjectToObject(res, "views");
   cJSON_AddNumberToObject(jv, "count", R.nviews);
@@ -401,9 +394,26 @@ static int run(int argc, char **argv) {
     cli_info(&common, "%-40.40s %11s %11s %11s %11s %9s%s\n", m->name, o[0], o[1], o[2], o[3], f,
              m->searched ? "" : "  (kept)");
   }
-  cli_info(&common, "memory (RGBA8 + mips): %.2f MB -> %.2f MB (-%.0f%%); block-compressed %.2f MB -> %.2f MB\n",
-           bb / 1048576.0, ba / 1048576.0, bb ? 100.0 * (1.0 - (double)ba / bb) : 0, blk_b / 1048576.0,
-           blk_a / 1048576.0);
+  cli_info(&common, "\n%-52s %11s %11s %21s\n", "image (the maps that sample it)", "original", "chosen",
+           "RGBA8 + mips, MiB");
+  for (int t = 0; t < R.nimages; t++) {
+    const jnd_texres_image *im = &R.images[t];
+    char users[256] = "", o[2][24];
+    size_t n = 0;
+    for (int i = 0; i < R.nmaps && n < sizeof users; i++)
+      if (R.maps[i].image == t)
+        n += (size_t)snprintf(users + n, sizeof users - n, "%s%s", n ? ", " : "", R.maps[i].name);
+    snprintf(o[0], 24, "%dx%d", im->orig[0], im->orig[1]);
+    snprintf(o[1], 24, "%dx%d", im->chosen[0], im->chosen[1]);
+    cli_info(&common, "%-52.52s %11s %11s %9.3f -> %8.3f\n", users, o[0], o[1],
+             im->bytes_before[JND_TEX_RGBA8] / 1048576.0, im->bytes_after[JND_TEX_RGBA8] / 1048576.0);
+  }
+  cli_info(&common,
+           "memory (%d unique image%s, RGBA8 + mips): %.2f MiB -> %.2f MiB (-%.0f%%); block-compressed %.2f MiB -> "
+           "%.2f MiB\n",
+           R.nimages, R.nimages == 1 ? "" : "s", bb / 1048576.0, ba / 1048576.0,
+           bb ? 100.0 * (1.0 - (double)ba / bb) : 0, R.block_before_bytes / 1048576.0,
+           R.block_after_bytes / 1048576.0);
   cli_info(&common, "views above P=%.2f: %.0f%% of %d (criterion <= %.0f%%; chosen with P=%.3f)%s", p.judge.criterion.p,
            100 * R.views.fraction_above, R.nviews, 100 * p.judge.criterion.q, R.choice_p, R.views.pass ? "" : "  FAILS");
   if (R.verify_views)

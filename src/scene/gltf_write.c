@@ -60,65 +60,130 @@ static int add_accessor(writer *w, int view, int component, size_t count, const 
   return cJSON_GetArraySize(w->accessors) - 1;
 }
 
-/* one primitive: the used vertices of (verts, idx) compacted, each attribute its own view */
-static jnd_status add_primitive(writer *w, cJSON *prims, const float *verts, size_t nverts, const uint32_t *idx,
-                                size_t ntris, int material) {
+/* The vertex attributes of the GLB (interleaved layout of jnd_mesh):
+ * offset in floats, components, names. */
+enum { NATTR = 6, ATTR_TANGENT = 2, ATTR_UV0 = 3, ATTR_UV1 = 4, ATTR_COLOR = 5 };
+static const int attr_off[NATTR] = {0, 3, 6, 10, 12, 14}, attr_ncomp[NATTR] = {3, 3, 4, 2, 2, 4};
+static const char *const attr_names[NATTR] = {"POSITION", "NORMAL", "TANGENT", "TEXCOORD_0", "TEXCOORD_1", "COLOR_0"};
+static const char *const attr_types[NATTR] = {"VEC3", "VEC3", "VEC4", "VEC2", "VEC2", "VEC4"};
+
+/* The used vertices of (idx, ntris) into verts' nverts, in first-use order:
+ * order[u] is the input vertex of output vertex u, ind the indices renumbered
+ * (may be NULL). Returns the count, or SIZE_MAX out of memory (*order
+ * then NULL). */
+static size_t compact(size_t nverts, const uint32_t *idx, size_t ntris, uint32_t **order, uint32_t *ind) {
   uint32_t *remap = jnd_alloc(nverts ? nverts : 1, sizeof *remap);
-  uint32_t *ind = jnd_alloc(3 * ntris, sizeof *ind);
-  if (!remap || !ind) {
+  *order = jnd_alloc(nverts ? nverts : 1, sizeof **order);
+  if (!remap || !*order) {
     free(remap);
-    free(ind);
-    return JND_ERR_NOMEM;
+    free(*order);
+    *order = NULL;
+    return SIZE_MAX;
   }
   for (size_t v = 0; v < nverts; v++) remap[v] = UINT32_MAX;
   size_t nu = 0;
   for (size_t i = 0; i < 3 * ntris; i++) {
-    if (remap[idx[i]] == UINT32_MAX) remap[idx[i]] = (uint32_t)nu++;
-    ind[i] = remap[idx[i]];
+    if (remap[idx[i]] == UINT32_MAX) {
+      remap[idx[i]] = (uint32_t)nu;
+      (*order)[nu++] = idx[i];
+    }
+    if (ind) ind[i] = remap[idx[i]];
   }
-  /* gather each attribute of the used vertices, in first-use order */
-  static const int off[6] = {0, 3, 6, 10, 12, 14}, ncomp[6] = {3, 3, 4, 2, 2, 4};
-  static const char *const names[6] = {"POSITION", "NORMAL", "TANGENT", "TEXCOORD_0", "TEXCOORD_1", "COLOR_0"};
-  static const char *const types[6] = {"VEC3", "VEC3", "VEC4", "VEC2", "VEC2", "VEC4"};
-  float *attr = jnd_alloc(nu ? nu : 1, 4 * sizeof(float));
-  uint32_t *order = jnd_alloc(nu ? nu : 1, sizeof *order);
-  if (!attr || !order) {
-    free(remap);
+  free(remap);
+  return nu;
+}
+
+/* Which attributes a primitive of material mat carries (bit a: attr_names[a]):
+ * POSITION and NORMAL always; a uv set only when one of the material's maps
+ * samples it, TANGENT only with a normal map (the only use of either; the
+ * glTF validator calls them UNUSED_OBJECT otherwise and a GPU would hold
+ * them for nothing); COLOR_0 where a used vertex's colour is not white. */
+static unsigned attributes(const jnd_scene *s, int mat, const float *verts, const uint32_t *order, size_t nu) {
+  unsigned a = 1u | 2u;
+  const jnd_material *m = mat >= 0 && mat < s->nmaterials ? &s->materials[mat] : NULL;
+  for (int k = 0; m && k < JND_MAP_SLOTS; k++)
+    if (m->map[k] >= 0) a |= 1u << (s->maps[m->map[k]].uv_set ? ATTR_UV1 : ATTR_UV0);
+  if (m && m->map[JND_MAP_NORMAL] >= 0) a |= 1u << ATTR_TANGENT;
+  for (size_t u = 0; u < nu && !(a & (1u << ATTR_COLOR)); u++)
+    for (int k = 0; k < 4; k++)
+      if (verts[(size_t)order[u] * JND_VTX_FLOATS + attr_off[ATTR_COLOR] + k] != 1) a |= 1u << ATTR_COLOR;
+  return a;
+}
+
+/* one primitive: the used vertices of (verts, idx) compacted, each attribute its own view */
+static jnd_status add_primitive(writer *w, cJSON *prims, const jnd_scene *s, const float *verts, size_t nverts,
+                                const uint32_t *idx, size_t ntris, int material) {
+  uint32_t *ind = jnd_alloc(3 * ntris, sizeof *ind), *order = NULL;
+  size_t nu = ind ? compact(nverts, idx, ntris, &order, ind) : SIZE_MAX;
+  float *attr = nu != SIZE_MAX ? jnd_alloc(nu ? nu : 1, 4 * sizeof(float)) : NULL;
+  if (!attr) {
     free(ind);
-    free(attr);
     free(order);
     return JND_ERR_NOMEM;
   }
-  for (size_t v = 0; v < nverts; v++)
-    if (remap[v] != UINT32_MAX) order[remap[v]] = (uint32_t)v;
+  unsigned want = attributes(s, material, verts, order, nu);
   cJSON *prim = cJSON_CreateObject(), *at = cJSON_AddObjectToObject(prim, "attributes");
-  for (int a = 0; a < 6; a++) {
-    int used = a < 4;   /* uv1 and colour only where they say something */
+  for (int a = 0; a < NATTR; a++) {
+    if (!(want & (1u << a))) continue;
     float mn[4], mx[4];
-    for (int k = 0; k < ncomp[a]; k++) mn[k] = INFINITY, mx[k] = -INFINITY;
+    for (int k = 0; k < attr_ncomp[a]; k++) mn[k] = INFINITY, mx[k] = -INFINITY;
     for (size_t u = 0; u < nu; u++) {
-      const float *src = verts + (size_t)order[u] * JND_VTX_FLOATS + off[a];
-      for (int k = 0; k < ncomp[a]; k++) {
-        attr[u * ncomp[a] + k] = src[k];
+      const float *src = verts + (size_t)order[u] * JND_VTX_FLOATS + attr_off[a];
+      for (int k = 0; k < attr_ncomp[a]; k++) {
+        attr[u * attr_ncomp[a] + k] = src[k];
         if (src[k] < mn[k]) mn[k] = src[k];
         if (src[k] > mx[k]) mx[k] = src[k];
-        if (a == 4 && src[k] != 0) used = 1;
-        if (a == 5 && src[k] != 1) used = 1;
       }
     }
-    if (!used) continue;
-    int view = add_view(w, attr, nu * ncomp[a] * sizeof(float), ARRAY_BUFFER);
-    int acc = add_accessor(w, view, GL_FLOAT_T, nu, types[a], a == 0 ? mn : NULL, a == 0 ? mx : NULL, ncomp[a]);
-    cJSON_AddNumberToObject(at, names[a], acc);
+    int view = add_view(w, attr, nu * attr_ncomp[a] * sizeof(float), ARRAY_BUFFER);
+    int acc = add_accessor(w, view, GL_FLOAT_T, nu, attr_types[a], a == 0 ? mn : NULL, a == 0 ? mx : NULL,
+                           attr_ncomp[a]);
+    cJSON_AddNumberToObject(at, attr_names[a], acc);
   }
   int view = add_view(w, ind, 3 * ntris * sizeof *ind, ELEMENT_ARRAY_BUFFER);
   cJSON_AddNumberToObject(prim, "indices", add_accessor(w, view, GL_UINT_T, 3 * ntris, "SCALAR", NULL, NULL, 1));
   cJSON_AddNumberToObject(prim, "material", material);
   cJSON_AddItemToArray(prims, prim);
-  free(remap);
   free(ind);
   free(attr);
   free(order);
+  return JND_OK;
+}
+
+/* mesh i at level k: the vertex array it indexes and its triangles */
+static void level_mesh(const jnd_scene *s, int k, int i, const float **verts, size_t *nv, const uint32_t **idx,
+                       size_t *nt) {
+  if (s->nlod > 0) {
+    const jnd_lod_mesh *m = &s->lod[k].mesh[i];
+    *verts = m->vertices ? m->vertices : s->lod[0].mesh[i].vertices;
+    *nv = m->vertices ? m->nverts : s->lod[0].mesh[i].nverts;
+    *idx = m->indices;
+    *nt = m->ntris;
+  } else {
+    *verts = s->meshes[i].vertices, *nv = s->meshes[i].nverts, *idx = s->meshes[i].indices, *nt = s->meshes[i].ntris;
+  }
+}
+
+jnd_status jnd_scene_lod_bytes(const jnd_scene *s, int level, size_t *bytes) {
+  *bytes = 0;
+  if (level < 0 || level >= jnd_scene_lod_count(s))
+    return jnd_fail(JND_ERR_ARG, "%s: level %d out of range (the chain has %d)", s->path, level, jnd_scene_lod_count(s));
+  for (int i = 0; i < s->nmeshes; i++) {
+    const float *verts;
+    const uint32_t *idx;
+    size_t nv, nt;
+    level_mesh(s, level, i, &verts, &nv, &idx, &nt);
+    if (nt == 0) continue;
+    uint32_t *order = NULL;
+    size_t nu = compact(nv, idx, nt, &order, NULL);
+    if (nu == SIZE_MAX) return JND_ERR_NOMEM;
+    unsigned want = attributes(s, s->meshes[i].material, verts, order, nu);
+    free(order);
+    size_t per_vertex = 0;
+    for (int a = 0; a < NATTR; a++)
+      if (want & (1u << a)) per_vertex += (size_t)attr_ncomp[a] * sizeof(float);
+    *bytes += nu * per_vertex + 3 * nt * sizeof(uint32_t);
+  }
   return JND_OK;
 }
 
@@ -204,7 +269,18 @@ jnd_status jnd_scene_write_lod_glb(const jnd_scene *s, const char *path, const d
   /* textures first: their bytes lead the binary chunk */
   int *tex = jnd_alloc((size_t)s->nmaps + 1, sizeof *tex), uses_transform = 0;
   if (!tex) st = JND_ERR_NOMEM;
-  for (int i = 0; i < s->nmaps && !st; i++) tex[i] = add_texture(&w, s, i, images, samplers, textures, &st);
+  for (int i = 0; i < s->nmaps && !st; i++) {
+    /* an image that several slots sample (a packed occlusion-roughness-metal
+     * image) is written once, as the GPU holds it, when it is used at one
+     * size and sampled alike */
+    const jnd_map *m = &s->maps[i], *f = &s->maps[m->image];
+    const jnd_image *a = jnd_map_image(m), *b = jnd_map_image(f);
+    if (m->image < i && a->w == b->w && a->h == b->h && a->c == b->c && m->wrap_s == f->wrap_s &&
+        m->wrap_t == f->wrap_t && m->mag_nearest == f->mag_nearest && m->min_nearest == f->min_nearest)
+      tex[i] = tex[m->image];
+    else
+      tex[i] = add_texture(&w, s, i, images, samplers, textures, &st);
+  }
   for (int mi = 0; mi < s->nmaterials && !st; mi++) {
     const jnd_material *m = &s->materials[mi];
     cJSON *o = cJSON_CreateObject(), *pbr = cJSON_AddObjectToObject(o, "pbrMetallicRoughness");
@@ -259,16 +335,8 @@ jnd_status jnd_scene_write_lod_glb(const jnd_scene *s, const char *path, const d
       const float *verts;
       const uint32_t *idx;
       size_t nv, nt;
-      if (s->nlod > 0) {
-        const jnd_lod_mesh *m = &s->lod[k].mesh[i];
-        verts = m->vertices ? m->vertices : s->lod[0].mesh[i].vertices;
-        nv = m->vertices ? m->nverts : s->lod[0].mesh[i].nverts;
-        idx = m->indices;
-        nt = m->ntris;
-      } else {
-        verts = s->meshes[i].vertices, nv = s->meshes[i].nverts, idx = s->meshes[i].indices, nt = s->meshes[i].ntris;
-      }
-      if (nt > 0) st = add_primitive(&w, prims, verts, nv, idx, nt, s->meshes[i].material);
+      level_mesh(s, k, i, &verts, &nv, &idx, &nt);
+      if (nt > 0) st = add_primitive(&w, prims, s, verts, nv, idx, nt, s->meshes[i].material);
     }
     if (!st && cJSON_GetArraySize(prims) == 0) st = jnd_fail(JND_ERR_ARG, "%s: level %d has no triangles", path, k);
     cJSON_AddItemToArray(meshes, mesh);

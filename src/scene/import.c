@@ -131,6 +131,14 @@ static void import_slot(jnd_scene *s, const struct aiScene *sc, const struct aiM
     int k = jnd_scene_add_map(s, mi, slot, &img);
     if (k < 0) return;
     jnd_map *m = &s->maps[k];
+    /* one image of the file, however many slots sample it: the same
+     * reference ("*N" for an embedded image, else its path) */
+    m->source = strdup(path.data);
+    for (int j = 0; j < k && m->source; j++)
+      if (s->maps[j].source && strcmp(s->maps[j].source, m->source) == 0) {
+        m->image = s->maps[j].image;
+        break;
+      }
     m->uv_set = uv == 1 ? 1 : 0;
     if (uv > 1)
       jnd_scene_add_warning(s, "%s: %s/%s: texture coordinate set %u not supported; using 0",

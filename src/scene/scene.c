@@ -74,6 +74,7 @@ void jnd_scene_free(jnd_scene *s) {
   for (int i = 0; i < s->nmaps; i++) {
     jnd_image_free(&s->maps[i].orig);
     jnd_image_free(&s->maps[i].now);
+    free(s->maps[i].source);
   }
   for (int i = 0; i < s->nwarnings; i++) free(s->warnings[i]);
   free(s->warnings);
@@ -123,6 +124,7 @@ int jnd_scene_add_map(jnd_scene *s, int material, jnd_map_slot slot, jnd_image *
   memset(img, 0, sizeof *img);
   mp->uvxf[0] = mp->uvxf[4] = 1.0f; /* no texture transform */
   mp->version = jnd_scene_next_version();
+  mp->image = s->nmaps;
   s->materials[material].map[slot] = s->nmaps;
   return s->nmaps++;
 }
@@ -406,6 +408,7 @@ jnd_status jnd_scene_map_info(const jnd_scene *s, int i, jnd_map_info *info) {
   info->orig_height = m->orig.h;
   info->channels = use->c;
   info->uv_set = m->uv_set;
+  info->image = m->image;
   memcpy(info->uv_transform, m->uvxf, sizeof info->uv_transform);
   return JND_OK;
 }

@@ -46,6 +46,10 @@ typedef struct {
   int mag_nearest;        /* glTF sampler magFilter NEAREST */
   int min_nearest;        /* glTF sampler minFilter NEAREST* (mips still used) */
   uint64_t version;       /* changes whenever the map in use changes (unique across scenes) */
+  int image;              /* the first map that samples the same image of the file (itself when
+                             none before it does): a packed occlusion-roughness-metal image, an
+                             image two materials share */
+  char *source;           /* the file's reference to that image (import.c), owned; NULL: its own */
 } jnd_map;
 
 typedef struct {

@@ -918,11 +918,6 @@ int jnd_pca_slot_guess(const char *name, jnd_map_slot *slot) {
   return 0;
 }
 
-static int images_equal(const jnd_image *a, const jnd_image *b) {
-  return a->w == b->w && a->h == b->h && a->c == b->c &&
-         memcmp(a->data, b->data, (size_t)a->w * a->h * a->c * sizeof(float)) == 0;
-}
-
 jnd_status jnd_pca_render_material_set(const jnd_pca_render *r, const char *channels, jnd_texset *set,
                                        jnd_map_slot *slots, size_t *orig_bytes) {
   memset(set, 0, sizeof *set);
@@ -930,6 +925,7 @@ jnd_status jnd_pca_render_material_set(const jnd_pca_render *r, const char *chan
   jnd_image maps[JND_MAP_SLOTS];
   memset(maps, 0, sizeof maps);
   const char *names[JND_MAP_SLOTS];
+  int image[JND_MAP_SLOTS];   /* the file's image each sampled (jnd_map_info.image) */
   char picks[256] = "";
   int n = 0;
   jnd_status s = JND_OK;
@@ -939,7 +935,10 @@ jnd_status jnd_pca_render_material_set(const jnd_pca_render *r, const char *chan
     snprintf(full, sizeof full, "%s/%s", mname, jnd_map_slot_name((jnd_map_slot)slot));
     int idx = jnd_scene_map_find(r->scene, full);
     if (idx < 0) continue;
+    jnd_map_info mi;
+    if ((s = jnd_scene_map_info(r->scene, idx, &mi)) != JND_OK) break;
     if ((s = jnd_scene_map_get(r->scene, idx, 1, &maps[n])) != JND_OK) break;
+    image[n] = mi.image;
     names[n] = jnd_map_slot_name((jnd_map_slot)slot);
     slots[n] = (jnd_map_slot)slot;
     /* the channels the shader reads (docs/render.md "Materials") */
@@ -956,8 +955,8 @@ jnd_status jnd_pca_render_material_set(const jnd_pca_render *r, const char *chan
       size_t k = strlen(picks);
       snprintf(picks + k, sizeof picks - k, "%s%s=%s", k ? "," : "", names[n], use);
     }
-    int shared = 0;   /* one image of the file bound to two slots (packed occlusion) */
-    for (int j = 0; j < n && !shared; j++) shared = images_equal(&maps[j], &maps[n]);
+    int shared = 0;   /* one image of the file bound to two slots (packed occlusion): counted once */
+    for (int j = 0; j < n && !shared; j++) shared = image[j] == image[n];
     if (orig_bytes && !shared) *orig_bytes += (size_t)maps[n].w * maps[n].h * maps[n].c;
     n++;
   }

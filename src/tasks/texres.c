@@ -83,6 +83,7 @@ void jnd_texres_defaults(jnd_texres_params *p) {
 
 void jnd_texres_result_free(jnd_texres_result *r) {
   free(r->maps);
+  free(r->images);
   free(r->view_p);
   free(r->verify_p);
   jnd_image_free(&r->worst_heatmap);
@@ -109,6 +110,7 @@ typedef struct {
   jnd_judge *j;
   jnd_texres_result *res;
   map_state *ms;
+  int *first;             /* per map: the first map that samples its image (the image's leader) */
   int total;              /* progress estimate (renderings) */
   int nviews;             /* the choice views: judge views [0, nviews) */
   int set_size;           /* they come in sets of this many (the first, then confirmation sets) */
@@ -216,6 +218,16 @@ static jnd_status set_map(ctx *c, int i, int k) {
   if (s != JND_OK) return s;
   m->cur = k;
   return JND_OK;
+}
+
+/* The maps that sample one image are one texture on the GPU, so they take
+ * one size: the largest any of them is at (its most demanding slot; −1, the
+ * file's, is the largest of all). Their candidate lists are the same (same
+ * original, same mip bound), so one index means one size. */
+static void unify(const ctx *c, int *k) {
+  for (int i = 0; i < c->res->nmaps; i++)
+    if (c->first[i] != i && k[i] < k[c->first[i]]) k[c->first[i]] = k[i];
+  for (int i = 0; i < c->res->nmaps; i++) k[i] = k[c->first[i]];
 }
 
 static jnd_status set_combo(ctx *c, const int *k) {
@@ -516,6 +528,7 @@ static jnd_status descend(ctx *c, int *k, const int *start) {
     }
     if (s != JND_OK || best_i < 0) break; /* every map at its bound */
     k[best_i]--;
+    unify(c, k);  /* its image, with every slot that samples it */
     s = judge_combo(c, k, 0, N, 0, P, NULL, NULL, NULL);
     if (s == JND_OK) pass = sets_pass(c, P, fail);
   }
@@ -585,6 +598,44 @@ static jnd_status held_out(ctx *c, const int *k) {
   return s;
 }
 
+/* Memory before and after as a GPU holds it (000 Table 2, with mip chains):
+ * each unique image once, however many slots sample it, at its one size. */
+static jnd_status count_images(ctx *c) {
+  jnd_texres_result *R = c->res;
+  R->images = jnd_calloc((size_t)R->nmaps, sizeof *R->images);
+  if (!R->images) return JND_ERR_NOMEM;
+  for (int i = 0; i < R->nmaps; i++) {
+    jnd_texres_map *m = &R->maps[i];
+    if (c->first[i] == i) {
+      jnd_texres_image *im = &R->images[R->nimages];
+      im->first_map = i;
+      memcpy(im->orig, m->orig, sizeof im->orig);
+      memcpy(im->chosen, m->chosen, sizeof im->chosen);
+      im->block_format = jnd_slot_block_format(m->slot, m->channels);
+      m->image = R->nimages++;
+    } else {
+      m->image = R->maps[c->first[i]].image;
+    }
+    jnd_texres_image *im = &R->images[m->image];
+    jnd_tex_format f = jnd_slot_block_format(m->slot, m->channels);
+    /* 12 × 12 texels: whole blocks of every format, so bytes per texel compare */
+    if (jnd_texture_bytes(f, 12, 12, 0) > jnd_texture_bytes(im->block_format, 12, 12, 0)) im->block_format = f;
+    im->nmaps++;
+  }
+  for (int t = 0; t < R->nimages; t++) {
+    jnd_texres_image *im = &R->images[t];
+    for (int f = 0; f < JND_TEX_FORMATS; f++) {
+      im->bytes_before[f] = jnd_texture_bytes((jnd_tex_format)f, im->orig[0], im->orig[1], 1);
+      im->bytes_after[f] = jnd_texture_bytes((jnd_tex_format)f, im->chosen[0], im->chosen[1], 1);
+      R->before_bytes[f] += im->bytes_before[f];
+      R->after_bytes[f] += im->bytes_after[f];
+    }
+    R->block_before_bytes += im->bytes_before[im->block_format];
+    R->block_after_bytes += im->bytes_after[im->block_format];
+  }
+  return JND_OK;
+}
+
 jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *pp, jnd_texres_result *out) {
   memset(out, 0, sizeof *out);
   jnd_texres_params pd;
@@ -604,16 +655,17 @@ jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *pp, jnd_tex
   jnd_status s = check_list(scene, p->maps);
   if (s != JND_OK) return s;
 
-  ctx c = {scene, p, NULL, out, NULL, 0, 0, 0, cr->p * (1 - p->margin)};
+  ctx c = {scene, p, NULL, out, NULL, NULL, 0, 0, 0, cr->p * (1 - p->margin)};
   int *k = NULL, *start = NULL;
   int nsearch = 0;
   out->nmaps = nall;
   out->choice_p = c.choice_p;
   out->maps = jnd_calloc((size_t)nall, sizeof *out->maps);
   c.ms = jnd_calloc((size_t)nall, sizeof *c.ms);
+  c.first = jnd_calloc((size_t)nall, sizeof *c.first);
   k = jnd_calloc((size_t)nall, sizeof *k);
   start = jnd_calloc((size_t)nall, sizeof *start);
-  if (!out->maps || !c.ms || !k || !start) {
+  if (!out->maps || !c.ms || !c.first || !k || !start) {
     s = JND_ERR_NOMEM;
     goto done;
   }
@@ -629,6 +681,12 @@ jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *pp, jnd_tex
     m->channels = mi.channels;
     m->orig[0] = mi.orig_width;
     m->orig[1] = mi.orig_height;
+    /* a shared image of another size cannot be (the same file's pixels):
+     * then the map is taken as its own image */
+    c.first[i] = mi.image >= 0 && mi.image < i && out->maps[mi.image].orig[0] == m->orig[0] &&
+                         out->maps[mi.image].orig[1] == m->orig[1]
+                     ? c.first[mi.image]
+                     : i;
     m->searched = wanted(p->maps, &mi);
     nsearch += m->searched;
     make_candidates(p, m);
@@ -649,9 +707,15 @@ jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *pp, jnd_tex
   c.total = c.nviews * (2 + 3 * nsearch) + 2 * p->verify_views;
   if ((s = jnd_judge_create(scene, &jp, &c.j)) != JND_OK) goto done;
   snprintf(out->renderer, sizeof out->renderer, "%s", jnd_judge_renderer(c.j));
+  for (int i = 0; i < nall; i++) out->maps[i].mip_min = jnd_judge_mip_min(c.j, i, 0, c.nviews);
+  /* an image's level 0 can go only when no slot that samples it samples it */
+  for (int i = 0; i < nall; i++) {
+    jnd_texres_map *m = &out->maps[i], *f = &out->maps[c.first[i]];
+    if (m->mip_min >= 0 && (f->mip_min < 0 || m->mip_min < f->mip_min)) f->mip_min = m->mip_min;
+  }
   for (int i = 0; i < nall; i++) {
     jnd_texres_map *m = &out->maps[i];
-    m->mip_min = jnd_judge_mip_min(c.j, i, 0, c.nviews);
+    m->mip_min = out->maps[c.first[i]].mip_min;
     bounds_from_level(p, m);
     if (m->mip_min >= 0) insert_bound(m);
     start[i] = first_allowed(m);
@@ -678,13 +742,9 @@ jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *pp, jnd_tex
       if (out->maps[i].cand[j][0] == out->maps[i].chosen[0] && out->maps[i].cand[j][1] == out->maps[i].chosen[1])
         k[i] = j;
   }
+  unify(&c, k);
   if ((s = descend(&c, k, start)) != JND_OK) goto done;
   if ((s = confirm(&c, k, start)) != JND_OK) goto done;
-  for (int i = 0; i < nall; i++)
-    if (out->maps[i].searched && k[i] >= 0) {
-      out->maps[i].chosen[0] = out->maps[i].cand[k[i]][0];
-      out->maps[i].chosen[1] = out->maps[i].cand[k[i]][1];
-    }
 
   /* the matrices of 000 Fig. 13, on request */
   if (p->matrix) {
@@ -711,14 +771,16 @@ jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *pp, jnd_tex
       if (nsearch == 2 && mx->best_a >= 0) {
         k[ia] = start[ia] + mx->best_a;
         k[ib] = start[ib] + mx->best_b;
-        for (int q = 0; q < 2; q++) {
-          int i = q ? ib : ia;
-          out->maps[i].chosen[0] = out->maps[i].cand[k[i]][0];
-          out->maps[i].chosen[1] = out->maps[i].cand[k[i]][1];
-        }
       }
       stage(&c, "matrix %s x %s: %d x %d cells", out->maps[ia].name, out->maps[ib].name, mx->na, mx->nb);
     }
+  }
+  /* the choice: one size per image (a matrix's pair may share an image with other slots) */
+  unify(&c, k);
+  for (int i = 0; i < nall; i++) {
+    jnd_texres_map *m = &out->maps[i];
+    m->chosen[0] = k[i] >= 0 ? m->cand[k[i]][0] : m->orig[0];
+    m->chosen[1] = k[i] >= 0 ? m->cand[k[i]][1] : m->orig[1];
   }
 
   /* the final combination on every view (judged already: no rendering) */
@@ -744,16 +806,7 @@ jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *pp, jnd_tex
   }
   if (p->verify_views > 0 && (s = held_out(&c, k)) != JND_OK) goto done;
 
-  /* memory before and after, with mip chains */
-  for (int i = 0; i < nall; i++) {
-    jnd_texres_map *m = &out->maps[i];
-    for (int f = 0; f < JND_TEX_FORMATS; f++) {
-      m->bytes_before[f] = jnd_texture_bytes((jnd_tex_format)f, m->orig[0], m->orig[1], 1);
-      m->bytes_after[f] = jnd_texture_bytes((jnd_tex_format)f, m->chosen[0], m->chosen[1], 1);
-      out->before_bytes[f] += m->bytes_before[f];
-      out->after_bytes[f] += m->bytes_after[f];
-    }
-  }
+  if ((s = count_images(&c)) != JND_OK) goto done;
   /* leave the scene with the chosen maps */
   for (int i = 0; i < nall; i++) {
     int j = -1;
@@ -770,6 +823,7 @@ done:
     for (int i = 0; i < nall; i++)
       for (int j = 0; j < JND_TEXRES_MAX_CAND; j++) jnd_image_free(&c.ms[i].cache[j]);
   free(c.ms);
+  free(c.first);
   free(k);
   free(start);
   jnd_judge_free(c.j);

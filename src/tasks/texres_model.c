@@ -5,9 +5,13 @@
  * (animations, extensions, extras) survives. A map is found through its
  * material's textureInfo (glTF material index = jnd material index: assimp
  * keeps the file's order); its image is re-encoded as the file had it (PNG
- * or JPEG). An image used at two sizes (glTF's shared occlusion-roughness-
- * metallic image when the slots got different sizes) becomes two images,
- * the second with its own texture. A .glb is rewritten as one .glb whose
+ * or JPEG). texres gives every slot that samples one image one size (a
+ * packed occlusion-roughness-metallic image, a texture two materials share
+ * stay one image); an image still used at two sizes — by a material the
+ * scene does not have (no mesh uses it, or only a KHR_materials_variants
+ * mapping names it) at its own size — becomes two images, the second with
+ * its own texture, so that the material nobody judged is left as it was.
+ * A .glb is rewritten as one .glb whose
  * binary chunk holds every buffer view compacted, the resized images in
  * place of the old ones; a .gltf gets its images and external buffers as
  * files beside it. */

@@ -25,10 +25,8 @@ function shown(v, kind) {
   if (kind === 'percent') return (100 * v).toFixed(1) + '%';
   if (kind === 'number') return v.toFixed(1);
   if (kind === 'bytes') {
-    const u = ['B', 'KiB', 'MiB', 'GiB', 'TiB'];
-    let x = v, i = 0;
-    while (Math.abs(x) >= 1024 && i < 4) { x /= 1024; i++; }
-    return i === 0 ? v.toFixed(0) + ' B' : x.toFixed(1) + ' ' + u[i];
+    const x = v / 1048576;
+    return (Math.abs(x) >= 0.01 || x === 0 ? x.toFixed(2) : x.toFixed(4)) + ' MiB';
   }
   return String(v);
 }

@@ -9,20 +9,7 @@ command -v python3 >/dev/null || skip "needs python3"
 need_renderer
 
 # a small OBJ: a UV sphere of 12 × 24 quads
-python3 - "$T/ball.obj" <<'PY'
-import math, sys
-n, m = 12, 24
-with open(sys.argv[1], "w") as f:
-    for i in range(n + 1):
-        t = math.pi * i / n
-        for j in range(m):
-            p = 2 * math.pi * j / m
-            f.write("v %.6f %.6f %.6f\n" % (math.sin(t) * math.cos(p), math.cos(t), math.sin(t) * math.sin(p)))
-    for i in range(n):
-        for j in range(m):
-            a, b = i * m + j + 1, i * m + (j + 1) % m + 1
-            f.write("f %d %d %d\nf %d %d %d\n" % (a, a + m, b + m, a, b + m, b))
-PY
+python3 "$(dirname "$0")/meshwrite.py" "$T/ball.obj" 12 24
 
 SMALL=(--size 64x64 --views 1 --map-size 64 --quiet)
 expect_exit 0 asset_form_runs "$JND" pop builtin -o "$T/a" "${SMALL[@]}" --errors 0.1 --orbit 60 --frame 2

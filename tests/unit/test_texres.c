@@ -67,8 +67,12 @@ TEST(sizes_never_exceed_the_mip_bound_and_shrink_with_the_object) {
     /* aspect kept, candidates descending from the original */
     CHECK(a->cand[0][0] == a->orig[0] && a->cand[0][1] == a->orig[1]);
     for (int k = 1; k < a->ncand; k++) CHECK(a->cand[k][0] < a->cand[k - 1][0]);
-    CHECK(a->bytes_after[JND_TEX_RGBA8] <= a->bytes_before[JND_TEX_RGBA8]);
+    CHECK(a->image >= 0 && a->image < near.nimages);
   }
+  /* the built-in asset's four maps are four images */
+  CHECK(near.nimages == 4);
+  for (int t = 0; t < near.nimages; t++)
+    CHECK(near.images[t].bytes_after[JND_TEX_RGBA8] <= near.images[t].bytes_before[JND_TEX_RGBA8]);
   CHECK(far.after_bytes[JND_TEX_RGBA8] <= near.after_bytes[JND_TEX_RGBA8]);
   CHECK(near.nviews == 3 && near.view_p && near.worst_heatmap.data);
   /* the scene is left with the chosen sizes */

@@ -1,0 +1,47 @@
+"""glTF test assets for the end-to-end tests, with the standard library only.
+
+png_bytes(w, h, k): a w x h RGB PNG (bytes) of a smooth pattern that k varies.
+write_glb(path, g, geo, images): writes the glTF dict g as one .glb whose
+binary chunk holds geo (the bytes g's first bufferViews already point into)
+and then each of images (PNG bytes), each image given its own bufferView;
+g gets its images and buffers. Import with PYTHONPATH set to this folder.
+"""
+import json
+import math
+import struct
+import zlib
+
+
+def png_bytes(w, h, k):
+    raw = bytearray()
+    for y in range(h):
+        raw.append(0)
+        for x in range(w):
+            raw.extend(max(0, min(255, int(round(v * 255)))) for v in
+                       (0.5 + 0.45 * math.sin(x * (1.3 + 0.2 * k)), 0.5 + 0.45 * math.cos(y * (1.1 + 0.1 * k)),
+                        0.2 + 0.15 * k))
+
+    def chunk(t, b):
+        return struct.pack('>I', len(b)) + t + b + struct.pack('>I', zlib.crc32(t + b) & 0xffffffff)
+
+    return (b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', w, h, 8, 2, 0, 0, 0))
+            + chunk(b'IDAT', zlib.compress(bytes(raw))) + chunk(b'IEND', b''))
+
+
+def write_glb(path, g, geo, images):
+    binary = bytearray(geo)
+    g["images"] = []
+    for b in images:
+        while len(binary) % 4:
+            binary.append(0)
+        g["bufferViews"].append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(b)})
+        g["images"].append({"bufferView": len(g["bufferViews"]) - 1, "mimeType": "image/png"})
+        binary += b
+    while len(binary) % 4:
+        binary.append(0)
+    g["buffers"] = [{"byteLength": len(binary)}]
+    js = json.dumps(g).encode()
+    js += b" " * ((4 - len(js) % 4) % 4)
+    open(path, "wb").write(b"glTF" + struct.pack("<II", 2, 12 + 8 + len(js) + 8 + len(binary))
+                           + struct.pack("<I", len(js)) + b"JSON" + js
+                           + struct.pack("<I", len(binary)) + b"BIN\x00" + bytes(binary))
