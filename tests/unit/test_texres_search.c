@@ -12,7 +12,13 @@
 
 static int longer(const int *wh) { return wh[0] > wh[1] ? wh[0] : wh[1]; }
 
+/* the builtin asset with maps of map_size², or NULL (and a skip) where no
+ * OpenGL context can be had */
 static jnd_scene *builtin(int map_size) {
+  if (!test_renderer_available()) {
+    TEST_SKIP("no OpenGL context");
+    return NULL;
+  }
   jnd_builtin_params bp;
   jnd_builtin_defaults(&bp);
   bp.map_size = map_size;
@@ -69,10 +75,6 @@ static void check_reported_criterion(const double *P, int n, const jnd_criterion
  * with p near 1 every map goes down to its smallest candidate, so every
  * view sees a difference (no P is 0 because nothing changed). */
 TEST(held_out_views_are_not_the_views_the_choice_was_made_on) {
-  if (!test_renderer_available()) {
-    TEST_SKIP("no OpenGL context");
-    return;
-  }
   jnd_scene *s = builtin(128);
   if (!s) return;
   jnd_texres_params p;
@@ -115,10 +117,6 @@ TEST(held_out_views_are_not_the_views_the_choice_was_made_on) {
  * min_size, min_size included when a halving lands on it (docs/texres.md);
  * with p near 1 everything passes and every map goes to the smallest. */
 TEST(the_smallest_allowed_size_is_a_candidate_and_is_chosen_when_everything_passes) {
-  if (!test_renderer_available()) {
-    TEST_SKIP("no OpenGL context");
-    return;
-  }
   jnd_scene *s = builtin(128);
   if (!s) return;
   static const int floors[] = {16, 64};
@@ -168,10 +166,6 @@ TEST(the_smallest_allowed_size_is_a_candidate_and_is_chosen_when_everything_pass
 /* A larger threshold p never asks for larger maps: the chosen size is
  * monotone in p, and at p near 0 no map goes below its mip-usage bound */
 TEST(chosen_sizes_never_grow_as_the_threshold_rises) {
-  if (!test_renderer_available()) {
-    TEST_SKIP("no OpenGL context");
-    return;
-  }
   jnd_scene *s = builtin(128);
   if (!s) return;
   static const double ps[] = {0.02, 0.2, 0.99};
