@@ -451,6 +451,13 @@ TEST(knee_of_a_flat_then_steep_curve_is_its_corner) {
   double y2[10];
   for (int i = 0; i < 10; i++) y2[i] = 1000 * y[i] + 5;
   CHECK(jnd_knee(x, y2, 10, JND_KNEE_BELOW, 0) == 6);
+  /* shifted x (units of x do not matter either), and the curve turned
+   * upside down, which puts it above its chord: the same corner */
+  double xs[10], yn[10];
+  for (int i = 0; i < 10; i++) xs[i] = 3 * i + 1000, yn[i] = -y[i];
+  CHECK(jnd_knee(xs, y, 10, JND_KNEE_BELOW, 0) == 6);
+  CHECK(jnd_knee(x, yn, 10, JND_KNEE_ABOVE, 0) == 6);
+  CHECK(jnd_knee(x, yn, 10, JND_KNEE_BELOW, 0) != 6);
 }
 
 TEST(knee_of_an_exponential_is_where_its_slope_equals_the_chord) {
