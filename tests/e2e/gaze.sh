@@ -27,6 +27,10 @@ for i in range(3):
         if j + 1 < 3: assert L[i][j + 1] >= L[i][j]
         k = res["level_raw"][i][j]
         assert L[i][j] <= k and res["p_spatial"][i][j][k] < 0.75 and res["p_switch"][i][j][k] < 0.75
+        # 002's threshold 0.75 by default: the raw level is the coarsest below it
+        for c in range(k + 1, n):
+            assert res["p_spatial"][i][j][c] >= 0.75 or res["p_switch"][i][j][c] >= 0.75, (i, j, c, k)
+assert r["parameters"]["threshold"] == 0.75, r["parameters"]
 assert L[0][0] < L[-1][-1], L
 rows = list(csv.DictReader(open(d + "/gaze.csv")))
 assert len(rows) == 9

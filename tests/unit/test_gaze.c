@@ -226,6 +226,7 @@ TEST(table_level_never_gets_finer_with_distance_or_eccentricity) {
   static const double dist[] = {20, 40, 80}, ecc[] = {0, 10, 25, 50};
   jnd_gaze_table_params p;
   jnd_gaze_table_defaults(&p);
+  CHECK_NEAR(p.threshold, 0.75, 0);   /* 002 "Gaze-contingent LOD prediction": the midpoint, 0.75 */
   p.distances_m = dist, p.ndistances = 3;
   p.eccentricities_deg = ecc, p.neccentricities = 4;
   p.orientations = 2;
@@ -243,12 +244,15 @@ TEST(table_level_never_gets_finer_with_distance_or_eccentricity) {
         if (d + 1 < 3) CHECK(t.level[(d + 1) * 4 + e] >= l);
         if (e + 1 < 4) CHECK(t.level[d * 4 + e + 1] >= l);
         CHECK(l <= t.level_raw[d * 4 + e]);
-        /* the chosen level's worst-orientation probabilities are below the threshold */
+        /* the chosen level's worst-orientation probabilities are below the
+         * threshold, 002's 0.75 (the 2AFC midpoint) by default: written
+         * here as the paper gives it, not read from the parameters */
+        const double paper = 0.75;
         const double *ps = t.p_spatial + (size_t)(d * 4 + e) * t.nlevels, *pw = t.p_switch + (size_t)(d * 4 + e) * t.nlevels;
         int raw = t.level_raw[d * 4 + e];
-        CHECK(ps[raw] < p.threshold && pw[raw] < p.threshold);
+        CHECK(ps[raw] < paper && pw[raw] < paper);
         /* and the raw level is the coarsest such */
-        for (int k = raw + 1; k < t.nlevels; k++) CHECK(ps[k] >= p.threshold || pw[k] >= p.threshold);
+        for (int k = raw + 1; k < t.nlevels; k++) CHECK(ps[k] >= paper || pw[k] >= paper);
         any_coarse |= l > 0;
         any_fine |= l == 0;
       }

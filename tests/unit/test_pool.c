@@ -239,6 +239,73 @@ TEST(binomial_upper_bound_matches_closed_forms) {
   CHECK(jnd_binomial_upper(1, 20, 0.9) < jnd_binomial_upper(1, 10, 0.9));
 }
 
+/* The upper bound is the Clopper–Pearson bound of what was observed: the
+ * views above p (not those allowed, not the views at or below p), out of
+ * the views judged. Recomputed here by another route: the binomial CDF as
+ * a sum of products (no log-gamma), bisected for CDF(u) = 1 − confidence. */
+static double cdf_by_products(int k, int n, double u) {
+  double sum = 0;
+  for (int i = 0; i <= k; i++) {
+    double term = 1;
+    for (int j = 0; j < i; j++) term *= (double)(n - j) / (j + 1) * u;
+    for (int j = 0; j < n - i; j++) term *= 1 - u;
+    sum += term;
+  }
+  return sum;
+}
+
+static double clopper_pearson_upper(int k, int n, double confidence) {
+  if (k >= n) return 1;
+  double lo = 0, hi = 1;
+  for (int it = 0; it < 200; it++) {
+    double mid = 0.5 * (lo + hi);
+    if (cdf_by_products(k, n, mid) > 1 - confidence) lo = mid;
+    else hi = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+TEST(criterion_upper_bound_is_clopper_pearson_of_the_views_observed_above) {
+  /* n views, `above` of them above p = 0.2; allowed = floor(q n) differs
+   * from above in every case, and above differs from n − above */
+  static const struct {
+    int n, above;
+    double q, confidence;
+  } cases[] = {{10, 3, 0.1, 0.9}, {10, 0, 0.1, 0.9}, {8, 1, 0.1, 0.95}, {20, 5, 0.1, 0.9},
+               {12, 2, 0.25, 0.8}, {5, 4, 0.1, 0.9}, {30, 7, 0.1, 0.99}};
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+    double P[64];
+    int n = cases[c].n, above = cases[c].above;
+    /* the views above p at the end, so that their count is not their index */
+    for (int i = 0; i < n; i++) P[i] = i >= n - above ? 0.2 + 0.7 * (i + 1) / n : 0.19 * i / n;
+    jnd_criterion_result r;
+    CHECK_OK(jnd_criterion_eval(P, n, 0.2, cases[c].q, cases[c].confidence, &r));
+    CHECK(r.above == above && r.views == n);
+    double want = clopper_pearson_upper(above, n, cases[c].confidence);
+    CHECK_NEAR(r.fraction_upper, want, 1e-7);
+    CHECK(r.fraction_upper >= r.fraction_above);
+    CHECK_NEAR(r.fraction_above, (double)above / n, 1e-15);
+    /* a higher confidence asks for a larger bound */
+    jnd_criterion_result hi;
+    CHECK_OK(jnd_criterion_eval(P, n, 0.2, cases[c].q, 1 - (1 - cases[c].confidence) / 2, &hi));
+    if (above < n) CHECK(hi.fraction_upper > r.fraction_upper);
+  }
+  /* the route itself at hand values: 0 of 10 at 90 %: 1 − 0.1^(1/10);
+   * 9 of 10: 0.9^(1/10); 3 of 10 at 90 %: 0.55173 (Python's math.comb
+   * sum, bisected) */
+  CHECK_NEAR(clopper_pearson_upper(0, 10, 0.9), 1 - pow(0.1, 0.1), 1e-9);
+  CHECK_NEAR(clopper_pearson_upper(3, 10, 0.9), 0.5517308, 1e-6);
+  /* docs/texres.md: with the default confidence (90 %), 8 views none above
+   * bound the fraction of all views above p at 25 % */
+  jnd_criterion def;
+  jnd_criterion_defaults(&def);
+  double eight[8] = {0};
+  jnd_criterion_result r8;
+  CHECK_OK(jnd_criterion_eval(eight, 8, def.p, def.q, def.confidence, &r8));
+  CHECK_NEAR(r8.fraction_upper, 0.25, 0.0005);
+  CHECK_NEAR(clopper_pearson_upper(9, 10, 0.9), pow(0.9, 0.1), 1e-9);
+}
+
 /* 000 §9 with q·N integral and not: ⌊q·N⌋ views may lie above p and the
  * statistic is the (⌊q·N⌋ + 1)-th largest P. On P = (j + 0.5)/N, j = 0..N−1
  * (distinct, stored shuffled) the (k + 1)-th largest is (N − k − 0.5)/N. A
@@ -384,6 +451,13 @@ TEST(knee_of_a_flat_then_steep_curve_is_its_corner) {
   double y2[10];
   for (int i = 0; i < 10; i++) y2[i] = 1000 * y[i] + 5;
   CHECK(jnd_knee(x, y2, 10, JND_KNEE_BELOW, 0) == 6);
+  /* shifted x (units of x do not matter either), and the curve turned
+   * upside down, which puts it above its chord: the same corner */
+  double xs[10], yn[10];
+  for (int i = 0; i < 10; i++) xs[i] = 3 * i + 1000, yn[i] = -y[i];
+  CHECK(jnd_knee(xs, y, 10, JND_KNEE_BELOW, 0) == 6);
+  CHECK(jnd_knee(x, yn, 10, JND_KNEE_ABOVE, 0) == 6);
+  CHECK(jnd_knee(x, yn, 10, JND_KNEE_BELOW, 0) != 6);
 }
 
 TEST(knee_of_an_exponential_is_where_its_slope_equals_the_chord) {
@@ -433,7 +507,8 @@ TEST(knee_of_a_line_or_a_short_curve_is_the_first_point) {
 
 RUN_TESTS(knee_of_a_flat_then_steep_curve_is_its_corner, knee_ties_within_the_tolerance_go_to_the_first_point, knee_of_an_exponential_is_where_its_slope_equals_the_chord,
           knee_of_a_line_or_a_short_curve_is_the_first_point, criterion_allows_floor_q_n_views_above_p, criterion_refuses_bad_arguments,
-          binomial_upper_bound_matches_closed_forms, order_statistics_equal_the_sorted_values,
+          binomial_upper_bound_matches_closed_forms, criterion_upper_bound_is_clopper_pearson_of_the_views_observed_above,
+          order_statistics_equal_the_sorted_values,
           order_statistics_of_values_crowded_in_one_bin_equal_the_sorted_values, order_statistics_of_a_constant_map,
           order_statistics_refuse_bad_indices, sort_matches_qsort_for_both_paths, percentiles_interpolate_linearly,
           percentiles_of_a_large_map_match_a_full_sort,
