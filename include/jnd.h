@@ -979,12 +979,15 @@ typedef struct jnd_renderer jnd_renderer;
 typedef struct {
   int width, height;        /* image size, pixels (default 512 × 512) */
   int samples;              /* MSAA samples of the colour pass (default 4; capped by the driver) */
+  int pixel_shading;        /* 1: shade once per pixel (GL's MSAA: supersamples coverage only);
+                               0 (default): shade every sample, so a pixel is the mean of the image
+                               over its area, as a display pixel is (docs/render.md) */
   int anisotropy;           /* maximum anisotropy (default 8) */
   const char *env_path;     /* equirectangular .hdr/.exr environment; NULL: the built-in studio */
   const char *platform;     /* NULL/"auto", "device" or "surfaceless" (also $JND_EGL_PLATFORM) */
 } jnd_renderer_params;
 
-/* Fills p with the defaults above (512 × 512, 4 samples, anisotropy 8, studio). */
+/* Fills p with the defaults above (512 × 512, 4 samples shaded each, anisotropy 8, studio). */
 void jnd_renderer_defaults(jnd_renderer_params *p);
 
 /* Opens the EGL display and an OpenGL 4.5 core context, compiles the

@@ -31,6 +31,7 @@ struct jnd_renderer {
   jnd_gl_context gl;
   char desc[320];
   int w, h, samples;
+  int sample_shading;   /* shade every MSAA sample (jnd_renderer_params.pixel_shading 0) */
   float max_aniso;
   /* the PBR program in six variants: [pass][alpha mask], pass 0 shaded
    * colour, 1 auxiliary, 2 unlit colour; only the masked variant may
@@ -275,6 +276,7 @@ jnd_status jnd_renderer_create(const jnd_renderer_params *p, jnd_renderer **out)
   GLint max_samples = 1;
   glGetInternalformativ(GL_RENDERBUFFER, GL_RGBA32F, GL_SAMPLES, 1, &max_samples);
   r->samples = jnd_clampi(p->samples > 0 ? p->samples : 1, 1, max_samples > 0 ? max_samples : 1);
+  r->sample_shading = !p->pixel_shading && r->samples > 1;
   /* anisotropic filtering is the shader's (pbr_frag.glsl, sample_map): the
    * same on every driver, whatever it offers */
   r->max_aniso = (float)jnd_clampi(p->anisotropy, 1, 16);
@@ -646,6 +648,22 @@ static jnd_status setup_view(jnd_renderer *r, const jnd_scene *scene, const jnd_
   return JND_OK;
 }
 
+/* Shading at every MSAA sample: a pixel is then the mean of the shaded
+ * image over its area (coverage and shading alike), as a display pixel
+ * shows it, rather than the shading at its centre with only the edges
+ * antialiased. Detail finer than a pixel (normals of a dense mesh, specular
+ * highlights) then averages out instead of aliasing into coarser patterns,
+ * so the same object drawn with more pixels is a better-sampled version of
+ * the same image (docs/lod.md "The same image at every pixel count"). */
+static void multisample_shading(const jnd_renderer *r) {
+  if (r->sample_shading) {
+    glEnable(GL_SAMPLE_SHADING);
+    glMinSampleShading(1.0f);
+  } else {
+    glDisable(GL_SAMPLE_SHADING);
+  }
+}
+
 jnd_status jnd_render(jnd_renderer *r, const jnd_scene *scene, const jnd_view *view, jnd_frame *frame) {
   memset(frame, 0, sizeof *frame);
   double vp[16];
@@ -658,6 +676,7 @@ jnd_status jnd_render(jnd_renderer *r, const jnd_scene *scene, const jnd_view *v
   /* pass 1: colour and coverage with MSAA */
   glBindFramebuffer(GL_FRAMEBUFFER, r->msaa_fbo);
   glEnable(GL_MULTISAMPLE);
+  multisample_shading(r);
   const float zero[4] = {0, 0, 0, 0};
   glClearNamedFramebufferfv(r->msaa_fbo, GL_COLOR, 0, zero);
   glClearNamedFramebufferfi(r->msaa_fbo, GL_DEPTH_STENCIL, 0, 1.0f, 0);
@@ -792,6 +811,7 @@ jnd_status jnd_render_materials(jnd_renderer *r, const jnd_scene *scene, const j
   int gy = r->h - y0 - h;   /* GL rows count from the bottom */
   glBindFramebuffer(GL_FRAMEBUFFER, r->msaa_fbo);
   glEnable(GL_MULTISAMPLE);
+  multisample_shading(r);
   glCopyImageSubData((GLuint)depth, GL_RENDERBUFFER, 0, x0, gy, 0, r->msaa_depth, GL_RENDERBUFFER, 0, x0, gy, 0, w, h, 1);
   glEnable(GL_SCISSOR_TEST);
   glScissor(x0, gy, w, h);

@@ -171,7 +171,7 @@ TEST(coverage_and_distance_are_inverses) {
 /* ---- the rendered judgement ---- */
 
 /* the builtin sphere (small maps), its chain, and a copy of level 0 added as
- * the last level */
+ * the last level (copy NULL: none) */
 static jnd_scene *sphere_chain(const double *errors, int nerrors, int *copy) {
   jnd_builtin_params bp;
   jnd_builtin_defaults(&bp);
@@ -179,13 +179,14 @@ static jnd_scene *sphere_chain(const double *errors, int nerrors, int *copy) {
   bp.shape = 1;
   jnd_scene *s = NULL, *c = NULL;
   CHECK_OK(jnd_scene_builtin(&bp, &s));
-  CHECK_OK(jnd_scene_builtin(&bp, &c));
-  if (!s || !c) return NULL;
+  if (copy) CHECK_OK(jnd_scene_builtin(&bp, &c));
+  if (!s || (copy && !c)) return NULL;
   jnd_lod_params lp;
   jnd_lod_defaults(&lp);
   lp.errors = errors;
   lp.nerrors = nerrors;
   CHECK_OK(jnd_scene_lod_build(s, &lp));
+  if (!copy) return s;
   CHECK_OK(jnd_scene_lod_add(s, c, "copy"));
   *copy = jnd_scene_lod_count(s) - 1;
   CHECK(*copy >= 2);
@@ -391,6 +392,99 @@ TEST(popping_decides_a_switch_and_the_switch_does_not_pop_there) {
   jnd_scene_free(s);
 }
 
+/* The perceptual level at camera distance d alone (a grid of one distance):
+ * the coarsest level that passes there; -1 when it failed */
+static int level_at(jnd_scene *s, const jnd_poi_screen *scr, const jnd_lod_switch_params *p0, double d, double radius) {
+  jnd_lod_switch_params p = *p0;
+  p.distance = d;
+  p.far_coverage = jnd_coverage_at_distance(radius, d, 45);
+  jnd_lod_switch_result r;
+  if (jnd_lod_switch_analyse(s, scr, &p, &r) != JND_OK) return -1;
+  int k = r.perceptual_level;
+  jnd_lod_switch_result_free(&r);
+  return k;
+}
+
+/* docs/lod.md "The same image at every pixel count": the shared Stanford
+ * bunny (69 K triangles, its default chain) on two screens of the same size
+ * in degrees (28.6° tall), one with twice the pixels a side. The one with
+ * more pixels shows every difference the other shows, at least as well: no
+ * level switches nearer on it, and at each distance judged alone its
+ * perceptual level is never coarser; on each screen a farther viewer never
+ * rejects a level a nearer one accepts (the level chosen grows with the
+ * distance). Judged with one renderer (lent). Shading once per pixel
+ * (jnd_renderer_params.pixel_shading, the old rendering) ties the two
+ * screens here; e2e.lod_shared_slow's 101 K-triangle teapot is where it
+ * inverted them (docs/lod.md). */
+TEST(more_pixels_never_accept_a_coarser_level_and_farther_never_rejects) {
+  const char *data = test_shared_data();
+  if (!data) {
+    TEST_SKIP("no shared data");
+    return;
+  }
+  char path[1200];
+  snprintf(path, sizeof path, "%s/meshes/stanford-bunny.obj", data);
+  jnd_scene *s = NULL;
+  CHECK_OK(jnd_scene_load(path, &s));
+  if (!s) return;
+  jnd_lod_params lp;
+  jnd_lod_defaults(&lp);
+  CHECK_OK(jnd_scene_lod_build(s, &lp));
+  double centre[3], radius;
+  int ground;
+  jnd_scene_subject_bounds(s, centre, &radius, &ground);
+  jnd_poi_screen scr[2];
+  CHECK_OK(jnd_poi_screen_parse("1920x1080@37.8", &scr[0]));
+  CHECK_OK(jnd_poi_screen_parse("3840x2160@75.6", &scr[1]));
+  jnd_lod_switch_params p;
+  small_params(&p);
+  p.max_px = 512;
+  p.coverage = 0.2;
+  p.far_coverage = 0.05;
+  p.tolerance = 1;   /* coverages 0.2, 0.1, 0.05 */
+  jnd_renderer_params rp;
+  jnd_renderer_defaults(&rp);
+  rp.width = rp.height = 64;
+  jnd_renderer *ren = NULL;
+  jnd_status st = jnd_renderer_create(&rp, &ren);
+  if (st == JND_ERR_GL) {
+    jnd_scene_free(s);
+    TEST_SKIP("no OpenGL renderer: %s", jnd_last_error());
+    return;
+  }
+  CHECK_OK(st);
+  p.judge.renderer = ren;
+  jnd_lod_switch_result r[2];
+  for (int i = 0; i < 2; i++) CHECK_OK(jnd_lod_switch_analyse(s, &scr[i], &p, &r[i]));
+  for (int k = 0; k < r[0].nlevels; k++) {
+    fprintf(stderr, "level %d switches at %.3g (%s), %.3g (%s)\n", k, r[0].switch_distance_criterion[k], scr[0].name,
+            r[1].switch_distance_criterion[k], scr[1].name);
+    CHECK(r[1].switch_distance_criterion[k] >= r[0].switch_distance_criterion[k]);
+  }
+  CHECK(r[1].perceptual_level <= r[0].perceptual_level);
+  /* the distances of the search's grid, each judged alone */
+  int last[2] = {0, 0}, shown = 0;
+  const double d0 = r[0].view_distance, dfar = jnd_camera_distance_for_coverage(radius, p.far_coverage, 45);
+  const int ngrid = (int)ceil(log(dfar / d0) / log1p(p.tolerance)) + 1;
+  CHECK_EQ(ngrid, 3);
+  for (int g = 0; g < ngrid; g++) {
+    const double d = g == ngrid - 1 ? dfar : d0 * pow(1 + p.tolerance, g);
+    int lv[2];
+    for (int i = 0; i < 2; i++) {
+      lv[i] = level_at(s, &scr[i], &p, d, radius);
+      CHECK(lv[i] >= last[i]);   /* farther: never a finer level */
+      last[i] = lv[i];
+    }
+    fprintf(stderr, "distance %.3g: level %d (%s), %d (%s)\n", d, lv[0], scr[0].name, lv[1], scr[1].name);
+    CHECK(lv[1] >= 0 && lv[1] <= lv[0]);   /* more pixels: never a coarser level */
+    shown += lv[1] > 0;
+  }
+  CHECK(shown >= 2);   /* levels above 0 are chosen: the test can fail */
+  for (int i = 0; i < 2; i++) jnd_lod_switch_result_free(&r[i]);
+  jnd_renderer_free(ren);
+  jnd_scene_free(s);
+}
+
 TEST(bad_switch_parameters_are_refused) {
   int copy = 0;
   jnd_scene *s = sphere_with_copy(&copy);
@@ -429,4 +523,5 @@ RUN_TESTS(bisection_finds_the_nearest_passing_distance_of_every_threshold,
           a_switch_distance_is_the_farthest_of_its_components_and_the_finer_level,
           coverage_and_distance_are_inverses, a_level_identical_to_level_0_has_p_0_and_inherits_the_finer_distance,
           a_far_distance_is_judged_at_the_screens_own_scale,
-          popping_decides_a_switch_and_the_switch_does_not_pop_there, bad_switch_parameters_are_refused)
+          popping_decides_a_switch_and_the_switch_does_not_pop_there,
+          more_pixels_never_accept_a_coarser_level_and_farther_never_rejects, bad_switch_parameters_are_refused)

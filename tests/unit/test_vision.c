@@ -611,6 +611,69 @@ TEST(a_coarser_texture_masks_a_finer_change) {
   CHECK(j[1] > 0);
 }
 
+/* A 40 × 40 patch 12% brighter whose near edge lies dx pixels to the right
+ * of a high-contrast texture (uniform noise, ±80% of 50 cd/m², on the left
+ * 64 columns; dx < 0: no texture), on 50 cd/m²: the largest JND of its
+ * edges (the texture's own pixels left out). */
+static double edge_beside_texture(jnd_model *m, int dx) {
+  const int W = 256, H = 96, tx = 64, pw = 40;
+  const int xe = tx + (dx < 0 ? 32 : dx);
+  jnd_image a, b;
+  jnd_image_alloc(&a, W, H, 3);
+  jnd_image_alloc(&b, W, H, 3);
+  uint64_t r = 7;
+  for (int y = 0; y < H; y++)
+    for (int x = 0; x < W; x++) {
+      r = r * 6364136223846793005ULL + 1442695040888963407ULL;
+      double v = dx >= 0 && x < tx ? 50 * (1 + 0.8 * (2 * (double)(r >> 11) / 9007199254740992.0 - 1)) : 50;
+      double t = x >= xe && x < xe + pw && y >= 28 && y < 68 ? v * 1.12 : v;
+      for (int c = 0; c < 3; c++) {
+        jnd_image_plane(&a, c)[(size_t)y * W + x] = (float)v;
+        jnd_image_plane(&b, c)[(size_t)y * W + x] = (float)t;
+      }
+    }
+  jnd_image map;
+  double mx = -1;
+  if (jnd_model_diff(m, &a, &b, NULL, &map) == JND_OK) {
+    for (int y = 0; y < H; y++)
+      for (int x = tx; x < W; x++) mx = fmax(mx, map.data[(size_t)y * W + x]);
+    jnd_image_free(&map);
+  }
+  jnd_image_free(&a);
+  jnd_image_free(&b);
+  return mx;
+}
+
+/* docs/model.md "Masking": texture masks what lies on it, not a smooth
+ * region beside it. A step edge beside a high-contrast texture is masked
+ * only within the neighbourhood of the bands that carry it (at 38 ppd the
+ * edge's finest bands' filters and 5 × 5 pools reach about 8–16 pixels):
+ * from 16 pixels (0.42°) on its JND is within 1% of its flat-field value,
+ * and it is masked where it touches the texture (so the test can fail). */
+TEST(a_step_beside_a_texture_is_masked_only_within_its_bands_neighbourhood) {
+  jnd_model_params p;
+  jnd_model_defaults(&p);
+  p.display.ppd = 38;
+  p.threads = 1;
+  jnd_model *m = NULL;
+  CHECK_OK(jnd_model_create(&p, &m));
+  if (!m) return;
+  const double flat = edge_beside_texture(m, -1);
+  static const int dxs[6] = {0, 4, 8, 16, 32, 64};
+  double j[6];
+  fprintf(stderr, "12%% edge beside a texture: flat field %.2f JND;", flat);
+  for (int i = 0; i < 6; i++) {
+    j[i] = edge_beside_texture(m, dxs[i]);
+    fprintf(stderr, " %d px %.2f;", dxs[i], j[i]);
+  }
+  fputc('\n', stderr);
+  CHECK(flat > 5);
+  CHECK_LT(j[0], 0.9 * flat);   /* touching the texture: masked */
+  for (int i = 1; i < 6; i++) CHECK(j[i] >= j[i - 1] - 0.01 * flat);   /* falls off with distance */
+  for (int i = 3; i < 6; i++) CHECK(fabs(j[i] / flat - 1) < 0.01);    /* from 16 px on: the flat field's */
+  jnd_model_free(m);
+}
+
 TEST(a_uniform_change_is_visible) {
   /* the baseband: a flat 16° field from 40 to 45 cd/m² has no contrast in
    * any band but is plainly seen; 40 to 40.1 is not */
@@ -1313,7 +1376,8 @@ RUN_TESTS(flicker_sensitivity_is_band_pass_at_low_spatial_frequency_and_low_pass
           the_achromatic_channel_sees_luminance_contrast_on_a_coloured_background,
           moving_the_fixation_point_equals_a_model_made_with_it, a_texture_masks_a_change_whatever_its_phase,
           an_achromatic_texture_masks_a_colour_change, a_coarser_texture_masks_a_finer_change,
-          a_uniform_change_is_visible, identical_images_have_zero_jnd, band_table_matches_the_filters, finest_band_peaks_near_nyquist_and_four_times_the_next,
+          a_uniform_change_is_visible, a_step_beside_a_texture_is_masked_only_within_its_bands_neighbourhood,
+          identical_images_have_zero_jnd, band_table_matches_the_filters, finest_band_peaks_near_nyquist_and_four_times_the_next,
           with_004s_limit_the_coarsest_band_peaks_at_or_above_half_a_cycle_per_degree, reduce_and_expand_keep_a_constant_image_constant,
           expand_add_equals_expanding_then_adding_the_positive_part,
           lms_luminance_weights_recover_y, opponent_channels_separate_luminance_from_colour,
