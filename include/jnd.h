@@ -1924,7 +1924,7 @@ typedef struct {
   jnd_lod_switch_result *sw; /* when perceptual: one per screen of poi (owned) */
   int nsw;
   double coverage[64];       /* MSFT_screencoverage written, one per level (jnd_scene_write_lod_glb) */
-  char coverage_rule[160];   /* how they were chosen */
+  char coverage_rule[256];   /* how they were chosen, naming the screen (the first of poi's) */
   char model_path[4600];     /* the GLB written, "" if none */
   int nplots;
   char plots[16][96];        /* pareto_SCREEN.png names, one per screen, under out_dir */

@@ -818,7 +818,7 @@ jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, int perceptu
  * level k is shown while the sphere fills more of the screen than where
  * level k + 1 may take over (its switch coverage, a fraction of the
  * height), written as Babylon.js's screen coverage like coverage_rule(). */
-static void coverage_switch(const jnd_lod_switch_result *w, double *cov, char *rule, size_t nrule) {
+static void coverage_switch(const jnd_lod_switch_result *w, int nscreens, double *cov, char *rule, size_t nrule) {
   const jnd_poi_screen *ref = &w->screen;
   double prev = 1;
   for (int k = 0; k < w->nlevels; k++) {
@@ -828,8 +828,9 @@ static void coverage_switch(const jnd_lod_switch_result *w, double *cov, char *r
     cov[k] = c;
     prev = c;
   }
-  snprintf(rule, nrule, "perceptual switch distances on %s (%dx%d), as projected sphere area over screen area",
-           ref->name, ref->width_px, ref->height_px);
+  snprintf(rule, nrule, "perceptual switch distances on %s (%dx%d), the first of %d screen%s (a model holds one "
+           "screen's coverages), as projected sphere area over screen area", ref->name, ref->width_px, ref->height_px,
+           nscreens, nscreens == 1 ? "" : "s");
 }
 
 /* ---- jnd lod as one call ---- */
@@ -875,8 +876,8 @@ static jnd_status mkdir_p(const char *dir) {
  * screen's height; level k − 1 gives way to level k there. Written as
  * Babylon.js's screen coverage: the sphere's projected area over the
  * screen's, π c² H / (4 W). */
-static void coverage_rule(const jnd_scene *s, const jnd_poi_screen *ref, double px, const double *err_abs,
-                          double *cov, char *rule, size_t nrule) {
+static void coverage_rule(const jnd_scene *s, const jnd_poi_screen *ref, int nscreens, double px,
+                          const double *err_abs, double *cov, char *rule, size_t nrule) {
   int n = jnd_scene_lod_count(s);
   double centre[3], radius;
   jnd_scene_bounds(s, centre, &radius);
@@ -893,8 +894,9 @@ static void coverage_rule(const jnd_scene *s, const jnd_poi_screen *ref, double 
     cov[k] = c;
     prev = c;
   }
-  snprintf(rule, nrule, "meshoptimizer's error <= %g px on %s (%dx%d), as projected sphere area over screen area",
-           px, ref->name, ref->width_px, ref->height_px);
+  snprintf(rule, nrule, "meshoptimizer's error <= %g px on %s (%dx%d), %s, as projected sphere area over screen area",
+           px, ref->name, ref->width_px, ref->height_px,
+           nscreens > 1 ? "the first of the screens (a model holds one screen's coverages)" : "the screen");
 }
 
 /* ---- the perceptual step's screens, in parallel ----
@@ -1068,10 +1070,10 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
     }
   }
   if (!st && out->nsw > 0)
-    coverage_switch(&out->sw[0], out->coverage, out->coverage_rule, sizeof out->coverage_rule);
+    coverage_switch(&out->sw[0], out->nsw, out->coverage, out->coverage_rule, sizeof out->coverage_rule);
   else if (!st)
-    coverage_rule(s, &ref, p->poi.meshopt_pixels > 0 ? p->poi.meshopt_pixels : 1, err, out->coverage,
-                  out->coverage_rule, sizeof out->coverage_rule);
+    coverage_rule(s, &ref, p->poi.screens ? p->poi.nscreens : 1, p->poi.meshopt_pixels > 0 ? p->poi.meshopt_pixels : 1,
+                  err, out->coverage, out->coverage_rule, sizeof out->coverage_rule);
   /* outputs, last */
   if (!st && p->out_dir) {
     char dir[4200];
