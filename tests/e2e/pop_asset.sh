@@ -47,6 +47,10 @@ check the_search_is_reported jq -e '.parameters.search.speeds_dps == [0, 240] an
 check switch_png_is_a_plot python3 -c "
 import struct, sys; b = open('$T/d/switch.png', 'rb').read(); w, h = struct.unpack('>II', b[16:24]); sys.exit(0 if b[:4] == b'\x89PNG' and w >= 400 and h >= 300 else 1)"
 
+# --decide's searches take minutes each on a real asset: a line per search with the count and the time left
+expect_exit 0 decide_reports_progress "$JND" pop builtin -o "$T/prog" --size 64x64 --views 1 --map-size 64 --errors 0.1 --speeds 0,240 --tolerance 0.3 --decide
+check decide_progress_has_searches_done_and_time_left bash -c "grep -Eq '^jnd pop: switch distances: 1/2 done in [0-9]+ s, about [0-9]+ s left$' '$T/err.txt' && grep -Eq '^jnd pop: switch distances: 2/2 done in [0-9]+ s$' '$T/err.txt'"
+
 "$JND" pop builtin -o "$T/t1" "${SMALL[@]}" --errors 0.1 --orbit 60 --threads 1
 "$JND" pop builtin -o "$T/t2" "${SMALL[@]}" --errors 0.1 --orbit 60 --threads 2
 check report_is_byte_identical_across_thread_counts cmp -s "$T/t1/pop.json" "$T/t2/pop.json"
