@@ -851,6 +851,11 @@ int jnd_scene_lod_mesh_level(const jnd_scene *s, int mesh);
  * PNGs of the maps in use. jnd_scene_load reads the levels back. */
 jnd_status jnd_scene_write_lod_glb(const jnd_scene *s, const char *path, const double *coverage);
 
+/* The name a written chain takes from its model (OUT/model/STEM.glb, by jnd
+ * lod and jnd gaze): the file's base name without its extension, ':', ','
+ * and '=' made '_' ("builtin:box,parts=3" → "builtin_box_parts_3"). */
+void jnd_model_stem(const char *model_path, char *out, size_t n);
+
 /* How far a level's surface lies from level 0's, in object units: points
  * sampled on level 0 uniformly by area (stratified, seeded), each taken to
  * the nearest point of the level's surface (003 eq. 1's l^p(T_i, S2)). */

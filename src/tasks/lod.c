@@ -833,6 +833,15 @@ static void coverage_switch(const jnd_lod_switch_result *w, int nscreens, double
            nscreens, nscreens == 1 ? "" : "s");
 }
 
+void jnd_model_stem(const char *model_path, char *out, size_t n) {
+  const char *base = strrchr(model_path, '/');
+  snprintf(out, n, "%s", base ? base + 1 : model_path);
+  char *dot = strrchr(out, '.');
+  if (dot && dot != out) *dot = 0;
+  for (char *q = out; *q; q++)
+    if (*q == ':' || *q == ',' || *q == '=') *q = '_';
+}
+
 /* ---- jnd lod as one call ---- */
 
 void jnd_lod_run_defaults(jnd_lod_run_params *p) {
@@ -1080,14 +1089,8 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
     snprintf(dir, sizeof dir, "%s/model", p->out_dir);
     if (p->progress) p->progress(p->progress_user, "writing", 0, 1);
     if (!(st = mkdir_p(dir))) {
-      const char *base = strrchr(model_path, '/');
-      base = base ? base + 1 : model_path;
       char stem[256];
-      snprintf(stem, sizeof stem, "%s", base);
-      char *dot = strrchr(stem, '.');
-      if (dot && dot != stem) *dot = 0;
-      for (char *q = stem; *q; q++)
-        if (*q == ':') *q = '_';
+      jnd_model_stem(model_path, stem, sizeof stem);
       snprintf(out->model_path, sizeof out->model_path, "%s/%s.glb", dir, stem);
       st = jnd_scene_write_lod_glb(s, out->model_path, out->coverage);
     }
