@@ -35,14 +35,12 @@
  *  9. Textures (003 §4.3): each map over its mip chain, M1 the map itself,
  *     E_p and M_p only.  texture_curves()
  */
-#include <errno.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "core/core.h"
 #include "core/fastmath.h"
@@ -863,21 +861,6 @@ void jnd_lod_report_free(jnd_lod_report *r) {
   memset(r, 0, sizeof *r);
 }
 
-static jnd_status mkdir_p(const char *dir) {
-  char buf[4300];
-  snprintf(buf, sizeof buf, "%s", dir);
-  for (char *q = buf + 1; *q; q++)
-    if (*q == '/') {
-      *q = 0;
-      if (mkdir(buf, 0777) != 0 && errno != EEXIST) return jnd_fail(JND_ERR_IO, "%s: cannot create (%s)", buf, strerror(errno));
-      *q = '/';
-    }
-  if (mkdir(buf, 0777) != 0 && errno != EEXIST) return jnd_fail(JND_ERR_IO, "%s: cannot create (%s)", buf, strerror(errno));
-  struct stat st;
-  if (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode)) return jnd_fail(JND_ERR_IO, "%s: not a folder", buf);
-  return JND_OK;
-}
-
 /* MSFT_screencoverage until the perceptual switch distances exist:
  * meshoptimizer's error-to-pixels rule on the reference screen. Level k may
  * be shown once its error covers at most `px` pixels, i.e. while the
@@ -1088,7 +1071,7 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
     char dir[4200];
     snprintf(dir, sizeof dir, "%s/model", p->out_dir);
     if (p->progress) p->progress(p->progress_user, "writing", 0, 1);
-    if (!(st = mkdir_p(dir))) {
+    if (!(st = jnd_make_dirs(dir))) {
       char stem[256];
       jnd_model_stem(model_path, stem, sizeof stem);
       snprintf(out->model_path, sizeof out->model_path, "%s/%s.glb", dir, stem);
