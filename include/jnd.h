@@ -941,6 +941,11 @@ jnd_status jnd_scene_write_lod_glb(const jnd_scene *s, const char *path, const d
  * not included. */
 jnd_status jnd_scene_lod_bytes(const jnd_scene *s, int level, size_t *bytes);
 
+/* The name a written chain takes from its model (OUT/model/STEM.glb, by jnd
+ * lod and jnd gaze): the file's base name without its extension, ':', ','
+ * and '=' made '_' ("builtin:box,parts=3" → "builtin_box_parts_3"). */
+void jnd_model_stem(const char *model_path, char *out, size_t n);
+
 /* How far a level's surface lies from level 0's, in object units: points
  * sampled on level 0 uniformly by area (stratified, seeded), each taken to
  * the nearest point of the level's surface (003 eq. 1's l^p(T_i, S2)). */
@@ -2041,7 +2046,7 @@ typedef struct {
   jnd_lod_switch_result *sw; /* when perceptual: one per screen of poi (owned) */
   int nsw;
   double coverage[64];       /* MSFT_screencoverage written, one per level (jnd_scene_write_lod_glb) */
-  char coverage_rule[160];   /* how they were chosen */
+  char coverage_rule[256];   /* how they were chosen, naming the screen (the first of poi's) */
   char model_path[4600];     /* the GLB written, "" if none */
   int nplots;
   char plots[16][96];        /* pareto_SCREEN.png names, one per screen, under out_dir */

@@ -184,6 +184,11 @@ void cli_progress_start(cli_progress *p, const cli_common *c, const char *label,
 void cli_progress_step(cli_progress *p, int done);
 void cli_progress_line(cli_progress *p, const char *line);
 void cli_progress_end(cli_progress *p);
+/* For a few long steps (pop's switch searches): a line per step, terminal or
+ * log, with the steps done of the total, the time so far and an estimate of
+ * the time left (the mean step so far times the steps left). */
+void cli_progress_count(cli_progress *p, int done);
+double cli_progress_eta(const cli_progress *p);   /* seconds left at the mean step so far (0 before one) */
 /* The library's progress callback shape: line NULL after a step, else a stage summary. */
 void cli_progress_callback(void *user, const char *line, int done, int total);
 

@@ -457,6 +457,14 @@ static int run(int argc, char **argv) {
   snprintf(path, sizeof path, "%s/gaze.csv", dir);
   if (rc == EXIT_OK && jnd_gaze_table_write_csv(&T, path) != JND_OK) rc = cli_lib_error();
   jnd_image_free(&fig);
+  /* the chain the table's levels index: the input's, or the one made here, written beside the table */
+  char stem[256], chain_model[300];
+  jnd_model_stem(model, stem, sizeof stem);
+  snprintf(chain_model, sizeof chain_model, "model/%s.glb", stem);
+  snprintf(path, sizeof path, "%s/model", dir);
+  if (rc == EXIT_OK && input_levels < 2 && jnd_make_dirs(path) != JND_OK) rc = cli_lib_error();
+  snprintf(path, sizeof path, "%s/%s", dir, chain_model);
+  if (rc == EXIT_OK && input_levels < 2 && jnd_scene_write_lod_glb(scene, path, NULL) != JND_OK) rc = cli_lib_error();
 
   cJSON *report = cli_report_new("gaze");
   cJSON *in = cli_report_section(report, "inputs"), *par = cli_report_section(report, "parameters"),
@@ -511,6 +519,7 @@ static int run(int argc, char **argv) {
   cJSON_AddStringToObject(res, "renderer", T.renderer);
   cJSON_AddStringToObject(res, "csv", "gaze.csv");
   cJSON_AddStringToObject(res, "png", "gaze.png");
+  cJSON_AddStringToObject(res, "chain_model", input_levels < 2 ? chain_model : model);
   if (common.timings) cJSON_AddNumberToObject(res, "table_s", run_s);
   snprintf(path, sizeof path, "%s/gaze.json", dir);
   if (rc == EXIT_OK) rc = cli_report_write(report, path);
@@ -537,7 +546,9 @@ static int run(int argc, char **argv) {
   if (nwindowed)
     cli_info(&common, "note: %d of %d distances judged on %d-pixel windows at the display's ppd around the fixation "
                       "point or the silhouette facing it: .result.windowed\n", nwindowed, T.nd, p.max_px);
-  if (rc == EXIT_OK) cli_info(&common, "wrote %s/gaze.json, gaze.csv, gaze.png (%.1f s)\n", final_dir, run_s);
+  if (rc == EXIT_OK)
+    cli_info(&common, "wrote %s/gaze.json, gaze.csv, gaze.png%s%s (%.1f s)\n", final_dir, input_levels < 2 ? ", " : "",
+             input_levels < 2 ? chain_model : "", run_s);
   jnd_gaze_table_free(&T);
   jnd_scene_free(scene);
   return rc;

@@ -239,9 +239,24 @@ static const char *switch_status_name(jnd_pop_switch_status s) {
   return s == JND_POP_SWITCH_FOUND ? "found" : s == JND_POP_SWITCH_NEAREST ? "nearest" : "none";
 }
 
+typedef struct {
+  const cli_common *common;
+  cli_progress count;
+  const char *stage;
+  char label[64];
+} pop_progress;
+
+/* a line per stage and, where it has several steps (the switch table's
+ * searches, minutes each; a sequence's frames), per step with the time left */
 static void on_progress(void *user, const char *stage, int done, int total) {
-  const cli_common *c = user;
-  if (done < total) cli_info(c, "jnd pop: %s %d/%d\n", stage, done + 1, total);
+  pop_progress *p = user;
+  if (!p->stage || strcmp(p->stage, stage) != 0) {
+    p->stage = stage;
+    snprintf(p->label, sizeof p->label, "pop: %s", stage);
+    cli_progress_start(&p->count, p->common, p->label, total);
+    if (total <= 1) cli_info(p->common, "jnd pop: %s\n", stage);
+  }
+  if (total > 1) cli_progress_count(&p->count, done);
 }
 
 /* the asset form's own report parts: chain, motion, views, switch table */
@@ -348,6 +363,7 @@ static int pop_inputs(jnd_output *w, const jnd_pop_paths *f, int sequence, int f
 
 static int run(int argc, char **argv) {
   cli_common common = {0};
+  pop_progress prog = {&common, {0}, NULL, ""};
   jnd_model_params mp;
   jnd_model_defaults(&mp);
   jnd_pop_params pp;
@@ -530,7 +546,7 @@ static int run(int argc, char **argv) {
     }
     ap.chain.threads = common.threads;
     ap.progress = on_progress;
-    ap.progress_user = &common;
+    ap.progress_user = &prog;
     if (jnd_pop_asset_run(model, paths[0], &ap, &R) != JND_OK) {
       cli_error("%s", jnd_last_error());
       goto out;
@@ -540,7 +556,7 @@ static int run(int argc, char **argv) {
     f.actual = paths[0];
     f.expected = paths[1];
     seq.progress = on_progress;
-    seq.progress_user = &common;
+    seq.progress_user = &prog;
     if (jnd_pop_sequence(model, &f, &seq, &pp, &Q) != JND_OK) {
       cli_error("%s", jnd_last_error());
       goto out;

@@ -113,14 +113,31 @@ void cli_progress_start(cli_progress *p, const cli_common *c, const char *label,
   p->t0 = cli_now();
 }
 
+double cli_progress_eta(const cli_progress *p) {
+  return p->done > 0 ? (cli_now() - p->t0) * (p->total - p->done) / p->done : 0;
+}
+
+void cli_progress_count(cli_progress *p, int done) {
+  p->done = done;
+  if (!p->enabled) return;
+  double el = cli_now() - p->t0;
+  if (done >= p->total)
+    fprintf(stderr, "jnd %s: %d/%d done in %.0f s\n", p->label, done, p->total, el);
+  else if (done == 0)
+    fprintf(stderr, "jnd %s: 0/%d done\n", p->label, p->total);
+  else
+    fprintf(stderr, "jnd %s: %d/%d done in %.0f s, about %.0f s left\n", p->label, done, p->total, el,
+            cli_progress_eta(p));
+  fflush(stderr);
+}
+
 /* a bar on a terminal only: a log gets the stage lines instead */
 void cli_progress_step(cli_progress *p, int done) {
   p->done = done;
   if (!p->enabled || !p->tty) return;
   if (done > p->total) p->total = done;
   int width = 30, filled = (int)((double)width * done / p->total);
-  double el = cli_now() - p->t0;
-  double eta = done > 0 ? el * (p->total - done) / done : 0;
+  double el = cli_now() - p->t0, eta = cli_progress_eta(p);
   fprintf(stderr, "\r%-12s [", p->label);
   for (int k = 0; k < width; k++) fputc(k < filled ? '#' : '.', stderr);
   fprintf(stderr, "] %d/%d  %.0fs, ~%.0fs left ", done, p->total, el, eta);

@@ -35,14 +35,12 @@
  *  9. Textures (003 §4.3): each map over its mip chain, M1 the map itself,
  *     E_p and M_p only.  texture_curves()
  */
-#include <errno.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "core/core.h"
 #include "core/fastmath.h"
@@ -820,7 +818,7 @@ jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, int perceptu
  * level k is shown while the sphere fills more of the screen than where
  * level k + 1 may take over (its switch coverage, a fraction of the
  * height), written as Babylon.js's screen coverage like coverage_rule(). */
-static void coverage_switch(const jnd_lod_switch_result *w, double *cov, char *rule, size_t nrule) {
+static void coverage_switch(const jnd_lod_switch_result *w, int nscreens, double *cov, char *rule, size_t nrule) {
   const jnd_poi_screen *ref = &w->screen;
   double prev = 1;
   for (int k = 0; k < w->nlevels; k++) {
@@ -830,8 +828,18 @@ static void coverage_switch(const jnd_lod_switch_result *w, double *cov, char *r
     cov[k] = c;
     prev = c;
   }
-  snprintf(rule, nrule, "perceptual switch distances on %s (%dx%d), as projected sphere area over screen area",
-           ref->name, ref->width_px, ref->height_px);
+  snprintf(rule, nrule, "perceptual switch distances on %s (%dx%d), the first of %d screen%s (a model holds one "
+           "screen's coverages), as projected sphere area over screen area", ref->name, ref->width_px, ref->height_px,
+           nscreens, nscreens == 1 ? "" : "s");
+}
+
+void jnd_model_stem(const char *model_path, char *out, size_t n) {
+  const char *base = strrchr(model_path, '/');
+  snprintf(out, n, "%s", base ? base + 1 : model_path);
+  char *dot = strrchr(out, '.');
+  if (dot && dot != out) *dot = 0;
+  for (char *q = out; *q; q++)
+    if (*q == ':' || *q == ',' || *q == '=') *q = '_';
 }
 
 /* ---- jnd lod as one call ---- */
@@ -855,21 +863,6 @@ void jnd_lod_report_free(jnd_lod_report *r) {
   memset(r, 0, sizeof *r);
 }
 
-static jnd_status mkdir_p(const char *dir) {
-  char buf[4300];
-  snprintf(buf, sizeof buf, "%s", dir);
-  for (char *q = buf + 1; *q; q++)
-    if (*q == '/') {
-      *q = 0;
-      if (mkdir(buf, 0777) != 0 && errno != EEXIST) return jnd_fail(JND_ERR_IO, "%s: cannot create (%s)", buf, strerror(errno));
-      *q = '/';
-    }
-  if (mkdir(buf, 0777) != 0 && errno != EEXIST) return jnd_fail(JND_ERR_IO, "%s: cannot create (%s)", buf, strerror(errno));
-  struct stat st;
-  if (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode)) return jnd_fail(JND_ERR_IO, "%s: not a folder", buf);
-  return JND_OK;
-}
-
 /* MSFT_screencoverage until the perceptual switch distances exist:
  * meshoptimizer's error-to-pixels rule on the reference screen. Level k may
  * be shown once its error covers at most `px` pixels, i.e. while the
@@ -877,8 +870,8 @@ static jnd_status mkdir_p(const char *dir) {
  * screen's height; level k − 1 gives way to level k there. Written as
  * Babylon.js's screen coverage: the sphere's projected area over the
  * screen's, π c² H / (4 W). */
-static void coverage_rule(const jnd_scene *s, const jnd_poi_screen *ref, double px, const double *err_abs,
-                          double *cov, char *rule, size_t nrule) {
+static void coverage_rule(const jnd_scene *s, const jnd_poi_screen *ref, int nscreens, double px,
+                          const double *err_abs, double *cov, char *rule, size_t nrule) {
   int n = jnd_scene_lod_count(s);
   double centre[3], radius;
   jnd_scene_bounds(s, centre, &radius);
@@ -895,8 +888,9 @@ static void coverage_rule(const jnd_scene *s, const jnd_poi_screen *ref, double 
     cov[k] = c;
     prev = c;
   }
-  snprintf(rule, nrule, "meshoptimizer's error <= %g px on %s (%dx%d), as projected sphere area over screen area",
-           px, ref->name, ref->width_px, ref->height_px);
+  snprintf(rule, nrule, "meshoptimizer's error <= %g px on %s (%dx%d), %s, as projected sphere area over screen area",
+           px, ref->name, ref->width_px, ref->height_px,
+           nscreens > 1 ? "the first of the screens (a model holds one screen's coverages)" : "the screen");
 }
 
 /* ---- the perceptual step's screens, in parallel ----
@@ -1070,24 +1064,18 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
     }
   }
   if (!st && out->nsw > 0)
-    coverage_switch(&out->sw[0], out->coverage, out->coverage_rule, sizeof out->coverage_rule);
+    coverage_switch(&out->sw[0], out->nsw, out->coverage, out->coverage_rule, sizeof out->coverage_rule);
   else if (!st)
-    coverage_rule(s, &ref, p->poi.meshopt_pixels > 0 ? p->poi.meshopt_pixels : 1, err, out->coverage,
-                  out->coverage_rule, sizeof out->coverage_rule);
+    coverage_rule(s, &ref, p->poi.screens ? p->poi.nscreens : 1, p->poi.meshopt_pixels > 0 ? p->poi.meshopt_pixels : 1,
+                  err, out->coverage, out->coverage_rule, sizeof out->coverage_rule);
   /* outputs, last */
   if (!st && p->out_dir) {
     char dir[4200];
     snprintf(dir, sizeof dir, "%s/model", p->out_dir);
     if (p->progress) p->progress(p->progress_user, "writing", 0, 1);
-    if (!(st = mkdir_p(dir))) {
-      const char *base = strrchr(model_path, '/');
-      base = base ? base + 1 : model_path;
+    if (!(st = jnd_make_dirs(dir))) {
       char stem[256];
-      snprintf(stem, sizeof stem, "%s", base);
-      char *dot = strrchr(stem, '.');
-      if (dot && dot != stem) *dot = 0;
-      for (char *q = stem; *q; q++)
-        if (*q == ':') *q = '_';
+      jnd_model_stem(model_path, stem, sizeof stem);
       snprintf(out->model_path, sizeof out->model_path, "%s/%s.glb", dir, stem);
       st = jnd_scene_write_lod_glb(s, out->model_path, out->coverage);
     }

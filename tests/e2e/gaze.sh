@@ -57,6 +57,24 @@ PY
 expect_exit 0 "the same with 2 threads" "$JND" gaze builtin:sphere -o "$T/b" "${SMALL[@]}" --threads 2
 check "same table whatever the thread count" cmp "$T/a/gaze.csv" "$T/b/gaze.csv"
 
+# the chain gaze made is written beside the table, and it is the chain the table's levels index
+check "the made chain is written: its levels' triangles are the table's" python3 - "$T/a" <<'PY'
+import json, struct, sys
+d = sys.argv[1]
+r = json.load(open(d + "/gaze.json"))["result"]
+assert r["chain_model"] == "model/builtin_sphere.glb", r["chain_model"]
+b = open(d + "/" + r["chain_model"], "rb").read()
+n, = struct.unpack_from("<I", b, 12)
+g = json.loads(b[20:20 + n])
+ids = g["nodes"][0]["extensions"]["MSFT_lod"]["ids"]
+assert len(ids) + 1 == len(r["triangles"]), (ids, r["triangles"])
+tris = []
+for node in [0] + ids:
+    m = g["meshes"][g["nodes"][node]["mesh"]]
+    tris.append(sum(g["accessors"][p["indices"]]["count"] // 3 for p in m["primitives"]))
+assert tris == r["triangles"], (tris, r["triangles"])
+PY
+
 # a chain from jnd lod, read back through MSFT_lod
 expect_exit 0 "jnd lod writes a chain" "$JND" lod builtin:sphere -o "$T/lod" --errors 0.004,0.02,0.08 --chain-only \
   --map-size 32 --quiet
@@ -64,7 +82,7 @@ expect_exit 0 "gaze on jnd lod's model" "$JND" gaze "$T/lod/model/builtin_sphere
 check "its table has the chain's 4 levels" python3 -c "
 import json; r = json.load(open('$T/c/gaze.json'))
 assert len(r['result']['triangles']) == 4, r['result']['triangles']
-assert r['inputs']['chain'].startswith('input')"
+assert r['inputs']['chain'].startswith('input') and r['result']['chain_model'].endswith('lod/model/builtin_sphere.glb')"
 
 # bad input: one line naming the flag or file, exit 2, nothing written
 for args in "--eccentricities 0,95" "--eccentricities 10,5" "--distances 0,20" "--distances 1" \

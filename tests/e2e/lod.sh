@@ -93,6 +93,8 @@ assert all(a >= b for a, b in zip(m["screen_coverage"], m["screen_coverage"][1:]
 import math
 s0 = res["screens"][0]
 assert "perceptual switch distances" in m["screen_coverage_rule"]
+# which screen's: said, never silently the first of --screens
+assert "on 320x240 (320x240), the first of 2 screens" in m["screen_coverage_rule"], m["screen_coverage_rule"]
 for k in range(len(lv) - 1):
     c = min(s0["switch_coverage"][k + 1], 1.0)
     want = min(math.pi * c * c * s0["height_px"] / (4 * s0["width_px"]), m["screen_coverage"][k - 1] if k else 1)
