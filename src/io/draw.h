@@ -114,6 +114,7 @@ typedef struct {
  * box. */
 #define JND_PLOT_MAX_TICKS 40
 #define JND_PLOT_MAX_TEXTS 160
+#define JND_PLOT_TEXT_MAX 256
 typedef struct {
   int width, height;
   jnd_box plot;                /* the data area */
@@ -125,7 +126,7 @@ typedef struct {
   char tick_label[2][JND_PLOT_MAX_TICKS][32];
   int ntexts;                  /* every text the picture holds, with its box */
   jnd_box text_box[JND_PLOT_MAX_TEXTS];
-  const char *text[JND_PLOT_MAX_TEXTS];
+  char text[JND_PLOT_MAX_TEXTS][JND_PLOT_TEXT_MAX]; /* copies: the layout outlives the caller's strings */
   char text_kind[JND_PLOT_MAX_TEXTS]; /* 't' title, 'x'/'y' axis label, 'X'/'Y' tick, 'm' marker, 'l' legend */
 } jnd_plot_layout;
 

@@ -184,7 +184,7 @@ static int add_text(plan *P, char kind, const char *text, double x, double y, do
   jnd_plot_layout *L = P->L;
   if (!text || !*text || L->ntexts >= JND_PLOT_MAX_TEXTS) return -1;
   int i = L->ntexts++;
-  L->text[i] = text;
+  snprintf(L->text[i], sizeof L->text[i], "%s", text);
   L->text_kind[i] = kind;
   L->text_box[i] = jnd_text_box(x, y, text, size, align, vertical);
   P->at[i].x = x;
