@@ -161,6 +161,23 @@ expect_exit 2 "no -o: exit 2" "$JND" texres builtin
 expect_exit 2 "a missing model: exit 2" "$JND" texres /nonexistent.glb -o "$T/x"
 check "one line" one_line_error
 expect_exit 2 "a bad calibration file: exit 2" "$JND" texres builtin -o "$T/x" --calibration /nonexistent.json
+# Two displays of the same size in degrees (4.8° tall), one with twice the
+# pixels: the one with more pixels never takes a smaller map (docs/lod.md
+# "The same image at every pixel count"; before every MSAA sample was shaded
+# the 96-pixel one kept occlusion at 128 and the 192-pixel one took 64)
+for cfg in "96x96 20" "192x192 40"; do
+  set -- $cfg
+  expect_exit 0 "builtin on $1 at $2 ppd" "$JND" texres builtin -o "$T/px$1" --map-size 128 --views 3 --coverage 0.9 \
+    --size "$1" --ppd "$2" --quiet
+done
+check "more pixels never choose a smaller map" python3 - "$T/px96x96/texres.json" "$T/px192x192/texres.json" <<'PY'
+import json, sys
+few, many = ({m["slot"]: m["chosen"] for m in json.load(open(f))["result"]["maps"]} for f in sys.argv[1:3])
+print("  96 px at 20 ppd", few, "\n  192 px at 40 ppd", many)
+assert few.keys() == many.keys()
+for k in few:
+    assert max(many[k]) >= max(few[k]), (k, few[k], many[k])
+PY
 check "--help prints the usage" bash -c "'$JND' texres --help | grep -q -- --verify-views"
 [ -d "$MODELS" ] || skip "$MODELS is missing (Debian package assimp-testmodels): the glTF model copies were not tried"
 finish
