@@ -377,9 +377,9 @@ typedef struct {
   int ecc_n;
   float e;              /* Minkowski exponent */
   float lum_w[2];       /* Y's weights on L and M (S's, −6e-6, is left out) */
-  const float *coarse_mask[NCH]; /* the next coarser band's mutual maskers (at level band + 1), or NULL */
+  const float *coarse_mask[NCH]; /* the next coarser band's pooled maskers (at level band + 1), or NULL */
   float coarse_w;       /* their weight in this band's masking pool (band_masking_weight) */
-  float *mask_out[NCH]; /* this band's mutual maskers (not pooled) for the next finer band, or NULL */
+  float *mask_out[NCH]; /* this band's pooled maskers for the next finer band, or NULL */
   float *Dc;            /* the chromatic channels' difference, summed apart from the achromatic
                            one (chroma_summation_apart), or NULL: all three into D */
 } band_ctx;
@@ -630,32 +630,10 @@ static void binomial_row(const float *s, float *d, int w) {
   d[w - 1] = (2 * s[w - 3] + 8 * s[w - 2] + 6 * s[w - 1]) * (1.0f / 16);
 }
 
-/* Adds the next coarser band's mutual maskers, expanded to row y of this
- * band's level and weighted by k->coarse_w, to channel c's masker row m,
- * before this band pools it: the masking pool spans neighbouring
- * frequencies (docs/model.md "Masking") but only this band's own
- * neighbourhood. */
-static void add_coarse_masker(const band_ctx *k, row_scratch *r, int y, int c, float *m) {
-  const int w = k->w, w1 = k->w1, h1 = k->st->g[0][0].h[k->band + 1];
-  int rows[3];
-  float wts[3] = {0, 0, 0};
-  int nr = jnd_pyr_expand_rows(y, h1, rows, wts);
-  if (nr == 2) rows[2] = rows[1]; /* weight 0: any valid row */
-  const float *c0 = jnd_pyr_cached_row(&r->coarse[c], k->coarse_mask[c], w1, rows[0], w);
-  const float *c1 = jnd_pyr_cached_row(&r->coarse[c], k->coarse_mask[c], w1, rows[1], w);
-  const float *c2 = jnd_pyr_cached_row(&r->coarse[c], k->coarse_mask[c], w1, rows[2], w);
-  const float a0 = k->coarse_w * wts[0], a1 = k->coarse_w * wts[1], a2 = k->coarse_w * wts[2];
-#pragma omp simd
-  for (int x = 0; x < w; x++) m[x] += a0 * c0[x] + a1 * c1[x] + a2 * c2[x];
-}
-
 /* Both images' normalised contrasts on row y, then per channel the
  * difference |n_test − n_ref| into dif and, where mask is given, the mutual
- * masker min(|n_test|, |n_ref|) — kept for the next finer band when keep
- * (k->mask_out), with the coarser band's added (k->coarse_mask) — pooled
- * along the row into mask. */
-JND_HOT static void response_row(const band_ctx *k, row_scratch *r, int y, float *const dif[NCH], float *const mask[NCH],
-                                 int keep) {
+ * masker min(|n_test|, |n_ref|) pooled along the row into mask. */
+JND_HOT static void response_row(const band_ctx *k, row_scratch *r, int y, float *const dif[NCH], float *const mask[NCH]) {
   const diff_state *st = k->st;
   const int w = k->w, h1 = st->g[0][0].h[k->band + 1];
   int rows[3];
@@ -680,20 +658,38 @@ JND_HOT static void response_row(const band_ctx *k, row_scratch *r, int y, float
     float *m = r->tmp;
 #pragma omp simd
     for (int x = 0; x < w; x++) m[x] = jnd_minf(fabsf(nt[x]), fabsf(nr_[x]));
-    if (keep && k->mask_out[c]) memcpy(k->mask_out[c] + (size_t)y * w, m, sizeof(float) * (size_t)w);
-    if (k->coarse_mask[c]) add_coarse_masker(k, r, y, c, m);
     binomial_row(m, mask[c], w);
+  }
+}
+
+/* Adds the next coarser band's pooled maskers, expanded to row y of this
+ * band's level and weighted by k->coarse_w, to the row's own (r->pooled):
+ * the masking pool spans neighbouring frequencies (docs/model.md
+ * "Masking"). */
+static void add_coarse_maskers(const band_ctx *k, row_scratch *r, int y) {
+  const diff_state *st = k->st;
+  const int w = k->w, w1 = k->w1, h1 = st->g[0][0].h[k->band + 1];
+  int rows[3];
+  float wts[3] = {0, 0, 0};
+  int nr = jnd_pyr_expand_rows(y, h1, rows, wts);
+  if (nr == 2) rows[2] = rows[1]; /* weight 0: any valid row */
+  for (int c = 0; c < NCH; c++) {
+    const float *c0 = jnd_pyr_cached_row(&r->coarse[c], k->coarse_mask[c], w1, rows[0], w);
+    const float *c1 = jnd_pyr_cached_row(&r->coarse[c], k->coarse_mask[c], w1, rows[1], w);
+    const float *c2 = jnd_pyr_cached_row(&r->coarse[c], k->coarse_mask[c], w1, rows[2], w);
+    const float a0 = k->coarse_w * wts[0], a1 = k->coarse_w * wts[1], a2 = k->coarse_w * wts[2];
+    float *mp = r->pooled[c];
+#pragma omp simd
+    for (int x = 0; x < w; x++) mp[x] += a0 * c0[x] + a1 * c1[x] + a2 * c2[x];
   }
 }
 
 /* Rows [y0, y1) of band i's difference, summed over channels:
  *   D_i = Σ_ch (|n_test − n_ref| · T′(m))^e
  * with n the CSF-normalised contrasts and m the mutual masker
- * min(|n_test|, |n_ref|), plus the next coarser band's expanded to this
- * level, pooled with the pyramid's 5 × 5 binomial kernel at this band's
- * level: the band's own neighbourhood, as 004 §3.1 applies T where the band's
- * contrast is (004's transducer T, taken as its incremental gain at the
- * masker: see jnd_masking_gain). Rows are computed in order with rings of the last five
+ * min(|n_test|, |n_ref|) pooled with the pyramid's 5 × 5 binomial kernel,
+ * plus the next coarser band's (004's transducer T, taken as its
+ * incremental gain at the masker: see jnd_masking_gain). Rows are computed in order with rings of the last five
  * maskers and three differences, so that a row's vertical pooling reads
  * rows computed just before; a chunk recomputes the two rows either side of
  * it, and a row's value does not depend on the chunking. */
@@ -703,7 +699,7 @@ JND_HOT static void band_rows(const band_ctx *k, row_scratch *r, int y0, int y1,
   if (k->unmasked) {
     /* one image is uniform: its contrast, and so the mutual masker, is 0 */
     for (int y = y0; y < y1; y++) {
-      response_row(k, r, y, r->dif[0], NULL, 0);
+      response_row(k, r, y, r->dif[0], NULL);
       float *drow = D + (size_t)y * w;
       const float *d0 = r->dif[0][0], *d1 = r->dif[0][1], *d2 = r->dif[0][2];
       if (k->Dc) {
@@ -722,7 +718,7 @@ JND_HOT static void band_rows(const band_ctx *k, row_scratch *r, int y0, int y1,
   }
   const float slope = (float)k->m->p.masking_slope, cross = (float)k->m->p.masking_cross;
   for (int q = y0 - 2; q <= y1 + 1; q++) {
-    response_row(k, r, jnd_mirror(q, h), r->dif[(q + 6) % 3], r->mask[(q + 10) % 5], q >= y0 && q < y1);
+    response_row(k, r, jnd_mirror(q, h), r->dif[(q + 6) % 3], r->mask[(q + 10) % 5]);
     const int y = q - 2;
     if (y < y0) continue;
     /* each channel's mutual masker, pooled with the 5 × 5 binomial kernel */
@@ -732,7 +728,9 @@ JND_HOT static void band_rows(const band_ctx *k, row_scratch *r, int y0, int y1,
       float *mp = r->pooled[c];
 #pragma omp simd
       for (int x = 0; x < w; x++) mp[x] = (m0[x] + 4 * m1[x] + 6 * m2[x] + 4 * m3[x] + m4[x]) * (1.0f / 16);
+      if (k->mask_out[c]) memcpy(k->mask_out[c] + (size_t)y * w, mp, sizeof(float) * (size_t)w);
     }
+    if (k->coarse_mask[0]) add_coarse_maskers(k, r, y);
     /* 004 §3.2: difference of the responses, Minkowski over channels; each
      * channel is masked by its own masker plus `cross` times the other
      * channels' (cross-channel masking, docs/model.md "Masking") */
@@ -844,7 +842,7 @@ static float band_masking_weight(const jnd_model *m, int band) {
 }
 
 /* Difference of band i, summed over channels (band_rows). coarse: the next
- * coarser band's mutual maskers (NULL: none); mask_out: where this band's
+ * coarser band's pooled maskers (NULL: none); mask_out: where this band's
  * go (NULL: not needed). */
 static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, float *xexp[2][3],
                                   float *D, float *Dc, float *const coarse[NCH], float *const mask_out[NCH]) {
@@ -1334,7 +1332,7 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
   }
 
   /* from the coarsest band to the finest, so that each band's masking pool
-   * can take in the next coarser band's mutual maskers (kept at that
+   * can take in the next coarser band's pooled maskers (kept at that
    * band's level: 3/4 of a float a pixel at most) */
   const int xband = m->p.masking_band_oct > 0 && !st.uniform[0] && !st.uniform[1];
   const int apart = chroma_summation_apart(&m->p);
