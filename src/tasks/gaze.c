@@ -33,14 +33,14 @@ void jnd_gaze_model_defaults(jnd_gaze_model *m) {
    * scripts/gaze-defaults.json; tests/e2e/gaze_defaults.sh holds the two equal) */
   m->w_g = 1;
   m->b = 2;
-  m->alpha = 5.871;
-  m->beta = 0.04319;
+  m->alpha = 5.806;
+  m->beta = 0.04357;
   m->s_deg = 0;
-  m->w_vdp = 1.044;
-  m->k_s = 3.254;
-  m->gamma = 6.474;
-  m->w_t = 1.025;
-  m->gamma_t = 6.222;
+  m->w_vdp = 1.04;
+  m->k_s = 3.023;
+  m->gamma = 6.531;
+  m->w_t = 1.036;
+  m->gamma_t = 6.124;
 }
 
 void jnd_gaze_measure_defaults(jnd_gaze_measure_params *p) {
