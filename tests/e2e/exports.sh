@@ -34,8 +34,11 @@ lines = [re.sub(r"^ \*     ", "", l) for l in body.splitlines()]
 print('#include <stdio.h>\n#include <jnd.h>\nint main(void) {\n' + "\n".join(lines) + '\n  return 0;\n}')
 PY
   flags=$(PKG_CONFIG_PATH=$(dirname "$pc") pkg-config --cflags --libs jnd)
+  # the sanitizer build's library needs its runtime in the program that links it
+  cc=(cc)
+  if [ -n "${JND_SANITIZED:-}" ]; then cc=(clang -fsanitize=address,undefined); fi
   check "the header's first example compiles against the installed library ($flags)" \
-    cc -std=c11 -Wall -Werror -o "$T/first" "$T/first.c" $flags
+    "${cc[@]}" -std=c11 -Wall -Werror -o "$T/first" "$T/first.c" $flags
   check "pkg-config's flags give the program an rpath" bash -c "readelf -d '$T/first' | grep -Eq 'RPATH|RUNPATH'"
   mkdir -p "$T/run"
   (cd "$T/run" && env -u LD_LIBRARY_PATH "$T/first" >"$T/out.txt" 2>"$T/err.txt"; echo $? >"$T/rc.txt")
