@@ -192,7 +192,6 @@ double cli_progress_eta(const cli_progress *p);   /* seconds left at the mean st
 /* The library's progress callback shape: line NULL after a step, else a stage summary. */
 void cli_progress_callback(void *user, const char *line, int done, int total);
 
-static inline double cli_now(void) { return jnd_seconds(); } /* the library's monotonic clock */
 
 /* Subcommands (each in cmd_<name>.c). Missing ones are weak and skipped. */
 #define JND_COMMANDS(X) \

@@ -137,7 +137,7 @@ static int run(int argc, char **argv) {
     pool.kind = JND_POOL_PERCENTILE;
     pool.percentile = cal.percentile;
   }
-  double t0 = cli_now();
+  double t0 = jnd_seconds();
   jnd_image ref = {0}, test = {0}, motion = {0}, weights = {0}, map = {0};
   jnd_image_info ri, ti;
   int rc = EXIT_BAD;
@@ -202,7 +202,7 @@ static int run(int argc, char **argv) {
     in.weights = &weights;
   }
   int w = ref.w, h = ref.h;
-  double t_load = cli_now() - t0;
+  double t_load = jnd_seconds() - t0;
   if (jnd_model_create(&mp, &model) != JND_OK) {
     cli_error("diff: %s", jnd_last_error());
     goto out;
@@ -213,7 +213,7 @@ static int run(int argc, char **argv) {
     cli_error("%s", jnd_last_error());
     goto out;
   }
-  double t_model = cli_now() - t0 - t_load;
+  double t_model = jnd_seconds() - t0 - t_load;
   if (map_path) {
     const char *name[1] = {"JND"};
     if (jnd_image_write_exr(map_out, &map, name, 0) != JND_OK) {
@@ -233,7 +233,7 @@ static int run(int argc, char **argv) {
       goto out;
     }
   }
-  double t_total = cli_now() - t0;
+  double t_total = jnd_seconds() - t0;
   int above = fail_above >= 0 && st.p_detect > fail_above;
 
   char pname[32];

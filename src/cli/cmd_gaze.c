@@ -438,7 +438,7 @@ static int run(int argc, char **argv) {
   cli_progress_start(&bar, &common, "gaze", 1);
   p.progress = on_progress;
   p.progress_user = &bar;
-  double t0 = cli_now();
+  double t0 = jnd_seconds();
   jnd_gaze_table T;
   jnd_status st = jnd_gaze_table_run(scene, &p, &T);
   cli_progress_end(&bar);
@@ -446,7 +446,7 @@ static int run(int argc, char **argv) {
     jnd_scene_free(scene);
     return cli_out_end(outw, cli_lib_error());
   }
-  double run_s = cli_now() - t0;
+  double run_s = jnd_seconds() - t0;
 
   char path[4400];
   jnd_image fig = {0};

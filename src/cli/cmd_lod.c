@@ -110,7 +110,7 @@ static void on_progress(void *user, const char *stage, int done, int total) {
     if (p->stage) cli_progress_end(&p->bar);
     p->stage = stage;
     cli_progress_start(&p->bar, p->common, stage, total);
-    if (!isatty(2)) fprintf(stderr, "jnd lod: %s (%d steps) at %.1f s\n", stage, total, cli_now() - p->t0);
+    if (!isatty(2)) fprintf(stderr, "jnd lod: %s (%d steps) at %.1f s\n", stage, total, jnd_seconds() - p->t0);
   }
   p->bar.total = total;
   cli_progress_step(&p->bar, done);
@@ -260,7 +260,7 @@ static int run(int argc, char **argv) {
       cli_out_dir(outw, final_dir, &dir) != EXIT_OK || cli_out_file(outw, common.json_path, &json_out) != EXIT_OK)
     return cli_out_end(outw, EXIT_BAD);
   p.out_dir = dir;
-  progress_state ps = {&common, {0}, NULL, cli_now()};
+  progress_state ps = {&common, {0}, NULL, jnd_seconds()};
   p.progress = on_progress;
   p.progress_user = &ps;
 

@@ -281,7 +281,7 @@ static int run(int argc, char **argv) {
   cli_progress_start(&prog, &common, "pca", 1);
   p.progress = cli_progress_callback;
   p.progress_user = &prog;
-  double t0 = cli_now();
+  double t0 = jnd_seconds();
   jnd_pca_result R;
   jnd_status st = jnd_pca_run(&p, &R);
   cli_progress_end(&prog);
@@ -448,7 +448,7 @@ static int run(int argc, char **argv) {
     static const char *const stage[6] = {"read", "decomposition", "choice", "encoding", "block_compression", "rendering"};
     for (int k = 0; k < 6; k++)
       if (k < 5 || R.rendered) cJSON_AddNumberToObject(t, stage[k], R.seconds[k]);
-    cJSON_AddNumberToObject(t, "total", cli_now() - t0);
+    cJSON_AddNumberToObject(t, "total", jnd_seconds() - t0);
   }
   char path[4200];
   snprintf(path, sizeof path, "%s/pca.json", outdir);
@@ -488,7 +488,7 @@ static int run(int argc, char **argv) {
       print_views(&common, "plain BC", &R.vis_bc[2]);
     }
   }
-  cli_info(&common, "  %.1f s; wrote %s/pca.json\n", cli_now() - t0, final_dir);
+  cli_info(&common, "  %.1f s; wrote %s/pca.json\n", jnd_seconds() - t0, final_dir);
   rc = EXIT_OK;
 out:
   rc = cli_out_end(outw, rc);

@@ -506,7 +506,7 @@ static int run(int argc, char **argv) {
                    "renders its own");
   if (nmotion > 1) return cli_bad("pop: give one of --orbit, --translate and --spin");
   if (ap.chain.errors && nlevels) return cli_bad("pop: give --errors or --level files, not both");
-  double t0 = cli_now();
+  double t0 = jnd_seconds();
   int rc = EXIT_BAD;
   jnd_model *model = NULL;
   cJSON *report = NULL;
@@ -575,7 +575,7 @@ static int run(int argc, char **argv) {
     cli_error("%s", jnd_last_error());
     goto out;
   }
-  double t_write = cli_now();
+  double t_write = jnd_seconds();
   if (!write_image(dir, "regions.png", &res_pair->picture, 0)) goto out;
   if (maps && (!write_image(dir, "jnd.exr", &res_pair->jnd, 1) ||
                (res_pair->weights.data && !write_image(dir, "weights.exr", &res_pair->weights, 2))))
@@ -629,8 +629,8 @@ static int run(int argc, char **argv) {
       cJSON_AddNumberToObject(t, "render_s", R.render_s);
       cJSON_AddNumberToObject(t, "decide_s", R.decide_s);
     }
-    cJSON_AddNumberToObject(t, "write_s", cli_now() - t_write);
-    cJSON_AddNumberToObject(t, "total_s", cli_now() - t0);
+    cJSON_AddNumberToObject(t, "write_s", jnd_seconds() - t_write);
+    cJSON_AddNumberToObject(t, "total_s", jnd_seconds() - t0);
   }
   char jpath[4400];
   snprintf(jpath, sizeof jpath, "%s/pop.json", dir);
@@ -643,10 +643,10 @@ static int run(int argc, char **argv) {
                       "max dE94 %.2f   %dx%d, %.2f s\n",
              res_pair->nregions, res_pair->nregions == 1 ? "" : "s", res_pair->max_rating,
              jnd_pop_coverage_name(res_pair->coverage_score), jnd_pop_rating_name(res_pair->rating_score),
-             res_pair->detection_score, res_pair->max_delta_e94, res_pair->w, res_pair->h, cli_now() - t0);
+             res_pair->detection_score, res_pair->max_delta_e94, res_pair->w, res_pair->h, jnd_seconds() - t0);
   else
     cli_info(&common, "no popping region (detection score 1 of 5); max dE94 %.2f   %dx%d, %.2f s\n",
-             res_pair->max_delta_e94, res_pair->w, res_pair->h, cli_now() - t0);
+             res_pair->max_delta_e94, res_pair->w, res_pair->h, jnd_seconds() - t0);
   for (int i = 0; i < R.nrows; i++)
     cli_info(&common, "  level %d at %g deg/s: switch from %.3g %s (max R %.2f); 1-pixel rule %.3g %s\n", R.rows[i].level,
              R.rows[i].speed_dps, R.rows[i].distance_m, R.distance_unit, R.rows[i].sw.max_rating,

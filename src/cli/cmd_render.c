@@ -361,7 +361,7 @@ static int run(int argc, char **argv) {
   jnd_renderer *r = NULL;
   jnd_view *views = NULL;
   cJSON *report = NULL;
-  double t0 = cli_now();
+  double t0 = jnd_seconds();
   jnd_status st;
   /* the outputs checked before any work, written staged, published at the end */
   jnd_output *outw = NULL;
@@ -411,7 +411,7 @@ static int run(int argc, char **argv) {
     goto done;
   }
   if (!apply_edits(scene, edits, nedits)) goto done;
-  double t_load = cli_now() - t0;
+  double t_load = jnd_seconds() - t0;
   /* views (read before the output folder exists, so that bad cameras leave nothing behind) */
   int nviews = 0;
   if (nlights_fixed) vo.set.sampling.lights = 0;
@@ -440,13 +440,13 @@ static int run(int argc, char **argv) {
     }
   }
 
-  double t1 = cli_now();
+  double t1 = jnd_seconds();
   int width = vo.set.render.width, height = vo.set.render.height;
   if (jnd_renderer_create(&vo.set.render, &r) != JND_OK) {
     cli_error("%s", jnd_last_error());
     goto done;
   }
-  double t_renderer = cli_now() - t1;
+  double t_renderer = jnd_seconds() - t1;
   /* the folder only now: a bad environment or no OpenGL leaves nothing behind either */
   if (jnd_make_dirs(dir) != JND_OK) {
     cli_error("%s", jnd_last_error());
@@ -508,13 +508,13 @@ static int run(int argc, char **argv) {
   int ok = 1;
   for (int i = 0; i < nviews && ok; i++) {
     jnd_frame f;
-    double tr = cli_now();
+    double tr = jnd_seconds();
     if (jnd_render(r, scene, &views[i], &f) != JND_OK) {
       cli_error("%s: %s", model, jnd_last_error());
       ok = 0;
       break;
     }
-    t_render += cli_now() - tr;
+    t_render += jnd_seconds() - tr;
     cJSON *jv = cJSON_CreateObject();
     cJSON_AddItemToArray(jviews, jv);
     cJSON_AddNumberToObject(jv, "index", i);

@@ -134,7 +134,7 @@ static int run(int argc, char **argv) {
   p.judge.model.display = cli_display_get(&disp);
   p.judge.model.threads = common.threads;
 
-  double t0 = cli_now();
+  double t0 = jnd_seconds();
   jnd_scene *scene = NULL;
   jnd_view *views = NULL;
   int nviews = 0;
@@ -177,7 +177,7 @@ static int run(int argc, char **argv) {
     cli_error("%s", jnd_last_error());
     goto out;
   }
-  double t_search = cli_now() - t0;
+  double t_search = jnd_seconds() - t0;
 
   char path[4400], model_out[4400] = "";
   const char *ext = strrchr(model, '.');
@@ -375,7 +375,7 @@ static int run(int argc, char **argv) {
   if (common.timings) {
     cJSON *t = cJSON_AddObjectToObject(res, "timings");
     cJSON_AddNumberToObject(t, "search_s", t_search);
-    cJSON_AddNumberToObject(t, "total_s", cli_now() - t0);
+    cJSON_AddNumberToObject(t, "total_s", jnd_seconds() - t0);
   }
   snprintf(path, sizeof path, "%s/texres.json", dir);
   if (cli_report_write(report, path) != EXIT_OK) goto out;
@@ -420,7 +420,7 @@ static int run(int argc, char **argv) {
     cli_info(&common, "; held out: %.0f%% of %d%s", 100 * R.verify.fraction_above, R.verify_views,
              R.verify.pass ? "" : "  FAILS the criterion");
   cli_info(&common, "\n%d evaluations, %d renderings, %.1f s on %s\n", R.evaluations, R.renderings,
-           cli_now() - t0, R.renderer);
+           jnd_seconds() - t0, R.renderer);
   rc = (R.views.pass && (R.verify_views == 0 || R.verify.pass)) ? EXIT_OK : EXIT_ABOVE;
 out:
   rc = cli_out_end(outw, rc);

@@ -110,17 +110,17 @@ void cli_progress_start(cli_progress *p, const cli_common *c, const char *label,
   p->total = total > 0 ? total : 1;
   p->done = 0;
   p->label = label;
-  p->t0 = cli_now();
+  p->t0 = jnd_seconds();
 }
 
 double cli_progress_eta(const cli_progress *p) {
-  return p->done > 0 ? (cli_now() - p->t0) * (p->total - p->done) / p->done : 0;
+  return p->done > 0 ? (jnd_seconds() - p->t0) * (p->total - p->done) / p->done : 0;
 }
 
 void cli_progress_count(cli_progress *p, int done) {
   p->done = done;
   if (!p->enabled) return;
-  double el = cli_now() - p->t0;
+  double el = jnd_seconds() - p->t0;
   if (done >= p->total)
     fprintf(stderr, "jnd %s: %d/%d done in %.0f s\n", p->label, done, p->total, el);
   else if (done == 0)
@@ -137,7 +137,7 @@ void cli_progress_step(cli_progress *p, int done) {
   if (!p->enabled || !p->tty) return;
   if (done > p->total) p->total = done;
   int width = 30, filled = (int)((double)width * done / p->total);
-  double el = cli_now() - p->t0, eta = cli_progress_eta(p);
+  double el = jnd_seconds() - p->t0, eta = cli_progress_eta(p);
   fprintf(stderr, "\r%-12s [", p->label);
   for (int k = 0; k < width; k++) fputc(k < filled ? '#' : '.', stderr);
   fprintf(stderr, "] %d/%d  %.0fs, ~%.0fs left ", done, p->total, el, eta);
@@ -147,7 +147,7 @@ void cli_progress_step(cli_progress *p, int done) {
 void cli_progress_line(cli_progress *p, const char *line) {
   if (!p->enabled) return;
   if (p->tty) fprintf(stderr, "\r%*s\r", 80, "");
-  fprintf(stderr, "jnd %s: %s (%.1f s)\n", p->label, line, cli_now() - p->t0);
+  fprintf(stderr, "jnd %s: %s (%.1f s)\n", p->label, line, jnd_seconds() - p->t0);
   fflush(stderr);
   if (p->tty) cli_progress_step(p, p->done);
 }
