@@ -260,6 +260,31 @@ void jnd_output_abort(jnd_output *w);
 /* Aborts unless committed, and frees w (NULL is fine). */
 void jnd_output_free(jnd_output *w);
 
+/* ---- The task shape ----
+ *
+ * Every task is one call of one shape (docs/architecture.md):
+ *
+ *     jnd_status jnd_<task>_run(const char *input, const jnd_<task>_params *p,
+ *                               const char *out_dir, jnd_<task>_result **out);
+ *
+ * It reads input and what input references, writes its assets, pictures and
+ * its report out_dir/<task>.json through one output writer (never over an
+ * input, all or nothing), and returns the result with the report's text
+ * (the JSON the command line prints with --json). Each params struct has a
+ * jnd_run_options `run` for what every task shares. */
+typedef struct {
+  int map_size;              /* side of the built-in asset's maps, pixels (2048) */
+  const char *report_path;   /* also write the report here (NULL: none); "-" is left to the caller,
+                                who prints the result's report */
+  int timings;               /* wall-clock seconds in the report (it then differs run to run; 0) */
+  /* NULL or called with each warning about the input (one line, no "jnd:") */
+  void (*warning)(void *user, const char *message);
+  void *warning_user;
+} jnd_run_options;
+
+/* Fills o with the defaults above. */
+void jnd_run_options_defaults(jnd_run_options *o);
+
 /* ------------------------------------------------------------------------ */
 /* Display model (004 §3.1, first stage)                                    */
 /* ------------------------------------------------------------------------ */
@@ -587,6 +612,8 @@ typedef struct {
   double beta;               /* psychometric slope (3.5) */
   double threshold_p;        /* the P at which thresholds are read (0.2, 000 §6) */
   double mae_px;             /* fitted: cross-validated mean absolute error, pixels (0 unknown) */
+  const char *path;          /* the file it was read from (the caller's string; NULL: defaults),
+                                set by jnd_calibration_load; a task's run protects and reports it */
 } jnd_calibration;
 
 /* Fills c with the identity calibration above. */
@@ -1135,6 +1162,8 @@ typedef struct {
   const jnd_view *cameras;     /* explicit views instead (NULL: sampled); a view with nlights < 0
                                   gets the sampled lights of its index */
   int ncameras;
+  const char *cameras_path;    /* or a cameras file (jnd_views_read), read by jnd_view_set_make
+                                  when cameras is NULL; a task's run protects and reports it */
   jnd_renderer_params render;  /* image size, MSAA, anisotropy, environment, EGL platform */
 } jnd_view_set;
 
@@ -1544,6 +1573,7 @@ typedef struct {
    * an estimate */
   void (*progress)(void *user, const char *line, int done, int total);
   void *progress_user;
+  jnd_run_options run;       /* the run's report copy, timings, warnings (jnd_texres_run) */
 } jnd_texres_params;
 
 /* Fills p with the defaults above. */
@@ -1624,19 +1654,37 @@ typedef struct {
   int renderings;            /* all renderings: references, whole frames, partial re-renders */
   jnd_judge_counts counts;   /* the judge's counts, in detail */
   char renderer[160];
+  /* set by jnd_texres_run only */
+  char *report;              /* the report's JSON text, as written to out_dir/texres.json */
+  int passes;                /* the choice passes the criterion (and the held-out views) */
 } jnd_texres_result;
 
-/* Runs the search of docs/texres.md on scene (loaded by the caller; its
- * maps are left at the chosen sizes on return) with a judge on its views:
- * mip-usage bound, per-map series from the bound down searched by bisection
+/* The task (`jnd texres`): reads model (glTF, GLB, OBJ or builtin[:...]),
+ * runs jnd_texres_search on it and writes into out_dir, through one output
+ * writer (nothing over an input; all or nothing): texres.json (the report),
+ * worst_view.png, matrix_N.png, and model/ (a glTF/GLB copy pointing at the
+ * resized maps) or maps/ (OBJ, builtin: the resized maps as PNG). *out is
+ * allocated (jnd_texres_result_free) with the report's text; it is set also
+ * when the choice fails the criterion (passes = 0, JND_OK). Bad input: one
+ * error "FILE: problem", nothing written. */
+jnd_status jnd_texres_run(const char *model, const jnd_texres_params *p, const char *out_dir,
+                          jnd_texres_result **out);
+
+/* Frees what jnd_texres_run returned (NULL is fine). */
+void jnd_texres_result_free(jnd_texres_result *r);
+
+/* The search of docs/texres.md on scene (loaded by the caller; its maps are
+ * left at the chosen sizes on return) with a judge on its views: mip-usage
+ * bound, per-map series from the bound down searched by bisection
  * (detection never falls as a map shrinks), coordinate descent over the maps
  * until the combination passes, the optional matrices, and the
- * verification on held-out views. out owns arrays (jnd_texres_result_free).
- * JND_ERR_ARG for a scene without texture maps or an unknown map name. */
-jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *p, jnd_texres_result *out);
+ * verification on held-out views. Writes nothing. out owns arrays
+ * (jnd_texres_result_clear). JND_ERR_ARG for a scene without texture maps
+ * or an unknown map name. */
+jnd_status jnd_texres_search(jnd_scene *scene, const jnd_texres_params *p, jnd_texres_result *out);
 
 /* Frees a result's arrays; safe on a zeroed struct. */
-void jnd_texres_result_free(jnd_texres_result *r);
+void jnd_texres_result_clear(jnd_texres_result *r);
 
 /* A picture of matrix t of a result (000 Fig. 13): the criterion statistic
  * for every pair of sizes (columns the first map's, rows the second's, the

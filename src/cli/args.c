@@ -407,7 +407,7 @@ int cli_views_opt(cli_args *a, cli_views *v) {
     vs->light_intensity = cli_double(a, "--light-intensity", s, 0, 1e6);
   } else if (cli_opt(a, "--cameras", &s)) {
     v->given |= CLI_CAMERAS;
-    v->cameras = s;
+    v->cameras = v->set.cameras_path = s;
   } else if (cli_opt(a, "--env", &s)) {
     v->given |= CLI_ENV;
     rp->env_path = s;
@@ -444,20 +444,6 @@ int cli_views_only(const cli_views *v, unsigned allowed, const char *cmd, const 
 }
 
 jnd_status cli_views_make(cli_views *v, const jnd_scene *scene, jnd_view **out, int *count) {
-  *out = NULL;
-  *count = 0;
-  if (v->cameras) {
-    jnd_view *cams = NULL;
-    int n = 0;
-    jnd_status st = jnd_views_read(v->cameras, scene, v->set.sampling.fov_y_deg, &cams, &n);
-    if (st != JND_OK) return st;
-    jnd_view_set s = v->set;
-    s.cameras = cams;
-    s.ncameras = n;
-    st = jnd_view_set_make(scene, &s, out, count);
-    free(cams);
-    return st;
-  }
   return jnd_view_set_make(scene, &v->set, out, count);
 }
 

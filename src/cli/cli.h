@@ -158,6 +158,9 @@ cJSON *cli_views_json(const cli_views *v);
 cJSON *cli_criterion_json(const jnd_criterion *c, const jnd_criterion_result *r);
 /* Writes the report to path ("-" = stdout) atomically; returns EXIT_OK or EXIT_BAD. */
 int cli_report_write(cJSON *report, const char *path);
+/* A run's report text (jnd_<task>_run's result) to standard output when path
+ * is "-" (the run itself wrote it to a file path); EXIT_OK or EXIT_BAD. */
+int cli_report_print(const char *text, const char *path);
 
 /* The run's output writer (jnd_output, docs/outputs.md), opened before any
  * work: inputs (each an asset or image: the files it references too) and

@@ -68,6 +68,13 @@ int cli_report_write(cJSON *report, const char *path) {
   return rc;
 }
 
+int cli_report_print(const char *text, const char *path) {
+  if (!path || strcmp(path, "-") != 0) return EXIT_OK;
+  fputs(text, stdout);
+  fflush(stdout);
+  return ferror(stdout) ? cli_bad("standard output: cannot write the report") : EXIT_OK;
+}
+
 int cli_out_open(jnd_output **w) {
   return jnd_output_open(w) == JND_OK ? EXIT_OK : cli_lib_error();
 }

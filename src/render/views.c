@@ -220,6 +220,18 @@ void jnd_view_set_defaults(jnd_view_set *vs) {
 jnd_status jnd_view_set_make(const jnd_scene *scene, const jnd_view_set *vs, jnd_view **out, int *count) {
   *out = NULL;
   *count = 0;
+  if (!vs->cameras && vs->cameras_path) {   /* the cameras file, then as explicit cameras */
+    jnd_view *cams = NULL;
+    int n = 0;
+    jnd_status st = jnd_views_read(vs->cameras_path, scene, vs->sampling.fov_y_deg, &cams, &n);
+    if (st != JND_OK) return st;
+    jnd_view_set with = *vs;
+    with.cameras = cams;
+    with.ncameras = n;
+    st = jnd_view_set_make(scene, &with, out, count);
+    free(cams);
+    return st;
+  }
   if (vs->render.width < 1 || vs->render.height < 1)
     return jnd_fail(JND_ERR_ARG, "views: image size %d × %d", vs->render.width, vs->render.height);
   jnd_view_sampling s = vs->sampling;

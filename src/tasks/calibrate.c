@@ -80,6 +80,7 @@ jnd_status jnd_calibration_load(const char *path, jnd_calibration *c) {
       !(c->threshold_p > 0 && c->threshold_p < 1))
     return jnd_fail(JND_ERR_FORMAT, "%s: calibration values out of range (percentile 0..100, scale > 0, beta > 0)",
                     path);
+  c->path = path;
   return JND_OK;
 }
 
@@ -249,7 +250,7 @@ typedef struct {
 static int predict(const cal_set *S, int s, int k, double a, double b, jnd_psychometric *f) {
   const jnd_calib_scene *c = &S->sc[s];
   double p[CAL_MAX_RES];
-  jnd_calibration cal = {0, a, b, S->beta, S->pthr, 0};
+  jnd_calibration cal = {.percentile = 0, .scale = a, .bias = b, .beta = S->beta, .threshold_p = S->pthr};
   for (int i = 0; i < c->nres; i++) p[i] = calibrated_p(&cal, c->jnd_pct[i * JND_CALIB_NPCT + k]);
   return jnd_psychometric_fit(c->res, p, c->nres, 0, f) == JND_OK;
 }

@@ -689,6 +689,7 @@ jnd_status jnd_judge_create(jnd_scene *scene, const jnd_judge_params *p, jnd_jud
   j->scene = scene;
   j->p = *p;
   j->p.views.cameras = NULL;   /* made into views below; the caller's array is not kept */
+  j->p.views.cameras_path = NULL;
   j->nmaps = scene->nmaps;
   j->nkey = scene->nmaps + scene->nmeshes;
   double c[3], rad;

@@ -404,6 +404,7 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
   /* the judges: the screen's display, the views sampled as asked */
   o.jp = p->judge;
   o.jp.views.cameras = NULL;
+  o.jp.views.cameras_path = NULL;
   o.jp.views.ncameras = 0;
   screen_display(screen, &o.jp.model.display);
   o.ppd = o.jp.model.display.ppd;

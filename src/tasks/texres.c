@@ -79,9 +79,10 @@ void jnd_texres_defaults(jnd_texres_params *p) {
   p->confirm_rounds = TEXRES_CONFIRM_ROUNDS;
   p->min_size = 32;
   p->matrix = 0;
+  jnd_run_options_defaults(&p->run);
 }
 
-void jnd_texres_result_free(jnd_texres_result *r) {
+void jnd_texres_result_clear(jnd_texres_result *r) {
   free(r->maps);
   free(r->images);
   free(r->view_p);
@@ -92,7 +93,14 @@ void jnd_texres_result_free(jnd_texres_result *r) {
     free(r->matrix[i].stat);
   }
   free(r->matrix);
+  free(r->report);
   memset(r, 0, sizeof *r);
+}
+
+void jnd_texres_result_free(jnd_texres_result *r) {
+  if (!r) return;
+  jnd_texres_result_clear(r);
+  free(r);
 }
 
 /* ---- the search ---- */
@@ -551,6 +559,7 @@ static jnd_status confirm(ctx *c, int *k, const int *start) {
   for (int round = 0; round < p->confirm_rounds; round++) {
     jnd_view_set vs = p->judge.views;
     vs.cameras = NULL;
+    vs.cameras_path = NULL;
     vs.sampling.count = N0;
     vs.sampling.seed = p->judge.views.sampling.seed + 1000003u * (uint64_t)(round + 1);
     jnd_view *views = NULL;
@@ -578,6 +587,7 @@ static jnd_status held_out(ctx *c, const int *k) {
   jnd_texres_result *out = c->res;
   jnd_view_set vs = p->judge.views;
   vs.cameras = NULL;
+  vs.cameras_path = NULL;
   vs.sampling.count = M;
   vs.sampling.seed = p->judge.views.sampling.seed * 7919u + 104729u;
   jnd_view *views = NULL;
@@ -636,7 +646,7 @@ static jnd_status count_images(ctx *c) {
   return JND_OK;
 }
 
-jnd_status jnd_texres_run(jnd_scene *scene, const jnd_texres_params *pp, jnd_texres_result *out) {
+jnd_status jnd_texres_search(jnd_scene *scene, const jnd_texres_params *pp, jnd_texres_result *out) {
   memset(out, 0, sizeof *out);
   jnd_texres_params pd;
   if (!pp) {
@@ -827,6 +837,6 @@ done:
   free(k);
   free(start);
   jnd_judge_free(c.j);
-  if (s != JND_OK) jnd_texres_result_free(out);
+  if (s != JND_OK) jnd_texres_result_clear(out);
   return s;
 }

@@ -376,7 +376,7 @@ TEST(the_worst_view_shows_the_chosen_sizes_whether_or_not_the_matrices_ran) {
     p.judge.views.render.anisotropy = 1;
     p.confirm_rounds = 0;
     p.matrix = m ? 2 : 0;
-    CHECK_OK(jnd_texres_run(s, &p, m ? &with : &without));
+    CHECK_OK(jnd_texres_search(s, &p, m ? &with : &without));
     jnd_scene_free(s);
   }
   int same_choice = with.nmaps == without.nmaps;
@@ -387,8 +387,8 @@ TEST(the_worst_view_shows_the_chosen_sizes_whether_or_not_the_matrices_ran) {
   CHECK(a->w == b->w && a->h == b->h && a->data && b->data);
   if (same_choice && a->w == b->w && a->h == b->h && a->data && b->data)
     CHECK(memcmp(a->data, b->data, (size_t)a->w * a->h * 3 * sizeof(float)) == 0);
-  jnd_texres_result_free(&with);
-  jnd_texres_result_free(&without);
+  jnd_texres_result_clear(&with);
+  jnd_texres_result_clear(&without);
 }
 
 RUN_TESTS(the_heatmap_keeps_differences_above_one_jnd_apart, a_small_heatmap_is_magnified_to_a_readable_size,

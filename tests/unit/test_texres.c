@@ -53,9 +53,9 @@ TEST(sizes_never_exceed_the_mip_bound_and_shrink_with_the_object) {
   jnd_texres_params p;
   jnd_texres_result near = {0}, far = {0};
   small_params(&p, 0.9);
-  CHECK_OK(jnd_texres_run(s, &p, &near));
+  CHECK_OK(jnd_texres_search(s, &p, &near));
   small_params(&p, 0.25);
-  CHECK_OK(jnd_texres_run(s, &p, &far));
+  CHECK_OK(jnd_texres_search(s, &p, &far));
   CHECK(near.nmaps == 4 && far.nmaps == 4);
   for (int i = 0; i < near.nmaps && i < far.nmaps; i++) {
     const jnd_texres_map *a = &near.maps[i], *b = &far.maps[i];
@@ -79,8 +79,8 @@ TEST(sizes_never_exceed_the_mip_bound_and_shrink_with_the_object) {
   jnd_map_info mi;
   CHECK_OK(jnd_scene_map_info(s, 0, &mi));
   CHECK(mi.width == far.maps[0].chosen[0]);
-  jnd_texres_result_free(&near);
-  jnd_texres_result_free(&far);
+  jnd_texres_result_clear(&near);
+  jnd_texres_result_clear(&far);
   jnd_scene_free(s);
 }
 
@@ -94,10 +94,10 @@ TEST(unknown_map_names_are_refused_before_rendering) {
   small_params(&p, 0.8);
   p.maps = "builtin/albedo";
   jnd_texres_result r;
-  CHECK_STATUS(jnd_texres_run(s, &p, &r), JND_ERR_ARG);
+  CHECK_STATUS(jnd_texres_search(s, &p, &r), JND_ERR_ARG);
   CHECK(strstr(jnd_last_error(), "builtin/albedo") != NULL);
   p.maps = "emissive";
-  CHECK_STATUS(jnd_texres_run(s, &p, &r), JND_ERR_ARG);
+  CHECK_STATUS(jnd_texres_search(s, &p, &r), JND_ERR_ARG);
   jnd_scene_free(s);
 }
 

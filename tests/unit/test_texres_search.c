@@ -85,7 +85,7 @@ TEST(held_out_views_are_not_the_views_the_choice_was_made_on) {
   p.confirm_rounds = 1;
   jnd_texres_result r = {0};
   double held[3] = {0};
-  CHECK_OK(jnd_texres_run(s, &p, &r));
+  CHECK_OK(jnd_texres_search(s, &p, &r));
   CHECK(r.verify_views == 3 && r.verify_p != NULL);
   if (r.verify_p) memcpy(held, r.verify_p, sizeof held);
   CHECK(r.nviews >= 3 && r.nviews % 3 == 0);
@@ -101,15 +101,15 @@ TEST(held_out_views_are_not_the_views_the_choice_was_made_on) {
     check_reported_criterion(r.verify_p, 3, &r.verify, 0.99, p.judge.criterion.q, p.judge.criterion.confidence);
     check_reported_criterion(r.view_p, r.nviews, &r.views, 0.99, p.judge.criterion.q, p.judge.criterion.confidence);
   }
-  jnd_texres_result_free(&r);
+  jnd_texres_result_clear(&r);
   /* the held-out views depend on the seed of the views, as the choice's do:
    * another seed, other held-out views */
   jnd_texres_result r2 = {0};
   p.judge.views.sampling.seed += 1;
-  CHECK_OK(jnd_texres_run(s, &p, &r2));
+  CHECK_OK(jnd_texres_search(s, &p, &r2));
   if (r2.verify_p)
     for (int a = 0; a < 3; a++) CHECK(r2.verify_p[a] != held[a]);
-  jnd_texres_result_free(&r2);
+  jnd_texres_result_clear(&r2);
   jnd_scene_free(s);
 }
 
@@ -128,7 +128,7 @@ TEST(the_smallest_allowed_size_is_a_candidate_and_is_chosen_when_everything_pass
     p.min_size = floors[f];
     p.judge.views.sampling.coverage = 0.3;   /* a small object: even 32² maps pass */
     jnd_texres_result r = {0};
-    CHECK_OK(jnd_texres_run(s, &p, &r));
+    CHECK_OK(jnd_texres_search(s, &p, &r));
     /* the halvings of 128 that are >= the floor, by hand */
     int want[8], nw = 0;
     for (int side = 128; side >= floors[f]; side /= 2) want[nw++] = side;
@@ -158,7 +158,7 @@ TEST(the_smallest_allowed_size_is_a_candidate_and_is_chosen_when_everything_pass
       }
       CHECK(longer(m->chosen) == smallest);
     }
-    jnd_texres_result_free(&r);
+    jnd_texres_result_clear(&r);
   }
   jnd_scene_free(s);
 }
@@ -175,7 +175,7 @@ TEST(chosen_sizes_never_grow_as_the_threshold_rises) {
     small_params(&p);
     p.judge.criterion.p = ps[t];
     jnd_texres_result r = {0};
-    CHECK_OK(jnd_texres_run(s, &p, &r));
+    CHECK_OK(jnd_texres_search(s, &p, &r));
     CHECK_NEAR(r.choice_p, ps[t] * (1 - p.margin), 1e-15);
     for (int i = 0; i < r.nmaps && i < 16; i++) {
       int L = longer(r.maps[i].chosen);
@@ -184,7 +184,7 @@ TEST(chosen_sizes_never_grow_as_the_threshold_rises) {
       prev[i] = L;
     }
     n = r.nmaps;
-    jnd_texres_result_free(&r);
+    jnd_texres_result_clear(&r);
   }
   CHECK(n == 4);
   jnd_scene_free(s);

@@ -1,0 +1,54 @@
+/* The reports and outputs of the task runs (jnd_<task>_run): the JSON
+ * envelope every report shares, the JSON of the shared parameter groups,
+ * and the one way a run registers its inputs and outputs with the output
+ * writer and publishes its report. Internal to the library; the command
+ * line prints what the runs return. */
+#ifndef JND_TASKS_REPORT_H
+#define JND_TASKS_REPORT_H
+
+#include <cjson/cJSON.h>
+
+#include "jnd.h"
+
+/* {"jnd_version", "command", "inputs", "parameters", "result"} */
+cJSON *report_new(const char *command);
+cJSON *report_section(cJSON *report, const char *name);
+
+cJSON *report_display_json(const jnd_display *d);
+/* The view set as the options gave it: the cameras file or the sampling, and the rendering. */
+cJSON *report_views_json(const jnd_view_set *vs);
+/* The criterion (p, q), with the outcome when r is not NULL. */
+cJSON *report_criterion_json(const jnd_criterion *c, const jnd_criterion_result *r);
+/* [w, h] */
+cJSON *report_pair(const int *wh);
+
+/* A run's output writer: every input (what each references too: glTF
+ * buffers and images, an OBJ's .mtl and textures; NULL entries skipped)
+ * registered, then out_dir as the run's folder (*staged_dir: where to write)
+ * and o->report_path (when a file) as a second copy of the report. Refused
+ * with one error before anything is written. *w is the caller's
+ * (jnd_output_free). */
+typedef struct {
+  jnd_output *w;
+  const char *dir;           /* staged out_dir (NULL when no out_dir) */
+  const char *copy;          /* staged report copy (NULL: none or "-") */
+} report_output;
+jnd_status report_output_open(report_output *o, const char *const *inputs, int ninputs, const char *out_dir,
+                              const jnd_run_options *run);
+
+/* Writes the report as dir/name and to the copy, and returns its text
+ * (*text allocated, ending in a newline) — before the commit. */
+jnd_status report_output_write(report_output *o, cJSON *report, const char *name, char **text);
+
+/* Publishes everything when st is JND_OK, else removes it; frees the
+ * writer. Returns st, or the commit's error. */
+jnd_status report_output_end(report_output *o, jnd_status st);
+
+/* ---- each task's report, built by its <task>_report.c ---- */
+
+/* texres.json: model_out the published model's path (NULL: none), map_files
+ * (taken) the maps written as PNG, timings NULL or {search_s, total_s}. */
+cJSON *texres_report(const char *model, const jnd_texres_params *p, const jnd_texres_result *R,
+                     const jnd_scene *scene, const char *model_out, cJSON *map_files, const double *timings);
+
+#endif

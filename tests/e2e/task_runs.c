@@ -1,0 +1,39 @@
+/* Each task as one library call, with no command line: a program that links
+ * libjnd.so (the public header only) runs `jnd_<task>_run` with the
+ * parameters a command line names, and prints the report it returns.
+ * tests/e2e/task_runs.sh runs the same task through `jnd` and checks that
+ * the two reports are byte-identical (issue 24: every report is produced by
+ * the library).
+ *
+ *   task_runs texres MODEL OUTDIR     (--views 2 --size 96x96 --map-size 128
+ *                                      --samples 1 --confirm 0 --min-size 16) */
+#include <stdio.h>
+#include <string.h>
+
+#include "jnd.h"
+
+static int texres(const char *model, const char *out_dir) {
+  jnd_texres_params p;
+  jnd_texres_defaults(&p);
+  p.judge.views.sampling.count = 2;
+  p.judge.views.render.width = p.judge.views.render.height = 96;
+  p.judge.views.render.samples = 1;
+  p.run.map_size = 128;
+  p.confirm_rounds = 0;
+  p.min_size = 16;
+  jnd_texres_result *r = NULL;
+  if (jnd_texres_run(model, &p, out_dir, &r) != JND_OK) {
+    fprintf(stderr, "jnd: %s\n", jnd_last_error());
+    return 2;
+  }
+  fputs(r->report, stdout);
+  int rc = r->passes ? 0 : 1;
+  jnd_texres_result_free(r);
+  return rc;
+}
+
+int main(int argc, char **argv) {
+  if (argc == 4 && strcmp(argv[1], "texres") == 0) return texres(argv[2], argv[3]);
+  fprintf(stderr, "usage: task_runs TASK INPUT OUTDIR\n");
+  return 2;
+}

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Every task's report is produced by the library (issue 24): a program that
+# links libjnd.so and calls jnd_<task>_run with no command line gets the
+# same report, byte for byte, as the command with the same options, and the
+# same files in its folder.
+set -uo pipefail
+. "$(dirname "$0")/lib.bash"
+need_renderer
+: "${JND_TASK_RUNS:?JND_TASK_RUNS must point at the task_runs program}"
+
+same_run() {   # NAME TASK INPUT -- CLI OPTIONS...
+  # both into the same folder name (the report names it), one after the other
+  local name=$1 task=$2 input=$3
+  shift 4
+  rm -rf "$T/out"
+  expect_exit 0 "$name: the command runs" "$JND" "$task" "$input" -o "$T/out" --json "$T/$name.cli.json" --quiet "$@"
+  mv "$T/out" "$T/$name.cli"
+  "$JND_TASK_RUNS" "$task" "$input" "$T/out" >"$T/$name.lib.json" 2>"$T/$name.lib.err"
+  check "$name: the library call runs ($(head -c 200 "$T/$name.lib.err"))" [ $? -eq 0 ]
+  mv "$T/out" "$T/$name.lib"
+  check "$name: the returned report is the command's, byte for byte" cmp "$T/$name.cli.json" "$T/$name.lib.json"
+  check "$name: and the one in the folder" cmp "$T/$name.cli/$task.json" "$T/$name.lib/$task.json"
+  check "$name: the same files in the folder" \
+    diff <(cd "$T/$name.cli" && find . | sort) <(cd "$T/$name.lib" && find . | sort)
+}
+
+same_run texres_builtin texres builtin -- --views 2 --size 96x96 --map-size 128 --samples 1 --confirm 0 --min-size 16
+gltf=/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf
+[ -f "$gltf" ] || skip "needs assimp's glTF2 sample models (assimp-testmodels)"
+same_run texres_gltf texres "$gltf" -- --views 2 --size 96x96 --map-size 128 --samples 1 --confirm 0 --min-size 16
+
+# a refusal is the library's too: the folder that holds the model is not an
+# output folder; one line naming both, exit 2, nothing written
+mkdir -p "$T/box"
+cp "$(dirname "$gltf")"/* "$T/box/"
+before=$(cd "$T/box" && find . -printf '%p %s %T@\n' | sort)
+"$JND_TASK_RUNS" texres "$T/box/BoxTextured.gltf" "$T/box" >/dev/null 2>"$T/refused.err"
+rc=$?
+check "a folder holding the input is refused: exit 2 (got $rc)" [ "$rc" -eq 2 ]
+check "one line naming the folder ($(head -c 200 "$T/refused.err"))" \
+  bash -c "[ \$(wc -l <'$T/refused.err') -eq 1 ] && grep -q '$T/box' '$T/refused.err'"
+check "nothing written" [ "$before" = "$(cd "$T/box" && find . -printf '%p %s %T@\n' | sort)" ]
+finish
