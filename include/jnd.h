@@ -2481,6 +2481,8 @@ typedef struct {
   /* NULL or called with a one-line summary at the end of each stage */
   void (*progress)(void *user, const char *line, int done, int total);
   void *progress_user;
+  int write_maps;            /* jnd_pca_run: also the maps rebuilt from the encoding, as PNG (0) */
+  jnd_run_options run;       /* jnd_pca_run: the report's copy, timings, warnings */
 } jnd_pca_params;
 
 /* Fills p with the defaults above. */
@@ -2507,16 +2509,31 @@ typedef struct {
   jnd_pca_search_log *log;                 /* RENDERED: what was tried (owned) */
   double seconds[6];                       /* read, decomposition, choice, encoding, block
                                               compression, rendering */
+  char *report;                            /* jnd_pca_run: the report's JSON text (pca.json) */
 } jnd_pca_result;
 
-/* Runs `jnd pca`: reads the set, analyses it, chooses the encoding by the
- * rule, encodes it, measures block compression and, with a model, the
- * judge's P of the encoding and of its block-compressed variants. out owns
- * its arrays (jnd_pca_result_free). Errors name the file or option. */
-jnd_status jnd_pca_run(const jnd_pca_params *p, jnd_pca_result *out);
+/* The task (`jnd pca`): jnd_pca_choose on the set — the map files
+ * p->maps, or with model (glTF/GLB/OBJ/builtin; NULL: none) the material
+ * p->material's own maps, rendered for the rule RENDERED (model replaces
+ * p->model) — then into out_dir, through one output writer (nothing over an
+ * input; all or nothing): the components packed as components_N.png, the
+ * contribution plot, with p->write_maps the rebuilt maps, and pca.json.
+ * *out is allocated (jnd_pca_result_free) with the report's text. Bad
+ * input: one error "FILE: problem", nothing written. */
+jnd_status jnd_pca_run(const char *model, const jnd_pca_params *p, const char *out_dir, jnd_pca_result **out);
 
-/* Frees a result; safe on a zeroed struct. */
+/* Frees what jnd_pca_run returned (NULL is fine). */
 void jnd_pca_result_free(jnd_pca_result *r);
+
+/* The choice alone: reads the set, analyses it, chooses the encoding by the
+ * rule, encodes it, measures block compression and, with a model, the
+ * judge's P of the encoding and of its block-compressed variants. Writes
+ * nothing. out owns its arrays (jnd_pca_result_clear). Errors name the file
+ * or option. */
+jnd_status jnd_pca_choose(const jnd_pca_params *p, jnd_pca_result *out);
+
+/* Frees a result's arrays; safe on a zeroed struct. */
+void jnd_pca_result_clear(jnd_pca_result *r);
 
 /* One texture of packed components, as an engine samples them. */
 typedef struct {

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "tasks/report.h"
 
 /* the default energy target: the fewest components keeping 99% of the
  * variance (001 reads the knee of the same curve; the knee is reported) */
@@ -25,14 +26,22 @@ void jnd_pca_defaults(jnd_pca_params *p) {
   p->max_scale = 2;
   p->components = -1;
   p->block_compression = 1;
+  jnd_run_options_defaults(&p->run);
 }
 
-void jnd_pca_result_free(jnd_pca_result *r) {
+void jnd_pca_result_clear(jnd_pca_result *r) {
   jnd_texset_free(&r->set);
   jnd_pca_encoded_free(&r->enc);
   jnd_pca_encoded_free(&r->enc_float);
   free(r->log);
+  free(r->report);
   memset(r, 0, sizeof *r);
+}
+
+void jnd_pca_result_free(jnd_pca_result *r) {
+  if (!r) return;
+  jnd_pca_result_clear(r);
+  free(r);
 }
 
 __attribute__((format(printf, 2, 3))) static void stage(const jnd_pca_params *p, const char *fmt, ...) {
@@ -79,7 +88,7 @@ static size_t maps_8bit_bytes(const jnd_texset *set) {
   return b;
 }
 
-jnd_status jnd_pca_run(const jnd_pca_params *p, jnd_pca_result *out) {
+jnd_status jnd_pca_choose(const jnd_pca_params *p, jnd_pca_result *out) {
   memset(out, 0, sizeof *out);
   if (p->nmaps > JND_PCA_MAX_MAPS) return jnd_fail(JND_ERR_LIMIT, "pca: at most %d maps", JND_PCA_MAX_MAPS);
   if (p->nmaps == 0 && !p->model) return jnd_fail(JND_ERR_ARG, "pca: needs maps or a model");
@@ -199,7 +208,7 @@ jnd_status jnd_pca_run(const jnd_pca_params *p, jnd_pca_result *out) {
   out->seconds[4] = jnd_seconds() - t4;
 done:
   jnd_pca_render_free(rr);
-  if (s != JND_OK) jnd_pca_result_free(out);
+  if (s != JND_OK) jnd_pca_result_clear(out);
   return s;
 }
 
@@ -230,4 +239,96 @@ jnd_status jnd_pca_pack(const jnd_pca_encoded *enc, jnd_pca_texture *tex, int *n
     *n = 0;
   }
   return s;
+}
+
+/* ---- the task: the choice and its files (jnd_pca_run) ---- */
+
+/* the packed components (listed in textures), the contribution plot, the
+ * rebuilt maps */
+static jnd_status write_files(const char *dir, const jnd_pca_result *R, int write_maps, cJSON *textures) {
+  jnd_pca_texture tex[JND_PCA_MAX_CHANNELS];
+  int ntex = 0;
+  char path[4200], name[64];
+  jnd_status s = jnd_pca_pack(&R->enc, tex, &ntex);
+  if (s != JND_OK) return s;
+  for (int t = 0; t < ntex; t++) {
+    snprintf(name, sizeof name, "components_%d.png", t);
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    if (s == JND_OK) s = jnd_image_write_png(path, &tex[t].image, tex[t].bits);
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "file", name);
+    cJSON_AddNumberToObject(o, "width", tex[t].image.w);
+    cJSON_AddNumberToObject(o, "height", tex[t].image.h);
+    cJSON_AddNumberToObject(o, "bits", tex[t].bits);
+    cJSON *cs = cJSON_AddArrayToObject(o, "components");   /* in channels R, G, B, A */
+    for (int q = 0; q < tex[t].ncomp; q++) cJSON_AddItemToArray(cs, cJSON_CreateNumber(tex[t].comp[q]));
+    cJSON_AddItemToArray(textures, o);
+    jnd_image_free(&tex[t].image);
+  }
+  jnd_image plot = {0};
+  snprintf(path, sizeof path, "%s/contribution.png", dir);
+  if (s == JND_OK) s = jnd_pca_contribution_plot(&R->pca, &R->set, &plot);
+  if (s == JND_OK) s = jnd_image_write_png(path, &plot, 8);
+  jnd_image_free(&plot);
+  if (s == JND_OK && write_maps) {
+    jnd_image rec = {0};
+    s = jnd_pca_reconstruct(&R->enc, NULL, &rec);
+    for (int i = 0; i < R->set.nmaps && s == JND_OK; i++) {
+      jnd_image mi = {0};
+      snprintf(path, sizeof path, "%s/%s.png", dir, R->set.maps[i].name);
+      s = jnd_texset_map_image(&R->set, &rec, i, &mi);
+      if (s == JND_OK) s = jnd_image_write_png(path, &mi, 8);
+      jnd_image_free(&mi);
+    }
+    jnd_image_free(&rec);
+  }
+  return s;
+}
+
+jnd_status jnd_pca_run(const char *model, const jnd_pca_params *pp, const char *out_dir, jnd_pca_result **out) {
+  *out = NULL;
+  if (!out_dir) return jnd_fail(JND_ERR_ARG, "pca: give an output folder");
+  jnd_pca_params p;
+  if (pp) p = *pp;
+  else jnd_pca_defaults(&p);
+  p.model = model;
+  if (p.nmaps > JND_PCA_MAX_MAPS) return jnd_fail(JND_ERR_LIMIT, "pca: at most %d maps", JND_PCA_MAX_MAPS);
+  if (p.render.judge.views.cameras_path)
+    return jnd_fail(JND_ERR_ARG, "pca: --cameras is not supported here yet (sampled views only)");
+  double t0 = jnd_seconds();
+  /* the outputs checked against every input before any work */
+  const char *inputs[JND_PCA_MAX_MAPS + 3] = {model, p.render.judge.views.render.env_path,
+                                              p.render.judge.calibration.path};
+  for (int k = 0; k < p.nmaps; k++) inputs[3 + k] = p.maps[k];
+  report_output o;
+  jnd_status s = report_output_open(&o, inputs, 3 + p.nmaps, out_dir, &p.run);
+  if (s != JND_OK) return s;
+  jnd_pca_result *R = jnd_calloc(1, sizeof *R);
+  cJSON *report = NULL, *textures = cJSON_CreateArray();
+  if (!R || !textures) s = JND_ERR_NOMEM;
+  if (s == JND_OK) s = jnd_pca_choose(&p, R);
+  for (int i = 0; s == JND_OK && p.run.warning && i < R->set.nmaps; i++) {
+    const jnd_texset_map *m = &R->set.maps[i];
+    if (!m->resampled) continue;
+    char line[400];
+    snprintf(line, sizeof line, "%s: %d x %d resampled to %d x %d (Lanczos-3)", R->labels[i], m->file_w, m->file_h,
+             R->set.w, R->set.h);
+    p.run.warning(p.run.warning_user, line);
+  }
+  if (s == JND_OK) s = write_files(o.dir, R, p.write_maps, textures);
+  if (s == JND_OK) {
+    double total = jnd_seconds() - t0;
+    report = pca_report(&p, R, textures, p.run.timings ? &total : NULL);
+    textures = NULL;
+    s = report ? report_output_write(&o, report, "pca.json", &R->report) : JND_ERR_NOMEM;
+  }
+  s = report_output_end(&o, s);
+  cJSON_Delete(report);
+  cJSON_Delete(textures);
+  if (s != JND_OK) {
+    jnd_pca_result_free(R);
+    return s;
+  }
+  *out = R;
+  return JND_OK;
 }

@@ -51,4 +51,8 @@ jnd_status report_output_end(report_output *o, jnd_status st);
 cJSON *texres_report(const char *model, const jnd_texres_params *p, const jnd_texres_result *R,
                      const jnd_scene *scene, const char *model_out, cJSON *map_files, const double *timings);
 
+/* pca.json: textures (taken) the packed component files, total_s NULL or
+ * the run's wall time (then the stages' too). */
+cJSON *pca_report(const jnd_pca_params *p, const jnd_pca_result *R, cJSON *textures, const double *total_s);
+
 #endif

@@ -6,7 +6,10 @@
  * the library).
  *
  *   task_runs texres MODEL OUTDIR     (--views 2 --size 96x96 --map-size 128
- *                                      --samples 1 --confirm 0 --min-size 16) */
+ *                                      --samples 1 --confirm 0 --min-size 16)
+ *   task_runs pca builtin OUTDIR      (--model builtin --material builtin --map-size 128
+ *                                      --views 2 --size 96x96 --anisotropy 1 --no-bc)
+ *   task_runs pca - OUTDIR MAP...     (MAP... --psnr 40 --write-maps) */
 #include <stdio.h>
 #include <string.h>
 
@@ -32,8 +35,38 @@ static int texres(const char *model, const char *out_dir) {
   return rc;
 }
 
+static int pca(const char *model, const char *out_dir, const char *const *maps, int nmaps) {
+  jnd_pca_params p;
+  jnd_pca_defaults(&p);
+  if (nmaps) {
+    p.maps = maps;
+    p.nmaps = nmaps;
+    p.rule = JND_PCA_RULE_PSNR;
+    p.psnr_db = 40;
+    p.write_maps = 1;
+    model = NULL;
+  } else {
+    p.material = "builtin";
+    p.render.builtin_map_size = p.run.map_size = 128;
+    p.render.judge.views.sampling.count = 2;
+    p.render.judge.views.render.width = p.render.judge.views.render.height = 96;
+    p.render.judge.views.render.anisotropy = 1;
+    p.block_compression = 0;
+  }
+  jnd_pca_result *r = NULL;
+  if (jnd_pca_run(model, &p, out_dir, &r) != JND_OK) {
+    fprintf(stderr, "jnd: %s\n", jnd_last_error());
+    return 2;
+  }
+  fputs(r->report, stdout);
+  jnd_pca_result_free(r);
+  return 0;
+}
+
 int main(int argc, char **argv) {
   if (argc == 4 && strcmp(argv[1], "texres") == 0) return texres(argv[2], argv[3]);
+  if (argc >= 4 && strcmp(argv[1], "pca") == 0)
+    return pca(argv[2], argv[3], (const char *const *)argv + 4, argc - 4);
   fprintf(stderr, "usage: task_runs TASK INPUT OUTDIR\n");
   return 2;
 }

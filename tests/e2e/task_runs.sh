@@ -8,14 +8,15 @@ set -uo pipefail
 need_renderer
 : "${JND_TASK_RUNS:?JND_TASK_RUNS must point at the task_runs program}"
 
-same_run() {   # NAME TASK INPUT -- CLI OPTIONS...
+same_run() {   # NAME TASK INPUT -- COMMAND LINE AFTER THE TASK (with the input)
   # both into the same folder name (the report names it), one after the other
   local name=$1 task=$2 input=$3
   shift 4
   rm -rf "$T/out"
-  expect_exit 0 "$name: the command runs" "$JND" "$task" "$input" -o "$T/out" --json "$T/$name.cli.json" --quiet "$@"
+  expect_exit 0 "$name: the command runs" "$JND" "$task" "$@" -o "$T/out" --json "$T/$name.cli.json" --quiet
   mv "$T/out" "$T/$name.cli"
-  "$JND_TASK_RUNS" "$task" "$input" "$T/out" >"$T/$name.lib.json" 2>"$T/$name.lib.err"
+  # shellcheck disable=SC2086 # LIB_EXTRA: further arguments of the library call, words
+  "$JND_TASK_RUNS" "$task" "$input" "$T/out" ${LIB_EXTRA:-} >"$T/$name.lib.json" 2>"$T/$name.lib.err"
   check "$name: the library call runs ($(head -c 200 "$T/$name.lib.err"))" [ $? -eq 0 ]
   mv "$T/out" "$T/$name.lib"
   check "$name: the returned report is the command's, byte for byte" cmp "$T/$name.cli.json" "$T/$name.lib.json"
@@ -24,10 +25,17 @@ same_run() {   # NAME TASK INPUT -- CLI OPTIONS...
     diff <(cd "$T/$name.cli" && find . | sort) <(cd "$T/$name.lib" && find . | sort)
 }
 
-same_run texres_builtin texres builtin -- --views 2 --size 96x96 --map-size 128 --samples 1 --confirm 0 --min-size 16
+same_run texres_builtin texres builtin -- builtin --views 2 --size 96x96 --map-size 128 --samples 1 --confirm 0 --min-size 16
 gltf=/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf
 [ -f "$gltf" ] || skip "needs assimp's glTF2 sample models (assimp-testmodels)"
-same_run texres_gltf texres "$gltf" -- --views 2 --size 96x96 --map-size 128 --samples 1 --confirm 0 --min-size 16
+same_run texres_gltf texres "$gltf" -- "$gltf" --views 2 --size 96x96 --map-size 128 --samples 1 --confirm 0 --min-size 16
+same_run pca_builtin pca builtin -- --model builtin --material builtin --map-size 128 --views 2 --size 96x96 \
+  --anisotropy 1 --no-bc
+maps=$(ls "$JND_SHARED"/data/texsets/*/*.jpg 2>/dev/null | head -3)
+if [ -n "$maps" ]; then
+  # shellcheck disable=SC2086
+  LIB_EXTRA=$maps same_run pca_maps pca - -- $maps --psnr 40 --write-maps
+fi
 
 # a refusal is the library's too: the folder that holds the model is not an
 # output folder; one line naming both, exit 2, nothing written
