@@ -1748,10 +1748,11 @@ typedef struct {
   double fold_mae_px[32];    /* held-out error of each fold, pixels */
   double cv_mae_px;          /* mean held-out absolute error over scenes, pixels */
   double *errors_px;         /* per scene: predicted − measured threshold, held out (pixels);
-                                owned, jnd_calibrate_result_free */
+                                owned, jnd_calibrate_result_clear */
   double *predicted_px;      /* per scene: predicted threshold with the final calibration */
   int nscenes;
   double pct_mae_px[JND_CALIB_NPCT]; /* best training error per percentile */
+  char *report;              /* jnd_calibrate_run: the report's JSON text (the calibration file) */
 } jnd_calibrate_result;
 
 /* The model's JND percentiles 90..99 of map `map` (MATERIAL/SLOT) of scene
@@ -1776,6 +1777,41 @@ jnd_status jnd_calibrate_fit(const jnd_calib_scene *scenes, int n, const jnd_cal
                              jnd_calibrate_result *out);
 
 /* Frees the arrays of a result; safe on a zeroed struct. */
+void jnd_calibrate_result_clear(jnd_calibrate_result *r);
+
+/* What `jnd calibrate` takes besides the thresholds. */
+typedef struct {
+  jnd_calibrate_params fit;  /* folds, slope, threshold P, search ranges (jnd_calibrate_defaults) */
+  jnd_judge_params judge;    /* how an asset's series is rendered and judged: 4 views at 256²,
+                                the display, the model (its beta is fit.beta) */
+  const char *pairs;         /* a CSV of image pairs (scene, resolution, reference, test; paths
+                                relative to it) for the scenes without a model column (NULL) */
+  const int *sizes;          /* an asset's series: these sizes (longer side, pixels); NULL: the
+                                CSV's resolutions, else 11 steps from the map's size to 1/6 of it */
+  int nsizes;
+  const char *histogram;     /* also this PNG of the held-out errors (000 Fig. 9/11; NULL) */
+  /* NULL or called after each scene's series (line NULL, then its summary) */
+  void (*progress)(void *user, const char *line, int done, int total);
+  void *progress_user;
+  jnd_run_options run;       /* the report's copy, timings, map size of builtin assets */
+} jnd_calibrate_run_params;
+
+/* Fills p with the defaults above. */
+void jnd_calibrate_run_defaults(jnd_calibrate_run_params *p);
+
+/* The task (`jnd calibrate`): reads the measured thresholds (CSV: scene, and
+ * mu and sigma or resolution and rate; model and map columns for assets,
+ * relative to the CSV), measures the model's JND percentiles over each
+ * scene's series (rendered assets, or p->pairs), fits (jnd_calibrate_fit)
+ * and writes out_path — the calibration file every --calibration reads, which
+ * is also the report — and p->histogram, through one output writer (never
+ * over an input, including the files the tables name; all or nothing).
+ * *out is allocated (jnd_calibrate_result_free) with the report's text in
+ * report. Bad input: one error "FILE: problem", nothing written. */
+jnd_status jnd_calibrate_run(const char *thresholds_csv, const jnd_calibrate_run_params *p, const char *out_path,
+                             jnd_calibrate_result **out);
+
+/* Frees what jnd_calibrate_run returned (NULL is fine). */
 void jnd_calibrate_result_free(jnd_calibrate_result *r);
 
 /* The picture of 000 Fig. 9/11: how many scenes' held-out errors

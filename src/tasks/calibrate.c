@@ -222,10 +222,18 @@ void jnd_calibrate_defaults(jnd_calibrate_params *p) {
   p->scale_max = 20;
 }
 
-void jnd_calibrate_result_free(jnd_calibrate_result *r) {
+void jnd_calibrate_result_clear(jnd_calibrate_result *r) {
   free(r->errors_px);
   free(r->predicted_px);
+  free(r->report);
   r->errors_px = r->predicted_px = NULL;
+  r->report = NULL;
+}
+
+void jnd_calibrate_result_free(jnd_calibrate_result *r) {
+  if (!r) return;
+  jnd_calibrate_result_clear(r);
+  free(r);
 }
 
 /* ---- the fit ---- */
@@ -394,7 +402,7 @@ jnd_status jnd_calibrate_fit(const jnd_calib_scene *scenes, int n, const jnd_cal
   if (!fold || !use || !out->errors_px || !out->predicted_px) {
     free(fold);
     free(use);
-    jnd_calibrate_result_free(out);
+    jnd_calibrate_result_clear(out);
     return JND_ERR_NOMEM;
   }
   int nnames = 0;

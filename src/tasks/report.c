@@ -92,10 +92,8 @@ cJSON *report_criterion_json(const jnd_criterion *c, const jnd_criterion_result 
   return o;
 }
 
-jnd_status report_output_open(report_output *o, const char *const *inputs, int ninputs, const char *out_dir,
-                              const jnd_run_options *run) {
-  memset(o, 0, sizeof *o);
-  jnd_status s = jnd_output_open(&o->w);
+jnd_status report_output_add_inputs(report_output *o, const char *const *inputs, int ninputs) {
+  jnd_status s = JND_OK;
   for (int k = 0; k < ninputs && s == JND_OK; k++) {
     if (!inputs[k]) continue;
     char **files = NULL;
@@ -104,6 +102,14 @@ jnd_status report_output_open(report_output *o, const char *const *inputs, int n
     for (int f = 0; f < count && s == JND_OK; f++) s = jnd_output_add_input(o->w, files[f]);
     jnd_asset_files_free(files, count);
   }
+  return s;
+}
+
+jnd_status report_output_open(report_output *o, const char *const *inputs, int ninputs, const char *out_dir,
+                              const jnd_run_options *run) {
+  memset(o, 0, sizeof *o);
+  jnd_status s = jnd_output_open(&o->w);
+  if (s == JND_OK) s = report_output_add_inputs(o, inputs, ninputs);
   if (s == JND_OK && out_dir) s = jnd_output_add_dir(o->w, out_dir, &o->dir);
   if (s == JND_OK && run && run->report_path && strcmp(run->report_path, "-") != 0)
     s = jnd_output_add_file(o->w, run->report_path, &o->copy);
@@ -137,6 +143,8 @@ jnd_status report_output_write(report_output *o, cJSON *report, const char *name
       s = jnd_write_file_atomic(path, full, n + 1);
       free(path);
     }
+  } else if (name) {
+    s = jnd_write_file_atomic(name, full, n + 1);
   }
   if (s == JND_OK && o->copy) s = jnd_write_file_atomic(o->copy, full, n + 1);
   if (s != JND_OK) {

@@ -36,8 +36,13 @@ typedef struct {
 jnd_status report_output_open(report_output *o, const char *const *inputs, int ninputs, const char *out_dir,
                               const jnd_run_options *run);
 
-/* Writes the report as dir/name and to the copy, and returns its text
- * (*text allocated, ending in a newline) — before the commit. */
+/* More inputs, as report_output_open registers them (a run that learns its
+ * inputs from a table registers them as it reads it). */
+jnd_status report_output_add_inputs(report_output *o, const char *const *inputs, int ninputs);
+
+/* Writes the report as dir/name (without a dir: name is the staged path of
+ * the report file) and to the copy, and returns its text (*text allocated,
+ * ending in a newline) — before the commit. */
 jnd_status report_output_write(report_output *o, cJSON *report, const char *name, char **text);
 
 /* Publishes everything when st is JND_OK, else removes it; frees the
@@ -54,5 +59,9 @@ cJSON *texres_report(const char *model, const jnd_texres_params *p, const jnd_te
 /* pca.json: textures (taken) the packed component files, total_s NULL or
  * the run's wall time (then the stages' too). */
 cJSON *pca_report(const jnd_pca_params *p, const jnd_pca_result *R, cJSON *textures, const double *total_s);
+
+/* The calibration file's report (also what --calibration reads back). */
+cJSON *calibrate_report(const char *csv_path, const jnd_calibrate_run_params *p, const jnd_calibrate_result *R,
+                        const jnd_calib_scene *scenes, const char *const *maps, const char *histogram);
 
 #endif

@@ -9,7 +9,8 @@
  *                                      --samples 1 --confirm 0 --min-size 16)
  *   task_runs pca builtin OUTDIR      (--model builtin --material builtin --map-size 128
  *                                      --views 2 --size 96x96 --anisotropy 1 --no-bc)
- *   task_runs pca - OUTDIR MAP...     (MAP... --psnr 40 --write-maps) */
+ *   task_runs pca - OUTDIR MAP...     (MAP... --psnr 40 --write-maps)
+ *   task_runs calibrate CSV CAL.json  (--folds 2 --map-size 128 --views 2 --size 96x96) */
 #include <stdio.h>
 #include <string.h>
 
@@ -63,7 +64,25 @@ static int pca(const char *model, const char *out_dir, const char *const *maps, 
   return 0;
 }
 
+static int calibrate(const char *csv, const char *out_path) {
+  jnd_calibrate_run_params p;
+  jnd_calibrate_run_defaults(&p);
+  p.fit.folds = 2;
+  p.run.map_size = 128;
+  p.judge.views.sampling.count = 2;
+  p.judge.views.render.width = p.judge.views.render.height = 96;
+  jnd_calibrate_result *r = NULL;
+  if (jnd_calibrate_run(csv, &p, out_path, &r) != JND_OK) {
+    fprintf(stderr, "jnd: %s\n", jnd_last_error());
+    return 2;
+  }
+  fputs(r->report, stdout);
+  jnd_calibrate_result_free(r);
+  return 0;
+}
+
 int main(int argc, char **argv) {
+  if (argc == 4 && strcmp(argv[1], "calibrate") == 0) return calibrate(argv[2], argv[3]);
   if (argc == 4 && strcmp(argv[1], "texres") == 0) return texres(argv[2], argv[3]);
   if (argc >= 4 && strcmp(argv[1], "pca") == 0)
     return pca(argv[2], argv[3], (const char *const *)argv + 4, argc - 4);

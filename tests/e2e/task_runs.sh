@@ -37,6 +37,24 @@ if [ -n "$maps" ]; then
   LIB_EXTRA=$maps same_run pca_maps pca - -- $maps --psnr 40 --write-maps
 fi
 
+# calibrate writes one file, the calibration, which is its report
+cat >"$T/rates.csv" <<'CSV'
+scene,model,map,resolution,rate
+albedo,builtin,builtin/baseColor,128,0.0
+albedo,builtin,builtin/baseColor,64,0.5
+albedo,builtin,builtin/baseColor,32,0.95
+normal,builtin,builtin/normal,128,0.0
+normal,builtin,builtin/normal,64,0.8
+normal,builtin,builtin/normal,32,1.0
+CSV
+expect_exit 0 "calibrate: the command runs" "$JND" calibrate "$T/rates.csv" -o "$T/cal.json" --json "$T/cal.cli.json" \
+  --folds 2 --map-size 128 --views 2 --size 96x96 --quiet
+mv "$T/cal.json" "$T/cal.cli.file.json"
+"$JND_TASK_RUNS" calibrate "$T/rates.csv" "$T/cal.json" >"$T/cal.lib.json" 2>"$T/cal.lib.err"
+check "calibrate: the library call runs ($(head -c 200 "$T/cal.lib.err"))" [ $? -eq 0 ]
+check "calibrate: the returned report is the command's, byte for byte" cmp "$T/cal.cli.json" "$T/cal.lib.json"
+check "calibrate: and the file written" cmp "$T/cal.cli.file.json" "$T/cal.json"
+
 # a refusal is the library's too: the folder that holds the model is not an
 # output folder; one line naming both, exit 2, nothing written
 mkdir -p "$T/box"
