@@ -15,24 +15,27 @@ static int is_gltf(const char *model) {
   return ext && (strcasecmp(ext, ".gltf") == 0 || strcasecmp(ext, ".glb") == 0);
 }
 
-/* OBJ and the built-in asset: each resized map as a PNG file in dir/maps
- * (no model copy); the names written, relative to dir, go to files */
+/* OBJ and the built-in asset: each resized image once as a PNG file in
+ * dir/maps (no model copy), named after the first map that samples it (the
+ * report's maps[].image says which maps share it); the names written,
+ * relative to dir, go to files */
 static jnd_status write_maps(const jnd_scene *scene, const jnd_texres_result *R, const char *dir, cJSON *files) {
   char mdir[4200], path[4400];
   snprintf(mdir, sizeof mdir, "%s/maps", dir);
-  for (int i = 0; i < R->nmaps; i++) {
-    const jnd_texres_map *m = &R->maps[i];
-    if (m->chosen[0] == m->orig[0] && m->chosen[1] == m->orig[1]) continue;
+  for (int t = 0; t < R->nimages; t++) {
+    const jnd_texres_image *im = &R->images[t];
+    const jnd_texres_map *m = &R->maps[im->first_map];
+    if (im->chosen[0] == im->orig[0] && im->chosen[1] == im->orig[1]) continue;
     char name[200];
-    snprintf(name, sizeof name, "%s_%dx%d.png", m->name, m->chosen[0], m->chosen[1]);
+    snprintf(name, sizeof name, "%s_%dx%d.png", m->name, im->chosen[0], im->chosen[1]);
     for (char *q = name; *q; q++)
       if (*q == '/' || *q == ' ' || *q == '#') *q = '_';
     snprintf(path, sizeof path, "%s/%s", mdir, name);
-    jnd_image im = {0};
+    jnd_image pixels = {0};
     jnd_status s = jnd_make_dirs(mdir);
-    if (s == JND_OK) s = jnd_scene_map_get(scene, m->map, 0, &im);
-    if (s == JND_OK) s = jnd_image_write_png(path, &im, 8);
-    jnd_image_free(&im);
+    if (s == JND_OK) s = jnd_scene_map_get(scene, m->map, 0, &pixels);
+    if (s == JND_OK) s = jnd_image_write_png(path, &pixels, 8);
+    jnd_image_free(&pixels);
     if (s != JND_OK) return s;
     char rel[260];
     snprintf(rel, sizeof rel, "maps/%s", name);

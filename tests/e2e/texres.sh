@@ -100,7 +100,7 @@ check "the builtin asset's resized maps are written as PNG at their chosen sizes
 import json, os, struct, sys
 d = sys.argv[1]
 r = json.load(open(d + "/texres.json"))["result"]
-changed = [m for m in r["maps"] if m["chosen"] != m["original"]]
+changed = [i for i in r["memory"]["images"] if i["chosen"] != i["original"]]   # each image once
 assert len(r["map_files"]) == len(changed)
 for f, m in zip(r["map_files"], changed):
     b = open(os.path.join(d, f), "rb").read(24)

@@ -203,4 +203,38 @@ for mi in (0, 4):
         assert image_size(out, g1, b1, img(g1, mi, *keys)) == image_size(src, g0, b0, img(g0, mi, *keys))
 PY
 done
+
+# an OBJ whose two materials sample one file: the chosen image is written
+# once, and both maps name it
+PYTHONPATH="$(dirname "$0")" python3 - "$T" <<'PY'
+import sys
+from gltfwrite import png_bytes
+d = sys.argv[1]
+open(f"{d}/shared.png", "wb").write(png_bytes(256, 256, 0))
+open(f"{d}/two.mtl", "w").write("newmtl A\nKd 1 1 1\nmap_Kd shared.png\nnewmtl B\nKd 1 1 1\nmap_Kd shared.png\n")
+open(f"{d}/two.obj", "w").write(
+    "mtllib two.mtl\n"
+    "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 1.1 0 0\nv 2.1 0 0\nv 2.1 1 0\nv 1.1 1 0\n"
+    "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n"
+    "usemtl A\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n"
+    "usemtl B\nf 5/1/1 6/2/1 7/3/1\nf 5/1/1 7/3/1 8/4/1\n")
+PY
+expect_exit 0 "an OBJ with one file under two materials runs" "$JND" texres "$T/two.obj" -o "$T/two" \
+  --views 2 --size 96x96 --samples 1 --confirm 0 --min-size 16 --quiet
+check "the shared file is one image, written once (maps/), and both maps name it" python3 - "$T/two" <<'PY'
+import json, os, struct, sys
+d = sys.argv[1]
+r = json.load(open(d + "/texres.json"))["result"]
+base = [m for m in r["maps"] if m["slot"] == "baseColor"]
+assert len(base) == 2 and base[0]["image"] == base[1]["image"], base
+im = r["memory"]["images"][base[0]["image"]]
+assert sorted(im["maps"]) == sorted(m["name"] for m in base), im
+changed = [i for i in r["memory"]["images"] if i["chosen"] != i["original"]]
+assert im in changed, ("the 256-pixel image on a 96-pixel view must shrink", im)
+assert len(r["map_files"]) == len(changed), (r["map_files"], changed)
+assert sorted(os.listdir(d + "/maps")) == sorted(os.path.basename(f) for f in r["map_files"])
+for f, i in zip(r["map_files"], changed):
+    b = open(os.path.join(d, f), "rb").read(24)
+    assert list(struct.unpack(">II", b[16:24])) == i["chosen"], (f, i)
+PY
 finish
