@@ -2536,6 +2536,23 @@ typedef struct {
   jnd_pca_bc_report bc;
   size_t original_bytes;                   /* the baseline: the distinct original images at 8 bits
                                               per channel as their files have them */
+  /* memory as a GPU holds it (docs/pca.md "Memory"): before, each unique
+   * source image once as RGBA8 with its mip chain (texres's headline);
+   * after, each packed component texture with its mip chain at its texels'
+   * bytes (1 channel R, 2 RG, 3 or 4 RGBA; 8 or 16 bits) */
+  int image_of[JND_PCA_MAX_MAPS];          /* per map: its unique image (index into images) */
+  int nimages;
+  struct {
+    int first_map;                         /* the first map that samples it */
+    int width, height;
+    size_t bytes;                          /* RGBA8 + mips */
+  } images[JND_PCA_MAX_MAPS];
+  int ntextures;
+  struct {
+    int width, height, channels, bits;
+    size_t bytes;                          /* + mips */
+  } textures[JND_PCA_MAX_CHANNELS];        /* components_N.png, in order */
+  size_t gpu_before_bytes, gpu_after_bytes;
   int rendered;                            /* 1: measured on the model */
   jnd_map_slot slots[JND_PCA_MAX_MAPS];
   char renderer[160];

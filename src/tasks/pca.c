@@ -971,6 +971,15 @@ jnd_status jnd_pca_render_material_set(const jnd_pca_render *r, const char *chan
   return s;
 }
 
+int pca_render_slot_image(const jnd_pca_render *r, jnd_map_slot slot) {
+  char full[256];
+  snprintf(full, sizeof full, "%s/%s", jnd_scene_material_name(r->scene, r->material), jnd_map_slot_name(slot));
+  int idx = jnd_scene_map_find(r->scene, full);
+  jnd_map_info mi;
+  if (idx < 0 || jnd_scene_map_info(r->scene, idx, &mi) != JND_OK) return -1;
+  return mi.image;
+}
+
 /* puts map i of the set, rebuilt from channels, into its slot */
 static jnd_status set_map(jnd_pca_render *r, const jnd_image *channels, int i) {
   const jnd_texset_map *m = &r->set->maps[i];

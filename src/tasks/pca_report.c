@@ -111,6 +111,40 @@ static void add_energy(cJSON *res, const jnd_pca_result *R) {
   for (int k = 0; k < C; k++) cJSON_AddItemToArray(cm, numbers(contrib + k * C, C));
 }
 
+/* memory as a GPU holds it: each unique source image once (RGBA8 + mips)
+ * with the maps that sample it, against the packed textures (+ mips) */
+static cJSON *memory_json(const jnd_pca_result *R) {
+  cJSON *mem = cJSON_CreateObject();
+  cJSON_AddNumberToObject(mem, "before_bytes", (double)R->gpu_before_bytes);
+  cJSON_AddNumberToObject(mem, "after_bytes", (double)R->gpu_after_bytes);
+  cJSON_AddNumberToObject(mem, "reduction",
+                          R->gpu_before_bytes ? 1.0 - (double)R->gpu_after_bytes / R->gpu_before_bytes : 0);
+  cJSON *imgs = cJSON_AddArrayToObject(mem, "images");
+  for (int t = 0; t < R->nimages; t++) {
+    cJSON *o = cJSON_CreateObject(), *users = cJSON_AddArrayToObject(o, "maps");
+    for (int i = 0; i < R->set.nmaps; i++)
+      if (R->image_of[i] == t) cJSON_AddItemToArray(users, cJSON_CreateString(R->labels[i]));
+    cJSON_AddNumberToObject(o, "width", R->images[t].width);
+    cJSON_AddNumberToObject(o, "height", R->images[t].height);
+    cJSON_AddNumberToObject(o, "bytes", (double)R->images[t].bytes);
+    cJSON_AddItemToArray(imgs, o);
+  }
+  cJSON *tex = cJSON_AddArrayToObject(mem, "textures");
+  for (int t = 0; t < R->ntextures; t++) {
+    cJSON *o = cJSON_CreateObject();
+    char name[64];
+    snprintf(name, sizeof name, "components_%d.png", t);
+    cJSON_AddStringToObject(o, "file", name);
+    cJSON_AddNumberToObject(o, "width", R->textures[t].width);
+    cJSON_AddNumberToObject(o, "height", R->textures[t].height);
+    cJSON_AddNumberToObject(o, "channels", R->textures[t].channels);
+    cJSON_AddNumberToObject(o, "bits", R->textures[t].bits);
+    cJSON_AddNumberToObject(o, "bytes", (double)R->textures[t].bytes);
+    cJSON_AddItemToArray(tex, o);
+  }
+  return mem;
+}
+
 static void add_encoding(cJSON *res, const jnd_pca_result *R, cJSON *textures) {
   const jnd_pca_encoded *enc = &R->enc;
   int C = R->set.c, K = enc->enc.components;
@@ -135,6 +169,7 @@ static void add_encoding(cJSON *res, const jnd_pca_result *R, cJSON *textures) {
   cJSON_AddNumberToObject(res, "original_bytes", (double)R->original_bytes);
   cJSON_AddNumberToObject(res, "reduction",
                           R->original_bytes ? 1.0 - (double)enc->storage_bytes / R->original_bytes : 0);
+  cJSON_AddItemToObject(res, "memory", memory_json(R));
   if (R->has_bc) {
     cJSON *b = cJSON_AddObjectToObject(res, "block_compression");
     cJSON_AddNumberToObject(b, "pca_bc4_bytes", (double)R->bc.bytes_pca_bc4);

@@ -13,6 +13,7 @@
 
 #include "core/core.h"
 #include "tasks/report.h"
+#include "tasks/tasks.h"
 
 /* the default energy target: the fewest components keeping 99% of the
  * variance (001 reads the knee of the same curve; the knee is reported) */
@@ -88,6 +89,55 @@ static size_t maps_8bit_bytes(const jnd_texset *set) {
   return b;
 }
 
+/* The unique images the set's maps come from, as a GPU holds them: a map
+ * file named twice, or one image of a model bound to two slots (a packed
+ * occlusion-roughness-metal image), counts once. */
+static void count_images(const jnd_pca_params *p, const jnd_pca_render *rr, jnd_pca_result *out) {
+  int id[JND_PCA_MAX_MAPS];
+  out->nimages = 0;
+  out->gpu_before_bytes = 0;
+  for (int i = 0; i < out->set.nmaps; i++) {
+    id[i] = p->nmaps ? i : pca_render_slot_image(rr, out->slots[i]);
+    int first = i;
+    for (int j = 0; j < i && first == i; j++)
+      if (p->nmaps ? strcmp(p->maps[j], p->maps[i]) == 0 : id[j] == id[i] && id[i] >= 0) first = j;
+    if (first != i) {
+      out->image_of[i] = out->image_of[first];
+      continue;
+    }
+    const jnd_texset_map *m = &out->set.maps[i];
+    out->image_of[i] = out->nimages;
+    out->images[out->nimages].first_map = i;
+    out->images[out->nimages].width = m->file_w;
+    out->images[out->nimages].height = m->file_h;
+    out->images[out->nimages].bytes = jnd_texture_bytes(JND_TEX_RGBA8, m->file_w, m->file_h, 1);
+    out->gpu_before_bytes += out->images[out->nimages++].bytes;
+  }
+}
+
+/* The packed component textures as a GPU holds them: texels of 1 (R),
+ * 2 (RG) or 4 (RGB is stored RGBA) channels of 1 or 2 bytes, with mips. */
+static jnd_status count_textures(jnd_pca_result *out) {
+  jnd_pca_texture tex[JND_PCA_MAX_CHANNELS];
+  int n = 0;
+  jnd_status s = jnd_pca_pack(&out->enc, tex, &n);
+  if (s != JND_OK) return s;
+  out->ntextures = n;
+  out->gpu_after_bytes = 0;
+  for (int t = 0; t < n; t++) {
+    int ch = tex[t].image.c, texel = (ch == 3 ? 4 : ch) * tex[t].bits / 8;
+    out->textures[t].width = tex[t].image.w;
+    out->textures[t].height = tex[t].image.h;
+    out->textures[t].channels = ch;
+    out->textures[t].bits = tex[t].bits;
+    /* RGBA8's chain is 4 bytes a texel over every level */
+    out->textures[t].bytes = jnd_texture_bytes(JND_TEX_RGBA8, tex[t].image.w, tex[t].image.h, 1) / 4 * texel;
+    out->gpu_after_bytes += out->textures[t].bytes;
+    jnd_image_free(&tex[t].image);
+  }
+  return JND_OK;
+}
+
 jnd_status jnd_pca_choose(const jnd_pca_params *p, jnd_pca_result *out) {
   memset(out, 0, sizeof *out);
   if (p->nmaps > JND_PCA_MAX_MAPS) return jnd_fail(JND_ERR_LIMIT, "pca: at most %d maps", JND_PCA_MAX_MAPS);
@@ -113,6 +163,7 @@ jnd_status jnd_pca_choose(const jnd_pca_params *p, jnd_pca_result *out) {
   }
   if (s == JND_OK && p->model && p->nmaps) s = slots_for_maps(p, &out->set, out->slots);
   out->original_bytes = p->nmaps ? maps_8bit_bytes(&out->set) : orig_bytes;
+  if (s == JND_OK) count_images(p, rr, out);
   out->seconds[0] = jnd_seconds() - t0;
   /* every input checked before the first progress line or rendering */
   double t1 = jnd_seconds();
@@ -177,6 +228,7 @@ jnd_status jnd_pca_choose(const jnd_pca_params *p, jnd_pca_result *out) {
   jnd_pca_encoding ef = e;
   for (int k = 0; k < C; k++) ef.scale[k] = ef.bits[k] = 0;
   if ((s = jnd_pca_encode(&out->set, &out->pca, &ef, &out->enc_float)) != JND_OK) goto done;
+  if ((s = count_textures(out)) != JND_OK) goto done;
   out->seconds[3] = jnd_seconds() - t3;
   stage(p, "chose %d of %d components (%s), %zu bytes", out->enc.enc.components, C,
         rule == JND_PCA_RULE_RENDERED ? "rendered" : rule == JND_PCA_RULE_ENERGY ? "energy"

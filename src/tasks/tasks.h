@@ -38,6 +38,10 @@ int pca_energy_knee(const double *energy, int n);
 jnd_status pca_rendered_visibility(const jnd_texset *set, const jnd_pca_encoded *enc,
                                    const char *model_path, const char *material, double *p_detect);
 
+/* The scene's image (jnd_map_info.image) that slot of r's material samples;
+ * -1 when the material has no map there. */
+int pca_render_slot_image(const jnd_pca_render *r, jnd_map_slot slot);
+
 /* ---- pca.c (end) ---- */
 
 /* ---- lod.c: 003's screen-space and perceptual terms, for tests (begin) ---- */
