@@ -143,6 +143,42 @@ void jnd_plot_tick_labels(const double *t, int n, int log_axis, char (*label)[32
   for (int i = 0; i < n; i++) snprintf(label[i], 32, "%.*f", log_axis ? decimals_of(t[i]) : dec, t[i] == 0 ? 0.0 : t[i]);
 }
 
+void jnd_plot_number_labels(const double *v, int n, int digits, char (*label)[32]) {
+  /* the convention of the tick labels: plain decimals while every value
+   * prints so in at most 7 digits before the point and 4 zeros after it,
+   * else m×10ⁿ for every value; `digits` significant digits each */
+  if (digits < 1) digits = 1;
+  if (digits > 6) digits = 6;
+  int sci = 0;
+  for (int i = 0; i < n; i++) {
+    double a = fabs(v[i]);
+    if (a > 0 && isfinite(a)) sci |= a >= 1e7 || a < 1e-4;
+  }
+  for (int i = 0; i < n; i++) {
+    double a = fabs(v[i]);
+    if (!isfinite(v[i])) {
+      snprintf(label[i], 32, "%s", isnan(v[i]) ? "n/a" : v[i] > 0 ? "\u221e" : "\u2212\u221e");
+      continue;
+    }
+    if (!(a > 0)) {
+      snprintf(label[i], 32, "0");
+      continue;
+    }
+    int e = (int)floor(log10(a) + 1e-12);
+    /* rounding to `digits` can carry into the next power (9.996 -> 10.0) */
+    double m = round(v[i] / pow(10, e - digits + 1)) * pow(10, -digits + 1);
+    if (fabs(m) >= 10) m /= 10, e++;
+    if (sci) {
+      char sup[24];
+      superscript(e, sup, sizeof sup);
+      snprintf(label[i], 32, "%.*f\u00d710%s", digits - 1, m, sup);
+    } else {
+      int dec = digits - 1 - e;
+      snprintf(label[i], 32, "%.*f", dec > 0 ? dec : 0, m * pow(10, e));
+    }
+  }
+}
+
 typedef struct {
   double x0, y0, x1, y1; /* plot area, pixels */
   double lo[2], hi[2];
