@@ -171,6 +171,7 @@ typedef struct {
   int cell_px;                    /* 0: 56 */
   int no_colour_bar;              /* 1: leave the bar out (small multiples sharing one) */
   int marked;                     /* 1 + row * cols + col of a cell to outline (a choice); 0: none */
+  int integer_scale;              /* 1: the values are counts or indices: the colour bar's ticks at whole numbers */
 } jnd_plot_grid_spec;
 jnd_status jnd_plot_grid(const jnd_plot_grid_spec *g, jnd_image *out);
 

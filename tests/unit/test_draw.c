@@ -361,6 +361,10 @@ TEST(numbers_beside_an_axis_share_its_format_and_read_back) {
   CHECK(strcmp(l[0], "0.0778") == 0);
   CHECK(strcmp(l[1], "1230") == 0);
   CHECK(strcmp(l[2], "12.5") == 0);
+  /* each its own decimals, as on a logarithmic axis: 4, not 4.00 */
+  const double dist_m[4] = {4, 22, 0.25, 96};
+  jnd_plot_number_labels(dist_m, 4, 3, l);
+  CHECK(strcmp(l[0], "4") == 0 && strcmp(l[1], "22") == 0 && strcmp(l[2], "0.25") == 0 && strcmp(l[3], "96") == 0);
   /* one of them needs a power of ten: all take it */
   const double mixed[2] = {0.0778, 5.02e-5};
   jnd_plot_number_labels(mixed, 2, 3, l);
@@ -374,7 +378,7 @@ TEST(numbers_beside_an_axis_share_its_format_and_read_back) {
     CHECK(!strchr(l[i], 'e'));
     if (more[i] != 0) CHECK_NEAR(read_label(l[i]) / more[i], 1, 0.005);
   }
-  CHECK(strcmp(l[0], "1.00\u00d710\u00b9") == 0);
+  CHECK(strcmp(l[0], "1.0\u00d710\u00b9") == 0); /* the mantissas share one decimal (2.5, -3.1) */
   /* a sweep: every positive value reads back within half a unit of its third digit */
   for (double v = 1.234e-6; v < 1e9; v *= 3.7) {
     const double one[1] = {v};
