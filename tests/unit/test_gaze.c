@@ -317,9 +317,20 @@ TEST(lookup_matches_the_table_at_grid_points_and_interpolates_between) {
   CHECK(jnd_gaze_lookup_level(&lut, 3.9, 39, JND_GAZE_FLOOR) == 2);     /* the finer corner: safe */
   CHECK(jnd_gaze_lookup_level(&lut, 3.9, 39, JND_GAZE_NEAREST) == 3);
   CHECK(jnd_gaze_lookup_level(&lut, 1.2, 12, JND_GAZE_NEAREST) == 0);
+  /* nearest: the corner on the near side of the cell's middle, either way */
+  CHECK(jnd_gaze_lookup_level(&lut, 1.4, 10, JND_GAZE_NEAREST) == 0);
+  CHECK(jnd_gaze_lookup_level(&lut, 1.6, 10, JND_GAZE_NEAREST) == 1);
+  CHECK(jnd_gaze_lookup_level(&lut, 2, 14, JND_GAZE_NEAREST) == 1);
+  CHECK(jnd_gaze_lookup_level(&lut, 2, 16, JND_GAZE_NEAREST) == 2);
   /* outside the grid: clamped */
   CHECK(jnd_gaze_lookup_level(&lut, 0.1, -5, JND_GAZE_FLOOR) == 0);
   CHECK(jnd_gaze_lookup_level(&lut, 100, 90, JND_GAZE_FLOOR) == 3);
+  /* every mode: the edge's value, never extrapolated past the table */
+  for (int mode = 0; mode < 3; mode++) {
+    CHECK_NEAR(jnd_gaze_lookup_level(&lut, 100, 90, (jnd_gaze_lookup_mode)mode), 3, 1e-9);
+    CHECK_NEAR(jnd_gaze_lookup_level(&lut, 8, 10, (jnd_gaze_lookup_mode)mode), 2, 1e-9);
+    CHECK_NEAR(jnd_gaze_lookup_level(&lut, 0.5, -3, (jnd_gaze_lookup_mode)mode), 0, 1e-9);
+  }
   jnd_gaze_lookup_free(&lut);
 }
 
