@@ -144,6 +144,12 @@ jnd_status jnd_plot_lines(const jnd_plot_axes *axes, const jnd_plot_series *seri
  * jnd_plot_layout): label[i] for t[i]. */
 void jnd_plot_tick_labels(const double *t, int n, int log_axis, char (*label)[32]);
 
+/* Numbers that a figure prints beside an axis's values (legend entries,
+ * captions) in that axis's one format: plain decimals, or m×10ⁿ for all of
+ * them when one needs it (as jnd_plot_tick_labels), each to `digits`
+ * significant digits; label[i] for v[i]. */
+void jnd_plot_number_labels(const double *v, int n, int digits, char (*label)[32]);
+
 /* A vertical colour bar into img at (x, y), w × h, mapping vmin (bottom) to
  * vmax (top) through map (NULL: jnd_colour_scale), with ticks at the given
  * values and their labels (NULL: printed with %g), and a title above it. */
@@ -165,6 +171,7 @@ typedef struct {
   int cell_px;                    /* 0: 56 */
   int no_colour_bar;              /* 1: leave the bar out (small multiples sharing one) */
   int marked;                     /* 1 + row * cols + col of a cell to outline (a choice); 0: none */
+  int integer_scale;              /* 1: the values are counts or indices: the colour bar's ticks at whole numbers */
 } jnd_plot_grid_spec;
 jnd_status jnd_plot_grid(const jnd_plot_grid_spec *g, jnd_image *out);
 

@@ -143,6 +143,54 @@ void jnd_plot_tick_labels(const double *t, int n, int log_axis, char (*label)[32
   for (int i = 0; i < n; i++) snprintf(label[i], 32, "%.*f", log_axis ? decimals_of(t[i]) : dec, t[i] == 0 ? 0.0 : t[i]);
 }
 
+/* v ≠ 0 as m × 10^e, m rounded to `digits` significant digits (1 <= |m| < 10;
+ * rounding can carry: 9.996 -> 1.00 × 10¹) */
+static void significant(double v, int digits, double *m, int *e) {
+  *e = (int)floor(log10(fabs(v)) + 1e-12);
+  *m = round(v / pow(10, *e - digits + 1)) * pow(10, -digits + 1);
+  if (fabs(*m) >= 10) *m /= 10, ++*e;
+}
+
+void jnd_plot_number_labels(const double *v, int n, int digits, char (*label)[32]) {
+  /* the convention of the tick labels: plain decimals while every value
+   * prints so (below 10⁷, from 10⁻⁴), each with its own decimals as on a
+   * logarithmic axis (4, 22, 0.25 — not 4.00, 22.0); else m×10ⁿ for every
+   * value, the mantissas with one number of decimals; `digits`
+   * significant digits each */
+  if (digits < 1) digits = 1;
+  if (digits > 6) digits = 6;
+  int sci = 0, mdec = 0, e;
+  double m;
+  for (int i = 0; i < n; i++) {
+    if (!(fabs(v[i]) > 0) || !isfinite(v[i])) continue;
+    sci |= fabs(v[i]) >= 1e7 || fabs(v[i]) < 1e-4;
+    significant(v[i], digits, &m, &e);
+    int d = decimals_of(m);
+    if (d > mdec) mdec = d;
+  }
+  if (mdec > digits - 1) mdec = digits - 1;
+  for (int i = 0; i < n; i++) {
+    if (!isfinite(v[i])) {
+      snprintf(label[i], 32, "%s", isnan(v[i]) ? "n/a" : v[i] > 0 ? "\u221e" : "\u2212\u221e");
+      continue;
+    }
+    if (!(fabs(v[i]) > 0)) {
+      snprintf(label[i], 32, "0");
+      continue;
+    }
+    significant(v[i], digits, &m, &e);
+    if (sci) {
+      char sup[24];
+      superscript(e, sup, sizeof sup);
+      snprintf(label[i], 32, "%.*f\u00d710%s", mdec, m, sup);
+    } else {
+      double r = m * pow(10, e);
+      int dec = decimals_of(r), most = digits - 1 - e;
+      snprintf(label[i], 32, "%.*f", dec < most ? dec : most > 0 ? most : 0, r);
+    }
+  }
+}
+
 typedef struct {
   double x0, y0, x1, y1; /* plot area, pixels */
   double lo[2], hi[2];
@@ -699,6 +747,12 @@ jnd_status jnd_plot_grid(const jnd_plot_grid_spec *g, jnd_image *out) {
   if (g->no_colour_bar) return JND_OK;
   double ticks[MAX_TICKS];
   int nt = axis_ticks(vmin, vmax, 0, ticks);
+  if (g->integer_scale) {
+    /* whole numbers only (a level 1.5 does not exist): every k-th of them */
+    double step = fmax(1, ceil((vmax - vmin) / 8));
+    nt = 0;
+    for (double v = ceil(vmin); v <= vmax + 1e-9 && nt < MAX_TICKS; v += step) ticks[nt++] = v;
+  }
   int bh = gh < 120 ? gh : gh - 20;
   jnd_draw_colour_bar(out, left + gw + 24, top + (gh - bh) / 2 + (g->scale_title ? 8 : 0), 18,
                       bh - (g->scale_title ? 8 : 0), vmin, vmax, NULL, ticks, NULL, nt, g->scale_title);

@@ -431,23 +431,27 @@ jnd_status jnd_gaze_table_write_csv(const jnd_gaze_table *t, const char *path) {
 jnd_status jnd_gaze_table_figure(const jnd_gaze_table *t, jnd_image *out) {
   size_t cells = (size_t)t->nd * t->ne;
   double *v = jnd_calloc(cells, sizeof *v);
-  char *text = jnd_calloc(cells, 8), (*rl)[16] = jnd_calloc((size_t)t->nd, 16), (*cl)[16] = jnd_calloc((size_t)t->ne, 16);
+  char *text = jnd_calloc(cells, 8), (*rl)[32] = jnd_calloc((size_t)t->nd, 32), (*cl)[32] = jnd_calloc((size_t)t->ne, 32);
   const char **ct = jnd_calloc(cells, sizeof *ct), **rows = jnd_calloc((size_t)t->nd, sizeof *rows),
              **cols = jnd_calloc((size_t)t->ne, sizeof *cols);
   jnd_status st = JND_ERR_NOMEM;
   if (v && text && rl && cl && ct && rows && cols) {
-    for (int d = 0; d < t->nd; d++) snprintf(rl[d], 16, "%.3g m", t->distances_m[d]), rows[d] = rl[d];
-    for (int e = 0; e < t->ne; e++) snprintf(cl[e], 16, "%.3g°", t->eccentricities_deg[e]), cols[e] = cl[e];
+    /* one number format per axis, the unit in the axis's title */
+    jnd_plot_number_labels(t->distances_m, t->nd, 3, rl);
+    jnd_plot_number_labels(t->eccentricities_deg, t->ne, 3, cl);
+    for (int d = 0; d < t->nd; d++) rows[d] = rl[d];
+    for (int e = 0; e < t->ne; e++) cols[e] = cl[e];
     for (size_t i = 0; i < cells; i++) {
       v[i] = t->level[i];
       snprintf(text + 8 * i, 8, "%d", t->level[i]);
       ct[i] = text + 8 * i;
     }
     char title[96];
-    snprintf(title, sizeof title, "L(d, ecc): coarsest level below threshold, %d levels", t->nlevels);
+    snprintf(title, sizeof title, "L(d, ecc): coarsest level below the threshold (0 = finest of %d)", t->nlevels);
     jnd_plot_grid_spec g = {.rows = t->nd, .cols = t->ne, .value = v, .cell_text = ct, .row_labels = rows,
-                            .col_labels = cols, .title = title, .row_title = "distance", .col_title = "eccentricity",
-                            .scale_title = "level", .vmin = 0, .vmax = t->nlevels - 1};
+                            .col_labels = cols, .title = title, .row_title = "distance from the eye (m)",
+                            .col_title = "eccentricity from the gaze (\u00b0)", .scale_title = "level",
+                            .vmin = 0, .vmax = t->nlevels - 1, .integer_scale = 1};
     st = jnd_plot_grid(&g, out);
   }
   free(v), free(text), free(rl), free(cl), free(ct), free(rows), free(cols);

@@ -777,9 +777,11 @@ jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, int perceptu
     yu[k] = mu > 0 ? R->curve[k].error / mu : 0;
     yl[k] = ml > 0 ? R->curve[k].error_lit / ml : 0;
   }
-  char lu[96], ll[96], t[160], m[5][96];
-  snprintf(lu, sizeof lu, "unlit, eq. 1 (largest %.3g)", mu);
-  snprintf(ll, sizeof ll, "lit, eq. 3 (largest %.3g)", ml);
+  char lu[96], ll[96], t[160], m[5][96], largest[2][32];
+  /* the two scales of the y axis, in one format (not %g's 5.02e-05) */
+  jnd_plot_number_labels((const double[2]){mu, ml}, 2, 3, largest);
+  snprintf(lu, sizeof lu, "unlit, eq. 1 (largest %s)", largest[0]);
+  snprintf(ll, sizeof ll, "lit, eq. 3 (largest %s)", largest[1]);
   jnd_plot_series ser[2] = {
       {.x = x, .y = yu, .n = n, .label = lu, .colour = jnd_palette(0), .line = 1, .markers = 1, .width = 2},
       {.x = x, .y = yl, .n = n, .label = ll, .colour = jnd_palette(1), .line = 1, .markers = 1, .width = 2}};

@@ -100,6 +100,33 @@ for k in range(len(lv) - 1):
     want = min(math.pi * c * c * s0["height_px"] / (4 * s0["width_px"]), m["screen_coverage"][k - 1] if k else 1)
     assert abs(m["screen_coverage"][k] - want) < 1e-9, (k, m["screen_coverage"][k], want)
 PY
+check "the rules' pixels are the deviations seen at the coverage (recomputed from the sphere, the extent and the screen), and their levels the last within the documented 1 and 0.5 pixels" python3 - "$T/a/lod.json" <<'PY'
+import json, math, sys
+r = json.load(open(sys.argv[1]))
+par, res = r["parameters"], r["result"]
+# docs/lod.md: meshoptimizer's error within 1 pixel, the measured deviation within 0.5
+assert par["meshopt_pixels"] == 1 and par["pixel_error"] == 0.5, (par["meshopt_pixels"], par["pixel_error"])
+lv, R, ext = res["levels"], res["radius"], res["extent"]
+# the sphere of radius R fills `coverage` of the height: its half-angle t has
+# tan t = coverage·tan(fov/2), the camera is R/sin t away, and one object
+# unit spans object_px·cos(t)/(2R) pixels there
+t = math.atan(par["coverage"] * math.tan(math.radians(par["fov_y_deg"]) / 2))
+for s in res["screens"]:
+    assert s["object_px"] == round(par["coverage"] * s["height_px"]), (s["object_px"], s["height_px"])
+    ppu = s["object_px"] * math.cos(t) / (2 * R)
+    mo, pe = s["rules"]["meshopt"], s["rules"]["pixel_error"]
+    want_mo = want_pe = 0
+    for k, c in enumerate(s["curve"]):
+        dev = lv[k]["distance_max"] * ext * ppu
+        err = lv[k]["error_abs"] if lv[k]["error_abs"] is not None else lv[k]["distance_max"] * ext
+        assert abs(c["deviation_px"] - dev) <= 1e-6 * dev + 1e-9, (s["name"], k, c["deviation_px"], dev)
+        assert abs(c["meshopt_px"] - err * ppu) <= 1e-6 * err * ppu + 1e-9, (s["name"], k, c["meshopt_px"], err * ppu)
+        if c["meshopt_px"] <= mo["pixels"]: want_mo = k
+        if c["deviation_px"] <= pe["pixels"]: want_pe = k
+    assert (mo["level"], pe["level"]) == (want_mo, want_pe), (s["name"], mo, pe, want_mo, want_pe)
+    assert mo["triangles"] == lv[want_mo]["triangles"] and pe["triangles"] == lv[want_pe]["triangles"]
+    assert max(c["deviation_px"] for c in s["curve"]) > pe["pixels"], s["name"]   # the rule had a choice
+PY
 check "the Pareto plots are PNGs" python3 - "$T/a" <<'PY'
 import sys
 for n in ("pareto_320x240.png", "pareto_800x600.png"):

@@ -158,6 +158,44 @@ TEST(identity_calibration_pools_like_diff) {
   jnd_image_free(&m);
 }
 
+/* 000 §7 by hand: on a uniform map every percentile is its value x, so the
+ * pooled P of a calibration is 1 − 0.5^(max(0, scale·x + bias)^β), from the
+ * map (jnd_calibration_pool) and from the P map (jnd_diff_summarise_calibrated)
+ * alike; a negative bias makes small differences invisible (P 0) */
+TEST(a_calibration_is_max_of_0_and_scale_times_jnd_plus_bias_000_section_7) {
+  jnd_calibration c;
+  jnd_calibration_defaults(&c);
+  c.scale = 1.5, c.bias = -0.4, c.beta = 3.5;
+  const double xs[5] = {0.1, 0.26, 0.5, 1.0, 2.0};
+  jnd_image m;
+  CHECK_OK(jnd_image_alloc(&m, 16, 16, 1));
+  for (int i = 0; i < 5; i++) {
+    for (int k = 0; k < 16 * 16; k++) m.data[k] = (float)xs[i];
+    double x = 1.5 * (double)(float)xs[i] - 0.4, want = x > 0 ? 1 - pow(0.5, pow(x, 3.5)) : 0;
+    CHECK_NEAR(jnd_calibration_pool(&c, &m, NULL), want, 1e-6);
+    jnd_diff_stats st;
+    CHECK_OK(jnd_diff_summarise_calibrated(&m, &c, &st));
+    CHECK_NEAR(st.p_detect, want, 1e-6);
+  }
+  jnd_image_free(&m);
+}
+
+/* the default calibration pools at P93 (000 §6): on a ramp of JND 0..1 the
+ * pooled P is that of JND 0.93 (P95 would give that of 0.95: 0.440, not 0.416) */
+TEST(the_default_calibration_pools_at_the_93rd_percentile) {
+  jnd_calibration c;
+  jnd_calibration_defaults(&c);
+  jnd_image m;
+  CHECK_OK(jnd_image_alloc(&m, 40, 25, 1));
+  for (int k = 0; k < 1000; k++) m.data[k] = (float)(k / 999.0);
+  double want = 1 - pow(0.5, pow(0.93, 3.5));
+  CHECK_NEAR(jnd_calibration_pool(&c, &m, NULL), want, 0.003);
+  jnd_diff_stats st;
+  CHECK_OK(jnd_diff_summarise_calibrated(&m, &c, &st));
+  CHECK_NEAR(st.p_detect, want, 0.003);
+  jnd_image_free(&m);
+}
+
 TEST(calibration_file_round_trips_and_bad_files_are_refused) {
   char path[1200], bad[1200];
   snprintf(path, sizeof path, "%s/cal.json", test_tmp_dir());
@@ -181,4 +219,6 @@ TEST(calibration_file_round_trips_and_bad_files_are_refused) {
 }
 
 RUN_TESTS(calibration_recovers_a_synthetic_observer, identity_calibration_pools_like_diff,
+          a_calibration_is_max_of_0_and_scale_times_jnd_plus_bias_000_section_7,
+          the_default_calibration_pools_at_the_93rd_percentile,
           calibration_file_round_trips_and_bad_files_are_refused)

@@ -17,6 +17,18 @@ static void uvY(const double lms[3], double *u, double *v, double *Y) {
 /* kong2018's background BC2 (castleCSF backgrounds.csv, bkg_id 51) */
 static const double BC2[3] = {29.3697577136479, 14.4939157378042, 8.17137309386128};
 
+/* the CIE 2006 LMS -> XYZ matrix against castleCSF's own data: its D65
+ * background of 50 cd/m² (backgrounds.csv, bkg_id 1: LMS 36.737, 15.814,
+ * 1.041) is CIE D65's white point (95.047, 100, 108.883) at Y = 50 */
+TEST(castlecsf_d65_background_is_d65_white_at_its_luminance) {
+  const double d65[3] = {36.7372648518233, 15.8141236515338, 1.04100192534928};
+  double xyz[3];
+  jnd_csf_lms_to_xyz(d65, xyz);
+  CHECK_NEAR(xyz[0], 0.5 * 95.047, 0.01);
+  CHECK_NEAR(xyz[1], 50.0, 0.01);
+  CHECK_NEAR(xyz[2], 0.5 * 108.883, 0.01);
+}
+
 TEST(uv_directions_are_unit_vectors_at_constant_luminance) {
   for (int k = 0; k < 4; k++) {
     double d[3];
@@ -124,7 +136,7 @@ TEST(an_unlisted_direction_is_an_error_naming_the_line) {
   CHECK_STATUS(read_rows("35,0,2,78.5,0,0,0,55,50,disk,500,other\n", &d), JND_ERR_FORMAT);
 }
 
-RUN_TESTS(uv_directions_are_unit_vectors_at_constant_luminance,
+RUN_TESTS(castlecsf_d65_background_is_d65_white_at_its_luminance, uv_directions_are_unit_vectors_at_constant_luminance,
           uv_directions_move_the_chromaticity_along_their_angle_45_degrees_apart,
           uv_0_is_the_same_cone_direction_on_every_background, published_directions_are_derived_and_flagged,
           an_unlisted_direction_is_an_error_naming_the_line)

@@ -331,9 +331,66 @@ TEST(colour_scale_rises_in_lightness) {
   CHECK(a.r != b.r || a.g != b.g || a.b != b.b);
 }
 
+/* Numbers printed beside an axis's values (lod's Pareto legend: "largest
+ * 5.02e-05" beside "largest 0.0778") take the tick labels' format: plain
+ * decimals, or m×10ⁿ for all of them, never printf's e-notation; each
+ * reads back as its value to the digits asked for. */
+static double read_label(const char *s) {
+  const char *x = strstr(s, "\u00d710");
+  if (!x) return strtod(s, NULL);
+  static const char *const digit[10] = {"\u2070", "\u00b9", "\u00b2", "\u00b3", "\u2074",
+                                        "\u2075", "\u2076", "\u2077", "\u2078", "\u2079"};
+  const char *p = x + strlen("\u00d710");
+  int sign = 1, e = 0;
+  if (strncmp(p, "\u207b", strlen("\u207b")) == 0) sign = -1, p += strlen("\u207b");
+  for (;;) {
+    int d = -1;
+    for (int k = 0; k < 10 && d < 0; k++)
+      if (strncmp(p, digit[k], strlen(digit[k])) == 0) d = k;
+    if (d < 0) break;
+    e = 10 * e + d;
+    p += strlen(digit[d]);
+  }
+  return strtod(s, NULL) * pow(10, sign * e);
+}
+
+TEST(numbers_beside_an_axis_share_its_format_and_read_back) {
+  char l[4][32];
+  const double plain[3] = {0.0778, 1234, 12.5};
+  jnd_plot_number_labels(plain, 3, 3, l);
+  CHECK(strcmp(l[0], "0.0778") == 0);
+  CHECK(strcmp(l[1], "1230") == 0);
+  CHECK(strcmp(l[2], "12.5") == 0);
+  /* each its own decimals, as on a logarithmic axis: 4, not 4.00 */
+  const double dist_m[4] = {4, 22, 0.25, 96};
+  jnd_plot_number_labels(dist_m, 4, 3, l);
+  CHECK(strcmp(l[0], "4") == 0 && strcmp(l[1], "22") == 0 && strcmp(l[2], "0.25") == 0 && strcmp(l[3], "96") == 0);
+  /* one of them needs a power of ten: all take it */
+  const double mixed[2] = {0.0778, 5.02e-5};
+  jnd_plot_number_labels(mixed, 2, 3, l);
+  CHECK(strcmp(l[0], "7.78\u00d710\u207b\u00b2") == 0);
+  CHECK(strcmp(l[1], "5.02\u00d710\u207b\u2075") == 0);
+  /* rounding that carries into the next power, large values, zero */
+  const double more[4] = {9.996, 2.5e9, 0, -0.031};
+  jnd_plot_number_labels(more, 4, 3, l);
+  CHECK(strcmp(l[2], "0") == 0);
+  for (int i = 0; i < 4; i++) {
+    CHECK(!strchr(l[i], 'e'));
+    if (more[i] != 0) CHECK_NEAR(read_label(l[i]) / more[i], 1, 0.005);
+  }
+  CHECK(strcmp(l[0], "1.0\u00d710\u00b9") == 0); /* the mantissas share one decimal (2.5, -3.1) */
+  /* a sweep: every positive value reads back within half a unit of its third digit */
+  for (double v = 1.234e-6; v < 1e9; v *= 3.7) {
+    const double one[1] = {v};
+    jnd_plot_number_labels(one, 1, 3, l);
+    CHECK(!strchr(l[0], 'e'));
+    CHECK_NEAR(read_label(l[0]) / v, 1, 0.0051);
+  }
+}
+
 RUN_TESTS(a_thick_line_covers_its_path_and_nothing_far_from_it, text_is_drawn_within_its_measured_width,
           a_line_plot_maps_its_data_range_onto_the_plot_area, the_tick_labels_of_an_axis_share_one_number_format,
           every_text_of_a_plot_is_inside_the_picture_and_none_covers_another_or_the_data,
           a_bound_is_drawn_off_the_line_with_an_arrow_and_a_threshold_across_the_plot, two_markers_on_one_place_both_show,
           grid_cells_take_the_colour_of_their_value,
-          colour_scale_rises_in_lightness)
+          colour_scale_rises_in_lightness, numbers_beside_an_axis_share_its_format_and_read_back)

@@ -391,10 +391,55 @@ TEST(the_worst_view_shows_the_chosen_sizes_whether_or_not_the_matrices_ran) {
   jnd_texres_result_clear(&without);
 }
 
+/* gaze's L(d, ecc) picture (issue 25 item 4): a hand-made table of 4 levels;
+ * every level's colour is in the picture as a cell, the coarser level takes
+ * more cells at larger distances; JND_FIGURE_DIR=DIR writes it to look at */
+TEST(the_gaze_table_picture_colours_each_cell_by_its_level) {
+  enum { ND = 6, NE = 5, NL = 4 };
+  double dist_m[ND] = {4, 9, 22, 96, 480, 1250}, ecc[NE] = {0, 5, 10, 30, 60};
+  int level[ND * NE];
+  for (int d = 0; d < ND; d++)
+    for (int e = 0; e < NE; e++) level[d * NE + e] = (d + e) / 2 < NL - 1 ? (d + e) / 2 : NL - 1;
+  jnd_gaze_table t;
+  memset(&t, 0, sizeof t);
+  t.nd = ND, t.ne = NE, t.nlevels = NL, t.orientations = 2;
+  t.distances_m = dist_m, t.eccentricities_deg = ecc, t.level = level;
+  jnd_image fig;
+  CHECK_OK(jnd_gaze_table_figure(&t, &fig));
+  CHECK(fig.w > NE * 56 && fig.h > ND * 56);
+  const char *dir = getenv("JND_FIGURE_DIR");
+  if (dir) {
+    char path[4096];
+    snprintf(path, sizeof path, "%s/gaze_table.png", dir);
+    CHECK_OK(jnd_image_write_png(path, &fig, 8));
+  }
+  /* count, per level, the pixels of exactly its colour: the cells (56 × 56
+   * each, less their white borders) dominate the colour bar's one row */
+  size_t count[NL] = {0};
+  for (int y = 0; y < fig.h; y++)
+    for (int x = 0; x < fig.w; x++) {
+      float c[3];
+      px(&fig, x, y, c);
+      for (int l = 0; l < NL; l++) {
+        jnd_rgb k = jnd_colour_scale(l / (double)(NL - 1));
+        float kc[3] = {k.r, k.g, k.b};
+        if (dist(c, kc) < 1e-4) count[l]++;
+      }
+    }
+  size_t cells[NL] = {0};
+  for (int i = 0; i < ND * NE; i++) cells[level[i]]++;
+  for (int l = 0; l < NL; l++) {
+    CHECK(count[l] > cells[l] * 40 * 40);
+    CHECK(count[l] < cells[l] * 56 * 56 + 200);
+  }
+  jnd_image_free(&fig);
+}
+
 RUN_TESTS(the_heatmap_keeps_differences_above_one_jnd_apart, a_small_heatmap_is_magnified_to_a_readable_size,
           the_texres_matrix_picture_outlines_the_chosen_pair, the_contribution_picture_names_channels_and_has_a_legend,
           texres_series_draws_early_stopped_values_as_bounds_and_the_threshold,
           pca_energy_marks_the_components_kept_with_their_share,
           pop_switch_plot_draws_the_pixel_rule_and_names_the_units_and_a_nearer_level,
           the_calibration_histogram_has_a_bar_per_bin_as_tall_as_its_count,
-          the_worst_view_shows_the_chosen_sizes_whether_or_not_the_matrices_ran)
+          the_worst_view_shows_the_chosen_sizes_whether_or_not_the_matrices_ran,
+          the_gaze_table_picture_colours_each_cell_by_its_level)

@@ -317,9 +317,20 @@ TEST(lookup_matches_the_table_at_grid_points_and_interpolates_between) {
   CHECK(jnd_gaze_lookup_level(&lut, 3.9, 39, JND_GAZE_FLOOR) == 2);     /* the finer corner: safe */
   CHECK(jnd_gaze_lookup_level(&lut, 3.9, 39, JND_GAZE_NEAREST) == 3);
   CHECK(jnd_gaze_lookup_level(&lut, 1.2, 12, JND_GAZE_NEAREST) == 0);
+  /* nearest: the corner on the near side of the cell's middle, either way */
+  CHECK(jnd_gaze_lookup_level(&lut, 1.4, 10, JND_GAZE_NEAREST) == 0);
+  CHECK(jnd_gaze_lookup_level(&lut, 1.6, 10, JND_GAZE_NEAREST) == 1);
+  CHECK(jnd_gaze_lookup_level(&lut, 2, 14, JND_GAZE_NEAREST) == 1);
+  CHECK(jnd_gaze_lookup_level(&lut, 2, 16, JND_GAZE_NEAREST) == 2);
   /* outside the grid: clamped */
   CHECK(jnd_gaze_lookup_level(&lut, 0.1, -5, JND_GAZE_FLOOR) == 0);
   CHECK(jnd_gaze_lookup_level(&lut, 100, 90, JND_GAZE_FLOOR) == 3);
+  /* every mode: the edge's value, never extrapolated past the table */
+  for (int mode = 0; mode < 3; mode++) {
+    CHECK_NEAR(jnd_gaze_lookup_level(&lut, 100, 90, (jnd_gaze_lookup_mode)mode), 3, 1e-9);
+    CHECK_NEAR(jnd_gaze_lookup_level(&lut, 8, 10, (jnd_gaze_lookup_mode)mode), 2, 1e-9);
+    CHECK_NEAR(jnd_gaze_lookup_level(&lut, 0.5, -3, (jnd_gaze_lookup_mode)mode), 0, 1e-9);
+  }
   jnd_gaze_lookup_free(&lut);
 }
 
@@ -446,6 +457,17 @@ TEST(fit_recovers_synthetic_observers_within_their_intervals) {
   CHECK(r.ci_lo[0] <= truth.w_t && truth.w_t <= r.ci_hi[0]);
   CHECK(r.ci_lo[1] <= truth.gamma_t && truth.gamma_t <= r.ci_hi[1]);
   CHECK_NEAR(r.model.w_t, truth.w_t, 0.1);
+  /* the intervals are two-sided normal ones on the log scale: at 99.7%
+   * each side is 2.9677 standard errors, at 68.27% one (a one-sided
+   * quantile would give 2.748 and 0.475) */
+  jnd_gaze_fit_result r1;
+  fp.confidence = 0.682689492137086;   /* erf(1/√2): ±1 SE */
+  CHECK_OK(jnd_gaze_fit(&d, &fp, &r1));
+  for (int i = 0; i < 2; i++) {
+    CHECK_NEAR(r1.value[i], r.value[i], 1e-12);
+    CHECK_NEAR(log(r.ci_hi[i] / r.value[i]) / log(r1.ci_hi[i] / r1.value[i]), 2.96774, 0.001);
+    CHECK_NEAR(log(r.value[i] / r.ci_lo[i]) / log(r1.value[i] / r1.ci_lo[i]), 2.96774, 0.001);
+  }
   jnd_gaze_data_free(&d);
 }
 

@@ -199,6 +199,56 @@ TEST(smaller_components_cost_less_and_keep_quality) {
   jnd_texset_free(&set);
 }
 
+/* jnd_pca_storage_bytes by hand (jnd.h): a component at scale s keeps
+ * ⌈w/2^s⌉ × ⌈h/2^s⌉ pixels of its bits (float: 32), plus the float32 matrix of C rows by K + 1 columns (the mean) */
+TEST(storage_is_the_components_bits_and_the_matrix_by_hand) {
+  jnd_pca_encoding e;
+  memset(&e, 0, sizeof e);
+  e.components = 3;
+  e.scale[0] = 0, e.bits[0] = 8;
+  e.scale[1] = 1, e.bits[1] = 16;
+  e.scale[2] = 2, e.bits[2] = 0;
+  /* 65 × 33: 65·33·8 + 33·17·16 + 17·9·32 bits = 17160 + 8976 + 4896 = 31032 bits = 3879 bytes;
+   * the matrix 5 × 4 floats = 80 bytes */
+  CHECK(jnd_pca_storage_bytes(&e, 5, 65, 33) == 3879 + 80);
+  e.components = 1, e.bits[0] = 8;
+  /* 3 × 3 at 8 bits: 9 bytes, and 1 × 2 floats of matrix */
+  CHECK(jnd_pca_storage_bytes(&e, 1, 3, 3) == 9 + 1 * 2 * 4);
+}
+
+/* 8-bit components are the float ones rounded to the nearest of 255 steps
+ * over [0, 1], both ends used */
+TEST(eight_bit_components_round_the_float_ones_to_255_steps) {
+  jnd_texset set;
+  synthetic_set(&set, 64, 48);
+  jnd_pca p;
+  CHECK_OK(jnd_pca_analyse(&set, NULL, &p));
+  jnd_pca_encoding e8, ef;
+  jnd_pca_encoding_default(&p, &e8);
+  for (int k = 0; k < p.c; k++) e8.scale[k] = 0, e8.bits[k] = 8;
+  ef = e8;
+  for (int k = 0; k < p.c; k++) ef.bits[k] = 0;
+  jnd_pca_encoded a, b;
+  CHECK_OK(jnd_pca_encode(&set, &p, &e8, &a));
+  CHECK_OK(jnd_pca_encode(&set, &p, &ef, &b));
+  for (int k = 0; k < 3 && k < a.enc.components; k++) {
+    size_t n = (size_t)a.comp[k].w * a.comp[k].h;
+    double worst = 0, lo = 1, hi = 0, off_grid = 0;
+    for (size_t i = 0; i < n; i++) {
+      double q = a.comp[k].data[i], x = b.comp[k].data[i];
+      worst = fmax(worst, fabs(q - x));
+      off_grid = fmax(off_grid, fabs(q * 255 - round(q * 255)));
+      lo = fmin(lo, q), hi = fmax(hi, q);
+    }
+    CHECK(worst <= 0.5 / 255 + 1e-6);
+    CHECK(off_grid < 1e-3);
+    CHECK(lo == 0 && fabs(hi - 1) < 1e-6);
+  }
+  jnd_pca_encoded_free(&a);
+  jnd_pca_encoded_free(&b);
+  jnd_texset_free(&set);
+}
+
 TEST(psnr_choice_meets_the_target_with_less_storage) {
   jnd_texset set;
   synthetic_set(&set, 96, 96);
@@ -653,7 +703,8 @@ done_pca:
 RUN_TESTS(a_map_with_one_informative_channel_is_named_after_the_map, energies_sum_to_total_variance, basis_is_orthonormal_with_deterministic_signs,
           keeping_all_components_reconstructs_in_float, fewer_components_lose_quality,
           reconstruction_matrix_maps_stored_values_to_channels, weighting_a_channel_raises_its_psnr,
-          smaller_components_cost_less_and_keep_quality, psnr_choice_meets_the_target_with_less_storage,
+          smaller_components_cost_less_and_keep_quality, storage_is_the_components_bits_and_the_matrix_by_hand,
+          eight_bit_components_round_the_float_ones_to_255_steps, psnr_choice_meets_the_target_with_less_storage,
           grey_map_stored_as_rgb_counts_once, smaller_maps_are_resampled_and_other_shapes_refused,
           weights_name_maps_or_channels, resampling_keeps_constants_and_smooth_signals,
           knee_of_a_fast_decay_is_early, rendered_visibility_of_a_missing_model_names_it,
