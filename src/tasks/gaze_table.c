@@ -124,14 +124,13 @@ jnd_status gaze_render_levels(jnd_scene *scene, jnd_renderer *r, const jnd_view 
                               gaze_renders *R, int *count) {
   jnd_status st = JND_OK;
   for (int k = 0; k < L && st == JND_OK; k++) {
-    if ((st = jnd_scene_lod_select(scene, k)) != JND_OK) break;
     for (int o = 0; o < no && st == JND_OK; o++) {
       jnd_view v = views[o];
       v.outputs = JND_OUT_COLOR | JND_OUT_MASK;
       v.background_env = 0;
       jnd_frame f;
       memset(&f, 0, sizeof f);
-      if ((st = jnd_render(r, scene, &v, &f)) != JND_OK) break;
+      if ((st = judge_render_level(r, scene, k, &v, &f)) != JND_OK) break;
       R->color[o * L + k] = f.color;
       R->mask[o * L + k] = f.mask;
       f.color.data = f.mask.data = NULL;

@@ -944,6 +944,13 @@ jnd_status jnd_judge_material_counts(jnd_judge *j, int v, int *counts) {
   return JND_OK;
 }
 
+/* ---- renderings compared as pairs ---- */
+
+jnd_status judge_render_level(jnd_renderer *r, jnd_scene *scene, int level, const jnd_view *v, jnd_frame *f) {
+  jnd_status st = jnd_scene_lod_select(scene, level);
+  return st ? st : jnd_render(r, scene, v, f);
+}
+
 /* ---- the display path ---- */
 
 jnd_status jnd_judge_show(const jnd_display *d, const jnd_image *linear, const jnd_image *coverage,

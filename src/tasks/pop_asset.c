@@ -132,11 +132,6 @@ static jnd_status reproject_depth(const jnd_image *depth, const jnd_view *cur, c
   return JND_OK;
 }
 
-static jnd_status render_level(jnd_renderer *r, jnd_scene *scene, int level, const jnd_view *v, jnd_frame *f) {
-  jnd_status st = jnd_scene_lod_select(scene, level);
-  return st ? st : jnd_render(r, scene, v, f);
-}
-
 jnd_status jnd_pop_render(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *view,
                           const jnd_pop_motion *mo, int level, int frame, const jnd_pop_params *p,
                           jnd_pop_result *out) {
@@ -167,11 +162,11 @@ jnd_status jnd_pop_render(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const
   jnd_frame fa = {0}, fe = {0}, pa = {0}, pe = {0}, fs = {0};
   jnd_image ca = {0}, ce = {0}, za = {0}, ze = {0}, mask = {0}, cp = {0}, cs = {0};
   /* the new level's frames first, then the old level's: two level changes per pair */
-  jnd_status st = render_level(r, scene, level + 1, &cur, &fa);
-  if (!st && moving) st = render_level(r, scene, level + 1, &prev, &pa);
-  if (!st) st = render_level(r, scene, level, &cur, &fe);
-  if (!st && moving) st = render_level(r, scene, level, &prev_e, &pe);
-  if (!st && moving) st = render_level(r, scene, level, &shade, &fs);
+  jnd_status st = judge_render_level(r, scene, level + 1, &cur, &fa);
+  if (!st && moving) st = judge_render_level(r, scene, level + 1, &prev, &pa);
+  if (!st) st = judge_render_level(r, scene, level, &cur, &fe);
+  if (!st && moving) st = judge_render_level(r, scene, level, &prev_e, &pe);
+  if (!st && moving) st = judge_render_level(r, scene, level, &shade, &fs);
   jnd_status sel = jnd_scene_lod_select(scene, keep);
   if (!st) st = sel;
   /* 4: each frame as the viewer sees it, as the judge shows frames */

@@ -26,6 +26,11 @@
 void object_window(double object_px, double grow, int margin_px, int min_px, int max_px, int round_up, int *side,
                    double *scale);
 
+/* The scene at level `level` of its chain (every mesh; left selected)
+ * rendered from view v into f: the renderings that are compared as pairs
+ * rather than held by a scene judge (gaze's levels, pop's switch). */
+jnd_status judge_render_level(jnd_renderer *r, jnd_scene *scene, int level, const jnd_view *v, jnd_frame *f);
+
 /* ---- judge.c (end) ---- */
 
 /* ---- linalg.c: small dense linear algebra for pca.c (begin) ---- */
