@@ -1207,7 +1207,10 @@ double jnd_camera_distance_for_coverage(double radius, double coverage, double f
  *     jnd_judge_set_gaze (pixels of the frame; every pixel's eccentricity
  *     is measured from it);
  *   - motion (popping): views with a previous pose (jnd_view.has_prev); the
- *     reference's motion goes into the model.
+ *     reference's motion goes into the model;
+ *   - two renderings against each other (level k − 1 against level k, at a
+ *     fixation point, as a change at a temporal frequency): jnd_pair_judge
+ *     below, which shows frames as this judge does (jnd_judge_show).
  * A state is recognised by the content of its maps and the level (version)
  * of each mesh, so a size or level set again is answered from memory.
  */

@@ -1017,7 +1017,11 @@ void jnd_pair_judge_free(jnd_pair_judge *j) {
   free(j);
 }
 
-int jnd_pair_judge_models(const jnd_pair_judge *j) { return j->n; }
+int jnd_pair_judge_models(const jnd_pair_judge *j) {
+  int made = 0;
+  for (int i = 0; i < j->n; i++) made += j->pool[i].m != NULL;
+  return made;
+}
 
 /* A model at ppd for this caller alone: a free one kept, or a new slot
  * (*fresh = 1, its model for the caller to make). -1: out of memory. */
