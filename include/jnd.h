@@ -1236,7 +1236,10 @@ double jnd_camera_distance_for_coverage(double radius, double coverage, double f
  *     jnd_judge_set_gaze (pixels of the frame; every pixel's eccentricity
  *     is measured from it);
  *   - motion (popping): views with a previous pose (jnd_view.has_prev); the
- *     reference's motion goes into the model.
+ *     reference's motion goes into the model;
+ *   - two renderings against each other (level k − 1 against level k, at a
+ *     fixation point, as a change at a temporal frequency): jnd_pair_judge
+ *     below, which shows frames as this judge does (jnd_judge_show).
  * A state is recognised by the content of its maps and the level (version)
  * of each mesh, so a size or level set again is answered from memory.
  */
@@ -1363,6 +1366,62 @@ void jnd_judge_get_counts(const jnd_judge *j, jnd_judge_counts *out);
 
 /* "GL_RENDERER (platform)" of the judge's renderer. */
 const char *jnd_judge_renderer(const jnd_judge *j);
+
+/* The display path: the one place where a rendering becomes what the
+ * viewer sees. linear (3 channels, linear RGB as jnd_render gives it, over
+ * black) is composed over a grey background of linear value `background`
+ * by its coverage (1 channel 0..1; NULL: shown as rendered, background
+ * unused), the pixels where grey[q] != 0 (may be NULL) shown as that grey
+ * alone; then clamped, sRGB-encoded (the display signal) and through
+ * display d to absolute linear RGB in cd/m² (004 §3.1, the model's first
+ * stage). cdm2 is allocated; srgb (may be NULL) receives the display
+ * signal (allocated). Every judge shows frames through it. */
+jnd_status jnd_judge_show(const jnd_display *d, const jnd_image *linear, const jnd_image *coverage,
+                          double background, const unsigned char *grey, jnd_image *cdm2, jnd_image *srgb);
+
+/* Two frames against each other: the judge for renderings made elsewhere
+ * (two levels of detail in one view, the switch from level k − 1 to k,
+ * the same object seen at several eccentricities). It holds the vision
+ * model for a run: one model per pixels-per-degree and per caller working
+ * at the same time (a model is one caller's while it compares), made on
+ * first use and kept, so that a table of thousands of pairs makes as many
+ * models as it has threads, not one per pair. Safe to call from several
+ * threads at once; the JND map does not depend on which model answered. */
+typedef struct jnd_pair_judge jnd_pair_judge;
+
+/* How a pair is seen: per call. */
+typedef struct {
+  double ppd;                /* pixels per degree of the frames (0: the model's display's) */
+  int has_gaze;              /* 1: a fixation point at (gaze_x, gaze_y), pixels of the frames (may
+                                lie outside); each pixel is seen at its own eccentricity from it */
+  double gaze_x, gaze_y;
+  double temporal_hz;        /* > 0: the change from a to b is a temporal modulation at this
+                                frequency (a level switching, a flicker: jnd_diff_inputs.temporal_hz);
+                                0: a static difference */
+  double background;         /* linear grey behind the frames where their coverage is < 1 */
+  const unsigned char *grey; /* NULL, or per pixel: shown as the background grey in both frames */
+} jnd_pair_view;
+
+/* Makes a pair judge for the model's constants and display (model.display.ppd
+ * is the default pixels per degree; has_gaze and the fixation point are
+ * taken per call). No model is made until the first comparison. *out is
+ * the caller's (jnd_pair_judge_free). */
+jnd_status jnd_pair_judge_create(const jnd_model_params *model, jnd_pair_judge **out);
+
+/* Frees the pair judge and its models; safe on NULL. */
+void jnd_pair_judge_free(jnd_pair_judge *j);
+
+/* The JND map of frame b against frame a (each linear RGB as rendered, 3
+ * channels, with its coverage, 1 channel, or NULL), both shown with
+ * jnd_judge_show over v->background and v->grey, compared by the model at
+ * v's pixels per degree, fixation point and temporal frequency. jmap is
+ * allocated (1 channel, the frames' size). JND_ERR_ARG when sizes differ. */
+jnd_status jnd_pair_judge_compare(jnd_pair_judge *j, const jnd_image *a, const jnd_image *cov_a,
+                                  const jnd_image *b, const jnd_image *cov_b, const jnd_pair_view *v,
+                                  jnd_image *jmap);
+
+/* How many vision models the pair judge has made so far. */
+int jnd_pair_judge_models(const jnd_pair_judge *j);
 
 /* ------------------------------------------------------------------------ */
 /* Tasks: images                                                            */
@@ -3249,6 +3308,8 @@ typedef struct {
   double switch_hz;         /* the temporal frequency a level switch (a one-frame step) is judged
                                at, Hz (jnd_diff_inputs.temporal_hz; 3: docs/gaze.md "The temporal
                                model"); capped below half the display's refresh, model.fps */
+  jnd_pair_judge *judge;    /* the pairs' judge, made from this model (jnd_pair_judge_create) and
+                               kept for a run; NULL (default): one is made for each call */
 } jnd_gaze_measure_params;
 void jnd_gaze_measure_defaults(jnd_gaze_measure_params *p);
 

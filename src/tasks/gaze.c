@@ -10,12 +10,14 @@
  *  4. Shading term (002 §"shading", FovVideoVDP in 002): both images over the
  *     background grey, the XOR region grey in both, through the display and
  *     jnd's vision model with the fixation point (each pixel at its own
- *     eccentricity), pooled over S0 ∪ Si.  shading_term()
+ *     eccentricity): the judge's pair of frames (jnd_pair_judge_compare),
+ *     pooled over S0 ∪ Si.  gaze_pooled_jnd()
  *  5. Magnitude and probability (002 eqs. 3–4): D = ((w_g G)^k + (w_vdp V)^k)^(1/k),
  *     P = ½ + ½ / (1 + D^−γ).  jnd_gaze_spatial_probability()
  * Temporal model (002 eq. 5, after Tursun & Didyk 2022): the switch Ri → Ri+1
- * as a sudden change: both levels over the grey, through the vision model's
- * temporal (flicker) sensitivity at switch_hz and the fixation point, pooled
+ * as a sudden change: both levels over the grey, judged as a pair through
+ * the vision model's temporal (flicker) sensitivity at switch_hz and the
+ * fixation point, pooled
  * over the object, P = ½ + ½ / (1 + (w_t T)^−γ_t).
  *   jnd_gaze_switch()
  */
@@ -128,33 +130,11 @@ jnd_status jnd_gaze_geometric_term(const jnd_gaze_model *m, const jnd_image *mas
   return JND_OK;
 }
 
-/* An image as the viewer sees it: the rendering (linear, over black) over
- * the background grey, with pixels in grey_where (may be NULL) grey, then
- * sRGB-encoded and through the display (cd/m²). */
-static jnd_status shown(const jnd_gaze_measure_params *mp, const jnd_image *lin, const jnd_image *cov,
-                        const unsigned char *grey_where, jnd_image *out) {
-  jnd_image c = {0}, s = {0};
-  jnd_status st = jnd_image_alloc(&c, lin->w, lin->h, 3);
-  if (st != JND_OK) return st;
-  size_t n = (size_t)lin->w * lin->h;
-  for (int ch = 0; ch < 3; ch++) {
-    const float *src = lin->data + (size_t)ch * n;
-    float *dst = c.data + (size_t)ch * n;
-    for (size_t q = 0; q < n; q++) {
-      float k = cov->data[q] < 0 ? 0 : cov->data[q] > 1 ? 1 : cov->data[q];
-      dst[q] = grey_where && grey_where[q] ? (float)mp->background : src[q] + (1 - k) * (float)mp->background;
-    }
-  }
-  st = jnd_render_to_srgb(&c, &s);
-  jnd_image_free(&c);
-  if (st == JND_OK) st = jnd_display_apply(&mp->model.display, &s, JND_ENCODING_SRGB, 0, out);
-  jnd_image_free(&s);
-  return st;
-}
-
 /* The pooled JND of two renderings seen with the fixation point at (gx, gy),
  * over the pixels of either silhouette; grey_xor: the XOR region grey in both;
- * temporal_hz > 0: the change seen as a modulation at that frequency. */
+ * temporal_hz > 0: the change seen as a modulation at that frequency. The
+ * judge shows both over the background and compares them (mp->judge, or
+ * one made for this call). */
 jnd_status gaze_pooled_jnd(const jnd_gaze_measure_params *mp, double ppd, double gx, double gy, const jnd_image *a,
                              const jnd_image *ma, const jnd_image *b, const jnd_image *mb, int grey_xor,
                              double temporal_hz, double *out) {
@@ -175,30 +155,21 @@ jnd_status gaze_pooled_jnd(const jnd_gaze_measure_params *mp, double ppd, double
      * the shading term sees what the silhouette term does not */
     for (size_t q = 0; q < n; q++) grey[q] = fabsf(ma->data[q] - mb->data[q]) >= 0.25f;
   }
-  jnd_model_params p = mp->model;
-  p.display.ppd = ppd;
-  p.has_gaze = 1;
-  p.gaze_x = gx;
-  p.gaze_y = gy;
-  jnd_model *m = NULL;
-  jnd_image ra = {0}, rb = {0}, jm = {0};
-  jnd_status st = jnd_model_create(&p, &m);
-  if (st == JND_OK) st = shown(mp, a, ma, grey, &ra);
-  if (st == JND_OK) st = shown(mp, b, mb, grey, &rb);
-  jnd_diff_inputs din;
-  memset(&din, 0, sizeof din);
-  din.temporal_hz = temporal_hz;
-  if (st == JND_OK) st = jnd_model_diff_consume(m, &ra, &rb, &din, &jm);
+  jnd_pair_judge *own = NULL, *judge = mp->judge;
+  jnd_status st = judge ? JND_OK : jnd_pair_judge_create(&mp->model, &own);
+  if (!judge) judge = own;
+  jnd_pair_view pv = {.ppd = ppd, .has_gaze = 1, .gaze_x = gx, .gaze_y = gy, .temporal_hz = temporal_hz,
+                      .background = mp->background, .grey = grey};
+  jnd_image jm = {0};
+  if (st == JND_OK) st = jnd_pair_judge_compare(judge, a, ma, b, mb, &pv, &jm);
   if (st == JND_OK) {
     size_t k = 0;
     for (size_t q = 0; q < n; q++)
       if (ma->data[q] > 0.5f || mb->data[q] > 0.5f) vals[k++] = jm.data[q];
     *out = k ? jnd_pool(vals, k, &mp->pool, mp->model.minkowski) : 0;
   }
-  jnd_image_free(&ra);
-  jnd_image_free(&rb);
   jnd_image_free(&jm);
-  jnd_model_free(m);
+  jnd_pair_judge_free(own);
   free(grey);
   free(vals);
   return st;

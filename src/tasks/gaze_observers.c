@@ -53,8 +53,8 @@ static double two_afc_of_jnd(double jnd, double beta) { return 0.5 + 0.5 * jnd_p
 
 /* One (scene, size): renders the chain and judges every (orientation,
  * eccentricity, level) into s[(o · ne + e) · (L − 1) + k − 1]. */
-static jnd_status judge_size(jnd_scene *scene, jnd_renderer *r, const jnd_gaze_observers_params *p, const double *ecc,
-                             int ne, double size_deg, int L, jnd_gaze_stimulus *s) {
+static jnd_status judge_size(jnd_scene *scene, jnd_renderer *r, jnd_pair_judge *judge, const jnd_gaze_observers_params *p,
+                             const double *ecc, int ne, double size_deg, int L, jnd_gaze_stimulus *s) {
   const int no = p->orientations;
   double centre[3], radius;
   jnd_scene_subject_bounds(scene, centre, &radius, NULL);
@@ -81,7 +81,7 @@ static jnd_status judge_size(jnd_scene *scene, jnd_renderer *r, const jnd_gaze_o
   unit.alpha = 0, unit.b = 1;
   const double dist_px = 1.0 / tan(M_PI / 180.0 / ppd), cx = 0.5 * side - 0.5;
   jnd_gaze_measure_params mp = p->measure;
-  mp.model.threads = 1;   /* the stimuli run in parallel instead */
+  mp.judge = judge;
   const int ntask = no * ne * (L - 1);
   jnd_status tst = JND_OK;
   if (st == JND_OK) {
@@ -154,16 +154,22 @@ jnd_status jnd_gaze_observers_run(jnd_scene *const *scenes, int nscenes, const j
   rp.width = rp.height = p->min_px;
   jnd_renderer *r = NULL;
   st = out->stimuli ? jnd_renderer_create(&rp, &r) : JND_ERR_NOMEM;
+  /* one judge of pairs for the run (a model per size's ppd and per thread) */
+  jnd_model_params model = p->measure.model;
+  model.threads = 1;   /* the stimuli run in parallel instead */
+  jnd_pair_judge *judge = p->measure.judge, *own = NULL;
+  if (st == JND_OK && !judge) st = jnd_pair_judge_create(&model, &own), judge = own;
   for (int i = 0; i < nscenes && st == JND_OK; i++)
     for (int z = 0; z < ns && st == JND_OK; z++) {
       jnd_gaze_stimulus *s = out->stimuli + out->n;
-      st = judge_size(scenes[i], r, p, ecc, ne, sizes[z], levels[i], s);
+      st = judge_size(scenes[i], r, judge, p, ecc, ne, sizes[z], levels[i], s);
       int n = p->orientations * ne * (levels[i] - 1);
       for (int k = 0; k < n; k++) s[k].scene = i;
       out->n += n;
       if (p->progress) p->progress(p->progress_user, out->n, total);
     }
   jnd_renderer_free(r);
+  jnd_pair_judge_free(own);
   free(levels);
   if (st != JND_OK) {
     jnd_gaze_observers_free(out);

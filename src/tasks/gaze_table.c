@@ -83,8 +83,10 @@ void gaze_frame_for(double ppd_display, int min_px, int max_px, double radius, d
                     double *ppd) {
   double object_deg = 2.0 * asin(radius / d) * 180.0 / M_PI * GAZE_WINDOW_MARGIN;
   double fov = fmax(object_deg, min_px / ppd_display);
-  int n = (int)lround(fov * ppd_display);
-  n = jnd_clampi(n, min_px, max_px);
+  /* its side: the object window's (a larger object keeps fov on max_px) */
+  int n;
+  double scale;
+  object_window(fov * ppd_display, 1, 0, min_px, max_px, 0, &n, &scale);
   /* focal length in pixels, and a pixel's angle at the centre */
   double f = 0.5 * n / tan(0.5 * fov * M_PI / 180.0);
   *fov_deg = fov;
@@ -122,14 +124,13 @@ jnd_status gaze_render_levels(jnd_scene *scene, jnd_renderer *r, const jnd_view 
                               gaze_renders *R, int *count) {
   jnd_status st = JND_OK;
   for (int k = 0; k < L && st == JND_OK; k++) {
-    if ((st = jnd_scene_lod_select(scene, k)) != JND_OK) break;
     for (int o = 0; o < no && st == JND_OK; o++) {
       jnd_view v = views[o];
       v.outputs = JND_OUT_COLOR | JND_OUT_MASK;
       v.background_env = 0;
       jnd_frame f;
       memset(&f, 0, sizeof f);
-      if ((st = jnd_render(r, scene, &v, &f)) != JND_OK) break;
+      if ((st = judge_render_level(r, scene, k, &v, &f)) != JND_OK) break;
       R->color[o * L + k] = f.color;
       R->mask[o * L + k] = f.mask;
       f.color.data = f.mask.data = NULL;
@@ -305,6 +306,12 @@ jnd_status jnd_gaze_table_run(jnd_scene *scene, const jnd_gaze_table_params *p, 
   rp.width = rp.height = p->min_px;
   jnd_renderer *r = NULL;
   st = jnd_renderer_create(&rp, &r);
+  /* one judge of pairs for the run: a model per distance's ppd and per
+   * thread, not one per pair */
+  jnd_gaze_measure_params mp = p->measure;
+  mp.model.threads = 1;   /* the tasks run in parallel instead: small images scale poorly by rows */
+  jnd_pair_judge *judge = NULL;
+  if (st == JND_OK && !mp.judge) st = jnd_pair_judge_create(&mp.model, &judge), mp.judge = judge;
   if (st == JND_OK) snprintf(out->renderer, sizeof out->renderer, "%s", jnd_renderer_description(r));
   /* every (orientation, eccentricity, level, spatial|switch) of a distance is one task */
   const int ntask = no * ne * (L - 1) * 2, total = nd * (no * L + ntask);
@@ -363,8 +370,6 @@ jnd_status jnd_gaze_table_run(jnd_scene *scene, const jnd_gaze_table_params *p, 
     if ((st = gaze_render_levels(scene, r, wviews, nviews, L, &R, &out->renderings)) != JND_OK) break;
     done += no * L;
     if (p->progress) p->progress(p->progress_user, done, total);
-    jnd_gaze_measure_params mp = p->measure;
-    mp.model.threads = 1;   /* the tasks run in parallel instead: small images scale poorly by rows */
     jnd_status tst = JND_OK;
 #pragma omp parallel for schedule(dynamic, 1)
     for (int t = 0; t < ntask; t++) {
@@ -402,6 +407,7 @@ jnd_status jnd_gaze_table_run(jnd_scene *scene, const jnd_gaze_table_params *p, 
   for (size_t i = 0; i < maxviews * L; i++) jnd_image_free(&R.color[i]), jnd_image_free(&R.mask[i]);
   free(R.color), free(R.mask), free(views), free(wviews), free(task_p), free(gaze), free(which);
   jnd_renderer_free(r);
+  jnd_pair_judge_free(judge);
   if (st != JND_OK) {
     jnd_gaze_table_free(out);
     return st;

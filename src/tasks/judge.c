@@ -25,8 +25,8 @@
 #include "core/core.h"
 #include "render/render.h"
 #include "scene/scene.h"
+#include "tasks/tasks.h"
 
-#define CROP_MARGIN 16   /* pixels kept around the object for the model's pyramid */
 
 /* One material's samples in a view's reference, for partial re-renders. */
 typedef struct {
@@ -237,15 +237,9 @@ static jnd_status crop(const jnd_image *in, int x0, int y0, int w, int h, jnd_im
   return JND_OK;
 }
 
-/* linear RGB as the viewer sees it: display signal (clamped, sRGB) → the
- * display model → cd/m²; srgb_out (may be NULL) keeps the display signal */
+/* step 4: linear RGB as the viewer sees it (jnd_judge_show) */
 static jnd_status seen(const jnd_judge *j, const jnd_image *linear, jnd_image *cdm2, jnd_image *srgb_out) {
-  jnd_image srgb = {0};
-  jnd_status s = jnd_render_to_srgb(linear, &srgb);
-  if (s == JND_OK) s = jnd_display_apply(&j->p.model.display, &srgb, JND_ENCODING_SRGB, 0, cdm2);
-  if (s == JND_OK && srgb_out) *srgb_out = srgb;
-  else jnd_image_free(&srgb);
-  return s;
+  return jnd_judge_show(&j->p.model.display, linear, NULL, 0, NULL, cdm2, srgb_out);
 }
 
 static void progress(jnd_judge *j) {
@@ -318,10 +312,10 @@ static jnd_status render_reference(jnd_judge *j, jview *jv) {
   /* nothing on screen, or a fixation point given in the frame's pixels
    * (eccentricity is measured from it): the whole frame */
   if (x1 < 0 || j->p.model.has_gaze) x0 = y0 = 0, x1 = W - 1, y1 = H - 1;
-  jv->x0 = jnd_clampi(x0 - CROP_MARGIN, 0, W - 1);
-  jv->y0 = jnd_clampi(y0 - CROP_MARGIN, 0, H - 1);
-  jv->w = jnd_clampi(x1 + CROP_MARGIN, 0, W - 1) - jv->x0 + 1;
-  jv->h = jnd_clampi(y1 + CROP_MARGIN, 0, H - 1) - jv->y0 + 1;
+  jv->x0 = jnd_clampi(x0 - JUDGE_CROP_MARGIN, 0, W - 1);
+  jv->y0 = jnd_clampi(y0 - JUDGE_CROP_MARGIN, 0, H - 1);
+  jv->w = jnd_clampi(x1 + JUDGE_CROP_MARGIN, 0, W - 1) - jv->x0 + 1;
+  jv->h = jnd_clampi(y1 + JUDGE_CROP_MARGIN, 0, H - 1) - jv->y0 + 1;
   st = crop(&f.color, jv->x0, jv->y0, jv->w, jv->h, &jv->ref_lin);
   if (st == JND_OK) st = seen(j, &jv->ref_lin, &jv->ref_cdm2, NULL);
   if (st == JND_OK) st = crop(&f.mask, jv->x0, jv->y0, jv->w, jv->h, &jv->mask);
@@ -806,7 +800,8 @@ jnd_status jnd_judge_set_gaze(jnd_judge *j, int has_gaze, double x, double y) {
   j->p.model.gaze_x = x;
   j->p.model.gaze_y = y;
   forget_states(j);   /* every P depends on where the viewer looks */
-  return make_model(j);
+  jnd_model_set_gaze(j->m, 1, x, y);   /* the same model: the fixation point is read per comparison */
+  return JND_OK;
 }
 
 int jnd_judge_view_count(const jnd_judge *j) { return j->nv; }
@@ -948,4 +943,175 @@ jnd_status jnd_judge_material_counts(jnd_judge *j, int v, int *counts) {
   if (isnan(e->p[v])) return jnd_fail(JND_ERR_ARG, "judge: view %d is not judged in this state", v);
   memcpy(counts, e->above + (size_t)v * (j->scene->nmaterials + 1), (size_t)j->scene->nmaterials * sizeof *counts);
   return JND_OK;
+}
+
+/* ---- renderings compared as pairs ---- */
+
+jnd_status judge_render_level(jnd_renderer *r, jnd_scene *scene, int level, const jnd_view *v, jnd_frame *f) {
+  jnd_status st = jnd_scene_lod_select(scene, level);
+  return st ? st : jnd_render(r, scene, v, f);
+}
+
+/* ---- the display path ---- */
+
+jnd_status jnd_judge_show(const jnd_display *d, const jnd_image *linear, const jnd_image *coverage,
+                          double background, const unsigned char *grey, jnd_image *cdm2, jnd_image *srgb) {
+  if (linear->c < 3) return jnd_fail(JND_ERR_ARG, "judge: a frame to show needs 3 channels, not %d", linear->c);
+  size_t n = (size_t)linear->w * linear->h;
+  if (coverage && (coverage->w != linear->w || coverage->h != linear->h || coverage->c < 1))
+    return jnd_fail(JND_ERR_ARG, "judge: a frame's coverage differs from it in size");
+  jnd_image over = {0}, sig = {0};
+  jnd_status st = JND_OK;
+  if (coverage) {
+    /* the rendering is over black: the background shows through by
+     * 1 − coverage (a pixel half covered is half the grey) */
+    if ((st = jnd_image_alloc(&over, linear->w, linear->h, 3)) != JND_OK) return st;
+    const float bg = (float)background;
+    for (int ch = 0; ch < 3; ch++) {
+      const float *src = linear->data + (size_t)ch * n;
+      float *dst = over.data + (size_t)ch * n;
+      for (size_t q = 0; q < n; q++) {
+        float k = coverage->data[q] < 0 ? 0 : coverage->data[q] > 1 ? 1 : coverage->data[q];
+        dst[q] = grey && grey[q] ? bg : src[q] + (1 - k) * bg;
+      }
+    }
+    linear = &over;
+  }
+  st = jnd_render_to_srgb(linear, &sig);
+  jnd_image_free(&over);
+  if (st == JND_OK) st = jnd_display_apply(d, &sig, JND_ENCODING_SRGB, 0, cdm2);
+  if (st == JND_OK && srgb) *srgb = sig;
+  else jnd_image_free(&sig);
+  return st;
+}
+
+/* ---- two frames against each other ---- */
+
+typedef struct {
+  double ppd;     /* the display's pixels per degree it was made for */
+  jnd_model *m;   /* NULL while its maker creates it */
+  int busy;       /* 1: a caller is comparing with it */
+} pair_model;
+
+struct jnd_pair_judge {
+  jnd_model_params p;
+  pair_model *pool;   /* grows; callers hold indices, never pointers into it */
+  int n, cap;
+};
+
+jnd_status jnd_pair_judge_create(const jnd_model_params *model, jnd_pair_judge **out) {
+  *out = NULL;
+  if (!(model->display.ppd >= 1 && model->display.ppd <= 1000))
+    return jnd_fail(JND_ERR_ARG, "judge: pixels per degree must be in [1, 1000], not %g", model->display.ppd);
+  jnd_pair_judge *j = jnd_calloc(1, sizeof *j);
+  if (!j) return JND_ERR_NOMEM;
+  j->p = *model;
+  j->p.has_gaze = 0;
+  *out = j;
+  return JND_OK;
+}
+
+void jnd_pair_judge_free(jnd_pair_judge *j) {
+  if (!j) return;
+  for (int i = 0; i < j->n; i++) jnd_model_free(j->pool[i].m);
+  free(j->pool);
+  free(j);
+}
+
+int jnd_pair_judge_models(const jnd_pair_judge *j) {
+  int made = 0;
+  for (int i = 0; i < j->n; i++) made += j->pool[i].m != NULL;
+  return made;
+}
+
+/* A model at ppd for this caller alone: a free one kept, or a new slot
+ * (*fresh = 1, its model for the caller to make). -1: out of memory. */
+static int take_model(jnd_pair_judge *j, double ppd, int *fresh) {
+  int got = -1;
+  *fresh = 0;
+#pragma omp critical(jnd_pair_judge_pool)
+  {
+    for (int i = 0; i < j->n && got < 0; i++)
+      if (!j->pool[i].busy && j->pool[i].m && j->pool[i].ppd == ppd) got = i;
+    if (got < 0) {
+      if (j->n == j->cap) {
+        int cap = j->cap ? 2 * j->cap : 4;
+        pair_model *np = realloc(j->pool, (size_t)cap * sizeof *np);
+        if (np) j->pool = np, j->cap = cap;
+      }
+      if (j->n < j->cap) {
+        got = j->n++;
+        j->pool[got] = (pair_model){ppd, NULL, 0};
+        *fresh = 1;
+      }
+    }
+    if (got >= 0) j->pool[got].busy = 1;
+  }
+  return got;
+}
+
+static void give_model(jnd_pair_judge *j, int i, jnd_model *made) {
+#pragma omp critical(jnd_pair_judge_pool)
+  {
+    if (made) j->pool[i].m = made;
+    j->pool[i].busy = 0;
+  }
+}
+
+jnd_status jnd_pair_judge_compare(jnd_pair_judge *j, const jnd_image *a, const jnd_image *cov_a,
+                                  const jnd_image *b, const jnd_image *cov_b, const jnd_pair_view *v,
+                                  jnd_image *jmap) {
+  memset(jmap, 0, sizeof *jmap);
+  if (a->w != b->w || a->h != b->h || (cov_a && (cov_a->w != a->w || cov_a->h != a->h)) ||
+      (cov_b && (cov_b->w != b->w || cov_b->h != b->h)))
+    return jnd_fail(JND_ERR_ARG, "judge: the two frames and their coverages differ in size");
+  const double ppd = v->ppd > 0 ? v->ppd : j->p.display.ppd;
+  int fresh, slot = take_model(j, ppd, &fresh);
+  if (slot < 0) return jnd_fail(JND_ERR_NOMEM, "judge: out of memory");
+  jnd_model *m = NULL, *made = NULL;
+  jnd_status st = JND_OK;
+  if (fresh) {
+    jnd_model_params mp = j->p;
+    mp.display.ppd = ppd;
+    st = jnd_model_create(&mp, &made);
+    m = made;
+  } else {
+#pragma omp critical(jnd_pair_judge_pool)
+    m = j->pool[slot].m;
+  }
+  jnd_image ra = {0}, rb = {0};
+  if (st == JND_OK) {
+    jnd_model_set_gaze(m, v->has_gaze, v->gaze_x, v->gaze_y);
+    st = jnd_judge_show(&j->p.display, a, cov_a, v->background, v->grey, &ra, NULL);
+  }
+  if (st == JND_OK) st = jnd_judge_show(&j->p.display, b, cov_b, v->background, v->grey, &rb, NULL);
+  jnd_diff_inputs in;
+  memset(&in, 0, sizeof in);
+  in.temporal_hz = v->temporal_hz;
+  if (st == JND_OK) st = jnd_model_diff_consume(m, &ra, &rb, &in, jmap);
+  jnd_image_free(&ra);
+  jnd_image_free(&rb);
+  if (fresh && st != JND_OK && made) {
+    jnd_model_free(made);
+    made = NULL;
+  }
+  /* a slot whose model could not be made stays busy and empty: never handed out */
+  if (!fresh || made) give_model(j, slot, made);
+  return st;
+}
+
+/* ---- the object's window ---- */
+
+void object_window(double object_px, double grow, int margin_px, int min_px, int max_px, int round_up, int *side,
+                   double *scale) {
+  double want = object_px * grow;
+  int n = round_up ? (int)ceil(want) : (int)lround(fmax(want, min_px));
+  n += 2 * margin_px;
+  if (n < min_px) n = min_px;
+  *scale = 1;
+  if (n > max_px) {
+    n = max_px;
+    *scale = (max_px - 2 * margin_px) / want;
+  }
+  *side = n;
 }

@@ -53,8 +53,6 @@
 #include "jnd.h"
 #include "tasks/tasks.h"
 
-#define CROP_MARGIN 16   /* the judge's margin around the object (judge.c) */
-
 void jnd_lod_switch_defaults(jnd_lod_switch_params *p) {
   memset(p, 0, sizeof *p);
   jnd_judge_defaults(&p->judge);
@@ -114,6 +112,54 @@ static int bisection_point(lod_ready_fn ready, void *user, int lo, int hi) {
   return mid;
 }
 
+/* step 5's search, and pop's (tasks.h) */
+jnd_status switch_search(double lo, double hi, switch_test_fn test, switch_between_fn between, void *user,
+                         switch_found *found, double *at, double *fail_at) {
+  int r;
+  *at = *fail_at = NAN;
+  if ((r = test(user, lo)) < 0) return JND_ERR_INTERNAL;
+  if (r) {
+    *found = SWITCH_AT_START;
+    *at = lo;
+    return JND_OK;
+  }
+  *fail_at = lo;
+  if (!(hi > lo) || (r = test(user, hi)) == 0) {   /* not even at the far end */
+    *found = SWITCH_NEVER;
+    *fail_at = hi > lo ? hi : lo;
+    return JND_OK;
+  }
+  if (r < 0) return JND_ERR_INTERNAL;
+  /* invariant: fails at lo, passes at hi */
+  for (double mid; !isnan(mid = between(user, lo, hi));) {
+    if ((r = test(user, mid)) < 0) return JND_ERR_INTERNAL;
+    if (r) hi = mid;
+    else lo = mid;
+  }
+  *found = SWITCH_FOUND;
+  *at = hi;
+  *fail_at = lo;
+  return JND_OK;
+}
+
+/* lod_switch_search's grid as switch_search sees it: level k at grid index x */
+typedef struct {
+  lod_passes_fn passes;
+  lod_ready_fn ready;
+  void *user;
+  int k;
+} grid_search;
+
+static int grid_test(void *user, double x) {
+  grid_search *g = user;
+  return g->passes(g->user, g->k, (int)x);
+}
+
+static double grid_between(void *user, double lo, double hi) {
+  grid_search *g = user;
+  return hi - lo > 1 ? bisection_point(g->ready, g->user, (int)lo, (int)hi) : NAN;
+}
+
 /* steps 4 and 5 on any pass/fail oracle (tasks.h) */
 jnd_status lod_switch_search(int nlevels, int ngrid, lod_passes_fn passes, lod_ready_fn ready, void *user,
                              int *perceptual, int *switch_idx) {
@@ -133,25 +179,13 @@ jnd_status lod_switch_search(int nlevels, int ngrid, lod_passes_fn passes, lod_r
       switch_idx[k] = -1;
       continue;
     }
-    if ((r = passes(user, k, lo)) < 0) return JND_ERR_INTERNAL;
-    if (r) {
-      switch_idx[k] = lo;
-      continue;
-    }
-    int hi = ngrid - 1;
-    if (hi == lo || (r = passes(user, k, hi)) == 0) {
-      switch_idx[k] = lo = -1;   /* not even at the far end: never, nor any coarser level */
-      continue;
-    }
-    if (r < 0) return JND_ERR_INTERNAL;
-    /* fails at lo, passes at hi */
-    while (hi - lo > 1) {
-      int mid = bisection_point(ready, user, lo, hi);
-      if ((r = passes(user, k, mid)) < 0) return JND_ERR_INTERNAL;
-      if (r) hi = mid;
-      else lo = mid;
-    }
-    switch_idx[k] = lo = hi;
+    grid_search g = {passes, ready, user, k};
+    switch_found f;
+    double at, fail_at;
+    jnd_status st = switch_search(lo, ngrid - 1, grid_test, grid_between, &g, &f, &at, &fail_at);
+    if (st != JND_OK) return st;
+    /* never: not even at the far end, nor any coarser level */
+    switch_idx[k] = lo = f == SWITCH_NEVER ? -1 : (int)at;
   }
   return JND_OK;
 }
@@ -203,12 +237,7 @@ typedef struct {
  * pixels per degree: it keeps its angular size and its silhouette (where a
  * coarser level shows first), at the price of the finest detail. */
 static void window_at(double object_px, int max_px, int *R, double *scale) {
-  *R = (int)ceil(object_px) + 2 * CROP_MARGIN;
-  *scale = 1;
-  if (*R > max_px) {
-    *R = max_px;
-    *scale = (max_px - 2 * CROP_MARGIN) / object_px;
-  }
+  object_window(object_px, 1, JUDGE_CROP_MARGIN, 0, max_px, 1, R, scale);
 }
 
 /* the object's diameter in the screen's pixels at distance d */

@@ -16,7 +16,8 @@
  *   4. jnd_pop_predict on the pair
  *   5. decisions: per level and speed, the nearest camera distance at which
  *      the largest R over the views stays below 1, by bisection on log
- *      distance, beside meshoptimizer's 1-pixel rule
+ *      distance (switch_search, the search jnd lod uses on its grid), beside
+ *      meshoptimizer's 1-pixel rule
  *
  * docs/pop.md sets each step next to 004's text. */
 #include <math.h>
@@ -98,15 +99,6 @@ void jnd_pop_motion_pose(const jnd_view *view, const jnd_pop_motion *m, double t
 
 /* ---- 2–4. the pair ---- */
 
-/* linear RGB as the viewer sees it (as the judge shows frames): sRGB signal, then the display */
-static jnd_status seen(const jnd_model *m, const jnd_image *linear, jnd_image *cdm2) {
-  jnd_image srgb = {0};
-  jnd_status s = jnd_render_to_srgb(linear, &srgb);
-  if (s == JND_OK) s = jnd_display_apply(&jnd_model_get_params(m)->display, &srgb, JND_ENCODING_SRGB, 0, cdm2);
-  jnd_image_free(&srgb);
-  return s;
-}
-
 /* 3. each pixel's surface point (depth along cur's view axis) as prev's camera
  * sees it: unprojected through cur's camera, carried by the object's motion
  * (prev model × cur model⁻¹), depth along prev's view axis; 0 stays 0 */
@@ -140,11 +132,6 @@ static jnd_status reproject_depth(const jnd_image *depth, const jnd_view *cur, c
   return JND_OK;
 }
 
-static jnd_status render_level(jnd_renderer *r, jnd_scene *scene, int level, const jnd_view *v, jnd_frame *f) {
-  jnd_status st = jnd_scene_lod_select(scene, level);
-  return st ? st : jnd_render(r, scene, v, f);
-}
-
 jnd_status jnd_pop_render(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *view,
                           const jnd_pop_motion *mo, int level, int frame, const jnd_pop_params *p,
                           jnd_pop_result *out) {
@@ -175,17 +162,19 @@ jnd_status jnd_pop_render(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const
   jnd_frame fa = {0}, fe = {0}, pa = {0}, pe = {0}, fs = {0};
   jnd_image ca = {0}, ce = {0}, za = {0}, ze = {0}, mask = {0}, cp = {0}, cs = {0};
   /* the new level's frames first, then the old level's: two level changes per pair */
-  jnd_status st = render_level(r, scene, level + 1, &cur, &fa);
-  if (!st && moving) st = render_level(r, scene, level + 1, &prev, &pa);
-  if (!st) st = render_level(r, scene, level, &cur, &fe);
-  if (!st && moving) st = render_level(r, scene, level, &prev_e, &pe);
-  if (!st && moving) st = render_level(r, scene, level, &shade, &fs);
+  jnd_status st = judge_render_level(r, scene, level + 1, &cur, &fa);
+  if (!st && moving) st = judge_render_level(r, scene, level + 1, &prev, &pa);
+  if (!st) st = judge_render_level(r, scene, level, &cur, &fe);
+  if (!st && moving) st = judge_render_level(r, scene, level, &prev_e, &pe);
+  if (!st && moving) st = judge_render_level(r, scene, level, &shade, &fs);
   jnd_status sel = jnd_scene_lod_select(scene, keep);
   if (!st) st = sel;
-  if (!st) st = seen(m, &fa.color, &ca);
-  if (!st) st = seen(m, &fe.color, &ce);
-  if (!st && moving) st = seen(m, &pe.color, &cp);
-  if (!st && moving) st = seen(m, &fs.color, &cs);
+  /* 4: each frame as the viewer sees it, as the judge shows frames */
+  const jnd_display *d = &jnd_model_get_params(m)->display;
+  if (!st) st = jnd_judge_show(d, &fa.color, NULL, 0, NULL, &ca, NULL);
+  if (!st) st = jnd_judge_show(d, &fe.color, NULL, 0, NULL, &ce, NULL);
+  if (!st && moving) st = jnd_judge_show(d, &pe.color, NULL, 0, NULL, &cp, NULL);
+  if (!st && moving) st = jnd_judge_show(d, &fs.color, NULL, 0, NULL, &cs, NULL);
   if (!st && moving) st = reproject_depth(&fa.depth, &cur, &prev, &za);
   if (!st && moving) st = reproject_depth(&fe.depth, &cur, &prev, &ze);
   if (!st) st = jnd_image_alloc(&mask, fa.mask.w, fa.mask.h, 1);
@@ -264,6 +253,41 @@ static jnd_status max_rating_at(jnd_model *m, jnd_renderer *r, jnd_scene *scene,
   return JND_OK;
 }
 
+/* the search's test (switch_search): popping-free at distance d, the
+ * largest R below the limit; the ratings of the last pass and fail kept */
+typedef struct {
+  jnd_model *m;
+  jnd_renderer *r;
+  jnd_scene *scene;
+  const jnd_view *views;
+  int nviews;
+  const jnd_pop_motion *mo;
+  int level;
+  const jnd_pop_params *p;
+  const jnd_pop_switch_params *sp;
+  int evaluations;
+  double r_pass, r_fail;
+  jnd_status st;
+} pop_search;
+
+static int pop_test(void *user, double d) {
+  pop_search *s = user;
+  double worst;
+  s->st = max_rating_at(s->m, s->r, s->scene, s->views, s->nviews, s->mo, s->level, s->p, s->sp, d, &worst);
+  if (s->st) return -1;
+  s->evaluations++;
+  int pass = worst < s->sp->rating_limit;
+  if (pass) s->r_pass = worst;
+  else s->r_fail = worst;
+  return pass;
+}
+
+/* bisection on log distance, to the tolerance */
+static double pop_between(void *user, double lo, double hi) {
+  const pop_search *s = user;
+  return hi / lo > 1 + s->sp->tolerance ? sqrt(lo * hi) : NAN;
+}
+
 jnd_status jnd_pop_switch_distance(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *views,
                                    int nviews, const jnd_pop_motion *mo, int level, const jnd_pop_params *p,
                                    const jnd_pop_switch_params *sp, jnd_pop_switch *out) {
@@ -296,39 +320,26 @@ jnd_status jnd_pop_switch_distance(jnd_model *m, jnd_renderer *r, jnd_scene *sce
 
   double lo = jnd_camera_distance_for_coverage(radius, sp->coverage_near, fov);
   double hi = jnd_camera_distance_for_coverage(radius, sp->coverage_far, fov);
-  double rlo, rhi;
-  if ((st = max_rating_at(m, r, scene, views, nviews, mo, level, p, sp, lo, &rlo))) return st;
-  out->evaluations = 1;
-  if (rlo < sp->rating_limit) {
+  pop_search ps = {m, r, scene, views, nviews, mo, level, p, sp, 0, NAN, NAN, JND_OK};
+  switch_found f;
+  double at, fail_at;
+  st = switch_search(lo, hi, pop_test, pop_between, &ps, &f, &at, &fail_at);
+  out->evaluations = ps.evaluations;
+  if (st) return ps.st ? ps.st : st;
+  if (f == SWITCH_AT_START) {
     out->status = JND_POP_SWITCH_NEAREST;
     out->distance = lo;
-    out->max_rating = rlo;
-    return JND_OK;
-  }
-  if ((st = max_rating_at(m, r, scene, views, nviews, mo, level, p, sp, hi, &rhi))) return st;
-  out->evaluations++;
-  if (rhi >= sp->rating_limit) {
+    out->max_rating = ps.r_pass;
+  } else if (f == SWITCH_NEVER) {
     out->status = JND_POP_SWITCH_NONE;
     out->distance = INFINITY;
-    out->max_rating = rhi;
-    return JND_OK;
+    out->max_rating = ps.r_fail;
+  } else {
+    out->status = JND_POP_SWITCH_FOUND;
+    out->distance = at;
+    out->distance_popping = fail_at;
+    out->max_rating = ps.r_pass;
   }
-  /* invariant: R >= limit at lo, R < limit at hi */
-  while (hi / lo > 1 + sp->tolerance) {
-    double mid = sqrt(lo * hi), rm;
-    if ((st = max_rating_at(m, r, scene, views, nviews, mo, level, p, sp, mid, &rm))) return st;
-    out->evaluations++;
-    if (rm < sp->rating_limit) {
-      hi = mid;
-      rhi = rm;
-    } else {
-      lo = mid;
-    }
-  }
-  out->status = JND_POP_SWITCH_FOUND;
-  out->distance = hi;
-  out->distance_popping = lo;
-  out->max_rating = rhi;
   return JND_OK;
 }
 

@@ -8,6 +8,31 @@
 #include "jnd.h"
 #include "io/draw.h"
 
+/* ---- judge.c: the judge's crop and the object's window (begin) ---- */
+
+/* Pixels the judge keeps around the object's bounding box in each view:
+ * room for the model's pyramid. */
+#define JUDGE_CROP_MARGIN 16
+
+/* The one object window (jnd lod's views at a distance, gaze's table): a
+ * square window at the display's pixel scale framing an object object_px
+ * display pixels across, grown by the factor grow and by margin_px each
+ * side. *side: the grown object rounded up (round_up: the margins must hold
+ * whole, as the judge's crop needs) or to the nearest pixel, plus the
+ * margins, at least min_px; where that exceeds max_px, max_px, and *scale
+ * (< 1, else 1) is the factor the display's pixels shrink by so that the
+ * grown object and its margins fit: the object keeps its angular size at
+ * fewer pixels per degree. */
+void object_window(double object_px, double grow, int margin_px, int min_px, int max_px, int round_up, int *side,
+                   double *scale);
+
+/* The scene at level `level` of its chain (every mesh; left selected)
+ * rendered from view v into f: the renderings that are compared as pairs
+ * rather than held by a scene judge (gaze's levels, pop's switch). */
+jnd_status judge_render_level(jnd_renderer *r, jnd_scene *scene, int level, const jnd_view *v, jnd_frame *f);
+
+/* ---- judge.c (end) ---- */
+
 /* ---- linalg.c: small dense linear algebra for pca.c (begin) ---- */
 
 /* Means of n channels: planes[ch] points at count floats. Double
@@ -58,6 +83,29 @@ double poi_mp_sum(const float *y1, const float *y2, int w, int h, double ppd);
 /* ---- lod.c (end) ---- */
 
 /* ---- lod_switch.c: the perceptual choice and switch distances (begin) ---- */
+
+/* A test of a change that fades with distance, at point x (a distance, or
+ * an index into a grid of distances): 1 passes, 0 fails, < 0 an error. */
+typedef int (*switch_test_fn)(void *user, double x);
+
+/* The next point to test strictly between lo (fails) and hi (passes), or
+ * NaN when the bracket is fine enough. */
+typedef double (*switch_between_fn)(void *user, double lo, double hi);
+
+typedef enum {
+  SWITCH_AT_START,   /* passes at lo already: *at = lo */
+  SWITCH_NEVER,      /* fails at hi too (or hi <= lo): *fail_at = hi */
+  SWITCH_FOUND       /* fails at *fail_at, passes at *at, between() had nothing left between them */
+} switch_found;
+
+/* The one distance search (jnd lod's switch distances on its grid, pop's
+ * popping-free distance on log distance): the nearest point from lo
+ * towards hi where a test that is taken to pass from some point on passes.
+ * Tests lo, then hi (not when hi <= lo), then bisects the bracket at the
+ * points between() gives. JND_ERR_INTERNAL when a test fails with an
+ * error (the caller keeps its own status). */
+jnd_status switch_search(double lo, double hi, switch_test_fn test, switch_between_fn between, void *user,
+                         switch_found *found, double *at, double *fail_at);
 
 /* Whether level `level` passes the criterion at grid distance `grid` (0 the
  * viewing condition, rising with the distance): 1 passes, 0 fails, < 0 an

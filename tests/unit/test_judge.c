@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "core/core.h"
 #include "jnd.h"
 #include "test.h"
 
@@ -369,8 +370,165 @@ done:
   jnd_scene_free(s);
 }
 
+TEST(the_periphery_is_judged_less_visible_than_the_fovea) {
+  if (!test_renderer_available()) {
+    TEST_SKIP("no OpenGL context");
+    return;
+  }
+  jnd_judge_params p;
+  small(&p, 2, 1);
+  p.model.has_gaze = 1;
+  p.model.gaze_x = p.model.gaze_y = 47.5;   /* the frame's centre, where the object is */
+  jnd_scene *s = parts_scene(2, 0);
+  jnd_judge *j = NULL;
+  CHECK_OK(jnd_judge_create(s, &p, &j));
+  if (!j) goto done;
+  /* the same change (the base colour blurred) seen at the fovea, then with
+   * the object about 40° out (2000 px left at the display's ppd) */
+  CHECK_OK(jnd_scene_map_resize(s, map_of(s, "part0/baseColor"), 4, 4));
+  double fovea[2], periphery[2], again[2];
+  CHECK_OK(jnd_judge_eval(j, 0, 2, 0, fovea, NULL));
+  CHECK_OK(jnd_judge_set_gaze(j, 1, -2000, 47.5));
+  CHECK_OK(jnd_judge_eval(j, 0, 2, 0, periphery, NULL));
+  CHECK_OK(jnd_judge_set_gaze(j, 1, 47.5, 47.5));
+  CHECK_OK(jnd_judge_eval(j, 0, 2, 0, again, NULL));
+  for (int v = 0; v < 2; v++) {
+    CHECK(fovea[v] > 0);
+    CHECK(periphery[v] < 0.5 * fovea[v]);    /* much less visible out of the gaze */
+    CHECK(again[v] == fovea[v]);             /* the fixation point moved back: the same P */
+  }
+  CHECK(fovea[0] > 0.5 || fovea[1] > 0.5);   /* seen where the viewer looks (one view shows part 0 little) */
+  /* a judge made without a fixation point has none to move */
+  jnd_judge *k = NULL;
+  small(&p, 1, 1);
+  CHECK_OK(jnd_judge_create(s, &p, &k));
+  if (k) CHECK_STATUS(jnd_judge_set_gaze(k, 1, 0, 0), JND_ERR_ARG);
+  jnd_judge_free(k);
+done:
+  jnd_judge_free(j);
+  jnd_scene_free(s);
+}
+
+/* a 64² frame over black: a grey disc (coverage 1 inside) with a grating on it */
+static void disc_frame(jnd_image *c, jnd_image *cov, double contrast) {
+  CHECK_OK(jnd_image_alloc(c, 64, 64, 3));
+  CHECK_OK(jnd_image_alloc(cov, 64, 64, 1));
+  for (int y = 0; y < 64; y++)
+    for (int x = 0; x < 64; x++) {
+      size_t q = (size_t)y * 64 + x;
+      int in = (x - 31.5) * (x - 31.5) + (y - 31.5) * (y - 31.5) < 24 * 24;
+      cov->data[q] = in;
+      for (int ch = 0; ch < 3; ch++)
+        c->data[(size_t)ch * 4096 + q] = in ? (float)(0.3 * (1 + contrast * sin(x * 0.8))) : 0;
+    }
+}
+
+TEST(showing_composes_over_the_background_by_coverage) {
+  jnd_display d;
+  jnd_display_defaults(&d);
+  jnd_image c = {0}, cov = {0}, ones = {0}, a = {0}, b = {0}, grey = {0}, g = {0};
+  disc_frame(&c, &cov, 0.2);
+  CHECK_OK(jnd_image_alloc(&ones, 64, 64, 1));
+  for (size_t q = 0; q < 4096; q++) ones.data[q] = 1;
+  /* fully covered: as rendered */
+  CHECK_OK(jnd_judge_show(&d, &c, NULL, 0.18, NULL, &a, NULL));
+  CHECK_OK(jnd_judge_show(&d, &c, &ones, 0.18, NULL, &b, NULL));
+  int differ = 0;
+  for (size_t i = 0; i < 3 * 4096; i++) differ += a.data[i] != b.data[i];
+  CHECK(differ == 0);
+  /* an uncovered pixel, and one marked grey, show the background */
+  CHECK_OK(jnd_image_alloc(&grey, 64, 64, 3));
+  for (size_t i = 0; i < 3 * 4096; i++) grey.data[i] = 0.18f;
+  CHECK_OK(jnd_judge_show(&d, &grey, NULL, 0, NULL, &g, NULL));
+  unsigned char mark[4096] = {0};
+  mark[32 * 64 + 32] = 1;   /* inside the disc */
+  jnd_image_free(&b);
+  CHECK_OK(jnd_judge_show(&d, &c, &cov, 0.18, mark, &b, NULL));
+  for (int ch = 0; ch < 3; ch++) {
+    CHECK(b.data[(size_t)ch * 4096 + 0] == g.data[(size_t)ch * 4096]);
+    CHECK(b.data[(size_t)ch * 4096 + 32 * 64 + 32] == g.data[(size_t)ch * 4096]);
+    CHECK(b.data[(size_t)ch * 4096 + 32 * 64 + 33] != g.data[(size_t)ch * 4096]);
+  }
+  jnd_image_free(&c), jnd_image_free(&cov), jnd_image_free(&ones), jnd_image_free(&a), jnd_image_free(&b);
+  jnd_image_free(&grey), jnd_image_free(&g);
+}
+
+static double map_mean(const jnd_image *m) {
+  double s = 0;
+  for (size_t q = 0; q < (size_t)m->w * m->h; q++) s += m->data[q];
+  return s / ((double)m->w * m->h);
+}
+
+TEST(a_pair_judge_makes_one_model_per_ppd_whatever_the_pairs) {
+  jnd_model_params mp;
+  jnd_model_defaults(&mp);
+  mp.threads = 1;
+  jnd_pair_judge *pj = NULL, *fresh = NULL;
+  CHECK_OK(jnd_pair_judge_create(&mp, &pj));
+  if (!pj) return;
+  jnd_image a = {0}, ca = {0}, b = {0}, cb = {0};
+  disc_frame(&a, &ca, 0.1);
+  disc_frame(&b, &cb, 0.3);
+  jnd_pair_view v = {.has_gaze = 1, .gaze_x = 31.5, .gaze_y = 31.5, .background = 0.18};
+  /* sequential pairs at several fixation points and frequencies share one model */
+  double mean[4];
+  jnd_image first = {0};
+  for (int i = 0; i < 4; i++) {
+    jnd_image m = {0};
+    v.gaze_x = i < 2 ? 31.5 : -1500;
+    v.temporal_hz = i % 2 ? 3 : 0;
+    CHECK_OK(jnd_pair_judge_compare(pj, &a, &ca, &b, &cb, &v, &m));
+    mean[i] = map_mean(&m);
+    if (i == 0) first = m;
+    else jnd_image_free(&m);
+  }
+  CHECK(jnd_pair_judge_models(pj) == 1);
+  CHECK(mean[0] > 0.5 && mean[1] > 0);
+  CHECK(mean[2] < 0.5 * mean[0]);   /* out of the gaze: less visible, statically */
+  CHECK(mean[3] < 0.5 * mean[1]);   /* and as a flicker */
+  /* the map does not depend on which model answered: a fresh judge's is the same */
+  v.gaze_x = 31.5, v.temporal_hz = 0;
+  CHECK_OK(jnd_pair_judge_create(&mp, &fresh));
+  jnd_image m2 = {0};
+  if (fresh) CHECK_OK(jnd_pair_judge_compare(fresh, &a, &ca, &b, &cb, &v, &m2));
+  int differ = !m2.data || !first.data;
+  for (size_t q = 0; !differ && q < 4096; q++) differ = m2.data[q] != first.data[q];
+  CHECK(!differ);
+  /* another pixels per degree: a second model */
+  v.ppd = 2 * mp.display.ppd;
+  jnd_image m3 = {0};
+  CHECK_OK(jnd_pair_judge_compare(pj, &a, &ca, &b, &cb, &v, &m3));
+  CHECK(jnd_pair_judge_models(pj) == 2);
+  /* pairs in parallel: at most one model per thread and ppd, the same maps */
+  int bad = 0;
+  v.ppd = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : bad)
+  for (int i = 0; i < 8; i++) {
+    jnd_image m = {0};
+    jnd_pair_view w = v;
+    if (jnd_pair_judge_compare(pj, &a, &ca, &b, &cb, &w, &m) != JND_OK) bad++;
+    else
+      for (size_t q = 0; q < 4096; q++) bad += m.data[q] != first.data[q];
+    jnd_image_free(&m);
+  }
+  CHECK(bad == 0);
+  CHECK(jnd_pair_judge_models(pj) <= 1 + jnd_threads(0));
+  /* frames of different sizes are refused */
+  jnd_image small_img = {0};
+  CHECK_OK(jnd_image_alloc(&small_img, 32, 32, 3));
+  jnd_image m4 = {0};
+  CHECK_STATUS(jnd_pair_judge_compare(pj, &a, &ca, &small_img, NULL, &v, &m4), JND_ERR_ARG);
+  jnd_image_free(&small_img);
+  jnd_image_free(&first), jnd_image_free(&m2), jnd_image_free(&m3);
+  jnd_image_free(&a), jnd_image_free(&ca), jnd_image_free(&b), jnd_image_free(&cb);
+  jnd_pair_judge_free(pj);
+  jnd_pair_judge_free(fresh);
+}
+
 RUN_TESTS(partial_rendering_equals_the_full_rendering, judges_sharing_a_renderer_judge_as_their_own_renderers_do, the_reference_state_is_invisible_and_never_rendered,
           a_state_judged_before_is_answered_from_memory, deciding_stops_at_the_first_failing_view,
           views_added_later_are_referenced_in_the_reference_state,
           views_of_an_asset_on_the_ground_come_from_above_and_frame_the_asset,
-          a_level_of_detail_is_a_state_the_judge_renders_and_recognises)
+          a_level_of_detail_is_a_state_the_judge_renders_and_recognises,
+          the_periphery_is_judged_less_visible_than_the_fovea, showing_composes_over_the_background_by_coverage,
+          a_pair_judge_makes_one_model_per_ppd_whatever_the_pairs)
