@@ -2056,13 +2056,12 @@ void jnd_lod_switch_result_free(jnd_lod_switch_result *r);
  * jnd_camera_distance_for_coverage); 0 for an infinite distance. */
 double jnd_coverage_at_distance(double radius, double distance, double fov_y_deg);
 
-/* `jnd lod` as one call: the chain (made with meshoptimizer, or the one the
- * file has as MSFT_lod, or levels from other files), 003's analysis per
- * screen, and the outputs: OUT/model/NAME.glb (every level, MSFT_lod with
- * MSFT_screencoverage) and OUT/pareto_SCREEN.png; with `perceptual`, per
- * screen the perceptual choice and the switch distances through the judge
- * (jnd_lod_switch_analyse), the model's MSFT_screencoverage then from the
- * first screen's switch distances (docs/lod.md). */
+/* `jnd lod`'s parameters: the chain (made with meshoptimizer, or the one
+ * the file has as MSFT_lod, or levels from other files), 003's analysis per
+ * screen, and with `perceptual`, per screen the perceptual choice and the
+ * switch distances through the judge (jnd_lod_switch_analyse), the model's
+ * MSFT_screencoverage then from the first screen's switch distances
+ * (docs/lod.md). */
 typedef struct {
   jnd_lod_params chain;      /* how a chain is made */
   int rebuild;               /* 1: make a chain even when the file has MSFT_lod levels (0) */
@@ -2074,13 +2073,13 @@ typedef struct {
                                 (with analyse; the screens, seed, fov, lights, environment and
                                 platform are poi's) */
   jnd_lod_switch_params sw;  /* their parameters (jnd_lod_switch_defaults; coverage is poi's) */
-  int builtin_map_size;      /* map side of MODEL "builtin" / "builtin:sphere" (512) */
-  const char *out_dir;       /* NULL: nothing written; else created, and the model and plots written */
   int threads;               /* screens judged at once by the perceptual step, each on a thread with
                                 a renderer of its own (0: OpenMP's default, the cores); the report
                                 is the same for every count */
   void (*progress)(void *user, const char *stage, int done, int total); /* also the analysis's */
   void *progress_user;
+  jnd_run_options run;       /* map side of "builtin[:...]" (512 here), the report's copy, timings,
+                                warnings (jnd_lod_run) */
 } jnd_lod_run_params;
 
 /* Fills p with the defaults above. */
@@ -2095,22 +2094,38 @@ typedef struct {
   int nsw;
   double coverage[64];       /* MSFT_screencoverage written, one per level (jnd_scene_write_lod_glb) */
   char coverage_rule[256];   /* how they were chosen, naming the screen (the first of poi's) */
-  char model_path[4600];     /* the GLB written, "" if none */
+  double load_s, chain_s, analysis_s, write_s; /* wall-clock seconds of each stage (for timings) */
+  double load_cpu_s, chain_cpu_s, analysis_cpu_s; /* user + system seconds of all threads */
+  /* set by jnd_lod_run only */
+  char model_path[4600];     /* the GLB written: out_dir/model/NAME.glb */
   int nplots;
   char plots[16][96];        /* pareto_SCREEN.png names, one per screen, under out_dir */
-  double load_s, chain_s, analysis_s, write_s; /* wall-clock seconds of each stage (for --timings) */
-  double load_cpu_s, chain_cpu_s, analysis_cpu_s; /* user + system seconds of all threads */
-} jnd_lod_report;
+  size_t memory_before_bytes, memory_after_bytes; /* level 0 and the first screen's perceptual
+                                choice as written (jnd_scene_lod_bytes; 0 without it) */
+  char *report;              /* the report's JSON text, as written to out_dir/lod.json */
+} jnd_lod_result;
 
-/* Loads model_path (glTF/GLB/OBJ, or "builtin", "builtin:sphere"), gets its
- * chain, runs the analysis and writes the outputs. Every input is checked
- * before anything is written: a bad model, level file or parameter is an
- * error ("FILE: problem") and out_dir is not touched. The input is never
- * written. out is the caller's (jnd_lod_report_free). */
-jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_lod_report *out);
+/* The task (`jnd lod`): loads model (glTF/GLB/OBJ, or builtin[:...]), gets
+ * its chain, runs the analysis (jnd_lod_analyse) and writes into out_dir,
+ * through one output writer (nothing over an input; all or nothing):
+ * lod.json (the report), model/NAME.glb (every level, MSFT_lod with
+ * MSFT_screencoverage) and pareto_SCREEN.png per screen. *out is allocated
+ * (jnd_lod_result_free) with the report's text. Bad input: one error
+ * "FILE: problem", nothing written. */
+jnd_status jnd_lod_run(const char *model, const jnd_lod_run_params *p, const char *out_dir,
+                       jnd_lod_result **out);
 
-/* Frees the scene and the analysis; safe on a zeroed struct. */
-void jnd_lod_report_free(jnd_lod_report *r);
+/* Frees what jnd_lod_run returned (NULL is fine). */
+void jnd_lod_result_free(jnd_lod_result *r);
+
+/* The chain and the analysis of jnd_lod_run, and the model's screen
+ * coverages: loads model_path, gets its chain, runs 003's analysis and the
+ * perceptual step. Writes nothing. out is the caller's
+ * (jnd_lod_result_clear). */
+jnd_status jnd_lod_analyse(const char *model_path, const jnd_lod_run_params *p, jnd_lod_result *out);
+
+/* Frees the scene, the analysis and the report; safe on a zeroed struct. */
+void jnd_lod_result_clear(jnd_lod_result *r);
 
 /* ------------------------------------------------------------------------ */
 /* Tasks: texture-set PCA (001)                                             */

@@ -21,6 +21,8 @@ cJSON *report_views_json(const jnd_view_set *vs);
 cJSON *report_criterion_json(const jnd_criterion *c, const jnd_criterion_result *r);
 /* [w, h] */
 cJSON *report_pair(const int *wh);
+/* v, or null where it is not finite (never, unknown) */
+cJSON *report_number_or_null(double v);
 
 /* A run's output writer: every input (what each references too: glTF
  * buffers and images, an OBJ's .mtl and textures; NULL entries skipped)
@@ -45,6 +47,9 @@ jnd_status report_output_write(report_output *o, cJSON *report, const char *name
 jnd_status report_output_end(report_output *o, jnd_status st);
 
 /* ---- each task's report, built by its <task>_report.c ---- */
+
+/* lod.json: model_rel the written model's path under the folder. */
+cJSON *lod_report(const char *model, const jnd_lod_run_params *p, const jnd_lod_result *R, const char *model_rel);
 
 /* texres.json: model_out the published model's path (NULL: none), map_files
  * (taken) the maps written as PNG, timings NULL or {search_s, total_s}. */

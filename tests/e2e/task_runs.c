@@ -6,7 +6,10 @@
  * the library).
  *
  *   task_runs texres MODEL OUTDIR     (--views 2 --size 96x96 --map-size 128
- *                                      --samples 1 --confirm 0 --min-size 16) */
+ *                                      --samples 1 --confirm 0 --min-size 16)
+ *   task_runs lod MODEL OUTDIR        (--screens 320x240 --views 1 --map-size 64
+ *                                      --surface-samples 4096 --judge-views 1 --max-px 96
+ *                                      --tolerance 0.5 --far-coverage 0.05) */
 #include <stdio.h>
 #include <string.h>
 
@@ -32,8 +35,33 @@ static int texres(const char *model, const char *out_dir) {
   return rc;
 }
 
+static int lod(const char *model, const char *out_dir) {
+  jnd_lod_run_params p;
+  jnd_lod_run_defaults(&p);
+  jnd_poi_screen screen;
+  if (jnd_poi_screen_parse("320x240", &screen) != JND_OK) return 2;
+  p.poi.screens = &screen;
+  p.poi.nscreens = 1;
+  p.poi.views = 1;
+  p.poi.surface_samples = 4096;
+  p.run.map_size = 64;
+  p.sw.judge.views.sampling.count = 1;
+  p.sw.max_px = 96;
+  p.sw.tolerance = 0.5;
+  p.sw.far_coverage = 0.05;
+  jnd_lod_result *r = NULL;
+  if (jnd_lod_run(model, &p, out_dir, &r) != JND_OK) {
+    fprintf(stderr, "jnd: %s\n", jnd_last_error());
+    return 2;
+  }
+  fputs(r->report, stdout);
+  jnd_lod_result_free(r);
+  return 0;
+}
+
 int main(int argc, char **argv) {
   if (argc == 4 && strcmp(argv[1], "texres") == 0) return texres(argv[2], argv[3]);
+  if (argc == 4 && strcmp(argv[1], "lod") == 0) return lod(argv[2], argv[3]);
   fprintf(stderr, "usage: task_runs TASK INPUT OUTDIR\n");
   return 2;
 }

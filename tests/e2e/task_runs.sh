@@ -24,6 +24,8 @@ same_run() {   # NAME TASK INPUT -- CLI OPTIONS...
     diff <(cd "$T/$name.cli" && find . | sort) <(cd "$T/$name.lib" && find . | sort)
 }
 
+same_run lod_sphere lod builtin:sphere -- --screens 320x240 --views 1 --map-size 64 --surface-samples 4096 \
+  --judge-views 1 --max-px 96 --tolerance 0.5 --far-coverage 0.05
 same_run texres_builtin texres builtin -- --views 2 --size 96x96 --map-size 128 --samples 1 --confirm 0 --min-size 16
 gltf=/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf
 [ -f "$gltf" ] || skip "needs assimp's glTF2 sample models (assimp-testmodels)"
