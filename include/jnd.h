@@ -1365,6 +1365,74 @@ void jnd_judge_get_counts(const jnd_judge *j, jnd_judge_counts *out);
 const char *jnd_judge_renderer(const jnd_judge *j);
 
 /* ------------------------------------------------------------------------ */
+/* Tasks: frames of an asset (`jnd render`)                                 */
+/* ------------------------------------------------------------------------ */
+
+/* A change to the asset's texture maps before rendering (docs/render.md):
+ * the maps named by `map` (MATERIAL/SLOT, "*" for every material, or a bare
+ * "*") replaced by an image file, or resampled with Lanczos-3 by a factor or
+ * to a size. */
+typedef struct {
+  const char *map;           /* the pattern */
+  const char *file;          /* an image file instead (PNG/JPEG in the slot's encoding; NULL: a scale) */
+  double factor;             /* resample by this factor (with w = 0) */
+  int w, h;                  /* resample to w × h (w > 0) */
+} jnd_map_edit;
+
+/* What jnd_render_run writes per view (jnd_render_params.outputs). */
+enum {
+  JND_RENDER_COLOR = 1,      /* view_NNN.png, 8-bit sRGB */
+  JND_RENDER_DEPTH = 2,      /* view_NNN_depth.png, 16-bit, depth / depth_scale */
+  JND_RENDER_MASK = 4,       /* view_NNN_mask.png, 8-bit coverage */
+  JND_RENDER_MOTION = 8,     /* view_NNN_motion.png, 16-bit RGB, 0.5 + d / (2 motion_scale) */
+  JND_RENDER_MIP = 16,       /* view_NNN_mip.png, 16-bit RGBA, (level + 1) / 64 */
+  JND_RENDER_EXR = 32        /* also the linear EXRs of the others */
+};
+
+typedef struct {
+  jnd_view_set views;        /* the views (sampled, or cameras / cameras_path) and the rendering (512²) */
+  int lod;                   /* the level of detail rendered (0: the finest) */
+  int strict;                /* 1: a warning about the asset (a texture that cannot be loaded) is an error */
+  double env_intensity;      /* multiplier on the environment (1; 0 turns IBL off) */
+  double env_rotation_deg;   /* rotation of the environment about +Y (0) */
+  double exposure;           /* multiplier on linear radiance before the display transform (1) */
+  int background_env;        /* 1: the environment behind the object (0: black) */
+  const jnd_light *lights;   /* fixed lights instead of the sampled ones (NULL) */
+  int nlights;               /* <= JND_MAX_LIGHTS */
+  double motion_orbit_deg;   /* a sampled view's previous pose for motion: orbited by this (0.5) */
+  unsigned outputs;          /* JND_RENDER_* (COLOR | MASK) */
+  const jnd_map_edit *edits; /* applied in order before rendering */
+  int nedits;
+  /* NULL or called after each view with line NULL */
+  void (*progress)(void *user, const char *line, int done, int total);
+  void *progress_user;
+  jnd_run_options run;       /* the builtin's map side, the report's copy, timings, warnings */
+} jnd_render_params;
+
+/* Fills p with the defaults above. */
+void jnd_render_defaults(jnd_render_params *p);
+
+typedef struct {
+  int views;                 /* the views rendered */
+  size_t triangles;          /* the level's */
+  char renderer[160];        /* "GL_RENDERER (platform)" */
+  double load_s, renderer_s, render_s; /* wall-clock seconds: loading, the renderer, the frames */
+  char *report;              /* the report's JSON text, as written to out_dir/views.json */
+} jnd_render_result;
+
+/* The task (`jnd render`): opens model (glTF, GLB, OBJ or builtin[:...]),
+ * applies the edits, renders every view and writes into out_dir, through
+ * one output writer (nothing over an input; all or nothing), the outputs
+ * asked for and views.json (the report). *out is allocated
+ * (jnd_render_result_free). Bad input: one error "FILE: problem", nothing
+ * written. */
+jnd_status jnd_render_run(const char *model, const jnd_render_params *p, const char *out_dir,
+                          jnd_render_result **out);
+
+/* Frees what jnd_render_run returned (NULL is fine). */
+void jnd_render_result_free(jnd_render_result *r);
+
+/* ------------------------------------------------------------------------ */
 /* Tasks: images                                                            */
 /* ------------------------------------------------------------------------ */
 

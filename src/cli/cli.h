@@ -161,6 +161,10 @@ int cli_report_write(cJSON *report, const char *path);
 /* A run's report text (jnd_<task>_run's result) to standard output when path
  * is "-" (the run itself wrote it to a file path); EXIT_OK or EXIT_BAD. */
 int cli_report_print(const char *text, const char *path);
+/* A run's shared options from the common ones: the builtin's map side, the
+ * report's copy (--json), --timings, and warnings printed as
+ * "jnd: warning: ..." unless --quiet (c must outlive the run). */
+void cli_run_options(jnd_run_options *o, const cli_common *c, int map_size);
 
 /* The run's output writer (jnd_output, docs/outputs.md), opened before any
  * work: inputs (each an asset or image: the files it references too) and

@@ -116,8 +116,6 @@ static void on_progress(void *user, const char *stage, int done, int total) {
   cli_progress_step(&p->bar, done);
 }
 
-static void warn(void *user, const char *line) { cli_info(user, "jnd: warning: %s\n", line); }
-
 /* the human summary: the chain, per screen the choices, the switch distances and the memory */
 static void summary(const cli_common *common, const char *model, const jnd_lod_result *R) {
   const jnd_scene *scene = R->scene;
@@ -295,11 +293,7 @@ static int run(int argc, char **argv) {
   if (p.chain.errors && p.chain.ratios) return cli_bad("lod: give --errors or --ratios, not both");
   p.level_paths = levels;
   p.nlevel_paths = nlevels;
-  p.run.map_size = vo.map_size;
-  p.run.report_path = common.json_path;
-  p.run.timings = common.timings;
-  p.run.warning = warn;
-  p.run.warning_user = &common;
+  cli_run_options(&p.run, &common, vo.map_size);
   progress_state ps = {&common, {0}, NULL, jnd_seconds()};
   p.progress = on_progress;
   p.progress_user = &ps;

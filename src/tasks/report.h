@@ -48,6 +48,15 @@ jnd_status report_output_end(report_output *o, jnd_status st);
 
 /* ---- each task's report, built by its <task>_report.c ---- */
 
+/* views.json before the frames: the parameters, the asset, its maps and an
+ * empty "views"; render_report_view_end adds a view's camera and lights
+ * after its files, render_report_end the maps' mip_min (NULL: none) and
+ * the timings. */
+cJSON *render_report(const char *model, const jnd_render_params *p, const jnd_scene *scene, int nviews,
+                     const char *renderer);
+void render_report_view_end(cJSON *jv, const jnd_view *view);
+void render_report_end(cJSON *report, const double *mip_min, const jnd_render_result *R, int timings);
+
 /* lod.json: model_rel the written model's path under the folder. */
 cJSON *lod_report(const char *model, const jnd_lod_run_params *p, const jnd_lod_result *R, const char *model_rel);
 

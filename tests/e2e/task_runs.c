@@ -9,7 +9,9 @@
  *                                      --samples 1 --confirm 0 --min-size 16)
  *   task_runs lod MODEL OUTDIR        (--screens 320x240 --views 1 --map-size 64
  *                                      --surface-samples 4096 --judge-views 1 --max-px 96
- *                                      --tolerance 0.5 --far-coverage 0.05) */
+ *                                      --tolerance 0.5 --far-coverage 0.05)
+ *   task_runs render MODEL OUTDIR     (--views 2 --size 64x48 --map-size 64
+ *                                      --outputs color,depth,mask,motion,mip) */
 #include <stdio.h>
 #include <string.h>
 
@@ -59,9 +61,28 @@ static int lod(const char *model, const char *out_dir) {
   return 0;
 }
 
+static int render(const char *model, const char *out_dir) {
+  jnd_render_params p;
+  jnd_render_defaults(&p);
+  p.views.sampling.count = 2;
+  p.views.render.width = 64;
+  p.views.render.height = 48;
+  p.run.map_size = 64;
+  p.outputs = JND_RENDER_COLOR | JND_RENDER_DEPTH | JND_RENDER_MASK | JND_RENDER_MOTION | JND_RENDER_MIP;
+  jnd_render_result *r = NULL;
+  if (jnd_render_run(model, &p, out_dir, &r) != JND_OK) {
+    fprintf(stderr, "jnd: %s\n", jnd_last_error());
+    return 2;
+  }
+  fputs(r->report, stdout);
+  jnd_render_result_free(r);
+  return 0;
+}
+
 int main(int argc, char **argv) {
   if (argc == 4 && strcmp(argv[1], "texres") == 0) return texres(argv[2], argv[3]);
   if (argc == 4 && strcmp(argv[1], "lod") == 0) return lod(argv[2], argv[3]);
+  if (argc == 4 && strcmp(argv[1], "render") == 0) return render(argv[2], argv[3]);
   fprintf(stderr, "usage: task_runs TASK INPUT OUTDIR\n");
   return 2;
 }
