@@ -1581,6 +1581,45 @@ jnd_status jnd_diff_files(jnd_model *m, jnd_image *ref, const jnd_image_info *re
                           const jnd_diff_inputs *in, const jnd_pooling *pool,
                           jnd_image *jnd_out, jnd_diff_stats *stats);
 
+/* `jnd diff`'s parameters (docs/model.md). A comparison has two inputs and
+ * writes named files (no folder), so its run takes both and the paths are
+ * here. */
+typedef struct {
+  jnd_model_params model;    /* the model and its display (jnd_model_defaults) */
+  jnd_pooling pool;          /* the pooling of P (p93; jnd_pooling_parse) */
+  const char *calibration_path; /* a calibration (jnd_calibration_load): its beta and percentile (NULL) */
+  const char *motion_path;   /* a 2-channel motion map, pixels per frame (NULL) */
+  const char *weights_path;  /* a weight map, first channel (NULL) */
+  const char *map_path;      /* write the JND map here as EXR (NULL: none) */
+  const char *heatmap_path;  /* write the heatmap here as PNG (NULL: none) */
+  double heatmap_max;        /* the heatmap's top, JND (0: its default) */
+  double fail_above;         /* report whether p_detect exceeds this (< 0: not asked; -1) */
+  int exr_scale_given;       /* 1: the display's exr_scale was chosen (no warning about a relative EXR) */
+  jnd_run_options run;       /* the report's copy, timings, warnings (map_size unused) */
+} jnd_diff_params;
+
+/* Fills p with the defaults above. */
+void jnd_diff_defaults(jnd_diff_params *p);
+
+typedef struct {
+  jnd_diff_stats stats;
+  int width, height;
+  int above;                 /* p_detect > fail_above (when asked) */
+  char pooling[32];          /* the pooling's name */
+  double total_s;            /* wall-clock seconds */
+  char *report;              /* the report's JSON text, as the run wrote it to run.report_path */
+} jnd_diff_result;
+
+/* The task (`jnd diff`): reads ref and test (PNG, JPEG, HDR, EXR), compares
+ * them on the display and writes, through one output writer (nothing over
+ * an input; all or nothing), the map, the heatmap and the report's copy
+ * asked for. *out is allocated (jnd_diff_result_free) with the report's
+ * text. Bad input: one error "FILE: problem", nothing written. */
+jnd_status jnd_diff_run(const char *ref, const char *test, const jnd_diff_params *p, jnd_diff_result **out);
+
+/* Frees what jnd_diff_run returned (NULL is fine). */
+void jnd_diff_result_free(jnd_diff_result *r);
+
 /* ------------------------------------------------------------------------ */
 /* Tasks: texture resolution (000)                                          */
 /* ------------------------------------------------------------------------ */

@@ -48,6 +48,12 @@ jnd_status report_output_end(report_output *o, jnd_status st);
 
 /* ---- each task's report, built by its <task>_report.c ---- */
 
+/* jnd diff's report: mp the model's parameters as run (the calibration's
+ * beta), timings NULL or {load_s, model_s, total_s}. */
+cJSON *diff_report(const char *ref, const char *test, const jnd_image_info *ri, const jnd_image_info *ti,
+                   const jnd_diff_params *p, const jnd_model_params *mp, const jnd_model *model,
+                   const jnd_diff_result *R, const double *timings);
+
 /* views.json before the frames: the parameters, the asset, its maps and an
  * empty "views"; render_report_view_end adds a view's camera and lights
  * after its files, render_report_end the maps' mip_min (NULL: none) and

@@ -11,7 +11,8 @@
  *                                      --surface-samples 4096 --judge-views 1 --max-px 96
  *                                      --tolerance 0.5 --far-coverage 0.05)
  *   task_runs render MODEL OUTDIR     (--views 2 --size 64x48 --map-size 64
- *                                      --outputs color,depth,mask,motion,mip) */
+ *                                      --outputs color,depth,mask,motion,mip)
+ *   task_runs diff REF TEST MAP       (--display phone --fail-above 0.01 --map MAP) */
 #include <stdio.h>
 #include <string.h>
 
@@ -79,10 +80,28 @@ static int render(const char *model, const char *out_dir) {
   return 0;
 }
 
+static int diff(const char *ref, const char *test, const char *map) {
+  jnd_diff_params p;
+  jnd_diff_defaults(&p);
+  if (jnd_display_preset("phone", &p.model.display) != JND_OK) return 2;
+  p.fail_above = 0.01;
+  p.map_path = map;
+  jnd_diff_result *r = NULL;
+  if (jnd_diff_run(ref, test, &p, &r) != JND_OK) {
+    fprintf(stderr, "jnd: %s\n", jnd_last_error());
+    return 2;
+  }
+  fputs(r->report, stdout);
+  int rc = r->above ? 1 : 0;
+  jnd_diff_result_free(r);
+  return rc;
+}
+
 int main(int argc, char **argv) {
   if (argc == 4 && strcmp(argv[1], "texres") == 0) return texres(argv[2], argv[3]);
   if (argc == 4 && strcmp(argv[1], "lod") == 0) return lod(argv[2], argv[3]);
   if (argc == 4 && strcmp(argv[1], "render") == 0) return render(argv[2], argv[3]);
+  if (argc == 5 && strcmp(argv[1], "diff") == 0) return diff(argv[2], argv[3], argv[4]);
   fprintf(stderr, "usage: task_runs TASK INPUT OUTDIR\n");
   return 2;
 }

@@ -30,6 +30,15 @@ same_run lod_sphere lod builtin:sphere -- --screens 320x240 --views 1 --map-size
   --judge-views 1 --max-px 96 --tolerance 0.5 --far-coverage 0.05
 same_run render_sphere render builtin:sphere -- --views 2 --size 64x48 --map-size 64 \
   --outputs color,depth,mask,motion,mip
+# diff: two inputs and named files, no folder
+"$JND" example -o "$T/ex" --size 160x120 >/dev/null 2>&1
+expect_exit 1 "diff: the command runs (above --fail-above: exit 1)" "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" \
+  --display phone --fail-above 0.01 --map "$T/diff.cli.exr" --json "$T/diff.cli.json" --quiet
+"$JND_TASK_RUNS" diff "$T/ex/reference.png" "$T/ex/test.png" "$T/diff.lib.exr" >"$T/diff.lib.json" 2>"$T/diff.lib.err"
+rc=$?
+check "diff: the library call runs, above the threshold (exit $rc, $(head -c 200 "$T/diff.lib.err"))" [ "$rc" -eq 1 ]
+check "diff: the returned report is the command's, byte for byte" cmp "$T/diff.cli.json" "$T/diff.lib.json"
+check "diff: the same map" cmp "$T/diff.cli.exr" "$T/diff.lib.exr"
 same_run texres_builtin texres builtin -- --views 2 --size 96x96 --map-size 128 --samples 1 --confirm 0 --min-size 16
 gltf=/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf
 [ -f "$gltf" ] || skip "needs assimp's glTF2 sample models (assimp-testmodels)"
