@@ -1424,6 +1424,74 @@ jnd_status jnd_pair_judge_compare(jnd_pair_judge *j, const jnd_image *a, const j
 int jnd_pair_judge_models(const jnd_pair_judge *j);
 
 /* ------------------------------------------------------------------------ */
+/* Tasks: frames of an asset (`jnd render`)                                 */
+/* ------------------------------------------------------------------------ */
+
+/* A change to the asset's texture maps before rendering (docs/render.md):
+ * the maps named by `map` (MATERIAL/SLOT, "*" for every material, or a bare
+ * "*") replaced by an image file, or resampled with Lanczos-3 by a factor or
+ * to a size. */
+typedef struct {
+  const char *map;           /* the pattern */
+  const char *file;          /* an image file instead (PNG/JPEG in the slot's encoding; NULL: a scale) */
+  double factor;             /* resample by this factor (with w = 0) */
+  int w, h;                  /* resample to w × h (w > 0) */
+} jnd_map_edit;
+
+/* What jnd_render_run writes per view (jnd_render_params.outputs). */
+enum {
+  JND_RENDER_COLOR = 1,      /* view_NNN.png, 8-bit sRGB */
+  JND_RENDER_DEPTH = 2,      /* view_NNN_depth.png, 16-bit, depth / depth_scale */
+  JND_RENDER_MASK = 4,       /* view_NNN_mask.png, 8-bit coverage */
+  JND_RENDER_MOTION = 8,     /* view_NNN_motion.png, 16-bit RGB, 0.5 + d / (2 motion_scale) */
+  JND_RENDER_MIP = 16,       /* view_NNN_mip.png, 16-bit RGBA, (level + 1) / 64 */
+  JND_RENDER_EXR = 32        /* also the linear EXRs of the others */
+};
+
+typedef struct {
+  jnd_view_set views;        /* the views (sampled, or cameras / cameras_path) and the rendering (512²) */
+  int lod;                   /* the level of detail rendered (0: the finest) */
+  int strict;                /* 1: a warning about the asset (a texture that cannot be loaded) is an error */
+  double env_intensity;      /* multiplier on the environment (1; 0 turns IBL off) */
+  double env_rotation_deg;   /* rotation of the environment about +Y (0) */
+  double exposure;           /* multiplier on linear radiance before the display transform (1) */
+  int background_env;        /* 1: the environment behind the object (0: black) */
+  const jnd_light *lights;   /* fixed lights instead of the sampled ones (NULL) */
+  int nlights;               /* <= JND_MAX_LIGHTS */
+  double motion_orbit_deg;   /* a sampled view's previous pose for motion: orbited by this (0.5) */
+  unsigned outputs;          /* JND_RENDER_* (COLOR | MASK) */
+  const jnd_map_edit *edits; /* applied in order before rendering */
+  int nedits;
+  /* NULL or called after each view with line NULL */
+  void (*progress)(void *user, const char *line, int done, int total);
+  void *progress_user;
+  jnd_run_options run;       /* the builtin's map side, the report's copy, timings, warnings */
+} jnd_render_params;
+
+/* Fills p with the defaults above. */
+void jnd_render_defaults(jnd_render_params *p);
+
+typedef struct {
+  int views;                 /* the views rendered */
+  size_t triangles;          /* the level's */
+  char renderer[160];        /* "GL_RENDERER (platform)" */
+  double load_s, renderer_s, render_s; /* wall-clock seconds: loading, the renderer, the frames */
+  char *report;              /* the report's JSON text, as written to out_dir/views.json */
+} jnd_render_result;
+
+/* The task (`jnd render`): opens model (glTF, GLB, OBJ or builtin[:...]),
+ * applies the edits, renders every view and writes into out_dir, through
+ * one output writer (nothing over an input; all or nothing), the outputs
+ * asked for and views.json (the report). *out is allocated
+ * (jnd_render_result_free). Bad input: one error "FILE: problem", nothing
+ * written. */
+jnd_status jnd_render_run(const char *model, const jnd_render_params *p, const char *out_dir,
+                          jnd_render_result **out);
+
+/* Frees what jnd_render_run returned (NULL is fine). */
+void jnd_render_result_free(jnd_render_result *r);
+
+/* ------------------------------------------------------------------------ */
 /* Tasks: images                                                            */
 /* ------------------------------------------------------------------------ */
 
@@ -1571,6 +1639,45 @@ jnd_status jnd_diff_files(jnd_model *m, jnd_image *ref, const jnd_image_info *re
                           jnd_image *test, const jnd_image_info *test_info,
                           const jnd_diff_inputs *in, const jnd_pooling *pool,
                           jnd_image *jnd_out, jnd_diff_stats *stats);
+
+/* `jnd diff`'s parameters (docs/model.md). A comparison has two inputs and
+ * writes named files (no folder), so its run takes both and the paths are
+ * here. */
+typedef struct {
+  jnd_model_params model;    /* the model and its display (jnd_model_defaults) */
+  jnd_pooling pool;          /* the pooling of P (p93; jnd_pooling_parse) */
+  const char *calibration_path; /* a calibration (jnd_calibration_load): its beta and percentile (NULL) */
+  const char *motion_path;   /* a 2-channel motion map, pixels per frame (NULL) */
+  const char *weights_path;  /* a weight map, first channel (NULL) */
+  const char *map_path;      /* write the JND map here as EXR (NULL: none) */
+  const char *heatmap_path;  /* write the heatmap here as PNG (NULL: none) */
+  double heatmap_max;        /* the heatmap's top, JND (0: its default) */
+  double fail_above;         /* report whether p_detect exceeds this (< 0: not asked; -1) */
+  int exr_scale_given;       /* 1: the display's exr_scale was chosen (no warning about a relative EXR) */
+  jnd_run_options run;       /* the report's copy, timings, warnings (map_size unused) */
+} jnd_diff_params;
+
+/* Fills p with the defaults above. */
+void jnd_diff_defaults(jnd_diff_params *p);
+
+typedef struct {
+  jnd_diff_stats stats;
+  int width, height;
+  int above;                 /* p_detect > fail_above (when asked) */
+  char pooling[32];          /* the pooling's name */
+  double total_s;            /* wall-clock seconds */
+  char *report;              /* the report's JSON text, as the run wrote it to run.report_path */
+} jnd_diff_result;
+
+/* The task (`jnd diff`): reads ref and test (PNG, JPEG, HDR, EXR), compares
+ * them on the display and writes, through one output writer (nothing over
+ * an input; all or nothing), the map, the heatmap and the report's copy
+ * asked for. *out is allocated (jnd_diff_result_free) with the report's
+ * text. Bad input: one error "FILE: problem", nothing written. */
+jnd_status jnd_diff_run(const char *ref, const char *test, const jnd_diff_params *p, jnd_diff_result **out);
+
+/* Frees what jnd_diff_run returned (NULL is fine). */
+void jnd_diff_result_free(jnd_diff_result *r);
 
 /* ------------------------------------------------------------------------ */
 /* Tasks: texture resolution (000)                                          */
@@ -2151,13 +2258,12 @@ void jnd_lod_switch_result_free(jnd_lod_switch_result *r);
  * jnd_camera_distance_for_coverage); 0 for an infinite distance. */
 double jnd_coverage_at_distance(double radius, double distance, double fov_y_deg);
 
-/* `jnd lod` as one call: the chain (made with meshoptimizer, or the one the
- * file has as MSFT_lod, or levels from other files), 003's analysis per
- * screen, and the outputs: OUT/model/NAME.glb (every level, MSFT_lod with
- * MSFT_screencoverage) and OUT/pareto_SCREEN.png; with `perceptual`, per
- * screen the perceptual choice and the switch distances through the judge
- * (jnd_lod_switch_analyse), the model's MSFT_screencoverage then from the
- * first screen's switch distances (docs/lod.md). */
+/* `jnd lod`'s parameters: the chain (made with meshoptimizer, or the one
+ * the file has as MSFT_lod, or levels from other files), 003's analysis per
+ * screen, and with `perceptual`, per screen the perceptual choice and the
+ * switch distances through the judge (jnd_lod_switch_analyse), the model's
+ * MSFT_screencoverage then from the first screen's switch distances
+ * (docs/lod.md). */
 typedef struct {
   jnd_lod_params chain;      /* how a chain is made */
   int rebuild;               /* 1: make a chain even when the file has MSFT_lod levels (0) */
@@ -2169,13 +2275,13 @@ typedef struct {
                                 (with analyse; the screens, seed, fov, lights, environment and
                                 platform are poi's) */
   jnd_lod_switch_params sw;  /* their parameters (jnd_lod_switch_defaults; coverage is poi's) */
-  int builtin_map_size;      /* map side of MODEL "builtin" / "builtin:sphere" (512) */
-  const char *out_dir;       /* NULL: nothing written; else created, and the model and plots written */
   int threads;               /* screens judged at once by the perceptual step, each on a thread with
                                 a renderer of its own (0: OpenMP's default, the cores); the report
                                 is the same for every count */
   void (*progress)(void *user, const char *stage, int done, int total); /* also the analysis's */
   void *progress_user;
+  jnd_run_options run;       /* map side of "builtin[:...]" (512 here), the report's copy, timings,
+                                warnings (jnd_lod_run) */
 } jnd_lod_run_params;
 
 /* Fills p with the defaults above. */
@@ -2190,22 +2296,38 @@ typedef struct {
   int nsw;
   double coverage[64];       /* MSFT_screencoverage written, one per level (jnd_scene_write_lod_glb) */
   char coverage_rule[256];   /* how they were chosen, naming the screen (the first of poi's) */
-  char model_path[4600];     /* the GLB written, "" if none */
+  double load_s, chain_s, analysis_s, write_s; /* wall-clock seconds of each stage (for timings) */
+  double load_cpu_s, chain_cpu_s, analysis_cpu_s; /* user + system seconds of all threads */
+  /* set by jnd_lod_run only */
+  char model_path[4600];     /* the GLB written: out_dir/model/NAME.glb */
   int nplots;
   char plots[16][96];        /* pareto_SCREEN.png names, one per screen, under out_dir */
-  double load_s, chain_s, analysis_s, write_s; /* wall-clock seconds of each stage (for --timings) */
-  double load_cpu_s, chain_cpu_s, analysis_cpu_s; /* user + system seconds of all threads */
-} jnd_lod_report;
+  size_t memory_before_bytes, memory_after_bytes; /* level 0 and the first screen's perceptual
+                                choice as written (jnd_scene_lod_bytes; 0 without it) */
+  char *report;              /* the report's JSON text, as written to out_dir/lod.json */
+} jnd_lod_result;
 
-/* Loads model_path (glTF/GLB/OBJ, or "builtin", "builtin:sphere"), gets its
- * chain, runs the analysis and writes the outputs. Every input is checked
- * before anything is written: a bad model, level file or parameter is an
- * error ("FILE: problem") and out_dir is not touched. The input is never
- * written. out is the caller's (jnd_lod_report_free). */
-jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_lod_report *out);
+/* The task (`jnd lod`): loads model (glTF/GLB/OBJ, or builtin[:...]), gets
+ * its chain, runs the analysis (jnd_lod_analyse) and writes into out_dir,
+ * through one output writer (nothing over an input; all or nothing):
+ * lod.json (the report), model/NAME.glb (every level, MSFT_lod with
+ * MSFT_screencoverage) and pareto_SCREEN.png per screen. *out is allocated
+ * (jnd_lod_result_free) with the report's text. Bad input: one error
+ * "FILE: problem", nothing written. */
+jnd_status jnd_lod_run(const char *model, const jnd_lod_run_params *p, const char *out_dir,
+                       jnd_lod_result **out);
 
-/* Frees the scene and the analysis; safe on a zeroed struct. */
-void jnd_lod_report_free(jnd_lod_report *r);
+/* Frees what jnd_lod_run returned (NULL is fine). */
+void jnd_lod_result_free(jnd_lod_result *r);
+
+/* The chain and the analysis of jnd_lod_run, and the model's screen
+ * coverages: loads model_path, gets its chain, runs 003's analysis and the
+ * perceptual step. Writes nothing. out is the caller's
+ * (jnd_lod_result_clear). */
+jnd_status jnd_lod_analyse(const char *model_path, const jnd_lod_run_params *p, jnd_lod_result *out);
+
+/* Frees the scene, the analysis and the report; safe on a zeroed struct. */
+void jnd_lod_result_clear(jnd_lod_result *r);
 
 /* ------------------------------------------------------------------------ */
 /* Tasks: texture-set PCA (001)                                             */

@@ -314,27 +314,7 @@ jnd_display cli_display_get(const cli_display *d) {
   return r;
 }
 
-/* An EXR/HDR's values are cd/m² × --exr-scale (1 by default). A file whose
- * brightest pixel is a few units at most was more likely written relative
- * (1 = white), and at the default scale its white would be 1 cd/m², where
- * the eye sees little: said in one line, once per file. */
-#define EXR_RELATIVE_MAX 10.0
-
-void cli_exr_scale_warn(const cli_common *c, const cli_display *d, const char *path, const jnd_image *img,
-                        const jnd_image_info *info) {
-  if (!info || info->encoding != JND_ENCODING_LINEAR || (d->given & (1u << D_EXR)) || !img->data) return;
-  size_t n = (size_t)img->w * img->h;
-  const float *r = jnd_image_plane(img, 0), *g = img->c >= 3 ? jnd_image_plane(img, 1) : r,
-              *b = img->c >= 3 ? jnd_image_plane(img, 2) : r;
-  double top = 0;
-  for (size_t i = 0; i < n; i++) {
-    double y = 0.2126 * r[i] + 0.7152 * g[i] + 0.0722 * b[i];
-    if (y > top) top = y;
-  }
-  if (top <= EXR_RELATIVE_MAX)
-    cli_info(c, "jnd: warning: %s: its brightest pixel is %.3g, read as cd/m2 (--exr-scale 1): if 1 means white, "
-             "give --exr-scale the display's white in cd/m2 (e.g. %g)\n", path, top, cli_display_get(d).peak_cdm2);
-}
+int cli_display_exr_scale_given(const cli_display *d) { return (d->given & (1u << D_EXR)) != 0; }
 
 /* ---- views ---- */
 

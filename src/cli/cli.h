@@ -97,11 +97,9 @@ void cli_display_init(cli_display *d);
 int cli_display_opt(cli_args *a, cli_display *d);
 jnd_display cli_display_get(const cli_display *d);
 extern const char *const cli_display_help;
-/* One line (unless --quiet) when a linear (EXR/HDR) input looks relative —
- * its brightest luminance at most 10 — and --exr-scale was not given: at the
- * default scale its white is 1 cd/m² (docs/model.md). */
-void cli_exr_scale_warn(const cli_common *c, const cli_display *d, const char *path, const jnd_image *img,
-                        const jnd_image_info *info);
+/* 1 when --exr-scale was given (jnd_diff_params.exr_scale_given: no
+ * warning about a linear input that looks relative). */
+int cli_display_exr_scale_given(const cli_display *d);
 
 /* The views of every rendering command: --views --seed --size --coverage
  * --distance --fov --elevation --lights --light-intensity --cameras
@@ -161,6 +159,10 @@ int cli_report_write(cJSON *report, const char *path);
 /* A run's report text (jnd_<task>_run's result) to standard output when path
  * is "-" (the run itself wrote it to a file path); EXIT_OK or EXIT_BAD. */
 int cli_report_print(const char *text, const char *path);
+/* A run's shared options from the common ones: the builtin's map side, the
+ * report's copy (--json), --timings, and warnings printed as
+ * "jnd: warning: ..." unless --quiet (c must outlive the run). */
+void cli_run_options(jnd_run_options *o, const cli_common *c, int map_size);
 
 /* The run's output writer (jnd_output, docs/outputs.md), opened before any
  * work: inputs (each an asset or image: the files it references too) and

@@ -57,8 +57,6 @@ static void help(void) {
       cli_views_help, cli_criterion_help, cli_display_help, cli_common_help);
 }
 
-static void warn(void *user, const char *line) { cli_info(user, "jnd: warning: %s\n", line); }
-
 /* the human summary: per map, per unique image, memory and the criterion */
 static void summary(const cli_common *common, const jnd_texres_params *p, const jnd_texres_result *R, double t0) {
   cli_info(common, "%-40s %11s %11s %11s %11s %9s\n", "map", "original", "chosen", "mip bound", "eye bound",
@@ -161,11 +159,7 @@ static int run(int argc, char **argv) {
   p.judge.model.threads = common.threads;
 
   p.judge.views = vo.set;
-  p.run.map_size = vo.map_size;
-  p.run.report_path = common.json_path;
-  p.run.timings = common.timings;
-  p.run.warning = warn;
-  p.run.warning_user = &common;
+  cli_run_options(&p.run, &common, vo.map_size);
   double t0 = jnd_seconds();
   cli_progress prog;
   cli_progress_start(&prog, &common, "texres", 1);

@@ -75,6 +75,16 @@ int cli_report_print(const char *text, const char *path) {
   return ferror(stdout) ? cli_bad("standard output: cannot write the report") : EXIT_OK;
 }
 
+static void run_warning(void *user, const char *line) { cli_info(user, "jnd: warning: %s\n", line); }
+
+void cli_run_options(jnd_run_options *o, const cli_common *c, int map_size) {
+  o->map_size = map_size;
+  o->report_path = c->json_path;
+  o->timings = c->timings;
+  o->warning = run_warning;
+  o->warning_user = (void *)c;
+}
+
 int cli_out_open(jnd_output **w) {
   return jnd_output_open(w) == JND_OK ? EXIT_OK : cli_lib_error();
 }

@@ -853,16 +853,23 @@ void jnd_lod_run_defaults(jnd_lod_run_params *p) {
   p->analyse = 1;
   p->perceptual = 1;
   jnd_lod_switch_defaults(&p->sw);
-  p->builtin_map_size = 512;
+  jnd_run_options_defaults(&p->run);
+  p->run.map_size = 512;
 }
 
-void jnd_lod_report_free(jnd_lod_report *r) {
+void jnd_lod_result_clear(jnd_lod_result *r) {
   if (!r) return;
   jnd_scene_free(r->scene);
   jnd_poi_result_free(&r->poi);
   for (int i = 0; i < r->nsw && r->sw; i++) jnd_lod_switch_result_free(&r->sw[i]);
   free(r->sw);
+  free(r->report);
   memset(r, 0, sizeof *r);
+}
+
+void jnd_lod_result_free(jnd_lod_result *r) {
+  jnd_lod_result_clear(r);
+  free(r);
 }
 
 /* MSFT_screencoverage until the perceptual switch distances exist:
@@ -910,7 +917,7 @@ typedef struct {
   jnd_scene *scene;                  /* the run's (worker 0) or a twin */
   const jnd_lod_switch_params *sp;
   const jnd_lod_run_params *p;
-  jnd_lod_report *out;
+  jnd_lod_result *out;
   int first, step;
   jnd_status *status;                /* per screen */
   char (*error)[512];                /* per screen: its message */
@@ -946,7 +953,7 @@ static void *judge_screen_worker(void *arg) {
 }
 
 static jnd_status judge_screens(jnd_scene *s, const jnd_lod_switch_params *sp, const jnd_lod_run_params *p,
-                                jnd_lod_report *out) {
+                                jnd_lod_result *out) {
   int n = out->poi.nscreens;
   int nw = jnd_threads(p->threads);
   if (nw > n) nw = n;
@@ -985,7 +992,7 @@ static jnd_status judge_screens(jnd_scene *s, const jnd_lod_switch_params *sp, c
   return JND_OK;
 }
 
-jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_lod_report *out) {
+jnd_status jnd_lod_analyse(const char *model_path, const jnd_lod_run_params *p, jnd_lod_result *out) {
   jnd_lod_run_params d;
   if (!p) {
     jnd_lod_run_defaults(&d);
@@ -995,8 +1002,10 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
   jnd_status st;
   double t0 = jnd_seconds(), c0 = jnd_cpu_seconds();
   /* the asset and its chain */
-  st = jnd_scene_open(model_path, p->builtin_map_size > 0 ? p->builtin_map_size : 512, &out->scene);
+  st = jnd_scene_open(model_path, p->run.map_size > 0 ? p->run.map_size : 512, &out->scene);
   if (st) return st;
+  for (int i = 0; p->run.warning && i < jnd_scene_warning_count(out->scene); i++)
+    p->run.warning(p->run.warning_user, jnd_scene_warning(out->scene, i));
   jnd_scene *s = out->scene;
   out->load_s = jnd_seconds() - t0;
   out->load_cpu_s = jnd_cpu_seconds() - c0;
@@ -1004,7 +1013,7 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
   c0 = jnd_cpu_seconds();
   jnd_lod_chain_params cp = {&p->chain, p->rebuild, p->level_paths, p->nlevel_paths};
   if ((st = jnd_scene_lod_chain(s, model_path, &cp, &out->chain_source))) {
-    jnd_lod_report_free(out);
+    jnd_lod_result_clear(out);
     return st;
   }
   int n = jnd_scene_lod_count(s);
@@ -1019,14 +1028,14 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
       pp.progress_user = p->progress_user;
     }
     if ((st = jnd_poi_analyse(s, &pp, &out->poi))) {
-      jnd_lod_report_free(out);
+      jnd_lod_result_clear(out);
       return st;
     }
     out->analysed = 1;
     /* the perceptual choice and switch distances, per screen */
     if (p->perceptual) {
       if (!(out->sw = jnd_calloc((size_t)out->poi.nscreens, sizeof *out->sw))) {
-        jnd_lod_report_free(out);
+        jnd_lod_result_clear(out);
         return jnd_fail(JND_ERR_NOMEM, "%s: out of memory", model_path);
       }
       jnd_lod_switch_params sp = p->sw;
@@ -1040,7 +1049,7 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
       out->nsw = out->poi.nscreens;
       st = judge_screens(s, &sp, p, out);
       if (st) {
-        jnd_lod_report_free(out);
+        jnd_lod_result_clear(out);
         return st;
       }
     }
@@ -1070,34 +1079,9 @@ jnd_status jnd_lod_run(const char *model_path, const jnd_lod_run_params *p, jnd_
   else if (!st)
     coverage_rule(s, &ref, p->poi.screens ? p->poi.nscreens : 1, p->poi.meshopt_pixels > 0 ? p->poi.meshopt_pixels : 1,
                   err, out->coverage, out->coverage_rule, sizeof out->coverage_rule);
-  /* outputs, last */
-  if (!st && p->out_dir) {
-    char dir[4200];
-    snprintf(dir, sizeof dir, "%s/model", p->out_dir);
-    if (p->progress) p->progress(p->progress_user, "writing", 0, 1);
-    if (!(st = jnd_make_dirs(dir))) {
-      char stem[256];
-      jnd_model_stem(model_path, stem, sizeof stem);
-      snprintf(out->model_path, sizeof out->model_path, "%s/%s.glb", dir, stem);
-      st = jnd_scene_write_lod_glb(s, out->model_path, out->coverage);
-    }
-    for (int i = 0; out->analysed && !st && i < out->poi.nscreens && i < 16; i++) {
-      jnd_image img = {0};
-      char name[96], path[4400];
-      snprintf(name, sizeof name, "pareto_%s.png", out->poi.screens[i].screen.name);
-      for (char *q = name; *q; q++)
-        if (*q == '/' || *q == ' ' || *q == '@') *q = '_';
-      snprintf(path, sizeof path, "%s/%s", p->out_dir, name);
-      int perc = i < out->nsw ? out->sw[i].perceptual_level : -1;
-      if (!(st = jnd_poi_pareto_plot(&out->poi, i, perc, &img))) st = jnd_image_write_png(path, &img, 8);
-      jnd_image_free(&img);
-      snprintf(out->plots[out->nplots++], sizeof out->plots[0], "%s", name);
-    }
-    if (p->progress) p->progress(p->progress_user, "writing", 1, 1);
-  }
-  out->write_s = jnd_seconds() - t2;
+  out->write_s = jnd_seconds() - t2;   /* jnd_lod_run adds the writing */
   if (st) {
-    jnd_lod_report_free(out);
+    jnd_lod_result_clear(out);
     return st;
   }
   return JND_OK;

@@ -34,6 +34,8 @@ cJSON *report_pair(const int *wh) {
   return a;
 }
 
+cJSON *report_number_or_null(double v) { return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull(); }
+
 cJSON *report_display_json(const jnd_display *d) {
   cJSON *o = cJSON_CreateObject();
   cJSON_AddStringToObject(o, "name", d->name);

@@ -21,6 +21,8 @@ cJSON *report_views_json(const jnd_view_set *vs);
 cJSON *report_criterion_json(const jnd_criterion *c, const jnd_criterion_result *r);
 /* [w, h] */
 cJSON *report_pair(const int *wh);
+/* v, or null where it is not finite (never, unknown) */
+cJSON *report_number_or_null(double v);
 
 /* A run's output writer: every input (what each references too: glTF
  * buffers and images, an OBJ's .mtl and textures; NULL entries skipped)
@@ -50,6 +52,24 @@ jnd_status report_output_write(report_output *o, cJSON *report, const char *name
 jnd_status report_output_end(report_output *o, jnd_status st);
 
 /* ---- each task's report, built by its <task>_report.c ---- */
+
+/* jnd diff's report: mp the model's parameters as run (the calibration's
+ * beta), timings NULL or {load_s, model_s, total_s}. */
+cJSON *diff_report(const char *ref, const char *test, const jnd_image_info *ri, const jnd_image_info *ti,
+                   const jnd_diff_params *p, const jnd_model_params *mp, const jnd_model *model,
+                   const jnd_diff_result *R, const double *timings);
+
+/* views.json before the frames: the parameters, the asset, its maps and an
+ * empty "views"; render_report_view_end adds a view's camera and lights
+ * after its files, render_report_end the maps' mip_min (NULL: none) and
+ * the timings. */
+cJSON *render_report(const char *model, const jnd_render_params *p, const jnd_scene *scene, int nviews,
+                     const char *renderer);
+void render_report_view_end(cJSON *jv, const jnd_view *view);
+void render_report_end(cJSON *report, const double *mip_min, const jnd_render_result *R, int timings);
+
+/* lod.json: model_rel the written model's path under the folder. */
+cJSON *lod_report(const char *model, const jnd_lod_run_params *p, const jnd_lod_result *R, const char *model_rel);
 
 /* texres.json: model_out the published model's path (NULL: none), map_files
  * (taken) the maps written as PNG, timings NULL or {search_s, total_s}. */

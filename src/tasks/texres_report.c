@@ -44,7 +44,7 @@ static cJSON *map_json(const jnd_texres_map *m, const jnd_scene *scene) {
         *part = cJSON_AddArrayToObject(o, "series_decided_early");
   for (int j = 0; j < m->ncand; j++) {
     cJSON_AddItemToArray(cand, report_pair(m->cand[j]));
-    cJSON_AddItemToArray(ser, isfinite(m->series[j]) ? cJSON_CreateNumber(m->series[j]) : cJSON_CreateNull());
+    cJSON_AddItemToArray(ser, report_number_or_null(m->series[j]));
     cJSON_AddItemToArray(part, cJSON_CreateBool(m->series_partial[j]));
   }
   if (m->fit_ok) {

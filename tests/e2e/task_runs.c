@@ -1,7 +1,7 @@
 /* Each task as one library call, with no command line: a program that links
  * libjnd.so (the public header only) runs `jnd_<task>_run` with the
  * parameters a command line names, and prints the report it returns.
- * tests/e2e/task_runs.sh runs the same task through `jnd` and checks that
+ * tests/e2e/task_runs_slow.sh runs the same task through `jnd` and checks that
  * the two reports are byte-identical (issue 24: every report is produced by
  * the library).
  *
@@ -10,7 +10,13 @@
  *   task_runs pca builtin OUTDIR      (--model builtin --material builtin --map-size 128
  *                                      --views 2 --size 96x96 --anisotropy 1 --no-bc)
  *   task_runs pca - OUTDIR MAP...     (MAP... --psnr 40 --write-maps)
- *   task_runs calibrate CSV CAL.json  (--folds 2 --map-size 128 --views 2 --size 96x96) */
+ *   task_runs calibrate CSV CAL.json  (--folds 2 --map-size 128 --views 2 --size 96x96)
+ *   task_runs lod MODEL OUTDIR        (--screens 320x240 --views 1 --map-size 64
+ *                                      --surface-samples 4096 --judge-views 1 --max-px 96
+ *                                      --tolerance 0.5 --far-coverage 0.05)
+ *   task_runs render MODEL OUTDIR     (--views 2 --size 64x48 --map-size 64
+ *                                      --outputs color,depth,mask,motion,mip)
+ *   task_runs diff REF TEST MAP       (--display phone --fail-above 0.01 --map MAP) */
 #include <stdio.h>
 #include <string.h>
 
@@ -81,11 +87,73 @@ static int calibrate(const char *csv, const char *out_path) {
   return 0;
 }
 
+static int lod(const char *model, const char *out_dir) {
+  jnd_lod_run_params p;
+  jnd_lod_run_defaults(&p);
+  jnd_poi_screen screen;
+  if (jnd_poi_screen_parse("320x240", &screen) != JND_OK) return 2;
+  p.poi.screens = &screen;
+  p.poi.nscreens = 1;
+  p.poi.views = 1;
+  p.poi.surface_samples = 4096;
+  p.run.map_size = 64;
+  p.sw.judge.views.sampling.count = 1;
+  p.sw.max_px = 96;
+  p.sw.tolerance = 0.5;
+  p.sw.far_coverage = 0.05;
+  jnd_lod_result *r = NULL;
+  if (jnd_lod_run(model, &p, out_dir, &r) != JND_OK) {
+    fprintf(stderr, "jnd: %s\n", jnd_last_error());
+    return 2;
+  }
+  fputs(r->report, stdout);
+  jnd_lod_result_free(r);
+  return 0;
+}
+
+static int render(const char *model, const char *out_dir) {
+  jnd_render_params p;
+  jnd_render_defaults(&p);
+  p.views.sampling.count = 2;
+  p.views.render.width = 64;
+  p.views.render.height = 48;
+  p.run.map_size = 64;
+  p.outputs = JND_RENDER_COLOR | JND_RENDER_DEPTH | JND_RENDER_MASK | JND_RENDER_MOTION | JND_RENDER_MIP;
+  jnd_render_result *r = NULL;
+  if (jnd_render_run(model, &p, out_dir, &r) != JND_OK) {
+    fprintf(stderr, "jnd: %s\n", jnd_last_error());
+    return 2;
+  }
+  fputs(r->report, stdout);
+  jnd_render_result_free(r);
+  return 0;
+}
+
+static int diff(const char *ref, const char *test, const char *map) {
+  jnd_diff_params p;
+  jnd_diff_defaults(&p);
+  if (jnd_display_preset("phone", &p.model.display) != JND_OK) return 2;
+  p.fail_above = 0.01;
+  p.map_path = map;
+  jnd_diff_result *r = NULL;
+  if (jnd_diff_run(ref, test, &p, &r) != JND_OK) {
+    fprintf(stderr, "jnd: %s\n", jnd_last_error());
+    return 2;
+  }
+  fputs(r->report, stdout);
+  int rc = r->above ? 1 : 0;
+  jnd_diff_result_free(r);
+  return rc;
+}
+
 int main(int argc, char **argv) {
   if (argc == 4 && strcmp(argv[1], "calibrate") == 0) return calibrate(argv[2], argv[3]);
   if (argc == 4 && strcmp(argv[1], "texres") == 0) return texres(argv[2], argv[3]);
   if (argc >= 4 && strcmp(argv[1], "pca") == 0)
     return pca(argv[2], argv[3], (const char *const *)argv + 4, argc - 4);
+  if (argc == 4 && strcmp(argv[1], "lod") == 0) return lod(argv[2], argv[3]);
+  if (argc == 4 && strcmp(argv[1], "render") == 0) return render(argv[2], argv[3]);
+  if (argc == 5 && strcmp(argv[1], "diff") == 0) return diff(argv[2], argv[3], argv[4]);
   fprintf(stderr, "usage: task_runs TASK INPUT OUTDIR\n");
   return 2;
 }

@@ -20,12 +20,27 @@ same_run() {   # NAME TASK INPUT -- COMMAND LINE AFTER THE TASK (with the input)
   check "$name: the library call runs ($(head -c 200 "$T/$name.lib.err"))" [ $? -eq 0 ]
   mv "$T/out" "$T/$name.lib"
   check "$name: the returned report is the command's, byte for byte" cmp "$T/$name.cli.json" "$T/$name.lib.json"
-  check "$name: and the one in the folder" cmp "$T/$name.cli/$task.json" "$T/$name.lib/$task.json"
+  local file=$task.json   # the report in the folder: views.json for render
+  [ "$task" = render ] && file=views.json
+  check "$name: and the one in the folder" cmp "$T/$name.cli/$file" "$T/$name.lib/$file"
   check "$name: the same files in the folder" \
     diff <(cd "$T/$name.cli" && find . | sort) <(cd "$T/$name.lib" && find . | sort)
 }
 
 same_run texres_builtin texres builtin -- builtin --views 2 --size 96x96 --map-size 128 --samples 1 --confirm 0 --min-size 16
+same_run lod_sphere lod builtin:sphere -- builtin:sphere --screens 320x240 --views 1 --map-size 64 --surface-samples 4096 \
+  --judge-views 1 --max-px 96 --tolerance 0.5 --far-coverage 0.05
+same_run render_sphere render builtin:sphere -- builtin:sphere --views 2 --size 64x48 --map-size 64 \
+  --outputs color,depth,mask,motion,mip
+# diff: two inputs and named files, no folder
+"$JND" example -o "$T/ex" --size 160x120 >/dev/null 2>&1
+expect_exit 1 "diff: the command runs (above --fail-above: exit 1)" "$JND" diff "$T/ex/reference.png" "$T/ex/test.png" \
+  --display phone --fail-above 0.01 --map "$T/diff.cli.exr" --json "$T/diff.cli.json" --quiet
+"$JND_TASK_RUNS" diff "$T/ex/reference.png" "$T/ex/test.png" "$T/diff.lib.exr" >"$T/diff.lib.json" 2>"$T/diff.lib.err"
+rc=$?
+check "diff: the library call runs, above the threshold (exit $rc, $(head -c 200 "$T/diff.lib.err"))" [ "$rc" -eq 1 ]
+check "diff: the returned report is the command's, byte for byte" cmp "$T/diff.cli.json" "$T/diff.lib.json"
+check "diff: the same map" cmp "$T/diff.cli.exr" "$T/diff.lib.exr"
 gltf=/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf
 [ -f "$gltf" ] || skip "needs assimp's glTF2 sample models (assimp-testmodels)"
 same_run texres_gltf texres "$gltf" -- "$gltf" --views 2 --size 96x96 --map-size 128 --samples 1 --confirm 0 --min-size 16
