@@ -102,7 +102,7 @@ _current: dict = {}
 def _jnd_progress(user, line, done, total):
     state = ffi.from_handle(user)
     _current["state"] = state
-    if state.error is not None or state.progress is None:
+    if state.error is not None:
         return
     state.progress(None if line == ffi.NULL else ffi.string(line).decode("utf-8", "replace"), done, total)
 
@@ -300,7 +300,8 @@ def _run(task: str, opts: _Options, fn, free, input_path, params, out_path, prog
     from . import _check
     state = _RunState(progress)
     handle = ffi.new_handle(state)
-    params.progress, params.progress_user = lib._jnd_progress, handle
+    if progress is not None:   # else no call back into Python (and no GIL) per rendering
+        params.progress, params.progress_user = lib._jnd_progress, handle
     params.run.warning, params.run.warning_user = lib._jnd_warning, handle
     out = ffi.new(f"jnd_{task}_result **")
     c_in = ffi.NULL if input_path is None else opts.cstr(input_path)
