@@ -88,29 +88,24 @@ class _RunState:
 
 
 def _callback_error(exc_type, exc, tb):
-    # an exception in the callback: kept for the caller, the run goes on
-    state = _current.get("state")
-    if state is not None and state.error is None:
-        state.error = exc
+    # reached only if storing the exception itself failed: nothing to keep
     return None
-
-
-_current: dict = {}
 
 
 @ffi.def_extern(onerror=_callback_error)
 def _jnd_progress(user, line, done, total):
     state = ffi.from_handle(user)
-    _current["state"] = state
     if state.error is not None:
         return
-    state.progress(None if line == ffi.NULL else ffi.string(line).decode("utf-8", "replace"), done, total)
+    try:
+        state.progress(None if line == ffi.NULL else ffi.string(line).decode("utf-8", "replace"), done, total)
+    except BaseException as e:   # kept for the caller: an exception cannot cross the C library
+        state.error = e
 
 
 @ffi.def_extern(onerror=_callback_error)
 def _jnd_warning(user, message):
     state = ffi.from_handle(user)
-    _current["state"] = state
     state.warnings.append(ffi.string(message).decode("utf-8", "replace"))
 
 
@@ -314,7 +309,6 @@ def _run(task: str, opts: _Options, fn, free, input_path, params, out_path, prog
         passes = bool(out[0].passes) if has_passes else None
     finally:
         free(out[0])
-        _current.pop("state", None)
     for w in state.warnings:
         _warnings.warn(w, JndWarning, stacklevel=3)
     if opts.print_report:

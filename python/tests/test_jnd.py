@@ -227,6 +227,8 @@ def test_one_model_serves_several_threads():
 
 SMALL = ["--views", "2", "--size", "96x96", "--map-size", "128", "--samples", "1"]
 SMALL_KW = dict(views=2, size="96x96", map_size=128, samples=1)
+TINY = ["--views", "1", "--size", "64x64", "--map-size", "64", "--samples", "1"]   # the slower tasks
+TINY_KW = dict(views=1, size=(64, 64), map_size=64, samples=1)
 
 
 @pytest.fixture(scope="module")
@@ -291,22 +293,21 @@ def test_texres_options_reach_the_library(tmp_path, renderer):
 
 
 def test_pca_from_python_is_the_commands_report(tmp_path, renderer):
-    args = ["--model", "builtin", "--material", "builtin", *SMALL, "--anisotropy", "1", "--no-bc"]
+    args = ["--model", "builtin", "--material", "builtin", *TINY, "--anisotropy", "1", "--no-bc"]
     r = same_as_cli(tmp_path, "pca", args,
                     lambda out: jnd.pca([], out, model="builtin", material="builtin", anisotropy=1, no_bc=True,
-                                        **SMALL_KW))
+                                        **TINY_KW))
     assert r.passes is None and r.report["command"] == "pca"
 
 
 def test_calibrate_from_python_is_the_commands_file(tmp_path, renderer):
     csv = tmp_path / "rates.csv"
     csv.write_text("scene,model,map,resolution,rate\n"
-                   "albedo,builtin,builtin/baseColor,128,0.0\nalbedo,builtin,builtin/baseColor,64,0.5\n"
-                   "albedo,builtin,builtin/baseColor,32,0.95\nnormal,builtin,builtin/normal,128,0.0\n"
-                   "normal,builtin,builtin/normal,64,0.8\nnormal,builtin,builtin/normal,32,1.0\n")
-    args = [str(csv), "--folds", "2", "--views", "2", "--size", "96x96", "--map-size", "128"]
-    r = same_as_cli(tmp_path, "calibrate", args,
-                    lambda out: jnd.calibrate(csv, out, folds=2, views=2, size=(96, 96), map_size=128))
+                   "albedo,builtin,builtin/baseColor,64,0.0\nalbedo,builtin,builtin/baseColor,32,0.5\n"
+                   "albedo,builtin,builtin/baseColor,16,0.95\nnormal,builtin,builtin/normal,64,0.0\n"
+                   "normal,builtin,builtin/normal,32,0.8\nnormal,builtin,builtin/normal,16,1.0\n")
+    args = [str(csv), "--folds", "2", "--p", "0.25", *TINY]
+    r = same_as_cli(tmp_path, "calibrate", args, lambda out: jnd.calibrate(csv, out, folds=2, p=0.25, **TINY_KW))
     assert r.report["command"] == "calibrate"
 
 
@@ -359,11 +360,8 @@ def test_an_exception_in_the_progress_callback_surfaces(tmp_path, renderer):
         raise ValueError("from the callback")
 
     with pytest.raises(ValueError, match="from the callback"):
-        jnd.texres("builtin", tmp_path / "out", confirm=0, progress=progress, **SMALL_KW)
+        jnd.texres("builtin", tmp_path / "out", confirm=0, progress=progress, **TINY_KW)
     assert len(calls) == 1   # not called again after it raised
-    # the interpreter is fine: the next run works
-    r = jnd.texres("builtin", tmp_path / "again", confirm=0, **SMALL_KW)
-    assert r.passes in (True, False)
 
 
 def test_the_gil_is_released_during_a_task(tmp_path, renderer):
