@@ -300,6 +300,27 @@ def test_pca_from_python_is_the_commands_report(tmp_path, renderer):
     assert r.passes is None and r.report["command"] == "pca"
 
 
+def shared_maps():
+    d = os.path.join(os.environ.get("JND_SHARED", "/nonexistent"), "data/texsets/damagedhelmet")
+    maps = [os.path.join(d, f) for f in ("Default_AO.jpg", "Default_albedo.jpg")]
+    if not all(os.path.isfile(m) for m in maps):
+        pytest.skip("needs the shared texture sets ($JND_SHARED/data/texsets)")
+    return maps
+
+
+def test_pca_of_map_files_is_the_commands_report(tmp_path):
+    maps = shared_maps()
+    args = [*maps, "--components", "3", "--bits", "16,8", "--resolutions", "1,2", "--weight", "albedo=2"]
+    same_as_cli(tmp_path, "pca", args,
+                lambda out: jnd.pca(maps, out, components=3, bits=[16, 8], resolutions="1,2", weight="albedo=2"))
+    # the command's checks of the options, with its messages
+    with pytest.raises(jnd.JndError, match="--bits and --resolutions go with --components"):
+        jnd.pca(maps, tmp_path / "x", psnr=40, resolutions=[1, 2])
+    with pytest.raises(jnd.JndError, match="--resolutions: 3 is not a power of two"):
+        jnd.pca(maps, tmp_path / "x", components=2, resolutions=[1, 3])
+    assert not (tmp_path / "x").exists()
+
+
 def test_calibrate_from_python_is_the_commands_file(tmp_path, renderer):
     csv = tmp_path / "rates.csv"
     csv.write_text("scene,model,map,resolution,rate\n"
