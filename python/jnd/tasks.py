@@ -143,10 +143,10 @@ class _Options:
             x = float(v)
         except (TypeError, ValueError):
             self._bad(f"{opt}: '{v}' is not a number")
-        if integer and (isinstance(v, float) and not v.is_integer() or isinstance(v, bool)):
-            self._bad(f"{opt}: '{v}' is not an integer")
         if not math.isfinite(x):
             self._bad(f"{opt}: '{v}' is not a number")
+        if integer and (isinstance(v, bool) or not x.is_integer()):
+            self._bad(f"{opt}: '{v}' is not an integer")
         if x < lo or x > hi:
             self._bad(f"{opt}: {x:g} is outside [{lo:g}, {hi:g}]")
         return int(x) if integer else x

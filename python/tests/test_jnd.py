@@ -354,6 +354,8 @@ def test_bad_task_input_raises_jnds_message_and_writes_nothing(tmp_path):
 
 @pytest.mark.parametrize("kw,needle", [
     (dict(views=0), "--views: 0 is outside [1, 4096]"),
+    (dict(views="2.5"), "--views: '2.5' is not an integer"),
+    (dict(margin="half"), "--margin: 'half' is not a number"),
     (dict(size="96"), "--size: '96' is not WxH"),
     (dict(p=2), "--p: 2 is outside"),
     (dict(pool="max"), "--pool: 'max' is not a percentile"),
