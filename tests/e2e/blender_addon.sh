@@ -11,9 +11,15 @@ command -v blender >/dev/null || skip "blender is not installed (scripts/install
 need_renderer
 script=$JND_SRC/blender/tests/addon_test.py
 mkdir -p "$T/home"
+env=(HOME="$T/home" JND_PYTHONPATH="$build/python" PYTHONDONTWRITEBYTECODE=1)
+if [ -n "${JND_SANITIZED:-}" ]; then
+  # the sanitized library in an uninstrumented Blender: the runtime preloaded,
+  # leaks left to the C suite (as tests/e2e/python.sh)
+  env+=(LD_PRELOAD="$(clang -print-file-name=libclang_rt.asan-x86_64.so)"
+        ASAN_OPTIONS="detect_leaks=0:abort_on_error=1:intercept_tls_get_addr=0")
+fi
 run_blender() {
-  env HOME="$T/home" JND_PYTHONPATH="$build/python" PYTHONDONTWRITEBYTECODE=1 \
-    blender -b -noaudio --python-exit-code 1 "$@" >"$T/blender.log" 2>&1
+  env "${env[@]}" blender -b -noaudio --python-exit-code 1 "$@" >"$T/blender.log" 2>&1
 }
 if run_blender --factory-startup --python "$script" -- run "$T"; then
   ok "the add-on installs, its operator runs and applies, the scene is saved"
