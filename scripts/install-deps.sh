@@ -19,6 +19,7 @@ PACKAGES=(
   munge slurmctld slurmd slurm-client              # jnd batch --slurm, tested on a real one-node Slurm
   chromium                                         # the HTML report's browser test (headless)
   python3-dev python3-cffi python3-numpy python3-pytest  # the Python package (python/) and its tests
+  blender                                          # the add-on's headless test (blender/, Blender 3.4)
 )
 
 missing=()

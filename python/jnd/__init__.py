@@ -295,3 +295,10 @@ def diff(ref: ImageLike, test: ImageLike, display: Union[str, Display] = "standa
     """``jnd diff`` as a call: see :meth:`Model.diff`. For many comparisons on
     one display, make a :class:`Model` once and call its diff."""
     return Model(display, gaze=gaze, threads=threads).diff(ref, test, encoding=encoding, pooling=pooling)
+
+
+# ------------------------------------------------------------------ tasks --
+
+from .tasks import JndWarning, TaskResult, calibrate, pca, texres  # noqa: E402  (they use the helpers above)
+
+__all__ += ["JndWarning", "TaskResult", "calibrate", "pca", "texres"]

@@ -77,6 +77,89 @@ jnd_status jnd_diff_files(jnd_model *m, jnd_image *ref, const jnd_image_info *re
                           jnd_image *test, const jnd_image_info *test_info,
                           const jnd_diff_inputs *in, const jnd_pooling *pool,
                           jnd_image *jnd_out, jnd_diff_stats *stats);
+
+/* ---- the task runs (jnd_<task>_run): only the fields the binding sets or
+   reads are named; "..." takes the rest of each layout from jnd.h ---- */
+typedef struct {
+  int map_size;
+  const char *report_path;
+  int timings;
+  void (*warning)(void *user, const char *message);
+  void *warning_user;
+} jnd_run_options;
+void jnd_run_options_defaults(jnd_run_options *o);
+
+typedef struct { double percentile; double scale, bias; double beta; double threshold_p; ...; } jnd_calibration;
+void jnd_calibration_defaults(jnd_calibration *c);
+jnd_status jnd_calibration_load(const char *path, jnd_calibration *c);
+
+typedef struct {
+  int count; uint64_t seed; double coverage; double distance; double fov_y_deg;
+  double min_elevation_deg; double max_elevation_deg; int lights; double light_intensity; ...;
+} jnd_view_sampling;
+typedef struct {
+  int width, height; int samples; int anisotropy; const char *env_path; const char *platform; ...;
+} jnd_renderer_params;
+typedef struct { jnd_view_sampling sampling; const char *cameras_path; jnd_renderer_params render; ...; } jnd_view_set;
+typedef struct { double p; double q; ...; } jnd_criterion;
+typedef struct {
+  jnd_view_set views; jnd_model_params model; jnd_calibration calibration; jnd_criterion criterion; ...;
+} jnd_judge_params;
+
+typedef struct {
+  jnd_judge_params judge;
+  int verify_views; double margin; int confirm_rounds; int min_size;
+  const int *sizes; int nsizes; const char *maps; int matrix;
+  void (*progress)(void *user, const char *line, int done, int total);
+  void *progress_user;
+  jnd_run_options run;
+  ...;
+} jnd_texres_params;
+void jnd_texres_defaults(jnd_texres_params *p);
+typedef struct { char *report; int passes; ...; } jnd_texres_result;
+jnd_status jnd_texres_run(const char *model, const jnd_texres_params *p, const char *out_dir,
+                          jnd_texres_result **out);
+void jnd_texres_result_free(jnd_texres_result *r);
+
+typedef enum { JND_PCA_RULE_AUTO, JND_PCA_RULE_RENDERED, JND_PCA_RULE_ENERGY, JND_PCA_RULE_PSNR,
+               JND_PCA_RULE_COMPONENTS } jnd_pca_rule;
+typedef struct { jnd_judge_params judge; int builtin_map_size; ...; } jnd_pca_render_params;
+typedef struct {
+  const char *const *maps; int nmaps; const char *channels; const char *weights;
+  const char *model; const char *material; const char *const *slots; int nslots;
+  jnd_pca_render_params render; jnd_pca_rule rule; double energy; double psnr_db; int max_scale;
+  int components; int scale[32]; int nscale; int bits[32]; int nbits; int block_compression;
+  void (*progress)(void *user, const char *line, int done, int total);
+  void *progress_user;
+  int write_maps;
+  jnd_run_options run;
+  ...;
+} jnd_pca_params;
+void jnd_pca_defaults(jnd_pca_params *p);
+typedef struct { char *report; ...; } jnd_pca_result;
+jnd_status jnd_pca_run(const char *model, const jnd_pca_params *p, const char *out_dir, jnd_pca_result **out);
+void jnd_pca_result_free(jnd_pca_result *r);
+
+typedef struct {
+  int folds; double beta; double threshold_p; double bias_min, bias_max; ...;
+} jnd_calibrate_params;
+typedef struct {
+  jnd_calibrate_params fit; jnd_judge_params judge; const char *pairs; const int *sizes; int nsizes;
+  const char *histogram;
+  void (*progress)(void *user, const char *line, int done, int total);
+  void *progress_user;
+  jnd_run_options run;
+  ...;
+} jnd_calibrate_run_params;
+void jnd_calibrate_run_defaults(jnd_calibrate_run_params *p);
+typedef struct { char *report; ...; } jnd_calibrate_result;
+jnd_status jnd_calibrate_run(const char *thresholds_csv, const jnd_calibrate_run_params *p, const char *out_path,
+                             jnd_calibrate_result **out);
+void jnd_calibrate_result_free(jnd_calibrate_result *r);
+
+/* the callbacks of a run, into Python (jnd/tasks.py) */
+extern "Python" void _jnd_progress(void *user, const char *line, int done, int total);
+extern "Python" void _jnd_warning(void *user, const char *message);
 """
 
 

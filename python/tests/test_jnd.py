@@ -175,12 +175,10 @@ def test_repeated_calls_do_not_leak():
     assert grown < 8 * 1024, f"resident memory grew by {grown} KiB over 200 calls"
 
 
-def test_the_gil_is_released_during_a_comparison():
-    ref = np.random.default_rng(3).random((1024, 1024, 3), dtype=np.float32)
-    test = np.clip(ref + 0.02, 0, 1)
-    m = jnd.Model(threads=1)
-    ticks = []
-    done = threading.Event()
+def ticks_during(call):
+    """How long call() took, and how many times another Python thread ran
+    (about once a millisecond while the GIL is free) meanwhile."""
+    ticks, done = [], threading.Event()
 
     def count():
         while not done.is_set():
@@ -191,13 +189,20 @@ def test_the_gil_is_released_during_a_comparison():
     t.start()
     time.sleep(0.01)
     t0 = time.perf_counter()
-    m.diff(ref, test)
+    call()
     t1 = time.perf_counter()
     done.set()
     t.join()
-    during = [x for x in ticks if t0 < x < t1]
+    return t1 - t0, len([x for x in ticks if t0 < x < t1])
+
+
+def test_the_gil_is_released_during_a_comparison():
+    ref = np.random.default_rng(3).random((1024, 1024, 3), dtype=np.float32)
+    test = np.clip(ref + 0.02, 0, 1)
+    m = jnd.Model(threads=1)
+    seconds, during = ticks_during(lambda: m.diff(ref, test))
     # a held GIL would let the other thread tick at most once or twice during the call
-    assert (t1 - t0) < 0.05 or len(during) >= 5, (t1 - t0, len(during))
+    assert seconds < 0.05 or during >= 5, (seconds, during)
 
 
 def test_one_model_serves_several_threads():
@@ -213,3 +218,177 @@ def test_one_model_serves_several_threads():
     for t in ts:
         t.join()
     assert got == [want] * 4
+
+
+# ------------------------------------------------------------- task runs --
+# Each task from Python gives the command's report, byte for byte, with the
+# same options (the report names the output folder, so both write to the
+# same path, one after the other).
+
+SMALL = ["--views", "2", "--size", "96x96", "--map-size", "128", "--samples", "1"]
+SMALL_KW = dict(views=2, size="96x96", map_size=128, samples=1)
+TINY = ["--views", "1", "--size", "64x64", "--map-size", "64", "--samples", "1"]   # the slower tasks
+TINY_KW = dict(views=1, size=(64, 64), map_size=64, samples=1)
+
+
+@pytest.fixture(scope="module")
+def renderer(tmp_path_factory):
+    d = tmp_path_factory.mktemp("probe")
+    out = subprocess.run([JND, "render", "builtin", "-o", str(d / "r"), "--views", "1", "--size", "16x16",
+                          "--map-size", "16", "--quiet"], capture_output=True, text=True, env=CLI_ENV)
+    if out.returncode != 0:
+        if "OpenGL" in out.stderr or "EGL" in out.stderr:
+            pytest.skip("no OpenGL renderer: " + out.stderr.strip())
+        pytest.fail("the renderer probe failed: " + out.stderr)
+
+
+def cli_task(task, args, out, report):
+    """The command's report text (--json FILE) and its folder's files."""
+    cmd = [JND, task, *args, "-o", str(out), "--json", str(report), "--quiet"]
+    run = subprocess.run(cmd, capture_output=True, text=True, env=CLI_ENV)
+    assert run.returncode in (0, 1), run.stderr
+    return report.read_text()
+
+
+def files_of(folder):
+    return sorted(str(p.relative_to(folder)) for p in folder.rglob("*"))
+
+
+def same_as_cli(tmp_path, task, cli_args, call):
+    out = tmp_path / "out"
+    want = cli_task(task, cli_args, out, tmp_path / "cli.json")
+    want_files = files_of(out) if out.is_dir() else None
+    want_file = out.read_text() if out.is_file() else None
+    out.rename(tmp_path / "cli")
+    got = call(out)
+    assert got.report_text == want
+    if want_files is not None:
+        assert files_of(out) == want_files
+        assert (out / f"{task}.json").read_text() == (tmp_path / "cli" / f"{task}.json").read_text()
+    if want_file is not None:
+        assert out.read_text() == want_file
+    return got
+
+
+def test_texres_from_python_is_the_commands_report(tmp_path, renderer):
+    args = ["builtin", *SMALL, "--confirm", "0", "--min-size", "16", "--p", "0.3", "--display", "phone"]
+    lines = []
+    r = same_as_cli(tmp_path, "texres", args,
+                    lambda out: jnd.texres("builtin", out, confirm=0, min_size=16, p=0.3, display="phone",
+                                           progress=lambda *a: lines.append(a), **SMALL_KW))
+    assert r.passes is True and r.report["command"] == "texres"
+    assert r.maps and all(m["chosen"][0] <= m["original"][0] for m in r.maps)
+    assert r.memory["after_bytes"] <= r.memory["before_bytes"]
+    # the callback: after each rendering (line None) and a summary per stage
+    assert any(line is None for line, _, _ in lines) and any(line for line, _, _ in lines)
+    assert all(isinstance(d, int) and isinstance(t, int) for _, d, t in lines)
+
+
+def test_texres_options_reach_the_library(tmp_path, renderer):
+    args = ["builtin", *SMALL, "--confirm", "0", "--sizes", "128,64", "--maps", "baseColor", "--ppd", "60",
+            "--peak", "400", "--elevation", "10,40", "--q", "0.5"]
+    same_as_cli(tmp_path, "texres", args,
+                lambda out: jnd.texres("builtin", out, confirm=0, sizes=[128, 64], maps=["baseColor"], ppd=60,
+                                       peak=400, elevation=(10, 40), q=0.5, **SMALL_KW))
+
+
+def test_pca_from_python_is_the_commands_report(tmp_path, renderer):
+    args = ["--model", "builtin", "--material", "builtin", *TINY, "--anisotropy", "1", "--no-bc"]
+    r = same_as_cli(tmp_path, "pca", args,
+                    lambda out: jnd.pca([], out, model="builtin", material="builtin", anisotropy=1, no_bc=True,
+                                        **TINY_KW))
+    assert r.passes is None and r.report["command"] == "pca"
+
+
+def shared_maps():
+    d = os.path.join(os.environ.get("JND_SHARED", "/nonexistent"), "data/texsets/damagedhelmet")
+    maps = [os.path.join(d, f) for f in ("Default_AO.jpg", "Default_albedo.jpg")]
+    if not all(os.path.isfile(m) for m in maps):
+        pytest.skip("needs the shared texture sets ($JND_SHARED/data/texsets)")
+    return maps
+
+
+def test_pca_of_map_files_is_the_commands_report(tmp_path):
+    maps = shared_maps()
+    args = [*maps, "--components", "3", "--bits", "16,8", "--resolutions", "1,2", "--weight", "albedo=2"]
+    same_as_cli(tmp_path, "pca", args,
+                lambda out: jnd.pca(maps, out, components=3, bits=[16, 8], resolutions="1,2", weight="albedo=2"))
+    # the command's checks of the options, with its messages
+    with pytest.raises(jnd.JndError, match="--bits and --resolutions go with --components"):
+        jnd.pca(maps, tmp_path / "x", psnr=40, resolutions=[1, 2])
+    with pytest.raises(jnd.JndError, match="--resolutions: 3 is not a power of two"):
+        jnd.pca(maps, tmp_path / "x", components=2, resolutions=[1, 3])
+    assert not (tmp_path / "x").exists()
+
+
+def test_calibrate_from_python_is_the_commands_file(tmp_path, renderer):
+    csv = tmp_path / "rates.csv"
+    csv.write_text("scene,model,map,resolution,rate\n"
+                   "albedo,builtin,builtin/baseColor,64,0.0\nalbedo,builtin,builtin/baseColor,32,0.5\n"
+                   "albedo,builtin,builtin/baseColor,16,0.95\nnormal,builtin,builtin/normal,64,0.0\n"
+                   "normal,builtin,builtin/normal,32,0.8\nnormal,builtin,builtin/normal,16,1.0\n")
+    args = [str(csv), "--folds", "2", "--p", "0.25", *TINY]
+    r = same_as_cli(tmp_path, "calibrate", args, lambda out: jnd.calibrate(csv, out, folds=2, p=0.25, **TINY_KW))
+    assert r.report["command"] == "calibrate"
+
+
+def test_bad_task_input_raises_jnds_message_and_writes_nothing(tmp_path):
+    out = tmp_path / "out"
+    missing = tmp_path / "nope.glb"
+    with pytest.raises(jnd.JndError) as e:
+        jnd.texres(missing, out, views=2)
+    want = subprocess.run([JND, "texres", str(missing), "-o", str(out), "--views", "2"], capture_output=True,
+                          text=True, env=CLI_ENV)
+    assert want.returncode == 2 and want.stderr.strip() == "jnd: " + str(e.value)
+    assert str(missing) in str(e.value)
+    assert not out.exists()
+    bad = tmp_path / "bad.gltf"
+    bad.write_text("{ not json")
+    with pytest.raises(jnd.JndError, match="bad.gltf"):
+        jnd.texres(bad, out)
+    assert not out.exists()
+    with pytest.raises(jnd.JndError, match="bad.csv"):
+        jnd.calibrate(tmp_path / "bad.csv", tmp_path / "cal.json")
+    assert not (tmp_path / "cal.json").exists()
+
+
+@pytest.mark.parametrize("kw,needle", [
+    (dict(views=0), "--views: 0 is outside [1, 4096]"),
+    (dict(views="2.5"), "--views: '2.5' is not an integer"),
+    (dict(margin="half"), "--margin: 'half' is not a number"),
+    (dict(size="96"), "--size: '96' is not WxH"),
+    (dict(p=2), "--p: 2 is outside"),
+    (dict(pool="max"), "--pool: 'max' is not a percentile"),
+    (dict(display="no-such-screen"), "no-such-screen"),
+    (dict(platform="x11"), "--platform: 'x11'"),
+    (dict(sizes="64,abc"), "--sizes:"),
+])
+def test_bad_options_raise_the_commands_message(tmp_path, kw, needle):
+    with pytest.raises(jnd.JndError) as e:
+        jnd.texres("builtin", tmp_path / "out", **kw)
+    assert needle in str(e.value)
+    assert not (tmp_path / "out").exists()
+
+
+def test_unknown_keywords_are_a_type_error(tmp_path):
+    with pytest.raises(TypeError, match="no_such_option"):
+        jnd.texres("builtin", tmp_path / "out", no_such_option=1)
+
+
+def test_an_exception_in_the_progress_callback_surfaces(tmp_path, renderer):
+    calls = []
+
+    def progress(line, done, total):
+        calls.append(done)
+        raise ValueError("from the callback")
+
+    with pytest.raises(ValueError, match="from the callback"):
+        jnd.texres("builtin", tmp_path / "out", confirm=0, progress=progress, **TINY_KW)
+    assert len(calls) == 1   # not called again after it raised
+
+
+def test_the_gil_is_released_during_a_task(tmp_path, renderer):
+    seconds, during = ticks_during(lambda: jnd.texres("builtin", tmp_path / "out", confirm=0, **SMALL_KW))
+    # no progress callback: a GIL held for the whole run (seconds) would let
+    # the other thread tick once or twice
+    assert during >= 50, (seconds, during)

@@ -1,0 +1,287 @@
+"""jnd in Blender: the smallest texture sizes nobody notices, for the selected object.
+
+A panel in the 3D viewport's sidebar (N, tab "jnd"): choose the screen and
+the criterion, "Run texres" exports the selected object with Blender's own
+glTF exporter (GLB, selection only) to a temporary folder and runs
+``jnd.texres`` on it through jnd's Python package (python/, built into
+build/python); the panel then shows P, the memory before and after and the
+chosen size of each image, and "Apply" scales the object's images to those
+sizes (Image.scale; the scaled pixels are packed into the .blend, the image
+files on disk are never written). LOD chains are not here yet: the library's
+lod run is still being moved into one call (docs/python.md).
+
+Where the package is: the add-on's preference "jnd Python folder", else
+the environment variable JND_PYTHONPATH (the folder that holds jnd/, e.g.
+build/python). Blender's Python must be the one the package was built for
+(Debian's blender 3.4 uses the system's python3.11).
+"""
+import json
+import os
+import sys
+import tempfile
+import threading
+
+import bpy
+from bpy.props import EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
+
+bl_info = {
+    "name": "jnd: texture sizes nobody notices",
+    "author": "jnd",
+    "version": (0, 1, 0),
+    "blender": (3, 4, 0),
+    "location": "View3D > Sidebar > jnd",
+    "description": "Runs jnd texres on the selected object and applies the chosen texture sizes",
+    "category": "Object",
+}
+
+PROP = "jnd_texres"   # the object's custom property: the last run's summary (JSON)
+MIB = 1048576.0
+
+
+def _jnd():
+    """The jnd package, from the add-on's preference or JND_PYTHONPATH."""
+    prefs = bpy.context.preferences.addons.get(__name__)
+    path = (prefs.preferences.python_path if prefs else "") or os.environ.get("JND_PYTHONPATH", "")
+    if path and path not in sys.path:
+        sys.path.insert(0, bpy.path.abspath(path))
+    import jnd
+    return jnd
+
+
+def _decimal(x):
+    """A FloatProperty's value (single precision: 0.2 is 0.20000000298) as
+    the decimal the user typed, so that the report says p 0.2 as the command's."""
+    return float(f"{x:.6g}")
+
+
+_presets = []   # Blender needs the enum's strings kept alive
+
+
+def _display_items(self, context):
+    if not _presets:
+        try:
+            names = _jnd().display_presets()
+        except ImportError:
+            names = ["standard-fhd"]
+        _presets.extend((n, n, f"jnd's display preset {n}") for n in names)
+    return _presets
+
+
+class JndPreferences(bpy.types.AddonPreferences):
+    bl_idname = __name__
+    python_path: StringProperty(name="jnd Python folder", subtype="DIR_PATH",
+                                description="The folder that holds the jnd package (build/python); "
+                                            "empty: $JND_PYTHONPATH")
+
+    def draw(self, context):
+        self.layout.prop(self, "python_path")
+
+
+class JndSettings(bpy.types.PropertyGroup):
+    display: EnumProperty(name="Screen", items=_display_items, description="The display the asset is seen on")
+    p: FloatProperty(name="P", default=0.2, min=1e-6, max=1 - 1e-6,
+                     description="A view is above when its pooled probability of detection exceeds P")
+    q: FloatProperty(name="Q", default=0.1, min=0, max=0.999,
+                     description="At most this fraction of the views may be above P")
+    views: IntProperty(name="Views", default=8, min=1, max=4096, description="Views sampled around the object")
+    view_size: IntProperty(name="View size", default=384, min=16, max=16384,
+                           description="Side of each rendered view, pixels")
+    confirm: IntProperty(name="Confirm rounds", default=2, min=0, max=16,
+                         description="Fresh sets of views the choice must then hold on")
+    min_size: IntProperty(name="Min size", default=32, min=1, max=32768,
+                          description="Floor of the candidate sizes, pixels")
+
+
+def _upstream_image(socket, seen=None):
+    """The image of the first Image Texture node upstream of socket."""
+    seen = seen if seen is not None else set()
+    for link in socket.links:
+        node = link.from_node
+        if node in seen:
+            continue
+        seen.add(node)
+        if node.type == "TEX_IMAGE" and node.image:
+            return node.image
+        for s in node.inputs:
+            im = _upstream_image(s, seen)
+            if im:
+                return im
+    return None
+
+
+# the glTF slot of a jnd map name -> the Principled BSDF inputs Blender's
+# exporter reads it from (the first linked one gives the image)
+SLOT_INPUTS = {
+    "baseColor": ("Base Color",),
+    "metallicRoughness": ("Roughness", "Metallic"),
+    "normal": ("Normal",),
+    "emissive": ("Emission",),
+}
+
+
+def _slot_image(material, slot):
+    """The Blender image feeding a material's glTF slot, or None."""
+    if not material or not material.use_nodes:
+        return None
+    nodes = material.node_tree.nodes
+    if slot == "occlusion":   # the exporter's "glTF Settings"/"glTF Material Output" group
+        for n in nodes:
+            if n.type == "GROUP" and "Occlusion" in n.inputs:
+                return _upstream_image(n.inputs["Occlusion"])
+        return None
+    for n in nodes:
+        if n.type == "BSDF_PRINCIPLED":
+            for name in SLOT_INPUTS.get(slot, ()):
+                if name in n.inputs:
+                    im = _upstream_image(n.inputs[name])
+                    if im:
+                        return im
+    return None
+
+
+def _summary(obj, result):
+    """What the panel shows and Apply needs, from jnd's report: the
+    criterion, memory (RGBA8 with mips) and per image the chosen size with
+    the Blender image it is."""
+    mats = {m.name: m for m in (s.material for s in obj.material_slots) if m}
+    images = []
+    for im in result.memory["images"]:
+        first = next(m for m in result.maps if m["name"] == im["maps"][0])
+        bl = _slot_image(mats.get(first["material"]), first["slot"])
+        images.append({"maps": im["maps"], "original": im["original"], "chosen": im["chosen"],
+                       "image": bl.name if bl else None})
+    crit = result.views["criterion"]
+    return {"p": crit["statistic"], "p_worst": max(result.views["p"]), "threshold": crit["p"], "q": crit["q"],
+            "passes": bool(result.passes), "before_mib": result.memory["before_bytes"] / MIB,
+            "after_mib": result.memory["after_bytes"] / MIB, "images": images}
+
+
+class JND_OT_texres(bpy.types.Operator):
+    """Exports the selected object as GLB and runs jnd texres on it"""
+    bl_idname = "jnd.texres"
+    bl_label = "Run texres"
+    bl_options = {"REGISTER"}
+
+    @classmethod
+    def poll(cls, context):
+        return context.active_object is not None and context.active_object.type == "MESH"
+
+    def execute(self, context):
+        obj, s = context.active_object, context.scene.jnd
+        try:
+            jnd = _jnd()
+        except ImportError as e:
+            self.report({"ERROR"}, f"jnd: the Python package is not found ({e}); set the add-on's "
+                                   "'jnd Python folder' or JND_PYTHONPATH")
+            return {"CANCELLED"}
+        for o in context.selected_objects:
+            if o is not obj:
+                o.select_set(False)
+        obj.select_set(True)
+        wm = context.window_manager
+        main = threading.main_thread()
+
+        def progress(line, done, total):
+            if line:
+                print("jnd:", line)
+            if threading.current_thread() is main and total > 0:
+                wm.progress_update(min(done, total))
+
+        with tempfile.TemporaryDirectory(prefix="jnd_") as tmp:
+            glb = os.path.join(tmp, "object.glb")
+            bpy.ops.export_scene.gltf(filepath=glb, export_format="GLB", use_selection=True)
+            wm.progress_begin(0, 100)
+            try:
+                r = jnd.texres(glb, os.path.join(tmp, "out"), display=s.display, p=_decimal(s.p),
+                               q=_decimal(s.q), views=s.views, size=(s.view_size, s.view_size),
+                               confirm=s.confirm, min_size=s.min_size, progress=progress)
+            except jnd.JndError as e:
+                self.report({"ERROR"}, f"jnd: {e}")
+                return {"CANCELLED"}
+            finally:
+                wm.progress_end()
+        summary = _summary(obj, r)
+        obj[PROP] = json.dumps(summary)
+        self.report({"INFO"}, f"jnd: P {summary['p']:.3f}, {summary['before_mib']:.2f} MiB -> "
+                              f"{summary['after_mib']:.2f} MiB" + ("" if summary["passes"] else " (fails)"))
+        return {"FINISHED"}
+
+
+class JND_OT_apply(bpy.types.Operator):
+    """Scales the object's images to the sizes jnd chose (packed into the .blend)"""
+    bl_idname = "jnd.apply"
+    bl_label = "Apply"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        return context.active_object is not None and PROP in context.active_object
+
+    def execute(self, context):
+        summary = json.loads(context.active_object[PROP])
+        want = {}
+        for im in summary["images"]:   # one Blender image may hold several of jnd's: the largest wins
+            if im["image"]:
+                w, h = want.get(im["image"], (0, 0))
+                want[im["image"]] = (max(w, im["chosen"][0]), max(h, im["chosen"][1]))
+        n = 0
+        for name, (w, h) in want.items():
+            image = bpy.data.images.get(name)
+            if image is None or tuple(image.size) == (w, h):
+                continue
+            image.scale(w, h)
+            image.pack()   # keep the scaled pixels in the .blend; the file on disk is untouched
+            n += 1
+        self.report({"INFO"}, f"jnd: {n} image{'s' if n != 1 else ''} scaled")
+        return {"FINISHED"}
+
+
+class JND_PT_panel(bpy.types.Panel):
+    bl_label = "jnd"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "jnd"
+
+    def draw(self, context):
+        lay, s, obj = self.layout, context.scene.jnd, context.active_object
+        col = lay.column()
+        col.prop(s, "display")
+        row = col.row(align=True)
+        row.prop(s, "p")
+        row.prop(s, "q")
+        col.prop(s, "views")
+        col.prop(s, "view_size")
+        col.prop(s, "confirm")
+        col.prop(s, "min_size")
+        col.operator(JND_OT_texres.bl_idname, icon="TEXTURE")
+        if obj is None or PROP not in obj:
+            return
+        r = json.loads(obj[PROP])
+        box = lay.box()
+        box.label(text=f"P {r['p']:.3f} (worst view {r['p_worst']:.3f}; P<={r['threshold']:g}, Q {r['q']:g})"
+                       + ("" if r["passes"] else "  FAILS"))
+        box.label(text=f"Memory {r['before_mib']:.2f} MiB -> {r['after_mib']:.2f} MiB (RGBA8 + mips)")
+        for im in r["images"]:
+            box.label(text=f"{im['image'] or ', '.join(im['maps'])}: {im['original'][0]}x{im['original'][1]}"
+                           f" -> {im['chosen'][0]}x{im['chosen'][1]}")
+        box.operator(JND_OT_apply.bl_idname, icon="CHECKMARK")
+        lay.label(text="LOD: not yet (the library's lod run is coming)")
+
+
+CLASSES = (JndPreferences, JndSettings, JND_OT_texres, JND_OT_apply, JND_PT_panel)
+
+
+def register():
+    for c in CLASSES:
+        bpy.utils.register_class(c)
+    bpy.types.Scene.jnd = PointerProperty(type=JndSettings)
+
+
+def unregister():
+    del bpy.types.Scene.jnd
+    for c in reversed(CLASSES):
+        bpy.utils.unregister_class(c)
+
+
+if __name__ == "__main__":
+    register()

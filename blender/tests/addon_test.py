@@ -1,0 +1,57 @@
+"""Blender's side of tests/e2e/blender_addon.sh, run headless:
+
+    blender -b --factory-startup -noaudio --python-exit-code 1 --python addon_test.py -- run DIR
+        builds a plane with a 256x256 generated image on its material, exports
+        it as DIR/plane.glb (the exporter's options the add-on uses), installs
+        and enables the add-on (blender/jnd_blender.py), runs its operator
+        with small settings, applies, saves DIR/scene.blend and writes the
+        panel's summary to DIR/summary.json
+    blender -b DIR/scene.blend --python-exit-code 1 --python addon_test.py -- check DIR
+        writes DIR/sizes.json: each image's name, size and whether it is packed
+"""
+import json
+import os
+import sys
+
+import bpy
+
+mode, out = sys.argv[sys.argv.index("--") + 1:][:2]
+here = os.path.dirname(os.path.abspath(__file__))
+
+if mode == "run":
+    bpy.ops.object.select_all(action="SELECT")
+    bpy.ops.object.delete()
+    bpy.ops.mesh.primitive_plane_add(size=2)
+    plane = bpy.context.active_object
+    image = bpy.data.images.new("jnd_grid", 256, 256)
+    image.generated_type = "COLOR_GRID"
+    mat = bpy.data.materials.new("grid")
+    mat.use_nodes = True
+    tex = mat.node_tree.nodes.new("ShaderNodeTexImage")
+    tex.image = image
+    bsdf = mat.node_tree.nodes["Principled BSDF"]
+    mat.node_tree.links.new(tex.outputs["Color"], bsdf.inputs["Base Color"])
+    plane.data.materials.append(mat)
+    plane.select_set(True)
+    bpy.context.view_layer.objects.active = plane
+    # the same export the operator makes, for the command line to judge
+    bpy.ops.export_scene.gltf(filepath=os.path.join(out, "plane.glb"), export_format="GLB", use_selection=True)
+
+    bpy.ops.preferences.addon_install(filepath=os.path.join(os.path.dirname(here), "jnd_blender.py"))
+    bpy.ops.preferences.addon_enable(module="jnd_blender")
+    assert hasattr(bpy.types, "JND_PT_panel"), "the panel is registered"
+    s = bpy.context.scene.jnd
+    s.display = os.environ.get("JND_TEST_DISPLAY", "standard-fhd")
+    s.views, s.view_size, s.confirm = 2, 96, 0
+    assert bpy.ops.jnd.texres() == {"FINISHED"}
+    summary = json.loads(plane["jnd_texres"])
+    assert bpy.ops.jnd.apply() == {"FINISHED"}
+    with open(os.path.join(out, "summary.json"), "w") as f:
+        json.dump(summary, f)
+    bpy.ops.wm.save_as_mainfile(filepath=os.path.join(out, "scene.blend"))
+elif mode == "check":
+    sizes = {im.name: {"size": list(im.size), "packed": im.packed_file is not None} for im in bpy.data.images}
+    with open(os.path.join(out, "sizes.json"), "w") as f:
+        json.dump(sizes, f)
+else:
+    sys.exit(f"addon_test.py: unknown mode {mode}")

@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# The Blender add-on (blender/jnd_blender.py), headless: installed and enabled
+# in Debian's blender, its operator runs jnd texres (through the Python
+# package) on a plane built in the test, Apply scales the plane's 256x256
+# image, and the saved .blend holds the image at the size the command line
+# chooses for the same exported GLB with the same options.
+. "$(dirname "$0")/lib.bash"
+build=$(dirname "$JND")
+command -v blender >/dev/null || skip "blender is not installed (scripts/install-deps.sh installs Debian's)"
+[ -f "$build/python/jnd/.built" ] || skip "the Python package was not built (python3-cffi, python3-numpy)"
+need_renderer
+script=$JND_SRC/blender/tests/addon_test.py
+mkdir -p "$T/home"
+env=(HOME="$T/home" JND_PYTHONPATH="$build/python" PYTHONDONTWRITEBYTECODE=1)
+if [ -n "${JND_SANITIZED:-}" ]; then
+  # the sanitized library in an uninstrumented Blender: the runtime preloaded,
+  # leaks left to the C suite (as tests/e2e/python.sh)
+  env+=(LD_PRELOAD="$(clang -print-file-name=libclang_rt.asan-x86_64.so)"
+        ASAN_OPTIONS="detect_leaks=0:abort_on_error=1:intercept_tls_get_addr=0")
+fi
+run_blender() {
+  env "${env[@]}" blender -b -noaudio --python-exit-code 1 "$@" >"$T/blender.log" 2>&1
+}
+if run_blender --factory-startup --python "$script" -- run "$T"; then
+  ok "the add-on installs, its operator runs and applies, the scene is saved"
+else
+  tail -30 "$T/blender.log"
+  bad "the add-on's run in blender"
+  finish
+fi
+expect_exit 0 "jnd texres on the same export with the same options" \
+  "$JND" texres "$T/plane.glb" -o "$T/cli" --views 2 --size 96x96 --confirm 0 --quiet
+if run_blender "$T/scene.blend" --python "$script" -- check "$T"; then
+  ok "the saved .blend opens"
+else
+  tail -30 "$T/blender.log"
+  bad "reading the saved .blend"
+  finish
+fi
+verdict=$(python3 - "$T" <<'PY'
+import json, sys
+t = sys.argv[1]
+cli = json.load(open(f"{t}/cli/texres.json"))["result"]
+panel = json.load(open(f"{t}/summary.json"))
+sizes = json.load(open(f"{t}/sizes.json"))
+chosen = cli["memory"]["images"][0]["chosen"]
+problems = []
+if [im["chosen"] for im in panel["images"]] != [chosen]:
+    problems.append(f"the panel's sizes {panel['images']} are not the command's {chosen}")
+if panel["images"][0]["image"] != "jnd_grid":
+    problems.append(f"the chosen size is not tied to the plane's image: {panel['images']}")
+got = sizes.get("jnd_grid", {})
+if got.get("size") != chosen:
+    problems.append(f"the saved image is {got.get('size')}, the command chose {chosen}")
+if not max(chosen) < 256:
+    problems.append(f"the command kept {chosen}: nothing to apply")
+if not got.get("packed"):
+    problems.append("the scaled image is not packed into the .blend")
+print("; ".join(problems) or f"ok {chosen[0]}x{chosen[1]}")
+PY
+)
+case $verdict in
+  ok*) ok "the saved image is the command's choice, smaller than 256x256 (${verdict#ok })" ;;
+  *) bad "$verdict" ;;
+esac
+finish
