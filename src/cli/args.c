@@ -423,10 +423,6 @@ int cli_views_only(const cli_views *v, unsigned allowed, const char *cmd, const 
   return 0;
 }
 
-jnd_status cli_views_make(cli_views *v, const jnd_scene *scene, jnd_view **out, int *count) {
-  return jnd_view_set_make(scene, &v->set, out, count);
-}
-
 cJSON *cli_views_json(const cli_views *v) {
   const jnd_view_sampling *s = &v->set.sampling;
   cJSON *o = cJSON_CreateObject();
@@ -470,23 +466,6 @@ int cli_criterion_opt(cli_args *a, jnd_criterion *c) {
     return 0;
   }
   return 1;
-}
-
-cJSON *cli_criterion_json(const jnd_criterion *c, const jnd_criterion_result *r) {
-  cJSON *o = cJSON_CreateObject();
-  cJSON_AddNumberToObject(o, "p", c->p);
-  cJSON_AddNumberToObject(o, "q", c->q);
-  if (r) {
-    cJSON_AddNumberToObject(o, "views", r->views);
-    cJSON_AddNumberToObject(o, "above", r->above);
-    cJSON_AddNumberToObject(o, "allowed", r->allowed);
-    cJSON_AddNumberToObject(o, "statistic", r->statistic);
-    cJSON_AddNumberToObject(o, "fraction_above", r->fraction_above);
-    cJSON_AddNumberToObject(o, "fraction_upper", r->fraction_upper);
-    cJSON_AddNumberToObject(o, "confidence", c->confidence);
-    cJSON_AddBoolToObject(o, "passes", r->pass);
-  }
-  return o;
 }
 
 int cli_calibration_opt(cli_args *a, cli_calibration *c) {

@@ -112,7 +112,7 @@ enum {
 };
 typedef struct {
   jnd_view_set set;
-  const char *cameras;     /* --cameras FILE (read by cli_views_make) */
+  const char *cameras;     /* --cameras FILE (also set.cameras_path: jnd_view_set_make reads it) */
   int map_size;            /* --map-size: side of the built-in asset's maps */
   unsigned given;          /* CLI_* bits of the options given */
 } cli_views;
@@ -125,9 +125,6 @@ int cli_views_opt(cli_args *a, cli_views *v);
  * no use for: one line "jnd: CMD: --opt does not apply (why)", EXIT_BAD;
  * 0 when every option given is in `allowed`. */
 int cli_views_only(const cli_views *v, unsigned allowed, const char *cmd, const char *why);
-/* The views for scene: the cameras file read (jnd_views_read) or the sampled
- * views. *out is allocated; the count goes to v->set (explicit cameras). */
-jnd_status cli_views_make(cli_views *v, const jnd_scene *scene, jnd_view **out, int *count);
 extern const char *const cli_views_help;
 
 /* --p P and --q Q: the view criterion (000 §9) */
@@ -153,7 +150,6 @@ cJSON *cli_report_new(const char *command);
 cJSON *cli_report_section(cJSON *report, const char *name);
 cJSON *cli_display_json(const jnd_display *d);
 cJSON *cli_views_json(const cli_views *v);
-cJSON *cli_criterion_json(const jnd_criterion *c, const jnd_criterion_result *r);
 /* Writes the report to path ("-" = stdout) atomically; returns EXIT_OK or EXIT_BAD. */
 int cli_report_write(cJSON *report, const char *path);
 /* A run's report text (jnd_<task>_run's result) to standard output when path
