@@ -17,6 +17,10 @@ asset="$(dirname "$JND")/bench-assets/parts6/parts6.gltf"
 if [ ! -f "$asset" ]; then
   python3 "$here/make_asset.py" "$asset" --parts 6 --size 512 || { echo "   (cannot build the 6-material asset)"; exit 1; }
 fi
+real="$(dirname "$JND")/bench-assets/real6/real6.gltf"
+if [ ! -f "$real" ]; then
+  python3 "$here/make_asset.py" "$real" --parts 6 --size 512 --shape real || { echo "   (cannot build the real-shaped asset)"; exit 1; }
+fi
 
 # measure NAME MODEL: RUNS runs, the median's figures
 measure() {
@@ -59,6 +63,7 @@ PY
 # wall times mean little on a shared machine: say what else was running
 echo "   $(nproc) cores; load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
 measure "6-material glTF (bench/make_asset.py, 24 maps of 512x512)" "$asset"
+measure "real-shaped glTF (make_asset.py --shape real: 26 slots, 17 images of 512x512; target 60 s)" "$real"
 echo "   load average after: $(cut -d' ' -f1-3 /proc/loadavg)"
 ASSETS=$(webxr_assets_fetch && webxr_assets) || { echo "   webxr assets skipped: @webxr-input-profiles/assets not available (npm/network)"; exit 0; }
 for m in ${BENCH_TEXRES_MODELS:-pico-4u/left.glb oculus-touch/left.glb generic-trigger-squeeze-thumbstick/left.glb}; do

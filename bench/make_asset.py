@@ -9,7 +9,15 @@ period of 2 << (k % 4) pixels, from 2-pixel speckle (visible at any lower
 resolution) to 16-pixel (can shrink a lot); panel grooves and a low-frequency
 paint mix are common to all. Deterministic in its arguments.
 
-usage: make_asset.py OUT.gltf [--parts 6] [--size 512] [--seed 1]
+--shape real makes it look like a shipped asset instead (issue 29 item 2):
+each material's occlusion, roughness and metal are packed into one
+occlusion-roughness-metal image that both slots sample, materials k and
+k + parts/2 share one normal map (a tiling detail normal), one material in
+three is emissive with an image of its own, and every third part is thin: a
+plate 1/20 as thick as it is wide, or a rod. With 6 parts: 6 materials, 26 map
+slots, 17 unique images.
+
+usage: make_asset.py OUT.gltf [--parts 6] [--size 512] [--seed 1] [--shape grid|real]
 """
 import argparse
 import json
@@ -44,7 +52,8 @@ def periodic(rng, n, waves, lo, hi):
     return [sum(a * math.sin(2 * math.pi * c * x / n + ph) for c, ph, a in parts) / total for x in range(n)]
 
 
-def make_maps(folder, k, S, seed):
+def make_maps(folder, k, S, seed, packed=()):
+    """packed: the slots of --shape real that part k writes (empty: --shape grid)"""
     rng = random.Random(seed * 1000 + k)
     period = 2 << (k % 4)                     # finest detail: 2, 4, 8, 16 pixels
     tiles = 4 + k % 3                         # panels per side
@@ -94,6 +103,19 @@ def make_maps(folder, k, S, seed):
             r[3 * x + 2] = clamp8(0.5 + 0.5 / l)
         nrm_rows.append(bytes(r))
     names = {}
+    if packed:
+        # occlusion in R, roughness in G, metal in B: one image for two slots
+        orm_rows = [bytes(v for x in range(S) for v in (o[x], m[3 * x + 1], m[3 * x + 2]))
+                    for o, m in zip(occ_rows, mr_rows)]
+        emissive_rows = [bytes(v for x in range(S) for v in (b[3 * x] if b[3 * x + 2] > 150 else 0, 0, 0))
+                         for b in base_rows]
+        for slot, ch, rows in (("baseColor", 3, base_rows), ("orm", 3, orm_rows), ("normal", 3, nrm_rows),
+                               ("emissive", 3, emissive_rows)):
+            names[slot] = "part%d_%s.png" % (k, slot)
+            if slot not in packed:
+                continue
+            png(os.path.join(folder, names[slot]), S, S, ch, rows)
+        return names
     for slot, ch, rows in (("baseColor", 3, base_rows), ("metallicRoughness", 3, mr_rows), ("normal", 3, nrm_rows),
                            ("occlusion", 1, occ_rows)):
         names[slot] = "part%d_%s.png" % (k, slot)
@@ -138,13 +160,45 @@ def sphere():
     return pos, nrm, uv, idx
 
 
+def real_material(k, parts, names, images, textures):
+    """material k of --shape real: images are added once, by file name"""
+    def texture(uri):
+        for i, im in enumerate(images):
+            if im["uri"] == uri:
+                return next(t for t, tx in enumerate(textures) if tx["source"] == i)
+        images.append({"uri": uri})
+        textures.append({"source": len(images) - 1})
+        return len(textures) - 1
+    half = max(1, parts // 2)
+    normal = "part%d_normal.png" % (k % half)   # materials k and k + parts/2 share it
+    orm = texture(names["orm"])
+    mat = {"name": "part%d" % k,
+           "pbrMetallicRoughness": {"baseColorTexture": {"index": texture(names["baseColor"])},
+                                    "metallicRoughnessTexture": {"index": orm}},
+           "normalTexture": {"index": texture(normal)}, "occlusionTexture": {"index": orm}}
+    if k % 3 == 0:
+        mat["emissiveTexture"] = {"index": texture(names["emissive"])}
+        mat["emissiveFactor"] = [1.0, 1.0, 1.0]
+    return mat
+
+
+def thin(k):
+    """a plate 1/20 as thick as wide (k // 3 even) or a rod along x (odd)"""
+    pos, nrm, uv, idx = box()
+    sy, sz = (0.05, 1.0) if (k // 3) % 2 == 0 else (0.08, 0.08)
+    pos = [[p[0], p[1] * sy, p[2] * sz] for p in pos]
+    return pos, nrm, uv, idx
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("out")
     ap.add_argument("--parts", type=int, default=6)
     ap.add_argument("--size", type=int, default=512)
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--shape", choices=("grid", "real"), default="grid")
     a = ap.parse_args()
+    real = a.shape == "real"
     folder = os.path.dirname(os.path.abspath(a.out))
     os.makedirs(folder, exist_ok=True)
     stem = os.path.splitext(os.path.basename(a.out))[0]
@@ -166,7 +220,10 @@ def main():
         return len(accessors) - 1
 
     for k in range(a.parts):
-        pos, nrm, uv, idx = box() if k % 2 == 0 else sphere()
+        if real and k % 3 == 2:
+            pos, nrm, uv, idx = thin(k)
+        else:
+            pos, nrm, uv, idx = box() if k % 2 == 0 else sphere()
         ox, oz = (k % cols - 0.5 * (cols - 1)) * 2.6, (k // cols - 0.5 * (rows - 1)) * 2.6
         pos = [[p[0] + ox, p[1], p[2] + oz] for p in pos]
         flat = [c for p in pos for c in p]
@@ -176,7 +233,15 @@ def main():
         an = add([c for n in nrm for c in n], "f", len(nrm), 34962, 5126, "VEC3")
         at = add([c for t in uv for c in t], "f", len(uv), 34962, 5126, "VEC2")
         ai = add(idx, "I", len(idx), 34963, 5125, "SCALAR")
-        names = make_maps(folder, k, a.size, a.seed)
+        written = ("baseColor", "orm") + (("normal",) if k < max(1, a.parts // 2) else ()) + \
+            (("emissive",) if k % 3 == 0 else ())
+        names = make_maps(folder, k, a.size, a.seed, packed=written if real else ())
+        if real:
+            materials.append(real_material(k, a.parts, names, images, textures))
+            meshes.append({"primitives": [{"attributes": {"POSITION": ap_, "NORMAL": an, "TEXCOORD_0": at},
+                                           "indices": ai, "material": k}]})
+            nodes.append({"mesh": k})
+            continue
         tex = {}
         for slot in ("baseColor", "metallicRoughness", "normal", "occlusion"):
             images.append({"uri": names[slot]})
