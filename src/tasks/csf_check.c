@@ -183,15 +183,13 @@ static jnd_status context_model(jnd_csf_context *ctx, const jnd_model_params *p,
   return JND_OK;
 }
 
-jnd_status jnd_csf_threshold(jnd_csf_context *cx, const jnd_csf_stimulus *st, double *sensitivity,
-                             jnd_csf_detail *detail) {
-  const jnd_model_params *base = &cx->base;
-  *sensitivity = NAN;
-  if (!(st->luminance > 0)) return jnd_fail(JND_ERR_ARG, "stimulus: luminance must be positive");
-  if (st->kind == JND_STIM_GABOR && !(st->ge_sigma > 0)) return jnd_fail(JND_ERR_ARG, "stimulus: Gabor needs ge_sigma > 0");
-  if (st->kind != JND_STIM_GABOR && !(st->area > 0)) return jnd_fail(JND_ERR_ARG, "stimulus: needs area > 0");
-  if (!(st->s_frequency >= 0) || st->s_frequency > 64)
-    return jnd_fail(JND_ERR_ARG, "stimulus: spatial frequency %g cpd is outside 0..64", st->s_frequency);
+/* The stimulus as the model sees it, in XYZ (cd/m²): *bg the uniform
+ * background at the data's luminance (Y), *stim the modulation at unit RMS
+ * cone contrast (the profile of synthesise in the colour direction), on a
+ * side × side grid at *ppd pixels per degree. */
+jnd_status csf_stimulus_images(const jnd_csf_stimulus *st, double *ppd_out, jnd_image *bg, jnd_image *stim) {
+  memset(bg, 0, sizeof *bg);
+  memset(stim, 0, sizeof *stim);
   double ppd, half, taper;
   jnd_csf_sampling(st, &ppd, &half, &taper);
   double crop = fmin(half + margin_deg(st, half), MAX_SIDE_PX / (2 * ppd));
@@ -216,9 +214,40 @@ jnd_status jnd_csf_threshold(jnd_csf_context *cx, const jnd_csf_stimulus *st, do
     bxyz[i] *= k;
     dxyz[i] *= k;
   }
+  jnd_status s;
+  if ((s = jnd_image_alloc(bg, side, side, 3)) != JND_OK || (s = jnd_image_alloc(stim, side, side, 3)) != JND_OK) {
+    jnd_image_free(bg);
+    return s;
+  }
+  /* the profile into the stimulus's first plane, then scaled into all three */
+  synthesise(st, side, ppd, half, taper, crop, jnd_image_plane(stim, 0));
+  for (int c = 2; c >= 0; c--) {
+    float *bp = jnd_image_plane(bg, c), *sp = jnd_image_plane(stim, c);
+    const float *g = jnd_image_plane(stim, 0), b = (float)bxyz[c], d = (float)dxyz[c];
+    for (size_t i = 0; i < (size_t)side * side; i++) {
+      bp[i] = b;
+      sp[i] = d * g[i];
+    }
+  }
+  *ppd_out = ppd;
+  return JND_OK;
+}
 
+jnd_status jnd_csf_threshold(jnd_csf_context *cx, const jnd_csf_stimulus *st, double *sensitivity,
+                             jnd_csf_detail *detail) {
+  const jnd_model_params *base = &cx->base;
+  *sensitivity = NAN;
+  if (!(st->luminance > 0)) return jnd_fail(JND_ERR_ARG, "stimulus: luminance must be positive");
+  if (st->kind == JND_STIM_GABOR && !(st->ge_sigma > 0)) return jnd_fail(JND_ERR_ARG, "stimulus: Gabor needs ge_sigma > 0");
+  if (st->kind != JND_STIM_GABOR && !(st->area > 0)) return jnd_fail(JND_ERR_ARG, "stimulus: needs area > 0");
+  if (!(st->s_frequency >= 0) || st->s_frequency > 64)
+    return jnd_fail(JND_ERR_ARG, "stimulus: spatial frequency %g cpd is outside 0..64", st->s_frequency);
+  double ppd;
   stim_ctx ctx;
   memset(&ctx, 0, sizeof ctx);
+  jnd_status s = csf_stimulus_images(st, &ppd, &ctx.bg, &ctx.stim);
+  if (s != JND_OK) return s;
+  int side = ctx.bg.w;
   jnd_model_params p = *base;
   p.display.ppd = ppd;
   p.threads = base->threads > 0 ? base->threads : 1;
@@ -229,20 +258,7 @@ jnd_status jnd_csf_threshold(jnd_csf_context *cx, const jnd_csf_stimulus *st, do
   p.has_gaze = 1;
   p.gaze_x = side / 2.0 - 0.5 - dist_px * tan(st->eccentricity * M_PI / 180.0);
   p.gaze_y = side / 2.0 - 0.5;
-  jnd_status s = context_model(cx, &p, &ctx.model);
-  if (s != JND_OK) return s;
-  if ((s = jnd_image_alloc(&ctx.bg, side, side, 3)) != JND_OK || (s = jnd_image_alloc(&ctx.stim, side, side, 3)) != JND_OK)
-    goto done;
-  /* the profile into the stimulus's first plane, then scaled into all three */
-  synthesise(st, side, ppd, half, taper, crop, jnd_image_plane(&ctx.stim, 0));
-  for (int c = 2; c >= 0; c--) {
-    float *bp = jnd_image_plane(&ctx.bg, c), *sp = jnd_image_plane(&ctx.stim, c);
-    const float *g = jnd_image_plane(&ctx.stim, 0), b = (float)bxyz[c], d = (float)dxyz[c];
-    for (size_t i = 0; i < (size_t)side * side; i++) {
-      bp[i] = b;
-      sp[i] = d * g[i];
-    }
-  }
+  if ((s = context_model(cx, &p, &ctx.model)) != JND_OK) goto done;
   /* a temporal modulation (flicker, counterphase or drift) at t_frequency
    * under fixation: the model's temporal-frequency sensitivity */
   if (st->t_frequency > 0) ctx.in.temporal_hz = st->t_frequency;

@@ -343,6 +343,11 @@ double poi_ep_sum_codes(const uint8_t *ref, int w, int h, const uint8_t *test, i
 
 double poi_mp_sum(const float *y1, const float *y2, int w, int h, double ppd) { return mp_sum(y1, y2, w, h, ppd); }
 
+jnd_status poi_luma_codes(const uint8_t *px, int w, int h, int c, float **out) {
+  codes in = {w, h, c, (uint8_t *)px};
+  return luma_of(&in, out);
+}
+
 /* 003 §3: the PoI is the knee of the curve against the level of detail,
  * log2 of the triangles (or texels) — 003's wavelet levels are each a
  * factor 4 — farthest below the chord; levels within 2% of the farthest are

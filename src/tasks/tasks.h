@@ -80,6 +80,10 @@ double poi_ep_sum_codes(const uint8_t *ref, int w, int h, const uint8_t *test, i
  * display of ppd pixels per degree. */
 double poi_mp_sum(const float *y1, const float *y2, int w, int h, double ppd);
 
+/* The luma plane M_p weighs (Rec. 709 weights over 256) of w × h codes in c
+ * planes; *out is allocated. */
+jnd_status poi_luma_codes(const uint8_t *px, int w, int h, int c, float **out);
+
 /* ---- lod.c (end) ---- */
 
 /* ---- lod_switch.c: the perceptual choice and switch distances (begin) ---- */
@@ -213,6 +217,11 @@ jnd_status jnd_csf_data_from_tables(const char *data, jnd_csv *table, const char
  * cent it adds to the local mean); the fit's fast surrogate. 0: searched to
  * 0.02 dB (the default, and every reported figure). */
 void jnd_csf_context_set_linear(jnd_csf_context *ctx, int linear);
+
+/* The images a threshold search shows the model: *bg the uniform background
+ * at the stimulus's luminance (XYZ, cd/m²), *stim the modulation at unit RMS
+ * cone contrast (XYZ), both side × side at *ppd (jnd_csf_sampling's). */
+jnd_status csf_stimulus_images(const jnd_csf_stimulus *st, double *ppd, jnd_image *bg, jnd_image *stim);
 
 /* ---- csf_check.c (end) ---- */
 

@@ -133,6 +133,20 @@ for n in ("pareto_320x240.png", "pareto_800x600.png"):
     assert open(sys.argv[1] + "/" + n, "rb").read(8) == b"\x89PNG\r\n\x1a\n", n
 PY
 
+# a texture covers `coverage` of the screen's height whatever its width: on a
+# screen twice as wide it is shown at the same size, so its E_p sums are the
+# same and E_p (normalised by the screen's pixels, 003 eq. 2) is 1/√2 of it
+expect_exit 0 "two screens of one height run" "$JND" lod builtin:sphere -o "$T/wide" --screens 320x240@40,640x240@40 \
+  --views 1 --map-size 64 --surface-samples 4096 --no-perceptual --quiet
+check "a texture's on-screen size comes from the screen's height, not its width" python3 - "$T/wide/lod.json" <<'PY'
+import json, math, sys
+t = json.load(open(sys.argv[1]))["result"]["textures"][0]
+narrow, wide = (s["curve"] for s in t["screens"])
+assert len(narrow) > 2 and any(c["e_p"] > 0 for c in narrow), narrow
+for a, b in zip(narrow, wide):
+    assert abs(b["e_p"] - a["e_p"] * math.sqrt(320 / 640)) <= 1e-9 + 1e-6 * a["e_p"], (a, b)
+PY
+
 # the written model: MSFT_lod with every level, each selectable in jnd render
 GLB="$T/a/model/builtin_sphere.glb"
 check "the model is a GLB with MSFT_lod and MSFT_screencoverage" python3 - "$GLB" "$T/a/lod.json" <<'PY'

@@ -136,7 +136,85 @@ TEST(an_unlisted_direction_is_an_error_naming_the_line) {
   CHECK_STATUS(read_rows("35,0,2,78.5,0,0,0,55,50,disk,500,other\n", &d), JND_ERR_FORMAT);
 }
 
+
+/* ---- the stimuli a threshold search synthesises (csf_check.c) ---- */
+
+/* an achromatic stimulus on castleCSF's D65 background at L cd/m² */
+static jnd_csf_stimulus achromatic(jnd_stim_kind kind, double L) {
+  const double d65[3] = {36.7372648518233, 15.8141236515338, 1.04100192534928}; /* 50 cd/m² */
+  jnd_csf_stimulus s;
+  memset(&s, 0, sizeof s);
+  s.kind = kind;
+  s.luminance = L;
+  for (int i = 0; i < 3; i++) s.bkg_lms[i] = s.dir_lms[i] = d65[i] * L / 50.0;
+  return s;
+}
+
+/* the profile's weight: Σ g / ppd², degrees² (plane Y of the modulation over
+ * its value at a full-contrast pixel) */
+static double profile_area(const jnd_image *stim, double ppd, double peak, double at_least) {
+  const float *y = jnd_image_plane(stim, 1);
+  double a = 0;
+  for (size_t i = 0; i < (size_t)stim->w * stim->h; i++)
+    if (y[i] / peak >= at_least) a += at_least > 0 ? 1 : y[i] / peak;
+  return a / (ppd * ppd);
+}
+
+TEST(the_background_is_at_the_data_luminance_and_the_modulation_at_unit_rms_cone_contrast) {
+  jnd_csf_stimulus s = achromatic(JND_STIM_DISK, 20.0);
+  s.area = 1.0;
+  double ppd;
+  jnd_image bg, stim;
+  CHECK_OK(csf_stimulus_images(&s, &ppd, &bg, &stim));
+  /* Y is the luminance, cd/m², everywhere on the background */
+  CHECK_NEAR(jnd_image_plane(&bg, 1)[0], 20.0, 1e-4);
+  CHECK_NEAR(jnd_image_plane(&bg, 1)[(size_t)bg.w * bg.h - 1], 20.0, 1e-4);
+  /* an achromatic direction at unit RMS cone contrast: each cone +100%, so
+   * the disc's centre is the background's luminance again */
+  size_t c = (size_t)(stim.h / 2) * stim.w + stim.w / 2;
+  CHECK_NEAR(jnd_image_plane(&stim, 1)[c], 20.0, 1e-3);
+  jnd_image_free(&bg);
+  jnd_image_free(&stim);
+}
+
+TEST(a_disc_covers_its_area_and_a_gabor_its_gaussian_volume) {
+  double ppd;
+  jnd_image bg, stim;
+  /* a disc of 1 deg²: radius sqrt(1/π) at full contrast (a square of side 1
+   * would be π/4 of it) */
+  jnd_csf_stimulus d = achromatic(JND_STIM_DISK, 50.0);
+  d.area = 1.0;
+  CHECK_OK(csf_stimulus_images(&d, &ppd, &bg, &stim));
+  double full = profile_area(&stim, ppd, 50.0, 0.999);
+  CHECK(fabs(full - 1.0) < 0.04);
+  jnd_image_free(&bg);
+  jnd_image_free(&stim);
+  /* a Gabor with sigma 0.5° and no carrier: exp(−r²/2σ²) sums to 2πσ² */
+  jnd_csf_stimulus g = achromatic(JND_STIM_GABOR, 50.0);
+  g.ge_sigma = 0.5;
+  CHECK_OK(csf_stimulus_images(&g, &ppd, &bg, &stim));
+  CHECK_NEAR(profile_area(&stim, ppd, 50.0, 0), 2 * M_PI * 0.25, 0.02 * 2 * M_PI * 0.25);
+  jnd_image_free(&bg);
+  jnd_image_free(&stim);
+}
+
+TEST(a_grating_is_sampled_with_at_least_four_samples_a_cycle) {
+  /* 4√2 a cycle where the size allows (docs/csf.md): half an octave below
+   * every pyramid level's Nyquist frequency, never near aliasing */
+  jnd_csf_stimulus s = achromatic(JND_STIM_GRATING, 50.0);
+  s.area = 4.0;
+  for (double f = 2; f <= 16; f *= 2) {
+    s.s_frequency = f;
+    double ppd, half, taper;
+    jnd_csf_sampling(&s, &ppd, &half, &taper);
+    CHECK(ppd / f >= 4.0);
+    CHECK_NEAR(ppd, 4 * M_SQRT2 * f, 1e-9);
+  }
+}
+
 RUN_TESTS(castlecsf_d65_background_is_d65_white_at_its_luminance, uv_directions_are_unit_vectors_at_constant_luminance,
           uv_directions_move_the_chromaticity_along_their_angle_45_degrees_apart,
           uv_0_is_the_same_cone_direction_on_every_background, published_directions_are_derived_and_flagged,
-          an_unlisted_direction_is_an_error_naming_the_line)
+          an_unlisted_direction_is_an_error_naming_the_line,
+          the_background_is_at_the_data_luminance_and_the_modulation_at_unit_rms_cone_contrast,
+          a_disc_covers_its_area_and_a_gabor_its_gaussian_volume, a_grating_is_sampled_with_at_least_four_samples_a_cycle)

@@ -75,6 +75,23 @@ TEST(mp_weighs_each_haar_band_by_the_csf) {
   CHECK(poi_mp_sum(a, b, W, W, 94) < 0.2 * poi_mp_sum(a, b, W, W, 40));
 }
 
+TEST(mp_sees_rec709_luma_of_the_codes) {
+  /* three pixels, planar: pure red, pure green, pure blue at code 255 */
+  const uint8_t rgb[9] = {255, 0, 0, 0, 255, 0, 0, 0, 255};
+  float *y = NULL;
+  CHECK_OK(poi_luma_codes(rgb, 3, 1, 3, &y));
+  CHECK_NEAR(y[0], 0.2126 * 255 / 256.0, 1e-6);
+  CHECK_NEAR(y[1], 0.7152 * 255 / 256.0, 1e-6);
+  CHECK_NEAR(y[2], 0.0722 * 255 / 256.0, 1e-6);
+  free(y);
+  /* one plane is luma already */
+  const uint8_t grey[2] = {128, 64};
+  CHECK_OK(poi_luma_codes(grey, 2, 1, 1, &y));
+  CHECK_NEAR(y[0], 0.5, 1e-7);
+  CHECK_NEAR(y[1], 0.25, 1e-7);
+  free(y);
+}
+
 TEST(screens_parse_presets_and_sizes) {
   jnd_poi_screen s;
   CHECK_OK(jnd_poi_screen_parse("phone", &s));
@@ -179,5 +196,6 @@ TEST(an_analysis_needs_a_chain) {
 }
 
 RUN_TESTS(ep_of_whole_blocks_is_003_eq2, ep_of_uneven_blocks_weighs_the_overlaps, mp_weighs_each_haar_band_by_the_csf,
+          mp_sees_rec709_luma_of_the_codes,
           screens_parse_presets_and_sizes, a_level_identical_to_level_0_adds_nothing_and_coarse_levels_add_most,
           an_analysis_needs_a_chain)
