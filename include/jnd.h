@@ -1631,6 +1631,41 @@ jnd_status jnd_csf_evaluate(const jnd_csf_data *d, const jnd_model_params *base,
                             jnd_csf_result *r);
 void jnd_csf_result_free(jnd_csf_result *r);
 
+/* `jnd csf` as one call (the task shape, docs/architecture.md): reads a
+ * castleCSF-format CSV with its colour directions and backgrounds, selects
+ * rows, predicts (and fits, cross-validates) with jnd_csf_evaluate, and
+ * writes through one output writer (nothing over an input; all or nothing)
+ * the rows with their predictions as a CSV (out_csv, NULL: none) and the
+ * report's copy (run.report_path). */
+typedef struct {
+  jnd_model_params model;    /* the constants predictions start from (jnd_model_defaults) */
+  jnd_csf_options options;   /* fit, cross-validation, threads, progress (jnd_csf_options_defaults) */
+  const char *colors;        /* colour directions (NULL: color_directions.csv beside the data) */
+  const char *backgrounds;   /* backgrounds (NULL: backgrounds.csv beside the data) */
+  const char *const *datasets; /* only rows of these data sets (NULL: every data set) */
+  int ndatasets;
+  int static_only;           /* 1: skip rows with t_frequency > 0 */
+  int every;                 /* only every N-th row (1) */
+  jnd_run_options run;       /* the report's copy (map_size, timings unused) */
+} jnd_csf_run_params;
+
+/* Fills p with the defaults above. */
+void jnd_csf_run_defaults(jnd_csf_run_params *p);
+
+typedef struct {
+  jnd_csf_data data;         /* the rows read, with .use and .skip as the selection left them */
+  jnd_csf_result eval;       /* predictions and scores */
+  char *report;              /* the report's JSON text */
+} jnd_csf_run_result;
+
+/* The task (`jnd csf`). *out is allocated (jnd_csf_run_result_free). Bad
+ * input: one error "FILE: problem", nothing written. */
+jnd_status jnd_csf_run(const char *data, const jnd_csf_run_params *p, const char *out_csv,
+                       jnd_csf_run_result **out);
+
+/* Frees what jnd_csf_run returned (NULL is fine). */
+void jnd_csf_run_result_free(jnd_csf_run_result *r);
+
 /* `jnd diff` as a call: applies the model's display to two decoded files
  * (infos from jnd_image_read; alpha composited over the display's black),
  * compares them and summarises. ref and test are consumed (freed) to keep

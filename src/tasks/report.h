@@ -84,4 +84,8 @@ cJSON *pca_report(const jnd_pca_params *p, const jnd_pca_result *R, cJSON *textu
 cJSON *calibrate_report(const char *csv_path, const jnd_calibrate_run_params *p, const jnd_calibrate_result *R,
                         const jnd_calib_scene *scenes, const char *const *maps, const char *histogram);
 
+/* csf's report: colors, backgrounds the files read (the defaults resolved). */
+cJSON *csf_report(const char *data, const char *colors, const char *backgrounds, const jnd_csf_run_params *p,
+                  const jnd_csf_data *d, const jnd_csf_result *res);
+
 #endif

@@ -16,7 +16,9 @@
  *                                      --tolerance 0.5 --far-coverage 0.05)
  *   task_runs render MODEL OUTDIR     (--views 2 --size 64x48 --map-size 64
  *                                      --outputs color,depth,mask,motion,mip)
- *   task_runs diff REF TEST MAP       (--display phone --fail-above 0.01 --map MAP) */
+ *   task_runs diff REF TEST MAP       (--display phone --fail-above 0.01 --map MAP)
+ *   task_runs csf DATA OUT.csv        (--dataset colorfest --dataset hansen2009 --every 8
+ *                                      --cross-validate --fit-only sensitivity --iterations 2) */
 #include <stdio.h>
 #include <string.h>
 
@@ -146,6 +148,27 @@ static int diff(const char *ref, const char *test, const char *map) {
   return rc;
 }
 
+static int csf(const char *data, const char *out_csv) {
+  jnd_csf_run_params p;
+  jnd_csf_run_defaults(&p);
+  p.options.cross_validate = 1;
+  p.options.fit_mask_set = 1;
+  p.options.fit_mask = 1ull << jnd_model_constant_find("sensitivity");
+  p.options.max_iterations = 2;
+  const char *only[] = {"colorfest", "hansen2009"};
+  p.datasets = only;
+  p.ndatasets = 2;
+  p.every = 8;
+  jnd_csf_run_result *r = NULL;
+  if (jnd_csf_run(data, &p, out_csv, &r) != JND_OK) {
+    fprintf(stderr, "jnd: %s\n", jnd_last_error());
+    return 2;
+  }
+  fputs(r->report, stdout);
+  jnd_csf_run_result_free(r);
+  return 0;
+}
+
 int main(int argc, char **argv) {
   if (argc == 4 && strcmp(argv[1], "calibrate") == 0) return calibrate(argv[2], argv[3]);
   if (argc == 4 && strcmp(argv[1], "texres") == 0) return texres(argv[2], argv[3]);
@@ -154,6 +177,7 @@ int main(int argc, char **argv) {
   if (argc == 4 && strcmp(argv[1], "lod") == 0) return lod(argv[2], argv[3]);
   if (argc == 4 && strcmp(argv[1], "render") == 0) return render(argv[2], argv[3]);
   if (argc == 5 && strcmp(argv[1], "diff") == 0) return diff(argv[2], argv[3], argv[4]);
+  if (argc == 4 && strcmp(argv[1], "csf") == 0) return csf(argv[2], argv[3]);
   fprintf(stderr, "usage: task_runs TASK INPUT OUTDIR\n");
   return 2;
 }

@@ -41,6 +41,16 @@ rc=$?
 check "diff: the library call runs, above the threshold (exit $rc, $(head -c 200 "$T/diff.lib.err"))" [ "$rc" -eq 1 ]
 check "diff: the returned report is the command's, byte for byte" cmp "$T/diff.cli.json" "$T/diff.lib.json"
 check "diff: the same map" cmp "$T/diff.cli.exr" "$T/diff.lib.exr"
+# csf: a data file in, the rows with their predictions out (named, no folder)
+csf=$JND_SHARED/data/csf/csf_train.csv
+if [ -f "$csf" ]; then
+  expect_exit 0 "csf: the command runs" "$JND" csf "$csf" --dataset colorfest --dataset hansen2009 --every 8 \
+    --cross-validate --fit-only sensitivity --iterations 2 -o "$T/csf.cli.csv" --json "$T/csf.cli.json" --quiet
+  "$JND_TASK_RUNS" csf "$csf" "$T/csf.lib.csv" >"$T/csf.lib.json" 2>"$T/csf.lib.err"
+  check "csf: the library call runs ($(head -c 200 "$T/csf.lib.err"))" [ $? -eq 0 ]
+  check "csf: the returned report is the command's, byte for byte" cmp "$T/csf.cli.json" "$T/csf.lib.json"
+  check "csf: the same rows written" cmp "$T/csf.cli.csv" "$T/csf.lib.csv"
+fi
 gltf=/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf
 [ -f "$gltf" ] || skip "needs assimp's glTF2 sample models (assimp-testmodels)"
 same_run texres_gltf texres "$gltf" -- "$gltf" --views 2 --size 96x96 --map-size 128 --samples 1 --confirm 0 --min-size 16
