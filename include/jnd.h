@@ -3206,6 +3206,52 @@ jnd_status jnd_pop_asset_run(jnd_model *m, const char *model_path, const jnd_pop
 /* Frees a report; safe on a zeroed struct. */
 void jnd_pop_asset_report_free(jnd_pop_asset_report *r);
 
+/* `jnd pop` as one call (the task shape, docs/architecture.md), in either
+ * form: input a model (glTF/GLB/OBJ, builtin[:...]): the asset form
+ * (jnd_pop_asset_run with p->asset); input NULL: the frames of p->frames
+ * (jnd_pop_files), or with p->sequence every frame of the patterns
+ * (jnd_pop_sequence). Writes into out_dir, through one output writer
+ * (nothing over an input; all or nothing): regions.png, pop.json (the
+ * report), with p->maps jnd.exr and weights.exr, a sequence's frames.csv,
+ * the switch table's switch.png. */
+typedef struct {
+  jnd_model_params model;    /* the display, fps and threads (jnd_model_defaults) */
+  jnd_pop_params pop;        /* thresholds and scores (jnd_pop_defaults) */
+  jnd_pop_paths frames;      /* frame form: NEW (actual), EXPECTED and their maps */
+  int sequence;              /* frame form: 1: the paths are patterns of frames seq.first..seq.last */
+  jnd_pop_sequence_params seq;
+  jnd_pop_asset_params asset; /* asset form (jnd_pop_asset_defaults; its pop is set from pop) */
+  int maps;                  /* 1: also jnd.exr (the weighted JND map) and weights.exr */
+  int max_regions;           /* regions listed in the report, best first (100; all are counted) */
+  double fail_above;         /* report whether the largest rating exceeds this (NaN: not asked) */
+  /* NULL or called at each stage (and step of the switch table or a sequence) */
+  void (*progress)(void *user, const char *stage, int done, int total);
+  void *progress_user;
+  jnd_run_options run;       /* the report's copy, timings (map_size: see asset.builtin_map_size) */
+} jnd_pop_run_params;
+
+/* Fills p with the defaults above. */
+void jnd_pop_run_defaults(jnd_pop_run_params *p);
+
+typedef struct {
+  const jnd_pop_result *pair; /* the prediction reported: the pair's, or a sequence's worst frame's
+                                 (points into one of the three below) */
+  jnd_pop_result frame;      /* frame form, one pair */
+  jnd_pop_sequence_result sequence; /* frame form, a sequence */
+  jnd_pop_asset_report asset; /* asset form */
+  int above;                 /* a region's rating exceeds fail_above (when asked) */
+  double total_s;            /* wall-clock seconds */
+  char *report;              /* the report's JSON text */
+} jnd_pop_run_result;
+
+/* The task (`jnd pop`). *out is allocated (jnd_pop_run_result_free). Bad
+ * input: one error "FILE: problem", nothing written. */
+jnd_status jnd_pop_run(const char *model, const jnd_pop_run_params *p, const char *out_dir,
+                       jnd_pop_run_result **out);
+
+/* Frees what jnd_pop_run returned (NULL is fine). */
+void jnd_pop_run_result_free(jnd_pop_run_result *r);
+
 /* ------------------------------------------------------------------------ */
 /* Batch: a library of assets (docs/batch.md)                               */
 /* ------------------------------------------------------------------------ */
@@ -3663,6 +3709,60 @@ void jnd_gaze_observers_free(jnd_gaze_observers *o);
  * scene, size, level and p_true for the reader); temporal 1: stimulus,
  * t_jnd, seen (and the same). */
 jnd_status jnd_gaze_observers_write_csv(const jnd_gaze_observers *o, int temporal, const char *path);
+
+/* `jnd gaze` as one call (the task shape, docs/architecture.md), in one of
+ * three modes:
+ *   JND_GAZE_RUN_TABLE      input a model (glTF/GLB/OBJ, builtin[:...]): the table
+ *                           (jnd_gaze_table_run) into out_dir: gaze.json, gaze.csv,
+ *                           gaze.png, and model/NAME.glb when the chain was made here;
+ *   JND_GAZE_RUN_FIT        input a CSV of trials (jnd_gaze_data_read): jnd_gaze_fit,
+ *                           out_dir/gaze_fit.json (out_dir NULL: only the report's copy);
+ *   JND_GAZE_RUN_OBSERVERS  input NULL, the models in `models`: synthetic observers
+ *                           (jnd_gaze_observers_run) into out_dir: spatial.csv,
+ *                           temporal.csv, observers.json.
+ * Everything goes through one output writer (nothing over an input; all or
+ * nothing). */
+typedef enum { JND_GAZE_RUN_TABLE = 0, JND_GAZE_RUN_FIT, JND_GAZE_RUN_OBSERVERS } jnd_gaze_run_mode;
+
+typedef struct {
+  jnd_gaze_run_mode mode;
+  jnd_gaze_table_params table;         /* TABLE (jnd_gaze_table_defaults) */
+  const char *const *model_files;      /* TABLE: fitted parameters read into table.model in order
+                                          (jnd_gaze_model_read; NULL: none) */
+  int nmodel_files;
+  jnd_gaze_fit_params fit;             /* FIT (jnd_gaze_fit_defaults) */
+  jnd_gaze_observers_params observers; /* OBSERVERS (jnd_gaze_observers_defaults) */
+  const char *const *models;           /* OBSERVERS: the models, 1..64 */
+  int nmodels;
+  jnd_run_options run;                 /* map side of builtin assets (512), the report's copy, timings */
+} jnd_gaze_run_params;
+
+/* Fills p with the defaults above (mode TABLE). */
+void jnd_gaze_run_defaults(jnd_gaze_run_params *p);
+
+typedef struct {
+  jnd_gaze_run_mode mode;
+  jnd_gaze_table table;                /* TABLE */
+  int input_levels;                    /* TABLE: levels the input had (< 2: the chain was made) */
+  char chain_model[320];               /* TABLE: the chain's model under out_dir, or the input */
+  double table_s;                      /* TABLE: wall-clock seconds of the table */
+  int nreduced;                        /* TABLE: distances judged below the display's ppd (the
+                                          window capped at max_px: .result.reduced_ppd) */
+  int nwindowed;                       /* TABLE: distances judged on windows (.result.windowed) */
+  jnd_gaze_fit_result fit;             /* FIT */
+  jnd_gaze_observers observers;        /* OBSERVERS */
+  double mean_p_spatial, mean_p_switch; /* OBSERVERS: over the stimuli */
+  char *report;                        /* the report's JSON text */
+} jnd_gaze_run_result;
+
+/* The task (`jnd gaze`, `jnd gaze fit`, `jnd gaze observers`). *out is
+ * allocated (jnd_gaze_run_result_free). Bad input: one error "FILE:
+ * problem", nothing written. */
+jnd_status jnd_gaze_run(const char *input, const jnd_gaze_run_params *p, const char *out_dir,
+                        jnd_gaze_run_result **out);
+
+/* Frees what jnd_gaze_run returned (NULL is fine). */
+void jnd_gaze_run_result_free(jnd_gaze_run_result *r);
 
 /* The engine's lookup: loaded once, no allocation per call. */
 typedef struct {
