@@ -3382,6 +3382,12 @@ typedef struct {
  * failing); totals may be NULL. */
 jnd_status jnd_batch_run(const jnd_batch_manifest *m, const jnd_batch_params *p, jnd_batch_totals *totals);
 
+/* The report of a run (`jnd batch --json`): the envelope with the manifest,
+ * the shard, jobs, timeout and force, and the totals. Returns the JSON text
+ * (ending in a newline; the caller frees it with free()), NULL when out of
+ * memory. */
+char *jnd_batch_run_report(const jnd_batch_manifest *m, const jnd_batch_params *p, const jnd_batch_totals *t);
+
 /* Merges what the shards recorded in OUT into OUT/summary.json (the report
  * envelope: jnd_version, command "batch merge", inputs, parameters, result
  * {totals, assets[]}) and OUT/summary.csv, one row per manifest row in
