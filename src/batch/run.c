@@ -522,15 +522,7 @@ char *jnd_batch_run_report(const jnd_batch_manifest *m, const jnd_batch_params *
   cJSON_AddNumberToObject(res, "ok", t->ok);
   cJSON_AddNumberToObject(res, "above", t->above);
   cJSON_AddNumberToObject(res, "failed", t->failed);
-  char *text = cJSON_Print(r);
+  char *text = report_text(r);
   cJSON_Delete(r);
-  size_t n = text ? strlen(text) : 0;
-  char *full = text ? realloc(text, n + 2) : NULL;
-  if (!full) {
-    free(text);
-    return NULL;
-  }
-  full[n] = '\n';
-  full[n + 1] = 0;
-  return full;
+  return text;
 }

@@ -19,6 +19,9 @@ cJSON *report_display_json(const jnd_display *d);
 cJSON *report_views_json(const jnd_view_set *vs);
 /* The criterion (p, q), with the outcome when r is not NULL. */
 cJSON *report_criterion_json(const jnd_criterion *c, const jnd_criterion_result *r);
+/* The report's text as every run writes it: cJSON_Print and a newline
+ * (allocated; NULL when out of memory). */
+char *report_text(const cJSON *report);
 /* [w, h] */
 cJSON *report_pair(const int *wh);
 /* v, or null where it is not finite (never, unknown) */
