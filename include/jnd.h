@@ -53,6 +53,23 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* Two tiers (docs/architecture.md "The header's tiers"). A declaration
+ * without a mark is the stable core: errors; images and the display; the
+ * vision model; pooling and the criterion; scene, views and the renderer;
+ * the judge; the output writer; one jnd_<task>_run per task with its
+ * defaults and _result_free; the gaze table's lookup; a batch's run.
+ * A declaration marked JND_EXPERIMENTAL is a task's internals, a figure,
+ * a parser, a utility or a test hook: exported and documented, but it may
+ * change between versions (meshoptimizer marks MESHOPTIMIZER_EXPERIMENTAL the
+ * same way). A program that wants to know where it leaves the core defines
+ * the mark before including this header, e.g.
+ *     #define JND_EXPERIMENTAL __attribute__((deprecated("jnd: experimental")))
+ * and gets a warning at each use (tests/e2e/exports.sh compiles the first
+ * example that way, with -Werror). */
+#ifndef JND_EXPERIMENTAL
+#define JND_EXPERIMENTAL
+#endif
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -83,8 +100,8 @@ const char *jnd_version(void);
  * anything), and the CPU seconds of every thread of the process so far:
  * what the timings in every report are measured with. Never part of a
  * decision. */
-double jnd_seconds(void);
-double jnd_cpu_seconds(void);
+JND_EXPERIMENTAL double jnd_seconds(void);
+JND_EXPERIMENTAL double jnd_cpu_seconds(void);
 
 /* ------------------------------------------------------------------------ */
 /* Images and image files                                                   */
@@ -150,13 +167,13 @@ typedef struct {
 
 /* Reads a comma-separated file with a header row; quoted fields ("a,b",
  * "say ""hi""") are supported. Rows must have the header's column count. */
-jnd_status jnd_csv_read(const char *path, jnd_csv *out);
-jnd_status jnd_csv_parse(const char *name, const char *text, size_t n, jnd_csv *out);
-void jnd_csv_free(jnd_csv *csv);
+JND_EXPERIMENTAL jnd_status jnd_csv_read(const char *path, jnd_csv *out);
+JND_EXPERIMENTAL jnd_status jnd_csv_parse(const char *name, const char *text, size_t n, jnd_csv *out);
+JND_EXPERIMENTAL void jnd_csv_free(jnd_csv *csv);
 /* Index of a column by name, or -1. */
-int jnd_csv_column(const jnd_csv *csv, const char *name);
+JND_EXPERIMENTAL int jnd_csv_column(const jnd_csv *csv, const char *name);
 /* Parses a cell as a number; NaN for "NaN"/"NA"/"". Returns 0 if not a number. */
-int jnd_csv_number(const char *cell, double *out);
+JND_EXPERIMENTAL int jnd_csv_number(const char *cell, double *out);
 
 /* A heatmap of a JND map over a dimmed grey copy of the reference, on a
  * logarithmic scale of JND with a colour bar (ticks in JND, the 1 JND line,
@@ -172,25 +189,25 @@ typedef struct {
   int beside;         /* 1: the reference itself left of the heatmap */
   const char *title;  /* a line above the picture (NULL: none) */
 } jnd_heatmap_params;
-void jnd_heatmap_defaults(jnd_heatmap_params *p);
+JND_EXPERIMENTAL void jnd_heatmap_defaults(jnd_heatmap_params *p);
 
 /* Draws the heatmap figure. ref holds the reference's file signal (0..1,
  * 1–4 channels, as jnd_image_read gives); jnd_map has its size. out is
  * allocated: 3 channels, sRGB-encoded 0..1, for jnd_image_write_png. */
-jnd_status jnd_heatmap_draw(const jnd_heatmap_params *p, const jnd_image *ref, const jnd_image *jnd_map,
+JND_EXPERIMENTAL jnd_status jnd_heatmap_draw(const jnd_heatmap_params *p, const jnd_image *ref, const jnd_image *jnd_map,
                             jnd_image *out);
 
 /* jnd_heatmap_draw with the defaults and the given top of the scale
  * (max_jnd <= 0: auto). */
-jnd_status jnd_heatmap(const jnd_image *ref, const jnd_image *jnd_map, double max_jnd, jnd_image *out);
+JND_EXPERIMENTAL jnd_status jnd_heatmap(const jnd_image *ref, const jnd_image *jnd_map, double max_jnd, jnd_image *out);
 
 /* Writes n bytes to path through a temporary file in the same folder and a
  * rename, so path is either the old file or the complete new one. */
-jnd_status jnd_write_file_atomic(const char *path, const void *data, size_t n);
+JND_EXPERIMENTAL jnd_status jnd_write_file_atomic(const char *path, const void *data, size_t n);
 
 /* Creates folder path and any missing parents (like mkdir -p); an existing
  * folder is fine. JND_ERR_IO "PATH: cannot create the folder (reason)". */
-jnd_status jnd_make_dirs(const char *path);
+JND_EXPERIMENTAL jnd_status jnd_make_dirs(const char *path);
 
 /* ---- The output writer: never over an input, all or nothing ----
  *
@@ -402,13 +419,13 @@ typedef struct {
 
 /* The fittable constants: fills list[0..max) (list may be NULL) and returns
  * how many there are. The entries are static. */
-int jnd_model_constants(const jnd_model_constant **list, int max);
+JND_EXPERIMENTAL int jnd_model_constants(const jnd_model_constant **list, int max);
 /* The index of a constant by name, or -1. */
-int jnd_model_constant_find(const char *name);
+JND_EXPERIMENTAL int jnd_model_constant_find(const char *name);
 /* Constant k of p (NaN for a bad k). */
-double jnd_model_constant_get(const jnd_model_params *p, int k);
+JND_EXPERIMENTAL double jnd_model_constant_get(const jnd_model_params *p, int k);
 /* Sets constant k of p; JND_ERR_ARG outside its bounds. */
-jnd_status jnd_model_constant_set(jnd_model_params *p, int k, double value);
+JND_EXPERIMENTAL jnd_status jnd_model_constant_set(jnd_model_params *p, int k, double value);
 
 /* A model instance: caches the per-display tables (band peak frequencies,
  * CSF look-up tables). Reusable for any number of comparisons; not for
@@ -437,7 +454,7 @@ void jnd_model_set_gaze(jnd_model *m, int has_gaze, double gaze_x, double gaze_y
  * magnification, Geisler & Perry's acuity loss; docs/model.md
  * "Eccentricity"). 1 at the fovea; what jnd_model_diff applies per band and
  * pixel when a fixation point is set. */
-double jnd_eccentricity_factor(const jnd_model_params *p, int ch, double rho_cpd, double ecc_deg);
+JND_EXPERIMENTAL double jnd_eccentricity_factor(const jnd_model_params *p, int ch, double rho_cpd, double ecc_deg);
 
 /* Optional per-pixel inputs of a comparison; any field may be NULL / 0. */
 typedef struct {
@@ -465,22 +482,22 @@ jnd_status jnd_model_diff(jnd_model *m, const jnd_image *ref, const jnd_image *t
 
 /* The same, using ref and test as scratch space: their pixels are destroyed
  * and they are freed. The low-memory path for large images. */
-jnd_status jnd_model_diff_consume(jnd_model *m, jnd_image *ref, jnd_image *test,
+JND_EXPERIMENTAL jnd_status jnd_model_diff_consume(jnd_model *m, jnd_image *ref, jnd_image *test,
                                   const jnd_diff_inputs *in, jnd_image *jnd_out);
 
 /* The same for images in CIE XYZ (cd/m²), for stimuli defined colorimetrically. */
-jnd_status jnd_model_diff_xyz(jnd_model *m, const jnd_image *ref_xyz, const jnd_image *test_xyz,
+JND_EXPERIMENTAL jnd_status jnd_model_diff_xyz(jnd_model *m, const jnd_image *ref_xyz, const jnd_image *test_xyz,
                               const jnd_diff_inputs *in, jnd_image *jnd_out);
 
 /* Probability of detection from JND (000 eq. 4): 1 − exp(ln 0.5 · jnd^beta). */
 double jnd_probability(double jnd, double beta);
 
 /* The JND a probability corresponds to (the inverse of jnd_probability). */
-double jnd_probability_inverse(double p, double beta);
+JND_EXPERIMENTAL double jnd_probability_inverse(double p, double beta);
 
 /* The peak frequency of each contrast pyramid band of the model, cycles per
  * degree (finest first); returns the number of bands (at most max). */
-int jnd_model_band_peaks(const jnd_model *m, double *cpd, int max);
+JND_EXPERIMENTAL int jnd_model_band_peaks(const jnd_model *m, double *cpd, int max);
 
 /* CIELAB and CIE ΔE*94 (Fairchild 2004): a colorimetric yardstick beside the
  * model, 004 §5.1's "maximum ΔE*94" baseline. L*a*b* is relative to the
@@ -488,17 +505,17 @@ int jnd_model_band_peaks(const jnd_model *m, double *cpd, int max);
 
 /* Converts an image of absolute linear RGB in cd/m² (3 channels, as
  * jnd_display_apply gives) in place to CIE 1976 L*, a*, b* planes. */
-jnd_status jnd_lab_from_linear(const jnd_display *d, jnd_image *img);
+JND_EXPERIMENTAL jnd_status jnd_lab_from_linear(const jnd_display *d, jnd_image *img);
 
 /* ΔE*94 of two L*a*b* colours with the graphic-arts weights (kL = kC = kH =
  * 1, K1 = 0.045, K2 = 0.015); ref's chroma sets S_C and S_H, so the
  * difference is not symmetric. */
-double jnd_delta_e94(const float ref[3], const float test[3]);
+JND_EXPERIMENTAL double jnd_delta_e94(const float ref[3], const float test[3]);
 
 /* Per-pixel ΔE*94 of two images of absolute linear RGB in cd/m² (same size,
  * 3 channels); out is allocated (1 channel). max (may be NULL) receives the
  * largest value. ref and test are not modified. */
-jnd_status jnd_delta_e94_map(const jnd_display *d, const jnd_image *ref, const jnd_image *test, jnd_image *out,
+JND_EXPERIMENTAL jnd_status jnd_delta_e94_map(const jnd_display *d, const jnd_image *ref, const jnd_image *test, jnd_image *out,
                              double *max);
 
 /* ------------------------------------------------------------------------ */
@@ -572,11 +589,11 @@ typedef enum { JND_KNEE_ABOVE = 0, JND_KNEE_BELOW } jnd_knee_side;
  * wins. Returns its index; 0 when no point lies strictly on that side of the
  * chord (a straight line, or a curve bent the other way) or n < 3; −1 for
  * n < 1 or a value that is not finite. See src/pool/knee.c. */
-int jnd_knee(const double *x, const double *y, int n, jnd_knee_side side, double tie);
+JND_EXPERIMENTAL int jnd_knee(const double *x, const double *y, int n, jnd_knee_side side, double tie);
 
 /* The one-sided Clopper–Pearson upper bound on a binomial proportion: the
  * largest u with P(X <= k | n, u) >= 1 − confidence (1 when k = n). */
-double jnd_binomial_upper(int k, int n, double confidence);
+JND_EXPERIMENTAL double jnd_binomial_upper(int k, int n, double confidence);
 
 /* The cross-population psychometric function of 000 eq. 1 over texture
  * resolution r (pixels): P_det(r) = 1 − Θ(x; µ, σ), Θ the cumulative normal,
@@ -588,10 +605,10 @@ typedef struct {
 } jnd_psychometric;
 
 /* P_det at resolution r (pixels) for f. */
-double jnd_psychometric_eval(const jnd_psychometric *f, double r);
+JND_EXPERIMENTAL double jnd_psychometric_eval(const jnd_psychometric *f, double r);
 
 /* The resolution (pixels) where P_det = p (0 < p < 1). */
-double jnd_psychometric_resolution(const jnd_psychometric *f, double p);
+JND_EXPERIMENTAL double jnd_psychometric_resolution(const jnd_psychometric *f, double p);
 
 /* Fits µ and σ (σ > 0) of 000 eq. 1 to n >= 2 points (r[i] pixels > 0,
  * p[i] in 0..1) by least squares on probability: a small grid over (µ, log σ)
@@ -599,7 +616,7 @@ double jnd_psychometric_resolution(const jnd_psychometric *f, double p);
  * change (all 0 or all 1) give the nearest step function (σ small, µ just
  * outside the data's range). log2_domain picks the domain (see above).
  * JND_ERR_ARG for n < 2 or values out of range. */
-jnd_status jnd_psychometric_fit(const double *r, const double *p, int n, int log2_domain,
+JND_EXPERIMENTAL jnd_status jnd_psychometric_fit(const double *r, const double *p, int n, int log2_domain,
                                 jnd_psychometric *out);
 
 /* A calibration of the model to a task (000 §6–§7): the per-pixel JND is
@@ -625,17 +642,17 @@ void jnd_calibration_defaults(jnd_calibration *c);
 jnd_status jnd_calibration_load(const char *path, jnd_calibration *c);
 
 /* Writes c as JSON to path (atomic). */
-jnd_status jnd_calibration_save(const char *path, const jnd_calibration *c);
+JND_EXPERIMENTAL jnd_status jnd_calibration_save(const char *path, const jnd_calibration *c);
 
 /* The calibrated pooled probability of a JND map: JND → max(0, scale·JND +
  * bias) → P (eq. 4, c->beta) → c->percentile over the pixels where mask >
  * 0.5 (mask NULL: every pixel). NaN when no pixel counts. */
-double jnd_calibration_pool(const jnd_calibration *c, const jnd_image *jnd_map, const jnd_image *mask);
+JND_EXPERIMENTAL double jnd_calibration_pool(const jnd_calibration *c, const jnd_image *jnd_map, const jnd_image *mask);
 
 /* Summarises a JND map as jnd_diff_summarise does, but through the
  * calibration: the JND statistics are of the transformed map, the P map uses
  * c->beta and p_detect is its c->percentile. */
-jnd_status jnd_diff_summarise_calibrated(const jnd_image *jnd_map, const jnd_calibration *c,
+JND_EXPERIMENTAL jnd_status jnd_diff_summarise_calibrated(const jnd_image *jnd_map, const jnd_calibration *c,
                                          jnd_diff_stats *stats);
 
 /* ------------------------------------------------------------------------ */
@@ -670,8 +687,8 @@ typedef enum { JND_ALPHA_OPAQUE = 0, JND_ALPHA_MASK, JND_ALPHA_BLEND } jnd_alpha
 
 /* The slot's name ("baseColor", "metallicRoughness", "normal", "occlusion",
  * "emissive") and the kind of values it holds. */
-const char *jnd_map_slot_name(jnd_map_slot slot);
-jnd_map_kind jnd_map_slot_kind(jnd_map_slot slot);
+JND_EXPERIMENTAL const char *jnd_map_slot_name(jnd_map_slot slot);
+JND_EXPERIMENTAL jnd_map_kind jnd_map_slot_kind(jnd_map_slot slot);
 
 /* Loads a glTF 2.0 (.gltf with external or embedded buffers, .glb) or OBJ +
  * MTL file with assimp: triangulated, node transforms applied, tangents
@@ -704,7 +721,7 @@ typedef struct {
 } jnd_builtin_params;
 
 /* Fills p with the defaults above. */
-void jnd_builtin_defaults(jnd_builtin_params *p);
+JND_EXPERIMENTAL void jnd_builtin_defaults(jnd_builtin_params *p);
 
 /* Makes the built-in asset needing no files: a rounded box of side 2 (or a
  * sphere of radius 1) in object units, centred at the origin, with one
@@ -720,7 +737,7 @@ jnd_status jnd_scene_builtin(const jnd_builtin_params *p, jnd_scene **out);
  * "builtin:" and a comma list of box, sphere, parts=N, ground (e.g.
  * "builtin:sphere,ground", "builtin:parts=6"). Returns 1 for such a name,
  * 0 for any other name (a file), −1 for a malformed option. */
-int jnd_builtin_parse(const char *name, jnd_builtin_params *p);
+JND_EXPERIMENTAL int jnd_builtin_parse(const char *name, jnd_builtin_params *p);
 
 /* Opens a model by name, the one way every command does: a built-in asset
  * (jnd_builtin_parse; maps of map_size² pixels, 0 for the default) or a
@@ -732,28 +749,28 @@ jnd_status jnd_scene_open(const char *name, int map_size, jnd_scene **out);
 void jnd_scene_free(jnd_scene *s);
 
 /* The path the scene came from ("builtin" for the procedural asset). */
-const char *jnd_scene_path(const jnd_scene *s);
+JND_EXPERIMENTAL const char *jnd_scene_path(const jnd_scene *s);
 
 /* Counts: meshes (after triangulation), triangles, materials. */
-int jnd_scene_mesh_count(const jnd_scene *s);
+JND_EXPERIMENTAL int jnd_scene_mesh_count(const jnd_scene *s);
 size_t jnd_scene_triangle_count(const jnd_scene *s);
-int jnd_scene_material_count(const jnd_scene *s);
-const char *jnd_scene_material_name(const jnd_scene *s, int material);
+JND_EXPERIMENTAL int jnd_scene_material_count(const jnd_scene *s);
+JND_EXPERIMENTAL const char *jnd_scene_material_name(const jnd_scene *s, int material);
 
 /* The bounding sphere of the scene (object units): centre[3] and radius. */
-void jnd_scene_bounds(const jnd_scene *s, double centre[3], double *radius);
+JND_EXPERIMENTAL void jnd_scene_bounds(const jnd_scene *s, double centre[3], double *radius);
 
 /* The bounding sphere of what stands on the ground: without a ground plane
  * in the scene (a mesh that is flat, horizontal, lowest and wider than
  * everything else), the same as jnd_scene_bounds. ground (may be NULL)
  * receives the ground's material index, or −1 when there is none. Views are
  * framed on this sphere (docs/render.md). */
-void jnd_scene_subject_bounds(const jnd_scene *s, double centre[3], double *radius, int *ground);
+JND_EXPERIMENTAL void jnd_scene_subject_bounds(const jnd_scene *s, double centre[3], double *radius, int *ground);
 
 /* Warnings recorded while loading (missing textures, ...): count, and the
  * i-th one-line message (owned by the scene). */
-int jnd_scene_warning_count(const jnd_scene *s);
-const char *jnd_scene_warning(const jnd_scene *s, int i);
+JND_EXPERIMENTAL int jnd_scene_warning_count(const jnd_scene *s);
+JND_EXPERIMENTAL const char *jnd_scene_warning(const jnd_scene *s, int i);
 
 /* One texture map of a material. */
 typedef struct {
@@ -776,28 +793,28 @@ typedef struct {
 
 /* Number of texture maps (material slots that have a texture), and the
  * description of map i (0 ≤ i < count), in material order then slot order. */
-int jnd_scene_map_count(const jnd_scene *s);
-jnd_status jnd_scene_map_info(const jnd_scene *s, int i, jnd_map_info *info);
+JND_EXPERIMENTAL int jnd_scene_map_count(const jnd_scene *s);
+JND_EXPERIMENTAL jnd_status jnd_scene_map_info(const jnd_scene *s, int i, jnd_map_info *info);
 
 /* The index of the map called name ("MATERIAL/SLOT"), or -1. Material names
  * that repeat get "#N" appended in file order (docs/render.md). */
-int jnd_scene_map_find(const jnd_scene *s, const char *name);
+JND_EXPERIMENTAL int jnd_scene_map_find(const jnd_scene *s, const char *name);
 
 /* Replaces map i for subsequent renderings by the original resampled to
  * w × h pixels (any size ≥ 1, not only powers of two) with
  * jnd_resample_map. w, h equal to the original restore it exactly. */
-jnd_status jnd_scene_map_resize(jnd_scene *s, int i, int w, int h);
+JND_EXPERIMENTAL jnd_status jnd_scene_map_resize(jnd_scene *s, int i, int w, int h);
 
 /* Replaces map i by a copy of img (the caller keeps img), in the slot's
  * encoding: values 0..1, sRGB-encoded for colour slots, (v + 1) / 2 for
  * normals; 1–4 channels, any size. */
-jnd_status jnd_scene_map_set(jnd_scene *s, int i, const jnd_image *img);
+JND_EXPERIMENTAL jnd_status jnd_scene_map_set(jnd_scene *s, int i, const jnd_image *img);
 
 /* Restores map i to the file's version. */
-void jnd_scene_map_restore(jnd_scene *s, int i);
+JND_EXPERIMENTAL void jnd_scene_map_restore(jnd_scene *s, int i);
 
 /* A copy of map i as used now (caller frees it); orig = 1 for the file's version. */
-jnd_status jnd_scene_map_get(const jnd_scene *s, int i, int orig, jnd_image *out);
+JND_EXPERIMENTAL jnd_status jnd_scene_map_get(const jnd_scene *s, int i, int orig, jnd_image *out);
 
 /* Resamples a texture map to w × h pixels with a separable Lanczos-3 filter
  * (000 §4), widened by the scale factor when shrinking so that it
@@ -806,7 +823,7 @@ jnd_status jnd_scene_map_get(const jnd_scene *s, int i, int orig, jnd_image *out
  * to vectors, filtered and renormalised; data maps are filtered as plain
  * values. Results are clamped to 0..1. Edges are clamped (wrap = 0) or
  * wrapped (wrap = 1, for tiling maps). out is allocated (caller frees). */
-jnd_status jnd_resample_map(const jnd_image *in, int w, int h, jnd_map_kind kind, int wrap,
+JND_EXPERIMENTAL jnd_status jnd_resample_map(const jnd_image *in, int w, int h, jnd_map_kind kind, int wrap,
                             jnd_image *out);
 
 /* ------------------------------------------------------------------------ */
@@ -883,7 +900,7 @@ typedef struct {
 } jnd_lod_params;
 
 /* Fills p with the defaults above. */
-void jnd_lod_defaults(jnd_lod_params *p);
+JND_EXPERIMENTAL void jnd_lod_defaults(jnd_lod_params *p);
 
 /* Replaces the scene's levels 1.. by a chain made from level 0 with
  * meshoptimizer, one level per target (a target that gives no fewer
@@ -897,7 +914,7 @@ void jnd_lod_defaults(jnd_lod_params *p);
  * errors (an upper bound). Level 0 is selected on return. JND_ERR_FORMAT "PATH:
  * problem" for a scene whose triangles all have zero area; JND_ERR_ARG for
  * bad targets. */
-jnd_status jnd_scene_lod_build(jnd_scene *s, const jnd_lod_params *p);
+JND_EXPERIMENTAL jnd_status jnd_scene_lod_build(jnd_scene *s, const jnd_lod_params *p);
 
 /* Appends the meshes of another scene as the next level (an artist's LOD
  * file): its meshes are matched to this scene's by material name (all of a
@@ -905,7 +922,7 @@ jnd_status jnd_scene_lod_build(jnd_scene *s, const jnd_lod_params *p);
  * empty at that level). level is consumed (freed) whatever the outcome;
  * source names it in jnd_lod_level_info. JND_ERR_ARG "SOURCE: ..." when it
  * has a material this scene lacks. */
-jnd_status jnd_scene_lod_add(jnd_scene *s, jnd_scene *level, const char *source);
+JND_EXPERIMENTAL jnd_status jnd_scene_lod_add(jnd_scene *s, jnd_scene *level, const char *source);
 
 /* Where the chain a task measures comes from (jnd lod, jnd pop). */
 typedef struct {
@@ -924,28 +941,28 @@ typedef struct {
  * NULL (a file's levels, or a chain with the defaults). JND_ERR_ARG for
  * level files given to a file that has levels; JND_ERR_FORMAT "NAME: ..."
  * when the chain has one level (nothing simpler could be made). */
-jnd_status jnd_scene_lod_chain(jnd_scene *s, const char *name, const jnd_lod_chain_params *p, const char **source);
+JND_EXPERIMENTAL jnd_status jnd_scene_lod_chain(jnd_scene *s, const char *name, const jnd_lod_chain_params *p, const char **source);
 
 /* Number of levels (1: the file's meshes only), and the description of level k. */
 int jnd_scene_lod_count(const jnd_scene *s);
-jnd_status jnd_scene_lod_info(const jnd_scene *s, int level, jnd_lod_level_info *out);
+JND_EXPERIMENTAL jnd_status jnd_scene_lod_info(const jnd_scene *s, int level, jnd_lod_level_info *out);
 
 /* Makes level k (0 ≤ k < count) the one in use: jnd_scene_triangle_count
  * and jnd_render see it. The renderer notices which meshes changed and
  * uploads only those again. */
-jnd_status jnd_scene_lod_select(jnd_scene *s, int level);
+JND_EXPERIMENTAL jnd_status jnd_scene_lod_select(jnd_scene *s, int level);
 
 /* The level in use. */
-int jnd_scene_lod_selected(const jnd_scene *s);
+JND_EXPERIMENTAL int jnd_scene_lod_selected(const jnd_scene *s);
 
 /* Makes level k the one in use for one mesh only (a level per object: a
  * gaze-contingent or per-object LOD); jnd_scene_lod_select sets them all
  * again. jnd_scene_lod_selected keeps naming the last level selected for
  * the whole scene. JND_ERR_ARG for a mesh or level out of range. */
-jnd_status jnd_scene_lod_select_mesh(jnd_scene *s, int mesh, int level);
+JND_EXPERIMENTAL jnd_status jnd_scene_lod_select_mesh(jnd_scene *s, int mesh, int level);
 
 /* The level mesh is drawn at now (-1 for a mesh out of range). */
-int jnd_scene_lod_mesh_level(const jnd_scene *s, int mesh);
+JND_EXPERIMENTAL int jnd_scene_lod_mesh_level(const jnd_scene *s, int mesh);
 
 /* Writes the scene with every level of detail as one binary glTF 2.0 file
  * (atomically): node 0 holds level 0 (a primitive per scene mesh) and the
@@ -958,7 +975,7 @@ int jnd_scene_lod_mesh_level(const jnd_scene *s, int mesh);
  * transforms applied; materials are written from the scene's (factors,
  * alpha, double-sidedness, uv sets, KHR_texture_transform), maps as 8-bit
  * PNGs of the maps in use. jnd_scene_load reads the levels back. */
-jnd_status jnd_scene_write_lod_glb(const jnd_scene *s, const char *path, const double *coverage);
+JND_EXPERIMENTAL jnd_status jnd_scene_write_lod_glb(const jnd_scene *s, const char *path, const double *coverage);
 
 /* The bytes level `level` takes as jnd_scene_write_lod_glb stores it and a
  * GPU holds it: per mesh, the vertices its triangles use times the float
@@ -966,12 +983,12 @@ jnd_status jnd_scene_write_lod_glb(const jnd_scene *s, const char *path, const d
  * of its material's maps samples it, TANGENT only with a normal map,
  * COLOR_0 where a colour is not white) plus 32-bit indices. Textures are
  * not included. */
-jnd_status jnd_scene_lod_bytes(const jnd_scene *s, int level, size_t *bytes);
+JND_EXPERIMENTAL jnd_status jnd_scene_lod_bytes(const jnd_scene *s, int level, size_t *bytes);
 
 /* The name a written chain takes from its model (OUT/model/STEM.glb, by jnd
  * lod and jnd gaze): the file's base name without its extension, ':', ','
  * and '=' made '_' ("builtin:box,parts=3" → "builtin_box_parts_3"). */
-void jnd_model_stem(const char *model_path, char *out, size_t n);
+JND_EXPERIMENTAL void jnd_model_stem(const char *model_path, char *out, size_t n);
 
 /* How far a level's surface lies from level 0's, in object units: points
  * sampled on level 0 uniformly by area (stratified, seeded), each taken to
@@ -987,7 +1004,7 @@ typedef struct {
  * distance to level `level` (a bounding-volume hierarchy over its
  * triangles; exact point–triangle distances). Deterministic whatever the
  * thread count. JND_ERR_FORMAT when level 0 has no area. */
-jnd_status jnd_scene_lod_distance(const jnd_scene *s, int level, int samples, uint64_t seed,
+JND_EXPERIMENTAL jnd_status jnd_scene_lod_distance(const jnd_scene *s, int level, int samples, uint64_t seed,
                                   jnd_surface_distance *out);
 
 /* ------------------------------------------------------------------------ */
@@ -1034,13 +1051,13 @@ jnd_status jnd_renderer_create(const jnd_renderer_params *p, jnd_renderer **out)
 void jnd_renderer_free(jnd_renderer *r);
 
 /* "GL_RENDERER string (EGL platform)", e.g. "llvmpipe (LLVM 15.0.6, 256 bits) (surfaceless)". */
-const char *jnd_renderer_description(const jnd_renderer *r);
+JND_EXPERIMENTAL const char *jnd_renderer_description(const jnd_renderer *r);
 
 /* Changes the output size (pixels) for the next renderings. */
-jnd_status jnd_renderer_resize(jnd_renderer *r, int width, int height);
+JND_EXPERIMENTAL jnd_status jnd_renderer_resize(jnd_renderer *r, int width, int height);
 
 /* The output size (pixels) of the next renderings. */
-void jnd_renderer_size(const jnd_renderer *r, int *width, int *height);
+JND_EXPERIMENTAL void jnd_renderer_size(const jnd_renderer *r, int *width, int *height);
 
 /* A pinhole camera, object units. */
 typedef struct {
@@ -1113,7 +1130,7 @@ typedef struct {
 } jnd_frame;
 
 /* Frees the images of a frame; safe on a zeroed frame. */
-void jnd_frame_free(jnd_frame *f);
+JND_EXPERIMENTAL void jnd_frame_free(jnd_frame *f);
 
 /* Renders scene as seen from view into frame (allocated; previous contents
  * are not freed). The scene's meshes and textures are uploaded on first use
@@ -1123,7 +1140,7 @@ jnd_status jnd_render(jnd_renderer *r, const jnd_scene *scene, const jnd_view *v
                       jnd_frame *frame);
 
 /* Display transform: linear RGB × 1 → sRGB-encoded 0..1 (clamped), for PNG. */
-jnd_status jnd_render_to_srgb(const jnd_image *linear, jnd_image *out);
+JND_EXPERIMENTAL jnd_status jnd_render_to_srgb(const jnd_image *linear, jnd_image *out);
 
 /* How views are sampled around an object. */
 #define JND_ELEVATION_MIN_DEG (-60.0)  /* default band of camera elevations without a ground plane */
@@ -1181,7 +1198,7 @@ jnd_status jnd_view_set_make(const jnd_scene *scene, const jnd_view_set *vs, jnd
  * "spot", "position", "direction", "color", "intensity", "range",
  * "inner_deg", "outer_deg"}]}. A view without "lights" gets nlights = −1 (the
  * caller fills them). *out is allocated (free it); name is used in errors. */
-jnd_status jnd_views_parse(const char *name, const char *text, size_t n, const double centre[3], double fov_y_deg,
+JND_EXPERIMENTAL jnd_status jnd_views_parse(const char *name, const char *text, size_t n, const double centre[3], double fov_y_deg,
                            jnd_view **out, int *count);
 
 /* Reads a cameras file (at most 64 MiB of JSON as jnd_views_parse takes)
@@ -1191,7 +1208,7 @@ jnd_status jnd_views_read(const char *path, const jnd_scene *scene, double fov_y
 
 /* The camera distance (object units) at which a sphere of radius r fills
  * fraction coverage of the image height with vertical field of view fov. */
-double jnd_camera_distance_for_coverage(double radius, double coverage, double fov_y_deg);
+JND_EXPERIMENTAL double jnd_camera_distance_for_coverage(double radius, double coverage, double fov_y_deg);
 
 /* ------------------------------------------------------------------------ */
 /* The judge: one rendered judgement for every task (000 §6, §9)            */
@@ -1347,11 +1364,11 @@ jnd_status jnd_judge_view_images(jnd_judge *j, int v, jnd_image *jmap, jnd_image
  * been judged in this state): counts[m] (caller's, one per material) gets
  * the number of the object's pixels of material m whose P exceeds the
  * criterion's p (material from the reference's pixel centres). */
-jnd_status jnd_judge_material_counts(jnd_judge *j, int v, int *counts);
+JND_EXPERIMENTAL jnd_status jnd_judge_material_counts(jnd_judge *j, int v, int *counts);
 
 /* The finest mip level map `map` is sampled at in the references of views
  * [first, first + n) (000 §4's bound; fractional), or −1 if never. */
-double jnd_judge_mip_min(const jnd_judge *j, int map, int first, int n);
+JND_EXPERIMENTAL double jnd_judge_mip_min(const jnd_judge *j, int map, int first, int n);
 
 /* What a judge has done so far. */
 typedef struct {
@@ -1362,7 +1379,7 @@ typedef struct {
   int states;              /* distinct states judged */
   int reused;              /* view judgements answered from what was judged before */
 } jnd_judge_counts;
-void jnd_judge_get_counts(const jnd_judge *j, jnd_judge_counts *out);
+JND_EXPERIMENTAL void jnd_judge_get_counts(const jnd_judge *j, jnd_judge_counts *out);
 
 /* "GL_RENDERER (platform)" of the judge's renderer. */
 const char *jnd_judge_renderer(const jnd_judge *j);
@@ -1421,7 +1438,7 @@ jnd_status jnd_pair_judge_compare(jnd_pair_judge *j, const jnd_image *a, const j
                                   jnd_image *jmap);
 
 /* How many vision models the pair judge has made so far. */
-int jnd_pair_judge_models(const jnd_pair_judge *j);
+JND_EXPERIMENTAL int jnd_pair_judge_models(const jnd_pair_judge *j);
 
 /* ------------------------------------------------------------------------ */
 /* Tasks: frames of an asset (`jnd render`)                                 */
@@ -1500,7 +1517,7 @@ void jnd_render_result_free(jnd_render_result *r);
  * distortions, one per quadrant — 3×3 blur (top left), 1% noise (top right), a
  * colour shift (bottom left), a faint 1% luminance step (bottom right).
  * Both are allocated: w × h × 3, sRGB-encoded 0..1. w, h >= 64. */
-jnd_status jnd_example_pair(int w, int h, jnd_image *ref, jnd_image *test);
+JND_EXPERIMENTAL jnd_status jnd_example_pair(int w, int h, jnd_image *ref, jnd_image *test);
 
 /* A contrast-detection stimulus in castleCSF's terms (`jnd csf`). */
 typedef enum { JND_STIM_GABOR = 0, JND_STIM_GRATING, JND_STIM_DISK } jnd_stim_kind;
@@ -1527,18 +1544,18 @@ typedef struct {
  * keeps the models it builds (one per sampling density and fixation) for
  * reuse. Not for concurrent use: give each thread its own. */
 typedef struct jnd_csf_context jnd_csf_context;
-jnd_status jnd_csf_context_create(const jnd_model_params *base, jnd_csf_context **out);
-void jnd_csf_context_free(jnd_csf_context *ctx);
+JND_EXPERIMENTAL jnd_status jnd_csf_context_create(const jnd_model_params *base, jnd_csf_context **out);
+JND_EXPERIMENTAL void jnd_csf_context_free(jnd_csf_context *ctx);
 
 /* The model's sensitivity (1 / threshold RMS cone contrast) for a stimulus:
  * the contrast where the max-pooled probability of detection is 0.5, found in
  * log contrast. The context's constants are used; the display's ppd is
  * replaced by one suited to the stimulus (docs/csf.md). detail may be NULL. */
-jnd_status jnd_csf_threshold(jnd_csf_context *ctx, const jnd_csf_stimulus *s, double *sensitivity,
+JND_EXPERIMENTAL jnd_status jnd_csf_threshold(jnd_csf_context *ctx, const jnd_csf_stimulus *s, double *sensitivity,
                              jnd_csf_detail *detail);
 
 /* The sampling chosen for a stimulus: pixels per degree, half-extent and edge taper in degrees. */
-void jnd_csf_sampling(const jnd_csf_stimulus *s, double *ppd, double *half_deg, double *taper_deg);
+JND_EXPERIMENTAL void jnd_csf_sampling(const jnd_csf_stimulus *s, double *ppd, double *half_deg, double *taper_deg);
 
 /* One row of a castleCSF-format threshold data set, resolved into a stimulus. */
 typedef struct {
@@ -1569,8 +1586,8 @@ typedef struct {
  * (docs/csf.md) and flagged. Rows that cannot be predicted (unknown stimulus,
  * no sensitivity, no size) get use = 0 and a reason. Free with
  * jnd_csf_data_free. */
-jnd_status jnd_csf_data_read(const char *data, const char *colors, const char *backgrounds, jnd_csf_data *out);
-void jnd_csf_data_free(jnd_csf_data *d);
+JND_EXPERIMENTAL jnd_status jnd_csf_data_read(const char *data, const char *colors, const char *backgrounds, jnd_csf_data *out);
+JND_EXPERIMENTAL void jnd_csf_data_free(jnd_csf_data *d);
 
 /* What jnd_csf_evaluate does besides predicting. */
 typedef struct {
@@ -1589,7 +1606,7 @@ typedef struct {
   void *user;
 } jnd_csf_options;
 
-void jnd_csf_options_defaults(jnd_csf_options *o);
+JND_EXPERIMENTAL void jnd_csf_options_defaults(jnd_csf_options *o);
 
 /* RMS of 20 log10(predicted / measured) over a set of rows, dB, and its
  * mean, the bias (> 0: the model is too sensitive; the spread about the
@@ -1627,9 +1644,44 @@ typedef struct {
  * set and pooled; with o->cross_validate also leave-one-data-set-out. The
  * procedure and its cost: docs/model.md, "Fitting and cross-validation".
  * r's arrays are allocated; free with jnd_csf_result_free. */
-jnd_status jnd_csf_evaluate(const jnd_csf_data *d, const jnd_model_params *base, const jnd_csf_options *o,
+JND_EXPERIMENTAL jnd_status jnd_csf_evaluate(const jnd_csf_data *d, const jnd_model_params *base, const jnd_csf_options *o,
                             jnd_csf_result *r);
-void jnd_csf_result_free(jnd_csf_result *r);
+JND_EXPERIMENTAL void jnd_csf_result_free(jnd_csf_result *r);
+
+/* `jnd csf` as one call (the task shape, docs/architecture.md): reads a
+ * castleCSF-format CSV with its colour directions and backgrounds, selects
+ * rows, predicts (and fits, cross-validates) with jnd_csf_evaluate, and
+ * writes through one output writer (nothing over an input; all or nothing)
+ * the rows with their predictions as a CSV (out_csv, NULL: none) and the
+ * report's copy (run.report_path). */
+typedef struct {
+  jnd_model_params model;    /* the constants predictions start from (jnd_model_defaults) */
+  jnd_csf_options options;   /* fit, cross-validation, threads, progress (jnd_csf_options_defaults) */
+  const char *colors;        /* colour directions (NULL: color_directions.csv beside the data) */
+  const char *backgrounds;   /* backgrounds (NULL: backgrounds.csv beside the data) */
+  const char *const *datasets; /* only rows of these data sets (NULL: every data set) */
+  int ndatasets;
+  int static_only;           /* 1: skip rows with t_frequency > 0 */
+  int every;                 /* only every N-th row (1) */
+  jnd_run_options run;       /* the report's copy (map_size, timings unused) */
+} jnd_csf_run_params;
+
+/* Fills p with the defaults above. */
+void jnd_csf_run_defaults(jnd_csf_run_params *p);
+
+typedef struct {
+  jnd_csf_data data;         /* the rows read, with .use and .skip as the selection left them */
+  jnd_csf_result eval;       /* predictions and scores */
+  char *report;              /* the report's JSON text */
+} jnd_csf_run_result;
+
+/* The task (`jnd csf`). *out is allocated (jnd_csf_run_result_free). Bad
+ * input: one error "FILE: problem", nothing written. */
+jnd_status jnd_csf_run(const char *data, const jnd_csf_run_params *p, const char *out_csv,
+                       jnd_csf_run_result **out);
+
+/* Frees what jnd_csf_run returned (NULL is fine). */
+void jnd_csf_run_result_free(jnd_csf_run_result *r);
 
 /* `jnd diff` as a call: applies the model's display to two decoded files
  * (infos from jnd_image_read; alpha composited over the display's black),
@@ -1703,17 +1755,17 @@ typedef enum {
 } jnd_tex_format;
 
 /* The format's name ("rgba8", "bc1", "bc4", "bc5", "bc7", "astc4x4", "astc6x6"). */
-const char *jnd_tex_format_name(jnd_tex_format f);
+JND_EXPERIMENTAL const char *jnd_tex_format_name(jnd_tex_format f);
 
 /* Bytes of a w × h texture in format f; with mips = 1, of its full mip chain
  * (levels down to 1 × 1, each side halved and rounded down, at least 1; block
  * formats round each level up to whole blocks). */
-size_t jnd_texture_bytes(jnd_tex_format f, int w, int h, int mips);
+JND_EXPERIMENTAL size_t jnd_texture_bytes(jnd_tex_format f, int w, int h, int mips);
 
 /* The block format engines usually pick for a slot: baseColor BC7 (BC1 for
  * channels <= 3 is smaller but BC7 is the quality default), normal BC5,
  * occlusion BC4, metallicRoughness BC1, emissive BC1. */
-jnd_tex_format jnd_slot_block_format(jnd_map_slot slot, int channels);
+JND_EXPERIMENTAL jnd_tex_format jnd_slot_block_format(jnd_map_slot slot, int channels);
 
 /* Parameters of a texture resolution search. */
 typedef struct {
@@ -1847,17 +1899,17 @@ void jnd_texres_result_free(jnd_texres_result *r);
  * verification on held-out views. Writes nothing. out owns arrays
  * (jnd_texres_result_clear). JND_ERR_ARG for a scene without texture maps
  * or an unknown map name. */
-jnd_status jnd_texres_search(jnd_scene *scene, const jnd_texres_params *p, jnd_texres_result *out);
+JND_EXPERIMENTAL jnd_status jnd_texres_search(jnd_scene *scene, const jnd_texres_params *p, jnd_texres_result *out);
 
 /* Frees a result's arrays; safe on a zeroed struct. */
-void jnd_texres_result_clear(jnd_texres_result *r);
+JND_EXPERIMENTAL void jnd_texres_result_clear(jnd_texres_result *r);
 
 /* A picture of matrix t of a result (000 Fig. 13): the criterion statistic
  * for every pair of sizes (columns the first map's, rows the second's, the
  * longer side in pixels) with axis titles, each cell's value and a colour
  * legend of P, the chosen pair outlined; below it the same per view. out is
  * allocated (3 channels, sRGB 0..1) for jnd_image_write_png. */
-jnd_status jnd_texres_matrix_figure(const jnd_texres_result *r, int t, jnd_image *out);
+JND_EXPERIMENTAL jnd_status jnd_texres_matrix_figure(const jnd_texres_result *r, int t, jnd_image *out);
 
 /* Writes a copy of the glTF/GLB model at src_path under out_dir whose maps
  * are the scene's maps at the sizes in use now (jnd_scene_map_get of each
@@ -1866,7 +1918,7 @@ jnd_status jnd_texres_matrix_figure(const jnd_texres_result *r, int t, jnd_image
  * file; a .gltf gets its images and buffers as files beside it. The model
  * file's name is kept. The input is never modified. out_path (NULL or
  * caller's, n bytes) receives the written model's path. */
-jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src_path, const char *out_dir,
+JND_EXPERIMENTAL jnd_status jnd_texres_write_model(const jnd_scene *scene, const char *src_path, const char *out_dir,
                                   char *out_path, size_t n);
 
 /* ------------------------------------------------------------------------ */
@@ -1892,7 +1944,7 @@ typedef struct {
 
 /* The JND percentiles 90..99 of a map over the pixels where mask > 0.5 (mask
  * NULL: all), into out[JND_CALIB_NPCT]. */
-jnd_status jnd_calib_percentiles(const jnd_image *jnd_map, const jnd_image *mask, double *out);
+JND_EXPERIMENTAL jnd_status jnd_calib_percentiles(const jnd_image *jnd_map, const jnd_image *mask, double *out);
 
 typedef struct {
   int folds;                 /* k of k-fold cross-validation by scene (5; at most the scenes) */
@@ -1904,7 +1956,7 @@ typedef struct {
 } jnd_calibrate_params;
 
 /* Fills p with the defaults above. */
-void jnd_calibrate_defaults(jnd_calibrate_params *p);
+JND_EXPERIMENTAL void jnd_calibrate_defaults(jnd_calibrate_params *p);
 
 /* What a calibration fit found. */
 typedef struct {
@@ -1928,7 +1980,7 @@ typedef struct {
  * any calibration): the image series of `jnd calibrate` for an asset. out
  * holds nres × JND_CALIB_NPCT doubles (caller's). The map is restored on
  * return. */
-jnd_status jnd_calib_series_percentiles(jnd_scene *scene, const char *map, const int *sizes, int nres,
+JND_EXPERIMENTAL jnd_status jnd_calib_series_percentiles(jnd_scene *scene, const char *map, const int *sizes, int nres,
                                         const jnd_judge_params *p, double *out);
 
 /* Fits percentile (90..99), scale and bias minimising the mean absolute
@@ -1939,11 +1991,11 @@ jnd_status jnd_calib_series_percentiles(jnd_scene *scene, const char *map, const
  * read from 000 eq. 1 fitted to the calibrated pooled P over its series,
  * in pixels as 000. Then k-fold cross-validation by scene (000 §7.3).
  * Deterministic. out owns arrays (jnd_calibrate_result_free). */
-jnd_status jnd_calibrate_fit(const jnd_calib_scene *scenes, int n, const jnd_calibrate_params *p,
+JND_EXPERIMENTAL jnd_status jnd_calibrate_fit(const jnd_calib_scene *scenes, int n, const jnd_calibrate_params *p,
                              jnd_calibrate_result *out);
 
 /* Frees the arrays of a result; safe on a zeroed struct. */
-void jnd_calibrate_result_clear(jnd_calibrate_result *r);
+JND_EXPERIMENTAL void jnd_calibrate_result_clear(jnd_calibrate_result *r);
 
 /* What `jnd calibrate` takes besides the thresholds. */
 typedef struct {
@@ -1985,7 +2037,7 @@ void jnd_calibrate_result_free(jnd_calibrate_result *r);
  * a multiple of 32 (the end bins, ±512, hold everything beyond), as bars on
  * labelled axes with the mean absolute error in the title. out is a canvas
  * (sRGB 0..1) the caller frees. JND_ERR_ARG without scenes. */
-jnd_status jnd_calibrate_histogram(const jnd_calibrate_result *r, jnd_image *out);
+JND_EXPERIMENTAL jnd_status jnd_calibrate_histogram(const jnd_calibrate_result *r, jnd_image *out);
 
 /* ------------------------------------------------------------------------ */
 /* Point of Imperceptibility of a level-of-detail chain (003)              */
@@ -2021,7 +2073,7 @@ typedef struct {
  * standard-4k, phone, laptop), "WxH" (pixels; ppd of a 24" 16:9-class
  * screen at 60 cm, see docs/lod.md) or "WxH@PPD". JND_ERR_ARG otherwise
  * (vr has no pixel size: give WxH@PPD). */
-jnd_status jnd_poi_screen_parse(const char *spec, jnd_poi_screen *s);
+JND_EXPERIMENTAL jnd_status jnd_poi_screen_parse(const char *spec, jnd_poi_screen *s);
 
 /* The most views a rendering command takes, the CLI's --views limit in every
  * command: also the most of 003's views (jnd_poi_params.views) and of the
@@ -2055,7 +2107,7 @@ typedef struct {
 } jnd_poi_params;
 
 /* Fills p with the defaults above. */
-void jnd_poi_defaults(jnd_poi_params *p);
+JND_EXPERIMENTAL void jnd_poi_defaults(jnd_poi_params *p);
 
 /* One level on one screen's Pareto curve. Every term is dimensionless. */
 typedef struct {
@@ -2115,16 +2167,16 @@ typedef struct {
  * deterministic whatever the thread count. Level 0 is selected on return.
  * out owns arrays (jnd_poi_result_free). JND_ERR_ARG for a scene with one
  * level; JND_ERR_GL without a renderer. */
-jnd_status jnd_poi_analyse(jnd_scene *scene, const jnd_poi_params *p, jnd_poi_result *out);
+JND_EXPERIMENTAL jnd_status jnd_poi_analyse(jnd_scene *scene, const jnd_poi_params *p, jnd_poi_result *out);
 
 /* Frees a result's arrays; safe on a zeroed struct. */
-void jnd_poi_result_free(jnd_poi_result *r);
+JND_EXPERIMENTAL void jnd_poi_result_free(jnd_poi_result *r);
 
 /* The Pareto plot of screen i: both curves (each over its largest value)
  * against triangles (log axis), 003's knees, the rules of thumb and, when
  * perceptual >= 0, the perceptual choice (jnd_lod_switch_analyse's level)
  * marked. out is allocated (3 channels, sRGB 0..1) for jnd_image_write_png. */
-jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, int perceptual, jnd_image *out);
+JND_EXPERIMENTAL jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, int perceptual, jnd_image *out);
 
 /* The perceptual choice and the switch distances of a chain on one screen,
  * through the judge (docs/lod.md, docs/judge.md): level 0 is the reference;
@@ -2188,7 +2240,7 @@ typedef struct {
 } jnd_lod_switch_params;
 
 /* Fills p with the defaults above (the judge's: jnd_judge_defaults, 4 views). */
-void jnd_lod_switch_defaults(jnd_lod_switch_params *p);
+JND_EXPERIMENTAL void jnd_lod_switch_defaults(jnd_lod_switch_params *p);
 
 /* What decided a level's switch distance. */
 typedef enum {
@@ -2199,7 +2251,7 @@ typedef enum {
 } jnd_lod_switch_by;
 
 /* "reference", "criterion", "popping", "finer level". */
-const char *jnd_lod_switch_by_name(jnd_lod_switch_by b);
+JND_EXPERIMENTAL const char *jnd_lod_switch_by_name(jnd_lod_switch_by b);
 
 typedef struct {
   jnd_poi_screen screen;
@@ -2247,16 +2299,16 @@ typedef struct {
  * screen. Level 0 is selected on return. Deterministic for given
  * parameters. out owns arrays (jnd_lod_switch_result_free). JND_ERR_ARG for
  * bad parameters or a single level, JND_ERR_GL without a renderer. */
-jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen, const jnd_lod_switch_params *p,
+JND_EXPERIMENTAL jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen, const jnd_lod_switch_params *p,
                                   jnd_lod_switch_result *out);
 
 /* Frees a result's arrays; safe on a zeroed struct. */
-void jnd_lod_switch_result_free(jnd_lod_switch_result *r);
+JND_EXPERIMENTAL void jnd_lod_switch_result_free(jnd_lod_switch_result *r);
 
 /* The fraction of the image height a sphere of radius r fills from camera
  * distance d with vertical field of view fov (the inverse of
  * jnd_camera_distance_for_coverage); 0 for an infinite distance. */
-double jnd_coverage_at_distance(double radius, double distance, double fov_y_deg);
+JND_EXPERIMENTAL double jnd_coverage_at_distance(double radius, double distance, double fov_y_deg);
 
 /* `jnd lod`'s parameters: the chain (made with meshoptimizer, or the one
  * the file has as MSFT_lod, or levels from other files), 003's analysis per
@@ -2324,10 +2376,10 @@ void jnd_lod_result_free(jnd_lod_result *r);
  * coverages: loads model_path, gets its chain, runs 003's analysis and the
  * perceptual step. Writes nothing. out is the caller's
  * (jnd_lod_result_clear). */
-jnd_status jnd_lod_analyse(const char *model_path, const jnd_lod_run_params *p, jnd_lod_result *out);
+JND_EXPERIMENTAL jnd_status jnd_lod_analyse(const char *model_path, const jnd_lod_run_params *p, jnd_lod_result *out);
 
 /* Frees the scene, the analysis and the report; safe on a zeroed struct. */
-void jnd_lod_result_clear(jnd_lod_result *r);
+JND_EXPERIMENTAL void jnd_lod_result_clear(jnd_lod_result *r);
 
 /* ------------------------------------------------------------------------ */
 /* Tasks: texture-set PCA (001)                                             */
@@ -2385,29 +2437,29 @@ typedef struct {
  * left out (one channel is always kept). channels (NULL or "") picks
  * explicitly: "normal=rg,metalRoughness=gb" (MAP=letters among r, g, b, a).
  * The images are not modified; out owns new memory. */
-jnd_status jnd_texset_from_images(const jnd_image *maps, const char *const *names, int n,
+JND_EXPERIMENTAL jnd_status jnd_texset_from_images(const jnd_image *maps, const char *const *names, int n,
                                   const char *channels, jnd_texset *out);
 
 /* Reads n map files (PNG, JPEG, HDR, EXR) and builds the set as above; map
  * names are the file stems less their shared prefix. Errors name the file:
  * "PATH: problem". */
-jnd_status jnd_texset_read(const char *const *paths, int n, const char *channels, jnd_texset *out);
+JND_EXPERIMENTAL jnd_status jnd_texset_read(const char *const *paths, int n, const char *channels, jnd_texset *out);
 
 /* Frees the planes and zeroes the struct; safe on a zeroed struct. */
-void jnd_texset_free(jnd_texset *set);
+JND_EXPERIMENTAL void jnd_texset_free(jnd_texset *set);
 
 /* Rebuilds map `map` as its file had it (file_channels channels, the set's
  * size) from channels, a w × h × C image in the set's channel order (the set
  * itself or a reconstruction): identical copies are filled from their
  * source, constant channels with their value, channels --channels left out
  * with 0. out is allocated. */
-jnd_status jnd_texset_map_image(const jnd_texset *set, const jnd_image *channels, int map, jnd_image *out);
+JND_EXPERIMENTAL jnd_status jnd_texset_map_image(const jnd_texset *set, const jnd_image *channels, int map, jnd_image *out);
 
 /* Parses per-channel importance weights (001 "Input channel weighting"):
  * "albedo=2,height=0.75"; a key is a map name (all its channels) or a
  * channel name ("albedo.g"). weights[c] for c < set->c is filled: 1 where
  * not named. Weights must be > 0. JND_ERR_ARG for an unknown name. */
-jnd_status jnd_texset_parse_weights(const jnd_texset *set, const char *spec, double *weights);
+JND_EXPERIMENTAL jnd_status jnd_texset_parse_weights(const jnd_texset *set, const char *spec, double *weights);
 
 /* The decomposition of a set. Channel c enters as weight[c]·(x_c − mean[c]);
  * no standardisation (001: ranges already carry importance). */
@@ -2428,19 +2480,19 @@ typedef struct {
 /* Mean-centres the set, weights it (weights NULL = all 1), accumulates the
  * C × C covariance in double precision (fixed-order reduction: results do not
  * depend on threads) and eigen-decomposes it with LAPACK (dsyev). */
-jnd_status jnd_pca_analyse(const jnd_texset *set, const double *weights, jnd_pca *out);
+JND_EXPERIMENTAL jnd_status jnd_pca_analyse(const jnd_texset *set, const double *weights, jnd_pca *out);
 
 /* The contribution matrix |S·Tᵀ| of 001: out[k·C + c] = sqrt(energy_k) ·
  * |basis[c·C + k]|, how much input channel c feeds component k. out holds
  * C·C doubles (caller's). */
-void jnd_pca_contribution(const jnd_pca *pca, double *out);
+JND_EXPERIMENTAL void jnd_pca_contribution(const jnd_pca *pca, double *out);
 
 /* A picture of the contribution matrix: a row per input channel (named
  * from set; NULL: numbered), a column per component (1 = the most energy,
  * with its share of the energy), each cell coloured and labelled with its
  * contribution, and a colour legend. out is allocated (3 channels, sRGB
  * 0..1) for jnd_image_write_png. */
-jnd_status jnd_pca_contribution_plot(const jnd_pca *pca, const jnd_texset *set, jnd_image *out);
+JND_EXPERIMENTAL jnd_status jnd_pca_contribution_plot(const jnd_pca *pca, const jnd_texset *set, jnd_image *out);
 
 /* How the components are stored. */
 typedef struct {
@@ -2452,11 +2504,11 @@ typedef struct {
 } jnd_pca_encoding;
 
 /* All C components at full resolution with 8 bits. */
-void jnd_pca_encoding_default(const jnd_pca *pca, jnd_pca_encoding *e);
+JND_EXPERIMENTAL void jnd_pca_encoding_default(const jnd_pca *pca, jnd_pca_encoding *e);
 
 /* Storage of an encoding of a w × h set in bytes: Σ_k pixels_k · bits_k / 8
  * (float counts 4 bytes) plus the float32 reconstruction matrix. */
-size_t jnd_pca_storage_bytes(const jnd_pca_encoding *e, int c, int w, int h);
+JND_EXPERIMENTAL size_t jnd_pca_storage_bytes(const jnd_pca_encoding *e, int c, int w, int h);
 
 /* An encoded set. Stored value q ∈ [0,1] of component k stands for the
  * component value offset[k] + scale[k]·q. The reconstruction of channel c
@@ -2477,20 +2529,20 @@ typedef struct {
 /* Projects the set on the first K components, stores each at its scale and
  * bit depth, reconstructs at full size and measures PSNR per channel
  * (10·log10(1/MSE), values 0..1, as 001). out owns the component images. */
-jnd_status jnd_pca_encode(const jnd_texset *set, const jnd_pca *pca, const jnd_pca_encoding *e,
+JND_EXPERIMENTAL jnd_status jnd_pca_encode(const jnd_texset *set, const jnd_pca *pca, const jnd_pca_encoding *e,
                           jnd_pca_encoded *out);
 
 /* Reconstructs the set (w × h × C, allocated in out) from components comp
  * (K images, 0..1, any of the sizes 1/2^s; NULL = enc->comp), e.g. after
  * block compression. */
-jnd_status jnd_pca_reconstruct(const jnd_pca_encoded *enc, const jnd_image *comp, jnd_image *out);
+JND_EXPERIMENTAL jnd_status jnd_pca_reconstruct(const jnd_pca_encoded *enc, const jnd_image *comp, jnd_image *out);
 
 /* Per-channel PSNR (dB, peak 1) of a reconstruction (w × h × C) against the
  * set; mse may be NULL. */
-jnd_status jnd_texset_psnr(const jnd_texset *set, const jnd_image *recon, double *psnr_db, double *mse);
+JND_EXPERIMENTAL jnd_status jnd_texset_psnr(const jnd_texset *set, const jnd_image *recon, double *psnr_db, double *mse);
 
 /* Frees the component images; safe on a zeroed struct. */
-void jnd_pca_encoded_free(jnd_pca_encoded *enc);
+JND_EXPERIMENTAL void jnd_pca_encoded_free(jnd_pca_encoded *enc);
 
 /* The smallest encoding (K, per-component scale in 0..max_scale, bits 8 or
  * 16) whose every channel reaches min_psnr_db. Candidates are ranked with
@@ -2498,7 +2550,7 @@ void jnd_pca_encoded_free(jnd_pca_encoded *enc);
  * Σ_k basis[c][k]²·D_k / weight_c², D_k measured per component and option),
  * then the best is encoded for real and checked; out is that encoding.
  * JND_ERR_ARG when even all components at 16 bits miss the target. */
-jnd_status jnd_pca_choose_psnr(const jnd_texset *set, const jnd_pca *pca, double min_psnr_db,
+JND_EXPERIMENTAL jnd_status jnd_pca_choose_psnr(const jnd_texset *set, const jnd_pca *pca, double min_psnr_db,
                                int max_scale, jnd_pca_encoding *out);
 
 /* Rendered visibility (001 + the judge): the material of a model is
@@ -2530,7 +2582,7 @@ typedef struct {
 } jnd_pca_render_params;
 
 /* Fills p with the defaults above. */
-void jnd_pca_render_defaults(jnd_pca_render_params *p);
+JND_EXPERIMENTAL void jnd_pca_render_defaults(jnd_pca_render_params *p);
 
 /* A model's material, an open renderer, the vision model and the sampled
  * views, kept for any number of measurements. Not thread-safe. */
@@ -2540,14 +2592,14 @@ typedef struct jnd_pca_render jnd_pca_render;
  * finds material (JND_ERR_ARG "PATH: no material 'NAME' (...)" listing
  * them). The judge (renderer, model, views) is made when a set is bound.
  * *out is the caller's (jnd_pca_render_free). */
-jnd_status jnd_pca_render_open(const char *model_path, const char *material, const jnd_pca_render_params *p,
+JND_EXPERIMENTAL jnd_status jnd_pca_render_open(const char *model_path, const char *material, const jnd_pca_render_params *p,
                                jnd_pca_render **out);
 
 /* Frees everything open; safe on NULL. */
-void jnd_pca_render_free(jnd_pca_render *r);
+JND_EXPERIMENTAL void jnd_pca_render_free(jnd_pca_render *r);
 
 /* "GL_RENDERER (platform)" of the renderer in use. */
-const char *jnd_pca_render_description(const jnd_pca_render *r);
+JND_EXPERIMENTAL const char *jnd_pca_render_description(const jnd_pca_render *r);
 
 /* The material's own maps (the file's versions) as a texture set, maps
  * named after their slots ("baseColor", "normal", ...), with the channels
@@ -2558,7 +2610,7 @@ const char *jnd_pca_render_description(const jnd_pca_render *r);
  * distinct original images at 8 bits per channel (a glTF image packing
  * occlusion with metal-roughness counts once). JND_ERR_ARG when the material
  * has no texture maps. */
-jnd_status jnd_pca_render_material_set(const jnd_pca_render *r, const char *channels, jnd_texset *set,
+JND_EXPERIMENTAL jnd_status jnd_pca_render_material_set(const jnd_pca_render *r, const char *channels, jnd_texset *set,
                                        jnd_map_slot *slots, size_t *orig_bytes);
 
 /* The slot a map name suggests: an exact slot name, else by words (case
@@ -2566,14 +2618,14 @@ jnd_status jnd_pca_render_material_set(const jnd_pca_render *r, const char *chan
  * "metal"/"rough"/"orm" → metallicRoughness; "occlusion", "ao" (whole word)
  * → occlusion; "basecolor"/"base_color"/"albedo"/"diffuse"/"color"/"colour"
  * → baseColor. Returns 0 when none fits. */
-int jnd_pca_slot_guess(const char *name, jnd_map_slot *slot);
+JND_EXPERIMENTAL int jnd_pca_slot_guess(const char *name, jnd_map_slot *slot);
 
 /* Binds map i of set to slot slots[i] of the material (that slot must have
  * a texture in the model), and makes the judge whose reference is every
  * view with the set's own values in those slots (maps resampled to the
  * set's size go back to their file's size): JND_ERR_GL without an OpenGL
  * context. The set must outlive the binding's use. */
-jnd_status jnd_pca_render_bind(jnd_pca_render *r, const jnd_texset *set, const jnd_map_slot *slots);
+JND_EXPERIMENTAL jnd_status jnd_pca_render_bind(jnd_pca_render *r, const jnd_texset *set, const jnd_map_slot *slots);
 
 /* Pooled probability of detection per view and the criterion. */
 typedef struct {
@@ -2588,7 +2640,7 @@ typedef struct {
 /* Judges every view with the bound maps rebuilt from channels (w × h × C
  * in the set's channel order: a reconstruction, e.g. jnd_pca_reconstruct)
  * against the reference. The maps stay replaced until the next call. */
-jnd_status jnd_pca_render_measure(jnd_pca_render *r, const jnd_image *channels, jnd_pca_visibility *out);
+JND_EXPERIMENTAL jnd_status jnd_pca_render_measure(jnd_pca_render *r, const jnd_image *channels, jnd_pca_visibility *out);
 
 /* What a rendered search tried, in the order tried. */
 typedef struct {
@@ -2612,13 +2664,13 @@ typedef struct {
  * out and vis (may be NULL) receive the encoding and its
  * measurement, log (may be NULL) what was tried. JND_ERR_ARG when not even
  * the lossless candidate passes. */
-jnd_status jnd_pca_choose_rendered(jnd_pca_render *r, const jnd_texset *set, const jnd_pca *pca, int max_scale,
+JND_EXPERIMENTAL jnd_status jnd_pca_choose_rendered(jnd_pca_render *r, const jnd_texset *set, const jnd_pca *pca, int max_scale,
                                    jnd_pca_encoding *out, jnd_pca_visibility *vis, jnd_pca_search_log *log);
 
 /* The simple call: opens model_path with the defaults, binds the set's maps
  * to the slots their names suggest (jnd_pca_slot_guess), measures enc and
  * returns the criterion statistic (jnd_pca_visibility.p_criterion). */
-jnd_status jnd_pca_rendered_visibility(const jnd_texset *set, const jnd_pca_encoded *enc,
+JND_EXPERIMENTAL jnd_status jnd_pca_rendered_visibility(const jnd_texset *set, const jnd_pca_encoded *enc,
                                        const char *model_path, const char *material,
                                        double *p_detect);
 
@@ -2629,17 +2681,17 @@ jnd_status jnd_pca_rendered_visibility(const jnd_texset *set, const jnd_pca_enco
 typedef enum { JND_BC1 = 1, JND_BC4 = 4, JND_BC5 = 5 } jnd_bc_format;
 
 /* Bytes a w × h texture takes in format f. */
-size_t jnd_bc_size(jnd_bc_format f, int w, int h);
+JND_EXPERIMENTAL size_t jnd_bc_size(jnd_bc_format f, int w, int h);
 
 /* Encodes channels [first, first+n) of img (values 0..1, n = 3 for BC1,
  * 1 for BC4, 2 for BC5) into blocks (jnd_bc_size bytes, caller's). BC1 fits
  * the principal axis of each block then refines the endpoints by least
  * squares; BC4 starts from the block's min/max and refines likewise. */
-jnd_status jnd_bc_encode(jnd_bc_format f, const jnd_image *img, int first, uint8_t *blocks);
+JND_EXPERIMENTAL jnd_status jnd_bc_encode(jnd_bc_format f, const jnd_image *img, int first, uint8_t *blocks);
 
 /* Decodes blocks into channels [first, first+n) of img (already allocated
  * w × h, values 0..1 on the 8-bit grid). */
-jnd_status jnd_bc_decode(jnd_bc_format f, const uint8_t *blocks, jnd_image *img, int first);
+JND_EXPERIMENTAL jnd_status jnd_bc_decode(jnd_bc_format f, const uint8_t *blocks, jnd_image *img, int first);
 
 /* The set as it comes back from block compression, w × h × C in out
  * (allocated): JND_PCA_BC_PCA_BC4 / _BC1 compress the components of enc as
@@ -2647,7 +2699,7 @@ jnd_status jnd_bc_decode(jnd_bc_format f, const uint8_t *blocks, jnd_image *img,
  * compresses the maps themselves (enc unused, may be NULL). bytes (may be
  * NULL) receives the compressed size. */
 typedef enum { JND_PCA_BC_PCA_BC4 = 0, JND_PCA_BC_PCA_BC1, JND_PCA_BC_PLAIN } jnd_pca_bc_variant;
-jnd_status jnd_pca_block_compressed(const jnd_texset *set, const jnd_pca_encoded *enc, jnd_pca_bc_variant v,
+JND_EXPERIMENTAL jnd_status jnd_pca_block_compressed(const jnd_texset *set, const jnd_pca_encoded *enc, jnd_pca_bc_variant v,
                                     jnd_image *out, size_t *bytes);
 
 /* PSNR and storage of the set under block compression. */
@@ -2662,7 +2714,7 @@ typedef struct {
 
 /* Encodes the components of enc (8-bit view of them) and the set's maps with
  * block compression, decodes, reconstructs and measures PSNR per channel. */
-jnd_status jnd_pca_block_compression(const jnd_texset *set, const jnd_pca_encoded *enc,
+JND_EXPERIMENTAL jnd_status jnd_pca_block_compression(const jnd_texset *set, const jnd_pca_encoded *enc,
                                      jnd_pca_bc_report *out);
 
 /* `jnd pca` as one call: which rule chooses the encoding (docs/pca.md). */
@@ -2764,10 +2816,10 @@ void jnd_pca_result_free(jnd_pca_result *r);
  * judge's P of the encoding and of its block-compressed variants. Writes
  * nothing. out owns its arrays (jnd_pca_result_clear). Errors name the file
  * or option. */
-jnd_status jnd_pca_choose(const jnd_pca_params *p, jnd_pca_result *out);
+JND_EXPERIMENTAL jnd_status jnd_pca_choose(const jnd_pca_params *p, jnd_pca_result *out);
 
 /* Frees a result's arrays; safe on a zeroed struct. */
-void jnd_pca_result_clear(jnd_pca_result *r);
+JND_EXPERIMENTAL void jnd_pca_result_clear(jnd_pca_result *r);
 
 /* One texture of packed components, as an engine samples them. */
 typedef struct {
@@ -2780,7 +2832,7 @@ typedef struct {
  * bit depth, in order, four to an RGBA texture (the last of a group may
  * have 1–3 channels). tex (caller's, JND_PCA_MAX_CHANNELS entries) receives
  * *n textures; the caller frees their images. */
-jnd_status jnd_pca_pack(const jnd_pca_encoded *enc, jnd_pca_texture *tex, int *n);
+JND_EXPERIMENTAL jnd_status jnd_pca_pack(const jnd_pca_encoded *enc, jnd_pca_texture *tex, int *n);
 
 /* ------------------------------------------------------------------------ */
 /* Popping (Schwarz & Stamminger 2009, 004 §3.2, §4, §5.2)                  */
@@ -2855,7 +2907,7 @@ typedef struct {
 } jnd_pop_params;
 
 /* Fills p with the defaults above (docs/pop.md says why each). */
-void jnd_pop_defaults(jnd_pop_params *p);
+JND_EXPERIMENTAL void jnd_pop_defaults(jnd_pop_params *p);
 
 typedef enum { JND_COVERAGE_TINY = 0, JND_COVERAGE_SMALL, JND_COVERAGE_LARGE, JND_COVERAGE_HUGE } jnd_pop_coverage;
 typedef enum { JND_RATING_VERY_LOW = 0, JND_RATING_LOW, JND_RATING_HIGH, JND_RATING_VERY_HIGH } jnd_pop_rating;
@@ -2913,10 +2965,10 @@ typedef struct {
  * scores. The model supplies the display and fps. out is filled (owned:
  * jnd_pop_result_free). JND_ERR_ARG "INPUT: problem" for bad inputs. The
  * same bits whatever the thread count. */
-jnd_status jnd_pop_predict(jnd_model *m, const jnd_pop_inputs *in, const jnd_pop_params *p, jnd_pop_result *out);
+JND_EXPERIMENTAL jnd_status jnd_pop_predict(jnd_model *m, const jnd_pop_inputs *in, const jnd_pop_params *p, jnd_pop_result *out);
 
 /* Frees a result's arrays and images; safe on a zeroed struct. */
-void jnd_pop_result_free(jnd_pop_result *r);
+JND_EXPERIMENTAL void jnd_pop_result_free(jnd_pop_result *r);
 
 /* The frames of a user: files for jnd_pop_predict's inputs. Colour images
  * (actual, expected, prev_color, prev_shading) are PNG/JPEG/HDR/EXR and go
@@ -2937,7 +2989,7 @@ typedef struct {
  * that is unreadable, of another size than actual, with NaN, a weight
  * outside 0..1, ... (JND_ERR_IO / JND_ERR_FORMAT / JND_ERR_ARG) — applies
  * the display and runs jnd_pop_predict. */
-jnd_status jnd_pop_files(jnd_model *m, const jnd_pop_paths *paths, const jnd_pop_params *p, jnd_pop_result *out);
+JND_EXPERIMENTAL jnd_status jnd_pop_files(jnd_model *m, const jnd_pop_paths *paths, const jnd_pop_params *p, jnd_pop_result *out);
 
 /* A sequence of frames (docs/pop.md, "Sequences"): the paths of a
  * jnd_pop_paths hold a frame-number field, %d or %0Nd (%% for a %), that
@@ -2952,7 +3004,7 @@ typedef struct {
 } jnd_pop_sequence_params;
 
 /* Fills p with the defaults: frame 0 only, no progress. */
-void jnd_pop_sequence_defaults(jnd_pop_sequence_params *p);
+JND_EXPERIMENTAL void jnd_pop_sequence_defaults(jnd_pop_sequence_params *p);
 
 /* One frame's row of the table. */
 typedef struct {
@@ -2982,33 +3034,33 @@ typedef struct {
  * of another size than the first: JND_ERR_IO / FORMAT / ARG "PATH: problem",
  * and out is empty. A pattern with a % other than one %d / %0Nd field and
  * %%: JND_ERR_ARG. out is the caller's (jnd_pop_sequence_free). */
-jnd_status jnd_pop_sequence(jnd_model *m, const jnd_pop_paths *patterns, const jnd_pop_sequence_params *sp,
+JND_EXPERIMENTAL jnd_status jnd_pop_sequence(jnd_model *m, const jnd_pop_paths *patterns, const jnd_pop_sequence_params *sp,
                             const jnd_pop_params *p, jnd_pop_sequence_result *out);
 
 /* Frees a sequence result; safe on a zeroed struct. */
-void jnd_pop_sequence_free(jnd_pop_sequence_result *r);
+JND_EXPERIMENTAL void jnd_pop_sequence_free(jnd_pop_sequence_result *r);
 
 /* Writes pattern with its frame-number field (%d or %0Nd) filled in with
  * frame (>= 0) and %% as %, into out (size bytes). Returns 1 when the
  * pattern had a field, 0 when it had none (out is the pattern, %% as %),
  * −1 for a malformed pattern, a negative frame or too small a buffer. */
-int jnd_frame_path(const char *pattern, int frame, char *out, size_t size);
+JND_EXPERIMENTAL int jnd_frame_path(const char *pattern, int frame, char *out, size_t size);
 
 /* R = ln(0.375 Σ) / ln 2.25 (004 §3.2). */
-double jnd_pop_rating_of(double sigma);
+JND_EXPERIMENTAL double jnd_pop_rating_of(double sigma);
 
 /* The score levels of a coverage fraction and of a mean R under p's thresholds. */
-jnd_pop_coverage jnd_pop_coverage_level(const jnd_pop_params *p, double coverage);
-jnd_pop_rating jnd_pop_rating_level(const jnd_pop_params *p, double rating_top);
+JND_EXPERIMENTAL jnd_pop_coverage jnd_pop_coverage_level(const jnd_pop_params *p, double coverage);
+JND_EXPERIMENTAL jnd_pop_rating jnd_pop_rating_level(const jnd_pop_params *p, double rating_top);
 
 /* The detection score 1..5 of 004 §5.2's rule table, completed
  * monotonically (docs/pop.md): non-decreasing in both scores, with 004's
  * examples tiny + low → 1, small + high → 3, huge + high → 5. */
-int jnd_pop_detection_score(jnd_pop_coverage c, jnd_pop_rating r);
+JND_EXPERIMENTAL int jnd_pop_detection_score(jnd_pop_coverage c, jnd_pop_rating r);
 
 /* "tiny", "small", "large", "huge" and "very low", "low", "high", "very high". */
-const char *jnd_pop_coverage_name(jnd_pop_coverage c);
-const char *jnd_pop_rating_name(jnd_pop_rating r);
+JND_EXPERIMENTAL const char *jnd_pop_coverage_name(jnd_pop_coverage c);
+JND_EXPERIMENTAL const char *jnd_pop_rating_name(jnd_pop_rating r);
 
 /* ---- Popping of rendered switches: frames from assets, switch decisions ---- */
 /* jnd renders the switching frame itself: the scene's level `level` (what
@@ -3044,11 +3096,11 @@ typedef struct {
 } jnd_pop_motion;
 
 /* Orbit, 0 °/s, direction +x, 1 m per unit. */
-void jnd_pop_motion_defaults(jnd_pop_motion *m);
+JND_EXPERIMENTAL void jnd_pop_motion_defaults(jnd_pop_motion *m);
 
 /* The view at time t seconds along the motion that starts at view (t = 0):
  * camera (and model matrix for JND_POP_OBJECT) moved; the rest copied. */
-void jnd_pop_motion_pose(const jnd_view *view, const jnd_pop_motion *m, double t, jnd_view *out);
+JND_EXPERIMENTAL void jnd_pop_motion_pose(const jnd_view *view, const jnd_pop_motion *m, double t, jnd_view *out);
 
 /* Renders the switch from level to level + 1 of scene (0 <= level, level + 1
  * < jnd_scene_lod_count) at frame `frame` of the motion starting at view
@@ -3060,7 +3112,7 @@ void jnd_pop_motion_pose(const jnd_view *view, const jnd_pop_motion *m, double t
  * pixels either level covers. Colours go through the model's display as
  * the judge shows them (sRGB signal, then cd/m²). Then jnd_pop_predict. The
  * scene's selected level is restored. out as jnd_pop_predict's. */
-jnd_status jnd_pop_render(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *view,
+JND_EXPERIMENTAL jnd_status jnd_pop_render(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *view,
                           const jnd_pop_motion *mo, int level, int frame, const jnd_pop_params *p,
                           jnd_pop_result *out);
 
@@ -3075,7 +3127,7 @@ typedef struct {
 } jnd_pop_switch_params;
 
 /* Fills p with the defaults above. */
-void jnd_pop_switch_defaults(jnd_pop_switch_params *p);
+JND_EXPERIMENTAL void jnd_pop_switch_defaults(jnd_pop_switch_params *p);
 
 typedef enum {
   JND_POP_SWITCH_FOUND = 0, /* popping-free from distance on, popping nearer (within tolerance) */
@@ -3106,7 +3158,7 @@ typedef struct {
  * sp->rating_limit; bisection on log d between the near and far distances,
  * assuming popping fades with distance, returns the farther end of the
  * last bracket, where max R < limit was measured. Deterministic. */
-jnd_status jnd_pop_switch_distance(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *views,
+JND_EXPERIMENTAL jnd_status jnd_pop_switch_distance(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *views,
                                    int nviews, const jnd_pop_motion *mo, int level, const jnd_pop_params *p,
                                    const jnd_pop_switch_params *sp, jnd_pop_switch *out);
 
@@ -3134,7 +3186,7 @@ typedef struct {
 } jnd_pop_asset_params;
 
 /* Fills p with the defaults above. */
-void jnd_pop_asset_defaults(jnd_pop_asset_params *p);
+JND_EXPERIMENTAL void jnd_pop_asset_defaults(jnd_pop_asset_params *p);
 
 typedef struct {
   int level;               /* the level that takes over (>= 1) */
@@ -3165,11 +3217,57 @@ typedef struct {
  * predicts the pair and, with p->decide, the switch table. Nothing is
  * written. JND_ERR_ARG/FORMAT/IO "FILE: problem" for bad input; out is the
  * caller's (jnd_pop_asset_report_free). */
-jnd_status jnd_pop_asset_run(jnd_model *m, const char *model_path, const jnd_pop_asset_params *p,
+JND_EXPERIMENTAL jnd_status jnd_pop_asset_run(jnd_model *m, const char *model_path, const jnd_pop_asset_params *p,
                              jnd_pop_asset_report *out);
 
 /* Frees a report; safe on a zeroed struct. */
-void jnd_pop_asset_report_free(jnd_pop_asset_report *r);
+JND_EXPERIMENTAL void jnd_pop_asset_report_free(jnd_pop_asset_report *r);
+
+/* `jnd pop` as one call (the task shape, docs/architecture.md), in either
+ * form: input a model (glTF/GLB/OBJ, builtin[:...]): the asset form
+ * (jnd_pop_asset_run with p->asset); input NULL: the frames of p->frames
+ * (jnd_pop_files), or with p->sequence every frame of the patterns
+ * (jnd_pop_sequence). Writes into out_dir, through one output writer
+ * (nothing over an input; all or nothing): regions.png, pop.json (the
+ * report), with p->maps jnd.exr and weights.exr, a sequence's frames.csv,
+ * the switch table's switch.png. */
+typedef struct {
+  jnd_model_params model;    /* the display, fps and threads (jnd_model_defaults) */
+  jnd_pop_params pop;        /* thresholds and scores (jnd_pop_defaults) */
+  jnd_pop_paths frames;      /* frame form: NEW (actual), EXPECTED and their maps */
+  int sequence;              /* frame form: 1: the paths are patterns of frames seq.first..seq.last */
+  jnd_pop_sequence_params seq;
+  jnd_pop_asset_params asset; /* asset form (jnd_pop_asset_defaults; its pop is set from pop) */
+  int maps;                  /* 1: also jnd.exr (the weighted JND map) and weights.exr */
+  int max_regions;           /* regions listed in the report, best first (100; all are counted) */
+  double fail_above;         /* report whether the largest rating exceeds this (NaN: not asked) */
+  /* NULL or called at each stage (and step of the switch table or a sequence) */
+  void (*progress)(void *user, const char *stage, int done, int total);
+  void *progress_user;
+  jnd_run_options run;       /* the report's copy, timings (map_size: see asset.builtin_map_size) */
+} jnd_pop_run_params;
+
+/* Fills p with the defaults above. */
+void jnd_pop_run_defaults(jnd_pop_run_params *p);
+
+typedef struct {
+  const jnd_pop_result *pair; /* the prediction reported: the pair's, or a sequence's worst frame's
+                                 (points into one of the three below) */
+  jnd_pop_result frame;      /* frame form, one pair */
+  jnd_pop_sequence_result sequence; /* frame form, a sequence */
+  jnd_pop_asset_report asset; /* asset form */
+  int above;                 /* a region's rating exceeds fail_above (when asked) */
+  double total_s;            /* wall-clock seconds */
+  char *report;              /* the report's JSON text */
+} jnd_pop_run_result;
+
+/* The task (`jnd pop`). *out is allocated (jnd_pop_run_result_free). Bad
+ * input: one error "FILE: problem", nothing written. */
+jnd_status jnd_pop_run(const char *model, const jnd_pop_run_params *p, const char *out_dir,
+                       jnd_pop_run_result **out);
+
+/* Frees what jnd_pop_run returned (NULL is fine). */
+void jnd_pop_run_result_free(jnd_pop_run_result *r);
 
 /* ------------------------------------------------------------------------ */
 /* Batch: a library of assets (docs/batch.md)                               */
@@ -3230,15 +3328,15 @@ jnd_status jnd_batch_manifest_read(const char *path, const char *command, const 
 
 /* The parsers under jnd_batch_manifest_read, on bytes (name is used in
  * messages; assets are not looked for: jnd_batch_manifest_check does that). */
-jnd_status jnd_batch_manifest_parse_csv(const char *name, const char *text, size_t n, jnd_batch_manifest *out);
-jnd_status jnd_batch_manifest_parse_json(const char *name, const char *text, size_t n, jnd_batch_manifest *out);
+JND_EXPERIMENTAL jnd_status jnd_batch_manifest_parse_csv(const char *name, const char *text, size_t n, jnd_batch_manifest *out);
+JND_EXPERIMENTAL jnd_status jnd_batch_manifest_parse_json(const char *name, const char *text, size_t n, jnd_batch_manifest *out);
 /* Marks rows whose asset file is missing (relative to m->base_dir). */
-void jnd_batch_manifest_check(jnd_batch_manifest *m);
+JND_EXPERIMENTAL void jnd_batch_manifest_check(jnd_batch_manifest *m);
 /* Frees every row and string and zeroes m; safe on a zeroed manifest. */
 void jnd_batch_manifest_free(jnd_batch_manifest *m);
 
 /* Parses a shard "I/N" (0 <= I < N <= 100000). JND_ERR_ARG with a message. */
-jnd_status jnd_batch_shard_parse(const char *spec, int *index, int *count);
+JND_EXPERIMENTAL jnd_status jnd_batch_shard_parse(const char *spec, int *index, int *count);
 
 typedef enum {
   JND_ASSET_PENDING = 0, /* not run yet (its shard has not run, or was interrupted) */
@@ -3301,6 +3399,12 @@ typedef struct {
  * failing); totals may be NULL. */
 jnd_status jnd_batch_run(const jnd_batch_manifest *m, const jnd_batch_params *p, jnd_batch_totals *totals);
 
+/* The report of a run (`jnd batch --json`): the envelope with the manifest,
+ * the shard, jobs, timeout and force, and the totals. Returns the JSON text
+ * (ending in a newline; the caller frees it with free()), NULL when out of
+ * memory. */
+JND_EXPERIMENTAL char *jnd_batch_run_report(const jnd_batch_manifest *m, const jnd_batch_params *p, const jnd_batch_totals *t);
+
 /* Merges what the shards recorded in OUT into OUT/summary.json (the report
  * envelope: jnd_version, command "batch merge", inputs, parameters, result
  * {totals, assets[]}) and OUT/summary.csv, one row per manifest row in
@@ -3335,14 +3439,14 @@ typedef struct {
 
 /* Fills p: 1 shard, no array limit, 1 CPU per task, the cluster's default
  * memory and time limit, no partition, account or GRES, job name "jnd-batch". */
-void jnd_slurm_defaults(jnd_slurm_params *p);
+JND_EXPERIMENTAL void jnd_slurm_defaults(jnd_slurm_params *p);
 
 /* The two job scripts, as text (caller frees): array_script runs `JND batch
  * SOURCE -o OUT --shard $SLURM_ARRAY_TASK_ID/N` (with run's jobs, threads,
  * timeout, force, and command/options for a glob) and merge_script runs `JND
  * batch merge OUT` and `JND report OUT`. Paths are made absolute. run->jnd_exe
  * is the program the nodes run. */
-jnd_status jnd_slurm_scripts(const jnd_batch_manifest *m, const char *glob_command, const char *glob_options,
+JND_EXPERIMENTAL jnd_status jnd_slurm_scripts(const jnd_batch_manifest *m, const char *glob_command, const char *glob_options,
                              const jnd_batch_params *run, const jnd_slurm_params *sp, char **array_script,
                              char **merge_script);
 
@@ -3350,7 +3454,7 @@ jnd_status jnd_slurm_scripts(const jnd_batch_manifest *m, const char *glob_comma
  * `sbatch --parsable array.sh`, then `sbatch --parsable
  * --dependency=afterok:ARRAY merge.sh`. The job ids are returned (n bytes
  * each). sbatch comes from PATH. */
-jnd_status jnd_slurm_submit(const char *out_dir, const char *array_script, const char *merge_script,
+JND_EXPERIMENTAL jnd_status jnd_slurm_submit(const char *out_dir, const char *array_script, const char *merge_script,
                             char *array_job, char *merge_job, size_t n);
 
 /* ------------------------------------------------------------------------ */
@@ -3391,26 +3495,26 @@ typedef struct {
 } jnd_gaze_model;
 
 /* Fills m with jnd's defaults (docs/gaze.md "Defaults"). */
-void jnd_gaze_model_defaults(jnd_gaze_model *m);
+JND_EXPERIMENTAL void jnd_gaze_model_defaults(jnd_gaze_model *m);
 
 /* 002 eq. 2: the weight of a silhouette pixel at eccentricity ecc_deg. */
-double jnd_gaze_weight(const jnd_gaze_model *m, double ecc_deg);
+JND_EXPERIMENTAL double jnd_gaze_weight(const jnd_gaze_model *m, double ecc_deg);
 
 /* 002 eqs. 3–4: the probability (2AFC, 0.5..1) that a level whose
  * geometric term is g_deg (eq. 1, degrees) and shading term v_jnd (pooled
  * JND) is told from the reference. */
-double jnd_gaze_spatial_probability(const jnd_gaze_model *m, double g_deg, double v_jnd);
+JND_EXPERIMENTAL double jnd_gaze_spatial_probability(const jnd_gaze_model *m, double g_deg, double v_jnd);
 
 /* 002 eq. 5: the probability (0.5..1) that a switch whose pooled JND is
  * t_jnd is seen. */
-double jnd_gaze_switch_probability(const jnd_gaze_model *m, double t_jnd);
+JND_EXPERIMENTAL double jnd_gaze_switch_probability(const jnd_gaze_model *m, double t_jnd);
 
 /* 002 eq. 1: Σ over pixels of S0 XOR Si of w(ecc_p) · A_p, over the
  * perimeter of S0. mask0, mask_i: coverage (1 channel, 0..1, same size);
  * ppd: pixels per degree (A_p = 1/ppd² deg²); (gaze_x, gaze_y): the
  * fixation point, pixels (may lie outside). *g_deg in degrees; 0 when S0
  * is empty. JND_ERR_ARG for mismatched masks. */
-jnd_status jnd_gaze_geometric_term(const jnd_gaze_model *m, const jnd_image *mask0, const jnd_image *mask_i,
+JND_EXPERIMENTAL jnd_status jnd_gaze_geometric_term(const jnd_gaze_model *m, const jnd_image *mask0, const jnd_image *mask_i,
                                    double ppd, double gaze_x, double gaze_y, double *g_deg);
 
 /* What one stimulus (a level against the reference, a switch between two
@@ -3433,13 +3537,13 @@ typedef struct {
   jnd_pair_judge *judge;    /* the pairs' judge, made from this model (jnd_pair_judge_create) and
                                kept for a run; NULL (default): one is made for each call */
 } jnd_gaze_measure_params;
-void jnd_gaze_measure_defaults(jnd_gaze_measure_params *p);
+JND_EXPERIMENTAL void jnd_gaze_measure_defaults(jnd_gaze_measure_params *p);
 
 /* The spatial model on two renderings: ref and lvl are linear RGB over a
  * black background (3 channels, as jnd_render gives), mask0 and mask_i
  * their coverage; ppd of the rendering; fixation point (gaze_x, gaze_y)
  * in pixels. Fills g_deg, v_jnd and p. */
-jnd_status jnd_gaze_spatial(const jnd_gaze_model *gm, const jnd_gaze_measure_params *mp, double ppd,
+JND_EXPERIMENTAL jnd_status jnd_gaze_spatial(const jnd_gaze_model *gm, const jnd_gaze_measure_params *mp, double ppd,
                             double gaze_x, double gaze_y, const jnd_image *ref, const jnd_image *mask0,
                             const jnd_image *lvl, const jnd_image *mask_i, jnd_gaze_terms *out);
 
@@ -3447,7 +3551,7 @@ jnd_status jnd_gaze_spatial(const jnd_gaze_model *gm, const jnd_gaze_measure_par
  * (as jnd_gaze_spatial takes them): the change seen as a temporal
  * modulation at mp->switch_hz through the vision model's flicker
  * sensitivity, at each pixel's eccentricity. Fills t_jnd and p. */
-jnd_status jnd_gaze_switch(const jnd_gaze_model *gm, const jnd_gaze_measure_params *mp, double ppd,
+JND_EXPERIMENTAL jnd_status jnd_gaze_switch(const jnd_gaze_model *gm, const jnd_gaze_measure_params *mp, double ppd,
                            double gaze_x, double gaze_y, const jnd_image *a, const jnd_image *mask_a,
                            const jnd_image *b, const jnd_image *mask_b, jnd_gaze_terms *out);
 
@@ -3475,7 +3579,7 @@ typedef struct {
   void (*progress)(void *user, int done, int total);
   void *progress_user;
 } jnd_gaze_table_params;
-void jnd_gaze_table_defaults(jnd_gaze_table_params *p);
+JND_EXPERIMENTAL void jnd_gaze_table_defaults(jnd_gaze_table_params *p);
 
 typedef struct {
   int nd, ne, nlevels, orientations;
@@ -3502,17 +3606,17 @@ typedef struct {
  * centre) each level's spatial P and each switch's P are judged; the
  * worst orientation decides. JND_ERR_ARG "--distances/--eccentricities:
  * ..." for bad lists, "MODEL: ..." for a chain of one level. */
-jnd_status jnd_gaze_table_run(jnd_scene *scene, const jnd_gaze_table_params *p, jnd_gaze_table *out);
-void jnd_gaze_table_free(jnd_gaze_table *t);
+JND_EXPERIMENTAL jnd_status jnd_gaze_table_run(jnd_scene *scene, const jnd_gaze_table_params *p, jnd_gaze_table *out);
+JND_EXPERIMENTAL void jnd_gaze_table_free(jnd_gaze_table *t);
 
 /* The table's CSV (what jnd_gaze_lookup_load reads): one row per (distance,
  * eccentricity): distance_m, eccentricity_deg, level, level_raw,
  * p_spatial, p_switch (of the chosen level). Atomic. */
-jnd_status jnd_gaze_table_write_csv(const jnd_gaze_table *t, const char *path);
+JND_EXPERIMENTAL jnd_status jnd_gaze_table_write_csv(const jnd_gaze_table *t, const char *path);
 
 /* The picture of the table: the level over distance × eccentricity,
  * labelled (jnd_plot_grid). out is allocated, 3 channels sRGB 0..1. */
-jnd_status jnd_gaze_table_figure(const jnd_gaze_table *t, jnd_image *out);
+JND_EXPERIMENTAL jnd_status jnd_gaze_table_figure(const jnd_gaze_table *t, jnd_image *out);
 
 /* Observers' answers for fitting (002 "Calibrating the models"): one row per
  * trial with the stimulus's terms and the answer. */
@@ -3536,9 +3640,9 @@ typedef struct {
  * optional stimulus id 0..rows−1 (else rows with equal terms are one stimulus).
  * JND_ERR_FORMAT "NAME: row R: problem" for a missing column, a bad number
  * or an answer that is not 0/1. Free with jnd_gaze_data_free. */
-jnd_status jnd_gaze_data_read(const char *path, jnd_gaze_data *out);
-jnd_status jnd_gaze_data_parse(const char *name, const char *text, size_t n, jnd_gaze_data *out);
-void jnd_gaze_data_free(jnd_gaze_data *d);
+JND_EXPERIMENTAL jnd_status jnd_gaze_data_read(const char *path, jnd_gaze_data *out);
+JND_EXPERIMENTAL jnd_status jnd_gaze_data_parse(const char *name, const char *text, size_t n, jnd_gaze_data *out);
+JND_EXPERIMENTAL void jnd_gaze_data_free(jnd_gaze_data *d);
 
 #define JND_GAZE_MAX_FOLDS 16
 typedef struct {
@@ -3547,7 +3651,7 @@ typedef struct {
   double confidence;       /* of the parameters' intervals (0.95) */
   jnd_gaze_model start;    /* where the search starts; fields not fitted are kept (defaults) */
 } jnd_gaze_fit_params;
-void jnd_gaze_fit_defaults(jnd_gaze_fit_params *p);
+JND_EXPERIMENTAL void jnd_gaze_fit_defaults(jnd_gaze_fit_params *p);
 
 typedef struct {
   jnd_gaze_model model;    /* the maximum-likelihood parameters (w_g = 1: see docs/gaze.md) */
@@ -3566,7 +3670,7 @@ typedef struct {
 /* Fits the spatial or the temporal model to d by maximum likelihood over
  * the Bernoulli answers, with standard errors from the observed
  * information and k-fold cross-validation over stimuli. Deterministic. */
-jnd_status jnd_gaze_fit(const jnd_gaze_data *d, const jnd_gaze_fit_params *p, jnd_gaze_fit_result *out);
+JND_EXPERIMENTAL jnd_status jnd_gaze_fit(const jnd_gaze_data *d, const jnd_gaze_fit_params *p, jnd_gaze_fit_result *out);
 
 /* Fitted parameters read back (`jnd gaze MODEL --params FIT.json`): a
  * report of `jnd gaze fit` (gaze_fit.json: a spatial fit sets alpha, beta,
@@ -3574,8 +3678,8 @@ jnd_status jnd_gaze_fit(const jnd_gaze_data *d, const jnd_gaze_fit_params *p, jn
  * the combined form of scripts/gaze-defaults.json ("fixed", "spatial",
  * "temporal"). Fields of a model the file does not carry are kept; on an
  * error m is unchanged and the message is "NAME: what is wrong". */
-jnd_status jnd_gaze_model_read(const char *path, jnd_gaze_model *m);
-jnd_status jnd_gaze_model_parse(const char *name, const char *text, size_t n, jnd_gaze_model *m);
+JND_EXPERIMENTAL jnd_status jnd_gaze_model_read(const char *path, jnd_gaze_model *m);
+JND_EXPERIMENTAL jnd_status jnd_gaze_model_parse(const char *name, const char *text, size_t n, jnd_gaze_model *m);
 
 /* Synthetic observers (docs/gaze.md "Defaults"): jnd ships no study, so its
  * default parameters are fitted to answers drawn from jnd's own vision model.
@@ -3602,7 +3706,7 @@ typedef struct {
   void (*progress)(void *user, int done, int total);
   void *progress_user;
 } jnd_gaze_observers_params;
-void jnd_gaze_observers_defaults(jnd_gaze_observers_params *p);
+JND_EXPERIMENTAL void jnd_gaze_observers_defaults(jnd_gaze_observers_params *p);
 
 typedef struct {
   int scene, orientation, level;   /* level ≥ 1: against level 0 (spatial), from level − 1 (switch) */
@@ -3619,15 +3723,69 @@ typedef struct {
 
 /* Renders and judges every stimulus of nscenes scenes (each ≥ 2 levels, or
  * a chain made with p->chain), deterministic for any thread count. */
-jnd_status jnd_gaze_observers_run(jnd_scene *const *scenes, int nscenes, const jnd_gaze_observers_params *p,
+JND_EXPERIMENTAL jnd_status jnd_gaze_observers_run(jnd_scene *const *scenes, int nscenes, const jnd_gaze_observers_params *p,
                                   jnd_gaze_observers *out);
-void jnd_gaze_observers_free(jnd_gaze_observers *o);
+JND_EXPERIMENTAL void jnd_gaze_observers_free(jnd_gaze_observers *o);
 
 /* The trials as `jnd gaze fit` reads them, one row per answer (atomic):
  * temporal 0: stimulus, xor_deg, v_jnd, eccentricity_deg, seen (and the
  * scene, size, level and p_true for the reader); temporal 1: stimulus,
  * t_jnd, seen (and the same). */
-jnd_status jnd_gaze_observers_write_csv(const jnd_gaze_observers *o, int temporal, const char *path);
+JND_EXPERIMENTAL jnd_status jnd_gaze_observers_write_csv(const jnd_gaze_observers *o, int temporal, const char *path);
+
+/* `jnd gaze` as one call (the task shape, docs/architecture.md), in one of
+ * three modes:
+ *   JND_GAZE_RUN_TABLE      input a model (glTF/GLB/OBJ, builtin[:...]): the table
+ *                           (jnd_gaze_table_run) into out_dir: gaze.json, gaze.csv,
+ *                           gaze.png, and model/NAME.glb when the chain was made here;
+ *   JND_GAZE_RUN_FIT        input a CSV of trials (jnd_gaze_data_read): jnd_gaze_fit,
+ *                           out_dir/gaze_fit.json (out_dir NULL: only the report's copy);
+ *   JND_GAZE_RUN_OBSERVERS  input NULL, the models in `models`: synthetic observers
+ *                           (jnd_gaze_observers_run) into out_dir: spatial.csv,
+ *                           temporal.csv, observers.json.
+ * Everything goes through one output writer (nothing over an input; all or
+ * nothing). */
+typedef enum { JND_GAZE_RUN_TABLE = 0, JND_GAZE_RUN_FIT, JND_GAZE_RUN_OBSERVERS } jnd_gaze_run_mode;
+
+typedef struct {
+  jnd_gaze_run_mode mode;
+  jnd_gaze_table_params table;         /* TABLE (jnd_gaze_table_defaults) */
+  const char *const *model_files;      /* TABLE: fitted parameters read into table.model in order
+                                          (jnd_gaze_model_read; NULL: none) */
+  int nmodel_files;
+  jnd_gaze_fit_params fit;             /* FIT (jnd_gaze_fit_defaults) */
+  jnd_gaze_observers_params observers; /* OBSERVERS (jnd_gaze_observers_defaults) */
+  const char *const *models;           /* OBSERVERS: the models, 1..64 */
+  int nmodels;
+  jnd_run_options run;                 /* map side of builtin assets (512), the report's copy, timings */
+} jnd_gaze_run_params;
+
+/* Fills p with the defaults above (mode TABLE). */
+void jnd_gaze_run_defaults(jnd_gaze_run_params *p);
+
+typedef struct {
+  jnd_gaze_run_mode mode;
+  jnd_gaze_table table;                /* TABLE */
+  int input_levels;                    /* TABLE: levels the input had (< 2: the chain was made) */
+  char chain_model[320];               /* TABLE: the chain's model under out_dir, or the input */
+  double table_s;                      /* TABLE: wall-clock seconds of the table */
+  int nreduced;                        /* TABLE: distances judged below the display's ppd (the
+                                          window capped at max_px: .result.reduced_ppd) */
+  int nwindowed;                       /* TABLE: distances judged on windows (.result.windowed) */
+  jnd_gaze_fit_result fit;             /* FIT */
+  jnd_gaze_observers observers;        /* OBSERVERS */
+  double mean_p_spatial, mean_p_switch; /* OBSERVERS: over the stimuli */
+  char *report;                        /* the report's JSON text */
+} jnd_gaze_run_result;
+
+/* The task (`jnd gaze`, `jnd gaze fit`, `jnd gaze observers`). *out is
+ * allocated (jnd_gaze_run_result_free). Bad input: one error "FILE:
+ * problem", nothing written. */
+jnd_status jnd_gaze_run(const char *input, const jnd_gaze_run_params *p, const char *out_dir,
+                        jnd_gaze_run_result **out);
+
+/* Frees what jnd_gaze_run returned (NULL is fine). */
+void jnd_gaze_run_result_free(jnd_gaze_run_result *r);
 
 /* The engine's lookup: loaded once, no allocation per call. */
 typedef struct {

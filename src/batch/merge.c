@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "batch/batch.h"
+#include "tasks/report.h"
 #include "core/core.h"
 
 static cJSON *number_or_null(double v) { return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull(); }
@@ -129,14 +130,11 @@ jnd_status jnd_batch_merge(const char *out_dir, int timings, jnd_batch_totals *t
   jnd_batch_manifest m;
   jnd_status s = jnd_batch_plan_read(out_dir, &m);
   if (s != JND_OK) return s;
-  cJSON *doc = cJSON_CreateObject();
-  cJSON_AddStringToObject(doc, "jnd_version", jnd_version());
-  cJSON_AddStringToObject(doc, "command", "batch merge");
-  cJSON *in = cJSON_AddObjectToObject(doc, "inputs");
-  cJSON_AddStringToObject(in, "manifest", m.source);
-  cJSON *par = cJSON_AddObjectToObject(doc, "parameters");
+  cJSON *doc = report_new("batch merge");
+  cJSON_AddStringToObject(report_section(doc, "inputs"), "manifest", m.source);
+  cJSON *par = report_section(doc, "parameters");
   cJSON_AddBoolToObject(par, "timings", timings != 0);
-  cJSON *res = cJSON_AddObjectToObject(doc, "result");
+  cJSON *res = report_section(doc, "result");
   cJSON *tot = cJSON_AddObjectToObject(res, "totals");
   cJSON *assets = cJSON_AddArrayToObject(res, "assets");
   double before = 0, after = 0, seconds = 0;

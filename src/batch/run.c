@@ -31,6 +31,7 @@
 
 #include "batch/batch.h"
 #include "core/core.h"
+#include "tasks/report.h"
 
 #define MAX_JOBS 256
 
@@ -503,4 +504,25 @@ jnd_status jnd_batch_run(const jnd_batch_manifest *m, const jnd_batch_params *p,
   free(c.logs);
   free(c.work);
   return s;
+}
+
+char *jnd_batch_run_report(const jnd_batch_manifest *m, const jnd_batch_params *p, const jnd_batch_totals *t) {
+  cJSON *r = report_new("batch");
+  cJSON_AddStringToObject(report_section(r, "inputs"), "manifest", m->source);
+  cJSON *par = report_section(r, "parameters");
+  cJSON_AddNumberToObject(par, "shard", p->shard);
+  cJSON_AddNumberToObject(par, "shards", p->shards);
+  cJSON_AddNumberToObject(par, "jobs", p->jobs);
+  cJSON_AddNumberToObject(par, "timeout_s", p->timeout_s);
+  cJSON_AddBoolToObject(par, "force", p->force);
+  cJSON *res = report_section(r, "result");
+  cJSON_AddNumberToObject(res, "assets", t->assets);
+  cJSON_AddNumberToObject(res, "ran", t->ran);
+  cJSON_AddNumberToObject(res, "skipped", t->skipped);
+  cJSON_AddNumberToObject(res, "ok", t->ok);
+  cJSON_AddNumberToObject(res, "above", t->above);
+  cJSON_AddNumberToObject(res, "failed", t->failed);
+  char *text = report_text(r);
+  cJSON_Delete(r);
+  return text;
 }

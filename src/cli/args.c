@@ -423,29 +423,6 @@ int cli_views_only(const cli_views *v, unsigned allowed, const char *cmd, const 
   return 0;
 }
 
-cJSON *cli_views_json(const cli_views *v) {
-  const jnd_view_sampling *s = &v->set.sampling;
-  cJSON *o = cJSON_CreateObject();
-  if (v->cameras) {
-    cJSON_AddStringToObject(o, "cameras", v->cameras);
-  } else {
-    cJSON_AddNumberToObject(o, "views", s->count);
-    cJSON_AddNumberToObject(o, "seed", (double)s->seed);
-    if (s->distance > 0) cJSON_AddNumberToObject(o, "distance", s->distance);
-    else cJSON_AddNumberToObject(o, "coverage", s->coverage);
-    cJSON_AddNumberToObject(o, "fov_y_deg", s->fov_y_deg);
-    if (!isnan(s->min_elevation_deg)) cJSON_AddNumberToObject(o, "min_elevation_deg", s->min_elevation_deg);
-    cJSON_AddNumberToObject(o, "max_elevation_deg", s->max_elevation_deg);
-    cJSON_AddNumberToObject(o, "lights", s->lights);
-  }
-  cJSON_AddNumberToObject(o, "width", v->set.render.width);
-  cJSON_AddNumberToObject(o, "height", v->set.render.height);
-  cJSON_AddNumberToObject(o, "samples", v->set.render.samples);
-  cJSON_AddNumberToObject(o, "anisotropy", v->set.render.anisotropy);
-  if (v->set.render.env_path) cJSON_AddStringToObject(o, "env", v->set.render.env_path);
-  return o;
-}
-
 /* ---- criterion, pooling ---- */
 
 const char *const cli_criterion_help =

@@ -145,13 +145,6 @@ int cli_calibration_get(const cli_calibration *c, jnd_calibration *out);   /* 0 
 /* Human messages to stderr unless quiet. */
 void cli_info(const cli_common *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
-/* The JSON report: {"jnd_version", "command", "inputs", "parameters", "result"}. */
-cJSON *cli_report_new(const char *command);
-cJSON *cli_report_section(cJSON *report, const char *name);
-cJSON *cli_display_json(const jnd_display *d);
-cJSON *cli_views_json(const cli_views *v);
-/* Writes the report to path ("-" = stdout) atomically; returns EXIT_OK or EXIT_BAD. */
-int cli_report_write(cJSON *report, const char *path);
 /* A run's report text (jnd_<task>_run's result) to standard output when path
  * is "-" (the run itself wrote it to a file path); EXIT_OK or EXIT_BAD. */
 int cli_report_print(const char *text, const char *path);

@@ -287,25 +287,11 @@ static int run(int argc, char **argv) {
     cli_info(&common, "jnd batch: %d assets in this shard: %d ran, %d complete before, %d failed%s; "
              "jnd batch merge %s gathers every shard\n", t.assets, t.ran, t.skipped, t.failed,
              bad_rows ? " (rows with errors among them)" : "", p.out_dir);
-    if (common.json_path) {
-      cJSON *r = cli_report_new("batch");
-      cJSON_AddStringToObject(cli_report_section(r, "inputs"), "manifest", m.source);
-      cJSON *par = cli_report_section(r, "parameters");
-      cJSON_AddNumberToObject(par, "shard", p.shard);
-      cJSON_AddNumberToObject(par, "shards", p.shards);
-      cJSON_AddNumberToObject(par, "jobs", p.jobs);
-      cJSON_AddNumberToObject(par, "timeout_s", p.timeout_s);
-      cJSON_AddBoolToObject(par, "force", p.force);
-      cJSON *res = cli_report_section(r, "result");
-      cJSON_AddNumberToObject(res, "assets", t.assets);
-      cJSON_AddNumberToObject(res, "ran", t.ran);
-      cJSON_AddNumberToObject(res, "skipped", t.skipped);
-      cJSON_AddNumberToObject(res, "ok", t.ok);
-      cJSON_AddNumberToObject(res, "above", t.above);
-      cJSON_AddNumberToObject(res, "failed", t.failed);
-      rc = cli_report_write(r, json_out);
-      cJSON_Delete(r);
-    }
+    char *text = common.json_path ? jnd_batch_run_report(&m, &p, &t) : NULL;
+    if (common.json_path && !text) rc = cli_bad("out of memory writing the JSON report");
+    else if (text && strcmp(common.json_path, "-") == 0) rc = cli_report_print(text, common.json_path);
+    else if (text && jnd_write_file_atomic(json_out, text, strlen(text)) != JND_OK) rc = cli_lib_error();
+    free(text);
   }
   jnd_batch_manifest_free(&m);
   return cli_out_end(outw, rc);

@@ -59,21 +59,27 @@ static void on_progress(void *user, int done, int total) {
   cli_progress_step(p, done);
 }
 
-static cJSON *matrix_int(const int *v, int rows, int cols) {
-  cJSON *a = cJSON_CreateArray();
-  for (int r = 0; r < rows; r++) cJSON_AddItemToArray(a, cJSON_CreateIntArray(v + (size_t)r * cols, cols));
-  return a;
+/* the shared view options gaze has a use for, into its renderer's parameters */
+static void views_into(const cli_views *vo, uint64_t *seed, jnd_renderer_params *r) {
+  *seed = vo->set.sampling.seed;
+  r->env_path = vo->set.render.env_path;
+  r->samples = vo->set.render.samples;
+  r->anisotropy = vo->set.render.anisotropy;
+  r->platform = vo->set.render.platform;
 }
 
-/* [d][e][k] */
-static cJSON *cube(const double *v, int nd, int ne, int nk) {
-  cJSON *a = cJSON_CreateArray();
-  for (int d = 0; d < nd; d++) {
-    cJSON *row = cJSON_CreateArray();
-    for (int e = 0; e < ne; e++) cJSON_AddItemToArray(row, cJSON_CreateDoubleArray(v + ((size_t)d * ne + e) * nk, nk));
-    cJSON_AddItemToArray(a, row);
-  }
-  return a;
+/* the run with a progress bar; *progress, *user the mode's progress fields */
+static int call(const char *input, const char *dir, jnd_gaze_run_params *rp, const cli_common *c, const char *label,
+                void (**progress)(void *, int, int), void **user, jnd_gaze_run_result **R) {
+  cli_progress bar;
+  cli_progress_start(&bar, c, label, 1);
+  *progress = on_progress;
+  *user = &bar;
+  jnd_status st = jnd_gaze_run(input, rp, dir, R);
+  cli_progress_end(&bar);
+  *progress = NULL;
+  *user = NULL;
+  return st == JND_OK ? EXIT_OK : cli_lib_error();
 }
 
 static void fit_help(void) {
@@ -102,8 +108,9 @@ static void fit_help(void) {
 static int run_fit(int argc, char **argv) {
   const char *data = NULL, *dir = NULL, *v;
   cli_common common = {0};
-  jnd_gaze_fit_params fp;
-  jnd_gaze_fit_defaults(&fp);
+  jnd_gaze_run_params p;
+  jnd_gaze_run_defaults(&p);
+  jnd_gaze_fit_params *fp = &p.fit;
   cli_args args = cli_args_start(argc, argv, "gaze fit"), *ap = &args;
   args.i = 2;
   for (; args.i < argc && !args.bad; args.i++) {
@@ -114,13 +121,13 @@ static int run_fit(int argc, char **argv) {
     } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
       dir = v;
     } else if (cli_opt(ap, "--folds", &v)) {
-      fp.folds = cli_int(ap, "--folds", v, 2, JND_GAZE_MAX_FOLDS);
+      fp->folds = cli_int(ap, "--folds", v, 2, JND_GAZE_MAX_FOLDS);
     } else if (cli_opt(ap, "--seed", &v)) {
-      fp.seed = (uint64_t)cli_double(ap, "--seed", v, 0, 9007199254740992.0);
+      fp->seed = (uint64_t)cli_double(ap, "--seed", v, 0, 9007199254740992.0);
     } else if (cli_opt(ap, "--confidence", &v)) {
-      fp.confidence = cli_double(ap, "--confidence", v, 0.5, 0.9999);
+      fp->confidence = cli_double(ap, "--confidence", v, 0.5, 0.9999);
     } else if (cli_opt(ap, "--b", &v)) {
-      fp.start.b = cli_double(ap, "--b", v, 1e-6, 1e6);
+      fp->start.b = cli_double(ap, "--b", v, 1e-6, 1e6);
     } else if (cli_common_opt(ap, &common)) {
     } else if (a[0] == '-' && a[1]) {
       return cli_unknown(ap);
@@ -132,69 +139,19 @@ static int run_fit(int argc, char **argv) {
   }
   if (args.bad) return EXIT_BAD;
   if (!data) return cli_bad("gaze fit: give a DATA.csv of trials; jnd gaze fit --help");
-  /* the outputs checked before any work, written staged, published at the end */
-  jnd_output *outw = NULL;
-  const char *json_out = NULL;
-  if (cli_out_open(&outw) != EXIT_OK || cli_out_inputs(outw, &data, 1) != EXIT_OK ||
-      cli_out_dir(outw, dir, &dir) != EXIT_OK || cli_out_file(outw, common.json_path, &json_out) != EXIT_OK)
-    return cli_out_end(outw, EXIT_BAD);
-  jnd_gaze_data d;
-  if (jnd_gaze_data_read(data, &d) != JND_OK) return cli_out_end(outw, cli_lib_error());
-  jnd_gaze_fit_result r;
-  jnd_status st = jnd_gaze_fit(&d, &fp, &r);
-  jnd_gaze_data_free(&d);
-  if (st != JND_OK) return cli_out_end(outw, cli_lib_error());
-
-  cJSON *report = cli_report_new("gaze fit");
-  cJSON *in = cli_report_section(report, "inputs"), *par = cli_report_section(report, "parameters"),
-        *res = cli_report_section(report, "result");
-  cJSON_AddStringToObject(in, "data", data);
-  cJSON_AddNumberToObject(par, "folds", fp.folds);
-  cJSON_AddNumberToObject(par, "seed", (double)fp.seed);
-  cJSON_AddNumberToObject(par, "confidence", fp.confidence);
-  if (!r.temporal) cJSON_AddNumberToObject(par, "b", fp.start.b);
-  cJSON_AddStringToObject(res, "model", r.temporal ? "temporal" : "spatial");
-  cJSON_AddNumberToObject(res, "trials", r.trials);
-  cJSON_AddNumberToObject(res, "stimuli", r.stimuli);
-  cJSON_AddNumberToObject(res, "neg_log_likelihood", r.neg_loglik);
-  cJSON *jp = cJSON_AddObjectToObject(res, "parameters");
-  for (int i = 0; i < r.nparams; i++) {
-    cJSON *o = cJSON_AddObjectToObject(jp, r.names[i]);
-    cJSON_AddNumberToObject(o, "value", r.value[i]);
-    if (isfinite(r.ci_lo[i])) {
-      cJSON_AddNumberToObject(o, "ci_lo", r.ci_lo[i]);
-      cJSON_AddNumberToObject(o, "ci_hi", r.ci_hi[i]);
-    } else {
-      cJSON_AddNullToObject(o, "ci_lo");
-      cJSON_AddNullToObject(o, "ci_hi");
-    }
-  }
-  cJSON *all = cJSON_AddObjectToObject(res, "all_data");
-  cJSON_AddNumberToObject(all, "pearson_r", r.r_all);
-  cJSON_AddNumberToObject(all, "mae", r.mae_all);
-  cJSON *cv = cJSON_AddObjectToObject(res, "cross_validation");
-  cJSON_AddItemToObject(cv, "pearson_r", cJSON_CreateDoubleArray(r.fold_r, r.folds));
-  cJSON_AddItemToObject(cv, "mae", cJSON_CreateDoubleArray(r.fold_mae, r.folds));
-  cJSON_AddNumberToObject(cv, "pearson_r_mean", r.r_mean);
-  cJSON_AddNumberToObject(cv, "pearson_r_sd", r.r_sd);
-  cJSON_AddNumberToObject(cv, "mae_mean", r.mae_mean);
-  cJSON_AddNumberToObject(cv, "mae_sd", r.mae_sd);
-  int rc = EXIT_OK;
-  if (dir) {
-    char path[4400];
-    snprintf(path, sizeof path, "%s/gaze_fit.json", dir);
-    if (jnd_make_dirs(dir) != JND_OK) rc = cli_lib_error();
-    if (rc == EXIT_OK) rc = cli_report_write(report, path);
-  }
-  if (rc == EXIT_OK && json_out) rc = cli_report_write(report, json_out);
-  rc = cli_out_end(outw, rc);
-  cJSON_Delete(report);
-  cli_info(&common, "jnd gaze fit: %s, %s model, %d trials of %d stimuli\n", data, r.temporal ? "temporal" : "spatial",
-           r.trials, r.stimuli);
-  for (int i = 0; i < r.nparams; i++)
-    cli_info(&common, "  %-8s %10.4g  [%.4g, %.4g]\n", r.names[i], r.value[i], r.ci_lo[i], r.ci_hi[i]);
-  cli_info(&common, "  all data: r = %.3f, MAE = %.3f; %d-fold: r = %.3f ± %.3f, MAE = %.3f ± %.3f\n", r.r_all,
-           r.mae_all, r.folds, r.r_mean, r.r_sd, r.mae_mean, r.mae_sd);
+  p.mode = JND_GAZE_RUN_FIT;
+  cli_run_options(&p.run, &common, 512);
+  jnd_gaze_run_result *R = NULL;
+  if (jnd_gaze_run(data, &p, dir, &R) != JND_OK) return cli_lib_error();
+  int rc = cli_report_print(R->report, common.json_path);
+  const jnd_gaze_fit_result *r = &R->fit;
+  cli_info(&common, "jnd gaze fit: %s, %s model, %d trials of %d stimuli\n", data, r->temporal ? "temporal" : "spatial",
+           r->trials, r->stimuli);
+  for (int i = 0; i < r->nparams; i++)
+    cli_info(&common, "  %-8s %10.4g  [%.4g, %.4g]\n", r->names[i], r->value[i], r->ci_lo[i], r->ci_hi[i]);
+  cli_info(&common, "  all data: r = %.3f, MAE = %.3f; %d-fold: r = %.3f ± %.3f, MAE = %.3f ± %.3f\n", r->r_all,
+           r->mae_all, r->folds, r->r_mean, r->r_sd, r->mae_mean, r->mae_sd);
+  jnd_gaze_run_result_free(R);
   return rc;
 }
 
@@ -231,15 +188,17 @@ static int run_observers(int argc, char **argv) {
   const char *dir = NULL, *v, *models[64];
   int nmodels = 0;
   cli_common common = {0};
-  jnd_gaze_observers_params p;
-  jnd_gaze_observers_defaults(&p);
+  jnd_gaze_run_params rp;
+  jnd_gaze_run_defaults(&rp);
+  rp.mode = JND_GAZE_RUN_OBSERVERS;
+  jnd_gaze_observers_params *p = &rp.observers;
   jnd_lod_params chain;
   jnd_lod_defaults(&chain);
   double sizes[64], ecc[64], errors[64];
   cli_views vo;   /* the observers' defaults, read back after parsing */
   cli_views_init(&vo, 0, 0);
-  vo.set.sampling.seed = p.seed;
-  vo.set.render = p.render;
+  vo.set.sampling.seed = p->seed;
+  vo.set.render = p->render;
   vo.map_size = 512;
   cli_args args = cli_args_start(argc, argv, "gaze observers"), *ap = &args;
   args.i = 2;
@@ -251,23 +210,23 @@ static int run_observers(int argc, char **argv) {
     } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
       dir = v;
     } else if (cli_opt(ap, "--sizes", &v)) {
-      p.nsizes = cli_double_list(ap, "--sizes", v, 1e-3, 60, sizes, 64);
-      p.sizes_deg = sizes;
+      p->nsizes = cli_double_list(ap, "--sizes", v, 1e-3, 60, sizes, 64);
+      p->sizes_deg = sizes;
     } else if (cli_opt(ap, "--eccentricities", &v)) {
-      p.neccentricities = cli_double_list(ap, "--eccentricities", v, 0, 90, ecc, 64);
-      p.eccentricities_deg = ecc;
+      p->neccentricities = cli_double_list(ap, "--eccentricities", v, 0, 90, ecc, 64);
+      p->eccentricities_deg = ecc;
     } else if (cli_opt(ap, "--orientations", &v)) {
-      p.orientations = cli_int(ap, "--orientations", v, 1, 64);
+      p->orientations = cli_int(ap, "--orientations", v, 1, 64);
     } else if (cli_opt(ap, "--answers", &v)) {
-      p.answers = cli_int(ap, "--answers", v, 1, 10000);
+      p->answers = cli_int(ap, "--answers", v, 1, 10000);
     } else if (cli_opt(ap, "--errors", &v)) {
       chain.nerrors = cli_errors(ap, v, errors, 63);
       chain.errors = errors;
-      p.chain = &chain;
+      p->chain = &chain;
     } else if (cli_opt(ap, "--min-px", &v)) {
-      p.min_px = cli_int(ap, "--min-px", v, 16, 4096);
+      p->min_px = cli_int(ap, "--min-px", v, 16, 4096);
     } else if (cli_opt(ap, "--max-px", &v)) {
-      p.max_px = cli_int(ap, "--max-px", v, 16, 4096);
+      p->max_px = cli_int(ap, "--max-px", v, 16, 4096);
     } else if (cli_views_opt(ap, &vo) || cli_common_opt(ap, &common)) {
     } else if (a[0] == '-' && a[1]) {
       return cli_unknown(ap);
@@ -281,69 +240,18 @@ static int run_observers(int argc, char **argv) {
   if (cli_views_only(&vo, CLI_SEED | CLI_ENV | CLI_SAMPLES | CLI_ANISOTROPY | CLI_PLATFORM | CLI_MAP_SIZE,
                      "gaze observers", "its views are --sizes x --orientations; see jnd gaze observers --help"))
     return EXIT_BAD;
-  p.seed = vo.set.sampling.seed;
-  p.render.env_path = vo.set.render.env_path;
-  p.render.samples = vo.set.render.samples;
-  p.render.anisotropy = vo.set.render.anisotropy;
-  p.render.platform = vo.set.render.platform;
-  const int map_size = vo.map_size;
+  views_into(&vo, &p->seed, &p->render);
   if (!nmodels) return cli_bad("gaze observers: give at least one MODEL; jnd gaze observers --help");
   if (!dir) return cli_bad("gaze observers: give an output folder with -o OUTDIR");
-  if (p.max_px < p.min_px) return cli_bad("--max-px: %d is below --min-px %d", p.max_px, p.min_px);
-  jnd_scene *scenes[64] = {0};
-  int rc = EXIT_OK;
-  /* the outputs checked before any work, written staged, published at the end */
-  jnd_output *outw = NULL;
-  const char *json_out = NULL, *final_dir = dir;
-  if (cli_out_open(&outw) != EXIT_OK || cli_out_inputs(outw, models, nmodels) != EXIT_OK ||
-      cli_out_inputs(outw, &p.render.env_path, 1) != EXIT_OK || cli_out_dir(outw, final_dir, &dir) != EXIT_OK ||
-      cli_out_file(outw, common.json_path, &json_out) != EXIT_OK)
-    return cli_out_end(outw, EXIT_BAD);
-  for (int i = 0; i < nmodels && rc == EXIT_OK; i++)
-    if (jnd_scene_open(models[i], map_size, &scenes[i]) != JND_OK) rc = cli_lib_error();
-  jnd_gaze_observers O = {0};
-  if (rc == EXIT_OK) {
-    cli_progress bar;
-    cli_progress_start(&bar, &common, "gaze observers", 1);
-    p.progress = on_progress;
-    p.progress_user = &bar;
-    jnd_status st = jnd_gaze_observers_run(scenes, nmodels, &p, &O);
-    cli_progress_end(&bar);
-    if (st != JND_OK) rc = cli_lib_error();
-  }
-  char path[4400];
-  if (rc == EXIT_OK && jnd_make_dirs(dir) != JND_OK) rc = cli_lib_error();
-  snprintf(path, sizeof path, "%s/spatial.csv", dir);
-  if (rc == EXIT_OK && jnd_gaze_observers_write_csv(&O, 0, path) != JND_OK) rc = cli_lib_error();
-  snprintf(path, sizeof path, "%s/temporal.csv", dir);
-  if (rc == EXIT_OK && jnd_gaze_observers_write_csv(&O, 1, path) != JND_OK) rc = cli_lib_error();
-  if (rc == EXIT_OK) {
-    cJSON *report = cli_report_new("gaze observers");
-    cJSON *in = cli_report_section(report, "inputs"), *par = cli_report_section(report, "parameters"),
-          *res = cli_report_section(report, "result");
-    cJSON_AddItemToObject(in, "models", cJSON_CreateStringArray(models, nmodels));
-    cJSON_AddNumberToObject(par, "orientations", p.orientations);
-    cJSON_AddNumberToObject(par, "answers", p.answers);
-    cJSON_AddNumberToObject(par, "seed", (double)p.seed);
-    cJSON_AddNumberToObject(par, "switch_hz", p.measure.switch_hz);
-    cJSON_AddNumberToObject(res, "stimuli", O.n);
-    cJSON_AddNumberToObject(res, "trials_per_model", (double)O.n * O.answers);
-    double ps = 0, pw = 0;
-    for (int i = 0; i < O.n; i++) ps += O.stimuli[i].p_spatial, pw += O.stimuli[i].p_switch;
-    cJSON_AddNumberToObject(res, "mean_p_spatial", O.n ? ps / O.n : 0);
-    cJSON_AddNumberToObject(res, "mean_p_switch", O.n ? pw / O.n : 0);
-    cJSON_AddStringToObject(res, "spatial_csv", "spatial.csv");
-    cJSON_AddStringToObject(res, "temporal_csv", "temporal.csv");
-    snprintf(path, sizeof path, "%s/observers.json", dir);
-    rc = cli_report_write(report, path);
-    if (rc == EXIT_OK && json_out) rc = cli_report_write(report, json_out);
-    cJSON_Delete(report);
-    cli_info(&common, "jnd gaze observers: %d stimuli x %d answers; mean P spatial %.3f, switch %.3f; wrote %s\n",
-             O.n, O.answers, O.n ? ps / O.n : 0, O.n ? pw / O.n : 0, final_dir);
-  }
-  rc = cli_out_end(outw, rc);
-  jnd_gaze_observers_free(&O);
-  for (int i = 0; i < nmodels; i++) jnd_scene_free(scenes[i]);
+  rp.models = models;
+  rp.nmodels = nmodels;
+  cli_run_options(&rp.run, &common, vo.map_size);
+  jnd_gaze_run_result *R = NULL;
+  if (call(NULL, dir, &rp, &common, "gaze observers", &p->progress, &p->progress_user, &R) != EXIT_OK) return EXIT_BAD;
+  int rc = cli_report_print(R->report, common.json_path);
+  cli_info(&common, "jnd gaze observers: %d stimuli x %d answers; mean P spatial %.3f, switch %.3f; wrote %s\n",
+           R->observers.n, R->observers.answers, R->mean_p_spatial, R->mean_p_switch, dir);
+  jnd_gaze_run_result_free(R);
   return rc;
 }
 
@@ -354,15 +262,16 @@ static int run(int argc, char **argv) {
   cli_common common = {0};
   cli_display disp;
   cli_display_init(&disp);
-  jnd_gaze_table_params p;
-  jnd_gaze_table_defaults(&p);
+  jnd_gaze_run_params rp;
+  jnd_gaze_run_defaults(&rp);
+  jnd_gaze_table_params *p = &rp.table;
   jnd_lod_params chain;
   jnd_lod_defaults(&chain);
   double dist[256], ecc[256], errors[64];
   cli_views vo;   /* gaze's defaults, read back after parsing */
   cli_views_init(&vo, 0, 0);
-  vo.set.sampling.seed = p.seed;
-  vo.set.render = p.render;
+  vo.set.sampling.seed = p->seed;
+  vo.set.render = p->render;
   vo.map_size = 512;
   int nparams = 0;
   const char *params_files[8];
@@ -375,25 +284,25 @@ static int run(int argc, char **argv) {
     } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
       dir = v;
     } else if (cli_opt(ap, "--distances", &v)) {
-      p.ndistances = cli_double_list(ap, "--distances", v, 0, 1e6, dist, 256);
-      p.distances_m = dist;
+      p->ndistances = cli_double_list(ap, "--distances", v, 0, 1e6, dist, 256);
+      p->distances_m = dist;
     } else if (cli_opt(ap, "--eccentricities", &v)) {
-      p.neccentricities = cli_double_list(ap, "--eccentricities", v, 0, 90, ecc, 256);
-      p.eccentricities_deg = ecc;
+      p->neccentricities = cli_double_list(ap, "--eccentricities", v, 0, 90, ecc, 256);
+      p->eccentricities_deg = ecc;
     } else if (cli_opt(ap, "--orientations", &v)) {
-      p.orientations = cli_int(ap, "--orientations", v, 1, 256);
+      p->orientations = cli_int(ap, "--orientations", v, 1, 256);
     } else if (cli_opt(ap, "--threshold", &v)) {
-      p.threshold = cli_double(ap, "--threshold", v, 0.501, 0.999);
+      p->threshold = cli_double(ap, "--threshold", v, 0.501, 0.999);
     } else if (cli_opt(ap, "--errors", &v)) {
       chain.nerrors = cli_errors(ap, v, errors, 63);
       chain.errors = errors;
-      p.chain = &chain;
+      p->chain = &chain;
     } else if (cli_opt(ap, "--min-px", &v)) {
-      p.min_px = cli_int(ap, "--min-px", v, 16, 4096);
+      p->min_px = cli_int(ap, "--min-px", v, 16, 4096);
     } else if (cli_opt(ap, "--max-px", &v)) {
-      p.max_px = cli_int(ap, "--max-px", v, 16, 4096);
+      p->max_px = cli_int(ap, "--max-px", v, 16, 4096);
     } else if (cli_flag(ap, "--whole-near")) {
-      p.near_window = 0;
+      p->near_window = 0;
     } else if (cli_opt(ap, "--params", &v)) {
       if (nparams == 8) return cli_bad("--params: at most 8 files");
       params_files[nparams++] = v;
@@ -411,146 +320,39 @@ static int run(int argc, char **argv) {
   if (cli_views_only(&vo, CLI_SEED | CLI_ENV | CLI_SAMPLES | CLI_ANISOTROPY | CLI_PLATFORM | CLI_MAP_SIZE, "gaze",
                      "its views are --distances x --orientations, each at its own size; see jnd gaze --help"))
     return EXIT_BAD;
-  p.seed = vo.set.sampling.seed;
-  p.render.env_path = vo.set.render.env_path;
-  p.render.samples = vo.set.render.samples;
-  p.render.anisotropy = vo.set.render.anisotropy;
-  p.render.platform = vo.set.render.platform;
-  int map_size = vo.map_size;
+  views_into(&vo, &p->seed, &p->render);
   if (!model) return cli_bad("gaze: give a MODEL (a .gltf/.glb/.obj file or builtin); jnd gaze --help");
   if (!dir) return cli_bad("gaze: give an output folder with -o OUTDIR; jnd gaze --help");
-  if (p.max_px < p.min_px) return cli_bad("--max-px: %d is below --min-px %d", p.max_px, p.min_px);
-  p.measure.model.display = cli_display_get(&disp);
-  /* the outputs checked before any work, written staged, published at the end */
-  jnd_output *outw = NULL;
-  const char *json_out = NULL, *final_dir = dir, *ins[] = {model, p.render.env_path};
-  if (cli_out_open(&outw) != EXIT_OK || cli_out_inputs(outw, ins, 2) != EXIT_OK ||
-      cli_out_inputs(outw, params_files, nparams) != EXIT_OK || cli_out_dir(outw, final_dir, &dir) != EXIT_OK ||
-      cli_out_file(outw, common.json_path, &json_out) != EXIT_OK)
-    return cli_out_end(outw, EXIT_BAD);
-  for (int i = 0; i < nparams; i++)
-    if (jnd_gaze_model_read(params_files[i], &p.model) != JND_OK) return cli_out_end(outw, cli_lib_error());
-
-  jnd_scene *scene = NULL;
-  if (jnd_scene_open(model, map_size, &scene) != JND_OK) return cli_out_end(outw, cli_lib_error());
-  int input_levels = jnd_scene_lod_count(scene);
-  cli_progress bar;
-  cli_progress_start(&bar, &common, "gaze", 1);
-  p.progress = on_progress;
-  p.progress_user = &bar;
-  double t0 = jnd_seconds();
-  jnd_gaze_table T;
-  jnd_status st = jnd_gaze_table_run(scene, &p, &T);
-  cli_progress_end(&bar);
-  if (st != JND_OK) {
-    jnd_scene_free(scene);
-    return cli_out_end(outw, cli_lib_error());
-  }
-  double run_s = jnd_seconds() - t0;
-
-  char path[4400];
-  jnd_image fig = {0};
-  int rc = EXIT_OK;
-  if (jnd_make_dirs(dir) != JND_OK || jnd_gaze_table_figure(&T, &fig) != JND_OK) rc = cli_lib_error();
-  snprintf(path, sizeof path, "%s/gaze.png", dir);
-  if (rc == EXIT_OK && jnd_image_write_png(path, &fig, 8) != JND_OK) rc = cli_lib_error();
-  snprintf(path, sizeof path, "%s/gaze.csv", dir);
-  if (rc == EXIT_OK && jnd_gaze_table_write_csv(&T, path) != JND_OK) rc = cli_lib_error();
-  jnd_image_free(&fig);
-  /* the chain the table's levels index: the input's, or the one made here, written beside the table */
-  char stem[256], chain_model[300];
-  jnd_model_stem(model, stem, sizeof stem);
-  snprintf(chain_model, sizeof chain_model, "model/%s.glb", stem);
-  snprintf(path, sizeof path, "%s/model", dir);
-  if (rc == EXIT_OK && input_levels < 2 && jnd_make_dirs(path) != JND_OK) rc = cli_lib_error();
-  snprintf(path, sizeof path, "%s/%s", dir, chain_model);
-  if (rc == EXIT_OK && input_levels < 2 && jnd_scene_write_lod_glb(scene, path, NULL) != JND_OK) rc = cli_lib_error();
-
-  cJSON *report = cli_report_new("gaze");
-  cJSON *in = cli_report_section(report, "inputs"), *par = cli_report_section(report, "parameters"),
-        *res = cli_report_section(report, "result");
-  cJSON_AddStringToObject(in, "model", model);
-  cJSON_AddStringToObject(in, "chain", input_levels > 1 ? "input (MSFT_lod or levels of the file)" : "made by jnd gaze");
-  cJSON_AddItemToObject(in, "params", cJSON_CreateStringArray(params_files, nparams));
-  cJSON_AddNumberToObject(par, "threshold", p.threshold);
-  cJSON_AddNumberToObject(par, "orientations", p.orientations);
-  cJSON_AddNumberToObject(par, "seed", (double)p.seed);
-  cJSON_AddNumberToObject(par, "min_px", p.min_px);
-  cJSON_AddNumberToObject(par, "max_px", p.max_px);
-  cJSON_AddBoolToObject(par, "near_window", p.near_window);
-  cJSON_AddItemToObject(par, "display", cli_display_json(&p.measure.model.display));
-  char pool[32];
-  cJSON_AddStringToObject(par, "pooling", jnd_pooling_name(&p.measure.pool, pool, sizeof pool));
-  cJSON_AddNumberToObject(par, "background", p.measure.background);
-  cJSON *gm = cJSON_AddObjectToObject(par, "model");
-  cJSON_AddNumberToObject(gm, "alpha", p.model.alpha);
-  cJSON_AddNumberToObject(gm, "beta", p.model.beta);
-  cJSON_AddNumberToObject(gm, "s_deg", p.model.s_deg);
-  cJSON_AddNumberToObject(gm, "b", p.model.b);
-  cJSON_AddNumberToObject(gm, "w_g", p.model.w_g);
-  cJSON_AddNumberToObject(gm, "w_vdp", p.model.w_vdp);
-  cJSON_AddNumberToObject(gm, "k_s", p.model.k_s);
-  cJSON_AddNumberToObject(gm, "gamma", p.model.gamma);
-  cJSON_AddNumberToObject(gm, "w_t", p.model.w_t);
-  cJSON_AddNumberToObject(gm, "gamma_t", p.model.gamma_t);
-  cJSON_AddItemToObject(res, "distances_m", cJSON_CreateDoubleArray(T.distances_m, T.nd));
-  cJSON_AddItemToObject(res, "eccentricities_deg", cJSON_CreateDoubleArray(T.eccentricities_deg, T.ne));
-  cJSON_AddItemToObject(res, "level", matrix_int(T.level, T.nd, T.ne));
-  cJSON_AddItemToObject(res, "level_raw", matrix_int(T.level_raw, T.nd, T.ne));
-  cJSON_AddItemToObject(res, "p_spatial", cube(T.p_spatial, T.nd, T.ne, T.nlevels));
-  cJSON_AddItemToObject(res, "p_switch", cube(T.p_switch, T.nd, T.ne, T.nlevels));
-  cJSON_AddItemToObject(res, "ppd", cJSON_CreateDoubleArray(T.ppd, T.nd));
-  /* a near object's window is capped at --max-px: judged at fewer pixels per
-   * degree than the display has (docs/gaze.md "The table", step 1) */
-  const double display_ppd = p.measure.model.display.ppd;
-  cJSON_AddNumberToObject(res, "display_ppd", display_ppd);
-  cJSON_AddItemToObject(res, "windowed", cJSON_CreateIntArray(T.windowed, T.nd));
-  cJSON *reduced = cJSON_AddArrayToObject(res, "reduced_ppd");
-  int nreduced = 0;
-  for (int d = 0; d < T.nd; d++) {
-    int r = T.ppd[d] < 0.99 * display_ppd;
-    nreduced += r;
-    cJSON_AddItemToArray(reduced, cJSON_CreateBool(r));
-  }
-  cJSON_AddItemToObject(res, "side_px", cJSON_CreateIntArray(T.side_px, T.nd));
-  cJSON *tri = cJSON_AddArrayToObject(res, "triangles");
-  for (int k = 0; k < T.nlevels; k++) cJSON_AddItemToArray(tri, cJSON_CreateNumber((double)T.triangles[k]));
-  cJSON_AddNumberToObject(res, "renderings", T.renderings);
-  cJSON_AddStringToObject(res, "renderer", T.renderer);
-  cJSON_AddStringToObject(res, "csv", "gaze.csv");
-  cJSON_AddStringToObject(res, "png", "gaze.png");
-  cJSON_AddStringToObject(res, "chain_model", input_levels < 2 ? chain_model : model);
-  if (common.timings) cJSON_AddNumberToObject(res, "table_s", run_s);
-  snprintf(path, sizeof path, "%s/gaze.json", dir);
-  if (rc == EXIT_OK) rc = cli_report_write(report, path);
-  if (rc == EXIT_OK && json_out) rc = cli_report_write(report, json_out);
-  rc = cli_out_end(outw, rc);
-  cJSON_Delete(report);
+  p->measure.model.display = cli_display_get(&disp);
+  rp.model_files = params_files;
+  rp.nmodel_files = nparams;
+  cli_run_options(&rp.run, &common, vo.map_size);
+  jnd_gaze_run_result *R = NULL;
+  if (call(model, dir, &rp, &common, "gaze", &p->progress, &p->progress_user, &R) != EXIT_OK) return EXIT_BAD;
+  int rc = cli_report_print(R->report, common.json_path);
 
   /* the human summary: the table */
-  cli_info(&common, "jnd gaze: %s, %d levels (", model, T.nlevels);
-  for (int k = 0; k < T.nlevels; k++) cli_info(&common, "%s%zu", k ? " " : "", T.triangles[k]);
-  cli_info(&common, " triangles), level below P = %.2f:\n%10s", p.threshold, "d \\ ecc");
-  for (int e = 0; e < T.ne; e++) cli_info(&common, " %5.3g", T.eccentricities_deg[e]);
+  const jnd_gaze_table *T = &R->table;
+  cli_info(&common, "jnd gaze: %s, %d levels (", model, T->nlevels);
+  for (int k = 0; k < T->nlevels; k++) cli_info(&common, "%s%zu", k ? " " : "", T->triangles[k]);
+  cli_info(&common, " triangles), level below P = %.2f:\n%10s", p->threshold, "d \\ ecc");
+  for (int e = 0; e < T->ne; e++) cli_info(&common, " %5.3g", T->eccentricities_deg[e]);
   cli_info(&common, "\n");
-  for (int d = 0; d < T.nd; d++) {
-    cli_info(&common, "%8.3g m", T.distances_m[d]);
-    for (int e = 0; e < T.ne; e++) cli_info(&common, " %5d", T.level[d * T.ne + e]);
+  for (int d = 0; d < T->nd; d++) {
+    cli_info(&common, "%8.3g m", T->distances_m[d]);
+    for (int e = 0; e < T->ne; e++) cli_info(&common, " %5d", T->level[d * T->ne + e]);
     cli_info(&common, "\n");
   }
-  int nwindowed = 0;
-  for (int d = 0; d < T.nd; d++) nwindowed += T.windowed[d];
-  if (nreduced)
+  if (R->nreduced)
     cli_info(&common, "note: %d of %d distances judged below the display's %.3g ppd (the window is capped at --max-px %d): "
-                      ".result.reduced_ppd\n", nreduced, T.nd, display_ppd, p.max_px);
-  if (nwindowed)
+                      ".result.reduced_ppd\n", R->nreduced, T->nd, p->measure.model.display.ppd, p->max_px);
+  if (R->nwindowed)
     cli_info(&common, "note: %d of %d distances judged on %d-pixel windows at the display's ppd around the fixation "
-                      "point or the silhouette facing it: .result.windowed\n", nwindowed, T.nd, p.max_px);
-  if (rc == EXIT_OK)
-    cli_info(&common, "wrote %s/gaze.json, gaze.csv, gaze.png%s%s (%.1f s)\n", final_dir, input_levels < 2 ? ", " : "",
-             input_levels < 2 ? chain_model : "", run_s);
-  jnd_gaze_table_free(&T);
-  jnd_scene_free(scene);
+                      "point or the silhouette facing it: .result.windowed\n", R->nwindowed, T->nd, p->max_px);
+  int made = R->input_levels < 2;
+  cli_info(&common, "wrote %s/gaze.json, gaze.csv, gaze.png%s%s (%.1f s)\n", dir, made ? ", " : "",
+           made ? R->chain_model : "", R->table_s);
+  jnd_gaze_run_result_free(R);
   return rc;
 }
 

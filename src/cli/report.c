@@ -5,69 +5,6 @@
 
 #include "cli/cli.h"
 
-cJSON *cli_report_new(const char *command) {
-  cJSON *r = cJSON_CreateObject();
-  cJSON_AddStringToObject(r, "jnd_version", jnd_version());
-  cJSON_AddStringToObject(r, "command", command);
-  cJSON_AddObjectToObject(r, "inputs");
-  cJSON_AddObjectToObject(r, "parameters");
-  cJSON_AddObjectToObject(r, "result");
-  return r;
-}
-
-cJSON *cli_report_section(cJSON *report, const char *name) {
-  return cJSON_GetObjectItemCaseSensitive(report, name);
-}
-
-cJSON *cli_display_json(const jnd_display *d) {
-  cJSON *o = cJSON_CreateObject();
-  cJSON_AddStringToObject(o, "name", d->name);
-  cJSON_AddNumberToObject(o, "ppd", d->ppd);
-  cJSON_AddNumberToObject(o, "peak_cdm2", d->peak_cdm2);
-  cJSON_AddNumberToObject(o, "black_cdm2", d->black_cdm2);
-  cJSON_AddNumberToObject(o, "ambient_lux", d->ambient_lux);
-  cJSON_AddNumberToObject(o, "reflectivity", d->reflectivity);
-  cJSON_AddNumberToObject(o, "exr_scale", d->exr_scale);
-  if (d->diagonal_in > 0) {
-    cJSON_AddNumberToObject(o, "diagonal_in", d->diagonal_in);
-    cJSON_AddNumberToObject(o, "width_px", d->width_px);
-    cJSON_AddNumberToObject(o, "height_px", d->height_px);
-    cJSON_AddNumberToObject(o, "distance_m", d->distance_m);
-  }
-  return o;
-}
-
-int cli_report_write(cJSON *report, const char *path) {
-  char *text = cJSON_Print(report);
-  if (!text) {
-    cli_error("out of memory writing the JSON report");
-    return EXIT_BAD;
-  }
-  size_t n = strlen(text);
-  int rc = EXIT_OK;
-  if (strcmp(path, "-") == 0) {
-    fwrite(text, 1, n, stdout);
-    fputc('\n', stdout);
-    fflush(stdout);
-  } else {
-    char *t2 = malloc(n + 2);
-    if (!t2) {
-      free(text);
-      cli_error("out of memory");
-      return EXIT_BAD;
-    }
-    memcpy(t2, text, n);
-    t2[n] = '\n';
-    if (jnd_write_file_atomic(path, t2, n + 1) != JND_OK) {
-      cli_error("%s", jnd_last_error());
-      rc = EXIT_BAD;
-    }
-    free(t2);
-  }
-  free(text);
-  return rc;
-}
-
 int cli_report_print(const char *text, const char *path) {
   if (!path || strcmp(path, "-") != 0) return EXIT_OK;
   fputs(text, stdout);

@@ -122,19 +122,24 @@ jnd_status report_output_open(report_output *o, const char *const *inputs, int n
   return s;
 }
 
-jnd_status report_output_write(report_output *o, cJSON *report, const char *name, char **text) {
-  *text = NULL;
+char *report_text(const cJSON *report) {
   char *t = cJSON_Print(report);
   size_t n = t ? strlen(t) : 0;
   char *full = t ? jnd_alloc(n + 2, 1) : NULL;
-  if (!full) {
-    free(t);
-    return jnd_fail(JND_ERR_NOMEM, "out of memory writing the report");
+  if (full) {
+    memcpy(full, t, n);
+    full[n] = '\n';
+    full[n + 1] = 0;
   }
-  memcpy(full, t, n);
-  full[n] = '\n';
-  full[n + 1] = 0;
   free(t);
+  return full;
+}
+
+jnd_status report_output_write(report_output *o, cJSON *report, const char *name, char **text) {
+  *text = NULL;
+  char *full = report_text(report);
+  if (!full) return jnd_fail(JND_ERR_NOMEM, "out of memory writing the report");
+  size_t n = strlen(full) - 1;
   jnd_status s = JND_OK;
   if (o->dir && name) {
     size_t len = strlen(o->dir) + strlen(name) + 2;

@@ -19,6 +19,9 @@ cJSON *report_display_json(const jnd_display *d);
 cJSON *report_views_json(const jnd_view_set *vs);
 /* The criterion (p, q), with the outcome when r is not NULL. */
 cJSON *report_criterion_json(const jnd_criterion *c, const jnd_criterion_result *r);
+/* The report's text as every run writes it: cJSON_Print and a newline
+ * (allocated; NULL when out of memory). */
+char *report_text(const cJSON *report);
 /* [w, h] */
 cJSON *report_pair(const int *wh);
 /* v, or null where it is not finite (never, unknown) */
@@ -83,5 +86,23 @@ cJSON *pca_report(const jnd_pca_params *p, const jnd_pca_result *R, cJSON *textu
 /* The calibration file's report (also what --calibration reads back). */
 cJSON *calibrate_report(const char *csv_path, const jnd_calibrate_run_params *p, const jnd_calibrate_result *R,
                         const jnd_calib_scene *scenes, const char *const *maps, const char *histogram);
+
+/* csf's report: colors, backgrounds the files read (the defaults resolved). */
+cJSON *csf_report(const char *data, const char *colors, const char *backgrounds, const jnd_csf_run_params *p,
+                  const jnd_csf_data *d, const jnd_csf_result *res);
+
+/* gaze's reports: the table (p the table's parameters as run, the models
+ * read), the fit, the synthetic observers. */
+cJSON *gaze_table_report(const char *model, const jnd_gaze_run_params *rp, const jnd_gaze_table_params *p,
+                         const jnd_gaze_run_result *R);
+cJSON *gaze_fit_report(const char *data, const jnd_gaze_fit_params *fp, const jnd_gaze_fit_result *r);
+cJSON *gaze_observers_report(const jnd_gaze_run_params *rp, const jnd_gaze_run_result *R);
+/* 1: distance d of the table was judged below the display's ppd (its window capped at max_px) */
+int gaze_reduced_ppd(const jnd_gaze_table_params *p, const jnd_gaze_table *T, int d);
+
+/* pop.json: model NULL for the frame form, ap the asset form's parameters
+ * as run, timings NULL or {write_s, total_s}. */
+cJSON *pop_report(const char *model, const jnd_pop_run_params *p, const jnd_pop_asset_params *ap,
+                  const jnd_pop_run_result *R, const double *timings);
 
 #endif

@@ -19,6 +19,43 @@ comm -23 "$T/exported.txt" "$T/declared.txt" >"$T/extra.txt"
 check "libjnd.so exports nothing the header does not declare ($(head -c 300 "$T/extra.txt" | tr '\n' ' '))" [ ! -s "$T/extra.txt" ]
 comm -13 "$T/exported.txt" "$T/declared.txt" >"$T/missing.txt"
 check "every function the header declares is exported ($(head -c 300 "$T/missing.txt" | tr '\n' ' '))" [ ! -s "$T/missing.txt" ]
+# the header's two tiers (issue 24 item 5): a declaration marked JND_EXPERIMENTAL is the experimental tier,
+# every other one the core; the library exports exactly the two together (checked above), each name in one tier
+python3 - "$JND_SRC/include/jnd.h" "$T" <<'PY'
+import re, sys
+text = re.sub(r"/\*.*?\*/", "", open(sys.argv[1]).read(), flags=re.S)
+declared = set(re.findall(r"\b(jnd_[A-Za-z0-9_]+)\s*\(", text))
+marked = re.findall(r"^JND_EXPERIMENTAL [^(;]*?\b(jnd_[A-Za-z0-9_]+)\(", text, flags=re.M)
+unmarked = re.findall(r"^(?!JND_EXPERIMENTAL|typedef|#)[A-Za-z][^(;=]*?\b(jnd_[A-Za-z0-9_]+)\(", text, flags=re.M)
+open(sys.argv[2] + "/experimental.txt", "w").write("\n".join(sorted(set(marked))) + "\n")
+open(sys.argv[2] + "/core.txt", "w").write("\n".join(sorted(declared - set(marked))) + "\n")
+open(sys.argv[2] + "/both.txt", "w").write("\n".join(sorted(set(marked) & set(unmarked))))
+PY
+check "tiers: no function is declared in both ($(head -c 300 "$T/both.txt" | tr '\n' ' '))" [ ! -s "$T/both.txt" ]
+check "tiers: the experimental tier is marked (sanity: over 100 functions)" [ "$(wc -l <"$T/experimental.txt")" -gt 100 ]
+for task in texres pca calibrate lod render diff csf gaze pop; do
+  check "tiers: jnd_${task}_run, its defaults and its result's free are core" bash -c \
+    "grep -qx 'jnd_${task}_run' '$T/core.txt' && grep -Eqx 'jnd_${task}(_run)?_defaults' '$T/core.txt' && grep -Eqx 'jnd_${task}(_run)?_result_free' '$T/core.txt'"
+done
+check "tiers: no figure, plot or test counter in the core ($(grep -E '_(figure|plot|counts)$' "$T/core.txt" | tr '\n' ' '))" \
+  bash -c "! grep -Eq '_(figure|plot|counts)\$' '$T/core.txt'"
+# the header's first example as a program (compiled here against the tiers, below against the install)
+python3 - "$JND_SRC/include/jnd.h" >"$T/first.c" <<'PY'
+import re, sys
+text = open(sys.argv[1]).read()
+body = text.split("Ten lines to compare two images", 1)[1].split("\n *\n", 1)[1].split("\n *\n", 1)[0]
+lines = [re.sub(r"^ \*     ", "", l) for l in body.splitlines()]
+print('#include <stdio.h>\n#include <jnd.h>\nint main(void) {\n' + "\n".join(lines) + '\n  return 0;\n}')
+PY
+# the first example uses the core only: with the mark as a deprecation, it compiles without a warning
+if command -v cc >/dev/null; then
+  check "tiers: the header's first example uses the core only (experimental marked deprecated, -Werror)" \
+    cc -std=c11 -Wall -Werror "-DJND_EXPERIMENTAL=__attribute__((deprecated))" -I"$JND_SRC/include" \
+    -fsyntax-only "$T/first.c"
+  printf '#include <jnd.h>\nint main(void) { return jnd_seconds() > 0 ? 0 : 1; }\n' >"$T/experimental_use.c"
+  check "tiers: and the mark does warn where a program leaves the core (jnd_seconds)" bash -c \
+    "! cc -std=c11 -Werror '-DJND_EXPERIMENTAL=__attribute__((deprecated))' -I'$JND_SRC/include' -fsyntax-only '$T/experimental_use.c' 2>/dev/null"
+fi
 # installed (cmake --install, as `make install PREFIX=` does) and linked the way the README says (pkg-config),
 # the header's first example compiles, runs without LD_LIBRARY_PATH, and checks its reads: a missing file is
 # one line and exit 2, never "P(detect) = 0.000"
@@ -26,13 +63,6 @@ if command -v cc >/dev/null && command -v pkg-config >/dev/null; then
   cmake --install "$(dirname "$JND_LIB")" --prefix "$T/prefix" >"$T/install.log" 2>&1
   check "installs into a prefix" [ -f "$T/prefix/include/jnd.h" ]
   pc=$(find "$T/prefix" -name jnd.pc | head -1)
-  python3 - "$JND_SRC/include/jnd.h" >"$T/first.c" <<'PY'
-import re, sys
-text = open(sys.argv[1]).read()
-body = text.split("Ten lines to compare two images", 1)[1].split("\n *\n", 1)[1].split("\n *\n", 1)[0]
-lines = [re.sub(r"^ \*     ", "", l) for l in body.splitlines()]
-print('#include <stdio.h>\n#include <jnd.h>\nint main(void) {\n' + "\n".join(lines) + '\n  return 0;\n}')
-PY
   flags=$(PKG_CONFIG_PATH=$(dirname "$pc") pkg-config --cflags --libs jnd)
   # the sanitizer build's library needs its runtime in the program that links it
   cc=(cc)
