@@ -358,12 +358,16 @@ static jnd_status check_budget(ctx *c, const char *model) {
   jnd_lod_level_info li;
   jnd_status s = jnd_scene_lod_info(c->scene, last, &li);
   if (s) return s;
-  if ((p->memory_bytes > 0 && (double)mem > p->memory_bytes) || (p->triangles > 0 && (double)li.triangles > p->triangles))
+  if ((p->memory_bytes > 0 && (double)mem > p->memory_bytes) || (p->triangles > 0 && (double)li.triangles > p->triangles)) {
+    char given[128] = "";
+    if (p->memory_bytes > 0) snprintf(given, sizeof given, "%.6g MiB", p->memory_bytes / 1048576.0);
+    if (p->triangles > 0)
+      snprintf(given + strlen(given), sizeof given - strlen(given), "%s%.0f triangles", *given ? ", " : "", p->triangles);
     return jnd_fail(JND_ERR_ARG,
-                    "%s: nothing fits the budget (%.6g MiB, %.0f triangles): the smallest possible is %.6g MiB of "
-                    "textures (every map at --min-size) and %zu triangles (level %d of the chain)",
-                    model, p->memory_bytes / 1048576.0, p->triangles, (double)mem / 1048576.0, (size_t)li.triangles,
-                    last);
+                    "%s: nothing fits the budget (%s): the smallest possible is %.6g MiB of textures (every map at "
+                    "--min-size) and %zu triangles (level %d of the chain)",
+                    model, given, (double)mem / 1048576.0, (size_t)li.triangles, last);
+  }
   return JND_OK;
 }
 

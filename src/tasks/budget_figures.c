@@ -48,7 +48,7 @@ jnd_status jnd_budget_pareto_plot(const jnd_budget_result *r, const jnd_criterio
                               .colour = level_colour[g % 4], .markers = 2};
     ns++;
   }
-  /* the front, in memory order */
+  /* the front (in memory order; drawn as points: its third axis, triangles, is the series) */
   int m = 0;
   for (int i = 0; i < n; i++)
     if (r->candidates[i].pareto) {
@@ -62,7 +62,7 @@ jnd_status jnd_budget_pareto_plot(const jnd_budget_result *r, const jnd_criterio
       y[ns * n + j] = my;
     }
   s[ns] = (jnd_plot_series){.x = x + ns * n, .y = y + ns * n, .n = m, .label = "Pareto front (memory, triangles, statistic)",
-                            .colour = {0.13f, 0.13f, 0.13f}, .line = 1, .markers = 1, .width = 1};
+                            .colour = {0.13f, 0.13f, 0.13f}, .markers = 1};
   ns++;
   const jnd_budget_candidate *sep = &r->candidates[r->separate], *ch = &r->candidates[r->chosen];
   double *px = x + ns * n, *py = y + ns * n;
