@@ -55,9 +55,12 @@ for l in shown:
     e = l["engines"][0]
     assert abs(e["unreal_screen_size"] - l["switch_coverage"]) < 1e-9
     assert abs(e["unity_screen_relative_transition_height"] - l["switch_coverage"]) < 1e-9
-    # a level seen only from afar samples at most the finer level's sizes
+    # a level seen only from afar samples at most the finer level's sizes ...
     for name, wh in l["sizes"].items():
         assert wh[0] <= ch["sizes"][name][0] and wh[1] <= ch["sizes"][name][1]
+    # ... and where the sphere fills under a tenth of the height, fewer (000 §4: coarser mips only)
+    if l["switch_coverage"] < 0.1:
+        assert l["texture_bytes"] < ch["memory_bytes"], (l["level"], l["texture_bytes"], ch["memory_bytes"])
 PY
 
 # the written model: levels, MSFT_screencoverage, texture memory and triangles as budget.json says
