@@ -21,8 +21,9 @@ jnd_status jnd_budget_pareto_plot(const jnd_budget_result *r, const jnd_criterio
     free(y);
     return jnd_fail(JND_ERR_NOMEM, "budget: out of memory");
   }
-  static const jnd_rgb level_colour[4] = {{0.55f, 0.55f, 0.55f}, {0.45f, 0.62f, 0.80f}, {0.60f, 0.78f, 0.55f},
-                                          {0.85f, 0.70f, 0.45f}};
+  static const jnd_rgb level_colour[8] = {{0.55f, 0.55f, 0.55f}, {0.45f, 0.62f, 0.80f}, {0.60f, 0.78f, 0.55f},
+                                          {0.85f, 0.70f, 0.45f}, {0.75f, 0.55f, 0.80f}, {0.50f, 0.75f, 0.75f},
+                                          {0.80f, 0.60f, 0.60f}, {0.70f, 0.70f, 0.40f}};
   jnd_plot_series s[MAX_SERIES];
   char labels[MAX_SERIES][96];
   int ns = 0, nlev = jnd_scene_lod_count(r->lod.scene);
@@ -42,10 +43,10 @@ jnd_status jnd_budget_pareto_plot(const jnd_budget_result *r, const jnd_criterio
     size_t tris = 0;
     for (int i = 0; i < n; i++)
       if (r->candidates[i].level == g) tris = r->candidates[i].triangles;
-    snprintf(labels[ns], sizeof labels[ns], g == groups - 1 && nlev > groups ? "levels %d.. " : "level %d (%zu triangles)",
+    snprintf(labels[ns], sizeof labels[ns], g == groups - 1 && nlev > groups ? "levels %d.. (%zu triangles and fewer)" : "level %d (%zu triangles)",
              g, tris);
     s[ns] = (jnd_plot_series){.x = x + ns * n, .y = y + ns * n, .n = m, .label = labels[ns],
-                              .colour = level_colour[g % 4], .markers = 2};
+                              .colour = level_colour[g % 8], .markers = 2};
     ns++;
   }
   /* the front (in memory order; drawn as points: its third axis, triangles, is the series) */
