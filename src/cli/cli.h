@@ -189,7 +189,7 @@ void cli_progress_callback(void *user, const char *line, int done, int total);
 
 /* Subcommands (each in cmd_<name>.c). Missing ones are weak and skipped. */
 #define JND_COMMANDS(X) \
-  X(diff) X(csf) X(example) X(render) X(texres) X(calibrate) X(pca) X(lod) X(gaze) X(pop) X(batch) X(report)
+  X(diff) X(csf) X(example) X(render) X(texres) X(calibrate) X(pca) X(lod) X(gaze) X(pop) X(batch) X(report) X(budget)
 #define X(n) extern const jnd_command jnd_cmd_##n __attribute__((weak));
 JND_COMMANDS(X)
 #undef X

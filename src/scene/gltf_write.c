@@ -245,7 +245,13 @@ static cJSON *floats(const float *v, int n) {
 }
 
 jnd_status jnd_scene_write_lod_glb(const jnd_scene *s, const char *path, const double *coverage) {
-  int n = jnd_scene_lod_count(s);
+  return jnd_scene_write_lod_glb_from(s, path, coverage, 0);
+}
+
+jnd_status jnd_scene_write_lod_glb_from(const jnd_scene *s, const char *path, const double *coverage, int first) {
+  if (first < 0 || first >= jnd_scene_lod_count(s))
+    return jnd_fail(JND_ERR_ARG, "%s: level %d out of range (the chain has %d)", s->path, first, jnd_scene_lod_count(s));
+  int n = jnd_scene_lod_count(s) - first;   /* levels written; written level j is the scene's first + j */
   writer w = {0};
   cJSON *root = cJSON_CreateObject();
   cJSON *asset = cJSON_AddObjectToObject(root, "asset");
@@ -335,7 +341,7 @@ jnd_status jnd_scene_write_lod_glb(const jnd_scene *s, const char *path, const d
       const float *verts;
       const uint32_t *idx;
       size_t nv, nt;
-      level_mesh(s, k, i, &verts, &nv, &idx, &nt);
+      level_mesh(s, first + k, i, &verts, &nv, &idx, &nt);
       if (nt > 0) st = add_primitive(&w, prims, s, verts, nv, idx, nt, s->meshes[i].material);
     }
     if (!st && cJSON_GetArraySize(prims) == 0) st = jnd_fail(JND_ERR_ARG, "%s: level %d has no triangles", path, k);

@@ -134,6 +134,11 @@ void jnd_model_relative(const char *model, const char *ref, int uri, char *full,
 /* The largest side of level 0's bounding box, over every mesh (the unit of
  * meshoptimizer's relative errors, lod.c). */
 double jnd_scene_extent(const jnd_scene *s);
+/* jnd_scene_write_lod_glb with the scene's levels first.. only (jnd budget
+ * drops the levels finer than its choice): written level j is the scene's
+ * first + j, coverage[j] its MSFT_screencoverage (gltf_write.c). */
+jnd_status jnd_scene_write_lod_glb_from(const jnd_scene *s, const char *path, const double *coverage, int first);
+
 /* Frees the level storage (lod.c); the meshes then own nothing. */
 void jnd_scene_lod_free(jnd_scene *s);
 

@@ -83,6 +83,12 @@ cJSON *texres_report(const char *model, const jnd_texres_params *p, const jnd_te
  * the run's wall time (then the stages' too). */
 cJSON *pca_report(const jnd_pca_params *p, const jnd_pca_result *R, cJSON *textures, const double *total_s);
 
+/* budget.json: model_rel the written model's path under the folder,
+ * coverage its MSFT_screencoverage per written level, timings NULL or
+ * {total_s}. */
+cJSON *budget_report(const char *model, const jnd_budget_params *p, const jnd_budget_result *R, const char *model_rel,
+                     const double *coverage, const double *timings);
+
 /* The calibration file's report (also what --calibration reads back). */
 cJSON *calibrate_report(const char *csv_path, const jnd_calibrate_run_params *p, const jnd_calibrate_result *R,
                         const jnd_calib_scene *scenes, const char *const *maps, const char *histogram);

@@ -181,6 +181,14 @@ jnd_status pop_picture(const jnd_image *grey, const jnd_pop_result *r, jnd_image
 jnd_status pop_switch_plot(const jnd_pop_asset_report *r, const double *speeds, int nspeeds, jnd_image *out,
                            jnd_plot_layout *layout);
 
+/* ---- texres.c (begin) ---- */
+/* The whole mip levels a map whose finest sampled level is mip_min
+ * (jnd_judge_mip_min, ≥ 0) can drop without a visible change: 000 §4's
+ * bound with texres's half-level margin for drivers' derivatives. jnd
+ * budget caps a level's maps with it at the level's switch distance. */
+int texres_mip_bound_level(double mip_min);
+/* ---- texres.c (end) ---- */
+
 /* ---- texres_figures.c: pictures of a texres result (begin) ---- */
 
 /* The worst view's figure: the object as rendered (ref_srgb, display

@@ -184,10 +184,12 @@ static jnd_status box_mip(const jnd_image *orig, int lev, jnd_map_kind kind, jnd
  * bound keeps half a level of margin. Without it, a map cut at the estimated
  * level rendered visibly differently on llvmpipe. */
 #define MIP_MARGIN 0.5
-static int bound_level(const jnd_texres_map *m) {
-  int lev = (int)floor(m->mip_min - MIP_MARGIN + 1e-6);
+int texres_mip_bound_level(double mip_min) {
+  int lev = (int)floor(mip_min - MIP_MARGIN + 1e-6);
   return lev < 0 ? 0 : lev;
 }
+
+static int bound_level(const jnd_texres_map *m) { return texres_mip_bound_level(m->mip_min); }
 
 /* candidate k is the mip-usage bound and an exact level of the map's chain */
 static int is_mip_level(const jnd_texres_map *m, int k) {
@@ -715,7 +717,11 @@ jnd_status jnd_texres_search(jnd_scene *scene, const jnd_texres_params *pp, jnd_
   c.nviews = p->judge.views.cameras ? p->judge.views.ncameras : p->judge.views.sampling.count;
   c.set_size = c.nviews;
   c.total = c.nviews * (2 + 3 * nsearch) + 2 * p->verify_views;
+  /* the reference is level 0; the candidates draw p->level (a mesh level
+   * changed is rendered whole, the maps' states still memoised) */
+  if ((s = jnd_scene_lod_select(scene, 0)) != JND_OK) goto done;
   if ((s = jnd_judge_create(scene, &jp, &c.j)) != JND_OK) goto done;
+  if (p->level && (s = jnd_scene_lod_select(scene, p->level)) != JND_OK) goto done;
   snprintf(out->renderer, sizeof out->renderer, "%s", jnd_judge_renderer(c.j));
   for (int i = 0; i < nall; i++) out->maps[i].mip_min = jnd_judge_mip_min(c.j, i, 0, c.nviews);
   /* an image's level 0 can go only when no slot that samples it samples it */
@@ -837,6 +843,7 @@ done:
   free(k);
   free(start);
   jnd_judge_free(c.j);
+  if (p->level) jnd_scene_lod_select(scene, 0);
   if (s != JND_OK) jnd_texres_result_clear(out);
   return s;
 }

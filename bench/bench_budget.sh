@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# jnd budget (issue 27) on real assets: webxr controllers (npm
+# @webxr-input-profiles/assets, MIT) and, where the shared data has its
+# model, DamagedHelmet. Per asset: the cost of the joint choice and of texres
+# + lod chosen separately (texture memory + triangles x rate), whether each
+# passes, the held-out check at every switch distance, wall and CPU time
+# (issue 27's target: <= 5 minutes on 2 cores with llvmpipe for a
+# 6-material asset). One screen (standard-fhd) unless BENCH_BUDGET_SCREENS.
+set -uo pipefail
+: "${JND:?}"
+export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
+here=$(cd "$(dirname "$0")" && pwd)
+. "$here/webxr_assets.sh"
+out=${BENCH_OUT:-$here/out}/budget
+mkdir -p "$out"
+screens=${BENCH_BUDGET_SCREENS:-standard-fhd}
+
+measure() { # measure NAME MODEL
+  local name=$1 model=$2 d="$out/${1//\//_}"
+  /usr/bin/time -f "%e %U %S" -o "$d.time" "$JND" budget "$model" -o "$d" --screens "$screens" --timings --quiet
+  echo "$?" >"$d.rc"
+  python3 - "$d" "$name" <<'PY'
+import json, sys
+d, name = sys.argv[1], sys.argv[2]
+wall, user, sys_ = (float(x) for x in open(d + ".time").read().split()[-3:])
+rc = open(d + ".rc").read().strip()
+try:
+    r = json.load(open(d + "/budget.json"))
+except OSError:
+    print("   %s: no report (exit %s)" % (name, rc))
+    sys.exit(0)
+res = r["result"]
+ch, se = res["chosen"], res["separate"]
+mib = 2.0 ** 20
+print("   %s: wall %.1f s, user+sys %.1f s, exit %s; rate %.1f B/triangle; %d candidates, %d on the front"
+      % (name, wall, user + sys_, rc, r["parameters"]["bytes_per_triangle"], len(res["candidates"]), len(res["pareto"])))
+for label, c in (("joint", ch), ("texres + lod separately", se)):
+    print("     %-24s level %d, textures %.3f MiB, %d triangles, cost %.3f MiB, statistic %.3f%s"
+          % (label, c["level"], c["memory_bytes"] / mib, c["triangles"], c["cost_bytes"] / mib, c["statistic"],
+             "" if c["passes_with_margin"] else " (fails with texres's margin)"))
+saving = res["comparison"]["saving_bytes"]
+print("     joint saves %.3f MiB (%.1f%%) over separately" % (saving / mib, 100 * saving / se["cost_bytes"]))
+print("     levels: " + "; ".join("%d from %s (%s)" % (l["level"], "-" if l["switch_distance"] is None else "%.3g" % l["switch_distance"],
+                                                    "pass" if l["verification"]["pass"] else "FAIL") for l in res["levels"]))
+PY
+}
+
+echo "   $(nproc) cores; load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
+ASSETS=$(webxr_assets_fetch && webxr_assets) || ASSETS=
+if [ -n "$ASSETS" ]; then
+  for m in ${BENCH_BUDGET_MODELS:-pico-4u/left.glb oculus-touch/left.glb}; do
+    measure "$m" "$ASSETS/dist/profiles/$m"
+  done
+else
+  echo "   webxr assets skipped: @webxr-input-profiles/assets not available (npm/network)"
+fi
+helmet=${JND_SHARED:-$here/../../shared}/data/meshes/DamagedHelmet.glb
+if [ -f "$helmet" ]; then
+  measure DamagedHelmet "$helmet"
+else
+  echo "   DamagedHelmet skipped: no model at $helmet (the shared data has its texture set only)"
+fi
+echo "   load average after: $(cut -d' ' -f1-3 /proc/loadavg)"

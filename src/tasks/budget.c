@@ -1,0 +1,532 @@
+/* One budget for the whole asset: texture sizes and the LOD chain chosen
+ * together on the judge (issue 27, docs/budget.md).
+ *
+ * A candidate is a finest mesh level k of the chain (coarser ones follow it
+ * from their switch distances) and a size per map. Its cost is the GPU
+ * memory of its textures (unique images, mip chains, block formats, 000
+ * Table 2) plus the level's triangles × an exchange rate in bytes. The
+ * search:
+ *   1. the chain, the perceptual level and the popping-free switch
+ *      distances per screen: jnd_lod_analyse (003, 004 §3.2, 000 §9);
+ *   2. texres's search (000 §4–§9, bisection per map, coordinate descent,
+ *      margin and held-out views) with level k drawn, for every level k up
+ *      to lod's perceptual one — the mesh's error and the textures' share
+ *      one criterion, so a coarser level leaves the maps less room (and
+ *      the separately chosen pair can fail);
+ *   3. one judge at the viewing condition (the reference: level 0, the
+ *      file's maps) for every candidate: step 2's choices, the separately
+ *      chosen pair (texres at level 0 with lod's perceptual level) and a
+ *      ladder of uniform halvings of every map per level — the Pareto front
+ *      of (memory, triangles, statistic) and budget mode's candidates;
+ *   4. the choice: the cheapest candidate of step 2 (or the separate pair)
+ *      that passes with texres's margin; in budget mode the candidate
+ *      within the budget with the lowest statistic;
+ *   5. each coarser level from its switch distance (the first screen's, the
+ *      one the model's MSFT_screencoverage is written for): its maps capped
+ *      at the mips that distance samples (000 §4's bound), judged on
+ *      held-out views there. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/core.h"
+#include "tasks/tasks.h"
+
+void jnd_budget_defaults(jnd_budget_params *p) {
+  memset(p, 0, sizeof *p);
+  jnd_texres_defaults(&p->texres);
+  jnd_lod_run_defaults(&p->lod);
+  p->lod.poi.textures = 0;   /* 003's mip-chain analysis: the textures are texres's here */
+  jnd_run_options_defaults(&p->run);
+  p->run.map_size = 512;
+  p->verify_views = 4;
+}
+
+static void candidate_clear(jnd_budget_candidate *c) { free(c->sizes); }
+
+void jnd_budget_result_clear(jnd_budget_result *r) {
+  if (!r) return;
+  for (int i = 0; i < r->ncandidates; i++) candidate_clear(&r->candidates[i]);
+  free(r->candidates);
+  for (int k = 0; k < r->nlevels; k++) free(r->levels[k].sizes);
+  free(r->levels);
+  free(r->map_names);
+  jnd_lod_result_clear(&r->lod);
+  jnd_texres_result_clear(&r->texres);
+  free(r->report);
+  memset(r, 0, sizeof *r);
+}
+
+void jnd_budget_result_free(jnd_budget_result *r) {
+  if (!r) return;
+  jnd_budget_result_clear(r);
+  free(r);
+}
+
+/* ---- the images a GPU holds ---- */
+
+typedef struct {
+  jnd_scene *scene;
+  const jnd_budget_params *p;
+  jnd_budget_result *R;
+  int nmaps;
+  jnd_map_info *mi;
+  int *leader;             /* per map: the first map that samples its image (texres's rule) */
+  jnd_tex_format *fmt;     /* per leader: the block format its slots need together */
+  int (*cur)[2];           /* sizes in the scene now */
+  int nscales;             /* the ladder's halvings, 0 .. nscales − 1 */
+  jnd_judge *j;
+  int nviews;
+} ctx;
+
+__attribute__((format(printf, 2, 3))) static void stage(const ctx *c, const char *fmt, ...) {
+  if (!c->p->progress) return;
+  char line[512];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(line, sizeof line, fmt, ap);
+  va_end(ap);
+  c->p->progress(c->p->progress_user, line, 0, 0);
+}
+
+static int longer(const int *wh) { return wh[0] > wh[1] ? wh[0] : wh[1]; }
+
+static jnd_status images_make(ctx *c) {
+  c->nmaps = jnd_scene_map_count(c->scene);
+  c->mi = jnd_calloc((size_t)c->nmaps, sizeof *c->mi);
+  c->leader = jnd_calloc((size_t)c->nmaps, sizeof *c->leader);
+  c->fmt = jnd_calloc((size_t)c->nmaps, sizeof *c->fmt);
+  c->cur = jnd_calloc((size_t)c->nmaps, sizeof *c->cur);
+  if (!c->mi || !c->leader || !c->fmt || !c->cur) return JND_ERR_NOMEM;
+  for (int i = 0; i < c->nmaps; i++) {
+    jnd_scene_map_info(c->scene, i, &c->mi[i]);
+    const jnd_map_info *m = &c->mi[i];
+    int im = m->image;
+    c->leader[i] = im >= 0 && im < i && c->mi[im].orig_width == m->orig_width && c->mi[im].orig_height == m->orig_height
+                       ? c->leader[im]
+                       : i;
+    c->cur[i][0] = m->width;
+    c->cur[i][1] = m->height;
+    jnd_tex_format f = jnd_slot_block_format(m->slot, m->channels), *lf = &c->fmt[c->leader[i]];
+    if (c->leader[i] == i || jnd_texture_bytes(f, 64, 64, 0) > jnd_texture_bytes(*lf, 64, 64, 0)) *lf = f;
+  }
+  return JND_OK;
+}
+
+/* one size per image: the largest any of its maps has */
+static void unify(const ctx *c, int (*sizes)[2]) {
+  for (int i = 0; i < c->nmaps; i++) {
+    int l = c->leader[i];
+    if (l != i && longer(sizes[i]) > longer(sizes[l])) memcpy(sizes[l], sizes[i], sizeof sizes[i]);
+  }
+  for (int i = 0; i < c->nmaps; i++) memcpy(sizes[i], sizes[c->leader[i]], sizeof sizes[i]);
+}
+
+static size_t texture_bytes(const ctx *c, int (*sizes)[2]) {
+  size_t b = 0;
+  for (int i = 0; i < c->nmaps; i++)
+    if (c->leader[i] == i) b += jnd_texture_bytes(c->fmt[i], sizes[i][0], sizes[i][1], 1);
+  return b;
+}
+
+/* map i halved s times, not below min_size on its longer side (nor below 1) */
+static void halved(const ctx *c, int i, int s, int *wh) {
+  int W = c->mi[i].orig_width, H = c->mi[i].orig_height, L = W > H ? W : H;
+  while (s > 0 && (L >> s) < c->p->texres.min_size) s--;
+  wh[0] = W >> s > 0 ? W >> s : 1;
+  wh[1] = H >> s > 0 ? H >> s : 1;
+}
+
+static int ladder_scales(const ctx *c) {
+  int n = 1;
+  for (int i = 0; i < c->nmaps; i++) {
+    int L = longer((int[]){c->mi[i].orig_width, c->mi[i].orig_height}), s = 0;
+    while (s < 30 && (L >> (s + 1)) >= c->p->texres.min_size) s++;
+    if (s + 1 > n) n = s + 1;
+  }
+  return n;
+}
+
+/* ---- states and candidates ---- */
+
+static jnd_status set_state(ctx *c, int level, int (*sizes)[2]) {
+  for (int i = 0; i < c->nmaps; i++) {
+    if (sizes[i][0] == c->cur[i][0] && sizes[i][1] == c->cur[i][1]) continue;
+    jnd_status s;
+    if (sizes[i][0] == c->mi[i].orig_width && sizes[i][1] == c->mi[i].orig_height) {
+      jnd_scene_map_restore(c->scene, i);
+      s = JND_OK;
+    } else {
+      s = jnd_scene_map_resize(c->scene, i, sizes[i][0], sizes[i][1]);
+    }
+    if (s != JND_OK) return s;
+    c->cur[i][0] = sizes[i][0];
+    c->cur[i][1] = sizes[i][1];
+  }
+  return jnd_scene_lod_select(c->scene, level);
+}
+
+static jnd_status restore(ctx *c) {
+  for (int i = 0; i < c->nmaps; i++) {
+    jnd_scene_map_restore(c->scene, i);
+    c->cur[i][0] = c->mi[i].orig_width;
+    c->cur[i][1] = c->mi[i].orig_height;
+  }
+  return jnd_scene_lod_select(c->scene, 0);
+}
+
+static jnd_budget_candidate *add_candidate(ctx *c, int level, int scale) {
+  jnd_budget_result *R = c->R;
+  jnd_budget_candidate *n = realloc(R->candidates, (size_t)(R->ncandidates + 1) * sizeof *n);
+  if (!n) return NULL;
+  R->candidates = n;
+  jnd_budget_candidate *x = &n[R->ncandidates];
+  memset(x, 0, sizeof *x);
+  if (!(x->sizes = jnd_calloc((size_t)c->nmaps, sizeof *x->sizes))) return NULL;
+  R->ncandidates++;
+  x->level = level;
+  x->scale = scale;
+  x->statistic = NAN;
+  return x;
+}
+
+static jnd_status price(ctx *c, jnd_budget_candidate *x) {
+  unify(c, x->sizes);
+  x->memory_bytes = texture_bytes(c, x->sizes);
+  jnd_lod_level_info li;
+  jnd_status s = jnd_scene_lod_info(c->scene, x->level, &li);
+  x->triangles = li.triangles;
+  x->cost = (double)x->memory_bytes + (double)x->triangles * c->R->bytes_per_triangle;
+  return s;
+}
+
+/* the candidate on the judge's views [first, first + n) */
+static jnd_status judge(ctx *c, int level, int (*sizes)[2], int first, int n, double *P, jnd_judgement *r) {
+  jnd_status s = set_state(c, level, sizes);
+  if (s == JND_OK) s = jnd_judge_eval(c->j, first, n, 0, P, r);
+  return s;
+}
+
+/* texres's search with level k drawn: the candidate of its choice */
+static jnd_status search_level(ctx *c, int k, jnd_texres_result *T) {
+  jnd_texres_params tp = c->p->texres;
+  tp.judge.views.sampling.coverage = c->p->lod.poi.coverage;
+  tp.judge.views.sampling.distance = 0;
+  tp.level = k;
+  tp.matrix = 0;
+  jnd_status s = restore(c);
+  if (s == JND_OK) s = jnd_texres_search(c->scene, &tp, T);
+  if (s != JND_OK) return s;
+  for (int i = 0; i < c->nmaps; i++) {   /* texres leaves the scene with its choice */
+    c->cur[i][0] = T->maps[i].chosen[0];
+    c->cur[i][1] = T->maps[i].chosen[1];
+  }
+  jnd_budget_candidate *x = add_candidate(c, k, -1);
+  if (!x) return JND_ERR_NOMEM;
+  for (int i = 0; i < c->nmaps; i++) memcpy(x->sizes[i], T->maps[i].chosen, sizeof x->sizes[i]);
+  x->searched_pass = T->views.pass && (T->verify_views == 0 || T->verify.pass);
+  stage(c, "textures under level %d: %s", k, x->searched_pass ? "pass" : "FAIL");
+  return price(c, x);
+}
+
+/* not dominated: no other candidate at most as large in memory, triangles
+ * and statistic and smaller in one */
+static void mark_pareto(jnd_budget_result *R) {
+  for (int a = 0; a < R->ncandidates; a++) {
+    jnd_budget_candidate *x = &R->candidates[a];
+    x->pareto = isfinite(x->statistic);
+    for (int b = 0; b < R->ncandidates && x->pareto; b++) {
+      const jnd_budget_candidate *y = &R->candidates[b];
+      if (b == a || !isfinite(y->statistic)) continue;
+      int le = y->memory_bytes <= x->memory_bytes && y->triangles <= x->triangles && y->statistic <= x->statistic;
+      int lt = y->memory_bytes < x->memory_bytes || y->triangles < x->triangles || y->statistic < x->statistic;
+      /* of identical points the first stays */
+      if (le && (lt || b < a)) x->pareto = 0;
+    }
+  }
+}
+
+static int within(const jnd_budget_params *p, const jnd_budget_candidate *x) {
+  return (p->memory_bytes <= 0 || (double)x->memory_bytes <= p->memory_bytes) &&
+         (p->triangles <= 0 || (double)x->triangles <= p->triangles);
+}
+
+static int choose(const ctx *c) {
+  const jnd_budget_result *R = c->R;
+  int best = -1;
+  for (int i = 0; i < R->ncandidates; i++) {
+    const jnd_budget_candidate *x = &R->candidates[i];
+    if (R->mode == 0) {
+      if (x->scale >= 0 || !x->searched_pass) continue;
+      if (best < 0 || x->cost < R->candidates[best].cost) best = i;
+    } else {
+      if (!within(c->p, x) || !isfinite(x->statistic)) continue;
+      const jnd_budget_candidate *b = best >= 0 ? &R->candidates[best] : NULL;
+      if (!b || x->statistic < b->statistic || (x->statistic == b->statistic && x->cost < b->cost)) best = i;
+    }
+  }
+  return best >= 0 ? best : 0;   /* nothing passes: texres at level 0, reported as failing */
+}
+
+/* held-out views at a distance (0: the viewing condition), added to the judge */
+static jnd_status held_out_views(ctx *c, double distance, uint64_t seed, int *first, int *n) {
+  jnd_view_set vs = c->p->texres.judge.views;
+  vs.cameras = NULL;
+  vs.cameras_path = NULL;
+  vs.sampling.count = c->p->verify_views;
+  vs.sampling.seed = seed;
+  vs.sampling.coverage = c->p->lod.poi.coverage;
+  vs.sampling.distance = distance;
+  jnd_view *views = NULL;
+  jnd_status s = jnd_view_set_make(c->scene, &vs, &views, n);
+  if (s == JND_OK) s = jnd_judge_add_views(c->j, views, *n, first);
+  free(views);
+  return s;
+}
+
+/* step 5: the written chain, finest first, each level verified from its switch distance */
+static jnd_status levels(ctx *c, const jnd_budget_candidate *ch) {
+  jnd_budget_result *R = c->R;
+  const jnd_lod_switch_result *w = R->lod.nsw > 0 ? &R->lod.sw[0] : NULL;
+  int n = jnd_scene_lod_count(c->scene) - ch->level;
+  R->levels = jnd_calloc((size_t)n, sizeof *R->levels);
+  if (!R->levels) return JND_ERR_NOMEM;
+  R->nlevels = n;
+  jnd_status s = JND_OK;
+  for (int j = 0; j < n && s == JND_OK; j++) {
+    jnd_budget_level *L = &R->levels[j];
+    int k = ch->level + j;
+    L->level = k;
+    L->statistic = NAN;
+    L->pass = 1;
+    L->switch_distance = j == 0 ? 0 : w ? w->switch_distance[k] : INFINITY;
+    L->switch_coverage = j == 0 ? 1 : w ? w->switch_coverage[k] : 0;
+    if (!(L->sizes = jnd_calloc((size_t)c->nmaps, sizeof *L->sizes))) return JND_ERR_NOMEM;
+    memcpy(L->sizes, ch->sizes, (size_t)c->nmaps * sizeof *L->sizes);
+    jnd_lod_level_info li;
+    if ((s = jnd_scene_lod_info(c->scene, k, &li)) || (s = jnd_scene_lod_bytes(c->scene, k, &L->geometry_bytes))) break;
+    L->triangles = li.triangles;
+    if (c->p->verify_views > 0 && isfinite(L->switch_distance)) {
+      int first = 0, nv = 0;
+      uint64_t seed = c->p->texres.judge.views.sampling.seed + 1000 + (uint64_t)k;
+      if ((s = held_out_views(c, L->switch_distance, seed, &first, &nv))) break;
+      /* 000 §4: from here on no pixel samples finer mips than these */
+      if (j > 0)
+        for (int i = 0; i < c->nmaps; i++) {
+          if (c->leader[i] != i) continue;
+          double mm = -1;
+          for (int q = 0; q < c->nmaps; q++) {
+            double v = c->leader[q] == i ? jnd_judge_mip_min(c->j, q, first, nv) : -1;
+            if (v >= 0 && (mm < 0 || v < mm)) mm = v;
+          }
+          int cap[2];
+          halved(c, i, mm < 0 ? 30 : texres_mip_bound_level(mm), cap);
+          if (longer(cap) < longer(L->sizes[i])) memcpy(L->sizes[i], cap, sizeof cap);
+        }
+      unify(c, L->sizes);
+      double *P = jnd_calloc((size_t)nv, sizeof *P);
+      jnd_judgement r;
+      if (!P) return JND_ERR_NOMEM;
+      s = judge(c, k, L->sizes, first, nv, P, &r);
+      free(P);
+      if (s) break;
+      L->views = nv;
+      L->statistic = r.criterion.statistic;
+      L->pass = r.criterion.pass;
+      stage(c, "level %d from distance %.3g: statistic %.3f on %d held-out views%s", k, L->switch_distance,
+            L->statistic, nv, L->pass ? "" : "  FAILS");
+    }
+    L->texture_bytes = texture_bytes(c, L->sizes);
+  }
+  return s;
+}
+
+/* before any rendering: a budget that even the coarsest level with the
+ * smallest maps exceeds, named with what is possible */
+static jnd_status check_budget(ctx *c, const char *model) {
+  const jnd_budget_params *p = c->p;
+  if (p->memory_bytes <= 0 && p->triangles <= 0) return JND_OK;
+  int (*sz)[2] = jnd_calloc((size_t)c->nmaps, sizeof *sz);
+  if (!sz) return JND_ERR_NOMEM;
+  for (int i = 0; i < c->nmaps; i++) halved(c, i, 30, sz[i]);
+  unify(c, sz);
+  size_t mem = texture_bytes(c, sz);
+  free(sz);
+  int last = jnd_scene_lod_count(c->scene) - 1;
+  jnd_lod_level_info li;
+  jnd_status s = jnd_scene_lod_info(c->scene, last, &li);
+  if (s) return s;
+  if ((p->memory_bytes > 0 && (double)mem > p->memory_bytes) || (p->triangles > 0 && (double)li.triangles > p->triangles)) {
+    char given[128] = "";
+    if (p->memory_bytes > 0) snprintf(given, sizeof given, "%.6g MiB", p->memory_bytes / 1048576.0);
+    if (p->triangles > 0)
+      snprintf(given + strlen(given), sizeof given - strlen(given), "%s%.0f triangles", *given ? ", " : "", p->triangles);
+    return jnd_fail(JND_ERR_ARG,
+                    "%s: nothing fits the budget (%s): the smallest possible is %.6g MiB of textures (every map at "
+                    "--min-size) and %zu triangles (level %d of the chain)",
+                    model, given, (double)mem / 1048576.0, (size_t)li.triangles, last);
+  }
+  return JND_OK;
+}
+
+static jnd_status check_params(const char *model, const jnd_budget_params *p) {
+  if (!(p->memory_bytes >= 0) || !isfinite(p->memory_bytes))
+    return jnd_fail(JND_ERR_ARG, "%s: the memory budget must be a positive size", model);
+  if (!(p->triangles >= 0) || !isfinite(p->triangles))
+    return jnd_fail(JND_ERR_ARG, "%s: the triangle budget must be a positive count", model);
+  if (!(p->bytes_per_triangle >= 0) || !isfinite(p->bytes_per_triangle))
+    return jnd_fail(JND_ERR_ARG, "%s: the bytes per triangle must be 0 or more", model);
+  if (p->verify_views < 0 || p->verify_views > JND_VIEWS_MAX)
+    return jnd_fail(JND_ERR_ARG, "%s: held-out views out of range (0..%d)", model, JND_VIEWS_MAX);
+  return JND_OK;
+}
+
+/* the chain as jnd_lod_analyse will make it, without rendering: the input's
+ * checks and the budget's */
+static jnd_status precheck(const char *model, const jnd_budget_params *p, const jnd_lod_run_params *lp) {
+  jnd_scene *scene = NULL;
+  jnd_status s = jnd_scene_open(model, lp->run.map_size > 0 ? lp->run.map_size : 512, &scene);
+  if (s == JND_OK && jnd_scene_map_count(scene) == 0)
+    s = jnd_fail(JND_ERR_ARG, "%s: the asset has no texture maps (nothing to choose)", model);
+  if (s == JND_OK && (p->memory_bytes > 0 || p->triangles > 0)) {
+    jnd_lod_chain_params cp = {&lp->chain, lp->rebuild, lp->level_paths, lp->nlevel_paths};
+    const char *src;
+    s = jnd_scene_lod_chain(scene, model, &cp, &src);
+    ctx c = {scene, p, NULL, 0, NULL, NULL, NULL, NULL, 0, NULL, 0};
+    if (s == JND_OK) s = images_make(&c);
+    if (s == JND_OK) s = check_budget(&c, model);
+    free(c.mi);
+    free(c.leader);
+    free(c.fmt);
+    free(c.cur);
+  }
+  jnd_scene_free(scene);
+  return s;
+}
+
+jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd_budget_result *R) {
+  memset(R, 0, sizeof *R);
+  jnd_budget_params pd;
+  if (!pp) {
+    jnd_budget_defaults(&pd);
+    pp = &pd;
+  }
+  const jnd_budget_params *p = pp;
+  jnd_status s = check_params(model, p);
+  if (s) return s;
+  jnd_lod_run_params lp = p->lod;
+  lp.analyse = 1;
+  lp.perceptual = 1;
+  lp.run = p->run;
+  if ((s = precheck(model, p, &lp))) return s;
+  R->mode = p->memory_bytes > 0 || p->triangles > 0;
+  double t0 = jnd_seconds();
+
+  /* 1. the chain, its analysis and switch distances */
+  stage(&(ctx){.p = p}, "the chain and its switch distances");
+  if ((s = jnd_lod_analyse(model, &lp, &R->lod))) return s;
+  ctx c = {R->lod.scene, p, R, 0, NULL, NULL, NULL, NULL, 0, NULL, 0};
+  double *P = NULL;
+  if ((s = images_make(&c))) goto done;
+  if (!(R->map_names = jnd_calloc((size_t)c.nmaps, sizeof *R->map_names))) {
+    s = JND_ERR_NOMEM;
+    goto done;
+  }
+  R->nmaps = c.nmaps;
+  for (int i = 0; i < c.nmaps; i++) snprintf(R->map_names[i], sizeof R->map_names[i], "%s", c.mi[i].name);
+  int perceptual = jnd_scene_lod_count(c.scene) - 1;
+  for (int i = 0; i < R->lod.nsw; i++)
+    if (R->lod.sw[i].perceptual_level < perceptual) perceptual = R->lod.sw[i].perceptual_level;
+  if (p->bytes_per_triangle > 0) {
+    R->bytes_per_triangle = p->bytes_per_triangle;
+  } else {
+    size_t b = 0;
+    jnd_lod_level_info li;
+    if ((s = jnd_scene_lod_bytes(c.scene, 0, &b)) || (s = jnd_scene_lod_info(c.scene, 0, &li))) goto done;
+    R->bytes_per_triangle = li.triangles ? (double)b / (double)li.triangles : 0;
+  }
+
+  /* 2. textures under each level up to the perceptual one */
+  if ((s = search_level(&c, 0, &R->texres))) goto done;
+  for (int k = 1; k <= perceptual; k++) {
+    jnd_texres_result T;
+    s = search_level(&c, k, &T);
+    jnd_texres_result_clear(&T);
+    if (s) goto done;
+  }
+  {
+    jnd_budget_candidate *x = add_candidate(&c, perceptual, -2);
+    if (!x) {
+      s = JND_ERR_NOMEM;
+      goto done;
+    }
+    for (int i = 0; i < c.nmaps; i++) memcpy(x->sizes[i], R->texres.maps[i].chosen, sizeof x->sizes[i]);
+    if ((s = price(&c, x))) goto done;
+    R->separate = R->ncandidates - 1;
+  }
+  c.nscales = ladder_scales(&c);
+  for (int k = 0; k < jnd_scene_lod_count(c.scene); k++)
+    for (int sc = 0; sc < c.nscales; sc++) {
+      jnd_budget_candidate *x = add_candidate(&c, k, sc);
+      if (!x) {
+        s = JND_ERR_NOMEM;
+        goto done;
+      }
+      for (int i = 0; i < c.nmaps; i++) halved(&c, i, sc, x->sizes[i]);
+      if ((s = price(&c, x))) goto done;
+    }
+
+  /* 3. every candidate on one judge at the viewing condition */
+  {
+    jnd_judge_params jp = p->texres.judge;
+    jp.views.sampling.coverage = p->lod.poi.coverage;
+    jp.views.sampling.distance = 0;
+    if ((s = restore(&c)) || (s = jnd_judge_create(c.scene, &jp, &c.j))) goto done;
+    c.nviews = jnd_judge_view_count(c.j);
+  }
+  if (!(P = jnd_calloc((size_t)c.nviews, sizeof *P))) {
+    s = JND_ERR_NOMEM;
+    goto done;
+  }
+  stage(&c, "%d candidates on %d views", R->ncandidates, c.nviews);
+  const jnd_criterion *cr = &p->texres.judge.criterion;
+  for (int i = 0; i < R->ncandidates; i++) {
+    jnd_budget_candidate *x = &R->candidates[i];
+    jnd_judgement r;
+    if ((s = judge(&c, x->level, x->sizes, 0, c.nviews, P, &r))) goto done;
+    x->statistic = r.criterion.statistic;
+    x->pass = r.criterion.pass;
+    if (x->scale == -2) {   /* the separate pair, with the margin texres chose with */
+      jnd_criterion_result m;
+      if ((s = jnd_criterion_eval(P, c.nviews, cr->p * (1 - p->texres.margin), cr->q, cr->confidence, &m))) goto done;
+      x->searched_pass = m.pass;
+    }
+    if (p->progress) p->progress(p->progress_user, NULL, i + 1, R->ncandidates);
+  }
+  mark_pareto(R);
+
+  /* 4. the choice */
+  R->chosen = choose(&c);
+  R->search_s = jnd_seconds() - t0;
+
+  /* 5. the written chain from the choice's level, verified */
+  double t1 = jnd_seconds();
+  const jnd_budget_candidate *ch = &R->candidates[R->chosen];
+  if ((s = levels(&c, ch))) goto done;
+  R->passes = R->mode ? 1 : ch->searched_pass;
+  for (int j = 0; j < R->nlevels; j++) R->passes = R->passes && R->levels[j].pass;
+  R->verify_s = jnd_seconds() - t1;
+  /* the scene as it is written: the choice's maps, level 0 selected */
+  s = set_state(&c, 0, ch->sizes);
+done:
+  jnd_judge_free(c.j);
+  free(P);
+  free(c.mi);
+  free(c.leader);
+  free(c.fmt);
+  free(c.cur);
+  if (s != JND_OK) jnd_budget_result_clear(R);
+  return s;
+}

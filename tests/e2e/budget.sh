@@ -1,0 +1,152 @@
+#!/usr/bin/env bash
+# jnd budget: texture sizes and the LOD chain chosen together. The report's
+# fields; the written GLB (every level renders with jnd render --lod K, its
+# MSFT_screencoverage, the texture memory and triangles recomputed from the
+# file); the choice at most as costly as texres + lod chosen separately;
+# budget mode (a budget the separate choice exceeds gives a candidate within
+# it); a budget nothing meets and bad input: one line, exit 2, nothing written.
+set -uo pipefail
+. "$(dirname "$0")/lib.bash"
+need_renderer
+command -v python3 >/dev/null || skip "needs python3"
+SMALL=(--map-size 128 --size 96x96 --samples 1 --views 4 --confirm 0 --screens 640x480
+       --errors 0.002,0.008,0.03 --judge-views 2 --max-px 128 --tolerance 0.5 --far-coverage 0.05
+       --verify-views 2 --quiet)
+
+expect_exit 0 "cheapest unnoticed: builtin:sphere passes" "$JND" budget builtin:sphere -o "$T/a" "${SMALL[@]}"
+check "budget.json, the model and pareto.png are written" test -s "$T/a/budget.json" -a -s "$T/a/pareto.png" \
+  -a -s "$T/a/model/builtin_sphere.glb"
+
+check "the choice is at most as costly as texres + lod separately, and passes at every switch distance" \
+  python3 - "$T/a/budget.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r["command"] == "budget" and r["parameters"]["mode"] == "cheapest"
+res = r["result"]
+ch, se = res["chosen"], res["separate"]
+assert ch["kind"] in ("searched", "separate") and ch["passes_with_margin"]
+# the separate pair is a candidate of the search: where it passes, the choice is no dearer
+if se["passes_with_margin"]:
+    assert ch["cost_bytes"] <= se["cost_bytes"] + 1e-6, (ch["cost_bytes"], se["cost_bytes"])
+rate = r["parameters"]["bytes_per_triangle"]
+for c in res["candidates"]:
+    assert abs(c["cost_bytes"] - (c["memory_bytes"] + rate * c["triangles"])) < 1e-3 * max(1, c["cost_bytes"])
+# the front: nobody dominates a point on it, and every point off it is dominated
+cs = res["candidates"]
+def dom(a, b):
+    return (a["memory_bytes"] <= b["memory_bytes"] and a["triangles"] <= b["triangles"] and a["statistic"] <= b["statistic"]
+            and (a["memory_bytes"] < b["memory_bytes"] or a["triangles"] < b["triangles"] or a["statistic"] < b["statistic"]))
+for c in cs:
+    if c["pareto"]:
+        assert not any(dom(d, c) for d in cs), c
+    else:
+        assert any(dom(d, c) or (d["index"] < c["index"] and d["memory_bytes"] == c["memory_bytes"]
+                   and d["triangles"] == c["triangles"] and d["statistic"] == c["statistic"]) for d in cs), c
+lv = res["levels"]
+assert lv[0]["level"] == ch["level"] and lv[0]["switch_distance"] == 0
+assert res["passes"] and all(l["verification"]["pass"] for l in lv)
+shown = [l for l in lv[1:] if l["switch_distance"] is not None]
+assert shown, "a coarser level is shown somewhere"
+prev = 0
+for l in shown:
+    assert l["switch_distance"] >= prev and l["verification"]["views"] == 2
+    prev = l["switch_distance"]
+    # Unreal ScreenSize and Unity's transition height: the sphere's projected diameter over the screen height
+    e = l["engines"][0]
+    assert abs(e["unreal_screen_size"] - l["switch_coverage"]) < 1e-9
+    assert abs(e["unity_screen_relative_transition_height"] - l["switch_coverage"]) < 1e-9
+    # a level seen only from afar samples at most the finer level's sizes ...
+    for name, wh in l["sizes"].items():
+        assert wh[0] <= ch["sizes"][name][0] and wh[1] <= ch["sizes"][name][1]
+    # ... and where the sphere fills under a tenth of the height, fewer (000 §4: coarser mips only)
+    if l["switch_coverage"] < 0.1:
+        assert l["texture_bytes"] < ch["memory_bytes"], (l["level"], l["texture_bytes"], ch["memory_bytes"])
+PY
+
+# the written model: levels, MSFT_screencoverage, texture memory and triangles as budget.json says
+check "memory and triangles recomputed from the written GLB" python3 - "$T/a/budget.json" "$T/a/model/builtin_sphere.glb" <<'PY'
+import json, struct, sys
+r = json.load(open(sys.argv[1]))["result"]
+data = open(sys.argv[2], "rb").read()
+n = struct.unpack_from("<I", data, 12)[0]
+g = json.loads(data[20:20 + n])
+binoff = 20 + n + 8
+node0 = g["nodes"][0]
+ids = node0["extensions"]["MSFT_lod"]["ids"]
+assert len(ids) + 1 == len(r["levels"])
+cov = node0["extras"]["MSFT_screencoverage"]
+assert len(cov) == len(r["levels"]) and all(a >= b for a, b in zip(cov, cov[1:]))
+def tris(mesh):
+    return sum(g["accessors"][p["indices"]]["count"] // 3 for p in g["meshes"][mesh]["primitives"])
+assert tris(node0["mesh"]) == r["chosen"]["triangles"], (tris(node0["mesh"]), r["chosen"]["triangles"])
+for j, nid in enumerate(ids):
+    assert tris(g["nodes"][nid]["mesh"]) == r["levels"][j + 1]["triangles"]
+# each image once, its PNG size, the block format its slots need, with its mip chain
+def png_size(i):
+    v = g["bufferViews"][g["images"][i]["bufferView"]]
+    off = binoff + v.get("byteOffset", 0)
+    return struct.unpack_from(">II", data, off + 16)
+blocks = {"baseColorTexture": 16, "normalTexture": 16, "occlusionTexture": 8, "metallicRoughnessTexture": 8,
+          "emissiveTexture": 8}   # bytes per 4x4 block: bc7, bc5, bc4, bc1, bc1
+need = {}
+for m in g["materials"]:
+    slots = dict(m.get("pbrMetallicRoughness", {}), **m)
+    for k, b in blocks.items():
+        if k in slots:
+            img = g["textures"][slots[k]["index"]]["source"]
+            need[img] = max(need.get(img, 0), b)
+def chain(w, h, b):
+    t = 0
+    while True:
+        t += ((w + 3) // 4) * ((h + 3) // 4) * b
+        if w == 1 and h == 1:
+            return t
+        w, h = max(1, w // 2), max(1, h // 2)
+mem = sum(chain(*png_size(i), b) for i, b in need.items())
+assert mem == r["chosen"]["memory_bytes"], (mem, r["chosen"]["memory_bytes"])
+PY
+
+nl=$(python3 -c 'import json,sys; print(len(json.load(open(sys.argv[1]))["result"]["levels"]))' "$T/a/budget.json")
+for k in $(seq 0 $((nl - 1))); do
+  expect_exit 0 "jnd render --lod $k renders written level $k" "$JND" render "$T/a/model/builtin_sphere.glb" --lod "$k" \
+    -o "$T/r$k" --views 1 --size 48x48 --quiet
+done
+
+# budget mode: a memory budget below the separate choice's
+sep=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["result"]["separate"]["memory_bytes"])' "$T/a/budget.json")
+half=$((sep / 2))
+"$JND" budget builtin:sphere -o "$T/b" --memory "${half}B" --triangles 3000 "${SMALL[@]}" >"$T/out.txt" 2>"$T/err.txt"
+rc=$?
+check "budget mode runs (exit 0 or 1: the statistic says how visible; rc $rc)" test "$rc" -le 1 -a -s "$T/b/budget.json"
+check "budget mode: a candidate within the budget, the lowest statistic of those" python3 - "$T/b/budget.json" "$half" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1])); M = float(sys.argv[2])
+assert r["parameters"]["mode"] == "budget"
+res = r["result"]; ch = res["chosen"]
+assert ch["memory_bytes"] <= M and ch["triangles"] <= 3000 and ch["statistic"] is not None
+assert res["separate"]["memory_bytes"] > M
+inb = [c for c in res["candidates"] if c["memory_bytes"] <= M and c["triangles"] <= 3000]
+assert min(c["statistic"] for c in inb) == ch["statistic"]
+PY
+
+# a budget nothing meets: one line naming the smallest possible, nothing written
+expect_exit 2 "a budget nothing meets: exit 2" "$JND" budget builtin:sphere -o "$T/c" --memory 1KiB "${SMALL[@]}"
+check "... one line naming the smallest possible" sh -c "grep -q 'smallest possible is' '$T/err.txt' && [ \$(wc -l <'$T/err.txt') -eq 1 ]"
+check "... nothing written" test ! -e "$T/c"
+
+# bad input: one line, exit 2, nothing written
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$T/plain.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\n' >"$T/points.obj"
+bad_cases=("--memory 0" "--memory -8MiB" "--memory 8XiB" "--triangles 0" "--triangles -5")
+for opt in "${bad_cases[@]}"; do
+  # shellcheck disable=SC2086
+  expect_exit 2 "budget $opt: exit 2" "$JND" budget builtin:sphere -o "$T/d" $opt "${SMALL[@]}"
+  check "budget $opt: one line, nothing written" sh -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q '^jnd: ' '$T/err.txt' && [ ! -e '$T/d' ]"
+done
+expect_exit 2 "an asset without maps: exit 2" "$JND" budget "$T/plain.obj" -o "$T/e" "${SMALL[@]}"
+check "... one line naming the file, nothing written" sh -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q 'plain.obj: .*no texture maps' '$T/err.txt' && [ ! -e '$T/e' ]"
+expect_exit 2 "an asset without a mesh: exit 2" "$JND" budget "$T/points.obj" -o "$T/f" "${SMALL[@]}"
+check "... one line, nothing written" sh -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q '^jnd: ' '$T/err.txt' && [ ! -e '$T/f' ]"
+expect_exit 2 "an output over the input: exit 2" "$JND" budget "$T/plain.obj" -o "$T" "${SMALL[@]}"
+check "--help is complete" sh -c "'$JND' budget --help | grep -q -- '--bytes-per-triangle' && '$JND' budget --help | grep -q 'screenRelativeTransitionHeight'"
+finish
