@@ -395,7 +395,7 @@ static int png_decode_whole(png_decoder *d, jnd_image *out) {
   while (png_next_chunk(d->buf, d->n, &pos, &c))
     if (png_chunk_is(&c, "IDAT")) zn += c.len;
   if (zn < 2) return 0;
-  unsigned char *z = malloc(zn), *raw = malloc(raw_n), *zeros = calloc(1, d->stride);
+  unsigned char *z = jnd_alloc(zn, 1), *raw = jnd_alloc(raw_n, 1), *zeros = calloc(1, d->stride);
   struct libdeflate_decompressor *dd = libdeflate_alloc_decompressor();
   int ok = -1;
   if (z && raw && zeros && dd) {
