@@ -17,9 +17,10 @@
 #include "core/core.h"
 #include "io/io.h"
 
-uint32_t jnd_crc32(const unsigned char *buf, size_t n) {
-  return (uint32_t)crc32(crc32(0L, Z_NULL, 0), buf, (uInt)n);
-}
+/* PNG's CRC-32 (ISO 3309, the one zlib and gzip use) by libdeflate, which
+ * folds with carry-less multiplies: zlib 1.2.13's table-driven one was 1.7%
+ * of a 1080p diff's time for the chunks' checks */
+uint32_t jnd_crc32(const unsigned char *buf, size_t n) { return libdeflate_crc32(0, buf, n); }
 
 static uint32_t be32(const unsigned char *p) {
   return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3];
@@ -395,7 +396,7 @@ static int png_decode_whole(png_decoder *d, jnd_image *out) {
   while (png_next_chunk(d->buf, d->n, &pos, &c))
     if (png_chunk_is(&c, "IDAT")) zn += c.len;
   if (zn < 2) return 0;
-  unsigned char *z = malloc(zn), *raw = malloc(raw_n), *zeros = calloc(1, d->stride);
+  unsigned char *z = jnd_alloc(zn, 1), *raw = jnd_alloc(raw_n, 1), *zeros = calloc(1, d->stride);
   struct libdeflate_decompressor *dd = libdeflate_alloc_decompressor();
   int ok = -1;
   if (z && raw && zeros && dd) {

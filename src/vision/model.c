@@ -666,7 +666,7 @@ JND_HOT static void response_row(const band_ctx *k, row_scratch *r, int y, float
  * band's level and weighted by k->coarse_w, to the row's own (r->pooled):
  * the masking pool spans neighbouring frequencies (docs/model.md
  * "Masking"). */
-static void add_coarse_maskers(const band_ctx *k, row_scratch *r, int y) {
+static void add_coarse_maskers(const band_ctx *k, row_scratch *r, int y, const float *const own[NCH]) {
   const diff_state *st = k->st;
   const int w = k->w, w1 = k->w1, h1 = st->g[0][0].h[k->band + 1];
   int rows[3];
@@ -678,9 +678,10 @@ static void add_coarse_maskers(const band_ctx *k, row_scratch *r, int y) {
     const float *c1 = jnd_pyr_cached_row(&r->coarse[c], k->coarse_mask[c], w1, rows[1], w);
     const float *c2 = jnd_pyr_cached_row(&r->coarse[c], k->coarse_mask[c], w1, rows[2], w);
     const float a0 = k->coarse_w * wts[0], a1 = k->coarse_w * wts[1], a2 = k->coarse_w * wts[2];
+    const float *o = own[c];
     float *mp = r->pooled[c];
 #pragma omp simd
-    for (int x = 0; x < w; x++) mp[x] += a0 * c0[x] + a1 * c1[x] + a2 * c2[x];
+    for (int x = 0; x < w; x++) mp[x] = o[x] + (a0 * c0[x] + a1 * c1[x] + a2 * c2[x]);
   }
 }
 
@@ -721,30 +722,37 @@ JND_HOT static void band_rows(const band_ctx *k, row_scratch *r, int y0, int y1,
     response_row(k, r, jnd_mirror(q, h), r->dif[(q + 6) % 3], r->mask[(q + 10) % 5]);
     const int y = q - 2;
     if (y < y0) continue;
-    /* each channel's mutual masker, pooled with the 5 × 5 binomial kernel */
+    /* each channel's mutual masker, pooled with the 5 × 5 binomial kernel,
+     * straight into the row kept for the next finer band when there is one
+     * (not copied there: a copy was 3% of a diff) */
+    const float *own[NCH];
     for (int c = 0; c < NCH; c++) {
       const float *m0 = r->mask[(y + 8) % 5][c], *m1 = r->mask[(y + 9) % 5][c], *m2 = r->mask[(y + 10) % 5][c],
                   *m3 = r->mask[(y + 11) % 5][c], *m4 = r->mask[(y + 12) % 5][c];
-      float *mp = r->pooled[c];
+      float *mp = k->mask_out[c] ? k->mask_out[c] + (size_t)y * w : r->pooled[c];
 #pragma omp simd
       for (int x = 0; x < w; x++) mp[x] = (m0[x] + 4 * m1[x] + 6 * m2[x] + 4 * m3[x] + m4[x]) * (1.0f / 16);
-      if (k->mask_out[c]) memcpy(k->mask_out[c] + (size_t)y * w, mp, sizeof(float) * (size_t)w);
+      own[c] = mp;
     }
-    if (k->coarse_mask[0]) add_coarse_maskers(k, r, y);
+    /* the masking pool: these plus the coarser band's, into r->pooled */
+    if (k->coarse_mask[0]) {
+      add_coarse_maskers(k, r, y, own);
+      for (int c = 0; c < NCH; c++) own[c] = r->pooled[c];
+    }
     /* 004 §3.2: difference of the responses, Minkowski over channels; each
      * channel is masked by its own masker plus `cross` times the other
      * channels' (cross-channel masking, docs/model.md "Masking") */
     float *drow = D + (size_t)y * w;
     for (int c = 0; c < NCH; c++) {
       const float *d = r->dif[(y + 6) % 3][c];
-      const float *own = r->pooled[c], *o1 = r->pooled[(c + 1) % NCH], *o2 = r->pooled[(c + 2) % NCH];
+      const float *mine = own[c], *o1 = own[(c + 1) % NCH], *o2 = own[(c + 2) % NCH];
       if (c == 1 && k->Dc) drow = k->Dc + (size_t)y * w; /* the chromatic channels apart */
       if (c == 0 || (c == 1 && k->Dc)) {
 #pragma omp simd
-        for (int x = 0; x < w; x++) drow[x] = jnd_fast_pow(d[x] * jnd_masking_gain(own[x] + cross * (o1[x] + o2[x]), slope), e);
+        for (int x = 0; x < w; x++) drow[x] = jnd_fast_pow(d[x] * jnd_masking_gain(mine[x] + cross * (o1[x] + o2[x]), slope), e);
       } else {
 #pragma omp simd
-        for (int x = 0; x < w; x++) drow[x] += jnd_fast_pow(d[x] * jnd_masking_gain(own[x] + cross * (o1[x] + o2[x]), slope), e);
+        for (int x = 0; x < w; x++) drow[x] += jnd_fast_pow(d[x] * jnd_masking_gain(mine[x] + cross * (o1[x] + o2[x]), slope), e);
       }
     }
   }
