@@ -172,28 +172,41 @@ def _summary(obj, result):
             "after_mib": result.memory["after_bytes"] / MIB, "images": images}
 
 
-class JND_OT_texres(bpy.types.Operator):
-    """Exports the selected object as GLB and runs jnd texres on it"""
-    bl_idname = "jnd.texres"
-    bl_label = "Run texres"
+class _RunOnObject:
+    """An operator that exports the active mesh alone and runs a jnd task on it."""
     bl_options = {"REGISTER"}
 
     @classmethod
     def poll(cls, context):
         return context.active_object is not None and context.active_object.type == "MESH"
 
-    def execute(self, context):
-        obj, s = context.active_object, context.scene.jnd
+    def package(self, context):
+        """The jnd package with only the active object selected (what the
+        exporter's use_selection exports), or None after reporting why."""
         try:
             jnd = _jnd()
         except ImportError as e:
             self.report({"ERROR"}, f"jnd: the Python package is not found ({e}); set the add-on's "
                                    "'jnd Python folder' or JND_PYTHONPATH")
-            return {"CANCELLED"}
+            return None
+        obj = context.active_object
         for o in context.selected_objects:
             if o is not obj:
                 o.select_set(False)
         obj.select_set(True)
+        return jnd
+
+
+class JND_OT_texres(_RunOnObject, bpy.types.Operator):
+    """Exports the selected object as GLB and runs jnd texres on it"""
+    bl_idname = "jnd.texres"
+    bl_label = "Run texres"
+
+    def execute(self, context):
+        obj, s = context.active_object, context.scene.jnd
+        jnd = self.package(context)
+        if jnd is None:
+            return {"CANCELLED"}
         wm = context.window_manager
         main = threading.main_thread()
 
@@ -263,27 +276,16 @@ def _import_gltf(path):
     return [o for o in bpy.data.objects if o not in before]
 
 
-class JND_OT_lod(bpy.types.Operator):
+class JND_OT_lod(_RunOnObject, bpy.types.Operator):
     """Exports the selected object as GLB and runs jnd lod on it for the screen"""
     bl_idname = "jnd.lod"
     bl_label = "Run lod"
-    bl_options = {"REGISTER"}
-
-    @classmethod
-    def poll(cls, context):
-        return context.active_object is not None and context.active_object.type == "MESH"
 
     def execute(self, context):
         obj, s = context.active_object, context.scene.jnd
-        try:
-            jnd = _jnd()
-        except ImportError as e:
-            self.report({"ERROR"}, f"jnd: the Python package is not found ({e})")
+        jnd = self.package(context)
+        if jnd is None:
             return {"CANCELLED"}
-        for o in context.selected_objects:
-            if o is not obj:
-                o.select_set(False)
-        obj.select_set(True)
         # the levels stay until Apply LOD imports them (Blender's temporary folder)
         out = tempfile.mkdtemp(prefix="jnd_lod_", dir=bpy.app.tempdir or None)
         glb = os.path.join(out, f"{bpy.path.clean_name(obj.name)}.glb")
