@@ -101,7 +101,7 @@ class JndSettings(bpy.types.PropertyGroup):
                          description="Fresh sets of views the choice must then hold on")
     min_size: IntProperty(name="Min size", default=32, min=1, max=32768,
                           description="Floor of the candidate sizes, pixels")
-    lod_errors: StringProperty(name="LOD errors", default="",
+    lod_errors: StringProperty(name="Errors", default="",
                                description="The chain's error targets, fractions of the object's extent, "
                                            "rising (e.g. 1/256,1/64,1/16); empty: jnd's default")
     lod_views: IntProperty(name="LOD views", default=2, min=1, max=4096,
@@ -392,9 +392,10 @@ class JND_PT_panel(bpy.types.Panel):
             return
         r = json.loads(obj[PROP])
         box = lay.box()
-        box.label(text=f"P {r['p']:.3f} (worst view {r['p_worst']:.3f}; P<={r['threshold']:g}, Q {r['q']:g})"
-                       + ("" if r["passes"] else "  FAILS"))
-        box.label(text=f"Memory {r['before_mib']:.2f} MiB -> {r['after_mib']:.2f} MiB (RGBA8 + mips)")
+        # short lines: the sidebar is narrow
+        box.label(text=f"P {r['p']:.3f}, worst view {r['p_worst']:.3f}")
+        box.label(text=f"P <= {r['threshold']:g}, Q {r['q']:g}: " + ("passes" if r["passes"] else "FAILS"))
+        box.label(text=f"{r['before_mib']:.2f} -> {r['after_mib']:.2f} MiB")   # RGBA8 with mips
         for im in r["images"]:
             box.label(text=f"{im['image'] or ', '.join(im['maps'])}: {im['original'][0]}x{im['original'][1]}"
                            f" -> {im['chosen'][0]}x{im['chosen'][1]}")
@@ -411,9 +412,11 @@ class JND_PT_panel(bpy.types.Panel):
         r = json.loads(obj[LOD_PROP])
         box = lay.box()
         k = r["perceptual_level"]
-        box.label(text=f"{r['screen']}: level {k}, {r['levels'][k]} of {r['levels'][0]} triangles nobody notices")
+        box.label(text=f"{r['screen']}: level {k}")
+        box.label(text=f"{r['levels'][k]} of {r['levels'][0]} triangles")
+        box.label(text="level: triangles, from distance")
         for i, (t, d) in enumerate(zip(r["levels"], r["switch_distance"])):
-            box.label(text=f"level {i}: {t} triangles, from " + ("never" if d < 0 else f"{d:.3g}"))
+            box.label(text=f"{i}: {t}, " + ("never" if d < 0 else f"{d:.3g}"))
         box.operator(JND_OT_apply_lod.bl_idname, icon="CHECKMARK")
 
 
