@@ -59,6 +59,28 @@ def _jnd():
     return jnd
 
 
+def _off_main_thread(call):
+    """call() on a thread of its own, waited for; its result, or its
+    exception raised here. Blender's window keeps its GLX context current on
+    the main thread, and jnd's renderer then gets no EGL context there ("no
+    OpenGL 4.5 core context"); a thread without a current context gets one.
+    The library releases the GIL, so nothing else is held meanwhile."""
+    box = {}
+
+    def run():
+        try:
+            box["result"] = call()
+        except BaseException as e:   # re-raised on the caller's thread
+            box["error"] = e
+
+    t = threading.Thread(target=run, name="jnd")
+    t.start()
+    t.join()
+    if "error" in box:
+        raise box["error"]
+    return box["result"]
+
+
 def _decimal(x):
     """A FloatProperty's value (single precision: 0.2 is 0.20000000298) as
     the decimal the user typed, so that the report says p 0.2 as the command's."""
@@ -221,9 +243,10 @@ class JND_OT_texres(_RunOnObject, bpy.types.Operator):
             bpy.ops.export_scene.gltf(filepath=glb, export_format="GLB", use_selection=True)
             wm.progress_begin(0, 100)
             try:
-                r = jnd.texres(glb, os.path.join(tmp, "out"), display=s.display, p=_decimal(s.p),
-                               q=_decimal(s.q), views=s.views, size=(s.view_size, s.view_size),
-                               confirm=s.confirm, min_size=s.min_size, progress=progress)
+                r = _off_main_thread(lambda: jnd.texres(
+                    glb, os.path.join(tmp, "out"), display=s.display, p=_decimal(s.p), q=_decimal(s.q),
+                    views=s.views, size=(s.view_size, s.view_size), confirm=s.confirm, min_size=s.min_size,
+                    progress=progress))
             except jnd.JndError as e:
                 self.report({"ERROR"}, f"jnd: {e}")
                 return {"CANCELLED"}
@@ -291,10 +314,10 @@ class JND_OT_lod(_RunOnObject, bpy.types.Operator):
         glb = os.path.join(out, f"{bpy.path.clean_name(obj.name)}.glb")
         bpy.ops.export_scene.gltf(filepath=glb, export_format="GLB", use_selection=True)
         try:
-            r = jnd.lod(glb, os.path.join(out, "lod"), screens=[s.display], p=_decimal(s.p), q=_decimal(s.q),
-                        views=s.lod_views, judge_views=s.views, max_px=max(32, s.view_size),
-                        errors=s.lod_errors or None,
-                        progress=lambda stage, done, total: print("jnd lod:", stage, done, total))
+            r = _off_main_thread(lambda: jnd.lod(
+                glb, os.path.join(out, "lod"), screens=[s.display], p=_decimal(s.p), q=_decimal(s.q),
+                views=s.lod_views, judge_views=s.views, max_px=max(32, s.view_size), errors=s.lod_errors or None,
+                progress=lambda stage, done, total: print("jnd lod:", stage, done, total)))
         except jnd.JndError as e:
             self.report({"ERROR"}, f"jnd: {e}")
             return {"CANCELLED"}

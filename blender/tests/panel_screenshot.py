@@ -1,7 +1,6 @@
 """Takes the screenshot of the add-on's panel in docs/ (README, "Python"),
-in two runs (jnd's renderer gets no EGL context inside a Blender that has a
-window, so the runs happen headless and the window only draws their
-results, which the objects keep):
+in two runs: the operators run headless (as in tests/e2e/blender_addon.sh)
+and the window only draws their results, which the objects keep:
 
     JND_PYTHONPATH=build/python blender -b --factory-startup -noaudio \\
         --python blender/tests/panel_screenshot.py -- prepare DIR/panel.blend
