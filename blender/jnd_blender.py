@@ -1,4 +1,4 @@
-"""jnd in Blender: the smallest texture sizes nobody notices, for the selected object.
+"""jnd in Blender: the smallest texture sizes and the LOD chain nobody notices, for the selected object.
 
 A panel in the 3D viewport's sidebar (N, tab "jnd"): choose the screen and
 the criterion, "Run texres" exports the selected object with Blender's own
@@ -7,8 +7,18 @@ glTF exporter (GLB, selection only) to a temporary folder and runs
 build/python); the panel then shows P, the memory before and after and the
 chosen size of each image, and "Apply" scales the object's images to those
 sizes (Image.scale; the scaled pixels are packed into the .blend, the image
-files on disk are never written). LOD chains are not here yet: the library's
-lod run is still being moved into one call (docs/python.md).
+files on disk are never written).
+
+"Run lod" exports the object the same way and runs ``jnd.lod`` on it with
+the screen as its one target screen: the panel shows each level's
+triangles, the perceptual choice (the coarsest level nobody notices at the
+viewing condition, the criterion's P and Q) and each level's switch
+distance. "Apply LOD" imports the GLB jnd wrote (every level, MSFT_lod)
+into a collection "<object> LOD", one object per level named
+"<object>_LOD<k>", parented to the object (levels 1.. hidden), each with
+the custom properties jnd_lod_level, jnd_triangles and
+jnd_switch_distance (object units; -1: never). The object itself is left
+as it is.
 
 Where the package is: the add-on's preference "jnd Python folder", else
 the environment variable JND_PYTHONPATH (the folder that holds jnd/, e.g.
@@ -30,11 +40,12 @@ bl_info = {
     "version": (0, 1, 0),
     "blender": (3, 4, 0),
     "location": "View3D > Sidebar > jnd",
-    "description": "Runs jnd texres on the selected object and applies the chosen texture sizes",
+    "description": "Runs jnd texres or lod on the selected object and applies the chosen sizes or levels",
     "category": "Object",
 }
 
 PROP = "jnd_texres"   # the object's custom property: the last run's summary (JSON)
+LOD_PROP = "jnd_lod"  # ... and the last lod run's
 MIB = 1048576.0
 
 
@@ -46,6 +57,28 @@ def _jnd():
         sys.path.insert(0, bpy.path.abspath(path))
     import jnd
     return jnd
+
+
+def _off_main_thread(call):
+    """call() on a thread of its own, waited for; its result, or its
+    exception raised here. Blender's window keeps its GLX context current on
+    the main thread, and jnd's renderer then gets no EGL context there ("no
+    OpenGL 4.5 core context"); a thread without a current context gets one.
+    The library releases the GIL, so nothing else is held meanwhile."""
+    box = {}
+
+    def run():
+        try:
+            box["result"] = call()
+        except BaseException as e:   # re-raised on the caller's thread
+            box["error"] = e
+
+    t = threading.Thread(target=run, name="jnd")
+    t.start()
+    t.join()
+    if "error" in box:
+        raise box["error"]
+    return box["result"]
 
 
 def _decimal(x):
@@ -90,6 +123,11 @@ class JndSettings(bpy.types.PropertyGroup):
                          description="Fresh sets of views the choice must then hold on")
     min_size: IntProperty(name="Min size", default=32, min=1, max=32768,
                           description="Floor of the candidate sizes, pixels")
+    lod_errors: StringProperty(name="Errors", default="",
+                               description="The chain's error targets, fractions of the object's extent, "
+                                           "rising (e.g. 1/256,1/64,1/16); empty: jnd's default")
+    lod_views: IntProperty(name="LOD views", default=2, min=1, max=4096,
+                           description="Views of 003's analysis (the judge's are Views)")
 
 
 def _upstream_image(socket, seen=None):
@@ -156,28 +194,41 @@ def _summary(obj, result):
             "after_mib": result.memory["after_bytes"] / MIB, "images": images}
 
 
-class JND_OT_texres(bpy.types.Operator):
-    """Exports the selected object as GLB and runs jnd texres on it"""
-    bl_idname = "jnd.texres"
-    bl_label = "Run texres"
+class _RunOnObject:
+    """An operator that exports the active mesh alone and runs a jnd task on it."""
     bl_options = {"REGISTER"}
 
     @classmethod
     def poll(cls, context):
         return context.active_object is not None and context.active_object.type == "MESH"
 
-    def execute(self, context):
-        obj, s = context.active_object, context.scene.jnd
+    def package(self, context):
+        """The jnd package with only the active object selected (what the
+        exporter's use_selection exports), or None after reporting why."""
         try:
             jnd = _jnd()
         except ImportError as e:
             self.report({"ERROR"}, f"jnd: the Python package is not found ({e}); set the add-on's "
                                    "'jnd Python folder' or JND_PYTHONPATH")
-            return {"CANCELLED"}
+            return None
+        obj = context.active_object
         for o in context.selected_objects:
             if o is not obj:
                 o.select_set(False)
         obj.select_set(True)
+        return jnd
+
+
+class JND_OT_texres(_RunOnObject, bpy.types.Operator):
+    """Exports the selected object as GLB and runs jnd texres on it"""
+    bl_idname = "jnd.texres"
+    bl_label = "Run texres"
+
+    def execute(self, context):
+        obj, s = context.active_object, context.scene.jnd
+        jnd = self.package(context)
+        if jnd is None:
+            return {"CANCELLED"}
         wm = context.window_manager
         main = threading.main_thread()
 
@@ -192,9 +243,10 @@ class JND_OT_texres(bpy.types.Operator):
             bpy.ops.export_scene.gltf(filepath=glb, export_format="GLB", use_selection=True)
             wm.progress_begin(0, 100)
             try:
-                r = jnd.texres(glb, os.path.join(tmp, "out"), display=s.display, p=_decimal(s.p),
-                               q=_decimal(s.q), views=s.views, size=(s.view_size, s.view_size),
-                               confirm=s.confirm, min_size=s.min_size, progress=progress)
+                r = _off_main_thread(lambda: jnd.texres(
+                    glb, os.path.join(tmp, "out"), display=s.display, p=_decimal(s.p), q=_decimal(s.q),
+                    views=s.views, size=(s.view_size, s.view_size), confirm=s.confirm, min_size=s.min_size,
+                    progress=progress))
             except jnd.JndError as e:
                 self.report({"ERROR"}, f"jnd: {e}")
                 return {"CANCELLED"}
@@ -236,6 +288,105 @@ class JND_OT_apply(bpy.types.Operator):
         return {"FINISHED"}
 
 
+def _import_gltf(path):
+    """Blender's glTF importer; Debian's blender 3.4 importer uses np.bool,
+    which Debian 12's numpy (1.24) no longer has: the alias restored for it."""
+    import numpy
+    if not hasattr(numpy, "bool"):
+        numpy.bool = bool
+    before = set(bpy.data.objects)
+    bpy.ops.import_scene.gltf(filepath=path)
+    return [o for o in bpy.data.objects if o not in before]
+
+
+class JND_OT_lod(_RunOnObject, bpy.types.Operator):
+    """Exports the selected object as GLB and runs jnd lod on it for the screen"""
+    bl_idname = "jnd.lod"
+    bl_label = "Run lod"
+
+    def execute(self, context):
+        obj, s = context.active_object, context.scene.jnd
+        jnd = self.package(context)
+        if jnd is None:
+            return {"CANCELLED"}
+        # the levels stay until Apply LOD imports them (Blender's temporary folder)
+        out = tempfile.mkdtemp(prefix="jnd_lod_", dir=bpy.app.tempdir or None)
+        glb = os.path.join(out, f"{bpy.path.clean_name(obj.name)}.glb")
+        bpy.ops.export_scene.gltf(filepath=glb, export_format="GLB", use_selection=True)
+        try:
+            r = _off_main_thread(lambda: jnd.lod(
+                glb, os.path.join(out, "lod"), screens=[s.display], p=_decimal(s.p), q=_decimal(s.q),
+                views=s.lod_views, judge_views=s.views, max_px=max(32, s.view_size), errors=s.lod_errors or None,
+                progress=lambda stage, done, total: print("jnd lod:", stage, done, total)))
+        except jnd.JndError as e:
+            self.report({"ERROR"}, f"jnd: {e}")
+            return {"CANCELLED"}
+        sw = r.screens[0]   # the one screen
+        summary = {"levels": [lv["triangles"] for lv in r.levels], "glb": os.path.join(out, "lod", r.model["path"]),
+                   "screen": sw["name"], "perceptual_level": sw["perceptual_level"],
+                   "switch_distance": [-1 if d is None else d for d in sw["switch_distance_m"]]}
+        obj[LOD_PROP] = json.dumps(summary)
+        k = summary["perceptual_level"]
+        self.report({"INFO"}, f"jnd: {len(summary['levels'])} levels; on {summary['screen']} level {k} "
+                              f"({summary['levels'][k]} of {summary['levels'][0]} triangles)")
+        return {"FINISHED"}
+
+
+class JND_OT_apply_lod(bpy.types.Operator):
+    """Imports jnd's levels as objects parented to the selected one, in a collection"""
+    bl_idname = "jnd.apply_lod"
+    bl_label = "Apply LOD"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        return context.active_object is not None and LOD_PROP in context.active_object
+
+    def execute(self, context):
+        obj = context.active_object
+        summary = json.loads(obj[LOD_PROP])
+        if not os.path.isfile(summary["glb"]):
+            self.report({"ERROR"}, f"jnd: {summary['glb']}: gone; run lod again")
+            return {"CANCELLED"}
+        name = f"{obj.name} LOD"
+        old = bpy.data.collections.get(name)
+        if old:   # a second Apply replaces the first's levels
+            for o in list(old.objects):
+                bpy.data.objects.remove(o, do_unlink=True)
+        coll = old or bpy.data.collections.new(name)
+        if not old:
+            context.scene.collection.children.link(coll)
+        imported = _import_gltf(summary["glb"])
+        # jnd names level k's node LOD<k> (jnd_scene_write_lod_glb)
+        levels = {}
+        for o in imported:
+            if o.type == "MESH" and o.name.startswith("LOD") and o.name[3:].split(".")[0].isdigit():
+                levels[int(o.name[3:].split(".")[0])] = o
+        if sorted(levels) != list(range(len(summary["levels"]))):
+            for o in imported:
+                bpy.data.objects.remove(o, do_unlink=True)
+            self.report({"ERROR"}, f"jnd: {summary['glb']} does not hold levels 0..{len(summary['levels']) - 1}")
+            return {"CANCELLED"}
+        for o in imported:
+            if o not in levels.values():
+                bpy.data.objects.remove(o, do_unlink=True)
+        for k, o in sorted(levels.items()):
+            for c in list(o.users_collection):
+                c.objects.unlink(o)
+            coll.objects.link(o)
+            o.name = f"{obj.name}_LOD{k}"
+            o["jnd_lod_level"] = k
+            o["jnd_triangles"] = summary["levels"][k]
+            o["jnd_switch_distance"] = summary["switch_distance"][k]
+            world = o.matrix_world.copy()
+            o.parent = obj
+            o.matrix_world = world
+            o.hide_set(k > 0)
+            o.hide_render = k > 0
+        self.report({"INFO"}, f"jnd: {len(levels)} levels in collection {name}")
+        return {"FINISHED"}
+
+
 class JND_PT_panel(bpy.types.Panel):
     bl_label = "jnd"
     bl_space_type = "VIEW_3D"
@@ -244,6 +395,12 @@ class JND_PT_panel(bpy.types.Panel):
 
     def draw(self, context):
         lay, s, obj = self.layout, context.scene.jnd, context.active_object
+        self.draw_texres(lay, s, obj)
+        lay.separator()
+        self.draw_lod(lay, s, obj)
+
+    @staticmethod
+    def draw_texres(lay, s, obj):
         col = lay.column()
         col.prop(s, "display")
         row = col.row(align=True)
@@ -258,17 +415,35 @@ class JND_PT_panel(bpy.types.Panel):
             return
         r = json.loads(obj[PROP])
         box = lay.box()
-        box.label(text=f"P {r['p']:.3f} (worst view {r['p_worst']:.3f}; P<={r['threshold']:g}, Q {r['q']:g})"
-                       + ("" if r["passes"] else "  FAILS"))
-        box.label(text=f"Memory {r['before_mib']:.2f} MiB -> {r['after_mib']:.2f} MiB (RGBA8 + mips)")
+        # short lines: the sidebar is narrow
+        box.label(text=f"P {r['p']:.3f}, worst view {r['p_worst']:.3f}")
+        box.label(text=f"P <= {r['threshold']:g}, Q {r['q']:g}: " + ("passes" if r["passes"] else "FAILS"))
+        box.label(text=f"{r['before_mib']:.2f} -> {r['after_mib']:.2f} MiB")   # RGBA8 with mips
         for im in r["images"]:
             box.label(text=f"{im['image'] or ', '.join(im['maps'])}: {im['original'][0]}x{im['original'][1]}"
                            f" -> {im['chosen'][0]}x{im['chosen'][1]}")
         box.operator(JND_OT_apply.bl_idname, icon="CHECKMARK")
-        lay.label(text="LOD: not yet (the library's lod run is coming)")
+
+    @staticmethod
+    def draw_lod(lay, s, obj):
+        col = lay.column()
+        col.prop(s, "lod_errors")
+        col.prop(s, "lod_views")
+        col.operator(JND_OT_lod.bl_idname, icon="MOD_DECIM")
+        if obj is None or LOD_PROP not in obj:
+            return
+        r = json.loads(obj[LOD_PROP])
+        box = lay.box()
+        k = r["perceptual_level"]
+        box.label(text=f"{r['screen']}: level {k}")
+        box.label(text=f"{r['levels'][k]} of {r['levels'][0]} triangles")
+        box.label(text="level: triangles, from distance")
+        for i, (t, d) in enumerate(zip(r["levels"], r["switch_distance"])):
+            box.label(text=f"{i}: {t}, " + ("never" if d < 0 else f"{d:.3g}"))
+        box.operator(JND_OT_apply_lod.bl_idname, icon="CHECKMARK")
 
 
-CLASSES = (JndPreferences, JndSettings, JND_OT_texres, JND_OT_apply, JND_PT_panel)
+CLASSES = (JndPreferences, JndSettings, JND_OT_texres, JND_OT_apply, JND_OT_lod, JND_OT_apply_lod, JND_PT_panel)
 
 
 def register():

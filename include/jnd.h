@@ -2883,6 +2883,13 @@ typedef struct {
 /* Fills p with the defaults above. */
 void jnd_pca_defaults(jnd_pca_params *p);
 
+/* One packed component texture of a choice, as a GPU holds it. */
+typedef struct {
+  int width, height, channels, bits; /* channels: 1 (R), 2 (RG), 3 (stored RGBA) or 4; 8 or 16 bits */
+  size_t bytes;                      /* with its mip chain */
+  int comp[4];                       /* the components in its channels R, G, B, A */
+} jnd_pca_texture_info;
+
 typedef struct {
   jnd_texset set;                          /* the set (owned) */
   char labels[JND_PCA_MAX_MAPS][160];      /* per map: its file, or MATERIAL/SLOT */
@@ -2907,10 +2914,8 @@ typedef struct {
     size_t bytes;                          /* RGBA8 + mips */
   } images[JND_PCA_MAX_MAPS];
   int ntextures;
-  struct {
-    int width, height, channels, bits;
-    size_t bytes;                          /* + mips */
-  } textures[JND_PCA_MAX_CHANNELS];        /* components_N.png, in order */
+  jnd_pca_texture_info textures[JND_PCA_MAX_CHANNELS]; /* components_N.png, in order: the packing
+                                                          (jnd_pca_pack's rule), decided once */
   size_t gpu_before_bytes, gpu_after_bytes;
   int rendered;                            /* 1: measured on the model */
   jnd_map_slot slots[JND_PCA_MAX_MAPS];

@@ -20,6 +20,7 @@ PACKAGES=(
   chromium                                         # the HTML report's browser test (headless)
   python3-dev python3-cffi python3-numpy python3-pytest  # the Python package (python/) and its tests
   blender                                          # the add-on's headless test (blender/, Blender 3.4)
+  xvfb                                             # the add-on's panel screenshot (blender/tests/panel_screenshot.py)
 )
 
 missing=()

@@ -5,9 +5,13 @@
         it as DIR/plane.glb (the exporter's options the add-on uses), installs
         and enables the add-on (blender/jnd_blender.py), runs its operator
         with small settings, applies, saves DIR/scene.blend and writes the
-        panel's summary to DIR/summary.json
+        panel's summary to DIR/summary.json; then the same for LOD on a UV
+        sphere (exported as DIR/sphere.glb): Run lod, Apply LOD, the summary
+        in DIR/lod_summary.json
     blender -b DIR/scene.blend --python-exit-code 1 --python addon_test.py -- check DIR
-        writes DIR/sizes.json: each image's name, size and whether it is packed
+        writes DIR/sizes.json: each image's name, size and whether it is
+        packed, and DIR/levels.json: each object of the "Sphere LOD"
+        collection with its level, triangles, parent and switch distance
 """
 import json
 import os
@@ -48,10 +52,29 @@ if mode == "run":
     assert bpy.ops.jnd.apply() == {"FINISHED"}
     with open(os.path.join(out, "summary.json"), "w") as f:
         json.dump(summary, f)
+    # LOD: a sphere of 960 triangles, its chain judged on the same screen
+    plane.select_set(False)
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=32, ring_count=16, radius=1, location=(3, 0, 0))
+    sphere = bpy.context.active_object
+    sphere.name = "Sphere"
+    bpy.ops.export_scene.gltf(filepath=os.path.join(out, "sphere.glb"), export_format="GLB", use_selection=True)
+    s.lod_errors, s.lod_views = "1/256,1/64,1/16", 1
+    assert bpy.ops.jnd.lod() == {"FINISHED"}
+    lod_summary = json.loads(sphere["jnd_lod"])
+    assert bpy.ops.jnd.apply_lod() == {"FINISHED"}
+    with open(os.path.join(out, "lod_summary.json"), "w") as f:
+        json.dump(lod_summary, f)
     bpy.ops.wm.save_as_mainfile(filepath=os.path.join(out, "scene.blend"))
 elif mode == "check":
     sizes = {im.name: {"size": list(im.size), "packed": im.packed_file is not None} for im in bpy.data.images}
     with open(os.path.join(out, "sizes.json"), "w") as f:
         json.dump(sizes, f)
+    coll = bpy.data.collections.get("Sphere LOD")
+    levels = [{"name": o.name, "level": o.get("jnd_lod_level"), "triangles": sum(len(p.vertices) - 2 for p in
+                                                                                   o.data.polygons),
+               "parent": o.parent.name if o.parent else None, "switch_distance": o.get("jnd_switch_distance"),
+               "hidden": o.hide_render} for o in (coll.objects if coll else [])]
+    with open(os.path.join(out, "levels.json"), "w") as f:
+        json.dump(sorted(levels, key=lambda x: x["level"]), f)
 else:
     sys.exit(f"addon_test.py: unknown mode {mode}")

@@ -46,9 +46,9 @@ class JndError(Exception):
 _STATUS = {getattr(lib, n): n for n in dir(lib) if n.startswith("JND_ERR_")}
 
 
-def _check(status: int) -> None:
+def _check(status: int, prefix: str = "") -> None:
     if status != lib.JND_OK:
-        raise JndError(ffi.string(lib.jnd_last_error()).decode("utf-8", "replace"),
+        raise JndError(prefix + ffi.string(lib.jnd_last_error()).decode("utf-8", "replace"),
                        _STATUS.get(status, str(status)))
 
 
@@ -299,6 +299,6 @@ def diff(ref: ImageLike, test: ImageLike, display: Union[str, Display] = "standa
 
 # ------------------------------------------------------------------ tasks --
 
-from .tasks import JndWarning, TaskResult, calibrate, pca, texres  # noqa: E402  (they use the helpers above)
+from .tasks import JndWarning, TaskResult, calibrate, diff_run, lod, pca, render, texres  # noqa: E402
 
-__all__ += ["JndWarning", "TaskResult", "calibrate", "pca", "texres"]
+__all__ += ["JndWarning", "TaskResult", "calibrate", "diff_run", "lod", "pca", "render", "texres"]

@@ -50,6 +50,7 @@ typedef struct {
   double beta;
   int has_gaze;
   double gaze_x, gaze_y;
+  double fps;
   int threads;
   ...;
 } jnd_model_params;
@@ -156,6 +157,62 @@ typedef struct { char *report; ...; } jnd_calibrate_result;
 jnd_status jnd_calibrate_run(const char *thresholds_csv, const jnd_calibrate_run_params *p, const char *out_path,
                              jnd_calibrate_result **out);
 void jnd_calibrate_result_free(jnd_calibrate_result *r);
+
+typedef struct {
+  const double *errors; int nerrors; const double *ratios; int nratios; int lock_border; int allow_sloppy;
+  int threads; ...;
+} jnd_lod_params;
+typedef enum { JND_POP_ORBIT, JND_POP_TRANSLATE, JND_POP_OBJECT, JND_POP_PAN } jnd_pop_motion_kind;
+typedef struct { char name[32]; int width_px, height_px; double ppd; } jnd_poi_screen;
+jnd_status jnd_poi_screen_parse(const char *spec, jnd_poi_screen *s);
+typedef struct {
+  const jnd_poi_screen *screens; int nscreens; int views; uint64_t seed; double coverage; double fov_y_deg;
+  int lights; double virtual_scale; int max_virtual_px; int anisotropy; int surface_samples;
+  double meshopt_pixels; double pixel_error; int textures; const char *env_path; const char *platform; ...;
+} jnd_poi_params;
+typedef struct {
+  jnd_judge_params judge; double distance; double far_coverage; double tolerance; int max_px; int pop;
+  int pop_motion; double pop_speed; ...;
+} jnd_lod_switch_params;
+typedef struct {
+  jnd_lod_params chain; int rebuild; const char *const *level_paths; int nlevel_paths; int analyse;
+  jnd_poi_params poi; int perceptual; jnd_lod_switch_params sw; int threads;
+  void (*progress)(void *user, const char *stage, int done, int total);
+  void *progress_user;
+  jnd_run_options run;
+  ...;
+} jnd_lod_run_params;
+void jnd_lod_run_defaults(jnd_lod_run_params *p);
+typedef struct { char *report; ...; } jnd_lod_result;
+jnd_status jnd_lod_run(const char *model, const jnd_lod_run_params *p, const char *out_dir, jnd_lod_result **out);
+void jnd_lod_result_free(jnd_lod_result *r);
+
+static const int JND_RENDER_COLOR, JND_RENDER_DEPTH, JND_RENDER_MASK, JND_RENDER_MOTION, JND_RENDER_MIP,
+                 JND_RENDER_EXR;
+typedef struct { const char *map; const char *file; double factor; int w, h; } jnd_map_edit;
+typedef struct {
+  jnd_view_set views; int lod; int strict; double env_intensity; double env_rotation_deg; double exposure;
+  int background_env; double motion_orbit_deg; unsigned outputs; const jnd_map_edit *edits; int nedits;
+  void (*progress)(void *user, const char *line, int done, int total);
+  void *progress_user;
+  jnd_run_options run;
+  ...;
+} jnd_render_params;
+void jnd_render_defaults(jnd_render_params *p);
+typedef struct { char *report; ...; } jnd_render_result;
+jnd_status jnd_render_run(const char *model, const jnd_render_params *p, const char *out_dir,
+                          jnd_render_result **out);
+void jnd_render_result_free(jnd_render_result *r);
+
+typedef struct {
+  jnd_model_params model; jnd_pooling pool; const char *calibration_path; const char *motion_path;
+  const char *weights_path; const char *map_path; const char *heatmap_path; double heatmap_max;
+  double fail_above; int exr_scale_given; jnd_run_options run; ...;
+} jnd_diff_params;
+void jnd_diff_defaults(jnd_diff_params *p);
+typedef struct { int above; char *report; ...; } jnd_diff_result;
+jnd_status jnd_diff_run(const char *ref, const char *test, const jnd_diff_params *p, jnd_diff_result **out);
+void jnd_diff_result_free(jnd_diff_result *r);
 
 /* the callbacks of a run, into Python (jnd/tasks.py) */
 extern "Python" void _jnd_progress(void *user, const char *line, int done, int total);

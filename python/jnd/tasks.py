@@ -37,12 +37,13 @@ from __future__ import annotations
 import json as _json
 import math
 import os
+from fractions import Fraction
 import warnings as _warnings
 from typing import Any, Callable, Optional, Sequence, Union
 
 from ._jnd_cffi import ffi, lib
 
-__all__ = ["TaskResult", "JndWarning", "texres", "pca", "calibrate"]
+__all__ = ["TaskResult", "JndWarning", "texres", "pca", "calibrate", "lod", "render", "diff_run"]
 
 Progress = Optional[Callable[[Optional[str], int, int], Any]]
 
@@ -118,6 +119,11 @@ class _Options:
     def __init__(self, task: str, kw: dict):
         self.task, self.kw, self.keep = task, dict(kw), []
 
+    def give(self, **named):
+        """The function's own keyword parameters, read as the options are
+        (those left None are not given)."""
+        self.kw.update({k: v for k, v in named.items() if v is not None})
+
     def has(self, name: str) -> bool:
         return self.kw.get(name) is not None
 
@@ -134,7 +140,10 @@ class _Options:
         self.keep.append(s)
         return s
 
-    def number(self, name: str, lo: float, hi: float, integer: bool = False):
+    def number(self, name: str, lo: Optional[float] = None, hi: Optional[float] = None, integer: bool = False):
+        """The keyword as a number, with the command's message where it is
+        not one. lo, hi: a range only where the library does not check the
+        field itself (it says what is wrong, in one line, for the others)."""
         v = self.take(name)
         if v is None:
             return None
@@ -147,28 +156,46 @@ class _Options:
             self._bad(f"{opt}: '{v}' is not a number")
         if integer and (isinstance(v, bool) or not x.is_integer()):
             self._bad(f"{opt}: '{v}' is not an integer")
-        if x < lo or x > hi:
+        if integer and abs(x) > 2**31 - 1:
+            self._bad(f"{opt}: {x:g} is outside [{-2**31 + 1}, {2**31 - 1}]")
+        if lo is not None and not lo <= x <= hi:
             self._bad(f"{opt}: {x:g} is outside [{lo:g}, {hi:g}]")
         return int(x) if integer else x
 
-    def ints(self, name: str, lo: int, hi: int, max_n: int = 64) -> Optional[list]:
+    def numbers(self, name: str, integer: bool, max_n: int = 64, lo: Optional[float] = None,
+                hi: Optional[float] = None) -> Optional[list]:
+        """A list keyword ("1024,512" or a sequence) as numbers; fractions
+        such as "1/1024" are numbers too (--errors). lo, hi: as number()."""
         v = self.take(name)
         if v is None:
             return None
         opt = "--" + name.replace("_", "-")
-        items = v.split(",") if isinstance(v, str) else list(v)
+        items = v.split(",") if isinstance(v, str) else [v] if isinstance(v, (int, float)) else list(v)
         try:
-            out = [int(str(x).strip()) for x in items]
-        except ValueError:
+            out = [float(Fraction(str(x).strip())) for x in items]
+        except (ValueError, ZeroDivisionError):
             out = None
-        if not out or len(out) > max_n or any(not lo <= x <= hi for x in out):
-            self._bad(f"{opt}: '{v}' is not a list of at most {max_n} integers in {lo}..{hi} like 1024,512,256")
-        return out
+        if (not out or len(out) > max_n or (integer and any(not x.is_integer() for x in out)) or
+                (lo is not None and any(not lo <= x <= hi for x in out))):
+            kind = ("integers" if integer else "numbers") + ("" if lo is None else f" in {lo:g}..{hi:g}")
+            self._bad(f"{opt}: '{v}' is not a list of at most {max_n} {kind} like "
+                      f"{'1024,512,256' if integer else '0.5,0.25,1/16'}")
+        return [int(x) for x in out] if integer else out
 
-    def int_array(self, values: list):
-        a = ffi.new("int[]", values)
+    def array(self, ctype: str, values: list):
+        a = ffi.new(f"{ctype}[]", values)
         self.keep.append(a)
         return a
+
+    def choice(self, name: str, choices: dict):
+        """A keyword that names one of choices (a value as the command's
+        option takes it), mapped to the library's value."""
+        v = self.take(name)
+        if v is None:
+            return None
+        if v not in choices:
+            self._bad(f"--{name.replace('_', '-')}: '{v}' is not {_one_of(list(choices))}")
+        return choices[v]
 
     def pair(self, name: str):
         v = self.take(name)
@@ -182,36 +209,30 @@ class _Options:
             pass
         self._bad(f"--{name.replace('_', '-')}: '{v}' is not a pair of numbers like 10,20")
 
-    # -- views (the command's --views ... --map-size; src/cli/args.c limits)
-    def views(self, vs, run=None):
+    # -- views (the command's --views ... --map-size). The library checks the
+    #    count, size, coverage, fov, lights, elevation, platform and map size;
+    #    the ranges here are of the fields it takes as they come.
+    def views(self, vs, defaults: Optional[dict] = None):
+        """Sets a jnd_view_set; returns the builtin asset's map size."""
         s, r = vs.sampling, vs.render
-        n = self.number("views", 1, 4096, True)
+        n = self.number("views", integer=True)
         if n is not None:
             s.count = n
         seed = self.number("seed", 0, 9007199254740992.0)
         if seed is not None:
             s.seed = int(seed)
-        size = self.take("size")
-        if size is not None:
-            try:
-                w, h = ((int(x) for x in size.lower().split("x")) if isinstance(size, str) else size)
-            except (TypeError, ValueError):
-                w = h = -1
-            if not (16 <= w <= 16384 and 16 <= h <= 16384):
-                self._bad(f"--size: '{size}' is not WxH with W and H in 16..16384 pixels")
-            r.width, r.height = w, h
-        for name, field, lo, hi in (("coverage", "coverage", 0.01, 10), ("distance", "distance", 1e-9, 1e12),
-                                    ("fov", "fov_y_deg", 0.1, 179), ("light_intensity", "light_intensity", 0, 1e6)):
+        if self.has("size"):   # the library takes any size: the vision model's least, the renderer's most
+            r.width, r.height = self._size("size", self.take("size"), 16, 16384)
+        for name, field, lo, hi in (("coverage", "coverage", None, None), ("distance", "distance", 1e-9, 1e12),
+                                    ("fov", "fov_y_deg", None, None), ("light_intensity", "light_intensity", 0, 1e6)):
             x = self.number(name, lo, hi)
             if x is not None:
                 setattr(s, field, x)
-        lights = self.number("lights", 0, 8, True)
+        lights = self.number("lights", integer=True)
         if lights is not None:
             s.lights = lights
         el = self.pair("elevation")
         if el is not None:
-            if not (-90 <= el[0] <= el[1] <= 90):
-                self._bad(f"--elevation: '{el[0]:g},{el[1]:g}' is not A,B with -90 <= A <= B <= 90 degrees")
             s.min_elevation_deg, s.max_elevation_deg = el
         if self.has("cameras"):
             vs.cameras_path = self.cstr(self.take("cameras"))
@@ -221,23 +242,33 @@ class _Options:
             x = self.number(name, lo, hi, True)
             if x is not None:
                 setattr(r, name, x)
-        platform = self.take("platform")
-        if platform is not None:
-            if platform not in ("auto", "device", "surfaceless"):
-                self._bad(f"--platform: '{platform}' is not auto, device or surfaceless")
-            r.platform = self.cstr(platform)
-        map_size = self.number("map_size", 8, 8192, True)
-        return 2048 if map_size is None else map_size
+        if self.has("platform"):
+            r.platform = self.cstr(self.take("platform"))
+        map_size = self.number("map_size", integer=True)
+        return (defaults or {}).get("map_size", 2048) if map_size is None else map_size
 
-    # -- display (cli_display_get: an explicit quantity wins over the preset's)
-    def display(self, model_params):
+    def _size(self, name, v, lo, hi):
+        """ "WxH" (or a pair) as two integers in lo..hi (a size the library
+        takes as it comes)."""
+        try:
+            w, h = ((int(x) for x in v.lower().split("x")) if isinstance(v, str) else v)
+            if lo <= w <= hi and lo <= h <= hi:
+                return w, h
+        except (TypeError, ValueError):
+            pass
+        self._bad(f"--{name}: '{v}' is not WxH with W and H in {lo}..{hi} pixels")
+
+    # -- display (cli_display_get: an explicit quantity wins over the preset's;
+    #    the library checks ppd, peak and black)
+    def display(self, model_params, set_threads: bool = True) -> bool:
+        """Sets model_params.display; returns whether exr_scale was given."""
         from . import Display, display as preset
         d = self.take("display")
         disp = preset(d) if isinstance(d, str) else preset() if d is None else d
         if not isinstance(disp, Display):
             self._bad(f"--display: a preset name or a jnd.Display, not {type(d).__name__}")
         vals = {k: self.number(k, lo, hi) for k, lo, hi in (
-            ("ppd", 1, 1000), ("peak", 0.01, 100000), ("black", 0, 10000), ("ambient", 0, 200000),
+            ("ppd", None, None), ("peak", None, None), ("black", None, None), ("ambient", 0, 200000),
             ("reflectivity", 0, 1), ("exr_scale", 1e-9, 1e9))}
         c = disp._to_c()
         if vals["ppd"] is not None:
@@ -251,18 +282,24 @@ class _Options:
             if vals[k] is not None:
                 setattr(c, field, vals[k])
         model_params.display = c[0]
-        threads = self.number("threads", 1, 1024, True)
-        if threads is not None:
-            model_params.threads = threads
+        if set_threads:
+            self.threads(model_params)
+        return vals["exr_scale"] is not None
 
-    # -- criterion and calibration (cli_criterion_opt, cli_calibration_get)
-    def criterion(self, judge):
-        p = self.number("p", 1e-6, 1 - 1e-6)
-        if p is not None:
-            judge.criterion.p = p
-        q = self.number("q", 0, 0.999)
-        if q is not None:
-            judge.criterion.q = q
+    def threads(self, target):
+        n = self.number("threads", 1, 1024, True)
+        if n is not None:
+            target.threads = n
+        return n
+
+    # -- criterion (the judge checks p and q) and calibration
+    def criterion(self, crit):
+        for name in ("p", "q"):
+            x = self.number(name)
+            if x is not None:
+                setattr(crit, name, x)
+
+    def calibration(self, judge):
         from . import _check
         lib.jnd_calibration_defaults(ffi.addressof(judge.calibration))
         path = self.take("calibration")
@@ -275,7 +312,7 @@ class _Options:
                 self._bad(f"--pool: '{pool}' is not a percentile like p93")
             judge.calibration.percentile = pp.percentile
 
-    def run_options(self, run, map_size: int):
+    def run_options(self, run, map_size: int = 0):
         run.map_size = map_size
         path = self.take("json")
         if path is not None and path != "-":
@@ -288,25 +325,31 @@ class _Options:
             raise TypeError(f"{self.task}() got unexpected keyword argument(s): {', '.join(sorted(self.kw))}")
 
 
-def _run(task: str, opts: _Options, fn, free, input_path, params, out_path, progress: Progress,
-         has_passes: bool) -> TaskResult:
-    """One call of jnd_<task>_run with the callbacks into Python; the result
-    freed, callback exceptions re-raised, errors as JndError."""
+def _one_of(names: list) -> str:
+    return ", ".join(names[:-1]) + " or " + names[-1] if len(names) > 1 else names[0]
+
+
+def _run(task: str, opts: _Options, call, free, params, progress: Progress, has_passes: bool,
+         result: str = None) -> TaskResult:
+    """One call of the library's run, call(params, &result), with the
+    callbacks into Python; the result freed, callback exceptions re-raised,
+    errors as JndError."""
     from . import _check
     state = _RunState(progress)
     handle = ffi.new_handle(state)
-    if progress is not None:   # else no call back into Python (and no GIL) per rendering
+    if progress is not None and hasattr(params, "progress"):   # else no call into Python per rendering
         params.progress, params.progress_user = lib._jnd_progress, handle
     params.run.warning, params.run.warning_user = lib._jnd_warning, handle
-    out = ffi.new(f"jnd_{task}_result **")
-    c_in = ffi.NULL if input_path is None else opts.cstr(input_path)
-    status = fn(c_in, params, opts.cstr(out_path), out)
+    out = ffi.new(f"{result or f'jnd_{task}_result'} **")
+    status = call(params, out)
     try:
         if state.error is not None:
             raise state.error
         _check(status)
         text = ffi.string(out[0].report).decode("utf-8")
-        passes = bool(out[0].passes) if has_passes else None
+        passes = None
+        if has_passes:
+            passes = bool(out[0].passes) if hasattr(out[0], "passes") else not out[0].above
     finally:
         free(out[0])
     for w in state.warnings:
@@ -316,11 +359,21 @@ def _run(task: str, opts: _Options, fn, free, input_path, params, out_path, prog
     return TaskResult(text, passes, state.warnings)
 
 
+def _run_shape(task: str, opts: _Options, params, input_path, out_path, progress: Progress,
+               has_passes: bool = False, params_of_run=None) -> TaskResult:
+    """The task shape, jnd_<task>_run(input, params, out, &result)."""
+    c_in = ffi.NULL if input_path is None else opts.cstr(input_path)
+    c_out = opts.cstr(out_path)
+    fn, free = getattr(lib, f"jnd_{task}_run"), getattr(lib, f"jnd_{task}_result_free")
+    return _run(task, opts, lambda p, out: fn(c_in, p, c_out, out), free, params, progress, has_passes)
+
+
 PathLike = Union[str, os.PathLike]
+IntList = Union[str, Sequence[int], None]
 
 
 def texres(model: PathLike, out_dir: PathLike, *, verify_views: Optional[int] = None,
-           margin: Optional[float] = None, confirm: Optional[int] = None, sizes: Union[str, Sequence[int], None] = None,
+           margin: Optional[float] = None, confirm: Optional[int] = None, sizes: IntList = None,
            min_size: Optional[int] = None, maps: Union[str, Sequence[str], None] = None, matrix: bool = False,
            quick_matrix: bool = False, progress: Progress = None, **options) -> TaskResult:
     """``jnd texres MODEL -o OUT_DIR``: the smallest texture maps nobody
@@ -339,32 +392,31 @@ def texres(model: PathLike, out_dir: PathLike, *, verify_views: Optional[int] = 
     lib.jnd_texres_defaults(p)
     map_size = o.views(p.judge.views)
     o.display(p.judge.model)
-    o.criterion(p.judge)
+    o.criterion(p.judge.criterion)
+    o.calibration(p.judge)
     o.run_options(p.run, map_size)
-    o.kw.update(verify_views=verify_views, margin=margin, confirm=confirm, sizes=sizes, min_size=min_size)
-    for name, field, lo, hi, integer in (("verify_views", "verify_views", 0, 4096, True),
-                                         ("margin", "margin", 0, 0.99, False),
-                                         ("confirm", "confirm_rounds", 0, 16, True),
-                                         ("min_size", "min_size", 1, 32768, True)):
-        x = o.number(name, lo, hi, integer)
+    o.give(verify_views=verify_views, margin=margin, confirm=confirm, sizes=sizes, min_size=min_size)
+    for name, field, integer in (("verify_views", "verify_views", True), ("margin", "margin", False),
+                                 ("confirm", "confirm_rounds", True), ("min_size", "min_size", True)):
+        x = o.number(name, integer=integer)   # the library checks each
         if x is not None:
             setattr(p, field, x)
-    s = o.ints("sizes", 1, 32768)
+    s = o.numbers("sizes", True, 64, 1, 32768)
     if s is not None:
-        p.sizes, p.nsizes = o.int_array(s), len(s)
+        p.sizes, p.nsizes = o.array("int", s), len(s)
     if maps is not None:
         p.maps = o.cstr(maps if isinstance(maps, str) else ",".join(maps))
     p.matrix = 2 if matrix else 1 if quick_matrix else 0
     o.done()
-    return _run("texres", o, lib.jnd_texres_run, lib.jnd_texres_result_free, model, p, out_dir, progress, True)
+    return _run_shape("texres", o, p, model, out_dir, progress, has_passes=True)
 
 
 def pca(maps: Sequence[PathLike], out_dir: PathLike, *, model: Optional[PathLike] = None,
         material: Optional[str] = None, components: Union[int, str, None] = None, energy: Optional[float] = None,
-        psnr: Optional[float] = None, bits: Union[str, Sequence[int], None] = None,
-        resolutions: Union[str, Sequence[int], None] = None, max_scale: Optional[int] = None,
-        slot: Sequence[str] = (), channels: Optional[str] = None, weight: Optional[str] = None,
-        write_maps: bool = False, no_bc: bool = False, progress: Progress = None, **options) -> TaskResult:
+        psnr: Optional[float] = None, bits: IntList = None, resolutions: IntList = None,
+        max_scale: Optional[int] = None, slot: Sequence[str] = (), channels: Optional[str] = None,
+        weight: Optional[str] = None, write_maps: bool = False, no_bc: bool = False, progress: Progress = None,
+        **options) -> TaskResult:
     """``jnd pca MAPS... -o OUT_DIR``: the cheapest principal-component
     encoding of a set of maps (docs/pca.md). maps: map files (may be empty
     with model=); model, material: a model using the set, for the rendered
@@ -373,7 +425,9 @@ def pca(maps: Sequence[PathLike], out_dir: PathLike, *, model: Optional[PathLike
     component (powers of two up to 8); max_scale; slot: "FILE=SLOT" strings;
     channels, weight: as the command's --channels, --weight; write_maps:
     also the rebuilt maps; no_bc: no block compression. Shared options
-    (views, display, criterion, common): see the module's help."""
+    (views, display, criterion, common): see the module's help. The library
+    checks the maps, the model and material, --slot, the energy, the bits
+    and the divisors, with its one-line messages."""
     from . import JndError
     o = _Options("pca", options)
     p = ffi.new("jnd_pca_params *")
@@ -381,84 +435,60 @@ def pca(maps: Sequence[PathLike], out_dir: PathLike, *, model: Optional[PathLike
     criterion_given = o.has("p") or o.has("q")
     map_size = o.views(p.render.judge.views)
     o.display(p.render.judge.model)
-    o.criterion(p.render.judge)
+    o.criterion(p.render.judge.criterion)
+    o.calibration(p.render.judge)
     o.run_options(p.run, map_size)
     maps = [os.fspath(m) for m in ([maps] if isinstance(maps, (str, os.PathLike)) else maps or [])]
-    if len(maps) > 16:
-        raise JndError("pca: at most 16 maps")
-    rules = 0
-    if components is not None:
-        if components == "all":
-            p.components = -1
-        else:
-            o.kw["components"] = components
-            p.components = o.number("components", 0, 32, True)
-        p.rule, rules = lib.JND_PCA_RULE_COMPONENTS, rules + 1
-    if energy is not None:
-        o.kw["energy"] = energy
-        p.energy, p.rule, rules = o.number("energy", 1e-6, 1), lib.JND_PCA_RULE_ENERGY, rules + 1
-    if psnr is not None:
-        o.kw["psnr"] = psnr
-        p.psnr_db, p.rule, rules = o.number("psnr", 1, 150), lib.JND_PCA_RULE_PSNR, rules + 1
-    if bits is not None:
-        o.kw["bits"] = bits
-        b = o.ints("bits", 8, 16, 32)
-        if any(x not in (8, 16) for x in b):
-            raise JndError(f"--bits: {next(x for x in b if x not in (8, 16))} (8 or 16 per component)")
-        p.bits[0:len(b)], p.nbits = b, len(b)
-    if resolutions is not None:
-        o.kw["resolutions"] = resolutions
-        d = o.ints("resolutions", 1, 8, 32)
-        for x in d:
-            if x & (x - 1):
-                raise JndError(f"--resolutions: {x} is not a power of two up to 8")
-        p.scale[0:len(d)], p.nscale = [x.bit_length() - 1 for x in d], len(d)
-    if max_scale is not None:
-        o.kw["max_scale"] = max_scale
-        p.max_scale = o.number("max_scale", 0, 3, True)
-    if model is not None:
-        p.model = o.cstr(model)
-    if material is not None:
-        p.material = o.cstr(material)
-    if channels is not None:
-        p.channels = o.cstr(channels)
-    if weight is not None:
-        p.weights = o.cstr(weight)
-    slot = [slot] if isinstance(slot, str) else list(slot)
-    if rules > 1:
+    if sum(x is not None for x in (components, energy, psnr)) > 1:
         raise JndError("pca: give one of --components, --energy, --psnr")
+    o.give(components=None if components == "all" else components, energy=energy, psnr=psnr,
+                max_scale=max_scale)
+    if components is not None:
+        p.rule = lib.JND_PCA_RULE_COMPONENTS
+        p.components = -1 if components == "all" else o.number("components", integer=True)
+    if energy is not None:
+        p.energy, p.rule = o.number("energy"), lib.JND_PCA_RULE_ENERGY
+    if psnr is not None:
+        p.psnr_db, p.rule = o.number("psnr", 1, 150), lib.JND_PCA_RULE_PSNR
+    o.give(bits=bits, resolutions=resolutions)
+    b = o.numbers("bits", True, 32)
+    if b is not None:
+        p.bits[0:len(b)], p.nbits = b, len(b)
+    d = o.numbers("resolutions", True, 32)
+    if d is not None:   # divisors as the library's scale exponents
+        bad = next((x for x in d if x < 1 or x & (x - 1)), None)
+        if bad is not None:
+            raise JndError(f"--resolutions: {bad} is not a power of two up to 8")
+        p.scale[0:len(d)], p.nscale = [x.bit_length() - 1 for x in d], len(d)
+    x = o.number("max_scale", integer=True)
+    if x is not None:
+        p.max_scale = x
+    for value, field in ((model, "model"), (material, "material"), (channels, "channels"), (weight, "weights")):
+        if value is not None:
+            setattr(p, field, o.cstr(value))
     if criterion_given and model is None:
         raise JndError("pca: --p and --q judge renderings: they need --model FILE.glb and --material NAME")
     if (p.nbits or p.nscale) and p.rule == lib.JND_PCA_RULE_AUTO:
         p.rule = lib.JND_PCA_RULE_COMPONENTS
     if (p.nbits or p.nscale) and p.rule != lib.JND_PCA_RULE_COMPONENTS:
         raise JndError("pca: --bits and --resolutions go with --components")
-    if not maps and model is None:
-        raise JndError("pca: needs maps (or --model) and -o OUTDIR (jnd pca --help)")
-    if model is not None and material is None:
-        raise JndError("pca: --model needs --material NAME")
-    if slot and not (model is not None and maps):
-        raise JndError("pca: --slot needs MAP files and --model")
-    c_maps = [o.cstr(m) for m in maps]
-    c_slots = [o.cstr(s) for s in slot]
-    p.maps, p.nmaps = _char_array(o, c_maps), len(c_maps)
-    p.slots, p.nslots = _char_array(o, c_slots), len(c_slots)
+    slot = [slot] if isinstance(slot, str) else list(slot)
+    p.maps, p.nmaps = _char_array(o, [o.cstr(m) for m in maps]), len(maps)
+    p.slots, p.nslots = _char_array(o, [o.cstr(s) for s in slot]), len(slot)
     p.render.builtin_map_size = map_size
     p.write_maps = 1 if write_maps else 0
     if no_bc:
         p.block_compression = 0
     o.done()
-    return _run("pca", o, lib.jnd_pca_run, lib.jnd_pca_result_free, model, p, out_dir, progress, False)
+    return _run_shape("pca", o, p, model, out_dir, progress)
 
 
 def _char_array(o: _Options, strings: list):
-    a = ffi.new("const char *[]", strings + [ffi.NULL])
-    o.keep.append(a)
-    return a
+    return o.array("const char *", strings + [ffi.NULL])
 
 
 def calibrate(thresholds_csv: PathLike, out_path: PathLike, *, pairs: Optional[PathLike] = None,
-              sizes: Union[str, Sequence[int], None] = None, folds: Optional[int] = None, p: Optional[float] = None,
+              sizes: IntList = None, folds: Optional[int] = None, p: Optional[float] = None,
               bias_range: Optional[Sequence[float]] = None, histogram: Optional[PathLike] = None,
               progress: Progress = None, **options) -> TaskResult:
     """``jnd calibrate THRESHOLDS.csv -o CAL.json``: fits the pooling
@@ -475,10 +505,10 @@ def calibrate(thresholds_csv: PathLike, out_path: PathLike, *, pairs: Optional[P
     map_size = o.views(c.judge.views)
     o.display(c.judge.model)
     o.run_options(c.run, map_size)
-    o.kw.update(sizes=sizes, folds=folds, p=p, bias_range=bias_range)
-    s = o.ints("sizes", 1, 32768)
+    o.give(sizes=sizes, folds=folds, p=p, bias_range=bias_range)
+    s = o.numbers("sizes", True, 64, 1, 32768)
     if s is not None:
-        c.sizes, c.nsizes = o.int_array(s), len(s)
+        c.sizes, c.nsizes = o.array("int", s), len(s)
     k = o.number("folds", 1, 32, True)
     if k is not None:
         c.fit.folds = k
@@ -495,5 +525,221 @@ def calibrate(thresholds_csv: PathLike, out_path: PathLike, *, pairs: Optional[P
     if histogram is not None:
         c.histogram = o.cstr(histogram)
     o.done()
-    return _run("calibrate", o, lib.jnd_calibrate_run, lib.jnd_calibrate_result_free, thresholds_csv, c, out_path,
-                progress, False)
+    return _run_shape("calibrate", o, c, thresholds_csv, out_path, progress)
+
+
+def lod(model: PathLike, out_dir: PathLike, *, errors: Union[str, Sequence[float], None] = None,
+        ratios: Union[str, Sequence[float], None] = None, level: Union[PathLike, Sequence[PathLike]] = (),
+        rebuild: bool = False, lock_border: Optional[bool] = None, no_sloppy: bool = False,
+        chain_only: bool = False, screens: Union[str, Sequence[str], None] = None,
+        virtual_scale: Optional[float] = None, max_virtual: Optional[int] = None,
+        surface_samples: Optional[int] = None, meshopt_pixels: Optional[float] = None,
+        pixel_error: Optional[float] = None, no_textures: bool = False, judge_views: Optional[int] = None,
+        far_coverage: Optional[float] = None, tolerance: Optional[float] = None, max_px: Optional[int] = None,
+        no_pop: bool = False, pop_speed: Optional[float] = None, pop_motion: Optional[str] = None,
+        no_perceptual: bool = False, progress: Progress = None, **options) -> TaskResult:
+    """``jnd lod MODEL -o OUT_DIR``: a level-of-detail chain, 003's Point of
+    Imperceptibility per screen and, per screen, the perceptual choice and
+    each level's switch distance (docs/lod.md). model: a .gltf/.glb/.obj
+    file or "builtin"; out_dir gets lod.json, model/NAME.glb (every level,
+    MSFT_lod) and pareto_SCREEN.png. errors: error targets, fractions of the
+    model's extent, rising ("1/1024,1/256" or numbers); ratios: triangle
+    ratios instead, falling; level: levels from other files, finest first;
+    lock_border: True/False for --lock-border/--no-lock-border (None: the
+    library's choice); screens: presets, "WxH" or "WxH@PPD"; judge_views,
+    far_coverage, tolerance, max_px, no_pop, pop_speed (°/s), pop_motion
+    ("orbit", "spin" or "pan"), no_perceptual: the perceptual step. Views
+    (views, seed, coverage, distance in object units, fov, lights, env,
+    samples, anisotropy, platform, map_size (512)), criterion (p, q),
+    threads and the common options as in the module's help. ``progress``
+    gets the stage's name as its line on every step."""
+    o = _Options("lod", options)
+    p = ffi.new("jnd_lod_run_params *")
+    lib.jnd_lod_run_defaults(p)
+    # the shared view options, where lod has a use for them, into poi and sw
+    vs = ffi.new("jnd_view_set *")
+    vs.sampling.count, vs.sampling.seed, vs.sampling.coverage = p.poi.views, p.poi.seed, p.poi.coverage
+    vs.sampling.distance, vs.sampling.fov_y_deg, vs.sampling.lights = p.sw.distance, p.poi.fov_y_deg, p.poi.lights
+    vs.render.env_path, vs.render.anisotropy, vs.render.platform = p.poi.env_path, p.poi.anisotropy, p.poi.platform
+    vs.render.samples = p.sw.judge.views.render.samples
+    for name in ("size", "elevation", "light_intensity", "cameras"):
+        if o.has(name):
+            o._bad(f"lod: --{name.replace('_', '-')} is not an option of lod: its views are rendered at each "
+                   "screen's size around the object; see jnd lod --help")
+    map_size = o.views(vs, {"map_size": p.run.map_size})
+    p.poi.views, p.poi.seed, p.poi.coverage = vs.sampling.count, vs.sampling.seed, vs.sampling.coverage
+    p.poi.fov_y_deg, p.poi.lights = vs.sampling.fov_y_deg, vs.sampling.lights
+    p.poi.env_path, p.poi.anisotropy, p.poi.platform = vs.render.env_path, vs.render.anisotropy, vs.render.platform
+    p.sw.distance, p.sw.judge.views.render.samples = vs.sampling.distance, vs.render.samples
+    o.criterion(p.sw.judge.criterion)
+    n = o.threads(p)
+    if n is not None:
+        p.chain.threads = n
+    o.run_options(p.run, map_size)
+    o.give(errors=errors, ratios=ratios, virtual_scale=virtual_scale, max_virtual=max_virtual,
+                surface_samples=surface_samples, meshopt_pixels=meshopt_pixels, pixel_error=pixel_error,
+                judge_views=judge_views, far_coverage=far_coverage, tolerance=tolerance, max_px=max_px,
+                pop_speed=pop_speed, pop_motion=pop_motion)
+    if errors is not None and ratios is not None:
+        o._bad("lod: give --errors or --ratios, not both")
+    e = o.numbers("errors", False, 63, 1e-6, 1)   # the command's range: the chain takes what it is given
+    if e is not None:
+        p.chain.errors, p.chain.nerrors = o.array("double", e), len(e)
+    r = o.numbers("ratios", False, 63, 0, 1)
+    if r is not None:
+        p.chain.ratios, p.chain.nratios = o.array("double", r), len(r)
+    levels = [os.fspath(level)] if isinstance(level, (str, os.PathLike)) else [os.fspath(x) for x in level]
+    if len(levels) > 63:
+        o._bad("lod: at most 63 --level files")
+    p.level_paths, p.nlevel_paths = _char_array(o, [o.cstr(x) for x in levels]), len(levels)
+    p.rebuild = 1 if rebuild else 0
+    if lock_border is not None:
+        p.chain.lock_border = 1 if lock_border else 0
+    if no_sloppy:
+        p.chain.allow_sloppy = 0
+    if chain_only:
+        p.analyse = 0
+    if screens is not None:
+        names = [x for x in (screens.split(",") if isinstance(screens, str) else screens) if x]
+        scr = ffi.new("jnd_poi_screen[]", max(len(names), 1))
+        o.keep.append(scr)
+        if not names or len(names) > 16:
+            o._bad(f"lod: --screens: '{screens}' names no screen" if not names else
+                   "lod: --screens: at most 16 screens")
+        from . import JndError
+        for i, name in enumerate(names):
+            if lib.jnd_poi_screen_parse(str(name).encode(), scr + i) != lib.JND_OK:
+                raise JndError("lod: --screens: " + ffi.string(lib.jnd_last_error()).decode())
+        p.poi.screens, p.poi.nscreens = scr, len(names)
+    # the library checks each of these (lod: ... outside ...)
+    for name, target, field, integer in (
+            ("virtual_scale", p.poi, "virtual_scale", False), ("max_virtual", p.poi, "max_virtual_px", True),
+            ("surface_samples", p.poi, "surface_samples", True), ("meshopt_pixels", p.poi, "meshopt_pixels", False),
+            ("pixel_error", p.poi, "pixel_error", False), ("judge_views", p.sw.judge.views.sampling, "count", True),
+            ("far_coverage", p.sw, "far_coverage", False), ("tolerance", p.sw, "tolerance", False),
+            ("max_px", p.sw, "max_px", True), ("pop_speed", p.sw, "pop_speed", False)):
+        x = o.number(name, integer=integer)
+        if x is not None:
+            setattr(target, field, x)
+    if no_textures:
+        p.poi.textures = 0
+    if no_pop:
+        p.sw.pop = 0
+    m = o.choice("pop_motion", {"orbit": lib.JND_POP_ORBIT, "spin": lib.JND_POP_OBJECT, "pan": lib.JND_POP_PAN})
+    if m is not None:
+        p.sw.pop_motion = m
+    if no_perceptual:
+        p.perceptual = 0
+    o.done()
+    return _run_shape("lod", o, p, model, out_dir, progress)
+
+
+_RENDER_OUTPUTS = {"color": "JND_RENDER_COLOR", "colour": "JND_RENDER_COLOR", "depth": "JND_RENDER_DEPTH",
+                   "mask": "JND_RENDER_MASK", "motion": "JND_RENDER_MOTION", "mip": "JND_RENDER_MIP",
+                   "exr": "JND_RENDER_EXR"}
+
+
+def render(model: PathLike, out_dir: PathLike, *, lod: Optional[int] = None, strict: bool = False,
+           outputs: Union[str, Sequence[str], None] = None, scale: Union[str, Sequence[str]] = (),
+           replace: Union[str, Sequence[str]] = (), env_intensity: Optional[float] = None,
+           env_rotation: Optional[float] = None, exposure: Optional[float] = None,
+           background: Optional[str] = None, motion_orbit: Optional[float] = None, progress: Progress = None,
+           **options) -> TaskResult:
+    """``jnd render MODEL -o OUT_DIR``: frames of an asset under the views
+    (docs/render.md). out_dir gets view_NNN*.png (and .exr) and views.json.
+    lod: the level rendered; strict: a warning about the asset is an error;
+    outputs: of color, depth, mask, motion, mip, exr; scale: "MAP=FACTOR" or
+    "MAP=WxH" edits, replace: "MAP=FILE" edits (applied scales first, then
+    replacements, each in its order); env_intensity, env_rotation (°),
+    exposure, background ("black" or "env"), motion_orbit (°). Views (512²
+    by default) and the common options as in the module's help; fixed
+    lights (--light) are the command's only."""
+    from . import JndError
+    o = _Options("render", options)
+    p = ffi.new("jnd_render_params *")
+    lib.jnd_render_defaults(p)
+    p.views.render.width = p.views.render.height = 512
+    map_size = o.views(p.views)
+    o.run_options(p.run, map_size)
+    o.give(lod=lod, env_intensity=env_intensity, env_rotation=env_rotation, exposure=exposure,
+                motion_orbit=motion_orbit, background=background)
+    for name, field, lo, hi, integer in (("lod", "lod", 0, 63, True), ("env_intensity", "env_intensity", 0, 1e6, False),
+                                         ("env_rotation", "env_rotation_deg", -3600, 3600, False),
+                                         ("exposure", "exposure", 0, 1e9, False),
+                                         ("motion_orbit", "motion_orbit_deg", -180, 180, False)):
+        x = o.number(name, lo, hi, integer)
+        if x is not None:
+            setattr(p, field, x)
+    bg = o.choice("background", {"black": 0, "env": 1})
+    if bg is not None:
+        p.background_env = bg
+    p.strict = 1 if strict else 0
+    if outputs is not None:
+        names = outputs.split(",") if isinstance(outputs, str) else list(outputs)
+        if not names or any(x not in _RENDER_OUTPUTS for x in names):
+            raise JndError(f"render: --outputs: '{outputs}' is not a list of color,depth,mask,motion,mip,exr")
+        p.outputs = 0
+        for x in names:
+            p.outputs |= getattr(lib, _RENDER_OUTPUTS[x])
+    edits = []
+    for kind, specs in (("scale", scale), ("replace", replace)):
+        for spec in [specs] if isinstance(specs, str) else specs:
+            name, eq, value = str(spec).rpartition("=")
+            if not eq or not name or not value or len(edits) >= 64:
+                raise JndError(f"render: '{spec}' is not MAP=VALUE (at most 64 edits)")
+            e = {"map": o.cstr(name), "file": ffi.NULL, "factor": 0.0, "w": 0, "h": 0}
+            if kind == "replace":
+                e["file"] = o.cstr(value)
+            elif "x" in value:
+                e["w"], e["h"] = o._size("scale", value, 1, 32768)
+            else:
+                o.give(scale=value)
+                e["factor"] = o.number("scale", 1e-6, 16)
+            edits.append(e)
+    if edits:
+        p.edits, p.nedits = o.array("jnd_map_edit", edits), len(edits)
+    o.done()
+    return _run_shape("render", o, p, model, out_dir, progress)
+
+
+def diff_run(ref: PathLike, test: PathLike, *, map: Optional[PathLike] = None,
+             heatmap: Optional[PathLike] = None, heatmap_max: Optional[float] = None,
+             fail_above: Optional[float] = None, pool: Optional[str] = None,
+             calibration: Optional[PathLike] = None, motion: Optional[PathLike] = None,
+             fps: Optional[float] = None, weights: Optional[PathLike] = None,
+             gaze: Optional[Sequence[float]] = None, **options) -> TaskResult:
+    """``jnd diff REF TEST``, the task: compares two image files on the
+    display and writes what is asked, all or nothing and never over an input:
+    map (the JND map, EXR), heatmap (PNG, its top heatmap_max JND), json (the
+    report). pool ("p93", "max", ...), calibration (a ``jnd calibrate``
+    file), motion (a 2-channel map, pixels per frame, at fps), weights (a
+    weight map), gaze ((x, y) pixels); display options and threads as in the
+    module's help. The result's fields are the report's (``p_detect``,
+    ``jnd_p93``, ...); ``passes`` is False where P exceeds fail_above (the
+    command's exit status 1). For arrays, or many comparisons on one display,
+    use :func:`jnd.diff` or :class:`jnd.Model`."""
+    from . import _check
+    o = _Options("diff", options)
+    p = ffi.new("jnd_diff_params *")
+    lib.jnd_diff_defaults(p)
+    p.exr_scale_given = 1 if o.display(p.model) else 0
+    o.run_options(p.run)
+    o.give(heatmap_max=heatmap_max, fail_above=fail_above, fps=fps, gaze=gaze)
+    for name, target, field, lo, hi in (("heatmap_max", p, "heatmap_max", 0.2, 1e4),
+                                        ("fail_above", p, "fail_above", 0, 1), ("fps", p.model, "fps", 1, 1000)):
+        x = o.number(name, lo, hi)
+        if x is not None:
+            setattr(target, field, x)
+    g = o.pair("gaze")
+    if g is not None:
+        p.model.has_gaze, p.model.gaze_x, p.model.gaze_y = 1, g[0], g[1]
+    if pool is not None:
+        _check(lib.jnd_pooling_parse(str(pool).encode(), ffi.addressof(p.pool)), "diff: --pool: ")
+    for value, field in ((map, "map_path"), (heatmap, "heatmap_path"), (calibration, "calibration_path"),
+                         (motion, "motion_path"), (weights, "weights_path")):
+        if value is not None:
+            setattr(p, field, o.cstr(value))
+    o.done()
+    c_ref, c_test = o.cstr(ref), o.cstr(test)
+    return _run("diff", o, lambda params, out: lib.jnd_diff_run(c_ref, c_test, params, out), lib.jnd_diff_result_free,
+                p, None, fail_above is not None)

@@ -254,7 +254,7 @@ def files_of(folder):
     return sorted(str(p.relative_to(folder)) for p in folder.rglob("*"))
 
 
-def same_as_cli(tmp_path, task, cli_args, call):
+def same_as_cli(tmp_path, task, cli_args, call, report_name=None):
     out = tmp_path / "out"
     want = cli_task(task, cli_args, out, tmp_path / "cli.json")
     want_files = files_of(out) if out.is_dir() else None
@@ -264,7 +264,8 @@ def same_as_cli(tmp_path, task, cli_args, call):
     assert got.report_text == want
     if want_files is not None:
         assert files_of(out) == want_files
-        assert (out / f"{task}.json").read_text() == (tmp_path / "cli" / f"{task}.json").read_text()
+        name = report_name or f"{task}.json"
+        assert (out / name).read_text() == (tmp_path / "cli" / name).read_text()
     if want_file is not None:
         assert out.read_text() == want_file
     return got
@@ -352,22 +353,44 @@ def test_bad_task_input_raises_jnds_message_and_writes_nothing(tmp_path):
     assert not (tmp_path / "cal.json").exists()
 
 
+# The library checks most fields and says what is wrong in one line; the
+# package converts keywords (a number, an integer, WxH, a list) with the
+# command's messages and checks only the ranges the library takes as they
+# come (the sizes, the renderer's samples, the display's ambient ...).
 @pytest.mark.parametrize("kw,needle", [
-    (dict(views=0), "--views: 0 is outside [1, 4096]"),
-    (dict(views="2.5"), "--views: '2.5' is not an integer"),
+    (dict(views=0), "views: no views (0)"),                                  # the library's
+    (dict(fov=500), "views: field of view 500 is outside (0, 180)"),
+    (dict(margin=2), "texres: margin 2 is outside [0, 1)"),
+    (dict(p=2), "texres: criterion p 2, q 0.1"),
+    (dict(ppd=0.5), "pixels per degree must be in [1, 1000], not 0.5"),
+    (dict(platform="x11"), "EGL platform 'x11' is not auto, device or surfaceless"),
+    (dict(display="no-such-screen"), "no-such-screen"),
+    (dict(views="2.5"), "--views: '2.5' is not an integer"),                  # the conversions
     (dict(margin="half"), "--margin: 'half' is not a number"),
     (dict(size="96"), "--size: '96' is not WxH"),
-    (dict(p=2), "--p: 2 is outside"),
+    (dict(size="8x8"), "--size: '8x8' is not WxH with W and H in 16..16384"),  # not the library's
     (dict(pool="max"), "--pool: 'max' is not a percentile"),
-    (dict(display="no-such-screen"), "no-such-screen"),
-    (dict(platform="x11"), "--platform: 'x11'"),
     (dict(sizes="64,abc"), "--sizes:"),
 ])
-def test_bad_options_raise_the_commands_message(tmp_path, kw, needle):
+def test_bad_options_raise_one_line_and_write_nothing(tmp_path, kw, needle):
     with pytest.raises(jnd.JndError) as e:
         jnd.texres("builtin", tmp_path / "out", **kw)
-    assert needle in str(e.value)
+    assert needle in str(e.value) and "\n" not in str(e.value)
     assert not (tmp_path / "out").exists()
+
+
+def test_the_package_does_not_repeat_the_librarys_checks():
+    """A range the library checks is not checked again in Python: the
+    source names no range for those options (python/jnd/tasks.py)."""
+    import inspect
+    from jnd import tasks
+    src = inspect.getsource(tasks)
+    for opt in ("views", "coverage", "fov", "lights", "map_size", "margin", "confirm", "verify_views",
+                "min_size", "energy", "components", "tolerance", "far_coverage", "max_px", "judge_views",
+                "virtual_scale", "surface_samples"):
+        for line in src.splitlines():
+            if f'"{opt}"' in line and "number(" in line:
+                assert "integer=True)" in line or f'number("{opt}")' in line, line
 
 
 def test_unknown_keywords_are_a_type_error(tmp_path):
@@ -392,3 +415,57 @@ def test_the_gil_is_released_during_a_task(tmp_path, renderer):
     # no progress callback: a GIL held for the whole run (seconds) would let
     # the other thread tick once or twice
     assert during >= 50, (seconds, during)
+
+
+def test_lod_from_python_is_the_commands_report(tmp_path, renderer):
+    args = ["builtin", "--map-size", "64", "--screens", "phone,320x240@20", "--judge-views", "1", "--views", "1",
+            "--max-px", "64", "--errors", "1/256,1/64", "--no-textures", "--pop-motion", "spin"]
+    stages = []
+    r = same_as_cli(tmp_path, "lod", args,
+                    lambda out: jnd.lod("builtin", out, map_size=64, screens=["phone", "320x240@20"], judge_views=1,
+                                        views=1, max_px=64, errors="1/256,1/64", no_textures=True,
+                                        pop_motion="spin", progress=lambda *a: stages.append(a[0])))
+    assert r.report["command"] == "lod" and len(r.levels) == 3
+    assert stages and all(isinstance(s, str) for s in stages)
+    with pytest.raises(jnd.JndError, match="lod: tolerance 20 outside"):     # the library's check
+        jnd.lod("builtin", tmp_path / "x", tolerance=20, map_size=64)
+    with pytest.raises(jnd.JndError, match="--pop-motion: 'walk' is not orbit, spin or pan"):
+        jnd.lod("builtin", tmp_path / "x", pop_motion="walk")
+    with pytest.raises(jnd.JndError, match="lod: --screens: screen 'tv'"):
+        jnd.lod("builtin", tmp_path / "x", screens="tv")
+    assert not (tmp_path / "x").exists()
+
+
+def test_render_from_python_is_the_commands_report(tmp_path, renderer):
+    args = ["builtin", "--views", "2", "--size", "64x48", "--map-size", "64", "--outputs", "color,depth,mask",
+            "--scale", "*=0.5", "--exposure", "1.5", "--background", "env"]
+    r = same_as_cli(tmp_path, "render", args,
+                    lambda out: jnd.render("builtin", out, views=2, size=(64, 48), map_size=64,
+                                           outputs=["color", "depth", "mask"], scale="*=0.5", exposure=1.5,
+                                           background="env"), report_name="views.json")
+    assert r.report["command"] == "render"
+    with pytest.raises(jnd.JndError, match="--outputs: 'rgb'"):
+        jnd.render("builtin", tmp_path / "x", outputs="rgb")
+    with pytest.raises(jnd.JndError, match="nope/baseColor: no such map"):   # the library's
+        jnd.render("builtin", tmp_path / "x", scale="nope/baseColor=0.5", map_size=16, size="16x16")
+    assert not (tmp_path / "x").exists()
+
+
+def test_diff_run_from_python_is_the_commands_report_and_files(tmp_path, demo):
+    ref, test = demo
+    cli = subprocess.run([JND, "diff", ref, test, "--display", "phone", "--pool", "p99", "--heatmap",
+                          str(tmp_path / "cli.png"), "--map", str(tmp_path / "cli.exr"), "--json",
+                          str(tmp_path / "cli.json"), "--fail-above", "0.5", "--quiet"], env=CLI_ENV)
+    r = jnd.diff_run(ref, test, display="phone", pool="p99", heatmap=tmp_path / "py.png", map=tmp_path / "py.exr",
+                     json=tmp_path / "py.json", fail_above=0.5)
+    assert r.report_text == (tmp_path / "cli.json").read_text() == (tmp_path / "py.json").read_text()
+    for ext in ("png", "exr"):
+        assert (tmp_path / f"py.{ext}").read_bytes() == (tmp_path / f"cli.{ext}").read_bytes()
+    assert r.passes == (cli.returncode == 0) and r.p_detect == r.report["result"]["p_detect"]
+    # the same comparison in memory
+    assert jnd.diff(ref, test, display="phone", pooling="p99").p_detect == pytest.approx(r.p_detect, rel=1e-14)
+    # never over an input: the library's refusal, nothing written
+    before = open(ref, "rb").read()
+    with pytest.raises(jnd.JndError, match="reference.png"):
+        jnd.diff_run(ref, test, heatmap=ref, json=tmp_path / "no.json")
+    assert open(ref, "rb").read() == before and not (tmp_path / "no.json").exists()

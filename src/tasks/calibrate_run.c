@@ -239,8 +239,7 @@ jnd_status jnd_calibrate_run(const char *csv_path, const jnd_calibrate_run_param
   const char *staged_out = NULL, *staged_hist = NULL;
   s = jnd_output_add_file(o.w, out_path, &staged_out);
   if (s == JND_OK && p.histogram) s = jnd_output_add_file(o.w, p.histogram, &staged_hist);
-  if (s == JND_OK && p.run.report_path && strcmp(p.run.report_path, "-") != 0)
-    s = jnd_output_add_file(o.w, p.run.report_path, &o.copy);
+  if (s == JND_OK) s = report_output_add_copy(&o, &p.run);
   jnd_csv csv = {0};
   scene_rec *sc = NULL;
   jnd_calib_scene *cs = NULL;

@@ -115,26 +115,46 @@ static void count_images(const jnd_pca_params *p, const jnd_pca_render *rr, jnd_
   }
 }
 
-/* The packed component textures as a GPU holds them: texels of 1 (R),
- * 2 (RG) or 4 (RGB is stored RGBA) channels of 1 or 2 bytes, with mips. */
-static jnd_status count_textures(jnd_pca_result *out) {
-  jnd_pca_texture tex[JND_PCA_MAX_CHANNELS];
-  int n = 0;
-  jnd_status s = jnd_pca_pack(&out->enc, tex, &n);
-  if (s != JND_OK) return s;
-  out->ntextures = n;
-  out->gpu_after_bytes = 0;
-  for (int t = 0; t < n; t++) {
-    int ch = tex[t].image.c, texel = (ch == 3 ? 4 : ch) * tex[t].bits / 8;
-    out->textures[t].width = tex[t].image.w;
-    out->textures[t].height = tex[t].image.h;
-    out->textures[t].channels = ch;
-    out->textures[t].bits = tex[t].bits;
+/* The packing of enc's components into textures (jnd_pca_pack's rule): tex
+ * gets *n layouts, each with its bytes as a GPU holds it (texels of 1 (R),
+ * 2 (RG) or 4 (RGB is stored RGBA) channels of 1 or 2 bytes, with mips), and
+ * *bytes their sum. A choice decides it once (jnd_pca_choose); its files are
+ * written from that layout (write_files). */
+static void pack_layout(const jnd_pca_encoded *enc, jnd_pca_texture_info *tex, int *n, size_t *bytes) {
+  int K = enc->enc.components, used[JND_PCA_MAX_CHANNELS] = {0};
+  *n = 0;
+  *bytes = 0;
+  for (int k = 0; k < K; k++) {
+    if (used[k]) continue;
+    /* the next components of the same size and depth share the texture */
+    jnd_pca_texture_info *t = &tex[(*n)++];
+    memset(t, 0, sizeof *t);
+    t->bits = enc->enc.bits[k] == 16 ? 16 : 8;
+    for (int j = k; j < K && t->channels < 4; j++)
+      if (!used[j] && enc->enc.scale[j] == enc->enc.scale[k] && (enc->enc.bits[j] == 16 ? 16 : 8) == t->bits) {
+        used[j] = 1;
+        t->comp[t->channels++] = j;
+      }
+    t->width = enc->comp[k].w;
+    t->height = enc->comp[k].h;
+    int texel = (t->channels == 3 ? 4 : t->channels) * t->bits / 8;
     /* RGBA8's chain is 4 bytes a texel over every level */
-    out->textures[t].bytes = jnd_texture_bytes(JND_TEX_RGBA8, tex[t].image.w, tex[t].image.h, 1) / 4 * texel;
-    out->gpu_after_bytes += out->textures[t].bytes;
-    jnd_image_free(&tex[t].image);
+    t->bytes = jnd_texture_bytes(JND_TEX_RGBA8, t->width, t->height, 1) / 4 * texel;
+    *bytes += t->bytes;
   }
+}
+
+/* a texture of the layout as an image: its components in its channels */
+static jnd_status pack_texture(const jnd_pca_encoded *enc, const jnd_pca_texture_info *info, jnd_pca_texture *tex) {
+  memset(tex, 0, sizeof *tex);
+  tex->bits = info->bits;
+  tex->ncomp = info->channels;
+  memcpy(tex->comp, info->comp, sizeof tex->comp);
+  jnd_status s = jnd_image_alloc(&tex->image, info->width, info->height, tex->ncomp);
+  if (s != JND_OK) return s;
+  size_t np = (size_t)tex->image.w * tex->image.h;
+  for (int q = 0; q < tex->ncomp; q++)
+    memcpy(tex->image.data + q * np, enc->comp[tex->comp[q]].data, np * sizeof(float));
   return JND_OK;
 }
 
@@ -228,7 +248,7 @@ jnd_status jnd_pca_choose(const jnd_pca_params *p, jnd_pca_result *out) {
   jnd_pca_encoding ef = e;
   for (int k = 0; k < C; k++) ef.scale[k] = ef.bits[k] = 0;
   if ((s = jnd_pca_encode(&out->set, &out->pca, &ef, &out->enc_float)) != JND_OK) goto done;
-  if ((s = count_textures(out)) != JND_OK) goto done;
+  pack_layout(&out->enc, out->textures, &out->ntextures, &out->gpu_after_bytes);
   out->seconds[3] = jnd_seconds() - t3;
   stage(p, "chose %d of %d components (%s), %zu bytes", out->enc.enc.components, C,
         rule == JND_PCA_RULE_RENDERED ? "rendered" : rule == JND_PCA_RULE_ENERGY ? "energy"
@@ -267,25 +287,14 @@ done:
 /* ---- packing ---- */
 
 jnd_status jnd_pca_pack(const jnd_pca_encoded *enc, jnd_pca_texture *tex, int *n) {
+  jnd_pca_texture_info info[JND_PCA_MAX_CHANNELS];
+  int ninfo;
+  size_t bytes;
+  pack_layout(enc, info, &ninfo, &bytes);
   *n = 0;
-  int K = enc->enc.components, used[JND_PCA_MAX_CHANNELS] = {0};
   jnd_status s = JND_OK;
-  for (int k = 0; k < K && s == JND_OK; k++) {
-    if (used[k]) continue;
-    /* the next components of the same size and depth share the texture */
-    jnd_pca_texture *t = &tex[(*n)++];
-    memset(t, 0, sizeof *t);
-    t->bits = enc->enc.bits[k] == 16 ? 16 : 8;
-    for (int j = k; j < K && t->ncomp < 4; j++)
-      if (!used[j] && enc->enc.scale[j] == enc->enc.scale[k] && (enc->enc.bits[j] == 16 ? 16 : 8) == t->bits) {
-        used[j] = 1;
-        t->comp[t->ncomp++] = j;
-      }
-    const jnd_image *c0 = &enc->comp[t->comp[0]];
-    if ((s = jnd_image_alloc(&t->image, c0->w, c0->h, t->ncomp)) != JND_OK) break;
-    size_t np = (size_t)c0->w * c0->h;
-    for (int q = 0; q < t->ncomp; q++) memcpy(t->image.data + q * np, enc->comp[t->comp[q]].data, np * sizeof(float));
-  }
+  for (int t = 0; t < ninfo && s == JND_OK; t++)
+    if ((s = pack_texture(enc, &info[t], &tex[t])) == JND_OK) *n = t + 1;
   if (s != JND_OK) {
     for (int i = 0; i < *n; i++) jnd_image_free(&tex[i].image);
     *n = 0;
@@ -298,24 +307,24 @@ jnd_status jnd_pca_pack(const jnd_pca_encoded *enc, jnd_pca_texture *tex, int *n
 /* the packed components (listed in textures), the contribution plot, the
  * rebuilt maps */
 static jnd_status write_files(const char *dir, const jnd_pca_result *R, int write_maps, cJSON *textures) {
-  jnd_pca_texture tex[JND_PCA_MAX_CHANNELS];
-  int ntex = 0;
   char path[4200], name[64];
-  jnd_status s = jnd_pca_pack(&R->enc, tex, &ntex);
-  if (s != JND_OK) return s;
-  for (int t = 0; t < ntex; t++) {
+  jnd_status s = JND_OK;
+  for (int t = 0; t < R->ntextures && s == JND_OK; t++) {   /* the choice's packing (pack_layout) */
+    jnd_pca_texture tex;
     snprintf(name, sizeof name, "components_%d.png", t);
     snprintf(path, sizeof path, "%s/%s", dir, name);
-    if (s == JND_OK) s = jnd_image_write_png(path, &tex[t].image, tex[t].bits);
+    s = pack_texture(&R->enc, &R->textures[t], &tex);
+    if (s == JND_OK) s = jnd_image_write_png(path, &tex.image, tex.bits);
+    jnd_image_free(&tex.image);
     cJSON *o = cJSON_CreateObject();
     cJSON_AddStringToObject(o, "file", name);
-    cJSON_AddNumberToObject(o, "width", tex[t].image.w);
-    cJSON_AddNumberToObject(o, "height", tex[t].image.h);
-    cJSON_AddNumberToObject(o, "bits", tex[t].bits);
+    cJSON_AddNumberToObject(o, "width", R->textures[t].width);
+    cJSON_AddNumberToObject(o, "height", R->textures[t].height);
+    cJSON_AddNumberToObject(o, "bits", R->textures[t].bits);
     cJSON *cs = cJSON_AddArrayToObject(o, "components");   /* in channels R, G, B, A */
-    for (int q = 0; q < tex[t].ncomp; q++) cJSON_AddItemToArray(cs, cJSON_CreateNumber(tex[t].comp[q]));
+    for (int q = 0; q < R->textures[t].channels; q++)
+      cJSON_AddItemToArray(cs, cJSON_CreateNumber(R->textures[t].comp[q]));
     cJSON_AddItemToArray(textures, o);
-    jnd_image_free(&tex[t].image);
   }
   jnd_image plot = {0};
   snprintf(path, sizeof path, "%s/contribution.png", dir);

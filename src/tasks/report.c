@@ -107,14 +107,18 @@ jnd_status report_output_add_inputs(report_output *o, const char *const *inputs,
   return s;
 }
 
+jnd_status report_output_add_copy(report_output *o, const jnd_run_options *run) {
+  if (!run || !run->report_path || strcmp(run->report_path, "-") == 0) return JND_OK;
+  return jnd_output_add_file(o->w, run->report_path, &o->copy);
+}
+
 jnd_status report_output_open(report_output *o, const char *const *inputs, int ninputs, const char *out_dir,
                               const jnd_run_options *run) {
   memset(o, 0, sizeof *o);
   jnd_status s = jnd_output_open(&o->w);
   if (s == JND_OK) s = report_output_add_inputs(o, inputs, ninputs);
   if (s == JND_OK && out_dir) s = jnd_output_add_dir(o->w, out_dir, &o->dir);
-  if (s == JND_OK && run && run->report_path && strcmp(run->report_path, "-") != 0)
-    s = jnd_output_add_file(o->w, run->report_path, &o->copy);
+  if (s == JND_OK) s = report_output_add_copy(o, run);
   if (s != JND_OK) {
     jnd_output_free(o->w);
     o->w = NULL;

@@ -41,6 +41,11 @@ typedef struct {
 jnd_status report_output_open(report_output *o, const char *const *inputs, int ninputs, const char *out_dir,
                               const jnd_run_options *run);
 
+/* Registers run->report_path (when a file) as the report's copy, o->copy:
+ * report_output_open does it after out_dir; a run whose outputs are files
+ * (calibrate) opens with neither and calls it after registering them. */
+jnd_status report_output_add_copy(report_output *o, const jnd_run_options *run);
+
 /* More inputs, as report_output_open registers them (a run that learns its
  * inputs from a table registers them as it reads it). */
 jnd_status report_output_add_inputs(report_output *o, const char *const *inputs, int ninputs);

@@ -657,9 +657,15 @@ jnd_status jnd_texres_search(jnd_scene *scene, const jnd_texres_params *pp, jnd_
   }
   const jnd_texres_params *p = pp;
   const jnd_criterion *cr = &p->judge.criterion;
-  if (!(cr->p > 0 && cr->p < 1) || !(cr->q >= 0 && cr->q < 1) || p->min_size < 1 || p->verify_views < 0 ||
-      !(p->margin >= 0 && p->margin < 1) || p->confirm_rounds < 0 || p->confirm_rounds > 16)
-    return jnd_fail(JND_ERR_ARG, "texres: parameters out of range");
+  /* one line naming the parameter (the Python package relies on it) */
+  if (!(cr->p > 0 && cr->p < 1) || !(cr->q >= 0 && cr->q < 1))
+    return jnd_fail(JND_ERR_ARG, "texres: criterion p %g, q %g (p in (0, 1), q in [0, 1))", cr->p, cr->q);
+  if (p->min_size < 1) return jnd_fail(JND_ERR_ARG, "texres: smallest size %d is not positive", p->min_size);
+  if (p->verify_views < 0) return jnd_fail(JND_ERR_ARG, "texres: %d held-out views is negative", p->verify_views);
+  if (!(p->margin >= 0 && p->margin < 1))
+    return jnd_fail(JND_ERR_ARG, "texres: margin %g is outside [0, 1)", p->margin);
+  if (p->confirm_rounds < 0 || p->confirm_rounds > 16)
+    return jnd_fail(JND_ERR_ARG, "texres: %d confirmation rounds (0..16)", p->confirm_rounds);
   int nall = jnd_scene_map_count(scene);
   if (nall == 0) return jnd_fail(JND_ERR_ARG, "%s: the asset has no texture maps", jnd_scene_path(scene));
   if (nall > JND_TEXRES_MAX_MAPS)

@@ -3,7 +3,10 @@
 # in Debian's blender, its operator runs jnd texres (through the Python
 # package) on a plane built in the test, Apply scales the plane's 256x256
 # image, and the saved .blend holds the image at the size the command line
-# chooses for the same exported GLB with the same options.
+# chooses for the same exported GLB with the same options. Then LOD: Run lod
+# and Apply LOD on a UV sphere; the saved .blend holds one object per level
+# of the command's chain for the same export and options (triangles, switch
+# distances), parented to the sphere, levels 1.. hidden.
 . "$(dirname "$0")/lib.bash"
 build=$(dirname "$JND")
 command -v blender >/dev/null || skip "blender is not installed (scripts/install-deps.sh installs Debian's)"
@@ -61,6 +64,38 @@ PY
 )
 case $verdict in
   ok*) ok "the saved image is the command's choice, smaller than 256x256 (${verdict#ok })" ;;
+  *) bad "$verdict" ;;
+esac
+
+expect_exit 0 "jnd lod on the same sphere export with the panel's options" \
+  "$JND" lod "$T/sphere.glb" -o "$T/cli_lod" --screens standard-fhd --p 0.2 --q 0.1 --views 1 --judge-views 2 \
+  --max-px 96 --errors 1/256,1/64,1/16 --quiet
+verdict=$(python3 - "$T" <<'PY'
+import json, sys
+t = sys.argv[1]
+cli = json.load(open(f"{t}/cli_lod/lod.json"))["result"]
+levels = json.load(open(f"{t}/levels.json"))
+panel = json.load(open(f"{t}/lod_summary.json"))
+want = [lv["triangles"] for lv in cli["levels"]]
+dist = [-1 if d is None else d for d in cli["screens"][0]["switch_distance_m"]]
+problems = []
+if len(want) < 3 or not want[-1] < want[0]:
+    problems.append(f"the command's chain {want} has nothing to apply")
+if panel["levels"] != want or panel["perceptual_level"] != cli["screens"][0]["perceptual_level"]:
+    problems.append(f"the panel's {panel} is not the command's {want}")
+if [lv["level"] for lv in levels] != list(range(len(want))):
+    problems.append(f"the saved levels are {[lv['level'] for lv in levels]}, the command made {len(want)}")
+if [lv["triangles"] for lv in levels] != want:
+    problems.append(f"the saved meshes have {[lv['triangles'] for lv in levels]} triangles, the command's {want}")
+if [lv["switch_distance"] for lv in levels] != dist:
+    problems.append(f"switch distances {[lv['switch_distance'] for lv in levels]}, the command's {dist}")
+if any(lv["parent"] != "Sphere" for lv in levels) or [lv["hidden"] for lv in levels] != [False] + [True] * (len(want) - 1):
+    problems.append(f"parents or visibility: {levels}")
+print("; ".join(problems) or f"ok {want}")
+PY
+)
+case $verdict in
+  ok*) ok "the saved .blend holds the command's levels, triangles ${verdict#ok }, parented to the sphere" ;;
   *) bad "$verdict" ;;
 esac
 finish
