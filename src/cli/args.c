@@ -271,8 +271,9 @@ const char *const cli_display_help =
     "                      as long as they like; a uniform change is seen at about\n"
     "                      CIEDE2000 1) or flicker (toggled in place, as FLIP's\n"
     "                      flipping: stricter, every transient seen). A gate or an\n"
-    "                      asset pipeline asks whether anyone would see the change,\n"
-    "                      and nobody sees the two toggled (docs/model.md)\n";
+    "                      asset pipeline asks whether its users would see the\n"
+    "                      change, and they never see the two toggled in place\n"
+    "                      (docs/model.md \"Viewing task\")\n";
 
 enum { D_PPD, D_PEAK, D_BLACK, D_AMBIENT, D_REFL, D_EXR, D_N };
 
