@@ -306,6 +306,27 @@ void jnd_run_options_defaults(jnd_run_options *o);
 /* Display model (004 §3.1, first stage)                                    */
 /* ------------------------------------------------------------------------ */
 
+/* The viewing task: how the viewer compares TEST with REF, and so what P
+ * predicts (docs/model.md "Viewing task"). The contrast bands see the same
+ * patterns in either task; the tasks differ in how a change of the mean
+ * luminance and colour over large areas (the baseband) is seen. */
+typedef enum {
+  JND_TASK_SIDE_BY_SIDE = 0, /* the default: the two images at different places (side by side, or
+                                one after the other with a gap), looked at in turn for as long as
+                                the viewer likes. A large uniform change is seen only by comparing
+                                colours across space: at most its CIEDE2000 ΔE00 over
+                                side_by_side_de00 JND (colorimetry's large-field threshold) */
+  JND_TASK_FLICKER = 1       /* the two at the same place, toggled back and forth (FLIP's
+                                "flipping", an LOD switch in place, a psychophysical interval):
+                                a change of the mean is a transient at the same retinal place,
+                                seen through the CSF like any pattern */
+} jnd_viewing_task;
+
+/* "side-by-side" or "flicker". */
+const char *jnd_viewing_task_name(jnd_viewing_task t);
+/* The task named s ("side-by-side" or "flicker"); JND_ERR_ARG naming both otherwise. */
+jnd_status jnd_viewing_task_parse(const char *s, jnd_viewing_task *t);
+
 typedef struct {
   char name[32];
   double ppd;            /* pixels per degree of visual angle at the screen centre */
@@ -317,6 +338,9 @@ typedef struct {
   /* geometry the ppd came from (0 where ppd was given directly) */
   double diagonal_in, distance_m;
   int width_px, height_px;
+  jnd_viewing_task task; /* how the viewer compares the two images (side by side by default);
+                            a comparison given as a temporal modulation (jnd_diff_inputs.temporal_hz)
+                            is a flicker whatever this says */
 } jnd_display;
 
 /* The standard-fhd display: 24", 1920×1080 at 60 cm, 200 cd/m². */
@@ -391,6 +415,9 @@ typedef struct {
   double ecc_achromatic;     /* sensitivity falls as (1 + ecc/e2)^-this, achromatic channel */
   double ecc_rg, ecc_yv;     /* the same for the red–green and yellow–violet channels */
   double ecc_freq;           /* and as exp(-this · rho · ecc), per cpd·degree (Geisler & Perry) */
+  double side_by_side_de00;  /* the side-by-side task (display.task): the CIEDE2000 difference of two
+                                large uniform fields side by side that is one JND (1.0: CIE 142-2001,
+                                docs/model.md "Viewing task") */
   double beta;               /* psychometric slope (3.5, 000 eq. 4) */
   double fps;                /* frames per second, to turn motion maps into deg/s */
   int has_gaze;              /* 1: gaze_x/gaze_y give the fixation point */
@@ -511,6 +538,15 @@ JND_EXPERIMENTAL jnd_status jnd_lab_from_linear(const jnd_display *d, jnd_image 
  * 1, K1 = 0.045, K2 = 0.015); ref's chroma sets S_C and S_H, so the
  * difference is not symmetric. */
 JND_EXPERIMENTAL double jnd_delta_e94(const float ref[3], const float test[3]);
+
+/* CIEDE2000 ΔE00 of two L*a*b* colours (CIE 142-2001, kL = kC = kH = 1, as
+ * Sharma, Wu & Dalal 2005 give it): symmetric; 1 is about the
+ * just-noticeable difference of large uniform fields side by side. */
+double jnd_delta_e00(const double lab1[3], const double lab2[3]);
+
+/* One colour of absolute CIE XYZ (cd/m²) as L*a*b* relative to the
+ * display's white (as jnd_lab_from_linear). */
+void jnd_lab_of_xyz(const jnd_display *d, const double xyz[3], double lab[3]);
 
 /* Per-pixel ΔE*94 of two images of absolute linear RGB in cd/m² (same size,
  * 3 channels); out is allocated (1 channel). max (may be NULL) receives the

@@ -34,11 +34,13 @@ typedef struct {
 } jnd_image_info;
 jnd_status jnd_image_read(const char *path, jnd_image *out, jnd_image_info *info);
 
+typedef enum { JND_TASK_SIDE_BY_SIDE, JND_TASK_FLICKER } jnd_viewing_task;
 typedef struct {
   char name[32];
   double ppd, peak_cdm2, black_cdm2, ambient_lux, reflectivity, exr_scale;
   double diagonal_in, distance_m;
   int width_px, height_px;
+  jnd_viewing_task task;
 } jnd_display;
 void jnd_display_defaults(jnd_display *d);
 jnd_status jnd_display_preset(const char *name, jnd_display *d);

@@ -265,7 +265,15 @@ const char *const cli_display_help =
     "  --black CDM2        luminance of black, cd/m2 (default peak/1000)\n"
     "  --ambient LUX       room illuminance on the screen (default 0: dark room)\n"
     "  --reflectivity K    fraction of ambient light reflected (default 0.005)\n"
-    "  --exr-scale S       cd/m2 per unit of EXR/HDR input values (default 1)\n";
+    "  --exr-scale S       cd/m2 per unit of EXR/HDR input values (default 1)\n"
+    "  --task T            how the viewer compares the two images, so what P means:\n"
+    "                      side-by-side (default: in two places, looked at in turn for\n"
+    "                      as long as they like; a uniform change is seen at about\n"
+    "                      CIEDE2000 1) or flicker (toggled in place, as FLIP's\n"
+    "                      flipping: stricter, every transient seen). A gate or an\n"
+    "                      asset pipeline asks whether its users would see the\n"
+    "                      change, and they never see the two toggled in place\n"
+    "                      (docs/model.md \"Viewing task\")\n";
 
 enum { D_PPD, D_PEAK, D_BLACK, D_AMBIENT, D_REFL, D_EXR, D_N };
 
@@ -283,6 +291,11 @@ int cli_display_opt(cli_args *a, cli_display *d) {
   const char *v;
   if (cli_opt(a, "--display", &v)) {
     if (!a->bad && jnd_display_preset(v, &d->preset) != JND_OK) fail(a, "--display: %s", jnd_last_error());
+    return 1;
+  }
+  if (cli_opt(a, "--task", &v)) {
+    if (!a->bad && jnd_viewing_task_parse(v, &d->task) != JND_OK) fail(a, "--task: %s", jnd_last_error());
+    d->task_given = 1;
     return 1;
   }
   for (int k = 0; k < D_N; k++)
@@ -311,6 +324,7 @@ jnd_display cli_display_get(const cli_display *d) {
   if (d->given & (1u << D_AMBIENT)) r.ambient_lux = d->value[D_AMBIENT];
   if (d->given & (1u << D_REFL)) r.reflectivity = d->value[D_REFL];
   if (d->given & (1u << D_EXR)) r.exr_scale = d->value[D_EXR];
+  if (d->task_given) r.task = d->task;
   return r;
 }
 

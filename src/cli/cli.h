@@ -86,12 +86,14 @@ int cli_common_opt(cli_args *a, cli_common *c);
 extern const char *const cli_common_help;
 
 /* --display PRESET, --ppd, --peak, --black, --ambient, --reflectivity,
- * --exr-scale. A quantity given explicitly wins over the preset's,
+ * --exr-scale, --task. A quantity given explicitly wins over the preset's,
  * whatever the order of the options: cli_display_get applies them last. */
 typedef struct {
   jnd_display preset;
   double value[6];   /* ppd, peak, black, ambient, reflectivity, exr scale */
   unsigned given;    /* bit k: value[k] was given */
+  jnd_viewing_task task;
+  int task_given;
 } cli_display;
 void cli_display_init(cli_display *d);
 int cli_display_opt(cli_args *a, cli_display *d);

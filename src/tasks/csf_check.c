@@ -250,6 +250,9 @@ jnd_status jnd_csf_threshold(jnd_csf_context *cx, const jnd_csf_stimulus *st, do
   int side = ctx.bg.w;
   jnd_model_params p = *base;
   p.display.ppd = ppd;
+  /* the observer compares stimulus and blank at the same place (an
+   * interval or a flicker): the flicker task (docs/model.md "Viewing task") */
+  p.display.task = JND_TASK_FLICKER;
   p.threads = base->threads > 0 ? base->threads : 1;
   /* the observer fixates ecc° to the left of the stimulus centre, on a flat
    * screen — at its centre for a foveal stimulus, whose outer parts then

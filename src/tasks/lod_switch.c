@@ -306,10 +306,14 @@ static int rendered_passes(void *user, int k, int g) {
 /* the judge's display for a screen: its preset, or standard-fhd's with the
  * screen's pixels and pixels per degree */
 static void screen_display(const jnd_poi_screen *s, jnd_display *d) {
+  const jnd_viewing_task task = d->task; /* the judge's, not the preset's */
   if (jnd_display_preset(s->name, d) == JND_OK && d->width_px == s->width_px && d->height_px == s->height_px &&
-      fabs(d->ppd - s->ppd) < 1e-9)
+      fabs(d->ppd - s->ppd) < 1e-9) {
+    d->task = task;
     return;
+  }
   jnd_display_defaults(d);
+  d->task = task;
   snprintf(d->name, sizeof d->name, "%s", s->name);
   d->ppd = s->ppd;
   d->width_px = s->width_px;

@@ -45,6 +45,7 @@ cJSON *report_display_json(const jnd_display *d) {
   cJSON_AddNumberToObject(o, "ambient_lux", d->ambient_lux);
   cJSON_AddNumberToObject(o, "reflectivity", d->reflectivity);
   cJSON_AddNumberToObject(o, "exr_scale", d->exr_scale);
+  cJSON_AddStringToObject(o, "task", jnd_viewing_task_name(d->task));
   if (d->diagonal_in > 0) {
     cJSON_AddNumberToObject(o, "diagonal_in", d->diagonal_in);
     cJSON_AddNumberToObject(o, "width_px", d->width_px);

@@ -51,3 +51,16 @@ void jnd_lms_luminance_weights(double w[3]) {
   w[1] = (m[0][0] * m[2][2] - m[0][2] * m[2][0]) / det;
   w[2] = -(m[0][0] * m[1][2] - m[0][2] * m[1][0]) / det;
 }
+
+/* One colour from HPE LMS back to XYZ: the inverse of XYZ2LMS by cofactors */
+void jnd_lms_to_xyz_one(const double lms[3], double xyz[3]) {
+  const double(*m)[3] = XYZ2LMS;
+  double inv[3][3];
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      const int r0 = (j + 1) % 3, r1 = (j + 2) % 3, c0 = (i + 1) % 3, c1 = (i + 2) % 3;
+      inv[i][j] = m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0];
+    }
+  const double det = m[0][0] * inv[0][0] + m[0][1] * inv[1][0] + m[0][2] * inv[2][0];
+  for (int i = 0; i < 3; i++) xyz[i] = (inv[i][0] * lms[0] + inv[i][1] * lms[1] + inv[i][2] * lms[2]) / det;
+}

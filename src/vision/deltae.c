@@ -170,3 +170,60 @@ jnd_status jnd_delta_e94_map(const jnd_display *d, const jnd_image *ref, const j
                              double *max_out) {
   return jnd_delta_e94_map_where(d, ref, test, NULL, out, max_out);
 }
+
+/* ---- CIEDE2000 and single colours ---- */
+
+void jnd_lab_of_xyz(const jnd_display *d, const double xyz[3], double lab[3]) {
+  float w[3];
+  white_xyz(d, w);
+  double f[3];
+  for (int c = 0; c < 3; c++) {
+    const double t = fmax(xyz[c], 0.0) / w[c], e = 216.0 / 24389.0; /* (6/29)^3 */
+    f[c] = t > e ? cbrt(t) : t * (841.0 / 108.0) + 4.0 / 29.0;
+  }
+  lab[0] = 116.0 * f[1] - 16.0;
+  lab[1] = 500.0 * (f[0] - f[1]);
+  lab[2] = 200.0 * (f[1] - f[2]);
+}
+
+/* hue angle in degrees, [0, 360); 0 for a neutral colour (CIE 142-2001) */
+static double hue_deg(double b, double a) {
+  if (a == 0 && b == 0) return 0;
+  double h = atan2(b, a) * 180.0 / M_PI;
+  return h < 0 ? h + 360.0 : h;
+}
+
+/* Sharma, Wu & Dalal (2005), eqs. 1–22, with their notes on the hue
+ * difference and mean where a chroma is zero */
+double jnd_delta_e00(const double lab1[3], const double lab2[3]) {
+  const double L1 = lab1[0], a1 = lab1[1], b1 = lab1[2], L2 = lab2[0], a2 = lab2[1], b2 = lab2[2];
+  const double rad = M_PI / 180.0;
+  const double cbar = 0.5 * (hypot(a1, b1) + hypot(a2, b2));
+  const double c7 = pow(cbar, 7.0), g = 0.5 * (1.0 - sqrt(c7 / (c7 + 6103515625.0))); /* 25^7 */
+  const double ap1 = (1.0 + g) * a1, ap2 = (1.0 + g) * a2;
+  const double cp1 = hypot(ap1, b1), cp2 = hypot(ap2, b2);
+  const double hp1 = hue_deg(b1, ap1), hp2 = hue_deg(b2, ap2);
+  const double dL = L2 - L1, dC = cp2 - cp1;
+  double dh = 0;
+  if (cp1 * cp2 != 0) {
+    dh = hp2 - hp1;
+    if (dh > 180) dh -= 360;
+    else if (dh < -180) dh += 360;
+  }
+  const double dH = 2.0 * sqrt(cp1 * cp2) * sin(0.5 * dh * rad);
+  const double Lbar = 0.5 * (L1 + L2), Cbar = 0.5 * (cp1 + cp2);
+  double hbar = hp1 + hp2;
+  if (cp1 * cp2 != 0) {
+    if (fabs(hp1 - hp2) <= 180) hbar *= 0.5;
+    else hbar = hbar < 360 ? 0.5 * (hbar + 360) : 0.5 * (hbar - 360);
+  }
+  const double T = 1.0 - 0.17 * cos((hbar - 30) * rad) + 0.24 * cos(2 * hbar * rad) +
+                   0.32 * cos((3 * hbar + 6) * rad) - 0.20 * cos((4 * hbar - 63) * rad);
+  const double dtheta = 30.0 * exp(-pow((hbar - 275) / 25, 2));
+  const double C7 = pow(Cbar, 7.0), RC = 2.0 * sqrt(C7 / (C7 + 6103515625.0));
+  const double l50 = (Lbar - 50) * (Lbar - 50);
+  const double SL = 1.0 + 0.015 * l50 / sqrt(20 + l50), SC = 1.0 + 0.045 * Cbar, SH = 1.0 + 0.015 * Cbar * T;
+  const double RT = -sin(2 * dtheta * rad) * RC;
+  const double tl = dL / SL, tc = dC / SC, th = dH / SH;
+  return sqrt(tl * tl + tc * tc + th * th + RT * tc * th);
+}

@@ -36,6 +36,20 @@ static void set_geometry(jnd_display *d, const char *name, double diag, int w, i
   d->ambient_lux = 0.0;          /* a dark room, as in the experiments behind the CSFs */
   d->reflectivity = 0.005;       /* a matte screen */
   d->exr_scale = 1.0;
+  d->task = JND_TASK_SIDE_BY_SIDE; /* what a user of a gate or a pipeline means (docs/model.md "Viewing task") */
+}
+
+const char *jnd_viewing_task_name(jnd_viewing_task t) { return t == JND_TASK_FLICKER ? "flicker" : "side-by-side"; }
+
+jnd_status jnd_viewing_task_parse(const char *s, jnd_viewing_task *t) {
+  if (strcmp(s, "side-by-side") == 0) {
+    *t = JND_TASK_SIDE_BY_SIDE;
+  } else if (strcmp(s, "flicker") == 0) {
+    *t = JND_TASK_FLICKER;
+  } else {
+    return jnd_fail(JND_ERR_ARG, "unknown viewing task '%s' (side-by-side or flicker)", s);
+  }
+  return JND_OK;
 }
 
 void jnd_display_defaults(jnd_display *d) { set_geometry(d, "standard-fhd", 24, 1920, 1080, 0.60, 200); }

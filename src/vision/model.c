@@ -98,6 +98,7 @@ void jnd_model_defaults(jnd_model_params *p) {
   p->ecc_yv = 0.791331; /* ±33% */
   p->ecc_freq = 0.056308; /* ±10% */
   p->min_band_cpd = 0.125; /* chosen, not fitted: the lowest frequency in the data */
+  p->side_by_side_de00 = 1.0; /* CIE 142-2001: ΔE00 ≈ 1 at the large-field threshold (docs/model.md "Viewing task") */
 }
 
 const jnd_model_params *jnd_model_get_params(const jnd_model *m) { return &m->p; }
@@ -144,6 +145,8 @@ jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
     return jnd_fail(JND_ERR_ARG, "model: masking_cross must be in [0, 1]");
   if (!(p->masking_band_oct >= 0 && p->masking_band_oct <= 8))
     return jnd_fail(JND_ERR_ARG, "model: masking_band_oct must be in [0, 8]");
+  if (!(p->side_by_side_de00 > 0))
+    return jnd_fail(JND_ERR_ARG, "model: side_by_side_de00 must be positive");
   if (!(p->minkowski >= 1) || !(p->beta > 0))
     return jnd_fail(JND_ERR_ARG, "model: Minkowski exponent must be >= 1 and beta > 0");
   jnd_model *m = jnd_calloc(1, sizeof *m);
@@ -921,6 +924,35 @@ static jnd_status baseband_difference(const jnd_model *m, diff_state *st, float 
   return s;
 }
 
+/* The side-by-side task (docs/model.md "Viewing task"). Two images side by
+ * side are compared across space and time, not at one retinal place: a
+ * change of the mean luminance and colour over large areas, which in the
+ * flicker task is a transient the CSF sees, is then seen only by comparing
+ * the two fields' colours, and colorimetry measures that task directly: two
+ * large uniform fields side by side are just distinguishable at about
+ * ΔE00 = 1 (CIE 142-2001). Each baseband pixel's difference, summed over
+ * its area as in the flicker task, is therefore capped at the CIEDE2000
+ * difference of the two images' baselines (their Gaussian level G_n, a mean
+ * over areas of several degrees) in units of side_by_side_de00: the task is
+ * never easier than flickering the same two images, which shows the same
+ * fields and the transient besides. D holds JND^e; the bands are
+ * untouched (a pattern is seen within either image alone). */
+static void side_by_side_baseband(const jnd_model *m, const diff_state *st, float *D) {
+  const int nb = m->nbands;
+  const size_t n = (size_t)st->g[0][0].w[nb] * st->g[0][0].h[nb];
+  const double e = m->p.minkowski, unit = m->p.side_by_side_de00;
+  for (size_t i = 0; i < n; i++) {
+    double lab[2][3];
+    for (int a = 0; a < 2; a++) {
+      double lms[3], xyz[3];
+      for (int c = 0; c < 3; c++) lms[c] = st->g[a][c].plane[nb][i];
+      jnd_lms_to_xyz_one(lms, xyz);
+      jnd_lab_of_xyz(&m->p.display, xyz, lab[a]);
+    }
+    D[i] = jnd_minf(D[i], (float)pow(jnd_delta_e00(lab[0], lab[1]) / unit, e));
+  }
+}
+
 /* One box pass along BOX_ROWS rows at once: weight 1 on the 2r+1 samples
  * within r of the centre and a on the two at r+1, the weights normalised to
  * sum 1; d[i] for centres from + i, m outputs. The rows are interleaved
@@ -1385,6 +1417,9 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
     s = level_planes(&st, nb, apart, &Dlev[nb], &Dc);
     if (s == JND_OK) s = baseband_difference(m, &st, Dlev[nb], Dc);
     if (s == JND_OK) s = summation_levels(m, nb, Dlev[nb], Dc, st.g[0][0].w[nb], st.g[0][0].h[nb]);
+    /* a temporal modulation is a flicker whatever the display's task */
+    if (s == JND_OK && m->p.display.task == JND_TASK_SIDE_BY_SIDE && !(st.temporal_hz > 0))
+      side_by_side_baseband(m, &st, Dlev[nb]);
     free(Dc);
   }
   if (s != JND_OK) goto done;

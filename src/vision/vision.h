@@ -14,6 +14,8 @@ void jnd_xyz_to_lms(jnd_image *img);
 void jnd_rgb_to_lms(jnd_image *img); /* the two above in one pass */
 /* luminance Y from HPE LMS (the second row of the inverse matrix) */
 void jnd_lms_luminance_weights(double w[3]);
+/* one colour from HPE LMS back to CIE XYZ (the inverse of the matrix above) */
+void jnd_lms_to_xyz_one(const double lms[3], double xyz[3]);
 /* The two colour-opponent channels a (red–green) and b (yellow–violet)
  * from LMS contrasts: Hunt's rows (004 §3.1). The achromatic channel is
  * not Hunt's A but the luminance contrast, computed from the cones' terms
