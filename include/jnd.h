@@ -542,7 +542,7 @@ JND_EXPERIMENTAL double jnd_delta_e94(const float ref[3], const float test[3]);
 /* CIEDE2000 ΔE00 of two L*a*b* colours (CIE 142-2001, kL = kC = kH = 1, as
  * Sharma, Wu & Dalal 2005 give it): symmetric; 1 is about the
  * just-noticeable difference of large uniform fields side by side. */
-double jnd_delta_e00(const double lab1[3], const double lab2[3]);
+JND_EXPERIMENTAL double jnd_delta_e00(const double lab1[3], const double lab2[3]);
 
 /* One colour of absolute CIE XYZ (cd/m²) as L*a*b* relative to the
  * display's white (as jnd_lab_from_linear). */
@@ -2533,7 +2533,7 @@ void jnd_budget_result_free(jnd_budget_result *r);
 /* The search alone (writes nothing): the chain and its analysis, the
  * candidates, the choice and the levels' verification. out is the
  * caller's (jnd_budget_result_clear). */
-jnd_status jnd_budget_search(const char *model, const jnd_budget_params *p, jnd_budget_result *out);
+JND_EXPERIMENTAL jnd_status jnd_budget_search(const char *model, const jnd_budget_params *p, jnd_budget_result *out);
 
 /* Frees a result's arrays; safe on a zeroed struct. */
 void jnd_budget_result_clear(jnd_budget_result *r);
@@ -2541,7 +2541,7 @@ void jnd_budget_result_clear(jnd_budget_result *r);
 /* pareto.png: memory against statistic of every candidate, the Pareto
  * front, the choice and the separately chosen marked. out is allocated (3
  * channels, sRGB 0..1). */
-jnd_status jnd_budget_pareto_plot(const jnd_budget_result *r, const jnd_criterion *c, jnd_image *out);
+JND_EXPERIMENTAL jnd_status jnd_budget_pareto_plot(const jnd_budget_result *r, const jnd_criterion *c, jnd_image *out);
 
 /* ------------------------------------------------------------------------ */
 /* Tasks: texture-set PCA (001)                                             */
