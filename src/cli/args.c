@@ -266,14 +266,16 @@ const char *const cli_display_help =
     "  --ambient LUX       room illuminance on the screen (default 0: dark room)\n"
     "  --reflectivity K    fraction of ambient light reflected (default 0.005)\n"
     "  --exr-scale S       cd/m2 per unit of EXR/HDR input values (default 1)\n"
-    "  --task T            how the viewer compares the two images, so what P means:\n"
-    "                      side-by-side (default: in two places, looked at in turn for\n"
-    "                      as long as they like; a uniform change is seen at about\n"
-    "                      CIEDE2000 1) or flicker (toggled in place, as FLIP's\n"
-    "                      flipping: stricter, every transient seen). A gate or an\n"
-    "                      asset pipeline asks whether its users would see the\n"
-    "                      change, and they never see the two toggled in place\n"
-    "                      (docs/model.md \"Viewing task\")\n";
+    CLI_TASK_HELP;
+
+/* --task: its own parser, for the commands that judge without the display
+ * options (lod, whose displays are its --screens) */
+int cli_task_opt(cli_args *a, jnd_viewing_task *t) {
+  const char *v;
+  if (!cli_opt(a, "--task", &v)) return 0;
+  if (!a->bad && jnd_viewing_task_parse(v, t) != JND_OK) fail(a, "--task: %s", jnd_last_error());
+  return 1;
+}
 
 enum { D_PPD, D_PEAK, D_BLACK, D_AMBIENT, D_REFL, D_EXR, D_N };
 
@@ -293,8 +295,7 @@ int cli_display_opt(cli_args *a, cli_display *d) {
     if (!a->bad && jnd_display_preset(v, &d->preset) != JND_OK) fail(a, "--display: %s", jnd_last_error());
     return 1;
   }
-  if (cli_opt(a, "--task", &v)) {
-    if (!a->bad && jnd_viewing_task_parse(v, &d->task) != JND_OK) fail(a, "--task: %s", jnd_last_error());
+  if (cli_task_opt(a, &d->task)) {
     d->task_given = 1;
     return 1;
   }

@@ -95,6 +95,19 @@ typedef struct {
   jnd_viewing_task task;
   int task_given;
 } cli_display;
+/* --task side-by-side|flicker alone (in cli_display_opt too): 1 when it was
+ * the option, *t set when its value is a task (a->bad otherwise). The help
+ * line every command that judges shows, display options or not. */
+int cli_task_opt(cli_args *a, jnd_viewing_task *t);
+#define CLI_TASK_HELP                                                                  \
+  "  --task T            how the viewer compares the two images, so what P means:\n"   \
+  "                      side-by-side (default: in two places, looked at in turn for\n" \
+  "                      as long as they like; a uniform change is seen at about\n"   \
+  "                      CIEDE2000 1) or flicker (toggled in place, as FLIP's\n"      \
+  "                      flipping: stricter, every transient seen). A gate or an\n"   \
+  "                      asset pipeline asks whether its users would see the\n"       \
+  "                      change, and they never see the two toggled in place\n"       \
+  "                      (docs/model.md \"Viewing task\")\n"
 void cli_display_init(cli_display *d);
 int cli_display_opt(cli_args *a, cli_display *d);
 jnd_display cli_display_get(const cli_display *d);

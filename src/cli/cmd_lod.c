@@ -81,11 +81,13 @@ static void help(void) {
       "  --samples N         MSAA samples of the judge's renderings (4)\n"
       "  --no-pop            switch distances from the criterion only; by default level K is\n"
       "                      also not shown nearer than where the switch from level K - 1 stops\n"
-      "                      popping (004: largest rating R over the views < 1, jnd pop)\n"
+      "                      popping (004: largest rating R over the views < 1, jnd pop), a\n"
+      "                      switch in place, so always judged in the flicker task\n"
       "  --pop-speed DPS     the motion under which that switch is seen: an orbit at DPS\n"
       "                      degrees per second (0: a static viewer, the default)\n"
       "  --pop-motion M      orbit (default), spin (the object turns) or pan (the camera turns)\n"
       "  --no-perceptual     003's analysis and the rules only\n"
+      CLI_TASK_HELP
       "\n"
       "outputs:\n"
       "  -o, --output DIR    the folder (created): lod.json, model/, pareto_*.png\n"
@@ -244,6 +246,7 @@ static int run(int argc, char **argv) {
     } else if (cli_opt(ap, "--judge-views", &v)) {
       p.sw.judge.views.sampling.count = cli_int(ap, "--judge-views", v, 1, JND_VIEWS_MAX);
     } else if (cli_criterion_opt(ap, &p.sw.judge.criterion)) {
+    } else if (cli_task_opt(ap, &p.sw.judge.model.display.task)) {   /* each screen's judge keeps it */
     } else if (cli_opt(ap, "--far-coverage", &v)) {
       p.sw.far_coverage = cli_double(ap, "--far-coverage", v, 1e-4, 1);
     } else if (cli_opt(ap, "--tolerance", &v)) {

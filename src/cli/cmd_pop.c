@@ -18,7 +18,8 @@ static void help(void) {
       "with each pixel's retinal velocity; where they differ by at least 2 JND,\n"
       "popping regions grow and are rated by R (R < 1 rarely visible, R > 3 easily;\n"
       "Schwarz & Stamminger 2009). Frames: PNG/JPEG (sRGB) or EXR/HDR (linear,\n"
-      "cd/m2 x --exr-scale). Maps (displacement, depth): OpenEXR.\n"
+      "cd/m2 x --exr-scale). Maps (displacement, depth): OpenEXR. A switch is a change\n"
+      "in place, so pop judges it in the flicker task whatever --task says.\n"
       "\n"
       "%s"
       "\n"
@@ -237,6 +238,9 @@ static int run(int argc, char **argv) {
   }
   if (args.bad) return EXIT_BAD;
   mp->display = cli_display_get(&disp);
+  if (disp.task_given && disp.task != JND_TASK_FLICKER)
+    cli_info(&common, "jnd pop: a level switch is a change in place: judged in the flicker task, not --task %s\n",
+             jnd_viewing_task_name(disp.task));
   mp->threads = rp.pop.threads = common.threads;
   int asset = npaths == 1;
   if (npaths != 1 && npaths != 2) return cli_bad("pop: needs two frames, NEW and EXPECTED, or a MODEL (jnd pop --help)");

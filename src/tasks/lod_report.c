@@ -43,6 +43,7 @@ cJSON *lod_report(const char *model, const jnd_lod_run_params *p, const jnd_lod_
   cJSON_AddBoolToObject(jpc, "enabled", p->perceptual && p->analyse);
   cJSON_AddItemToObject(jpc, "distance", p->sw.distance > 0 ? cJSON_CreateNumber(p->sw.distance) : cJSON_CreateNull());
   cJSON_AddNumberToObject(jpc, "views", p->sw.judge.views.sampling.count);
+  cJSON_AddStringToObject(jpc, "task", jnd_viewing_task_name(p->sw.judge.model.display.task));
   cJSON_AddItemToObject(jpc, "criterion", report_criterion_json(&p->sw.judge.criterion, NULL));
   cJSON_AddNumberToObject(jpc, "far_coverage", p->sw.far_coverage);
   cJSON_AddNumberToObject(jpc, "tolerance", p->sw.tolerance);
@@ -53,6 +54,7 @@ cJSON *lod_report(const char *model, const jnd_lod_run_params *p, const jnd_lod_
   cJSON_AddStringToObject(jpop, "motion", p->sw.pop_motion == JND_POP_OBJECT ? "spin" : p->sw.pop_motion == JND_POP_PAN ? "pan" : "orbit");
   cJSON_AddNumberToObject(jpop, "speed_dps", p->sw.pop_speed);
   cJSON_AddNumberToObject(jpop, "rating_limit", p->sw.pop_rating_limit);
+  cJSON_AddStringToObject(jpop, "task", jnd_viewing_task_name(JND_TASK_FLICKER)); /* pop_model_create */
 
   cJSON_AddStringToObject(res, "chain_source", R->chain_source);
   int n = jnd_scene_lod_count(R->scene);

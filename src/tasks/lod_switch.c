@@ -363,7 +363,7 @@ static jnd_status pop_step(oracle *o, jnd_lod_switch_result *out) {
     if (!(scale == m_scale)) {   /* the model's display has the scaled pixels per degree */
       jnd_model_free(m);
       m = NULL;
-      if ((st = jnd_model_create(&jp.model, &m))) break;
+      if ((st = pop_model_create(&jp.model, &m))) break;   /* a switch in place: flicker */
       m_scale = scale;
     }
     if ((st = jnd_views_sample(o->scene, &jp.views.sampling, views))) break;

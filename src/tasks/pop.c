@@ -55,6 +55,17 @@ void jnd_pop_defaults(jnd_pop_params *p) {
   p->picture = 1;
 }
 
+/* A level switch is a change at the same place on the screen, from one frame
+ * to the next: the flicker task by nature (docs/model.md "Viewing task"),
+ * whatever task the caller's display names. Side by side, a change of the
+ * mean colour would be capped at its CIEDE2000 difference, which is what a
+ * viewer comparing two places sees, not one watching a switch in place. */
+jnd_status pop_model_create(const jnd_model_params *mp, jnd_model **m) {
+  jnd_model_params q = *mp;
+  q.display.task = JND_TASK_FLICKER;
+  return jnd_model_create(&q, m);
+}
+
 /* 004 §3.2: "the empirically derived mapping R(Σ) = ln(0.375 Σ) / ln(2.25)" */
 double jnd_pop_rating_of(double sigma) { return log(0.375 * sigma) / log(2.25); }
 

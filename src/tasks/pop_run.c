@@ -113,6 +113,7 @@ jnd_status jnd_pop_run(const char *model, const jnd_pop_run_params *pp, const ch
   if (!model && (!p.frames.actual || !p.frames.expected))
     return jnd_fail(JND_ERR_ARG, "pop: needs two frames, NEW and EXPECTED, or a MODEL");
   if (model && p.sequence) return jnd_fail(JND_ERR_ARG, "pop: a sequence of frames is for the frame form");
+  p.model.display.task = JND_TASK_FLICKER;   /* pop_model_create's, so that the report says it */
   double t0 = jnd_seconds();
   jnd_pop_asset_params ap = p.asset;
   /* the outputs checked before any work, written staged, published at the end */
@@ -131,7 +132,7 @@ jnd_status jnd_pop_run(const char *model, const jnd_pop_run_params *pp, const ch
   cJSON *report = NULL;
   jnd_pop_run_result *R = NULL;
   if (!s && !(R = jnd_calloc(1, sizeof *R))) s = jnd_fail(JND_ERR_NOMEM, "pop: out of memory");
-  if (!s && (s = jnd_model_create(&p.model, &m))) s = jnd_fail(s, "pop: %s", jnd_last_error());
+  if (!s && (s = pop_model_create(&p.model, &m))) s = jnd_fail(s, "pop: %s", jnd_last_error());
   if (!s) s = predict(m, model, &p, &ap, R);
   /* only now, with a result, is anything created */
   if (!s) s = jnd_make_dirs(o.dir);

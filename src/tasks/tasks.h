@@ -141,6 +141,11 @@ void lod_switch_combine(int nlevels, const double *criterion, const double *pop,
 
 /* ---- lod_switch.c (end) ---- */
 
+/* pop.c: the model that judges a level switch, mp's with the flicker task
+ * (a switch is a change in place; docs/pop.md "Viewing task"): pop's run and
+ * lod's popping step make theirs with it. */
+jnd_status pop_model_create(const jnd_model_params *mp, jnd_model **m);
+
 /* ---- pop_weights.c: the popping predictor's weights, 004 §4 (begin) ---- */
 
 /* Previous-frame visibility (0..1) of each pixel into vis (w × h, caller's):

@@ -62,6 +62,26 @@ expect_exit 0 fail_above_passes_identical "$JND" pop "$T/expected.png" "$T/expec
 expect_exit 0 json_to_stdout "$JND" pop "$T/new.png" "$T/expected.png" -o "$T/js" --json - --quiet --display phone
 check stdout_is_the_report jq -e '.command == "pop" and .parameters.display.name == "phone"' "$T/out.txt"
 
+# a switch is a change in place: the flicker task whatever --task says
+# (docs/pop.md "The viewing task"). A whole frame 4 codes greener: side by side
+# its mean colour is capped at ΔE00 (diff's JND is lower), flickered it is
+# not; pop's JND is the flickered one under either --task
+PYTHONPATH="$(dirname "$0")" python3 -B - "$T" <<'PY'
+import sys
+from pngwrite import png
+png(f'{sys.argv[1]}/grey.png', 256, 256, 3, lambda x, y: (0.5, 0.5, 0.5))
+png(f'{sys.argv[1]}/greener.png', 256, 256, 3, lambda x, y: (0.5, 0.515, 0.5))
+PY
+for task in flicker side-by-side; do
+  "$JND" diff "$T/grey.png" "$T/greener.png" --task $task --json "$T/d_$task.json" --quiet
+  expect_exit 0 "pop_runs_with_task_$task" "$JND" pop "$T/greener.png" "$T/grey.png" -o "$T/t_$task" --task $task --json "$T/p_$task.json"
+done
+check pop_says_it_does_not_take_side_by_side grep -q 'judged in the flicker task, not --task side-by-side' "$T/err.txt"
+check pop_reports_the_flicker_task_whatever_task_says jq -e -s 'all(.[]; .parameters.display.task == "flicker")' "$T/p_side-by-side.json" "$T/p_flicker.json"
+check the_shift_is_less_visible_side_by_side jq -e -s '.[0].result.jnd_max < 0.95 * .[1].result.jnd_max' "$T/d_side-by-side.json" "$T/d_flicker.json"
+check pop_judges_as_diff_flickered jq -e -s '.[0].result.jnd_max == .[2].result.jnd_max and .[1].result.jnd_max == .[2].result.jnd_max' \
+  "$T/p_side-by-side.json" "$T/p_flicker.json" "$T/d_flicker.json"
+
 # bad input: exit 2, one line naming the file, nothing written
 refused() { # refused NAME WORD ARGS...: exit 2, one line mentioning WORD, no output folder
   local name=$1 word=$2; shift 2
