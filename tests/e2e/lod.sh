@@ -276,6 +276,15 @@ for f in empty.obj:"empty" nofaces.obj:"no faces" inf.obj:"not finite" nan.gltf:
   check "$file: nothing written" [ ! -e "$T/x_$file" ]
   check "$file: the input is unchanged" [ "$(md5sum "$B/$file" | cut -c1-32)" = "$sum" ]
 done
+# the viewing task (docs/model.md "Viewing task"): side by side by default, --task through the shared parser,
+# popping always flickered (a switch in place)
+check "the default task is side by side; popping is judged flickered" \
+  jq -e '.parameters.perceptual.task == "side-by-side" and .parameters.perceptual.pop.task == "flicker"' "$T/a/lod.json"
+expect_exit 0 "--task flicker is taken" "$JND" lod builtin -o "$T/task" --task flicker --chain-only --map-size 16 --quiet
+check "--task flicker is the judges' task; popping's stays flicker" \
+  jq -e '.parameters.perceptual.task == "flicker" and .parameters.perceptual.pop.task == "flicker"' "$T/task/lod.json"
+expect_exit 2 "an unknown task: exit 2" "$JND" lod builtin -o "$T/x" --task toggle --map-size 16
+check "one line naming --task" bash -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q -- '--task' '$T/err.txt'"
 expect_exit 2 "an unknown screen: exit 2" "$JND" lod builtin -o "$T/x" --screens vr
 check "one line naming it" bash -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q 'vr' '$T/err.txt'"
 expect_exit 2 "falling error targets: exit 2" "$JND" lod builtin -o "$T/x" --errors 0.01,0.001 --map-size 16

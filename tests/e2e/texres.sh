@@ -126,6 +126,24 @@ PY
 "$JND" texres builtin -o "$T/c" --views 3 --coverage 0.25 "${SMALL[@]}"
 check "deterministic" cmp -s "$T/b/texres.json" "$T/c/texres.json"
 
+# the viewing task (docs/model.md "Viewing task"): flickered, the same maps
+# are never less visible (the baseband is no longer capped at ΔE00) and
+# never get smaller sizes; on the builtin's maps P is measurably higher
+expect_exit 0 "--task flicker runs" "$JND" texres builtin -o "$T/fl" --views 3 --coverage 0.25 "${SMALL[@]}" --task flicker
+check "flicker is the stricter task" python3 - "$T/b/texres.json" "$T/fl/texres.json" <<'PY'
+import json, sys
+sbs, fl = (json.load(open(p)) for p in sys.argv[1:3])
+assert sbs["parameters"]["display"]["task"] == "side-by-side" and fl["parameters"]["display"]["task"] == "flicker"
+stricter = 0
+for a, b in zip(sbs["result"]["maps"], fl["result"]["maps"]):
+    assert max(b["chosen"]) >= max(a["chosen"]), (a["name"], a["chosen"], b["chosen"])
+    for pa, pb in zip(a["series"], b["series"]):
+        if pa is None or pb is None: continue
+        assert pb >= pa * (1 - 1e-6), (a["name"], pa, pb)
+        stricter += pb > 1.5 * pa
+assert stricter >= 2, stricter   # measured: 4 of 4 maps, P 2.3-9.4x higher
+PY
+
 # glTF models: a copy points at the resized maps; the input is untouched
 if [ -d "$MODELS" ]; then
   for m in BoxTextured-glTF/BoxTextured.gltf BoxTextured-glTF-Binary/BoxTextured.glb; do
