@@ -145,7 +145,8 @@ static void summary(const cli_common *c, const jnd_pca_params *p, const jnd_pca_
     if (R->set.maps[i].duplicates)
       cli_info(c, "  %s: %d identical channel(s) counted once\n", R->set.maps[i].name, R->set.maps[i].duplicates);
   cli_info(c, "  kept %d components (rule: %s)\n", K, rule_name(R->rule));
-  cli_info(c, "  %-44s %11s %14s\n", "image (the maps that sample it)", "size", "RGBA8+mips MiB");
+  /* per image before and after, with the maps that sample it (texres's table) */
+  cli_info(c, "  %-44s %11s %10s %10s\n", "image (the maps that sample it)", "size", "before MiB", "after MiB");
   for (int t = 0; t < R->nimages; t++) {
     char users[256] = "", size[32];
     size_t n = 0;
@@ -155,14 +156,14 @@ static void summary(const cli_common *c, const jnd_pca_params *p, const jnd_pca_
         n += (size_t)snprintf(users + n, sizeof users - n, "%s%s", n ? ", " : "", slash ? slash + 1 : R->labels[i]);
       }
     snprintf(size, sizeof size, "%dx%d", R->images[t].width, R->images[t].height);
-    cli_info(c, "  %-44.44s %11s %14.3f\n", users, size, R->images[t].bytes / 1048576.0);
+    cli_info(c, "  %-44.44s %11s %10.3f %10.3f\n", users, size, R->images[t].bytes / 1048576.0, 0.0);
   }
   for (int t = 0; t < R->ntextures; t++) {
     char name[64], size[32];
     snprintf(name, sizeof name, "components_%d.png (%d channels, %d bits)", t, R->textures[t].channels,
              R->textures[t].bits);
     snprintf(size, sizeof size, "%dx%d", R->textures[t].width, R->textures[t].height);
-    cli_info(c, "  %-44.44s %11s %14.3f\n", name, size, R->textures[t].bytes / 1048576.0);
+    cli_info(c, "  %-44.44s %11s %10.3f %10.3f\n", name, size, 0.0, R->textures[t].bytes / 1048576.0);
   }
   cli_info(c, "  memory as a GPU holds it: %.3f MiB -> %.3f MiB (%+.0f%%)\n", R->gpu_before_bytes / 1048576.0,
            R->gpu_after_bytes / 1048576.0,

@@ -112,7 +112,9 @@ static void add_energy(cJSON *res, const jnd_pca_result *R) {
 }
 
 /* memory as a GPU holds it: each unique source image once (RGBA8 + mips)
- * with the maps that sample it, against the packed textures (+ mips) */
+ * with the maps that sample it, before and after (0: the packed textures
+ * replace it), and the packed textures (+ mips) with the maps that sample
+ * them: texres's shape (result.memory.images[]) */
 static cJSON *memory_json(const jnd_pca_result *R) {
   cJSON *mem = cJSON_CreateObject();
   cJSON_AddNumberToObject(mem, "before_bytes", (double)R->gpu_before_bytes);
@@ -127,6 +129,8 @@ static cJSON *memory_json(const jnd_pca_result *R) {
     cJSON_AddNumberToObject(o, "width", R->images[t].width);
     cJSON_AddNumberToObject(o, "height", R->images[t].height);
     cJSON_AddNumberToObject(o, "bytes", (double)R->images[t].bytes);
+    cJSON_AddNumberToObject(o, "bytes_before", (double)R->images[t].bytes);
+    cJSON_AddNumberToObject(o, "bytes_after", 0);   /* every map it held is reconstructed from the textures */
     cJSON_AddItemToArray(imgs, o);
   }
   cJSON *tex = cJSON_AddArrayToObject(mem, "textures");
@@ -135,6 +139,9 @@ static cJSON *memory_json(const jnd_pca_result *R) {
     char name[64];
     snprintf(name, sizeof name, "components_%d.png", t);
     cJSON_AddStringToObject(o, "file", name);
+    cJSON *users = cJSON_AddArrayToObject(o, "maps");
+    for (int i = 0; i < R->set.nmaps; i++)
+      if (pca_map_samples_texture(R, i, t)) cJSON_AddItemToArray(users, cJSON_CreateString(R->labels[i]));
     cJSON_AddNumberToObject(o, "width", R->textures[t].width);
     cJSON_AddNumberToObject(o, "height", R->textures[t].height);
     cJSON_AddNumberToObject(o, "channels", R->textures[t].channels);

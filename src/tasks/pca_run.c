@@ -144,6 +144,16 @@ static void pack_layout(const jnd_pca_encoded *enc, jnd_pca_texture_info *tex, i
   }
 }
 
+int pca_map_samples_texture(const jnd_pca_result *R, int map, int tex) {
+  const jnd_texset_map *m = &R->set.maps[map];
+  const jnd_pca_texture_info *t = &R->textures[tex];
+  const int K = R->enc.enc.components;
+  for (int c = m->first; c < m->first + m->count; c++)
+    for (int j = 0; j < t->channels; j++)
+      if (R->enc.recon[(size_t)c * (K + 1) + t->comp[j]] != 0) return 1;
+  return 0;
+}
+
 /* a texture of the layout as an image: its components in its channels */
 static jnd_status pack_texture(const jnd_pca_encoded *enc, const jnd_pca_texture_info *info, jnd_pca_texture *tex) {
   memset(tex, 0, sizeof *tex);

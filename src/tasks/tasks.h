@@ -67,6 +67,10 @@ jnd_status pca_rendered_visibility(const jnd_texset *set, const jnd_pca_encoded 
  * -1 when the material has no map there. */
 int pca_render_slot_image(const jnd_pca_render *r, jnd_map_slot slot);
 
+/* pca_run.c: 1 when map `map` of R's set is reconstructed from a component
+ * that texture `tex` (R->textures) holds, i.e. its slot samples it. */
+int pca_map_samples_texture(const jnd_pca_result *R, int map, int tex);
+
 /* ---- pca.c (end) ---- */
 
 /* ---- lod.c: 003's screen-space and perceptual terms, for tests (begin) ---- */

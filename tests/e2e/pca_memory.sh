@@ -39,7 +39,8 @@ g = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes
 json.dump(g, open(f"{d}/m.gltf", "w"))
 PY
 expect_exit 0 "pca of a material with a packed and a shared image runs" "$JND" pca --model "$T/m.gltf" \
-  --material metal -o "$T/out" --components 3 --no-bc --views 2 --size 96x96 --samples 1 --quiet
+  --material metal -o "$T/out" --components 3 --no-bc --views 2 --size 96x96 --samples 1
+cp "$T/err.txt" "$T/printed.txt"
 check "before: each unique image once (RGBA8 + mips); after: the packed textures (+ mips), from the files" \
   python3 - "$T" <<'PY'
 import json, struct, sys
@@ -70,5 +71,34 @@ for t in mem["textures"]:
     after += chain(w, h, (4 if ch == 3 else ch) * depth // 8)
 assert mem["after_bytes"] == after == sum(t["bytes"] for t in mem["textures"]), (mem["after_bytes"], after)
 assert len(mem["textures"]) == len(r["textures"])
+# per image before and after, with the maps that sample it (texres's shape): the
+# packed textures replace every source image, and every map samples some texture
+for i in mem["images"]:
+    assert i["bytes_before"] == chain(i["width"], i["height"], 4) and i["bytes_after"] == 0, i
+maps = set(m for i in mem["images"] for m in i["maps"])
+assert set(m for t in mem["textures"] for m in t["maps"]) == maps, [t["maps"] for t in mem["textures"]]
+assert all(t["maps"] and set(t["maps"]) <= maps for t in mem["textures"])
+PY
+check "the printout: per image and texture before and after in MiB, the totals, the energy kept" \
+  python3 - "$T" <<'PY'
+import json, re, sys
+d = sys.argv[1]
+r = json.load(open(d + "/out/pca.json"))["result"]
+mem = r["memory"]
+text = open(d + "/printed.txt").read()
+mib = lambda b: "%.3f" % (b / 1048576)
+for i in mem["images"]:
+    row = [l for l in text.splitlines() if "%dx%d" % (i["width"], i["height"]) in l and "components_" not in l]
+    assert len(row) == 1 and row[0].split()[-2:] == [mib(i["bytes_before"]), mib(0)], (i, row)
+    assert all(m.split("/")[-1] in row[0] for m in i["maps"]), (i["maps"], row)
+for t in mem["textures"]:
+    row = [l for l in text.splitlines() if t["file"] in l]
+    assert len(row) == 1 and row[0].split()[-2:] == [mib(0), mib(t["bytes"])], (t, row)
+assert "memory as a GPU holds it: %s MiB -> %s MiB" % (mib(mem["before_bytes"]), mib(mem["after_bytes"])) in text, text
+# the energy printed is the kept components' share of the variance, recomputed from the report
+K = len(r["components"])
+kept = 100 * sum(r["energy"][:K]) / r["total_variance"]
+m = re.search(r"the (\d+) components? kept holds? ([0-9.]+)% of the energy", text)
+assert m and int(m.group(1)) == K and m.group(2) == "%.1f" % kept, (m and m.groups(), K, kept)
 PY
 finish
