@@ -132,8 +132,16 @@ static void import_slot(jnd_scene *s, const struct aiScene *sc, const struct aiM
     if (k < 0) return;
     jnd_map *m = &s->maps[k];
     /* one image of the file, however many slots sample it: the same
-     * reference ("*N" for an embedded image, else its path) */
-    m->source = strdup(path.data);
+     * embedded image ("*N"), or the same file however its path is spelt
+     * ("a.png", "./a.png", a link to it: its device and inode) */
+    struct stat fs;
+    char id[64];
+    const char *key = path.data;
+    if (path.data[0] != '*' && stat(desc, &fs) == 0) {   /* desc: the file's path as read */
+      snprintf(id, sizeof id, "file %llu:%llu", (unsigned long long)fs.st_dev, (unsigned long long)fs.st_ino);
+      key = id;
+    }
+    m->source = strdup(key);
     for (int j = 0; j < k && m->source; j++)
       if (s->maps[j].source && strcmp(s->maps[j].source, m->source) == 0) {
         m->image = s->maps[j].image;

@@ -237,4 +237,33 @@ for f, i in zip(r["map_files"], changed):
     b = open(os.path.join(d, f), "rb").read(24)
     assert list(struct.unpack(">II", b[16:24])) == i["chosen"], (f, i)
 PY
+
+# one file spelt three ways (shared.png as colour, ./shared.png as emission, a
+# link to it in another material): one image, counted once, written once
+PYTHONPATH="$(dirname "$0")" python3 - "$T" <<'PY'
+import os, sys
+d = sys.argv[1]
+os.symlink("shared.png", f"{d}/link.png")
+open(f"{d}/spelt.mtl", "w").write("newmtl A\nKd 1 1 1\nKe 1 1 1\nmap_Kd shared.png\nmap_Ke ./shared.png\n"
+                                  "newmtl B\nKd 1 1 1\nmap_Kd link.png\n")
+open(f"{d}/spelt.obj", "w").write(open(f"{d}/two.obj").read().replace("two.mtl", "spelt.mtl"))
+PY
+expect_exit 0 "an OBJ naming one file three ways runs" "$JND" texres "$T/spelt.obj" -o "$T/spelt" \
+  --views 2 --size 96x96 --samples 1 --confirm 0 --min-size 16 --quiet
+check "one file however it is spelt: one image, its bytes once, one file written" python3 - "$T/spelt" <<'PY'
+import json, os, sys
+d = sys.argv[1]
+r = json.load(open(d + "/texres.json"))["result"]
+assert sorted(m["name"] for m in r["maps"]) == ["A/baseColor", "A/emissive", "B/baseColor"], r["maps"]
+assert len({m["image"] for m in r["maps"]}) == 1 and len(r["memory"]["images"]) == 1, r["maps"]
+def chain(w, h):
+    b = 0
+    while True:
+        b += w * h * 4
+        if w == 1 and h == 1: return b
+        w, h = max(1, w // 2), max(1, h // 2)
+im = r["memory"]["images"][0]
+assert r["memory"]["before_bytes"] == chain(256, 256) and r["memory"]["after_bytes"] == chain(*im["chosen"]), r["memory"]
+assert len(r["map_files"]) == 1 and os.listdir(d + "/maps") == [os.path.basename(r["map_files"][0])], r["map_files"]
+PY
 finish
