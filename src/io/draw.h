@@ -158,8 +158,8 @@ void jnd_draw_colour_bar(jnd_image *img, int x, int y, int w, int h, double vmin
                          const char *title);
 
 /* A labelled grid: rows × cols cells coloured by value through the colour
- * scale over [vmin, vmax] (NaN cells grey), each cell's text (NULL: the value
- * with %.3g), row and column labels, axis titles and a colour bar. For
+ * scale over [vmin, vmax] (NaN cells grey), each cell's text (NULL: the values,
+ * one format for the grid: jnd_plot_number_labels, 3 digits), row and column labels, axis titles and a colour bar. For
  * texres's size matrices, gaze's L(distance, eccentricity) and similar. */
 typedef struct {
   int rows, cols;

@@ -711,7 +711,17 @@ jnd_status jnd_plot_grid(const jnd_plot_grid_spec *g, jnd_image *out) {
   (void)cl;
   jnd_status s = jnd_canvas_new(out, W, H, WHITE);
   if (s != JND_OK) return s;
-  char buf[64];
+  /* cells without their own text: the values, one number format for the
+   * whole grid (jnd_plot_number_labels, 3 digits; never %g's 1e-05 beside 0.25) */
+  char (*num)[32] = NULL;
+  if (!g->cell_text) {
+    num = jnd_alloc((size_t)g->rows * g->cols, sizeof *num);
+    if (!num) {
+      jnd_image_free(out);
+      return JND_ERR_NOMEM;
+    }
+    jnd_plot_number_labels(g->value, g->rows * g->cols, 3, num);
+  }
   for (int r = 0; r < g->rows; r++)
     for (int c = 0; c < g->cols; c++) {
       double v = g->value[r * g->cols + c];
@@ -721,14 +731,12 @@ jnd_status jnd_plot_grid(const jnd_plot_grid_spec *g, jnd_image *out) {
       jnd_rgb bg = ok ? jnd_colour_scale(t) : NODATA;
       jnd_draw_rect(out, x0, y0, x0 + cell, y0 + cell, bg, 1);
       const char *text = g->cell_text ? g->cell_text[r * g->cols + c] : NULL;
-      if (!text && ok) {
-        snprintf(buf, sizeof buf, "%.3g", v);
-        text = buf;
-      }
+      if (!text && ok) text = num[r * g->cols + c];
       /* dark text on the light end of the scale, white on the dark end */
       jnd_rgb ink = ok && t > 0.55 ? INK : WHITE;
       if (text) jnd_draw_text(out, x0 + 0.5 * cell, y0 + 0.5 * cell + 0.35 * TICK_PX, text, TICK_PX, ink, JND_ALIGN_CENTRE, 0);
     }
+  free(num);
   for (int c = 0; c <= g->cols; c++) jnd_draw_line(out, left + c * cell, top, left + c * cell, top + gh, 1, WHITE);
   for (int r = 0; r <= g->rows; r++) jnd_draw_line(out, left, top + r * cell, left + gw, top + r * cell, 1, WHITE);
   if (g->marked > 0 && g->marked <= g->rows * g->cols) {
