@@ -93,7 +93,7 @@ static void summary(const cli_common *common, const jnd_texres_params *p, const 
            R->nimages, R->nimages == 1 ? "" : "s", bb / 1048576.0, ba / 1048576.0,
            bb ? 100.0 * (1.0 - (double)ba / bb) : 0, R->block_before_bytes / 1048576.0,
            R->block_after_bytes / 1048576.0);
-  cli_info(common, "views above P=%.2f: %.0f%% of %d (criterion <= %.0f%%; chosen with P=%.3f)%s",
+  cli_info(common, "views above P=%.2f: %.0f%% of %d (criterion <= %.0f%%; sizes chosen against P <= %.3f, p less the margin)%s",
            p->judge.criterion.p, 100 * R->views.fraction_above, R->nviews, 100 * p->judge.criterion.q, R->choice_p,
            R->views.pass ? "" : "  FAILS");
   if (R->verify_views)

@@ -76,8 +76,8 @@ refuse "diff: two outputs on one file" diff $A $B --heatmap h.png --json h.png
 check "the message names both paths" grep -q "h.png.*h.png" "$T/err.txt"
 refuse "diff: an input named after a good output" diff $A $B --heatmap ok.png --json $A
 
-# ---- commands that take an asset and an output folder ----
-for cmd in render texres lod gaze; do
+# ---- commands that take an asset and an output folder (budget came after issue 25: the same rule) ----
+for cmd in render texres lod gaze budget; do
   refuse_in "$W/asset" "$cmd -o . in the asset's folder" $cmd quad.gltf -o .
   refuse_in "$W/obj" "$cmd -o . in the OBJ's folder" $cmd quad.obj -o .
   refuse "$cmd -o the asset" $cmd $G -o $G
