@@ -415,7 +415,10 @@ jnd_status pop_switch_plot(const jnd_pop_asset_report *r, const double *speeds, 
       snprintf(labels[s], sizeof labels[s], "1-pixel geometric error");
     ser[s] = (jnd_plot_series){.x = x, .y = y, .n = nl, .label = labels[s],
                                .colour = s < nspeeds ? jnd_palette(s) : (jnd_rgb){0.4f, 0.4f, 0.4f}, .line = 1,
-                               .markers = s < nspeeds ? 1 : 2, .width = s < nspeeds ? 2.0 : 1.5, .bound = b};
+                               .markers = s < nspeeds ? 1 : 2, .bound = b,
+                               /* speeds that pop alike give one line: each slower speed is drawn
+                                  wider beneath the next, so that every one shows */
+                               .width = s < nspeeds ? 2.0 + 2.0 * (nspeeds - 1 - s) : 1.5};
   }
   char ylabel[64];
   snprintf(ylabel, sizeof ylabel, "camera distance (%s)", r->distance_unit ? r->distance_unit : "object units");

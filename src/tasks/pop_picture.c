@@ -96,9 +96,17 @@ jnd_status pop_picture(const jnd_image *grey, const jnd_pop_result *r, jnd_image
   snprintf(line, sizeof line, "coverage: %s (%.1f%%)", jnd_pop_coverage_name(r->coverage_score), 100 * r->coverage);
   jnd_draw_text(out, x0, y, line, 13, INK, JND_ALIGN_LEFT, 0);
   y += 19;
+  /* the rating is the best regions' mean R (004 §5.2), not max R: say which,
+   * or "rating: high" under "max R: 4.28" reads as a contradiction */
   snprintf(line, sizeof line, "rating: %s", jnd_pop_rating_name(r->rating_score));
   jnd_draw_text(out, x0, y, line, 13, INK, JND_ALIGN_LEFT, 0);
-  y += 19;
+  y += 17;
+  if (r->nregions) {
+    snprintf(line, sizeof line, "  (best regions' mean R %.2f)", r->rating_top);
+    jnd_draw_text(out, x0, y, line, 11, INK, JND_ALIGN_LEFT, 0);
+    y += 17;
+  }
+  y += 2;
   snprintf(line, sizeof line, "detection score: %d of 5", r->detection_score);
   jnd_draw_text(out, x0, y, line, 13, INK, JND_ALIGN_LEFT, 0);
   y += 19;
