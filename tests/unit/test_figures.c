@@ -232,6 +232,38 @@ TEST(pca_energy_marks_the_components_kept_with_their_share) {
   cJSON_Delete(r);
 }
 
+TEST(pop_switch_plot_shows_every_speed_where_they_pop_alike) {
+  /* two speeds with the same distances (a static viewer and a slow orbit
+   * often are): the first drawn wider beneath the second, both show at
+   * every point */
+  jnd_pop_asset_report r;
+  memset(&r, 0, sizeof r);
+  r.nlevels = 3;
+  r.distance_unit = "object units";
+  jnd_pop_switch_row rows[4];
+  const double d[2] = {6, 25};
+  for (int k = 0; k < 2; k++)
+    for (int s = 0; s < 2; s++) {
+      jnd_pop_switch_row *w = &rows[k * 2 + s];
+      memset(w, 0, sizeof *w);
+      w->level = k + 1;
+      w->distance_m = d[k];
+      w->distance_m_pixel_rule = NAN;
+    }
+  r.rows = rows;
+  r.nrows = 4;
+  double speeds[2] = {0, 60};
+  jnd_image img;
+  jnd_plot_layout L;
+  CHECK_OK(pop_switch_plot(&r, speeds, 2, &img, &L));
+  for (int k = 0; k < 2; k++) {
+    double x = jnd_plot_layout_map(&L, 0, k + 1), y = jnd_plot_layout_map(&L, 1, d[k]);
+    CHECK(ink_near(&img, x, y, 6, jnd_palette(0)));
+    CHECK(ink_near(&img, x, y, 6, jnd_palette(1)));
+  }
+  jnd_image_free(&img);
+}
+
 TEST(pop_switch_plot_draws_the_pixel_rule_and_names_the_units_and_a_nearer_level) {
   /* three switches at two speeds; level 3 pops less than level 2 and comes
    * out nearer (as measured); the pixel rule's distances exist for every level */
@@ -440,6 +472,7 @@ RUN_TESTS(the_heatmap_keeps_differences_above_one_jnd_apart, a_small_heatmap_is_
           texres_series_draws_early_stopped_values_as_bounds_and_the_threshold,
           pca_energy_marks_the_components_kept_with_their_share,
           pop_switch_plot_draws_the_pixel_rule_and_names_the_units_and_a_nearer_level,
+          pop_switch_plot_shows_every_speed_where_they_pop_alike,
           the_calibration_histogram_has_a_bar_per_bin_as_tall_as_its_count,
           the_worst_view_shows_the_chosen_sizes_whether_or_not_the_matrices_ran,
           the_gaze_table_picture_colours_each_cell_by_its_level)
