@@ -47,6 +47,9 @@ for name, part in (("views", res["views"]), ("verify", res["verify"])):
     above = sum(x > p for x in P)
     assert part["passes"] == (above <= allowed(len(P))), (name, P, part["passes"])
     assert abs(part["fraction_above"] - above / len(P)) < 1e-12, (name, part["fraction_above"])
+# the worst view (its heatmap is worst_view.png) is a choice view of the largest P
+wv = res["views"]["worst_view"]
+assert 0 <= wv < len(res["views"]["p"]) and res["views"]["p"][wv] == max(res["views"]["p"]), (wv, res["views"]["p"])
 mx = res["matrices"][0]
 nv = len(mx["p"])
 for b, row in enumerate(mx["stat"]):
