@@ -29,6 +29,19 @@ check every_row_is_predicted bash -c "! grep -q NaN,NaN '$T/pred.csv'"
 check report_has_pooled_rmse jq -e '.result.rmse_db_static > 0 and .result.rows == 7' "$T/csf.json"
 check a_16_cpd_gabor_is_less_visible_than_a_2_cpd_one bash -c "awk -F, 'NR==2{a=\$16} NR==7{b=\$16} END{exit !(a>b)}' '$T/pred.csv'"
 check the_periphery_is_less_visible_than_the_fovea bash -c "awk -F, 'NR==8{f=\$16} NR==6{p=\$16} END{exit !(p>0 && p<f)}' '$T/pred.csv'"
+# the report's errors recomputed from the predictions file: a row's error is 20·log10(predicted /
+# measured) dB; rmse_db is their RMS (pooled and per data set), rmse_db_static over rows with
+# t_frequency 0 only, bias_db their mean (the file holds 6 digits: 1e-3 dB)
+rms_db() { awk -F, -v ds="$2" -v only_static="$3" -v what="${4:-}" 'NR==1{for(i=1;i<=NF;i++) c[$i]=i; next}
+  (ds=="" || $c["dataset"]==ds) && (!only_static || $c["t_frequency"]<=0) {
+    e=20*log(($c["predicted_sensitivity"])/($c["sensitivity"]))/log(10); s+=e*e; m+=e; n++ }
+  END{ if (what=="bias") printf "%.9f", m/n; else printf "%.9f", sqrt(s/n) }' "$1"; }
+check the_reported_rmse_is_the_rms_of_the_rows_errors_in_db jq -e \
+  --argjson a "$(rms_db "$T/pred.csv" "" 0)" --argjson s "$(rms_db "$T/pred.csv" "" 1)" \
+  --argjson d "$(rms_db "$T/pred.csv" achromatic 0)" --argjson b "$(rms_db "$T/pred.csv" achromatic 0 bias)" \
+  '((.result.rmse_db - $a) | fabs) < 1e-3 and ((.result.rmse_db_static - $s) | fabs) < 1e-3 and ($s != $a)
+   and ((.result.datasets.achromatic.rmse_db - $d) | fabs) < 1e-3 and ((.result.datasets.achromatic.bias_db - $b) | fabs) < 1e-3
+   and .result.static_rows == 6' "$T/csf.json"
 
 # constants: listed, set, fitted, cross-validated
 expect_exit 0 constants_are_listed "$JND" csf --list-constants

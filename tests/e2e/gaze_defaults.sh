@@ -81,6 +81,15 @@ assert n == 2 * 2 * 3 and len(sp) == 5 * n and len(tm) == 5 * n, (n, len(sp), le
 assert "eccentricity_deg" not in tm[0] and "t_jnd" in tm[0]
 for row in sp:
     assert row["seen"] in ("0", "1") and 0.5 <= float(row["p_true"]) <= 1
+# an observer's chance of a correct answer is 2AFC's: 0.5 + 0.5·P(JND) with 000 eq. 4's
+# P = 1 − 2^(−JND^β), β 3.5, from the stimulus's own JND (whole change; the switch for temporal)
+beta = r["parameters"]["model"]["beta"] if "beta" in r["parameters"].get("model", {}) else 3.5
+for rows, col in ((sp, "jnd_whole"), (tm, "t_jnd")):
+    for row in rows:
+        j = float(row[col])
+        want = 0.5 + 0.5 * (1 - 2 ** (-(j ** beta))) if j > 0 else 0.5
+        assert abs(float(row["p_true"]) - want) < 2e-4, (col, j, row["p_true"], want)
+assert len({row["p_true"] for row in sp}) > 2 and {row["p_true"] for row in sp} != {row["p_true"] for row in tm}
 # per size and level, the whole change is seen less at 30 degrees than looked at
 key = lambda row: (row["size_deg"], row["level"])
 at = {}

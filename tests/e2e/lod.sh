@@ -32,7 +32,7 @@ for s in res["screens"]:
     assert s["curve"][0]["object"] == 0 and s["curve"][0]["m_p"] == 0
     # a curve that stays flat and then rises has its knee inside the chain
     assert 0 < s["poi_level"] < len(lv) - 1 and s["poi_triangles"] == lv[s["poi_level"]]["triangles"]
-    assert 0 < s["poi_level_unlit"] < len(lv) - 1
+    assert 0 < s["poi_level_unlit"] < len(lv) - 1 and s["poi_triangles_unlit"] == lv[s["poi_level_unlit"]]["triangles"]
     assert s["poi_level"] >= s["poi_level_unlit"]        # lit never finer than unlit here
     # the perceptual choice (through the judge) and the switch distances
     n = len(lv)

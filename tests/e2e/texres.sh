@@ -196,6 +196,14 @@ assert few.keys() == many.keys()
 for k in few:
     assert max(many[k]) >= max(few[k]), (k, few[k], many[k])
 PY
+# every run's worst view (its heatmap is worst_view.png) is a choice view of the largest P, with
+# held-out views (a) or without (b, px96x96, px192x192)
+check "the worst view is the choice view of the largest P" python3 - "$T"/{a,b,px96x96,px192x192}/texres.json <<'PY'
+import json, sys
+for f in sys.argv[1:]:
+    v = json.load(open(f))["result"]["views"]
+    assert 0 <= v["worst_view"] < len(v["p"]) and v["p"][v["worst_view"]] == max(v["p"]), (f, v["worst_view"], v["p"])
+PY
 check "--help prints the usage" bash -c "'$JND' texres --help | grep -q -- --verify-views"
 [ -d "$MODELS" ] || skip "$MODELS is missing (Debian package assimp-testmodels): the glTF model copies were not tried"
 finish

@@ -53,6 +53,15 @@ TEST(fit_is_robust_to_noise) {
   CHECK_OK(jnd_psychometric_fit(r, p, 40, 0, &f));
   CHECK_NEAR(f.mu, 300, 6);
   CHECK_NEAR(f.sigma, 60, 10);
+  /* the reported rmse is the root of the mean squared residual of the
+   * fitted curve, recomputed here from 000 eq. 1 at the fitted µ, σ */
+  double ss = 0;
+  for (int i = 0; i < 40; i++) {
+    double e = 1 - 0.5 * erfc(-(r[i] - f.mu) / (f.sigma * sqrt(2.0))) - p[i];
+    ss += e * e;
+  }
+  CHECK(f.rmse > 0.005);   /* noise of ±0.02: the residual is not zero */
+  CHECK_NEAR(f.rmse, sqrt(ss / 40), 1e-9);
 }
 
 TEST(flat_data_gives_a_threshold_outside_the_range) {
