@@ -388,7 +388,8 @@ def test_the_package_does_not_repeat_the_librarys_checks():
     src = inspect.getsource(tasks)
     for opt in ("views", "coverage", "fov", "lights", "map_size", "margin", "confirm", "verify_views",
                 "min_size", "energy", "components", "tolerance", "far_coverage", "max_px", "judge_views",
-                "virtual_scale", "surface_samples"):
+                "virtual_scale", "surface_samples", "orientations", "threshold", "confidence", "answers",
+                "min_px", "triangles", "bytes_per_triangle"):
         for line in src.splitlines():
             if f'"{opt}"' in line and "number(" in line:
                 assert "integer=True)" in line or f'number("{opt}")' in line, line
