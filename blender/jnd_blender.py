@@ -46,6 +46,7 @@ bl_info = {
 
 PROP = "jnd_texres"   # the object's custom property: the last run's summary (JSON)
 LOD_PROP = "jnd_lod"  # ... and the last lod run's
+BUDGET_PROP = "jnd_budget"  # ... and the last budget run's
 MIB = 1048576.0
 
 
@@ -128,6 +129,12 @@ class JndSettings(bpy.types.PropertyGroup):
                                            "rising (e.g. 1/256,1/64,1/16); empty: jnd's default")
     lod_views: IntProperty(name="LOD views", default=2, min=1, max=4096,
                            description="Views of 003's analysis (the judge's are Views)")
+    budget_memory: FloatProperty(name="Memory MiB", default=0, min=0, max=1e6,
+                                 description="Budget: the most texture memory, MiB (block formats and mips); "
+                                             "0: no bound (with no triangle bound either: the cheapest "
+                                             "choice nobody notices)")
+    budget_triangles: IntProperty(name="Triangles", default=0, min=0, max=2000000000,
+                                  description="Budget: the most triangles of the finest level; 0: no bound")
 
 
 def _upstream_image(socket, seen=None):
@@ -177,17 +184,44 @@ def _slot_image(material, slot):
     return None
 
 
+def _map_image(obj, map_name):
+    """The name of the Blender image behind one of jnd's maps (MATERIAL/SLOT), or None."""
+    material, _, slot = map_name.rpartition("/")
+    mats = {m.name: m for m in (s.material for s in obj.material_slots) if m}
+    bl = _slot_image(mats.get(material), slot)
+    return bl.name if bl else None
+
+
+def _next_smaller(m):
+    """Why a map is not smaller: the first candidate below the chosen size
+    judged in its series, its statistic and whether that is a lower bound
+    (the search stopped there), or None (nothing smaller was judged)."""
+    for size, stat, early in zip(m.get("candidates", []), m.get("series", []), m.get("series_decided_early", [])):
+        if size[0] * size[1] < m["chosen"][0] * m["chosen"][1] and stat is not None:
+            return {"size": size, "p": stat, "at_least": bool(early)}
+    return None
+
+
+def _length(context, d):
+    """A distance in the exported file's units — Blender units, which the
+    glTF exporter writes as metres (jnd's reports say _m) — as the scene
+    shows lengths (its unit system and scale), or in object units where
+    the scene has none."""
+    us = context.scene.unit_settings
+    if us.system == "NONE":
+        return f"{d:.3g} object units"
+    return bpy.utils.units.to_string(us.system, "LENGTH", d * us.scale_length, precision=3)
+
+
 def _summary(obj, result):
     """What the panel shows and Apply needs, from jnd's report: the
     criterion, memory (RGBA8 with mips) and per image the chosen size with
     the Blender image it is."""
-    mats = {m.name: m for m in (s.material for s in obj.material_slots) if m}
     images = []
     for im in result.memory["images"]:
         first = next(m for m in result.maps if m["name"] == im["maps"][0])
-        bl = _slot_image(mats.get(first["material"]), first["slot"])
         images.append({"maps": im["maps"], "original": im["original"], "chosen": im["chosen"],
-                       "image": bl.name if bl else None})
+                       "image": _map_image(obj, first["name"]), "next": _next_smaller(first)})
     crit = result.views["criterion"]
     return {"p": crit["statistic"], "p_worst": max(result.views["p"]), "threshold": crit["p"], "q": crit["q"],
             "passes": bool(result.passes), "before_mib": result.memory["before_bytes"] / MIB,
@@ -217,6 +251,24 @@ class _RunOnObject:
                 o.select_set(False)
         obj.select_set(True)
         return jnd
+
+    def export_and_run(self, context, task, call):
+        """Exports the active object alone as GLB into a folder of Blender's
+        temporary folder, kept (Apply imports from it), and runs
+        call(jnd, glb, out_dir) off the main thread: (its result, out_dir),
+        or None after reporting why not."""
+        jnd = self.package(context)
+        if jnd is None:
+            return None
+        folder = tempfile.mkdtemp(prefix=f"jnd_{task}_", dir=bpy.app.tempdir or None)
+        glb = os.path.join(folder, f"{bpy.path.clean_name(context.active_object.name)}.glb")
+        bpy.ops.export_scene.gltf(filepath=glb, export_format="GLB", use_selection=True)
+        out = os.path.join(folder, task)
+        try:
+            return _off_main_thread(lambda: call(jnd, glb, out)), out
+        except jnd.JndError as e:
+            self.report({"ERROR"}, f"jnd: {e}")
+            return None
 
 
 class JND_OT_texres(_RunOnObject, bpy.types.Operator):
@@ -259,33 +311,48 @@ class JND_OT_texres(_RunOnObject, bpy.types.Operator):
         return {"FINISHED"}
 
 
-class JND_OT_apply(bpy.types.Operator):
-    """Scales the object's images to the sizes jnd chose (packed into the .blend)"""
-    bl_idname = "jnd.apply"
-    bl_label = "Apply"
+class _ApplyRun:
+    """An operator that applies the active object's last run (its custom
+    property prop holds the run's summary)."""
     bl_options = {"REGISTER", "UNDO"}
+    prop = ""
 
     @classmethod
     def poll(cls, context):
-        return context.active_object is not None and PROP in context.active_object
+        return context.active_object is not None and cls.prop in context.active_object
+
+
+class JND_OT_apply(_ApplyRun, bpy.types.Operator):
+    """Scales the object's images to the sizes jnd chose (packed into the .blend)"""
+    bl_idname = "jnd.apply"
+    bl_label = "Apply"
+    prop = PROP
 
     def execute(self, context):
-        summary = json.loads(context.active_object[PROP])
-        want = {}
-        for im in summary["images"]:   # one Blender image may hold several of jnd's: the largest wins
-            if im["image"]:
-                w, h = want.get(im["image"], (0, 0))
-                want[im["image"]] = (max(w, im["chosen"][0]), max(h, im["chosen"][1]))
-        n = 0
-        for name, (w, h) in want.items():
-            image = bpy.data.images.get(name)
-            if image is None or tuple(image.size) == (w, h):
-                continue
-            image.scale(w, h)
-            image.pack()   # keep the scaled pixels in the .blend; the file on disk is untouched
-            n += 1
+        n = _scale_images(json.loads(context.active_object[PROP])["images"])
         self.report({"INFO"}, f"jnd: {n} image{'s' if n != 1 else ''} scaled")
         return {"FINISHED"}
+
+
+def _scale_images(images):
+    """Scales each Blender image to the size chosen for it (one image may
+    hold several of jnd's maps: the largest wins) and packs the scaled
+    pixels into the .blend (the file on disk is untouched); how many were
+    scaled."""
+    want = {}
+    for im in images:
+        if im["image"]:
+            w, h = want.get(im["image"], (0, 0))
+            want[im["image"]] = (max(w, im["chosen"][0]), max(h, im["chosen"][1]))
+    n = 0
+    for name, (w, h) in want.items():
+        image = bpy.data.images.get(name)
+        if image is None or tuple(image.size) == (w, h):
+            continue
+        image.scale(w, h)
+        image.pack()
+        n += 1
+    return n
 
 
 def _import_gltf(path):
@@ -306,23 +373,15 @@ class JND_OT_lod(_RunOnObject, bpy.types.Operator):
 
     def execute(self, context):
         obj, s = context.active_object, context.scene.jnd
-        jnd = self.package(context)
-        if jnd is None:
+        ran = self.export_and_run(context, "lod", lambda jnd, glb, out: jnd.lod(
+            glb, out, screens=[s.display], p=_decimal(s.p), q=_decimal(s.q), views=s.lod_views,
+            judge_views=s.views, max_px=max(32, s.view_size), errors=s.lod_errors or None,
+            progress=lambda stage, done, total: print("jnd lod:", stage, done, total)))
+        if ran is None:
             return {"CANCELLED"}
-        # the levels stay until Apply LOD imports them (Blender's temporary folder)
-        out = tempfile.mkdtemp(prefix="jnd_lod_", dir=bpy.app.tempdir or None)
-        glb = os.path.join(out, f"{bpy.path.clean_name(obj.name)}.glb")
-        bpy.ops.export_scene.gltf(filepath=glb, export_format="GLB", use_selection=True)
-        try:
-            r = _off_main_thread(lambda: jnd.lod(
-                glb, os.path.join(out, "lod"), screens=[s.display], p=_decimal(s.p), q=_decimal(s.q),
-                views=s.lod_views, judge_views=s.views, max_px=max(32, s.view_size), errors=s.lod_errors or None,
-                progress=lambda stage, done, total: print("jnd lod:", stage, done, total)))
-        except jnd.JndError as e:
-            self.report({"ERROR"}, f"jnd: {e}")
-            return {"CANCELLED"}
+        r, out = ran
         sw = r.screens[0]   # the one screen
-        summary = {"levels": [lv["triangles"] for lv in r.levels], "glb": os.path.join(out, "lod", r.model["path"]),
+        summary = {"levels": [lv["triangles"] for lv in r.levels], "glb": os.path.join(out, r.model["path"]),
                    "screen": sw["name"], "perceptual_level": sw["perceptual_level"],
                    "switch_distance": [-1 if d is None else d for d in sw["switch_distance_m"]]}
         obj[LOD_PROP] = json.dumps(summary)
@@ -332,59 +391,125 @@ class JND_OT_lod(_RunOnObject, bpy.types.Operator):
         return {"FINISHED"}
 
 
-class JND_OT_apply_lod(bpy.types.Operator):
+class JND_OT_apply_lod(_ApplyRun, bpy.types.Operator):
     """Imports jnd's levels as objects parented to the selected one, in a collection"""
     bl_idname = "jnd.apply_lod"
     bl_label = "Apply LOD"
-    bl_options = {"REGISTER", "UNDO"}
-
-    @classmethod
-    def poll(cls, context):
-        return context.active_object is not None and LOD_PROP in context.active_object
+    prop = LOD_PROP
 
     def execute(self, context):
         obj = context.active_object
-        summary = json.loads(obj[LOD_PROP])
-        if not os.path.isfile(summary["glb"]):
-            self.report({"ERROR"}, f"jnd: {summary['glb']}: gone; run lod again")
-            return {"CANCELLED"}
-        name = f"{obj.name} LOD"
-        old = bpy.data.collections.get(name)
-        if old:   # a second Apply replaces the first's levels
-            for o in list(old.objects):
-                bpy.data.objects.remove(o, do_unlink=True)
-        coll = old or bpy.data.collections.new(name)
-        if not old:
-            context.scene.collection.children.link(coll)
-        imported = _import_gltf(summary["glb"])
-        # jnd names level k's node LOD<k> (jnd_scene_write_lod_glb)
-        levels = {}
+        return _apply_levels(self, context, obj, json.loads(obj[LOD_PROP]), "run lod")
+
+
+def _apply_levels(op, context, obj, summary, again):
+    """Imports the levels of summary["glb"] (jnd names level k's node
+    LOD<k>) into the collection "<object> LOD", parented to obj, levels 1..
+    hidden, with their triangles and switch distances; op's report says
+    what happened."""
+    if not os.path.isfile(summary["glb"]):
+        op.report({"ERROR"}, f"jnd: {summary['glb']}: gone; {again} again")
+        return {"CANCELLED"}
+    name = f"{obj.name} LOD"
+    old = bpy.data.collections.get(name)
+    if old:   # a second Apply replaces the first's levels
+        for o in list(old.objects):
+            bpy.data.objects.remove(o, do_unlink=True)
+    coll = old or bpy.data.collections.new(name)
+    if not old:
+        context.scene.collection.children.link(coll)
+    imported = _import_gltf(summary["glb"])
+    # jnd names level k's node LOD<k> (jnd_scene_write_lod_glb)
+    levels = {}
+    for o in imported:
+        if o.type == "MESH" and o.name.startswith("LOD") and o.name[3:].split(".")[0].isdigit():
+            levels[int(o.name[3:].split(".")[0])] = o
+    if sorted(levels) != list(range(len(summary["levels"]))):
         for o in imported:
-            if o.type == "MESH" and o.name.startswith("LOD") and o.name[3:].split(".")[0].isdigit():
-                levels[int(o.name[3:].split(".")[0])] = o
-        if sorted(levels) != list(range(len(summary["levels"]))):
-            for o in imported:
-                bpy.data.objects.remove(o, do_unlink=True)
-            self.report({"ERROR"}, f"jnd: {summary['glb']} does not hold levels 0..{len(summary['levels']) - 1}")
+            bpy.data.objects.remove(o, do_unlink=True)
+        op.report({"ERROR"}, f"jnd: {summary['glb']} does not hold levels 0..{len(summary['levels']) - 1}")
+        return {"CANCELLED"}
+    for o in imported:
+        if o not in levels.values():
+            bpy.data.objects.remove(o, do_unlink=True)
+    for k, o in sorted(levels.items()):
+        for c in list(o.users_collection):
+            c.objects.unlink(o)
+        coll.objects.link(o)
+        o.name = f"{obj.name}_LOD{k}"
+        o["jnd_lod_level"] = k
+        o["jnd_triangles"] = summary["levels"][k]
+        o["jnd_switch_distance"] = summary["switch_distance"][k]
+        world = o.matrix_world.copy()
+        o.parent = obj
+        o.matrix_world = world
+        o.hide_set(k > 0)
+        o.hide_render = k > 0
+    op.report({"INFO"}, f"jnd: {len(levels)} levels in collection {name}")
+    return {"FINISHED"}
+
+
+class JND_OT_budget(_RunOnObject, bpy.types.Operator):
+    """Exports the selected object as GLB and runs jnd budget on it: texture sizes and levels chosen together"""
+    bl_idname = "jnd.budget"
+    bl_label = "Run budget"
+
+    def execute(self, context):
+        obj, s = context.active_object, context.scene.jnd
+        ran = self.export_and_run(context, "budget", lambda jnd, glb, out: jnd.budget(
+            glb, out, display=s.display, screens=[s.display], p=_decimal(s.p), q=_decimal(s.q), views=s.views,
+            size=(s.view_size, s.view_size), confirm=s.confirm, min_size=s.min_size, judge_views=s.views,
+            max_px=max(32, s.view_size), errors=s.lod_errors or None,
+            memory=f"{_decimal(s.budget_memory)}MiB" if s.budget_memory > 0 else None,
+            triangles=s.budget_triangles or None,
+            progress=lambda line, done, total: line and print("jnd budget:", line)))
+        if ran is None:
             return {"CANCELLED"}
-        for o in imported:
-            if o not in levels.values():
-                bpy.data.objects.remove(o, do_unlink=True)
-        for k, o in sorted(levels.items()):
-            for c in list(o.users_collection):
-                c.objects.unlink(o)
-            coll.objects.link(o)
-            o.name = f"{obj.name}_LOD{k}"
-            o["jnd_lod_level"] = k
-            o["jnd_triangles"] = summary["levels"][k]
-            o["jnd_switch_distance"] = summary["switch_distance"][k]
-            world = o.matrix_world.copy()
-            o.parent = obj
-            o.matrix_world = world
-            o.hide_set(k > 0)
-            o.hide_render = k > 0
-        self.report({"INFO"}, f"jnd: {len(levels)} levels in collection {name}")
+        r, out = ran
+        summary = _budget_summary(obj, r, out)
+        obj[BUDGET_PROP] = json.dumps(summary)
+        c = summary["chosen"]
+        self.report({"INFO"}, f"jnd: level {c['level']}, {c['triangles']} triangles, {c['memory_mib']:.2f} MiB "
+                              f"of textures, P {c['statistic']:.3f}" + ("" if summary["passes"] else " (fails)"))
         return {"FINISHED"}
+
+
+def _budget_summary(obj, result, out):
+    """What the panel shows and Apply budget needs, from jnd budget's report:
+    the chosen candidate (its finest level, triangles, texture memory,
+    statistic), the texres-then-lod choice it is compared with, per map the
+    chosen size with the Blender image it is, and the written levels."""
+    def candidate(c):
+        return {"level": c["level"], "triangles": c["triangles"], "memory_mib": c["memory_bytes"] / MIB,
+                "cost_mib": c["cost_bytes"] / MIB, "statistic": c["statistic"], "pass": bool(c["pass"])}
+    images = []
+    for name, size in result.chosen["sizes"].items():
+        image = _map_image(obj, name)
+        original = list(bpy.data.images[image].size) if image else None
+        images.append({"maps": [name], "original": original, "chosen": size, "image": image})
+    return {"chosen": candidate(result.chosen), "separate": candidate(result.separate),
+            "passes": bool(result.passes), "threshold": result.report["parameters"]["criterion"]["p"],
+            "images": images, "levels": [lv["triangles"] for lv in result.levels],
+            "switch_distance": [-1 if lv["switch_distance"] is None else lv["switch_distance"]
+                                for lv in result.levels],
+            "glb": os.path.join(out, result.model)}
+
+
+class JND_OT_apply_budget(_ApplyRun, bpy.types.Operator):
+    """Scales the object's images to jnd budget's sizes and imports its levels as objects parented to it"""
+    bl_idname = "jnd.apply_budget"
+    bl_label = "Apply budget"
+    prop = BUDGET_PROP
+
+    def execute(self, context):
+        obj = context.active_object
+        summary = json.loads(obj[BUDGET_PROP])
+        n = _scale_images(summary["images"])
+        done = _apply_levels(self, context, obj, summary, "run budget")
+        if done == {"FINISHED"}:
+            self.report({"INFO"}, f"jnd: {n} image{'s' if n != 1 else ''} scaled, "
+                                  f"{len(summary['levels'])} levels in collection {obj.name} LOD")
+        return done
 
 
 class JND_PT_panel(bpy.types.Panel):
@@ -397,7 +522,9 @@ class JND_PT_panel(bpy.types.Panel):
         lay, s, obj = self.layout, context.scene.jnd, context.active_object
         self.draw_texres(lay, s, obj)
         lay.separator()
-        self.draw_lod(lay, s, obj)
+        self.draw_lod(context, lay, s, obj)
+        lay.separator()
+        self.draw_budget(context, lay, s, obj)
 
     @staticmethod
     def draw_texres(lay, s, obj):
@@ -422,10 +549,42 @@ class JND_PT_panel(bpy.types.Panel):
         for im in r["images"]:
             box.label(text=f"{im['image'] or ', '.join(im['maps'])}: {im['original'][0]}x{im['original'][1]}"
                            f" -> {im['chosen'][0]}x{im['chosen'][1]}")
+            nxt = im.get("next")
+            if nxt:   # why it is not smaller
+                box.label(text=f"  {nxt['size'][0]}x{nxt['size'][1]}: P {'>= ' if nxt['at_least'] else ''}"
+                               f"{nxt['p']:.3f}")
         box.operator(JND_OT_apply.bl_idname, icon="CHECKMARK")
 
     @staticmethod
-    def draw_lod(lay, s, obj):
+    def draw_levels(context, box, levels, distances):
+        box.label(text="level: triangles, from distance")
+        for i, (t, d) in enumerate(zip(levels, distances)):
+            box.label(text=f"{i}: {t}, " + ("never" if d < 0 else _length(context, d)))
+
+    @staticmethod
+    def draw_budget(context, lay, s, obj):
+        col = lay.column()
+        row = col.row(align=True)
+        row.prop(s, "budget_memory")
+        row.prop(s, "budget_triangles")
+        col.operator(JND_OT_budget.bl_idname, icon="SETTINGS")
+        if obj is None or BUDGET_PROP not in obj:
+            return
+        r = json.loads(obj[BUDGET_PROP])
+        box = lay.box()
+        c, sep = r["chosen"], r["separate"]
+        box.label(text=f"level {c['level']}, {c['triangles']} triangles")
+        box.label(text=f"{c['memory_mib']:.2f} MiB textures, P {c['statistic']:.3f}")
+        box.label(text=f"P <= {r['threshold']:g}: " + ("passes" if r["passes"] else "FAILS"))
+        box.label(text=f"cost {c['cost_mib']:.2f} MiB (apart: {sep['cost_mib']:.2f})")
+        for im in r["images"]:
+            size = f"{im['original'][0]}x{im['original'][1]} -> " if im["original"] else ""
+            box.label(text=f"{im['image'] or ', '.join(im['maps'])}: {size}{im['chosen'][0]}x{im['chosen'][1]}")
+        JND_PT_panel.draw_levels(context, box, r["levels"], r["switch_distance"])
+        box.operator(JND_OT_apply_budget.bl_idname, icon="CHECKMARK")
+
+    @staticmethod
+    def draw_lod(context, lay, s, obj):
         col = lay.column()
         col.prop(s, "lod_errors")
         col.prop(s, "lod_views")
@@ -437,13 +596,12 @@ class JND_PT_panel(bpy.types.Panel):
         k = r["perceptual_level"]
         box.label(text=f"{r['screen']}: level {k}")
         box.label(text=f"{r['levels'][k]} of {r['levels'][0]} triangles")
-        box.label(text="level: triangles, from distance")
-        for i, (t, d) in enumerate(zip(r["levels"], r["switch_distance"])):
-            box.label(text=f"{i}: {t}, " + ("never" if d < 0 else f"{d:.3g}"))
+        JND_PT_panel.draw_levels(context, box, r["levels"], r["switch_distance"])
         box.operator(JND_OT_apply_lod.bl_idname, icon="CHECKMARK")
 
 
-CLASSES = (JndPreferences, JndSettings, JND_OT_texres, JND_OT_apply, JND_OT_lod, JND_OT_apply_lod, JND_PT_panel)
+CLASSES = (JndPreferences, JndSettings, JND_OT_texres, JND_OT_apply, JND_OT_lod, JND_OT_apply_lod, JND_OT_budget,
+           JND_OT_apply_budget, JND_PT_panel)
 
 
 def register():

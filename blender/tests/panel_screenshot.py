@@ -22,6 +22,8 @@ import bpy
 mode, out = sys.argv[sys.argv.index("--") + 1:][:2]
 out = os.path.abspath(out)
 here = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, here)
+from scene import textured  # noqa: E402
 
 if mode == "prepare":
     bpy.ops.object.select_all(action="SELECT")
@@ -29,14 +31,7 @@ if mode == "prepare":
     bpy.ops.mesh.primitive_uv_sphere_add(segments=32, ring_count=16, radius=1)
     sphere = bpy.context.active_object
     sphere.name = "Sphere"
-    image = bpy.data.images.new("jnd_grid", 256, 256)
-    image.generated_type = "COLOR_GRID"
-    mat = bpy.data.materials.new("grid")
-    mat.use_nodes = True
-    tex = mat.node_tree.nodes.new("ShaderNodeTexImage")
-    tex.image = image
-    mat.node_tree.links.new(tex.outputs["Color"], mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"])
-    sphere.data.materials.append(mat)
+    image = textured(sphere, "jnd_grid", "grid")
     bpy.ops.preferences.addon_install(filepath=os.path.join(os.path.dirname(here), "jnd_blender.py"))
     bpy.ops.preferences.addon_enable(module="jnd_blender")
     bpy.ops.wm.save_userpref()

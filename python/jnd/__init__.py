@@ -75,22 +75,32 @@ class Display:
     distance_m: float = 0.0
     width_px: int = 0
     height_px: int = 0
+    task: str = "side-by-side"  # how the viewer compares the two images: "side-by-side" or "flicker"
+                                # (toggled in place: stricter; docs/model.md "Viewing task")
 
     def _to_c(self):
+        """The jnd_display. The library checks the quantities where it uses
+        them (ppd: the model; peak and black: the display's transform), with
+        its one-line message; the EXR scale, which it takes as it comes, is
+        checked here."""
         d = ffi.new("jnd_display *")
         name = self.name.encode()[:31]
         ffi.memmove(d.name, name, len(name))
         for f in dataclasses.fields(self):
-            if f.name != "name":
+            if f.name not in ("name", "task"):
                 setattr(d, f.name, getattr(self, f.name))
-        if not (d.ppd > 0 and d.peak_cdm2 > 0 and d.black_cdm2 >= 0 and d.exr_scale > 0):
-            raise JndError(f"display {self.name}: ppd, peak_cdm2 and exr_scale must be > 0, black_cdm2 >= 0")
+        task = ffi.new("jnd_viewing_task *")
+        _check(lib.jnd_viewing_task_parse(str(self.task).encode(), task), f"display {self.name}: task: ")
+        d.task = task[0]
+        if not d.exr_scale > 0:
+            raise JndError(f"display {self.name}: exr_scale {self.exr_scale:g} is not above 0 (cd/m² per unit)")
         return d
 
     @classmethod
     def _from_c(cls, d) -> "Display":
-        kw = {f.name: getattr(d, f.name) for f in dataclasses.fields(cls) if f.name != "name"}
-        return cls(name=ffi.string(d.name).decode(), **kw)
+        kw = {f.name: getattr(d, f.name) for f in dataclasses.fields(cls) if f.name not in ("name", "task")}
+        return cls(name=ffi.string(d.name).decode(), task=ffi.string(lib.jnd_viewing_task_name(d.task)).decode(),
+                   **kw)
 
 
 def display_presets() -> list:
@@ -299,6 +309,8 @@ def diff(ref: ImageLike, test: ImageLike, display: Union[str, Display] = "standa
 
 # ------------------------------------------------------------------ tasks --
 
-from .tasks import JndWarning, TaskResult, calibrate, diff_run, lod, pca, render, texres  # noqa: E402
+from .tasks import (JndWarning, TaskResult, budget, calibrate, csf, diff_run, gaze, gaze_fit, gaze_observers,  # noqa: E402
+                    lod, pca, pop, pop_frames, render, texres)
 
-__all__ += ["JndWarning", "TaskResult", "calibrate", "diff_run", "lod", "pca", "render", "texres"]
+__all__ += ["JndWarning", "TaskResult", "budget", "calibrate", "csf", "diff_run", "gaze", "gaze_fit", "gaze_observers",
+            "lod", "pca", "pop", "pop_frames", "render", "texres"]

@@ -35,6 +35,8 @@ typedef struct {
 jnd_status jnd_image_read(const char *path, jnd_image *out, jnd_image_info *info);
 
 typedef enum { JND_TASK_SIDE_BY_SIDE, JND_TASK_FLICKER } jnd_viewing_task;
+const char *jnd_viewing_task_name(jnd_viewing_task t);
+jnd_status jnd_viewing_task_parse(const char *s, jnd_viewing_task *t);
 typedef struct {
   char name[32];
   double ppd, peak_cdm2, black_cdm2, ambient_lux, reflectivity, exr_scale;
@@ -54,6 +56,7 @@ typedef struct {
   double gaze_x, gaze_y;
   double fps;
   int threads;
+  double min_band_cpd;
   ...;
 } jnd_model_params;
 void jnd_model_defaults(jnd_model_params *p);
@@ -104,6 +107,7 @@ typedef struct {
   int width, height; int samples; int anisotropy; const char *env_path; const char *platform; ...;
 } jnd_renderer_params;
 typedef struct { jnd_view_sampling sampling; const char *cameras_path; jnd_renderer_params render; ...; } jnd_view_set;
+void jnd_view_set_defaults(jnd_view_set *vs);
 typedef struct { double p; double q; ...; } jnd_criterion;
 typedef struct {
   jnd_view_set views; jnd_model_params model; jnd_calibration calibration; jnd_criterion criterion; ...;
@@ -216,8 +220,104 @@ typedef struct { int above; char *report; ...; } jnd_diff_result;
 jnd_status jnd_diff_run(const char *ref, const char *test, const jnd_diff_params *p, jnd_diff_result **out);
 void jnd_diff_result_free(jnd_diff_result *r);
 
+/* csf */
+int jnd_model_constant_find(const char *name);
+jnd_status jnd_model_constant_set(jnd_model_params *p, int k, double value);
+typedef struct {
+  int fit; int cross_validate; int search_every; int max_iterations; int fit_mask_set; unsigned long long fit_mask;
+  int threads;
+  void (*progress)(void *user, const char *stage, int done, int total);
+  void *user;
+  ...;
+} jnd_csf_options;
+typedef struct {
+  jnd_model_params model; jnd_csf_options options; const char *colors; const char *backgrounds;
+  const char *const *datasets; int ndatasets; int static_only; int every; jnd_run_options run; ...;
+} jnd_csf_run_params;
+void jnd_csf_run_defaults(jnd_csf_run_params *p);
+typedef struct { char *report; ...; } jnd_csf_run_result;
+jnd_status jnd_csf_run(const char *data, const jnd_csf_run_params *p, const char *out_csv, jnd_csf_run_result **out);
+void jnd_csf_run_result_free(jnd_csf_run_result *r);
+
+/* gaze */
+void jnd_lod_defaults(jnd_lod_params *p);
+typedef struct { double b; ...; } jnd_gaze_model;
+typedef struct { jnd_model_params model; ...; } jnd_gaze_measure_params;
+typedef struct {
+  const double *distances_m; int ndistances; const double *eccentricities_deg; int neccentricities;
+  const jnd_lod_params *chain; int orientations; uint64_t seed; double threshold; int min_px, max_px;
+  int near_window; jnd_gaze_measure_params measure; jnd_renderer_params render;
+  void (*progress)(void *user, int done, int total);
+  void *progress_user;
+  ...;
+} jnd_gaze_table_params;
+typedef struct { int folds; uint64_t seed; double confidence; jnd_gaze_model start; ...; } jnd_gaze_fit_params;
+typedef struct {
+  const double *sizes_deg; int nsizes; const double *eccentricities_deg; int neccentricities;
+  const jnd_lod_params *chain; int orientations; int answers; uint64_t seed; int min_px, max_px;
+  jnd_renderer_params render;
+  void (*progress)(void *user, int done, int total);
+  void *progress_user;
+  ...;
+} jnd_gaze_observers_params;
+typedef enum { JND_GAZE_RUN_TABLE, JND_GAZE_RUN_FIT, JND_GAZE_RUN_OBSERVERS } jnd_gaze_run_mode;
+typedef struct {
+  jnd_gaze_run_mode mode; jnd_gaze_table_params table; const char *const *model_files; int nmodel_files;
+  jnd_gaze_fit_params fit; jnd_gaze_observers_params observers; const char *const *models; int nmodels;
+  jnd_run_options run; ...;
+} jnd_gaze_run_params;
+void jnd_gaze_run_defaults(jnd_gaze_run_params *p);
+typedef struct { char *report; ...; } jnd_gaze_run_result;
+jnd_status jnd_gaze_run(const char *input, const jnd_gaze_run_params *p, const char *out_dir,
+                        jnd_gaze_run_result **out);
+void jnd_gaze_run_result_free(jnd_gaze_run_result *r);
+
+/* pop */
+typedef struct { jnd_pop_motion_kind kind; double speed; double direction[3]; double unit_m; ...; } jnd_pop_motion;
+typedef struct { int threads; ...; } jnd_pop_params;
+typedef struct {
+  const char *actual, *expected; const char *displacement; const char *displacement_expected;
+  const char *depth, *depth_expected; const char *prev_depth, *prev_depth_expected;
+  const char *weights, *prev_color, *prev_shading, *mask; ...;
+} jnd_pop_paths;
+typedef struct { int first, last; ...; } jnd_pop_sequence_params;
+typedef struct { double tolerance; double coverage_near; double coverage_far; ...; } jnd_pop_switch_params;
+typedef struct {
+  jnd_view_set views; const char *cameras; int builtin_map_size; jnd_lod_params chain; int rebuild;
+  const char *const *level_paths; int nlevel_paths; jnd_pop_motion motion; int level; int frame; int decide;
+  const double *speeds; int nspeeds; jnd_pop_switch_params search; ...;
+} jnd_pop_asset_params;
+typedef struct {
+  jnd_model_params model; jnd_pop_params pop; jnd_pop_paths frames; int sequence; jnd_pop_sequence_params seq;
+  jnd_pop_asset_params asset; int maps; int max_regions; double fail_above;
+  void (*progress)(void *user, const char *stage, int done, int total);
+  void *progress_user;
+  jnd_run_options run;
+  ...;
+} jnd_pop_run_params;
+void jnd_pop_run_defaults(jnd_pop_run_params *p);
+typedef struct { int above; char *report; ...; } jnd_pop_run_result;
+jnd_status jnd_pop_run(const char *model, const jnd_pop_run_params *p, const char *out_dir, jnd_pop_run_result **out);
+void jnd_pop_run_result_free(jnd_pop_run_result *r);
+
+/* budget */
+typedef struct {
+  jnd_texres_params texres; jnd_lod_run_params lod; double bytes_per_triangle; double memory_bytes;
+  double triangles; int verify_views;
+  void (*progress)(void *user, const char *line, int done, int total);
+  void *progress_user;
+  jnd_run_options run;
+  ...;
+} jnd_budget_params;
+void jnd_budget_defaults(jnd_budget_params *p);
+typedef struct { int passes; char *report; ...; } jnd_budget_result;
+jnd_status jnd_budget_run(const char *model, const jnd_budget_params *p, const char *out_dir,
+                          jnd_budget_result **out);
+void jnd_budget_result_free(jnd_budget_result *r);
+
 /* the callbacks of a run, into Python (jnd/tasks.py) */
 extern "Python" void _jnd_progress(void *user, const char *line, int done, int total);
+extern "Python" void _jnd_progress_count(void *user, int done, int total);
 extern "Python" void _jnd_warning(void *user, const char *message);
 """
 

@@ -18,7 +18,7 @@ Options every rendering task shares (the command's option groups):
   ``anisotropy``, ``platform``, ``map_size`` (builtin asset's maps, pixels)
 - display: ``display`` (a preset name or a :class:`jnd.Display`), ``ppd``,
   ``peak`` (cd/m²), ``black`` (cd/m²), ``ambient`` (lux),
-  ``reflectivity``, ``exr_scale``
+  ``reflectivity``, ``exr_scale``, ``task`` ("side-by-side" or "flicker")
 - criterion (texres, pca): ``p``, ``q``; ``pool`` ("p93"), ``calibration``
   (a ``jnd calibrate`` file)
 - common: ``json`` (also write the report there), ``timings``, ``threads``
@@ -43,7 +43,8 @@ from typing import Any, Callable, Optional, Sequence, Union
 
 from ._jnd_cffi import ffi, lib
 
-__all__ = ["TaskResult", "JndWarning", "texres", "pca", "calibrate", "lod", "render", "diff_run"]
+__all__ = ["TaskResult", "JndWarning", "texres", "pca", "calibrate", "lod", "render", "diff_run", "csf", "gaze",
+           "gaze_fit", "gaze_observers", "pop", "pop_frames", "budget"]
 
 Progress = Optional[Callable[[Optional[str], int, int], Any]]
 
@@ -102,6 +103,12 @@ def _jnd_progress(user, line, done, total):
         state.progress(None if line == ffi.NULL else ffi.string(line).decode("utf-8", "replace"), done, total)
     except BaseException as e:   # kept for the caller: an exception cannot cross the C library
         state.error = e
+
+
+@ffi.def_extern(onerror=_callback_error)
+def _jnd_progress_count(user, done, total):
+    """The progress of a run that counts steps only (gaze's table and observers)."""
+    _jnd_progress(user, ffi.NULL, done, total)
 
 
 @ffi.def_extern(onerror=_callback_error)
@@ -259,7 +266,7 @@ class _Options:
         self._bad(f"--{name}: '{v}' is not WxH with W and H in {lo}..{hi} pixels")
 
     # -- display (cli_display_get: an explicit quantity wins over the preset's;
-    #    the library checks ppd, peak and black)
+    #    the library checks ppd, peak and black; task: "side-by-side" or "flicker")
     def display(self, model_params, set_threads: bool = True) -> bool:
         """Sets model_params.display; returns whether exr_scale was given."""
         from . import Display, display as preset
@@ -281,6 +288,12 @@ class _Options:
                          ("exr_scale", "exr_scale")):
             if vals[k] is not None:
                 setattr(c, field, vals[k])
+        task = self.take("task")
+        if task is not None:
+            from . import _check
+            t = ffi.new("jnd_viewing_task *")
+            _check(lib.jnd_viewing_task_parse(str(task).encode(), t), "--task: ")
+            c.task = t[0]
         model_params.display = c[0]
         if set_threads:
             self.threads(model_params)
@@ -320,6 +333,26 @@ class _Options:
         self.print_report = path == "-"
         run.timings = 1 if self.take("timings") else 0
 
+    def views_only(self, allowed: tuple, cmd: str, why: str):
+        """The view options a task has no use for are refused, in the
+        command's order and words (cli_views_only)."""
+        for name in ("views", "seed", "size", "coverage", "distance", "fov", "elevation", "lights",
+                     "light_intensity", "cameras", "env", "samples", "anisotropy", "platform", "map_size"):
+            if name not in allowed and self.has(name):
+                self._bad(f"{cmd}: --{name.replace('_', '-')} does not apply ({why})")
+
+    def chain(self):
+        """A jnd_lod_params with the errors keyword as its targets (a plain
+        mesh's chain; the command's range), or NULL without it."""
+        e = self.numbers("errors", False, 63, 1e-6, 1)
+        if e is None:
+            return ffi.NULL
+        c = ffi.new("jnd_lod_params *")
+        lib.jnd_lod_defaults(c)
+        c.errors, c.nerrors = self.array("double", e), len(e)
+        self.keep.append(c)
+        return c
+
     def done(self):
         if self.kw:
             raise TypeError(f"{self.task}() got unexpected keyword argument(s): {', '.join(sorted(self.kw))}")
@@ -330,15 +363,21 @@ def _one_of(names: list) -> str:
 
 
 def _run(task: str, opts: _Options, call, free, params, progress: Progress, has_passes: bool,
-         result: str = None) -> TaskResult:
+         result: str = None, progress_at=None) -> TaskResult:
     """One call of the library's run, call(params, &result), with the
     callbacks into Python; the result freed, callback exceptions re-raised,
-    errors as JndError."""
+    errors as JndError. progress_at: where the run takes its progress
+    callback, (struct, callback field, user field, counts_only) tuples
+    (default: params.progress and params.progress_user, where it has them)."""
     from . import _check
     state = _RunState(progress)
     handle = ffi.new_handle(state)
-    if progress is not None and hasattr(params, "progress"):   # else no call into Python per rendering
-        params.progress, params.progress_user = lib._jnd_progress, handle
+    if progress_at is None:
+        progress_at = [(params, "progress", "progress_user", False)] if hasattr(params, "progress") else []
+    if progress is not None:   # else no call into Python per rendering
+        for target, field, user, counts_only in progress_at:
+            setattr(target, field, lib._jnd_progress_count if counts_only else lib._jnd_progress)
+            setattr(target, user, handle)
     params.run.warning, params.run.warning_user = lib._jnd_warning, handle
     out = ffi.new(f"{result or f'jnd_{task}_result'} **")
     status = call(params, out)
@@ -360,12 +399,16 @@ def _run(task: str, opts: _Options, call, free, params, progress: Progress, has_
 
 
 def _run_shape(task: str, opts: _Options, params, input_path, out_path, progress: Progress,
-               has_passes: bool = False, params_of_run=None) -> TaskResult:
-    """The task shape, jnd_<task>_run(input, params, out, &result)."""
+               has_passes: bool = False, result: str = None, progress_at=None) -> TaskResult:
+    """The task shape, jnd_<task>_run(input, params, out, &result); result:
+    the result's type where it is not jnd_<task>_result (its free function
+    is the type's name with _free)."""
     c_in = ffi.NULL if input_path is None else opts.cstr(input_path)
-    c_out = opts.cstr(out_path)
-    fn, free = getattr(lib, f"jnd_{task}_run"), getattr(lib, f"jnd_{task}_result_free")
-    return _run(task, opts, lambda p, out: fn(c_in, p, c_out, out), free, params, progress, has_passes)
+    c_out = ffi.NULL if out_path is None else opts.cstr(out_path)
+    result = result or f"jnd_{task}_result"
+    fn, free = getattr(lib, f"jnd_{task}_run"), getattr(lib, f"{result}_free")
+    return _run(task, opts, lambda p, out: fn(c_in, p, c_out, out), free, params, progress, has_passes, result,
+                progress_at)
 
 
 PathLike = Union[str, os.PathLike]
@@ -481,6 +524,20 @@ def pca(maps: Sequence[PathLike], out_dir: PathLike, *, model: Optional[PathLike
         p.block_compression = 0
     o.done()
     return _run_shape("pca", o, p, model, out_dir, progress)
+
+
+def _screens(o: _Options, cmd: str, screens):
+    """--screens: presets, "WxH" or "WxH@PPD" (a list or "a,b"), parsed by
+    the library; the array and its count."""
+    from . import _check
+    names = [x for x in (screens.split(",") if isinstance(screens, str) else screens) if x]
+    if not names or len(names) > 16:
+        o._bad(f"{cmd}: --screens: '{screens}' names no screen" if not names else
+               f"{cmd}: --screens: at most 16 screens")
+    scr = o.array("jnd_poi_screen", len(names))
+    for i, name in enumerate(names):
+        _check(lib.jnd_poi_screen_parse(str(name).encode(), scr + i), f"{cmd}: --screens: ")
+    return scr, len(names)
 
 
 def _char_array(o: _Options, strings: list):
@@ -600,17 +657,7 @@ def lod(model: PathLike, out_dir: PathLike, *, errors: Union[str, Sequence[float
     if chain_only:
         p.analyse = 0
     if screens is not None:
-        names = [x for x in (screens.split(",") if isinstance(screens, str) else screens) if x]
-        scr = ffi.new("jnd_poi_screen[]", max(len(names), 1))
-        o.keep.append(scr)
-        if not names or len(names) > 16:
-            o._bad(f"lod: --screens: '{screens}' names no screen" if not names else
-                   "lod: --screens: at most 16 screens")
-        from . import JndError
-        for i, name in enumerate(names):
-            if lib.jnd_poi_screen_parse(str(name).encode(), scr + i) != lib.JND_OK:
-                raise JndError("lod: --screens: " + ffi.string(lib.jnd_last_error()).decode())
-        p.poi.screens, p.poi.nscreens = scr, len(names)
+        p.poi.screens, p.poi.nscreens = _screens(o, "lod", screens)
     # the library checks each of these (lod: ... outside ...)
     for name, target, field, integer in (
             ("virtual_scale", p.poi, "virtual_scale", False), ("max_virtual", p.poi, "max_virtual_px", True),
@@ -743,3 +790,471 @@ def diff_run(ref: PathLike, test: PathLike, *, map: Optional[PathLike] = None,
     c_ref, c_test = o.cstr(ref), o.cstr(test)
     return _run("diff", o, lambda params, out: lib.jnd_diff_run(c_ref, c_test, params, out), lib.jnd_diff_result_free,
                 p, None, fail_above is not None)
+
+
+def csf(data: PathLike, out_csv: Optional[PathLike] = None, *, colors: Optional[PathLike] = None,
+        backgrounds: Optional[PathLike] = None, dataset: Union[str, Sequence[str]] = (), static_only: bool = False,
+        every: Optional[int] = None, fit: bool = False, cross_validate: bool = False,
+        fit_only: Union[str, Sequence[str], None] = None, search_every: Optional[int] = None,
+        iterations: Optional[int] = None, set: Union[str, dict, Sequence[str], None] = None,
+        min_band: Optional[float] = None, progress: Progress = None, **options) -> TaskResult:
+    """``jnd csf DATA.csv [-o OUT.csv]``: the vision model's contrast
+    sensitivity for every stimulus of a castleCSF-format CSV against the
+    measured one (docs/csf.md); the report's result holds the RMS errors in
+    dB per data set and pooled. out_csv: also the rows with their
+    predictions; colors, backgrounds: the colour directions and backgrounds
+    (default: beside data); dataset: only these data sets (at most 16);
+    static_only; every: every N-th row; fit: fit the model's constants
+    first (maximum a posteriori); cross_validate: leave one data set out;
+    fit_only: the constants to fit ("a,b" or names); search_every: fits
+    search on every N-th row; iterations: of Levenberg-Marquardt; set:
+    constants' values ({"sensitivity": 0.1} or "NAME=VALUE" strings, in
+    order); min_band: the lowest band's peak, cycles/degree. Common options:
+    json, timings, threads. ``progress`` gets the stage's name on every
+    step."""
+    o = _Options("csf", options)
+    p = ffi.new("jnd_csf_run_params *")
+    lib.jnd_csf_run_defaults(p)
+    o.threads(p.options)
+    o.run_options(p.run)
+    o.give(every=every, search_every=search_every, iterations=iterations, min_band=min_band)
+    for name, target, field, lo, hi in (("every", p, "every", 1, 1000000),
+                                        ("search_every", p.options, "search_every", 1, 1000),
+                                        ("iterations", p.options, "max_iterations", 0, 1000)):
+        x = o.number(name, lo, hi, True)   # the library takes these as they come
+        if x is not None:
+            setattr(target, field, x)
+    x = o.number("min_band", 0.02, 10)
+    if x is not None:
+        p.model.min_band_cpd = x
+    for value, field in ((colors, "colors"), (backgrounds, "backgrounds")):
+        if value is not None:
+            setattr(p, field, o.cstr(value))
+    names = [dataset] if isinstance(dataset, str) else list(dataset)
+    if len(names) > 16:
+        o._bad("csf: at most 16 --dataset options")
+    if names:
+        p.datasets, p.ndatasets = _char_array(o, [o.cstr(n) for n in names]), len(names)
+    p.static_only = 1 if static_only else 0
+    p.options.fit = 1 if fit else 0
+    p.options.cross_validate = 1 if cross_validate else 0
+    if fit_only is not None:
+        mask = 0
+        for name in (fit_only.split(",") if isinstance(fit_only, str) else fit_only):
+            k = lib.jnd_model_constant_find(str(name).encode())
+            if k < 0:
+                o._bad(f"csf: --fit-only: no constant '{name}' (jnd csf --list-constants)")
+            mask |= 1 << k
+        p.options.fit_mask, p.options.fit_mask_set = mask, 1
+    if set is not None:
+        items = (list(set.items()) if isinstance(set, dict) else
+                 [str(x).partition("=")[::2] for x in ([set] if isinstance(set, str) else set)])
+        for name, value in items:
+            name = str(name)
+            if not name or (not isinstance(set, dict) and not str(value)):
+                o._bad(f"csf: --set: expected NAME=VALUE, not '{name}={value}'")
+            k = lib.jnd_model_constant_find(name.encode())
+            if k < 0:
+                o._bad(f"csf: --set: no constant '{name}' (jnd csf --list-constants)")
+            try:
+                x = float(value)
+            except (TypeError, ValueError):
+                x = None
+            if x is None or not math.isfinite(x):
+                o._bad(f"csf: --set {name}: '{value}' is not a number")
+            from . import _check
+            _check(lib.jnd_model_constant_set(ffi.addressof(p.model), k, x), "csf: --set: ")
+    o.done()
+    return _run_shape("csf", o, p, data, out_csv, progress, result="jnd_csf_run_result",
+                      progress_at=[(p.options, "progress", "user", False)])
+
+
+_GAZE_VIEWS = ("seed", "env", "samples", "anisotropy", "platform", "map_size")
+
+
+def _gaze_views(o: _Options, cmd: str, why: str, target) -> int:
+    """The view options gaze has a use for (seed, env, samples, anisotropy,
+    platform, map_size) into target's seed and renderer; returns the
+    built-in assets' map size (512)."""
+    o.views_only(_GAZE_VIEWS, cmd, why)
+    vs = ffi.new("jnd_view_set *")
+    lib.jnd_view_set_defaults(vs)
+    vs.sampling.seed, vs.render = target.seed, target.render
+    map_size = o.views(vs, {"map_size": 512})
+    target.seed = vs.sampling.seed
+    r = target.render
+    r.env_path, r.samples, r.anisotropy, r.platform = (vs.render.env_path, vs.render.samples, vs.render.anisotropy,
+                                                       vs.render.platform)
+    return map_size
+
+
+def gaze(model: PathLike, out_dir: PathLike, *, distances: Union[str, Sequence[float], None] = None,
+         eccentricities: Union[str, Sequence[float], None] = None, orientations: Optional[int] = None,
+         threshold: Optional[float] = None, errors: Union[str, Sequence[float], None] = None,
+         min_px: Optional[int] = None, max_px: Optional[int] = None, whole_near: bool = False,
+         params: Union[PathLike, Sequence[PathLike]] = (), progress: Progress = None, **options) -> TaskResult:
+    """``jnd gaze MODEL -o OUT_DIR``: 002's table L(distance, eccentricity)
+    of the coarsest level an observer looking elsewhere does not notice
+    (docs/gaze.md). out_dir gets gaze.json, gaze.csv (what an engine loads),
+    gaze.png and, for a plain mesh, model/NAME.glb with the chain made.
+    distances: metres from the eye, ascending; eccentricities: degrees from
+    the gaze, ascending, 0..90; orientations: per distance (8); threshold:
+    the 2AFC probability both models stay below (0.75); errors: a plain
+    mesh's chain, error targets ("1/1024,1/256"); min_px, max_px: the
+    rendering side (64, 192); whole_near: judge near objects whole at reduced
+    ppd; params: fitted parameters (``jnd gaze fit``'s gaze_fit.json files).
+    Views: only seed, env, samples, anisotropy, platform, map_size (512);
+    display and common options (json, timings) as in the module's help; the
+    library's threads are OpenMP's (OMP_NUM_THREADS; the table does not
+    depend on them). ``progress`` gets (None, done, total) per step."""
+    o = _Options("gaze", options)
+    rp = ffi.new("jnd_gaze_run_params *")
+    lib.jnd_gaze_run_defaults(rp)
+    t = rp.table
+    map_size = _gaze_views(o, "gaze", "its views are --distances x --orientations, each at its own size; "
+                           "see jnd gaze --help", t)
+    o.display(t.measure.model, set_threads=False)
+    o.run_options(rp.run, map_size)
+    o.give(distances=distances, eccentricities=eccentricities, orientations=orientations, threshold=threshold,
+           errors=errors, min_px=min_px, max_px=max_px)
+    for name, count, field in (("distances", "ndistances", "distances_m"),
+                               ("eccentricities", "neccentricities", "eccentricities_deg")):
+        v = o.numbers(name, False, 256)   # the library checks the values (range, ascending)
+        if v is not None:
+            setattr(t, field, o.array("double", v))
+            setattr(t, count, len(v))
+    for name in ("orientations", "min_px", "max_px"):   # the library checks each
+        x = o.number(name, integer=True)
+        if x is not None:
+            setattr(t, name, x)
+    x = o.number("threshold")
+    if x is not None:
+        t.threshold = x
+    t.chain = o.chain()
+    if whole_near:
+        t.near_window = 0
+    files = [params] if isinstance(params, (str, os.PathLike)) else list(params)
+    if len(files) > 8:
+        o._bad("--params: at most 8 files")
+    if files:
+        rp.model_files, rp.nmodel_files = _char_array(o, [o.cstr(f) for f in files]), len(files)
+    o.done()
+    return _run_shape("gaze", o, rp, model, out_dir, progress, result="jnd_gaze_run_result",
+                      progress_at=[(t, "progress", "progress_user", True)])
+
+
+def gaze_fit(data: PathLike, out_dir: Optional[PathLike] = None, *, folds: Optional[int] = None,
+             seed: Optional[int] = None, confidence: Optional[float] = None, b: Optional[float] = None,
+             **options) -> TaskResult:
+    """``jnd gaze fit DATA.csv [-o OUT_DIR]``: fits 002's spatial model
+    (columns xor_deg, v_jnd, eccentricity_deg, seen) or its temporal model
+    (t_jnd, seen) to observers' answers by maximum likelihood, with
+    intervals and k-fold cross-validation (docs/gaze.md "Fitting"). out_dir:
+    also OUT_DIR/gaze_fit.json (what ``jnd.gaze(params=...)`` reads); folds
+    (4), seed (1), confidence (0.95), b: the weight's floor, fixed (2).
+    Common options: json, timings."""
+    o = _Options("gaze fit", options)
+    rp = ffi.new("jnd_gaze_run_params *")
+    lib.jnd_gaze_run_defaults(rp)
+    rp.mode = lib.JND_GAZE_RUN_FIT
+    f = rp.fit
+    o.run_options(rp.run, 512)
+    o.give(folds=folds, seed=seed, confidence=confidence, b=b)
+    x = o.number("folds", integer=True)   # the library checks folds and confidence
+    if x is not None:
+        f.folds = x
+    x = o.number("seed", 0, 9007199254740992.0)
+    if x is not None:
+        f.seed = int(x)
+    x = o.number("confidence")
+    if x is not None:
+        f.confidence = x
+    x = o.number("b", 1e-6, 1e6)
+    if x is not None:
+        f.start.b = x
+    o.done()
+    return _run_shape("gaze", o, rp, data, out_dir, None, result="jnd_gaze_run_result", progress_at=[])
+
+
+def gaze_observers(models: Union[PathLike, Sequence[PathLike]], out_dir: PathLike, *,
+                   sizes: Union[str, Sequence[float], None] = None,
+                   eccentricities: Union[str, Sequence[float], None] = None, orientations: Optional[int] = None,
+                   answers: Optional[int] = None, errors: Union[str, Sequence[float], None] = None,
+                   min_px: Optional[int] = None, max_px: Optional[int] = None, progress: Progress = None,
+                   **options) -> TaskResult:
+    """``jnd gaze observers MODEL... -o OUT_DIR``: synthetic observers for
+    ``gaze_fit`` (docs/gaze.md "Defaults"): out_dir gets spatial.csv,
+    temporal.csv (one row per answer) and observers.json. sizes: the
+    object's angular diameter, degrees; eccentricities: degrees, ascending;
+    orientations (2); answers: Bernoulli answers per stimulus (40); errors:
+    a plain mesh's chain; min_px, max_px (64, 192). Views: only seed, env,
+    samples, anisotropy, platform, map_size (512); common options (json,
+    timings). ``progress`` gets (None, done, total) per step."""
+    o = _Options("gaze observers", options)
+    rp = ffi.new("jnd_gaze_run_params *")
+    lib.jnd_gaze_run_defaults(rp)
+    rp.mode = lib.JND_GAZE_RUN_OBSERVERS
+    ob = rp.observers
+    map_size = _gaze_views(o, "gaze observers", "its views are --sizes x --orientations; "
+                           "see jnd gaze observers --help", ob)
+    o.run_options(rp.run, map_size)
+    o.give(sizes=sizes, eccentricities=eccentricities, orientations=orientations, answers=answers, errors=errors,
+           min_px=min_px, max_px=max_px)
+    for name, count, field in (("sizes", "nsizes", "sizes_deg"),
+                               ("eccentricities", "neccentricities", "eccentricities_deg")):
+        v = o.numbers(name, False, 64)   # the library checks the values
+        if v is not None:
+            setattr(ob, field, o.array("double", v))
+            setattr(ob, count, len(v))
+    for name in ("orientations", "answers", "min_px", "max_px"):   # the library checks each
+        x = o.number(name, integer=True)
+        if x is not None:
+            setattr(ob, name, x)
+    ob.chain = o.chain()
+    files = [models] if isinstance(models, (str, os.PathLike)) else list(models)
+    if len(files) > 64:
+        o._bad("gaze observers: at most 64 models")
+    rp.models, rp.nmodels = _char_array(o, [o.cstr(f) for f in files]), len(files)
+    o.done()
+    return _run_shape("gaze", o, rp, None, out_dir, progress, result="jnd_gaze_run_result",
+                      progress_at=[(ob, "progress", "progress_user", True)])
+
+
+def _pop_common(o: _Options, rp, fps, maps, max_regions, fail_above):
+    """What both forms of pop share: the display, fps, threads, outputs."""
+    o.display(rp.model, set_threads=False)
+    n = o.threads(rp.model)
+    if n is not None:
+        rp.pop.threads = n
+    o.give(fps=fps, max_regions=max_regions, fail_above=fail_above)
+    for name, target, field, lo, hi, integer in (("fps", rp.model, "fps", 1, 1000, False),
+                                                 ("max_regions", rp, "max_regions", 0, 1 << 30, True),
+                                                 ("fail_above", rp, "fail_above", -100, 100, False)):
+        x = o.number(name, lo, hi, integer)   # the library takes these as they come
+        if x is not None:
+            setattr(target, field, x)
+    rp.maps = 1 if maps else 0
+    return n
+
+
+def pop(model: PathLike, out_dir: PathLike, *, switch: Optional[int] = None, frame: Optional[int] = None,
+        orbit: Optional[float] = None, translate: Optional[float] = None, spin: Optional[float] = None,
+        pan: Optional[float] = None, direction: Optional[Sequence[float]] = None, unit_m: Optional[float] = None,
+        level: Union[PathLike, Sequence[PathLike]] = (), errors: Union[str, Sequence[float], None] = None,
+        rebuild: bool = False, decide: bool = False, speeds: Union[str, Sequence[float], None] = None,
+        tolerance: Optional[float] = None, coverage_range: Optional[Sequence[float]] = None,
+        fps: Optional[float] = None, maps: bool = False, max_regions: Optional[int] = None,
+        fail_above: Optional[float] = None, progress: Progress = None, **options) -> TaskResult:
+    """``jnd pop MODEL -o OUT_DIR``, the asset form: will the switch from
+    level ``switch`` to the next pop (004 §3.2; docs/pop.md)? jnd renders
+    the switch from the first view at frame ``frame`` of the motion — one of
+    orbit (°/s, the camera circles), translate (m/s along direction, the
+    camera's x right, y up, z back), spin (°/s, the object turns), pan (°/s,
+    the camera turns in place); unit_m: metres per object unit. The chain is
+    the file's MSFT_lod levels, the ``level`` files, or one made (errors;
+    rebuild: even when the file has levels). decide (or speeds, °/s): the
+    popping-free switch distance of every level and speed (tolerance,
+    coverage_range (near, far)). out_dir gets pop.json, regions.png (and
+    switch.png; with maps, jnd.exr and weights.exr). fps (60), max_regions
+    (100), fail_above: ``passes`` is False when the largest rating exceeds
+    it. Views (512², map_size 2048), display and common options as in the
+    module's help. ``progress`` gets the stage's name on every step."""
+    from . import JndError
+    o = _Options("pop", options)
+    rp = ffi.new("jnd_pop_run_params *")
+    lib.jnd_pop_run_defaults(rp)
+    a = rp.asset
+    vs = ffi.new("jnd_view_set *")
+    lib.jnd_view_set_defaults(vs)
+    vs.render.width = vs.render.height = 512
+    cameras = o.kw.get("cameras")
+    map_size = o.views(vs)
+    n = _pop_common(o, rp, fps, maps, max_regions, fail_above)
+    o.run_options(rp.run, map_size)
+    motions = [(k, v) for k, v in (("orbit", orbit), ("translate", translate), ("spin", spin), ("pan", pan))
+               if v is not None]
+    if len(motions) > 1:
+        raise JndError("pop: give one of --orbit, --translate and --spin")
+    if errors is not None and level:
+        raise JndError("pop: give --errors or --level files, not both")
+    o.give(switch=switch, frame=frame, unit_m=unit_m, tolerance=tolerance, **dict(motions))
+    for name, target, field, lo, hi, integer in (("switch", a, "level", 0, 62, True),
+                                                 ("frame", a, "frame", -100000, 100000, True),
+                                                 ("unit_m", a.motion, "unit_m", 1e-9, 1e9, False),
+                                                 ("tolerance", a.search, "tolerance", 1e-4, 10, False)):
+        x = o.number(name, lo, hi, integer)   # the command's ranges: the library takes these as they come
+        if x is not None:
+            setattr(target, field, x)
+    if motions:
+        kind, _ = motions[0]
+        a.motion.kind = {"orbit": lib.JND_POP_ORBIT, "translate": lib.JND_POP_TRANSLATE, "spin": lib.JND_POP_OBJECT,
+                         "pan": lib.JND_POP_PAN}[kind]
+        a.motion.speed = o.number(kind, -100000, 100000)
+    if direction is not None:
+        o.give(direction=direction)
+        d = o.numbers("direction", False, 3)
+        if len(d) != 3 or not any(d):
+            raise JndError(f"pop: --direction: '{direction}' is not X,Y,Z (not all 0)")
+        a.motion.direction = d
+    if coverage_range is not None:
+        o.give(coverage_range=coverage_range)
+        near, far = o.pair("coverage_range")
+        if not (near <= 10 and near > far and far >= 0.001):
+            raise JndError(f"pop: --coverage-range: '{coverage_range}' is not N,F with 10 >= N > F >= 0.001")
+        a.search.coverage_near, a.search.coverage_far = near, far
+    o.give(errors=errors)
+    chain = o.chain()
+    if chain != ffi.NULL:
+        a.chain.errors, a.chain.nerrors = chain.errors, chain.nerrors
+    a.rebuild = 1 if rebuild else 0
+    if decide:
+        a.decide = 1
+    if speeds is not None:
+        o.give(speeds=speeds)
+        sp = o.numbers("speeds", False, 64, -100000, 100000)
+        a.speeds, a.nspeeds, a.decide = o.array("double", sp), len(sp), 1
+    levels = [level] if isinstance(level, (str, os.PathLike)) else list(level)
+    if len(levels) > 63:
+        raise JndError("pop: at most 63 --level files")
+    a.views = vs[0]
+    a.cameras = vs.cameras_path if cameras is not None else ffi.NULL
+    a.builtin_map_size = map_size
+    a.level_paths, a.nlevel_paths = _char_array(o, [o.cstr(x) for x in levels]), len(levels)
+    if n is not None:
+        a.chain.threads = n
+    o.done()
+    return _run_shape("pop", o, rp, model, out_dir, progress, has_passes=fail_above is not None,
+                      result="jnd_pop_run_result")
+
+
+def pop_frames(new: PathLike, expected: PathLike, out_dir: PathLike, *, displacement: Optional[PathLike] = None,
+               displacement_expected: Optional[PathLike] = None, weights: Optional[PathLike] = None,
+               depth: Optional[PathLike] = None, depth_expected: Optional[PathLike] = None,
+               prev_depth: Optional[PathLike] = None, prev_depth_expected: Optional[PathLike] = None,
+               prev_frame: Optional[PathLike] = None, prev_shading: Optional[PathLike] = None,
+               mask: Optional[PathLike] = None, frames: Optional[Sequence[int]] = None, fps: Optional[float] = None,
+               maps: bool = False, max_regions: Optional[int] = None, fail_above: Optional[float] = None,
+               progress: Progress = None, **options) -> TaskResult:
+    """``jnd pop NEW EXPECTED -o OUT_DIR``, the frame form: NEW is the frame
+    where the switch happens, rendered with the new level, EXPECTED the
+    same frame with the previous level (004 §3.2, §4; docs/pop.md). Frames:
+    PNG/JPEG (sRGB) or EXR/HDR (linear, cd/m² × exr_scale); displacement
+    (and displacement_expected): screen displacement from the previous
+    frame, pixels (EXR, 2 channels); weights, depth, depth_expected,
+    prev_depth, prev_depth_expected, prev_frame, prev_shading, mask: as the
+    command's options. frames: (first, last): a sequence, the paths holding
+    %d or %0Nd. fps (60), maps, max_regions (100), fail_above: ``passes``
+    is False when the largest rating exceeds it. Display and common options
+    as in the module's help."""
+    from . import JndError
+    o = _Options("pop", options)
+    rp = ffi.new("jnd_pop_run_params *")
+    lib.jnd_pop_run_defaults(rp)
+    _pop_common(o, rp, fps, maps, max_regions, fail_above)
+    o.run_options(rp.run, 2048)
+    f = rp.frames
+    for value, field in ((new, "actual"), (expected, "expected"), (displacement, "displacement"),
+                         (displacement_expected, "displacement_expected"), (weights, "weights"), (depth, "depth"),
+                         (depth_expected, "depth_expected"), (prev_depth, "prev_depth"),
+                         (prev_depth_expected, "prev_depth_expected"), (prev_frame, "prev_color"),
+                         (prev_shading, "prev_shading"), (mask, "mask")):
+        if value is not None:
+            setattr(f, field, o.cstr(value))
+    if frames is not None:
+        o.give(frames=frames)
+        fr = o.numbers("frames", True, 2, 0, 1 << 30)
+        if len(fr) != 2 or fr[1] < fr[0]:
+            raise JndError(f"pop: --frames: '{frames}' is not FIRST,LAST with 0 <= FIRST <= LAST")
+        rp.seq.first, rp.seq.last, rp.sequence = fr[0], fr[1], 1
+    o.done()
+    return _run_shape("pop", o, rp, None, out_dir, progress, has_passes=fail_above is not None,
+                      result="jnd_pop_run_result")
+
+
+_SIZE_UNITS = {"": 1, "B": 1, "KiB": 1024, "MiB": 1048576, "GiB": 1073741824, "kB": 1e3, "KB": 1e3, "MB": 1e6,
+               "GB": 1e9}
+
+
+def budget(model: PathLike, out_dir: PathLike, *, memory: Union[str, float, None] = None,
+           triangles: Optional[int] = None, bytes_per_triangle: Optional[float] = None,
+           verify_views: Optional[int] = None, margin: Optional[float] = None, confirm: Optional[int] = None,
+           min_size: Optional[int] = None, screens: Union[str, Sequence[str], None] = None,
+           errors: Union[str, Sequence[float], None] = None, judge_views: Optional[int] = None,
+           far_coverage: Optional[float] = None, tolerance: Optional[float] = None, max_px: Optional[int] = None,
+           no_pop: bool = False, progress: Progress = None, **options) -> TaskResult:
+    """``jnd budget MODEL -o OUT_DIR``: the texture sizes and the levels of
+    detail chosen together under one cost, the textures' GPU memory plus the
+    finest level's triangles at an exchange rate (docs/budget.md). out_dir
+    gets budget.json, model/NAME.glb (the chosen levels, maps at the chosen
+    sizes) and pareto.png. Without a budget: the cheapest choice nobody
+    notices; memory ("8MiB", "512KB" or bytes) and/or triangles: the least
+    noticed choice within them. bytes_per_triangle: the exchange rate (0:
+    level 0's own); verify_views: held-out views at each coarser level's
+    switch distance (4); margin, confirm, min_size: texres's search;
+    screens, errors, judge_views, far_coverage, tolerance, max_px, no_pop:
+    lod's. Views, display, criterion (p, q, pool, calibration) and common
+    options as in the module's help. ``passes`` is False where the choice
+    fails the criterion (the command's exit status 1); ``progress`` gets
+    each stage's line."""
+    from . import JndError
+    o = _Options("budget", options)
+    p = ffi.new("jnd_budget_params *")
+    lib.jnd_budget_defaults(p)
+    vs = ffi.new("jnd_view_set *")   # the command's views: the defaults, texres's size, lod's coverage
+    lib.jnd_view_set_defaults(vs)
+    vs.render.width, vs.render.height = p.texres.judge.views.render.width, p.texres.judge.views.render.height
+    vs.sampling.coverage = p.lod.poi.coverage
+    map_size = o.views(vs, {"map_size": p.run.map_size})
+    o.display(p.texres.judge.model, set_threads=False)
+    n = o.threads(p.texres.judge.model)
+    o.criterion(p.texres.judge.criterion)
+    o.calibration(p.texres.judge)
+    o.run_options(p.run, map_size)
+    p.texres.judge.views = vs[0]
+    p.lod.poi.coverage, p.lod.poi.seed = vs.sampling.coverage, vs.sampling.seed
+    p.lod.poi.fov_y_deg, p.lod.poi.lights = vs.sampling.fov_y_deg, vs.sampling.lights
+    p.lod.poi.env_path, p.lod.poi.platform = vs.render.env_path, vs.render.platform
+    p.lod.sw.judge.criterion, p.lod.sw.judge.calibration = p.texres.judge.criterion, p.texres.judge.calibration
+    if n is not None:
+        p.lod.threads = n
+    if memory is not None:
+        m = None
+        if isinstance(memory, (int, float)) and not isinstance(memory, bool):
+            m = float(memory)
+        else:
+            text = str(memory).strip()
+            num = text.rstrip("BKiMGkb ")
+            unit = text[len(num):].strip()
+            try:
+                if unit in _SIZE_UNITS:
+                    m = float(num) * _SIZE_UNITS[unit]
+            except ValueError:
+                m = None
+        if m is None or not math.isfinite(m) or not m > 0:
+            raise JndError(f"budget: --memory: '{memory}' is not a size above 0 (e.g. 8MiB; units B, KiB, MiB, GiB, "
+                           "kB, MB, GB)")
+        p.memory_bytes = m
+    o.give(triangles=triangles, bytes_per_triangle=bytes_per_triangle, verify_views=verify_views, margin=margin,
+           confirm=confirm, min_size=min_size, judge_views=judge_views, far_coverage=far_coverage,
+           tolerance=tolerance, max_px=max_px)
+    # the library checks the budget, the rate, the held-out views and texres's and lod's fields
+    for name, target, field, integer in (
+            ("triangles", p, "triangles", True), ("bytes_per_triangle", p, "bytes_per_triangle", False),
+            ("verify_views", p, "verify_views", True), ("margin", p.texres, "margin", False),
+            ("confirm", p.texres, "confirm_rounds", True), ("min_size", p.texres, "min_size", True),
+            ("judge_views", p.lod.sw.judge.views.sampling, "count", True),
+            ("far_coverage", p.lod.sw, "far_coverage", False), ("tolerance", p.lod.sw, "tolerance", False),
+            ("max_px", p.lod.sw, "max_px", True)):
+        x = o.number(name, integer=integer)
+        if x is not None:
+            setattr(target, field, x)
+    if screens is not None:
+        p.lod.poi.screens, p.lod.poi.nscreens = _screens(o, "budget", screens)
+    o.give(errors=errors)
+    chain = o.chain()
+    if chain != ffi.NULL:
+        p.lod.chain.errors, p.lod.chain.nerrors = chain.errors, chain.nerrors
+    if no_pop:
+        p.lod.sw.pop = 0
+    o.done()
+    return _run_shape("budget", o, p, model, out_dir, progress, has_passes=True)

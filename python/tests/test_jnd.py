@@ -1,6 +1,7 @@
 """The Python package gives the command's numbers, round-trips arrays, and
 turns every bad input into a JndError with libjnd's message."""
 import json
+import math
 import os
 import resource
 import subprocess
@@ -244,7 +245,7 @@ def renderer(tmp_path_factory):
 
 def cli_task(task, args, out, report):
     """The command's report text (--json FILE) and its folder's files."""
-    cmd = [JND, task, *args, "-o", str(out), "--json", str(report), "--quiet"]
+    cmd = [JND, *task.split(), *args, "-o", str(out), "--json", str(report), "--quiet"]
     run = subprocess.run(cmd, capture_output=True, text=True, env=CLI_ENV)
     assert run.returncode in (0, 1), run.stderr
     return report.read_text()
@@ -264,7 +265,7 @@ def same_as_cli(tmp_path, task, cli_args, call, report_name=None):
     assert got.report_text == want
     if want_files is not None:
         assert files_of(out) == want_files
-        name = report_name or f"{task}.json"
+        name = report_name or f"{task.split()[0]}.json"
         assert (out / name).read_text() == (tmp_path / "cli" / name).read_text()
     if want_file is not None:
         assert out.read_text() == want_file
@@ -387,7 +388,8 @@ def test_the_package_does_not_repeat_the_librarys_checks():
     src = inspect.getsource(tasks)
     for opt in ("views", "coverage", "fov", "lights", "map_size", "margin", "confirm", "verify_views",
                 "min_size", "energy", "components", "tolerance", "far_coverage", "max_px", "judge_views",
-                "virtual_scale", "surface_samples"):
+                "virtual_scale", "surface_samples", "orientations", "threshold", "confidence", "answers",
+                "min_px", "triangles", "bytes_per_triangle"):
         for line in src.splitlines():
             if f'"{opt}"' in line and "number(" in line:
                 assert "integer=True)" in line or f'number("{opt}")' in line, line
@@ -469,3 +471,197 @@ def test_diff_run_from_python_is_the_commands_report_and_files(tmp_path, demo):
     with pytest.raises(jnd.JndError, match="reference.png"):
         jnd.diff_run(ref, test, heatmap=ref, json=tmp_path / "no.json")
     assert open(ref, "rb").read() == before and not (tmp_path / "no.json").exists()
+
+
+
+# csf, gaze (table, fit, observers), pop (asset, frames) and budget: the
+# command's report byte for byte, the same files, progress and the GIL
+
+def csf_set(folder):
+    """A small castleCSF-format set: colour directions, a background and a
+    few stimuli (luminance, cpd, direction, sigma, area, data set, Hz,
+    eccentricity, kind, measured sensitivity)."""
+    (folder / "color_directions.csv").write_text(
+        "col_dir_id,L_delta,M_delta,S_delta,dataset\n"
+        "1,0.918203011274591,0.395254682570263,0.0260185701481506,mine\n"
+        "3,0.762860488743917,-0.646494144848117,-0.00944433112997181,mine\n")
+    (folder / "backgrounds.csv").write_text(
+        "bkg_id,L,M,S,bkg_label,dataset\n1,36.7372648518233,15.8141236515338,1.04100192534928,D65,mine\n")
+    stimuli = [(50, 2, 1, 0.5, 0.785, "achromatic", 0, 0, "gabor", 200), (50, 8, 1, 0.5, 0.785, "achromatic", 0, 0,
+               "gabor", 100), (50, 1, 3, 0.5, 0.785, "chromatic", 0, 0, "gabor", 300),
+               (20, 4, 1, 1, 4, "moving", 8, 0, "grating", 60), (20, 4, 1, 1, 4, "peripheral", 0, 10, "grating", 30),
+               (20, 4, 1, 1, 4, "foveal", 0, 0, "grating", 80)]
+    head = ("luminance,s_frequency,col_dir_id,bkg_id,ge_sigma,area,N,log_cone_contrast,dataset,t_frequency,"
+            "orientation,eccentricity,vis_field,stimulus,sensitivity")
+    rows = [f"{lum},{sf},{col},1,{sigma},{area},1,{-math.log10(sens):.3f},{ds},{hz},0,{ecc},180,{kind},{sens}"
+            for lum, sf, col, sigma, area, ds, hz, ecc, kind, sens in stimuli]
+    (folder / "data.csv").write_text("\n".join([head, *rows]) + "\n")
+    return str(folder / "data.csv")
+
+
+def test_csf_from_python_is_the_commands_report_and_csv(tmp_path):
+    data = csf_set(tmp_path)
+    args = [data, "--set", "sensitivity=0.1", "--dataset", "achromatic", "--dataset", "foveal", "--fit",
+            "--fit-only", "sensitivity", "--iterations", "3", "--min-band", "0.5"]
+    stages = []
+    r = same_as_cli(tmp_path, "csf", args,
+                    lambda out: jnd.csf(data, out, set={"sensitivity": 0.1}, dataset=["achromatic", "foveal"], fit=True,
+                                        fit_only="sensitivity", iterations=3, min_band=0.5,
+                                        progress=lambda *a: stages.append(a)))
+    assert r.report["command"] == "csf" and r.rows == 3 and r.passes is None
+    assert r.report["parameters"]["constants"]["sensitivity"]["fitted"]
+    assert stages and all(isinstance(line, str) and 0 <= done <= total for line, done, total in stages)
+    # without an output CSV: the report only; "NAME=VALUE" strings set constants as the command's --set
+    assert jnd.csf(data, set=["sensitivity=0.1"], dataset="achromatic").rows == 2
+    with pytest.raises(jnd.JndError, match="csf: --set: no constant 'nonsense'"):
+        jnd.csf(data, tmp_path / "x.csv", set={"nonsense": 1})
+    with pytest.raises(jnd.JndError, match="--set: model: sensitivity must be in"):   # the library's bounds
+        jnd.csf(data, tmp_path / "x.csv", set="sensitivity=-1")
+    with pytest.raises(jnd.JndError, match="csf: --fit-only: no constant 'nope'"):
+        jnd.csf(data, tmp_path / "x.csv", fit=True, fit_only=["sensitivity", "nope"])
+    with pytest.raises(jnd.JndError, match="missing.csv"):
+        jnd.csf(tmp_path / "missing.csv", tmp_path / "x.csv")
+    assert not (tmp_path / "x.csv").exists()
+
+
+GAZE = ["--map-size", "32", "--orientations", "1", "--distances", "20,80", "--eccentricities", "0,30", "--min-px", "32",
+        "--max-px", "48"]
+GAZE_KW = dict(map_size=32, orientations=1, distances=[20, 80], eccentricities="0,30", min_px=32, max_px=48)
+
+
+def test_gaze_table_from_python_is_the_commands_report_with_the_gil_free(tmp_path, renderer):
+    args = ["builtin:sphere", *GAZE, "--display", "phone", "--task", "flicker", "--seed", "3"]
+    timing = []
+
+    def call(out):
+        result = []
+        timing.append(ticks_during(lambda: result.append(
+            jnd.gaze("builtin:sphere", out, display="phone", task="flicker", seed=3, **GAZE_KW))))
+        return result[0]
+
+    r = same_as_cli(tmp_path, "gaze", args, call)
+    assert r.report["command"] == "gaze" and r.report["parameters"]["display"]["task"] == "flicker"
+    seconds, during = timing[0]
+    assert during >= 50, (seconds, during)   # no progress callback: the GIL is free for the whole run
+    steps = []
+    jnd.gaze("builtin:sphere", tmp_path / "again", progress=lambda *a: steps.append(a), **GAZE_KW)
+    assert steps and all(line is None and 0 <= done <= total for line, done, total in steps)
+    assert steps[-1][1] == steps[-1][2]
+    with pytest.raises(jnd.JndError, match=r"gaze: --size does not apply \(its views are --distances"):
+        jnd.gaze("builtin:sphere", tmp_path / "x", size="64x64")
+    with pytest.raises(jnd.JndError, match="--orientations: give 1 to 256"):   # the library's
+        jnd.gaze("builtin:sphere", tmp_path / "x", orientations=0)
+    with pytest.raises(jnd.JndError, match="--task: unknown viewing task 'blink'"):
+        jnd.gaze("builtin:sphere", tmp_path / "x", task="blink")
+    assert not (tmp_path / "x").exists()
+
+
+def test_gaze_fit_and_observers_from_python_are_the_commands_reports(tmp_path, renderer):
+    import random
+    rng = random.Random(3)
+    rows = ["t_jnd,seen"]
+    for _ in range(40):
+        t = 0.1 * 40 ** rng.random()
+        p = 0.5 + 0.5 / (1 + (0.6 * t) ** -2.5)
+        rows += [f"{t:.6f},{int(rng.random() < p)}" for _ in range(10)]
+    trials = tmp_path / "trials.csv"
+    trials.write_text("\n".join(rows) + "\n")
+    r = same_as_cli(tmp_path, "gaze fit", [str(trials), "--folds", "3", "--seed", "2"],
+                    lambda out: jnd.gaze_fit(trials, out, folds=3, seed=2), report_name="gaze_fit.json")
+    assert r.report["command"] == "gaze fit" and r.passes is None
+    assert jnd.gaze_fit(trials, folds=3, seed=2).report_text == r.report_text   # no folder: the report only
+    with pytest.raises(jnd.JndError, match="--folds: give 2 to 16"):
+        jnd.gaze_fit(trials, folds=40)
+    obs = tmp_path / "obs"
+    obs.mkdir()
+    args = ["builtin:sphere", "--sizes", "4", "--eccentricities", "0,20", "--orientations", "1", "--answers", "5",
+            "--min-px", "32", "--max-px", "48", "--map-size", "32"]
+    steps = []
+    r = same_as_cli(obs, "gaze observers", args,
+                    lambda out: jnd.gaze_observers("builtin:sphere", out, sizes=[4], eccentricities=[0, 20],
+                                                   orientations=1, answers=5, min_px=32, max_px=48, map_size=32,
+                                                   progress=lambda *a: steps.append(a)),
+                    report_name="observers.json")
+    assert r.report["command"] == "gaze observers" and steps
+    for name in ("spatial.csv", "temporal.csv"):
+        assert (obs / "out" / name).read_text() == (obs / "cli" / name).read_text()
+
+
+def test_pop_from_python_is_the_commands_report(tmp_path, renderer, demo):
+    args = ["builtin", "--size", "64x64", "--views", "1", "--map-size", "64", "--errors", "0.1", "--orbit", "60",
+            "--frame", "2", "--fail-above", "0.5", "--fps", "30"]
+    stages = []
+    r = same_as_cli(tmp_path, "pop", args,
+                    lambda out: jnd.pop("builtin", out, size="64x64", views=1, map_size=64, errors=[0.1], orbit=60,
+                                        frame=2, fail_above=0.5, fps=30, progress=lambda *a: stages.append(a[0])))
+    cli = json.loads((tmp_path / "cli" / "pop.json").read_text())
+    assert r.report["command"] == "pop" and r.passes == (cli["result"]["pair"]["max_rating"] <= 0.5
+                                                         if "pair" in cli["result"] else r.passes)
+    assert stages and all(isinstance(s, str) for s in stages)
+    with pytest.raises(jnd.JndError, match="pop: give one of --orbit, --translate and --spin"):
+        jnd.pop("builtin", tmp_path / "x", orbit=10, pan=10)
+    with pytest.raises(jnd.JndError, match="pop: --direction: .* is not X,Y,Z"):
+        jnd.pop("builtin", tmp_path / "x", translate=1, direction=(0, 0, 0))
+    assert not (tmp_path / "x").exists()
+    # the frame form, on the demo pair, seen flickering
+    frames = tmp_path / "frames"
+    frames.mkdir()
+    new, expected = demo[1], demo[0]
+    r = same_as_cli(frames, "pop", [new, expected, "--task", "flicker", "--max-regions", "3", "--maps",
+                                    "--fail-above", "2"],
+                    lambda out: jnd.pop_frames(new, expected, out, task="flicker", max_regions=3, maps=True,
+                                               fail_above=2))
+    assert r.report["parameters"]["display"]["task"] == "flicker"
+    assert (frames / "out" / "jnd.exr").read_bytes() == (frames / "cli" / "jnd.exr").read_bytes()
+    with pytest.raises(jnd.JndError, match="nope.png"):
+        jnd.pop_frames(tmp_path / "nope.png", expected, tmp_path / "x")
+    assert not (tmp_path / "x").exists()
+
+
+def test_budget_from_python_is_the_commands_report(tmp_path, renderer):
+    args = ["builtin:sphere", "--map-size", "64", "--size", "64x64", "--samples", "1", "--views", "2", "--confirm", "0",
+            "--screens", "320x240", "--errors", "0.008,0.03", "--judge-views", "1", "--max-px", "64", "--tolerance",
+            "0.5", "--far-coverage", "0.05", "--verify-views", "1", "--p", "0.3"]
+    kw = dict(map_size=64, size="64x64", samples=1, views=2, confirm=0, screens=["320x240"], errors="0.008,0.03",
+              judge_views=1, max_px=64, tolerance=0.5, far_coverage=0.05, verify_views=1, p=0.3)
+    lines = []
+    r = same_as_cli(tmp_path, "budget", args,
+                    lambda out: jnd.budget("builtin:sphere", out, progress=lambda *a: lines.append(a), **kw))
+    assert r.report["command"] == "budget" and r.passes is True
+    assert any(line for line, _, _ in lines) and any(line is None for line, _, _ in lines)
+    model = [f for f in files_of(tmp_path / "out") if f.endswith(".glb")]
+    assert model and (tmp_path / "out" / model[0]).read_bytes() == (tmp_path / "cli" / model[0]).read_bytes()
+    with pytest.raises(jnd.JndError, match="budget: --memory: '8 parsecs' is not a size above 0"):
+        jnd.budget("builtin:sphere", tmp_path / "x", memory="8 parsecs")
+    with pytest.raises(jnd.JndError, match="builtin:sphere: the bytes per triangle must be 0 or more"):   # the library's
+        jnd.budget("builtin:sphere", tmp_path / "x", bytes_per_triangle=-1)
+    assert not (tmp_path / "x").exists()
+
+
+# the viewing task (jnd_display.task) from Python: the command's --task
+
+def test_the_viewing_task_is_the_commands_task(tmp_path, demo):
+    want = cli_diff(*demo, "--task", "flicker")
+    flicker = jnd.display("standard-fhd", task="flicker")
+    assert flicker.task == "flicker" and jnd.display("standard-fhd").task == "side-by-side"
+    got = jnd.diff(*demo, display=flicker)
+    assert got.p_detect == pytest.approx(want["p_detect"], rel=1e-14)
+    assert got.p_detect != jnd.diff(*demo).p_detect   # the task changes P on the demo pair
+    r = jnd.diff_run(*demo, task="flicker", json=tmp_path / "py.json")
+    subprocess.run([JND, "diff", *demo, "--task", "flicker", "--json", str(tmp_path / "cli.json"), "--quiet"],
+                   check=True, env=CLI_ENV)
+    assert r.report_text == (tmp_path / "cli.json").read_text()
+    with pytest.raises(jnd.JndError, match=r"unknown viewing task 'blink' \(side-by-side or flicker\)"):
+        jnd.diff(*demo, display=jnd.display("phone", task="blink"))
+
+
+def test_the_display_is_checked_by_the_library():
+    """ppd, peak and black are the library's checks, in its words; the EXR
+    scale, which it takes as it comes, is the package's."""
+    ref = np.full((16, 16), 0.5, np.float32)
+    with pytest.raises(jnd.JndError, match=r"model: pixels per degree must be in \[1, 1000\], not 0"):
+        jnd.Model(jnd.display("phone", ppd=0))
+    with pytest.raises(jnd.JndError, match=r"display: need 0 <= black \(0\.5\) < peak \(0\) cd/m²"):
+        jnd.diff(ref, ref, display=jnd.display("phone", peak_cdm2=0))
+    with pytest.raises(jnd.JndError, match="exr_scale 0 is not above 0"):
+        jnd.diff(ref, ref, display=jnd.display("phone", exr_scale=0), encoding="linear")

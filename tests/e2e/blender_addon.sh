@@ -6,7 +6,10 @@
 # chooses for the same exported GLB with the same options. Then LOD: Run lod
 # and Apply LOD on a UV sphere; the saved .blend holds one object per level
 # of the command's chain for the same export and options (triangles, switch
-# distances), parented to the sphere, levels 1.. hidden.
+# distances), parented to the sphere, levels 1.. hidden. Then budget: Run
+# budget and Apply budget on a textured ball; the saved .blend holds the
+# image at the command's chosen size and the command's levels, and the
+# panel's distances carry their unit.
 . "$(dirname "$0")/lib.bash"
 build=$(dirname "$JND")
 command -v blender >/dev/null || skip "blender is not installed (scripts/install-deps.sh installs Debian's)"
@@ -96,6 +99,46 @@ PY
 )
 case $verdict in
   ok*) ok "the saved .blend holds the command's levels, triangles ${verdict#ok }, parented to the sphere" ;;
+  *) bad "$verdict" ;;
+esac
+
+expect_exit 0 "jnd budget on the same ball export with the panel's options" \
+  "$JND" budget "$T/ball.glb" -o "$T/cli_budget" --display standard-fhd --screens standard-fhd --p 0.2 --q 0.1 \
+  --views 2 --size 96x96 --confirm 0 --min-size 32 --judge-views 2 --max-px 96 --errors 1/256,1/64,1/16 --quiet
+verdict=$(python3 - "$T" <<'PY'
+import json, sys
+t = sys.argv[1]
+cli = json.load(open(f"{t}/cli_budget/budget.json"))["result"]
+panel = json.load(open(f"{t}/budget_summary.json"))
+sizes = json.load(open(f"{t}/sizes.json"))
+levels = json.load(open(f"{t}/ball_levels.json"))
+units = json.load(open(f"{t}/units.json"))
+chosen = cli["chosen"]["sizes"]
+want = [lv["triangles"] for lv in cli["levels"]]
+dist = [-1 if lv["switch_distance"] is None else lv["switch_distance"] for lv in cli["levels"]]  # None: never
+problems = []
+if [(im["maps"][0], im["chosen"], im["image"]) for im in panel["images"]] != [(k, v, "jnd_ball") for k, v in chosen.items()]:
+    problems.append(f"the panel's sizes {panel['images']} are not the command's {chosen}")
+if (panel["chosen"]["level"], panel["chosen"]["triangles"]) != (cli["chosen"]["level"], cli["chosen"]["triangles"]):
+    problems.append(f"the panel's choice {panel['chosen']} is not the command's {cli['chosen']}")
+size = list(chosen.values())[0]
+if sizes.get("jnd_ball", {}).get("size") != size:
+    problems.append(f"the saved image is {sizes.get('jnd_ball')}, the command chose {size}")
+if size != [256, 256] and not sizes["jnd_ball"]["packed"]:
+    problems.append("the scaled image is not packed into the .blend")
+if len(want) < 2:
+    problems.append(f"the command's chain {want} has one level: nothing to apply")
+if [lv["triangles"] for lv in levels] != want or [lv["switch_distance"] for lv in levels] != dist:
+    problems.append(f"the saved levels {levels} are not the command's {want} from {dist}")
+if any(lv["parent"] != "Ball" for lv in levels) or [lv["hidden"] for lv in levels] != [False] + [True] * (len(want) - 1):
+    problems.append(f"parents or visibility: {levels}")
+if units != {"metric": "2.5 m", "none": "2.5 object units"}:
+    problems.append(f"the panel's distances read {units}")
+print("; ".join(problems) or f"ok {size[0]}x{size[1]}, levels {want}")
+PY
+)
+case $verdict in
+  ok*) ok "budget: the saved .blend holds the command's sizes and levels (${verdict#ok }), distances with units" ;;
   *) bad "$verdict" ;;
 esac
 finish
