@@ -6,6 +6,22 @@
  * viewer sees them on a given display, and the probability that a viewer
  * notices.
  *
+ * Ten lines to make a model's textures as small as nobody will notice
+ * (tests/e2e/exports.sh compiles them with the core tier only, and runs
+ * them on a missing file):
+ *
+ *     jnd_texres_params p;  jnd_texres_defaults(&p);  // 16 views, standard-fhd display, 000 §9's criterion
+ *     jnd_texres_result *r = NULL;                     // allocated by the run: yours to free
+ *     if (jnd_texres_run("model.glb", &p, "smaller", &r) != JND_OK) {  // smaller/: model, maps, texres.json
+ *       fprintf(stderr, "jnd: %s\n", jnd_last_error());  // one line; nothing was written
+ *       return 2;
+ *     }
+ *     for (int i = 0; i < r->nmaps; i++)
+ *       printf("%s: %dx%d -> %dx%d\n", r->maps[i].name, r->maps[i].orig[0], r->maps[i].orig[1],
+ *              r->maps[i].chosen[0], r->maps[i].chosen[1]);
+ *     printf("%s, %zu -> %zu bytes\n", r->passes ? "unnoticed" : "visible", r->block_before_bytes, r->block_after_bytes);
+ *     jnd_texres_result_free(r);
+ *
  * Ten lines to compare two images (tests/e2e/exports.sh compiles and runs them):
  *
  *     jnd_image ref = {0}, test = {0};  jnd_image_info ri, ti;
@@ -23,10 +39,12 @@
  *
  * Conventions: functions return jnd_status (JND_OK = 0); results go through
  * out-parameters; jnd_last_error() is a one-line message "FILE: what is wrong"
- * for the calling thread. The caller owns every image it passes in — except
- * where a function says it consumes (frees) them, as jnd_diff_files does —
- * and every image an out-parameter fills (free with jnd_image_free; freeing
- * a zeroed or consumed image is safe, as is jnd_model_free(NULL)). Images inside the
+ * for the calling thread. Ownership: the caller owns what it passes in and
+ * what an out-parameter gives it — a run's result (jnd_<task>_result_free),
+ * every image an out-parameter fills (jnd_image_free) — except where a
+ * function says it consumes (frees) its inputs, as jnd_diff_files does with
+ * ref and test; freeing a zeroed or consumed image is safe, as is every
+ * _free(NULL). Images inside the
  * library are linear: after a display model, values are cd/m².
  * Limits: images of at most JND_MAX_SIDE pixels a side and JND_MAX_PIXELS
  * pixels; larger inputs are refused with JND_ERR_LIMIT.

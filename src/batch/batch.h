@@ -8,6 +8,7 @@
 #include <stddef.h>
 
 #include "jnd.h"
+#include "tasks/report_schema.h"
 
 /* ---- text ---- */
 
@@ -38,14 +39,9 @@ void jnd_words_free(int argc, char **argv);
 /* The words as one shell-quoted line (caller frees); NULL when out of memory. */
 char *jnd_shell_join(int argc, char *const *argv);
 
-/* ---- JSON paths ---- */
-
-/* The items a path selects in a report: "result.memory.before_bytes" (one
- * item), "result.maps[].chosen" (one per element of maps), "result.p[0]".
- * Up to max items go to out; returns how many the path selects. */
-int jnd_json_select(const cJSON *root, const char *path, const cJSON **out, int max);
-/* The single number at path, or NaN; "max:PATH" is the largest number PATH selects. */
-double jnd_json_number(const cJSON *root, const char *path);
+/* ---- JSON paths ----
+ * Reports are read through the library's schema of them: jnd_json_select,
+ * jnd_json_number and the RS_* paths of tasks/report_schema.h. */
 
 /* ---- the commands a batch runs ---- */
 

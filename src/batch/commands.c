@@ -3,9 +3,11 @@
  * summary.json shows, and what the HTML report shows on the asset's page
  * (fields, tables, the pictures it wrote, plots the report draws).
  *
- * A new command is one entry here: the paths are into its JSON report (see
- * jsonpath.c), so most entries need no code; a decision text or a plot is a
- * small function. docs/batch.md says what lod, pop and gaze will need. */
+ * A new command is one entry here: the paths are into its JSON report,
+ * named in the library's schema of the reports (tasks/report_schema.h; a
+ * test checks that every path here is one the schema lists and that each
+ * task's run writes it), so most entries need no code; a decision text or a
+ * plot is a small function. docs/batch.md says what lod, pop and gaze will need. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -21,12 +23,12 @@ static void size_text(jnd_text *t, const cJSON *size) {
 /* texres: each searched map's chosen size, "(from W×H)" where it shrank */
 static void texres_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
   const cJSON *maps[256];
-  int n = jnd_json_select(report, "result.maps[]", maps, 256);
+  int n = jnd_json_select(report, RS_TEXRES_MAPS, maps, 256);
   int shown = 0;
   for (int i = 0; i < n && i < 256; i++) {
-    const cJSON *name = cJSON_GetObjectItemCaseSensitive(maps[i], "name");
-    const cJSON *c = cJSON_GetObjectItemCaseSensitive(maps[i], "chosen");
-    const cJSON *o = cJSON_GetObjectItemCaseSensitive(maps[i], "original");
+    const cJSON *name = cJSON_GetObjectItemCaseSensitive(maps[i], RS_TEXRES_MAPS_NAME);
+    const cJSON *c = cJSON_GetObjectItemCaseSensitive(maps[i], RS_TEXRES_MAPS_CHOSEN);
+    const cJSON *o = cJSON_GetObjectItemCaseSensitive(maps[i], RS_TEXRES_MAPS_ORIGINAL);
     if (!cJSON_IsString(name) || !cJSON_IsArray(c)) continue;
     if (chosen) cJSON_AddItemToObject(chosen, name->valuestring, cJSON_Duplicate(c, 1));
     if (shown++) jnd_text_put(out, "; ");
@@ -42,14 +44,14 @@ static void texres_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
 
 /* pca: components kept of the channels, and the bytes they take */
 static void pca_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
-  double k = jnd_json_number(report, "result.components_kept"), c = jnd_json_number(report, "result.channel_count");
+  double k = jnd_json_number(report, RS_PCA_COMPONENTS_KEPT), c = jnd_json_number(report, RS_PCA_CHANNEL_COUNT);
   if (!isfinite(k) || !isfinite(c)) return;
   jnd_text_printf(out, "%d of %d components", (int)k, (int)c);
   const cJSON *comps[64];
-  int n = jnd_json_select(report, "result.components[]", comps, 64);
+  int n = jnd_json_select(report, RS_PCA_COMPONENTS, comps, 64);
   int reduced = 0;
   for (int i = 0; i < n && i < 64; i++) {
-    const cJSON *d = cJSON_GetObjectItemCaseSensitive(comps[i], "divisor");
+    const cJSON *d = cJSON_GetObjectItemCaseSensitive(comps[i], RS_PCA_COMPONENTS_DIVISOR);
     if (cJSON_IsNumber(d) && d->valueint > 1) reduced++;
   }
   if (reduced) jnd_text_printf(out, ", %d at reduced resolution", reduced);
@@ -62,11 +64,11 @@ static void pca_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
 /* diff: the pooled probability and the largest difference */
 static void diff_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
   (void)chosen;
-  double p = jnd_json_number(report, "result.p_detect"), mx = jnd_json_number(report, "result.jnd_max");
+  double p = jnd_json_number(report, RS_DIFF_P_DETECT), mx = jnd_json_number(report, RS_DIFF_JND_MAX);
   const cJSON *pool[1];
   if (!isfinite(p)) return;
   jnd_text_printf(out, "P(detect) %.3f", p);
-  if (jnd_json_select(report, "result.pooling", pool, 1) == 1 && cJSON_IsString(pool[0]))
+  if (jnd_json_select(report, RS_DIFF_POOLING, pool, 1) == 1 && cJSON_IsString(pool[0]))
     jnd_text_printf(out, " (%s)", pool[0]->valuestring);
   if (isfinite(mx)) jnd_text_printf(out, ", max %.3g JND", mx);
 }
@@ -74,7 +76,7 @@ static void diff_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
 static void render_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
   (void)chosen;
   const cJSON *v[1];
-  int n = jnd_json_select(report, "views[]", v, 1);
+  int n = jnd_json_select(report, RS_RENDER_VIEWS, v, 1);
   if (n > 0) jnd_text_printf(out, "%d views", n);
 }
 
@@ -82,14 +84,14 @@ static void render_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
  * each level may be shown from */
 static void lod_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
   const cJSON *scr[16];
-  int n = jnd_json_select(report, "result.screens[]", scr, 16);
-  double t0 = jnd_json_number(report, "result.levels[0].triangles");
+  int n = jnd_json_select(report, RS_LOD_SCREENS, scr, 16);
+  double t0 = jnd_json_number(report, RS_LOD_LEVEL0_TRIANGLES);
   cJSON *cs = chosen ? cJSON_AddObjectToObject(chosen, "perceptual_level") : NULL;
   int shown = 0;
   for (int i = 0; i < n && i < 16; i++) {
-    const cJSON *name = cJSON_GetObjectItemCaseSensitive(scr[i], "name");
-    const cJSON *lv = cJSON_GetObjectItemCaseSensitive(scr[i], "perceptual_level");
-    const cJSON *tr = cJSON_GetObjectItemCaseSensitive(scr[i], "perceptual_triangles");
+    const cJSON *name = cJSON_GetObjectItemCaseSensitive(scr[i], RS_LOD_SCREENS_NAME);
+    const cJSON *lv = cJSON_GetObjectItemCaseSensitive(scr[i], RS_LOD_SCREENS_PERCEPTUAL_LEVEL);
+    const cJSON *tr = cJSON_GetObjectItemCaseSensitive(scr[i], RS_LOD_SCREENS_PERCEPTUAL_TRIANGLES);
     if (!cJSON_IsString(name) || !cJSON_IsNumber(lv) || !cJSON_IsNumber(tr)) continue;
     if (shown++) jnd_text_put(out, "; ");
     jnd_text_printf(out, "%s level %d (%.0f", name->valuestring, lv->valueint, tr->valuedouble);
@@ -103,8 +105,8 @@ static void lod_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
 /* gaze: the table's range of levels over its grid */
 static void gaze_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
   const cJSON *rows[256], *d[256], *e[256];
-  int nr = jnd_json_select(report, "result.level[]", rows, 256), nd = jnd_json_select(report, "result.distances_m[]", d, 256),
-      ne = jnd_json_select(report, "result.eccentricities_deg[]", e, 256);
+  int nr = jnd_json_select(report, RS_GAZE_LEVEL_ROWS, rows, 256), nd = jnd_json_select(report, RS_GAZE_DISTANCES_EACH, d, 256),
+      ne = jnd_json_select(report, RS_GAZE_ECCENTRICITIES_EACH, e, 256);
   int lo = 1 << 30, hi = -1;
   for (int i = 0; i < nr && i < 256; i++)
     for (const cJSON *c = rows[i] ? rows[i]->child : NULL; c; c = c->next)
@@ -120,18 +122,18 @@ static void gaze_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
 /* pop: the switch's popping (its regions' largest R and the detection
  * score), and with --decide the popping-free switch distances */
 static void pop_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
-  double n = jnd_json_number(report, "result.region_count"), r = jnd_json_number(report, "result.max_rating"),
-         d = jnd_json_number(report, "result.detection_score");
+  double n = jnd_json_number(report, RS_POP_REGION_COUNT), r = jnd_json_number(report, RS_POP_MAX_RATING),
+         d = jnd_json_number(report, RS_POP_DETECTION_SCORE);
   if (!isfinite(n) || !isfinite(d)) return;
   if (n > 0 && isfinite(r)) jnd_text_printf(out, "%d popping region%s, max R %.2f", (int)n, n == 1 ? "" : "s", r);
   else jnd_text_put(out, "no popping region");
   jnd_text_printf(out, ", detection score %d of 5", (int)d);
   const cJSON *rows[256];
-  int k = jnd_json_select(report, "result.switch[]", rows, 256);
+  int k = jnd_json_select(report, RS_POP_SWITCH, rows, 256);
   if (k > 0) jnd_text_printf(out, "; %d switch distance%s", k, k == 1 ? "" : "s");
   if (chosen) {
     cJSON_AddNumberToObject(chosen, "detection_score", d);
-    if (k > 0) cJSON_AddItemToObject(chosen, "switch", cJSON_Duplicate(cJSON_GetObjectItem(cJSON_GetObjectItem(report, "result"), "switch"), 1));
+    if (k > 0) cJSON_AddItemToObject(chosen, "switch", cJSON_Duplicate(cJSON_GetObjectItem(cJSON_GetObjectItem(report, RS_POP_RESULT), RS_POP_SWITCH_KEY), 1));
   }
 }
 
@@ -142,45 +144,45 @@ static const jnd_batch_command COMMANDS[] = {
         .json_name = "texres.json",
         .reserved = {"-o", "--output", "--json"},
         .exit1_complete = 1,
-        .memory_before = "result.memory.before_bytes",
-        .memory_after = "result.memory.after_bytes",
-        .p_detect = "max:result.views.p[]",
+        .memory_before = RS_TEXRES_MEMORY_BEFORE,
+        .memory_after = RS_TEXRES_MEMORY_AFTER,
+        .p_detect = RS_MAX(RS_TEXRES_VIEWS_P_EACH),
         .decision = texres_decision,
-        .fields = {{"memory before (unique images, RGBA8 + mips)", "result.memory.before_bytes", JND_FMT_BYTES},
-                   {"memory after", "result.memory.after_bytes", JND_FMT_BYTES},
-                   {"reduction", "result.memory.reduction", JND_FMT_PERCENT},
-                   {"block-compressed before", "result.memory.block_before_bytes", JND_FMT_BYTES},
-                   {"block-compressed after", "result.memory.block_after_bytes", JND_FMT_BYTES},
-                   {"passes the criterion", "result.views.passes", JND_FMT_BOOL},
-                   {"P per view (pooled)", "result.views.p", JND_FMT_LIST},
-                   {"fraction of views above p", "result.views.fraction_above", JND_FMT_PERCENT},
-                   {"held-out views pass", "result.verify.passes", JND_FMT_BOOL},
-                   {"criterion: P above", "parameters.criterion.p", JND_FMT_P},
-                   {"criterion: fraction of views allowed above", "parameters.criterion.q", JND_FMT_PERCENT},
-                   {"pixels per degree", "result.ppd", JND_FMT_NUMBER},
-                   {"renderer", "result.renderer", JND_FMT_TEXT}},
+        .fields = {{"memory before (unique images, RGBA8 + mips)", RS_TEXRES_MEMORY_BEFORE, JND_FMT_BYTES},
+                   {"memory after", RS_TEXRES_MEMORY_AFTER, JND_FMT_BYTES},
+                   {"reduction", RS_TEXRES_MEMORY_REDUCTION, JND_FMT_PERCENT},
+                   {"block-compressed before", RS_TEXRES_MEMORY_BLOCK_BEFORE, JND_FMT_BYTES},
+                   {"block-compressed after", RS_TEXRES_MEMORY_BLOCK_AFTER, JND_FMT_BYTES},
+                   {"passes the criterion", RS_TEXRES_VIEWS_PASSES, JND_FMT_BOOL},
+                   {"P per view (pooled)", RS_TEXRES_VIEWS_P, JND_FMT_LIST},
+                   {"fraction of views above p", RS_TEXRES_VIEWS_FRACTION_ABOVE, JND_FMT_PERCENT},
+                   {"held-out views pass", RS_TEXRES_VERIFY_PASSES, JND_FMT_BOOL},
+                   {"criterion: P above", RS_TEXRES_CRITERION_P, JND_FMT_P},
+                   {"criterion: fraction of views allowed above", RS_TEXRES_CRITERION_Q, JND_FMT_PERCENT},
+                   {"pixels per degree", RS_TEXRES_PPD, JND_FMT_NUMBER},
+                   {"renderer", RS_TEXRES_RENDERER, JND_FMT_TEXT}},
         .tables = {{"Maps",
-                    "result.maps[]",
-                    {{"map", "name", JND_FMT_TEXT},
-                     {"original", "original", JND_FMT_SIZE},
-                     {"chosen", "chosen", JND_FMT_SIZE},
-                     {"mip bound", "mip_bound", JND_FMT_SIZE},
-                     {"eye bound", "eye_bound", JND_FMT_SIZE},
-                     {"eq. 1 size at p", "psychometric.resolution_at_p", JND_FMT_NUMBER},
-                     {"format", "block_format", JND_FMT_TEXT},
-                     {"image", "image", JND_FMT_NUMBER}}},
+                    RS_TEXRES_MAPS,
+                    {{"map", RS_TEXRES_MAPS_NAME, JND_FMT_TEXT},
+                     {"original", RS_TEXRES_MAPS_ORIGINAL, JND_FMT_SIZE},
+                     {"chosen", RS_TEXRES_MAPS_CHOSEN, JND_FMT_SIZE},
+                     {"mip bound", RS_TEXRES_MAPS_MIP_BOUND, JND_FMT_SIZE},
+                     {"eye bound", RS_TEXRES_MAPS_EYE_BOUND, JND_FMT_SIZE},
+                     {"eq. 1 size at p", RS_TEXRES_MAPS_RESOLUTION_AT_P, JND_FMT_NUMBER},
+                     {"format", RS_TEXRES_MAPS_BLOCK_FORMAT, JND_FMT_TEXT},
+                     {"image", RS_TEXRES_MAPS_IMAGE, JND_FMT_NUMBER}}},
                    {"Images (each once, as a GPU holds it)",
-                    "result.memory.images[]",
-                    {{"maps that sample it", "maps", JND_FMT_LIST},
-                     {"original", "original", JND_FMT_SIZE},
-                     {"chosen", "chosen", JND_FMT_SIZE},
-                     {"format", "block_format", JND_FMT_TEXT},
-                     {"RGBA8 + mips before", "bytes_before.rgba8", JND_FMT_BYTES},
-                     {"RGBA8 + mips after", "bytes_after.rgba8", JND_FMT_BYTES}}}},
+                    RS_TEXRES_IMAGES,
+                    {{"maps that sample it", RS_TEXRES_IMAGES_MAPS, JND_FMT_LIST},
+                     {"original", RS_TEXRES_IMAGES_ORIGINAL, JND_FMT_SIZE},
+                     {"chosen", RS_TEXRES_IMAGES_CHOSEN, JND_FMT_SIZE},
+                     {"format", RS_TEXRES_IMAGES_BLOCK_FORMAT, JND_FMT_TEXT},
+                     {"RGBA8 + mips before", RS_TEXRES_IMAGES_BEFORE_RGBA8, JND_FMT_BYTES},
+                     {"RGBA8 + mips after", RS_TEXRES_IMAGES_AFTER_RGBA8, JND_FMT_BYTES}}}},
         .pictures = {{.file = "worst_view.png",
                       .caption = "The view where a change is most likely seen, at the chosen sizes: the object as "
                                  "rendered and where the model predicts a visible difference (JND, log scale)"},
-                     {.path = "result.matrices[].png",
+                     {.path = RS_TEXRES_MATRICES_PNG,
                       .caption = "P per view for each pair of baseColor (columns) and normal (rows) sizes, and the "
                                  "criterion statistic over the views; the chosen pair is outlined in red (000 Fig. 13)"}},
         .plots = {{"series.png", jnd_plot_texres_series,
@@ -194,35 +196,35 @@ static const jnd_batch_command COMMANDS[] = {
         .out_args = {"-o", "{out}"},
         .json_name = "pca.json",
         .reserved = {"-o", "--out", "--output", "--json"},
-        .memory_before = "result.memory.before_bytes",
-        .memory_after = "result.memory.after_bytes",
-        .p_detect = "result.rendered.p_criterion",
+        .memory_before = RS_PCA_MEMORY_BEFORE,
+        .memory_after = RS_PCA_MEMORY_AFTER,
+        .p_detect = RS_PCA_RENDERED_P_CRITERION,
         .decision = pca_decision,
-        .fields = {{"memory before (unique images, RGBA8 + mips)", "result.memory.before_bytes", JND_FMT_BYTES},
-                   {"memory after (packed components + mips)", "result.memory.after_bytes", JND_FMT_BYTES},
-                   {"channels", "result.channel_count", JND_FMT_NUMBER},
-                   {"components kept", "result.components_kept", JND_FMT_NUMBER},
-                   {"knee of the energy curve", "result.knee", JND_FMT_NUMBER},
-                   {"rendered: passes", "result.rendered.pass", JND_FMT_BOOL},
-                   {"rendered: P at the criterion", "result.rendered.p_criterion", JND_FMT_P},
-                   {"rendered: P per view", "result.rendered.p_per_view", JND_FMT_LIST},
-                   {"maps' width (px)", "result.width", JND_FMT_NUMBER}},
+        .fields = {{"memory before (unique images, RGBA8 + mips)", RS_PCA_MEMORY_BEFORE, JND_FMT_BYTES},
+                   {"memory after (packed components + mips)", RS_PCA_MEMORY_AFTER, JND_FMT_BYTES},
+                   {"channels", RS_PCA_CHANNEL_COUNT, JND_FMT_NUMBER},
+                   {"components kept", RS_PCA_COMPONENTS_KEPT, JND_FMT_NUMBER},
+                   {"knee of the energy curve", RS_PCA_KNEE, JND_FMT_NUMBER},
+                   {"rendered: passes", RS_PCA_RENDERED_PASS, JND_FMT_BOOL},
+                   {"rendered: P at the criterion", RS_PCA_RENDERED_P_CRITERION, JND_FMT_P},
+                   {"rendered: P per view", RS_PCA_RENDERED_P_PER_VIEW, JND_FMT_LIST},
+                   {"maps' width (px)", RS_PCA_WIDTH, JND_FMT_NUMBER}},
         .tables = {{"Channels",
-                    "result.channels[]",
-                    {{"channel", "name", JND_FMT_TEXT},
-                     {"PSNR dB", "psnr_db", JND_FMT_NUMBER},
-                     {"PSNR BC4 dB", "psnr_bc4_db", JND_FMT_NUMBER},
-                     {"PSNR BC1 dB", "psnr_bc1_db", JND_FMT_NUMBER},
-                     {"PSNR plain BC dB", "psnr_plain_bc_db", JND_FMT_NUMBER}}},
+                    RS_PCA_CHANNELS,
+                    {{"channel", RS_PCA_CHANNELS_NAME, JND_FMT_TEXT},
+                     {"PSNR dB", RS_PCA_CHANNELS_PSNR, JND_FMT_NUMBER},
+                     {"PSNR BC4 dB", RS_PCA_CHANNELS_PSNR_BC4, JND_FMT_NUMBER},
+                     {"PSNR BC1 dB", RS_PCA_CHANNELS_PSNR_BC1, JND_FMT_NUMBER},
+                     {"PSNR plain BC dB", RS_PCA_CHANNELS_PSNR_PLAIN_BC, JND_FMT_NUMBER}}},
                    {"Components stored",
-                    "result.textures[]",
-                    {{"file", "file", JND_FMT_TEXT},
-                     {"width", "width", JND_FMT_NUMBER},
-                     {"height", "height", JND_FMT_NUMBER},
-                     {"bits", "bits", JND_FMT_NUMBER}}}},
+                    RS_PCA_TEXTURES,
+                    {{"file", RS_PCA_TEXTURES_FILE, JND_FMT_TEXT},
+                     {"width", RS_PCA_TEXTURES_WIDTH, JND_FMT_NUMBER},
+                     {"height", RS_PCA_TEXTURES_HEIGHT, JND_FMT_NUMBER},
+                     {"bits", RS_PCA_TEXTURES_BITS, JND_FMT_NUMBER}}}},
         .pictures = {{.file = "contribution.png",
                       .caption = "How much each channel feeds each component (001's |S·Tᵀ|)"},
-                     {.path = "result.textures[].file", .caption = "The stored components, packed four to a texture"}},
+                     {.path = RS_PATH(RS_PCA_TEXTURES, RS_PCA_TEXTURES_FILE), .caption = "The stored components, packed four to a texture"}},
         .plots = {{"energy.png", jnd_plot_pca_energy,
                    "Energy of each component and the cumulative share; the dashed line marks the components kept and the "
                    "share of the energy they hold"}},
@@ -233,18 +235,18 @@ static const jnd_batch_command COMMANDS[] = {
         .json_name = "diff.json",
         .reserved = {"--json", "--heatmap", "--map"},
         .exit1_complete = 1,
-        .p_detect = "result.p_detect",
+        .p_detect = RS_DIFF_P_DETECT,
         .decision = diff_decision,
-        .fields = {{"P(detect), pooled", "result.p_detect", JND_FMT_P},
-                   {"pooling", "result.pooling", JND_FMT_TEXT},
-                   {"P median pixel", "result.p_p50", JND_FMT_P},
-                   {"P 99th percentile", "result.p_p99", JND_FMT_P},
-                   {"mean JND", "result.jnd_mean", JND_FMT_NUMBER},
-                   {"93rd percentile JND", "result.jnd_p93", JND_FMT_NUMBER},
-                   {"max JND", "result.jnd_max", JND_FMT_NUMBER},
-                   {"width", "result.width", JND_FMT_NUMBER},
-                   {"height", "result.height", JND_FMT_NUMBER},
-                   {"display", "parameters.display.name", JND_FMT_TEXT}},
+        .fields = {{"P(detect), pooled", RS_DIFF_P_DETECT, JND_FMT_P},
+                   {"pooling", RS_DIFF_POOLING, JND_FMT_TEXT},
+                   {"P median pixel", RS_DIFF_P_P50, JND_FMT_P},
+                   {"P 99th percentile", RS_DIFF_P_P99, JND_FMT_P},
+                   {"mean JND", RS_DIFF_JND_MEAN, JND_FMT_NUMBER},
+                   {"93rd percentile JND", RS_DIFF_JND_P93, JND_FMT_NUMBER},
+                   {"max JND", RS_DIFF_JND_MAX, JND_FMT_NUMBER},
+                   {"width", RS_DIFF_WIDTH, JND_FMT_NUMBER},
+                   {"height", RS_DIFF_HEIGHT, JND_FMT_NUMBER},
+                   {"display", RS_DIFF_DISPLAY_NAME, JND_FMT_TEXT}},
         .pictures = {{.file = "heatmap.png",
                       .caption = "Where a viewer would notice the difference (JND on a log scale over a grey copy of "
                                  "the reference)"}},
@@ -255,44 +257,44 @@ static const jnd_batch_command COMMANDS[] = {
         .json_name = "views.json",
         .reserved = {"-o", "--output", "--json"},
         .decision = render_decision,
-        .fields = {{"renderer", "result.renderer", JND_FMT_TEXT}},
-        .pictures = {{.path = "views[].color", .caption = "The rendered views"}},
+        .fields = {{"renderer", RS_RENDER_RENDERER, JND_FMT_TEXT}},
+        .pictures = {{.path = RS_PATH(RS_RENDER_VIEWS, RS_RENDER_VIEWS_COLOR), .caption = "The rendered views"}},
     },
     {
         .name = "lod",
         .out_args = {"-o", "{out}"},
         .json_name = "lod.json",
         .reserved = {"-o", "--output", "--json"},
-        .memory_before = "result.memory.before_bytes",
-        .memory_after = "result.memory.after_bytes",
-        .p_detect = "max:result.screens[].perceptual_statistic",
+        .memory_before = RS_LOD_MEMORY_BEFORE,
+        .memory_after = RS_LOD_MEMORY_AFTER,
+        .p_detect = RS_MAX(RS_PATH(RS_LOD_SCREENS, RS_LOD_SCREENS_PERCEPTUAL_STATISTIC)),
         .decision = lod_decision,
-        .fields = {{"triangles before (level 0)", "result.triangles.before", JND_FMT_NUMBER},
-                   {"triangles after (first screen's perceptual level)", "result.triangles.after", JND_FMT_NUMBER},
-                   {"memory before (float attributes, 32-bit indices)", "result.memory.before_bytes", JND_FMT_BYTES},
-                   {"memory after", "result.memory.after_bytes", JND_FMT_BYTES},
-                   {"screen of the after figures", "result.memory.screen", JND_FMT_TEXT},
-                   {"chain", "result.chain_source", JND_FMT_TEXT},
-                   {"criterion: P above", "parameters.perceptual.criterion.p", JND_FMT_P},
-                   {"criterion: fraction of views allowed above", "parameters.perceptual.criterion.q", JND_FMT_PERCENT},
-                   {"model's switch coverages", "result.model.screen_coverage", JND_FMT_LIST},
-                   {"renderer", "result.renderer", JND_FMT_TEXT}},
+        .fields = {{"triangles before (level 0)", RS_LOD_TRIANGLES_BEFORE, JND_FMT_NUMBER},
+                   {"triangles after (first screen's perceptual level)", RS_LOD_TRIANGLES_AFTER, JND_FMT_NUMBER},
+                   {"memory before (float attributes, 32-bit indices)", RS_LOD_MEMORY_BEFORE, JND_FMT_BYTES},
+                   {"memory after", RS_LOD_MEMORY_AFTER, JND_FMT_BYTES},
+                   {"screen of the after figures", RS_LOD_MEMORY_SCREEN, JND_FMT_TEXT},
+                   {"chain", RS_LOD_CHAIN_SOURCE, JND_FMT_TEXT},
+                   {"criterion: P above", RS_LOD_CRITERION_P, JND_FMT_P},
+                   {"criterion: fraction of views allowed above", RS_LOD_CRITERION_Q, JND_FMT_PERCENT},
+                   {"model's switch coverages", RS_LOD_MODEL_SCREEN_COVERAGE, JND_FMT_LIST},
+                   {"renderer", RS_LOD_RENDERER, JND_FMT_TEXT}},
         .tables = {{"Levels",
-                    "result.levels[]",
-                    {{"level", "level", JND_FMT_NUMBER},
-                     {"triangles", "triangles", JND_FMT_NUMBER},
-                     {"meshoptimizer error", "error", JND_FMT_NUMBER},
-                     {"method", "method", JND_FMT_TEXT}}},
+                    RS_LOD_LEVELS,
+                    {{"level", RS_LOD_LEVELS_LEVEL, JND_FMT_NUMBER},
+                     {"triangles", RS_LOD_LEVELS_TRIANGLES, JND_FMT_NUMBER},
+                     {"meshoptimizer error", RS_LOD_LEVELS_ERROR, JND_FMT_NUMBER},
+                     {"method", RS_LOD_LEVELS_METHOD, JND_FMT_TEXT}}},
                    {"Screens",
-                    "result.screens[]",
-                    {{"screen", "name", JND_FMT_TEXT},
-                     {"perceptual level", "perceptual_level", JND_FMT_NUMBER},
-                     {"its triangles", "perceptual_triangles", JND_FMT_NUMBER},
-                     {"003 PoI (lit)", "poi_triangles", JND_FMT_NUMBER},
-                     {"meshopt 1 px rule", "rules.meshopt.triangles", JND_FMT_NUMBER},
-                     {"0.5 px rule", "rules.pixel_error.triangles", JND_FMT_NUMBER},
-                     {"switch distances", "switch_distance_m", JND_FMT_LIST},
-                     {"switch coverages", "switch_coverage", JND_FMT_LIST}}}},
+                    RS_LOD_SCREENS,
+                    {{"screen", RS_LOD_SCREENS_NAME, JND_FMT_TEXT},
+                     {"perceptual level", RS_LOD_SCREENS_PERCEPTUAL_LEVEL, JND_FMT_NUMBER},
+                     {"its triangles", RS_LOD_SCREENS_PERCEPTUAL_TRIANGLES, JND_FMT_NUMBER},
+                     {"003 PoI (lit)", RS_LOD_SCREENS_POI_TRIANGLES, JND_FMT_NUMBER},
+                     {"meshopt 1 px rule", RS_LOD_SCREENS_MESHOPT_TRIANGLES, JND_FMT_NUMBER},
+                     {"0.5 px rule", RS_LOD_SCREENS_PIXEL_ERROR_TRIANGLES, JND_FMT_NUMBER},
+                     {"switch distances", RS_LOD_SCREENS_SWITCH_DISTANCE, JND_FMT_LIST},
+                     {"switch coverages", RS_LOD_SCREENS_SWITCH_COVERAGE, JND_FMT_LIST}}}},
         .pictures = {{.glob = "pareto_*.png",
                       .caption = "003's Pareto curves per screen (error against triangles, unlit and lit) with "
                                  "003's knees, the rules of thumb and the perceptual choice marked"}},
@@ -303,12 +305,12 @@ static const jnd_batch_command COMMANDS[] = {
         .json_name = "gaze.json",
         .reserved = {"-o", "--output", "--json"},
         .decision = gaze_decision,
-        .fields = {{"threshold (2AFC)", "parameters.threshold", JND_FMT_P},
-                   {"orientations", "parameters.orientations", JND_FMT_NUMBER},
-                   {"distances (m)", "result.distances_m", JND_FMT_LIST},
-                   {"eccentricities (deg)", "result.eccentricities_deg", JND_FMT_LIST},
-                   {"triangles per level", "result.triangles", JND_FMT_LIST},
-                   {"renderer", "result.renderer", JND_FMT_TEXT}},
+        .fields = {{"threshold (2AFC)", RS_GAZE_THRESHOLD, JND_FMT_P},
+                   {"orientations", RS_GAZE_ORIENTATIONS, JND_FMT_NUMBER},
+                   {"distances (m)", RS_GAZE_DISTANCES, JND_FMT_LIST},
+                   {"eccentricities (deg)", RS_GAZE_ECCENTRICITIES, JND_FMT_LIST},
+                   {"triangles per level", RS_GAZE_TRIANGLES, JND_FMT_LIST},
+                   {"renderer", RS_GAZE_RENDERER, JND_FMT_TEXT}},
         .pictures = {{.file = "gaze.png",
                       .caption = "The coarsest level nobody notices, over distance and eccentricity from the gaze "
                                  "(002's L(d, ecc))"}},
@@ -320,31 +322,31 @@ static const jnd_batch_command COMMANDS[] = {
         .reserved = {"-o", "--output", "--json"},
         .exit1_complete = 1,
         .decision = pop_decision,
-        .fields = {{"largest R (004: < 1 rarely visible, > 3 easily)", "result.max_rating", JND_FMT_NUMBER},
-                   {"popping regions", "result.region_count", JND_FMT_NUMBER},
-                   {"detection score (1..5)", "result.detection_score", JND_FMT_NUMBER},
-                   {"coverage score", "result.coverage_score", JND_FMT_TEXT},
-                   {"rating score", "result.rating_score", JND_FMT_TEXT},
-                   {"max ΔE*94 (baseline)", "result.max_delta_e94", JND_FMT_NUMBER},
-                   {"camera distance", "result.distance_m", JND_FMT_NUMBER},
-                   {"distances in", "result.distance_unit", JND_FMT_TEXT},
-                   {"renderer", "result.renderer", JND_FMT_TEXT}},
+        .fields = {{"largest R (004: < 1 rarely visible, > 3 easily)", RS_POP_MAX_RATING, JND_FMT_NUMBER},
+                   {"popping regions", RS_POP_REGION_COUNT, JND_FMT_NUMBER},
+                   {"detection score (1..5)", RS_POP_DETECTION_SCORE, JND_FMT_NUMBER},
+                   {"coverage score", RS_POP_COVERAGE_SCORE, JND_FMT_TEXT},
+                   {"rating score", RS_POP_RATING_SCORE, JND_FMT_TEXT},
+                   {"max ΔE*94 (baseline)", RS_POP_MAX_DELTA_E94, JND_FMT_NUMBER},
+                   {"camera distance", RS_POP_DISTANCE, JND_FMT_NUMBER},
+                   {"distances in", RS_POP_DISTANCE_UNIT, JND_FMT_TEXT},
+                   {"renderer", RS_POP_RENDERER, JND_FMT_TEXT}},
         .tables = {{"Popping regions",
-                    "result.regions[]",
-                    {{"pixels", "pixels", JND_FMT_NUMBER},
-                     {"Σ", "sigma", JND_FMT_NUMBER},
-                     {"R", "rating", JND_FMT_NUMBER},
-                     {"max JND", "jnd_max", JND_FMT_NUMBER}}},
+                    RS_POP_REGIONS,
+                    {{"pixels", RS_POP_REGIONS_PIXELS, JND_FMT_NUMBER},
+                     {"Σ", RS_POP_REGIONS_SIGMA, JND_FMT_NUMBER},
+                     {"R", RS_POP_REGIONS_RATING, JND_FMT_NUMBER},
+                     {"max JND", RS_POP_REGIONS_JND_MAX, JND_FMT_NUMBER}}},
                    {"Popping-free switch distances",
-                    "result.switch[]",
-                    {{"level", "level", JND_FMT_NUMBER},
-                     {"speed °/s", "speed_dps", JND_FMT_NUMBER},
-                     {"distance", "distance_m", JND_FMT_NUMBER},
-                     {"1-pixel rule distance", "distance_m_pixel_rule", JND_FMT_NUMBER},
-                     {"search", "status", JND_FMT_TEXT}}}},
+                    RS_POP_SWITCH,
+                    {{"level", RS_POP_SWITCH_LEVEL, JND_FMT_NUMBER},
+                     {"speed °/s", RS_POP_SWITCH_SPEED, JND_FMT_NUMBER},
+                     {"distance", RS_POP_SWITCH_DISTANCE, JND_FMT_NUMBER},
+                     {"1-pixel rule distance", RS_POP_SWITCH_PIXEL_RULE, JND_FMT_NUMBER},
+                     {"search", RS_POP_SWITCH_STATUS, JND_FMT_TEXT}}}},
         .pictures = {{.file = "regions.png",
                       .caption = "The switching frame with its popping regions coloured by R (004 Fig. 4)"},
-                     {.path = "result.outputs.switch",
+                     {.path = RS_POP_SWITCH_PLOT,
                       .caption = "Popping-free switch distance per level, one line per speed, beside the 1-pixel "
                                  "geometric-error rule"}},
     },

@@ -27,18 +27,18 @@ static int draw(const jnd_plot_axes *ax, const jnd_plot_series *s, int n, jnd_im
 int jnd_plot_texres_series_image(const cJSON *report, jnd_image *img, jnd_plot_layout *layout) {
   memset(img, 0, sizeof *img);
   const cJSON *maps[MAX_MAPS];
-  int nm = jnd_json_select(report, "result.maps[]", maps, MAX_MAPS);
+  int nm = jnd_json_select(report, RS_TEXRES_MAPS, maps, MAX_MAPS);
   if (nm > MAX_MAPS) nm = MAX_MAPS;
   double x[MAX_MAPS][MAX_POINTS], y[MAX_MAPS][MAX_POINTS];
   signed char bound[MAX_MAPS][MAX_POINTS];
   jnd_plot_series s[MAX_MAPS];
   int ns = 0;
   for (int m = 0; m < nm; m++) {
-    const cJSON *cand = cJSON_GetObjectItemCaseSensitive(maps[m], "candidates");
-    const cJSON *ser = cJSON_GetObjectItemCaseSensitive(maps[m], "series");
-    const cJSON *early = cJSON_GetObjectItemCaseSensitive(maps[m], "series_decided_early");
-    const cJSON *name = cJSON_GetObjectItemCaseSensitive(maps[m], "name");
-    const cJSON *searched = cJSON_GetObjectItemCaseSensitive(maps[m], "searched");
+    const cJSON *cand = cJSON_GetObjectItemCaseSensitive(maps[m], RS_TEXRES_MAPS_CANDIDATES);
+    const cJSON *ser = cJSON_GetObjectItemCaseSensitive(maps[m], RS_TEXRES_MAPS_SERIES);
+    const cJSON *early = cJSON_GetObjectItemCaseSensitive(maps[m], RS_TEXRES_MAPS_SERIES_EARLY);
+    const cJSON *name = cJSON_GetObjectItemCaseSensitive(maps[m], RS_TEXRES_MAPS_NAME);
+    const cJSON *searched = cJSON_GetObjectItemCaseSensitive(maps[m], RS_TEXRES_MAPS_SEARCHED);
     if (!cJSON_IsArray(cand) || !cJSON_IsArray(ser) || cJSON_IsFalse(searched)) continue;
     /* the candidates judged (bisection leaves the others out): a value
      * judged on every view is measured; one whose judging stopped once it
@@ -59,7 +59,7 @@ int jnd_plot_texres_series_image(const cJSON *report, jnd_image *img, jnd_plot_l
     ns++;
   }
   if (!ns) return 0;
-  double p = jnd_json_number(report, "parameters.criterion.p");
+  double p = jnd_json_number(report, RS_TEXRES_CRITERION_P);
   char plabel[64];
   snprintf(plabel, sizeof plabel, "threshold p = %g", p);
   jnd_plot_hline threshold = {.y = p, .label = plabel, .colour = {0.45f, 0.45f, 0.45f}};
@@ -83,8 +83,8 @@ int jnd_plot_texres_series(const cJSON *report, const char *path) {
 int jnd_plot_pca_energy_image(const cJSON *report, jnd_image *img, jnd_plot_layout *layout) {
   memset(img, 0, sizeof *img);
   const cJSON *frac[MAX_POINTS], *cum[MAX_POINTS];
-  int n = jnd_json_select(report, "result.energy_fraction[]", frac, MAX_POINTS);
-  int nc = jnd_json_select(report, "result.cumulative_energy[]", cum, MAX_POINTS);
+  int n = jnd_json_select(report, RS_PCA_ENERGY_FRACTION, frac, MAX_POINTS);
+  int nc = jnd_json_select(report, RS_PCA_CUMULATIVE_ENERGY, cum, MAX_POINTS);
   if (n < 1 || n > MAX_POINTS || nc != n) return 0;
   double x[MAX_POINTS], f[MAX_POINTS], c[MAX_POINTS];
   for (int i = 0; i < n; i++) {
@@ -95,7 +95,7 @@ int jnd_plot_pca_energy_image(const cJSON *report, jnd_image *img, jnd_plot_layo
   jnd_plot_series s[2] = {
       {.x = x, .y = f, .n = n, .label = "share of the energy", .colour = jnd_palette(0), .line = 1, .markers = 1},
       {.x = x, .y = c, .n = n, .label = "cumulative share", .colour = jnd_palette(1), .line = 1, .markers = 2}};
-  double kept = jnd_json_number(report, "result.components_kept");
+  double kept = jnd_json_number(report, RS_PCA_COMPONENTS_KEPT);
   int k = isfinite(kept) ? (int)kept : 0;
   char label[96];
   snprintf(label, sizeof label, "%d kept: %.1f %% of the energy", k, k >= 1 && k <= n ? 100 * c[k - 1] : 0.0);

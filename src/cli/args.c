@@ -55,6 +55,25 @@ int cli_unknown(cli_args *a) {
   return cli_bad("%s: unexpected argument '%s' (jnd %s --help)", a->cmd, arg, a->cmd);
 }
 
+int cli_help(const cli_args *a) { return cli_flag(a, "--help") || cli_flag(a, "-h"); }
+
+int cli_operand(cli_args *a, const char **ops, int *n, int max) {
+  const char *arg = a->argv[a->i];
+  int one = 0, *count = n ? n : &one;
+  if (!n && ops[0]) one = 1;
+  if ((arg[0] == '-' && arg[1]) || *count >= max) {
+    if (*count >= max && max > 1 && arg[0] != '-') {
+      a->bad = 1;
+      cli_error("%s: at most %d arguments ('%s' is one too many; jnd %s --help)", a->cmd, max, arg, a->cmd);
+      return 0;
+    }
+    cli_unknown(a);
+    return 0;
+  }
+  ops[(*count)++] = arg;
+  return 1;
+}
+
 /* an error in the value of an option: printed once, parsing stops */
 __attribute__((format(printf, 2, 3))) static void fail(cli_args *a, const char *fmt, ...) {
   va_list ap;

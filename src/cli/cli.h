@@ -70,6 +70,17 @@ void cli_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 int cli_bad(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* Prints an error for an unknown option or argument and the hint to use --help; returns EXIT_BAD. */
 int cli_unknown(cli_args *a);
+/* --help or -h at argv[i] (the command then prints its help and returns EXIT_OK). */
+int cli_help(const cli_args *a);
+/* The tail of every command's option loop, once argv[i] matched none of
+ * its options: an option the command does not know ("-x", "--x"; "-" alone
+ * is an operand) or an operand past the max it takes is an error (printed,
+ * bad set); otherwise the operand is appended to ops[*n] (n NULL: ops is
+ * one slot, max 1). Returns 1 when taken, 0 after an error:
+ *   } else if (!cli_operand(ap, &model, NULL, 1)) {
+ *     return EXIT_BAD;
+ *   }                                                                     */
+int cli_operand(cli_args *a, const char **ops, int *n, int max);
 /* Prints "jnd: MESSAGE" with the library's last error; returns EXIT_BAD. */
 int cli_lib_error(void);
 

@@ -114,19 +114,14 @@ static int merge(int argc, char **argv) {
   cli_args args = cli_args_start(argc, argv, "batch merge"), *ap = &args;
   args.i = 2;
   for (; args.i < argc && !args.bad; args.i++) {
-    const char *a = argv[args.i];
-    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
+    if (cli_help(ap)) {
       help();
       return EXIT_OK;
     } else if (cli_flag(ap, "--no-timings")) {
       timings = 0;
     } else if (cli_common_opt(ap, &common)) {
-    } else if (a[0] == '-' && a[1]) {
-      return cli_unknown(ap);
-    } else if (!out) {
-      out = a;
-    } else {
-      return cli_unknown(ap);
+    } else if (!cli_operand(ap, &out, NULL, 1)) {
+      return EXIT_BAD;
     }
   }
   if (args.bad) return EXIT_BAD;
@@ -161,8 +156,8 @@ static int run(int argc, char **argv) {
   sp.extra = extra;
   cli_args args = cli_args_start(argc, argv, "batch"), *ap = &args;
   for (; args.i < argc && !args.bad; args.i++) {
-    const char *a = argv[args.i], *v;
-    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
+    const char *v;
+    if (cli_help(ap)) {
       help();
       return EXIT_OK;
     } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
@@ -210,12 +205,8 @@ static int run(int argc, char **argv) {
       if (sp.nextra == 64) return cli_bad("batch: more than 64 --sbatch options");
       extra[sp.nextra++] = v;
     } else if (cli_common_opt(ap, &common)) {
-    } else if (a[0] == '-' && a[1]) {
-      return cli_unknown(ap);
-    } else if (!manifest) {
-      manifest = a;
-    } else {
-      return cli_unknown(ap);
+    } else if (!cli_operand(ap, &manifest, NULL, 1)) {
+      return EXIT_BAD;
     }
   }
   if (args.bad) return EXIT_BAD;

@@ -132,8 +132,7 @@ static int run(int argc, char **argv) {
   jnd_poi_screen screens[16];
   cli_args args = cli_args_start(argc, argv, "budget"), *ap = &args;
   for (; args.i < argc && !args.bad; args.i++) {
-    const char *a = argv[args.i];
-    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
+    if (cli_help(ap)) {
       help();
       return EXIT_OK;
     } else if (cli_views_opt(ap, &vo) || cli_display_opt(ap, &disp) ||
@@ -181,12 +180,8 @@ static int run(int argc, char **argv) {
       p.lod.sw.max_px = cli_int(ap, "--max-px", v, 32, 8192);
     } else if (cli_flag(ap, "--no-pop")) {
       p.lod.sw.pop = 0;
-    } else if (a[0] == '-' && a[1]) {
-      return cli_unknown(ap);
-    } else if (!model) {
-      model = a;
-    } else {
-      return cli_unknown(ap);
+    } else if (!cli_operand(ap, &model, NULL, 1)) {
+      return EXIT_BAD;
     }
   }
   if (args.bad) return EXIT_BAD;

@@ -67,8 +67,7 @@ static int run(int argc, char **argv) {
   int sizes[64], nsizes = 0;
   cli_args args = cli_args_start(argc, argv, "calibrate"), *ap = &args;
   for (; args.i < argc && !args.bad; args.i++) {
-    const char *a = argv[args.i];
-    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
+    if (cli_help(ap)) {
       help();
       return EXIT_OK;
     } else if (cli_views_opt(ap, &vo) || cli_display_opt(ap, &disp) || cli_common_opt(ap, &common)) {
@@ -90,12 +89,8 @@ static int run(int argc, char **argv) {
       }
     } else if (cli_opt(ap, "--histogram", &v)) {
       p.histogram = v;
-    } else if (a[0] == '-' && a[1]) {
-      return cli_unknown(ap);
-    } else if (!csv_path) {
-      csv_path = a;
-    } else {
-      return cli_unknown(ap);
+    } else if (!cli_operand(ap, &csv_path, NULL, 1)) {
+      return EXIT_BAD;
     }
   }
   if (args.bad) return EXIT_BAD;

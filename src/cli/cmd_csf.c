@@ -122,7 +122,7 @@ static int run(int argc, char **argv) {
   cli_args args = cli_args_start(argc, argv, "csf"), *ap = &args;
   for (; args.i < argc && !args.bad; args.i++) {
     const char *v;
-    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
+    if (cli_help(ap)) {
       help();
       return EXIT_OK;
     } else if (cli_flag(ap, "--list-constants")) {
@@ -157,12 +157,8 @@ static int run(int argc, char **argv) {
     } else if (cli_opt(ap, "--min-band", &v)) {
       p.model.min_band_cpd = cli_double(ap, "--min-band", v, 0.02, 10);
     } else if (cli_common_opt(ap, &common)) {
-    } else if (argv[args.i][0] == '-' && argv[args.i][1]) {
-      return cli_unknown(ap);
-    } else if (!data) {
-      data = argv[args.i];
-    } else {
-      return cli_unknown(ap);
+    } else if (!cli_operand(ap, &data, NULL, 1)) {
+      return EXIT_BAD;
     }
   }
   if (args.bad) return EXIT_BAD;

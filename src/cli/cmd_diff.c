@@ -56,7 +56,7 @@ static int run(int argc, char **argv) {
   cli_args args = cli_args_start(argc, argv, "diff"), *ap = &args;
   for (; args.i < argc && !args.bad; args.i++) {
     const char *v;
-    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
+    if (cli_help(ap)) {
       help();
       return EXIT_OK;
     } else if (cli_display_opt(ap, &disp)) {
@@ -82,12 +82,8 @@ static int run(int argc, char **argv) {
     } else if (cli_opt(ap, "--fail-above", &v)) {
       p.fail_above = cli_double(ap, "--fail-above", v, 0, 1);
     } else if (cli_common_opt(ap, &common)) {
-    } else if (argv[args.i][0] == '-' && argv[args.i][1]) {
-      return cli_unknown(ap);
-    } else if (npaths < 2) {
-      paths[npaths++] = argv[args.i];
-    } else {
-      return cli_unknown(ap);
+    } else if (!cli_operand(ap, paths, &npaths, 2)) {
+      return EXIT_BAD;
     }
   }
   if (args.bad) return EXIT_BAD;

@@ -10,7 +10,7 @@ static int run(int argc, char **argv) {
   cli_args args = cli_args_start(argc, argv, "example"), *ap = &args;
   for (; args.i < argc && !args.bad; args.i++) {
     const char *v;
-    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
+    if (cli_help(ap)) {
       printf("usage: jnd example -o DIR [--size WxH]\n\n"
              "Writes the built-in synthetic pair DIR/reference.png and DIR/test.png (default\n"
              "768x512): a reference with gradients, gratings, edges, colour and texture, and\n"

@@ -114,8 +114,7 @@ static int run_fit(int argc, char **argv) {
   cli_args args = cli_args_start(argc, argv, "gaze fit"), *ap = &args;
   args.i = 2;
   for (; args.i < argc && !args.bad; args.i++) {
-    const char *a = argv[args.i];
-    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
+    if (cli_help(ap)) {
       fit_help();
       return EXIT_OK;
     } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
@@ -129,12 +128,8 @@ static int run_fit(int argc, char **argv) {
     } else if (cli_opt(ap, "--b", &v)) {
       fp->start.b = cli_double(ap, "--b", v, 1e-6, 1e6);
     } else if (cli_common_opt(ap, &common)) {
-    } else if (a[0] == '-' && a[1]) {
-      return cli_unknown(ap);
-    } else if (!data) {
-      data = a;
-    } else {
-      return cli_unknown(ap);
+    } else if (!cli_operand(ap, &data, NULL, 1)) {
+      return EXIT_BAD;
     }
   }
   if (args.bad) return EXIT_BAD;
@@ -203,8 +198,7 @@ static int run_observers(int argc, char **argv) {
   cli_args args = cli_args_start(argc, argv, "gaze observers"), *ap = &args;
   args.i = 2;
   for (; args.i < argc && !args.bad; args.i++) {
-    const char *a = argv[args.i];
-    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
+    if (cli_help(ap)) {
       observers_help();
       return EXIT_OK;
     } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
@@ -228,12 +222,8 @@ static int run_observers(int argc, char **argv) {
     } else if (cli_opt(ap, "--max-px", &v)) {
       p->max_px = cli_int(ap, "--max-px", v, 16, 4096);
     } else if (cli_views_opt(ap, &vo) || cli_common_opt(ap, &common)) {
-    } else if (a[0] == '-' && a[1]) {
-      return cli_unknown(ap);
-    } else if (nmodels < 64) {
-      models[nmodels++] = a;
-    } else {
-      return cli_bad("gaze observers: at most 64 models");
+    } else if (!cli_operand(ap, models, &nmodels, 64)) {
+      return EXIT_BAD;
     }
   }
   if (args.bad) return EXIT_BAD;
@@ -277,8 +267,7 @@ static int run(int argc, char **argv) {
   const char *params_files[8];
   cli_args args = cli_args_start(argc, argv, "gaze"), *ap = &args;
   for (; args.i < argc && !args.bad; args.i++) {
-    const char *a = argv[args.i];
-    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
+    if (cli_help(ap)) {
       help();
       return EXIT_OK;
     } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
@@ -307,12 +296,8 @@ static int run(int argc, char **argv) {
       if (nparams == 8) return cli_bad("--params: at most 8 files");
       params_files[nparams++] = v;
     } else if (cli_display_opt(ap, &disp) || cli_views_opt(ap, &vo) || cli_common_opt(ap, &common)) {
-    } else if (a[0] == '-' && a[1]) {
-      return cli_unknown(ap);
-    } else if (!model) {
-      model = a;
-    } else {
-      return cli_unknown(ap);
+    } else if (!cli_operand(ap, &model, NULL, 1)) {
+      return EXIT_BAD;
     }
   }
   if (args.bad) return EXIT_BAD;

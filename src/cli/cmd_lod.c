@@ -195,8 +195,7 @@ static int run(int argc, char **argv) {
   vo.map_size = p.run.map_size;
   cli_args args = cli_args_start(argc, argv, "lod"), *ap = &args;
   for (; args.i < argc && !args.bad; args.i++) {
-    const char *a = argv[args.i];
-    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
+    if (cli_help(ap)) {
       help();
       return EXIT_OK;
     } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
@@ -265,12 +264,8 @@ static int run(int argc, char **argv) {
     } else if (cli_flag(ap, "--no-perceptual")) {
       p.perceptual = 0;
     } else if (cli_views_opt(ap, &vo) || cli_common_opt(ap, &common)) {
-    } else if (a[0] == '-' && a[1]) {
-      return cli_unknown(ap);
-    } else if (!model) {
-      model = a;
-    } else {
-      return cli_unknown(ap);
+    } else if (!cli_operand(ap, &model, NULL, 1)) {
+      return EXIT_BAD;
     }
   }
   if (args.bad) return EXIT_BAD;

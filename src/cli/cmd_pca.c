@@ -208,8 +208,7 @@ static int run(int argc, char **argv) {
   int npaths = 0, nslots = 0, write_maps = 0, rules = 0, criterion_given = 0;
   cli_args args = cli_args_start(argc, argv, "pca"), *ap = &args;
   for (; args.i < argc && !args.bad; args.i++) {
-    const char *a = argv[args.i];
-    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
+    if (cli_help(ap)) {
       help();
       return EXIT_OK;
     } else if (cli_criterion_opt(ap, &p.render.judge.criterion)) {
@@ -248,12 +247,8 @@ static int run(int argc, char **argv) {
       write_maps = 1;
     } else if (cli_flag(ap, "--no-bc")) {
       p.block_compression = 0;
-    } else if (a[0] == '-' && a[1]) {
-      return cli_unknown(ap);
-    } else if (npaths < JND_PCA_MAX_MAPS) {
-      paths[npaths++] = a;
-    } else {
-      return cli_bad("pca: at most %d maps", JND_PCA_MAX_MAPS);
+    } else if (!cli_operand(ap, paths, &npaths, JND_PCA_MAX_MAPS)) {
+      return EXIT_BAD;
     }
   }
   if (args.bad) return EXIT_BAD;

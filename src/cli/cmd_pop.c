@@ -128,9 +128,9 @@ static int run(int argc, char **argv) {
   cli_display_init(&disp);
   cli_args args = cli_args_start(argc, argv, "pop"), *ca = &args;
   for (; args.i < argc && !args.bad; args.i++) {
-    const char *v, *a = argv[args.i];
+    const char *v;
     int was = args.i;
-    if (cli_flag(ca, "--help") || cli_flag(ca, "-h")) {
+    if (cli_help(ca)) {
       help();
       return EXIT_OK;
     } else if (cli_display_opt(ca, &disp)) {
@@ -228,12 +228,8 @@ static int run(int argc, char **argv) {
     } else if (cli_opt(ca, "--fail-above", &v)) {
       rp.fail_above = cli_double(ca, "--fail-above", v, -100, 100);
     } else if (cli_common_opt(ca, &common)) {
-    } else if (a[0] == '-' && a[1]) {
-      return cli_unknown(ca);
-    } else if (npaths < 2) {
-      paths[npaths++] = a;
-    } else {
-      return cli_unknown(ca);
+    } else if (!cli_operand(ca, paths, &npaths, 2)) {
+      return EXIT_BAD;
     }
   }
   if (args.bad) return EXIT_BAD;

@@ -184,7 +184,7 @@ static int run(int argc, char **argv) {
   cli_args args = cli_args_start(argc, argv, "render"), *ap = &args;
   for (; args.i < argc && !args.bad; args.i++) {
     const char *a = argv[args.i];
-    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
+    if (cli_help(ap)) {
       help();
       return EXIT_OK;
     } else if (cli_opt(ap, "-o", &v) || cli_opt(ap, "--output", &v)) {
@@ -235,12 +235,8 @@ static int run(int argc, char **argv) {
     } else if (cli_opt(ap, "--outputs", &v)) {
       if (!parse_outputs(v, &p.outputs))
         return cli_bad("render: --outputs: '%s' is not a list of color,depth,mask,motion,mip,exr", v);
-    } else if (a[0] == '-' && a[1]) {
-      return cli_unknown(ap);
-    } else if (!model) {
-      model = a;
-    } else {
-      return cli_unknown(ap);
+    } else if (!cli_operand(ap, &model, NULL, 1)) {
+      return EXIT_BAD;
     }
   }
   if (args.bad) {

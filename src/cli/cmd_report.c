@@ -22,17 +22,12 @@ static int run(int argc, char **argv) {
   const char *out = NULL;
   cli_args args = cli_args_start(argc, argv, "report"), *ap = &args;
   for (; args.i < argc && !args.bad; args.i++) {
-    const char *a = argv[args.i];
-    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
+    if (cli_help(ap)) {
       help();
       return EXIT_OK;
     } else if (cli_common_opt(ap, &common)) {
-    } else if (a[0] == '-' && a[1]) {
-      return cli_unknown(ap);
-    } else if (!out) {
-      out = a;
-    } else {
-      return cli_unknown(ap);
+    } else if (!cli_operand(ap, &out, NULL, 1)) {
+      return EXIT_BAD;
     }
   }
   if (args.bad) return EXIT_BAD;

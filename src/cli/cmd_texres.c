@@ -116,8 +116,7 @@ static int run(int argc, char **argv) {
   int sizes[64];
   cli_args args = cli_args_start(argc, argv, "texres"), *ap = &args;
   for (; args.i < argc && !args.bad; args.i++) {
-    const char *a = argv[args.i];
-    if (cli_flag(ap, "--help") || cli_flag(ap, "-h")) {
+    if (cli_help(ap)) {
       help();
       return EXIT_OK;
     } else if (cli_views_opt(ap, &vo) || cli_display_opt(ap, &disp) || cli_criterion_opt(ap, &p.judge.criterion) ||
@@ -143,12 +142,8 @@ static int run(int argc, char **argv) {
       p.matrix = 1;
     } else if (cli_flag(ap, "--no-matrix")) {
       p.matrix = 0;   /* the default; kept so that older command lines work */
-    } else if (a[0] == '-' && a[1]) {
-      return cli_unknown(ap);
-    } else if (!model) {
-      model = a;
-    } else {
-      return cli_unknown(ap);
+    } else if (!cli_operand(ap, &model, NULL, 1)) {
+      return EXIT_BAD;
     }
   }
   if (args.bad) return EXIT_BAD;

@@ -69,10 +69,8 @@ jnd_status jnd_budget_run(const char *model, const jnd_budget_params *pp, const 
   if (s == JND_OK) {
     double total = jnd_seconds() - t0;
     report = budget_report(model, &p, R, rel, coverage, p.run.timings ? &total : NULL);
-    s = report ? report_output_write(&o, report, "budget.json", &R->report) : JND_ERR_NOMEM;
   }
-  s = report_output_end(&o, s);
-  cJSON_Delete(report);
+  s = report_output_finish(&o, s, report, "budget.json", &R->report);
   if (s != JND_OK) {
     jnd_budget_result_free(R);
     return s;

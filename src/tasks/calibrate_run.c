@@ -283,12 +283,8 @@ jnd_status jnd_calibrate_run(const char *csv_path, const jnd_calibrate_run_param
   if (s == JND_OK && jnd_calibrate_fit(cs, nsc, &p.fit, R) != JND_OK)
     s = jnd_fail(JND_ERR_ARG, "%s: %s", csv_path, jnd_last_error());
   if (s == JND_OK && staged_hist) s = write_histogram(staged_hist, R);
-  if (s == JND_OK) {
-    report = calibrate_report(csv_path, &p, R, cs, maps, p.histogram);
-    s = report ? report_output_write(&o, report, staged_out, &R->report) : JND_ERR_NOMEM;
-  }
-  s = report_output_end(&o, s);
-  cJSON_Delete(report);
+  if (s == JND_OK) report = calibrate_report(csv_path, &p, R, cs, maps, p.histogram);
+  s = report_output_finish(&o, s, report, staged_out, &R->report);
   free(maps);
   free(cs);
   free(sc);

@@ -137,12 +137,8 @@ jnd_status jnd_csf_run(const char *data, const jnd_csf_run_params *pp, const cha
       s = jnd_fail(s, "%s: %s", data, jnd_last_error());
   }
   if (!s && csv_out) s = write_rows(csv_out, &R->data, &R->eval, p.options.cross_validate);
-  if (!s) {
-    report = csf_report(data, colors, bkgs, &p, &R->data, &R->eval);
-    s = report ? report_output_write(&o, report, NULL, &R->report) : JND_ERR_NOMEM;
-  }
-  s = report_output_end(&o, s);
-  cJSON_Delete(report);
+  if (!s) report = csf_report(data, colors, bkgs, &p, &R->data, &R->eval);
+  s = report_output_finish(&o, s, report, NULL, &R->report);
   if (s) {
     jnd_csf_run_result_free(R);
     return s;

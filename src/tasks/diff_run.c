@@ -169,10 +169,8 @@ jnd_status jnd_diff_run(const char *ref_path, const char *test_path, const jnd_d
     R->above = p.fail_above >= 0 && R->stats.p_detect > p.fail_above;
     jnd_pooling_name(&pool, R->pooling, sizeof R->pooling);
     report = diff_report(ref_path, test_path, &ri, &ti, &p, &mp, model, R, p.run.timings ? times : NULL);
-    s = report ? report_output_write(&o, report, NULL, &R->report) : JND_ERR_NOMEM;
   }
-  s = report_output_end(&o, s);
-  cJSON_Delete(report);
+  s = report_output_finish(&o, s, report, NULL, &R->report);
   jnd_model_free(model);
   jnd_image_free(&ref);
   jnd_image_free(&test);

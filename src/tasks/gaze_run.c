@@ -29,9 +29,9 @@ void jnd_gaze_run_result_free(jnd_gaze_run_result *r) {
 /* dir/name */
 static void join(const char *dir, const char *name, char *out, size_t n) { snprintf(out, n, "%s/%s", dir, name); }
 
-/* 002's table: gaze.png, gaze.csv, the chain made here, gaze.json */
+/* 002's table: gaze.png, gaze.csv, the chain made here; *report gaze.json's */
 static jnd_status run_table(const char *model, const jnd_gaze_run_params *rp, report_output *o,
-                            jnd_gaze_run_result *R) {
+                            jnd_gaze_run_result *R, cJSON **report) {
   jnd_gaze_table_params p = rp->table;
   if (p.max_px < p.min_px) return jnd_fail(JND_ERR_ARG, "--max-px: %d is below --min-px %d", p.max_px, p.min_px);
   jnd_status s = JND_OK;
@@ -66,35 +66,27 @@ static jnd_status run_table(const char *model, const jnd_gaze_run_params *rp, re
   if (!s && R->input_levels < 2) s = jnd_make_dirs(path);
   join(o->dir, R->chain_model, path, sizeof path);
   if (!s && R->input_levels < 2) s = jnd_scene_write_lod_glb(scene, path, NULL);
-  cJSON *report = NULL;
-  if (!s) {
-    report = gaze_table_report(model, rp, &p, R);
-    s = report ? report_output_write(o, report, "gaze.json", &R->report) : JND_ERR_NOMEM;
-  }
-  cJSON_Delete(report);
+  if (!s) *report = gaze_table_report(model, rp, &p, R);
   jnd_scene_free(scene);
   return s;
 }
 
-/* 002's models fitted to answers: gaze_fit.json when there is a folder */
-static jnd_status run_fit(const char *data, const jnd_gaze_run_params *rp, report_output *o, jnd_gaze_run_result *R) {
+/* 002's models fitted to answers; *report gaze_fit.json's (written when there is a folder) */
+static jnd_status run_fit(const char *data, const jnd_gaze_run_params *rp, report_output *o, jnd_gaze_run_result *R,
+                          cJSON **report) {
   jnd_gaze_data d;
   jnd_status s = jnd_gaze_data_read(data, &d);
   if (s) return s;
   s = jnd_gaze_fit(&d, &rp->fit, &R->fit);
   jnd_gaze_data_free(&d);
   if (!s && o->dir) s = jnd_make_dirs(o->dir);
-  cJSON *report = NULL;
-  if (!s) {
-    report = gaze_fit_report(data, &rp->fit, &R->fit);
-    s = report ? report_output_write(o, report, o->dir ? "gaze_fit.json" : NULL, &R->report) : JND_ERR_NOMEM;
-  }
-  cJSON_Delete(report);
+  if (!s) *report = gaze_fit_report(data, &rp->fit, &R->fit);
   return s;
 }
 
-/* answers drawn from jnd's own model: spatial.csv, temporal.csv, observers.json */
-static jnd_status run_observers(const jnd_gaze_run_params *rp, report_output *o, jnd_gaze_run_result *R) {
+/* answers drawn from jnd's own model: spatial.csv, temporal.csv; *report observers.json's */
+static jnd_status run_observers(const jnd_gaze_run_params *rp, report_output *o, jnd_gaze_run_result *R,
+                                cJSON **report) {
   const jnd_gaze_observers_params *p = &rp->observers;
   if (p->max_px < p->min_px) return jnd_fail(JND_ERR_ARG, "--max-px: %d is below --min-px %d", p->max_px, p->min_px);
   jnd_scene *scenes[64] = {0};
@@ -112,12 +104,7 @@ static jnd_status run_observers(const jnd_gaze_run_params *rp, report_output *o,
   if (!s) s = jnd_gaze_observers_write_csv(O, 0, path);
   join(o->dir, "temporal.csv", path, sizeof path);
   if (!s) s = jnd_gaze_observers_write_csv(O, 1, path);
-  cJSON *report = NULL;
-  if (!s) {
-    report = gaze_observers_report(rp, R);
-    s = report ? report_output_write(o, report, "observers.json", &R->report) : JND_ERR_NOMEM;
-  }
-  cJSON_Delete(report);
+  if (!s) *report = gaze_observers_report(rp, R);
   for (int i = 0; i < rp->nmodels; i++) jnd_scene_free(scenes[i]);
   return s;
 }
@@ -150,12 +137,16 @@ jnd_status jnd_gaze_run(const char *input, const jnd_gaze_run_params *pp, const 
   jnd_status s = report_output_open(&o, ins, nin, out_dir, &p.run);
   if (s) return s;
   jnd_gaze_run_result *R = jnd_calloc(1, sizeof *R);
-  if (!R) s = jnd_fail(JND_ERR_NOMEM, "gaze: out of memory");
-  else R->mode = p.mode;
-  if (!s) s = p.mode == JND_GAZE_RUN_OBSERVERS ? run_observers(&p, &o, R)
-              : p.mode == JND_GAZE_RUN_FIT     ? run_fit(input, &p, &o, R)
-                                               : run_table(input, &p, &o, R);
-  s = report_output_end(&o, s);
+  if (!R) return report_output_end(&o, jnd_fail(JND_ERR_NOMEM, "gaze: out of memory"));
+  R->mode = p.mode;
+  cJSON *report = NULL;
+  const char *name = p.mode == JND_GAZE_RUN_OBSERVERS ? "observers.json"
+                     : p.mode == JND_GAZE_RUN_FIT     ? (o.dir ? "gaze_fit.json" : NULL)
+                                                      : "gaze.json";
+  s = p.mode == JND_GAZE_RUN_OBSERVERS ? run_observers(&p, &o, R, &report)
+      : p.mode == JND_GAZE_RUN_FIT     ? run_fit(input, &p, &o, R, &report)
+                                       : run_table(input, &p, &o, R, &report);
+  s = report_output_finish(&o, s, report, name, &R->report);
   if (s) {
     jnd_gaze_run_result_free(R);
     return s;

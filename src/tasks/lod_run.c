@@ -78,10 +78,8 @@ jnd_status jnd_lod_run(const char *model, const jnd_lod_run_params *pp, const ch
   if (s == JND_OK) {
     R->write_s += jnd_seconds() - t0;
     report = lod_report(model, &p, R, rel);
-    s = report ? report_output_write(&o, report, "lod.json", &R->report) : JND_ERR_NOMEM;
   }
-  s = report_output_end(&o, s);
-  cJSON_Delete(report);
+  s = report_output_finish(&o, s, report, "lod.json", &R->report);
   if (s != JND_OK) {
     jnd_lod_result_free(R);
     return s;

@@ -391,10 +391,8 @@ jnd_status jnd_pca_run(const char *model, const jnd_pca_params *pp, const char *
     double total = jnd_seconds() - t0;
     report = pca_report(&p, R, textures, p.run.timings ? &total : NULL);
     textures = NULL;
-    s = report ? report_output_write(&o, report, "pca.json", &R->report) : JND_ERR_NOMEM;
   }
-  s = report_output_end(&o, s);
-  cJSON_Delete(report);
+  s = report_output_finish(&o, s, report, "pca.json", &R->report);
   cJSON_Delete(textures);
   if (s != JND_OK) {
     jnd_pca_result_free(R);

@@ -147,11 +147,9 @@ jnd_status jnd_pop_run(const char *model, const jnd_pop_run_params *pp, const ch
     R->above = isfinite(p.fail_above) && pair->nregions && pair->max_rating > p.fail_above;
     double timings[2] = {jnd_seconds() - t_write, jnd_seconds() - t0};
     report = pop_report(model, &p, &ap, R, p.run.timings ? timings : NULL);
-    s = report ? report_output_write(&o, report, "pop.json", &R->report) : JND_ERR_NOMEM;
-    R->total_s = jnd_seconds() - t0;
   }
-  s = report_output_end(&o, s);
-  cJSON_Delete(report);
+  s = report_output_finish(&o, s, report, "pop.json", &R->report);
+  if (!s) R->total_s = jnd_seconds() - t0;
   jnd_model_free(m);
   if (s) {
     jnd_pop_run_result_free(R);

@@ -59,6 +59,14 @@ jnd_status report_output_write(report_output *o, cJSON *report, const char *name
  * writer. Returns st, or the commit's error. */
 jnd_status report_output_end(report_output *o, jnd_status st);
 
+/* The end of every run: when st is JND_OK, writes report (taken; NULL:
+ * out of memory building it) as report_output_write does, then ends as
+ * report_output_end does: everything published, or all removed on any
+ * error. Returns st, the write's or the commit's error:
+ *   if (s == JND_OK) report = <task>_report(...);
+ *   s = report_output_finish(&o, s, report, "<task>.json", &R->report);   */
+jnd_status report_output_finish(report_output *o, jnd_status st, cJSON *report, const char *name, char **text);
+
 /* ---- each task's report, built by its <task>_report.c ---- */
 
 /* jnd diff's report: mp the model's parameters as run (the calibration's

@@ -109,11 +109,9 @@ jnd_status jnd_texres_run(const char *model, const jnd_texres_params *pp, const 
     double timings[2] = {t_search, jnd_seconds() - t0};
     report = texres_report(model, &p, R, scene, final_model, map_files, p.run.timings ? timings : NULL);
     map_files = NULL;
-    s = report ? report_output_write(&o, report, "texres.json", &R->report) : JND_ERR_NOMEM;
   }
   if (s == JND_OK) R->passes = R->views.pass && (R->verify_views == 0 || R->verify.pass);
-  s = report_output_end(&o, s);
-  cJSON_Delete(report);
+  s = report_output_finish(&o, s, report, "texres.json", &R->report);
   cJSON_Delete(map_files);
   free(final_model);
   jnd_scene_free(scene);

@@ -39,19 +39,29 @@ for task in texres pca calibrate lod render diff csf gaze pop; do
 done
 check "tiers: no figure, plot or test counter in the core ($(grep -E '_(figure|plot|counts)$' "$T/core.txt" | tr '\n' ' '))" \
   bash -c "! grep -Eq '_(figure|plot|counts)\$' '$T/core.txt'"
-# the header's first example as a program (compiled here against the tiers, below against the install)
-python3 - "$JND_SRC/include/jnd.h" >"$T/first.c" <<'PY'
+# the header's examples as programs (compiled here against the tiers, below against the install): the
+# first, the product (texres), and the image diff
+example() {   # the heading's first words
+  python3 - "$JND_SRC/include/jnd.h" "$1" <<'PY'
 import re, sys
 text = open(sys.argv[1]).read()
-body = text.split("Ten lines to compare two images", 1)[1].split("\n *\n", 1)[1].split("\n *\n", 1)[0]
+body = text.split(sys.argv[2], 1)[1].split("\n *\n", 1)[1].split("\n *\n", 1)[0]
 lines = [re.sub(r"^ \*     ", "", l) for l in body.splitlines()]
 print('#include <stdio.h>\n#include <jnd.h>\nint main(void) {\n' + "\n".join(lines) + '\n  return 0;\n}')
 PY
+}
+example "Ten lines to make a model's textures" >"$T/product.c"
+example "Ten lines to compare two images" >"$T/first.c"
+check "the header opens with the product: a texres run, its status checked, its result freed" \
+  bash -c "head -c 1500 '$JND_SRC/include/jnd.h' | grep -q 'Ten lines to make a model' && grep -q 'jnd_texres_run(.*!= JND_OK' '$T/product.c' && grep -q 'jnd_texres_result_free(r)' '$T/product.c'"
 # the first example uses the core only: with the mark as a deprecation, it compiles without a warning
 if command -v cc >/dev/null; then
   check "tiers: the header's first example uses the core only (experimental marked deprecated, -Werror)" \
     cc -std=c11 -Wall -Werror "-DJND_EXPERIMENTAL=__attribute__((deprecated))" -I"$JND_SRC/include" \
     -fsyntax-only "$T/first.c"
+  check "tiers: the header's product example uses the core only (experimental marked deprecated, -Werror)" \
+    cc -std=c11 -Wall -Werror "-DJND_EXPERIMENTAL=__attribute__((deprecated))" -I"$JND_SRC/include" \
+    -fsyntax-only "$T/product.c"
   printf '#include <jnd.h>\nint main(void) { return jnd_seconds() > 0 ? 0 : 1; }\n' >"$T/experimental_use.c"
   check "tiers: and the mark does warn where a program leaves the core (jnd_seconds)" bash -c \
     "! cc -std=c11 -Werror '-DJND_EXPERIMENTAL=__attribute__((deprecated))' -I'$JND_SRC/include' -fsyntax-only '$T/experimental_use.c' 2>/dev/null"
@@ -74,6 +84,11 @@ if command -v cc >/dev/null && command -v pkg-config >/dev/null; then
   (cd "$T/run" && env -u LD_LIBRARY_PATH "$T/first" >"$T/out.txt" 2>"$T/err.txt"; echo $? >"$T/rc.txt")
   check "a missing file: exit 2, one line naming it, no P(detect)" \
     bash -c "[ \$(cat '$T/rc.txt') -eq 2 ] && [ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q '^jnd: ref.png' '$T/err.txt' && ! grep -q 'P(detect)' '$T/out.txt'"
+  check "the header's product example compiles against the installed library" \
+    "${cc[@]}" -std=c11 -Wall -Werror -o "$T/product" "$T/product.c" $flags
+  (cd "$T/run" && env -u LD_LIBRARY_PATH "$T/product" >"$T/out.txt" 2>"$T/err.txt"; echo $? >"$T/rc.txt")
+  check "the product example on a missing model: exit 2, one line naming it, nothing written" \
+    bash -c "[ \$(cat '$T/rc.txt') -eq 2 ] && [ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q '^jnd: model.glb' '$T/err.txt' && [ ! -e '$T/run/smaller' ] && [ ! -s '$T/out.txt' ]"
   "$JND" example -o "$T/run/ex" --size 96x64 >/dev/null 2>&1
   cp "$T/run/ex/reference.png" "$T/run/ref.png" && cp "$T/run/ex/test.png" "$T/run/test.png"
   (cd "$T/run" && env -u LD_LIBRARY_PATH "$T/first" >"$T/out.txt" 2>"$T/err.txt"; echo $? >"$T/rc.txt")
