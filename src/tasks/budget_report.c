@@ -4,7 +4,9 @@
 
 #include "tasks/report.h"
 
-static const char *kind_name(int scale) { return scale == -1 ? "searched" : scale == -2 ? "separate" : "ladder"; }
+static const char *kind_name(int scale) {
+  return scale == -1 ? "searched" : scale == -2 ? "separate" : scale == -3 ? "encoded" : "ladder";
+}
 
 static cJSON *sizes_json(const jnd_budget_result *R, int (*sizes)[2]) {
   cJSON *o = cJSON_CreateObject();
@@ -26,7 +28,11 @@ static cJSON *candidate_json(const jnd_budget_result *R, int i, int with_sizes) 
   cJSON_AddBoolToObject(o, "pass", x->pass);
   if (x->scale < 0) cJSON_AddBoolToObject(o, "passes_with_margin", x->searched_pass);
   cJSON_AddBoolToObject(o, "pareto", x->pareto);
-  if (with_sizes) cJSON_AddItemToObject(o, "sizes", sizes_json(R, x->sizes));
+  if (with_sizes) {
+    cJSON_AddItemToObject(o, "sizes", sizes_json(R, x->sizes));
+    cJSON *f = cJSON_AddObjectToObject(o, "formats");   /* per map: its image's GPU encoding */
+    for (int m = 0; m < R->nmaps; m++) cJSON_AddStringToObject(f, R->map_names[m], jnd_tex_format_name(x->formats[m]));
+  }
   return o;
 }
 

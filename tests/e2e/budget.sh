@@ -24,7 +24,12 @@ r = json.load(open(sys.argv[1]))
 assert r["command"] == "budget" and r["parameters"]["mode"] == "cheapest"
 res = r["result"]
 ch, se = res["chosen"], res["separate"]
-assert ch["kind"] in ("searched", "separate") and ch["passes_with_margin"]
+assert ch["kind"] in ("searched", "separate", "encoded") and ch["passes_with_margin"]
+# a cheaper encoding than the slot's block format only in the encoding search's candidate
+cheaper = [n for n, f in ch["formats"].items() if n.split("/")[-1] in ("baseColor", "normal") and f == "bc1"]
+assert bool(cheaper) == (ch["kind"] == "encoded"), (ch["kind"], ch["formats"])
+enc = [c for c in res["candidates"] if c["kind"] == "encoded"]
+assert len(enc) <= 1 and all(c["passes_with_margin"] and c["level"] == ch["level"] for c in enc)
 # the separate pair is a candidate of the search: where it passes, the choice is no dearer
 if se["passes_with_margin"]:
     assert ch["cost_bytes"] <= se["cost_bytes"] + 1e-6, (ch["cost_bytes"], se["cost_bytes"])
@@ -86,15 +91,18 @@ def png_size(i):
     v = g["bufferViews"][g["images"][i]["bufferView"]]
     off = binoff + v.get("byteOffset", 0)
     return struct.unpack_from(">II", data, off + 16)
-blocks = {"baseColorTexture": 16, "normalTexture": 16, "occlusionTexture": 8, "metallicRoughnessTexture": 8,
-          "emissiveTexture": 8}   # bytes per 4x4 block: bc7, bc5, bc4, bc1, bc1
+# the encoding budget.json gives each map (the slot's block format, or bc1 where chosen)
+block = {"bc7": 16, "bc5": 16, "bc4": 8, "bc1": 8}   # bytes per 4x4 block
+formats = r["chosen"]["formats"]
+slots_of = {"baseColorTexture": "baseColor", "normalTexture": "normal", "occlusionTexture": "occlusion",
+            "metallicRoughnessTexture": "metallicRoughness", "emissiveTexture": "emissive"}
 need = {}
 for m in g["materials"]:
     slots = dict(m.get("pbrMetallicRoughness", {}), **m)
-    for k, b in blocks.items():
+    for k, slot in slots_of.items():
         if k in slots:
             img = g["textures"][slots[k]["index"]]["source"]
-            need[img] = max(need.get(img, 0), b)
+            need[img] = max(need.get(img, 0), block[formats[m["name"] + "/" + slot]])
 def chain(w, h, b):
     t = 0
     while True:
@@ -105,6 +113,16 @@ def chain(w, h, b):
 mem = sum(chain(*png_size(i), b) for i, b in need.items())
 assert mem == r["chosen"]["memory_bytes"], (mem, r["chosen"]["memory_bytes"])
 PY
+
+# the Khronos glTF-Validator: 0 errors (the pinned npm package, cached by scripts/install-deps.sh)
+. "$(dirname "$0")/../../scripts/gltf_validator.sh"
+if gltf_validator >/dev/null && command -v node >/dev/null; then
+  check "the written model passes the Khronos glTF-Validator with 0 errors" \
+    gltf_validator_run "$T/a/model/builtin_sphere.glb"
+else
+  echo "skip: the glTF-Validator check: gltf-validator@$GLTF_VALIDATOR_VERSION is not cached or node is missing (scripts/install-deps.sh)"
+  if [ -n "${JND_NO_SKIP:-}" ]; then bad "the glTF-Validator check skipped, but JND_NO_SKIP is set"; fi
+fi
 
 nl=$(python3 -c 'import json,sys; print(len(json.load(open(sys.argv[1]))["result"]["levels"]))' "$T/a/budget.json")
 for k in $(seq 0 $((nl - 1))); do
