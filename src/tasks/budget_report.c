@@ -102,6 +102,9 @@ cJSON *budget_report(const char *model, const jnd_budget_params *p, const jnd_bu
   cJSON_AddItemToObject(res, "separate", candidate_json(R, R->separate, 1));
   const jnd_budget_candidate *ch = &R->candidates[R->chosen], *se = &R->candidates[R->separate];
   cJSON *cmp = cJSON_AddObjectToObject(res, "comparison");
+  for (int i = 0; i < R->ncandidates; i++)   /* the file as it is: level 0, every map at its size */
+    if (R->candidates[i].level == 0 && R->candidates[i].scale == 0)
+      cJSON_AddNumberToObject(cmp, "original_cost_bytes", R->candidates[i].cost);
   cJSON_AddNumberToObject(cmp, "chosen_cost_bytes", ch->cost);
   cJSON_AddNumberToObject(cmp, "separate_cost_bytes", se->cost);
   cJSON_AddNumberToObject(cmp, "saving_bytes", se->cost - ch->cost);
