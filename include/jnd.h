@@ -2485,6 +2485,9 @@ typedef struct {
   int searched_pass;         /* scale −1: texres's search passed (its margin, confirmation, held-out
                                 views); −2: the statistic is at most p·(1 − margin); else 0 */
   int pareto;                /* not dominated in (memory, triangles, statistic) */
+  int inferred;              /* 1: a ladder state not rendered, as the one before it (one halving
+                                fewer, same level) had statistic 1 and detection never falls as a
+                                map shrinks: its statistic is 1 */
 } jnd_budget_candidate;
 
 /* A level of the written chain, from its switch distance on. */

@@ -652,6 +652,17 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
   for (int i = 0; i < R->ncandidates; i++) {
     jnd_budget_candidate *x = &R->candidates[i];
     jnd_judgement r;
+    /* the ladder halves every map once more than the candidate before it
+     * (same level): after a statistic of 1 (every view certain to be
+     * noticed) it is 1 too, as detection never falls as a map shrinks
+     * (texres's bisection rests on it), so it is not rendered */
+    if (x->scale > 0 && x[-1].level == x->level && x[-1].scale == x->scale - 1 && x[-1].statistic >= 1) {
+      x->statistic = 1;
+      x->pass = 0;
+      x->inferred = 1;
+      if (p->progress) p->progress(p->progress_user, NULL, i + 1, R->ncandidates);
+      continue;
+    }
     if ((s = judge(&c, x->level, x->sizes, x->formats, 0, c.nviews, P, &r))) goto done;
     x->statistic = r.criterion.statistic;
     x->pass = r.criterion.pass;

@@ -20,7 +20,10 @@ static cJSON *candidate_json(const jnd_budget_result *R, int i, int with_sizes) 
   cJSON_AddNumberToObject(o, "index", i);
   cJSON_AddStringToObject(o, "kind", kind_name(x->scale));
   cJSON_AddNumberToObject(o, "level", x->level);
-  if (x->scale >= 0) cJSON_AddNumberToObject(o, "halvings", x->scale);
+  if (x->scale >= 0) {
+    cJSON_AddNumberToObject(o, "halvings", x->scale);
+    cJSON_AddBoolToObject(o, "inferred", x->inferred);
+  }
   cJSON_AddNumberToObject(o, "memory_bytes", (double)x->memory_bytes);
   cJSON_AddNumberToObject(o, "triangles", (double)x->triangles);
   cJSON_AddNumberToObject(o, "cost_bytes", x->cost);

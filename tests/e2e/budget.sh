@@ -36,6 +36,12 @@ if se["passes_with_margin"]:
 rate = r["parameters"]["bytes_per_triangle"]
 for c in res["candidates"]:
     assert abs(c["cost_bytes"] - (c["memory_bytes"] + rate * c["triangles"])) < 1e-3 * max(1, c["cost_bytes"])
+# a ladder state not rendered follows one of the same level, one halving fewer, whose statistic was 1
+for c in res["candidates"]:
+    if c.get("inferred"):
+        prev = res["candidates"][c["index"] - 1]
+        assert c["statistic"] == 1 and not c["pass"] and prev["level"] == c["level"], c
+        assert prev["halvings"] == c["halvings"] - 1 and prev["statistic"] >= 1, (prev, c)
 # the front: nobody dominates a point on it, and every point off it is dominated
 cs = res["candidates"]
 def dom(a, b):
