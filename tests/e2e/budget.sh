@@ -158,6 +158,27 @@ expect_exit 2 "a budget nothing meets: exit 2" "$JND" budget builtin:sphere -o "
 check "... one line naming the smallest possible" sh -c "grep -q 'smallest possible is' '$T/err.txt' && [ \$(wc -l <'$T/err.txt') -eq 1 ]"
 check "... nothing written" test ! -e "$T/c"
 
+# jnd batch runs budget rows: the summary's costs and decision, the asset's page with its levels
+{
+  echo "id,asset,command,options"
+  echo "sph,builtin:sphere,budget,\"${SMALL[*]/--quiet/}\""
+} >"$T/m.csv"
+expect_exit 0 "jnd batch runs a budget row" "$JND" batch "$T/m.csv" -o "$T/batch" --quiet
+expect_exit 0 "... merged" "$JND" batch merge "$T/batch" --quiet
+expect_exit 0 "... reported" "$JND" report "$T/batch" --quiet
+check "... summary.json: the file's cost before, the chosen after, the decision against texres + lod" \
+  python3 - "$T/batch/summary.json" "$T/batch/sph/budget.json" <<'PY'
+import json, sys
+a = json.load(open(sys.argv[1]))["result"]["assets"][0]
+r = json.load(open(sys.argv[2]))["result"]
+assert a["command"] == "budget" and a["status"] == "ok", a
+assert a["memory_before_bytes"] == r["comparison"]["original_cost_bytes"]
+assert a["memory_after_bytes"] == r["comparison"]["chosen_cost_bytes"]
+assert a["decision"].startswith("level %d, " % r["chosen"]["level"]) and "texres + lod separately" in a["decision"], a["decision"]
+PY
+check "... the asset's page shows the written levels and pareto.png" \
+  sh -c "grep -q 'Written levels' '$T/batch/report/sph.html' && grep -q 'pareto.png' '$T/batch/report/sph.html'"
+
 # bad input: one line, exit 2, nothing written
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$T/plain.obj"
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\n' >"$T/points.obj"
