@@ -5,7 +5,8 @@
 # + lod chosen separately (texture memory + triangles x rate), whether each
 # passes, the held-out check at every switch distance, wall and CPU time
 # (issue 27's target: <= 5 minutes on 2 cores with llvmpipe for a
-# 6-material asset). One screen (standard-fhd) unless BENCH_BUDGET_SCREENS.
+# 6-material asset; on a shared machine the CPU time, user + sys, is the
+# figure to read). One screen (standard-fhd) unless BENCH_BUDGET_SCREENS.
 set -uo pipefail
 : "${JND:?}"
 export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
@@ -38,6 +39,13 @@ for label, c in (("joint", ch), ("texres + lod separately", se)):
     print("     %-24s level %d, textures %.3f MiB, %d triangles, cost %.3f MiB, statistic %.3f%s"
           % (label, c["level"], c["memory_bytes"] / mib, c["triangles"], c["cost_bytes"] / mib, c["statistic"],
              "" if c["passes_with_margin"] else " (fails with texres's margin)"))
+bc1 = [n for n, f in ch["formats"].items() if f == "bc1" and se["formats"][n] != "bc1"]
+print("     encodings: %s" % ("BC1 for " + ", ".join(bc1) if bc1 else "the slots' block formats"))
+print("     candidates rendered %d, inferred (ladder beyond a statistic of 1) %d"
+      % (sum(not c.get("inferred") for c in res["candidates"]), sum(bool(c.get("inferred")) for c in res["candidates"])))
+t = res.get("timings", {})
+if t:
+    print("     search %.1f s, verification %.1f s (wall)" % (t["search_s"], t["verify_s"]))
 saving = res["comparison"]["saving_bytes"]
 print("     joint saves %.3f MiB (%.1f%%) over separately" % (saving / mib, 100 * saving / se["cost_bytes"]))
 print("     levels: " + "; ".join("%d from %s (%s)" % (l["level"], "-" if l["switch_distance"] is None else "%.3g" % l["switch_distance"],

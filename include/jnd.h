@@ -2487,10 +2487,14 @@ void jnd_budget_defaults(jnd_budget_params *p);
 typedef struct {
   int level;                 /* the chain's level drawn nearest (levels finer than it are dropped) */
   int scale;                 /* −1: sizes of texres's search at that level; −2: the separately chosen
-                                (texres at level 0 with lod's perceptual level); s ≥ 0: every map at
-                                its original halved s times (not below min_size) */
+                                (texres at level 0 with lod's perceptual level); −3: the cheapest of
+                                those with cheaper encodings per image (docs/budget.md); s ≥ 0:
+                                every map at its original halved s times (not below min_size) */
   int (*sizes)[2];           /* per scene map: width, height in pixels (owned) */
-  size_t memory_bytes;       /* the textures: unique images, block formats, mip chains */
+  jnd_tex_format *formats;   /* per scene map: its image's encoding on the GPU (owned): the slots'
+                                block format (jnd_slot_block_format), or BC1 where the encoding
+                                search found its artefacts unnoticed (scale −3) */
+  size_t memory_bytes;       /* the textures: unique images, their formats, mip chains */
   size_t triangles;          /* of the level */
   double cost;               /* memory_bytes + triangles × the exchange rate */
   double statistic;          /* the criterion's statistic (the (⌊q·n⌋ + 1)-th largest pooled P) on the
@@ -2499,6 +2503,9 @@ typedef struct {
   int searched_pass;         /* scale −1: texres's search passed (its margin, confirmation, held-out
                                 views); −2: the statistic is at most p·(1 − margin); else 0 */
   int pareto;                /* not dominated in (memory, triangles, statistic) */
+  int inferred;              /* 1: a ladder state not rendered, as the one before it (one halving
+                                fewer, same level) had statistic 1 and detection never falls as a
+                                map shrinks: its statistic is 1 */
 } jnd_budget_candidate;
 
 /* A level of the written chain, from its switch distance on. */

@@ -58,3 +58,11 @@ if ! playwright_core >/dev/null; then
   echo "install-deps: fetching playwright-core@$PLAYWRIGHT_CORE_VERSION into $(npm_cache_dir playwright-core "$PLAYWRIGHT_CORE_VERSION")" >&2
   playwright_core_fetch || echo "install-deps: warning: without it the report's browser test skips" >&2
 fi
+
+# The pinned Khronos glTF-Validator that checks the models jnd writes
+# (tests/e2e/budget.sh), the same way.
+. "$(dirname "$0")/gltf_validator.sh"
+if ! gltf_validator >/dev/null; then
+  echo "install-deps: fetching gltf-validator@$GLTF_VALIDATOR_VERSION into $(npm_cache_dir gltf-validator "$GLTF_VALIDATOR_VERSION")" >&2
+  gltf_validator_fetch || echo "install-deps: warning: without it the budget test's validator check skips" >&2
+fi

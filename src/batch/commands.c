@@ -137,6 +137,19 @@ static void pop_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
   }
 }
 
+/* budget: the chosen finest level and its cost, beside texres + lod's */
+static void budget_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
+  double lv = jnd_json_number(report, "result.chosen.level"), c = jnd_json_number(report, "result.comparison.chosen_cost_bytes"),
+         se = jnd_json_number(report, "result.comparison.separate_cost_bytes");
+  if (!isfinite(lv) || !isfinite(c)) return;
+  jnd_text_printf(out, "level %d, %.3f MiB of textures and mesh", (int)lv, c / 1048576.0);
+  if (isfinite(se)) jnd_text_printf(out, " (texres + lod separately: %.3f MiB)", se / 1048576.0);
+  if (chosen) {
+    cJSON_AddNumberToObject(chosen, "level", lv);
+    cJSON_AddNumberToObject(chosen, "cost_bytes", c);
+  }
+}
+
 static const jnd_batch_command COMMANDS[] = {
     {
         .name = "texres",
@@ -349,6 +362,36 @@ static const jnd_batch_command COMMANDS[] = {
                      {.path = RS_POP_SWITCH_PLOT,
                       .caption = "Popping-free switch distance per level, one line per speed, beside the 1-pixel "
                                  "geometric-error rule"}},
+    },
+    {
+        .name = "budget",
+        .out_args = {"-o", "{out}"},
+        .json_name = "budget.json",
+        .reserved = {"-o", "--output", "--json"},
+        .exit1_complete = 1,
+        .memory_before = "result.comparison.original_cost_bytes",
+        .memory_after = "result.comparison.chosen_cost_bytes",
+        .p_detect = "result.chosen.statistic",
+        .decision = budget_decision,
+        .fields = {{"mode", "parameters.mode", JND_FMT_TEXT},
+                   {"cost of the file (textures + level 0's mesh)", "result.comparison.original_cost_bytes", JND_FMT_BYTES},
+                   {"cost chosen", "result.comparison.chosen_cost_bytes", JND_FMT_BYTES},
+                   {"cost of texres + lod separately", "result.comparison.separate_cost_bytes", JND_FMT_BYTES},
+                   {"chosen: textures", "result.chosen.memory_bytes", JND_FMT_BYTES},
+                   {"chosen: triangles", "result.chosen.triangles", JND_FMT_NUMBER},
+                   {"chosen: statistic", "result.chosen.statistic", JND_FMT_P},
+                   {"bytes per triangle", "parameters.bytes_per_triangle", JND_FMT_NUMBER},
+                   {"chain", "result.chain_source", JND_FMT_TEXT}},
+        .tables = {{"Written levels",
+                    "result.levels[]",
+                    {{"level", "level", JND_FMT_NUMBER},
+                     {"from distance", "switch_distance", JND_FMT_NUMBER},
+                     {"triangles", "triangles", JND_FMT_NUMBER},
+                     {"texture bytes", "texture_bytes", JND_FMT_BYTES},
+                     {"held-out statistic", "verification.statistic", JND_FMT_P}}}},
+        .pictures = {{.file = "pareto.png",
+                      .caption = "Texture memory against the statistic of every candidate, one series per mesh "
+                                 "level, the Pareto front, the choice and texres + lod chosen separately marked"}},
     },
 };
 #define NCOMMANDS (sizeof COMMANDS / sizeof COMMANDS[0])

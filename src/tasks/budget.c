@@ -44,7 +44,10 @@ void jnd_budget_defaults(jnd_budget_params *p) {
   p->verify_views = 4;
 }
 
-static void candidate_clear(jnd_budget_candidate *c) { free(c->sizes); }
+static void candidate_clear(jnd_budget_candidate *c) {
+  free(c->sizes);
+  free(c->formats);
+}
 
 void jnd_budget_result_clear(jnd_budget_result *r) {
   if (!r) return;
@@ -76,6 +79,7 @@ typedef struct {
   int *leader;             /* per map: the first map that samples its image (texres's rule) */
   jnd_tex_format *fmt;     /* per leader: the block format its slots need together */
   int (*cur)[2];           /* sizes in the scene now */
+  jnd_tex_format *curfmt;  /* per map: the encoding its image has in the scene now */
   int nscales;             /* the ladder's halvings, 0 .. nscales − 1 */
   jnd_judge *j;
   int nviews;
@@ -99,7 +103,8 @@ static jnd_status images_make(ctx *c) {
   c->leader = jnd_calloc((size_t)c->nmaps, sizeof *c->leader);
   c->fmt = jnd_calloc((size_t)c->nmaps, sizeof *c->fmt);
   c->cur = jnd_calloc((size_t)c->nmaps, sizeof *c->cur);
-  if (!c->mi || !c->leader || !c->fmt || !c->cur) return JND_ERR_NOMEM;
+  c->curfmt = jnd_calloc((size_t)c->nmaps, sizeof *c->curfmt);
+  if (!c->mi || !c->leader || !c->fmt || !c->cur || !c->curfmt) return JND_ERR_NOMEM;
   for (int i = 0; i < c->nmaps; i++) {
     jnd_scene_map_info(c->scene, i, &c->mi[i]);
     const jnd_map_info *m = &c->mi[i];
@@ -112,7 +117,16 @@ static jnd_status images_make(ctx *c) {
     jnd_tex_format f = jnd_slot_block_format(m->slot, m->channels), *lf = &c->fmt[c->leader[i]];
     if (c->leader[i] == i || jnd_texture_bytes(f, 64, 64, 0) > jnd_texture_bytes(*lf, 64, 64, 0)) *lf = f;
   }
+  for (int i = 0; i < c->nmaps; i++) c->curfmt[i] = c->fmt[c->leader[i]];
   return JND_OK;
+}
+
+static void ctx_free(ctx *c) {
+  free(c->mi);
+  free(c->leader);
+  free(c->fmt);
+  free(c->cur);
+  free(c->curfmt);
 }
 
 /* one size per image: the largest any of its maps has */
@@ -124,10 +138,11 @@ static void unify(const ctx *c, int (*sizes)[2]) {
   for (int i = 0; i < c->nmaps; i++) memcpy(sizes[i], sizes[c->leader[i]], sizeof sizes[i]);
 }
 
-static size_t texture_bytes(const ctx *c, int (*sizes)[2]) {
+/* formats: per map, the encoding of its image (NULL: the slots' block formats) */
+static size_t texture_bytes(const ctx *c, int (*sizes)[2], const jnd_tex_format *formats) {
   size_t b = 0;
   for (int i = 0; i < c->nmaps; i++)
-    if (c->leader[i] == i) b += jnd_texture_bytes(c->fmt[i], sizes[i][0], sizes[i][1], 1);
+    if (c->leader[i] == i) b += jnd_texture_bytes(formats ? formats[i] : c->fmt[i], sizes[i][0], sizes[i][1], 1);
   return b;
 }
 
@@ -151,15 +166,40 @@ static int ladder_scales(const ctx *c) {
 
 /* ---- states and candidates ---- */
 
-static jnd_status set_state(ctx *c, int level, int (*sizes)[2]) {
+/* Map i at its size now through BC1's encoder and decoder (io/bc.c), as
+ * the GPU would hold it: the judge sees the block artefacts, on the 8-bit
+ * values the slot stores (sRGB for colour, (v + 1) / 2 for normals); an
+ * alpha channel is kept as it is (only opaque images are offered BC1). */
+static jnd_status encode_bc1(ctx *c, int i) {
+  jnd_image img = {0};
+  jnd_status s = jnd_scene_map_get(c->scene, i, 0, &img);
+  if (s != JND_OK) return s;
+  uint8_t *blocks = jnd_calloc(jnd_bc_size(JND_BC1, img.w, img.h), 1);
+  if (!blocks) s = JND_ERR_NOMEM;
+  if (s == JND_OK) s = jnd_bc_encode(JND_BC1, &img, 0, blocks);
+  if (s == JND_OK) s = jnd_bc_decode(JND_BC1, blocks, &img, 0);
+  if (s == JND_OK) s = jnd_scene_map_set(c->scene, i, &img);
+  free(blocks);
+  jnd_image_free(&img);
+  return s;
+}
+
+/* formats: per map, its image's encoding (NULL: the slots' block formats) */
+static jnd_status set_state(ctx *c, int level, int (*sizes)[2], const jnd_tex_format *formats) {
   for (int i = 0; i < c->nmaps; i++) {
-    if (sizes[i][0] == c->cur[i][0] && sizes[i][1] == c->cur[i][1]) continue;
+    jnd_tex_format f = formats ? formats[i] : c->fmt[c->leader[i]];
+    if (sizes[i][0] == c->cur[i][0] && sizes[i][1] == c->cur[i][1] && f == c->curfmt[i]) continue;
     jnd_status s;
     if (sizes[i][0] == c->mi[i].orig_width && sizes[i][1] == c->mi[i].orig_height) {
       jnd_scene_map_restore(c->scene, i);
       s = JND_OK;
     } else {
       s = jnd_scene_map_resize(c->scene, i, sizes[i][0], sizes[i][1]);
+    }
+    c->curfmt[i] = c->fmt[c->leader[i]];
+    if (s == JND_OK && f != c->curfmt[i]) {
+      s = f == JND_TEX_BC1 ? encode_bc1(c, i) : jnd_fail(JND_ERR_ARG, "budget: no encoder for %s", jnd_tex_format_name(f));
+      if (s == JND_OK) c->curfmt[i] = f;
     }
     if (s != JND_OK) return s;
     c->cur[i][0] = sizes[i][0];
@@ -173,6 +213,7 @@ static jnd_status restore(ctx *c) {
     jnd_scene_map_restore(c->scene, i);
     c->cur[i][0] = c->mi[i].orig_width;
     c->cur[i][1] = c->mi[i].orig_height;
+    c->curfmt[i] = c->fmt[c->leader[i]];
   }
   return jnd_scene_lod_select(c->scene, 0);
 }
@@ -184,8 +225,11 @@ static jnd_budget_candidate *add_candidate(ctx *c, int level, int scale) {
   R->candidates = n;
   jnd_budget_candidate *x = &n[R->ncandidates];
   memset(x, 0, sizeof *x);
-  if (!(x->sizes = jnd_calloc((size_t)c->nmaps, sizeof *x->sizes))) return NULL;
-  R->ncandidates++;
+  x->sizes = jnd_calloc((size_t)c->nmaps, sizeof *x->sizes);
+  x->formats = jnd_calloc((size_t)c->nmaps, sizeof *x->formats);
+  R->ncandidates++;   /* cleared with the result even when half made */
+  if (!x->sizes || !x->formats) return NULL;
+  for (int i = 0; i < c->nmaps; i++) x->formats[i] = c->fmt[c->leader[i]];
   x->level = level;
   x->scale = scale;
   x->statistic = NAN;
@@ -194,7 +238,7 @@ static jnd_budget_candidate *add_candidate(ctx *c, int level, int scale) {
 
 static jnd_status price(ctx *c, jnd_budget_candidate *x) {
   unify(c, x->sizes);
-  x->memory_bytes = texture_bytes(c, x->sizes);
+  x->memory_bytes = texture_bytes(c, x->sizes, x->formats);
   jnd_lod_level_info li;
   jnd_status s = jnd_scene_lod_info(c->scene, x->level, &li);
   x->triangles = li.triangles;
@@ -203,8 +247,9 @@ static jnd_status price(ctx *c, jnd_budget_candidate *x) {
 }
 
 /* the candidate on the judge's views [first, first + n) */
-static jnd_status judge(ctx *c, int level, int (*sizes)[2], int first, int n, double *P, jnd_judgement *r) {
-  jnd_status s = set_state(c, level, sizes);
+static jnd_status judge(ctx *c, int level, int (*sizes)[2], const jnd_tex_format *formats, int first, int n, double *P,
+                        jnd_judgement *r) {
+  jnd_status s = set_state(c, level, sizes, formats);
   if (s == JND_OK) s = jnd_judge_eval(c->j, first, n, 0, P, r);
   return s;
 }
@@ -229,6 +274,137 @@ static jnd_status search_level(ctx *c, int k, jnd_texres_result *T) {
   x->searched_pass = T->views.pass && (T->verify_views == 0 || T->verify.pass);
   stage(c, "textures under level %d: %s", k, x->searched_pass ? "pass" : "FAIL");
   return price(c, x);
+}
+
+/* count fresh views at a distance (0: the viewing condition), added to the judge */
+static jnd_status held_out_views(ctx *c, double distance, uint64_t seed, int count, int *first, int *n) {
+  jnd_view_set vs = c->p->texres.judge.views;
+  vs.cameras = NULL;
+  vs.cameras_path = NULL;
+  vs.sampling.count = count;
+  vs.sampling.seed = seed;
+  vs.sampling.coverage = c->p->lod.poi.coverage;
+  vs.sampling.distance = distance;
+  jnd_view *views = NULL;
+  jnd_status s = jnd_view_set_make(c->scene, &vs, &views, n);
+  if (s == JND_OK) s = jnd_judge_add_views(c->j, views, *n, first);
+  free(views);
+  return s;
+}
+
+/* ---- encodings per image ---- */
+
+/* The cheaper encoding image i (a leader) can take, or JND_TEX_FORMATS:
+ * BC1, 4 bits a texel, where its slots ask for 8 — an opaque colour image
+ * BC7 would hold, a normal map BC5 would (engines offer both: DXT1 colour,
+ * DXT1 normals). An alpha below 1 anywhere keeps BC7 (BC1's one-bit alpha
+ * is not modelled), and so does an image of fewer than 3 channels. */
+static jnd_tex_format cheaper_format(const ctx *c, int i) {
+  if (c->fmt[i] != JND_TEX_BC7 && c->fmt[i] != JND_TEX_BC5) return JND_TEX_FORMATS;
+  for (int q = 0; q < c->nmaps; q++) {
+    if (c->leader[q] != i) continue;
+    if (c->mi[q].channels < 3) return JND_TEX_FORMATS;
+    if (c->mi[q].channels < 4) continue;
+    jnd_image img = {0};
+    if (jnd_scene_map_get(c->scene, q, 1, &img) != JND_OK) return JND_TEX_FORMATS;
+    const float *a = jnd_image_plane(&img, 3);
+    size_t n = (size_t)img.w * (size_t)img.h, k = 0;
+    while (k < n && a[k] >= 254.5f / 255) k++;
+    jnd_image_free(&img);
+    if (k < n) return JND_TEX_FORMATS;
+  }
+  return JND_TEX_BC1;
+}
+
+/* the candidate passes with texres's margin: statistic ≤ p·(1 − margin) */
+static jnd_status margin_pass(const ctx *c, const double *P, int n, int *pass) {
+  const jnd_criterion *cr = &c->p->texres.judge.criterion;
+  jnd_criterion_result m;
+  jnd_status s = jnd_criterion_eval(P, n, cr->p * (1 - c->p->texres.margin), cr->q, cr->confidence, &m);
+  *pass = s == JND_OK && m.pass;
+  return s;
+}
+
+/* From candidate base (the cheapest that passes with the margin), each
+ * image in turn, the one that saves most first, takes its cheaper encoding
+ * (cheaper_format) if the asset, every encoding taken so far included,
+ * still passes with texres's margin on the judge's views: the encodings'
+ * errors, the sizes' and the level's add up in one judgement. What is
+ * taken must then hold, with the margin, on texres's confirmation rounds of
+ * fresh views; then it is a candidate (scale −3), else none is added. */
+static jnd_status search_encodings(ctx *c, int base, double *P) {
+  jnd_budget_result *R = c->R;
+  int level = R->candidates[base].level, n = 0, taken = 0, *order = jnd_calloc((size_t)c->nmaps, sizeof *order);
+  size_t *saving = jnd_calloc((size_t)c->nmaps, sizeof *saving);
+  jnd_tex_format *f = jnd_calloc((size_t)c->nmaps, sizeof *f), *g = jnd_calloc((size_t)c->nmaps, sizeof *g);
+  int (*sizes)[2] = jnd_calloc((size_t)c->nmaps, sizeof *sizes);
+  jnd_status s = order && saving && f && g && sizes ? JND_OK : JND_ERR_NOMEM;
+  if (s == JND_OK) {
+    memcpy(f, R->candidates[base].formats, (size_t)c->nmaps * sizeof *f);
+    memcpy(sizes, R->candidates[base].sizes, (size_t)c->nmaps * sizeof *sizes);
+  }
+  for (int i = 0; i < c->nmaps && s == JND_OK; i++) {
+    if (c->leader[i] != i || (g[i] = cheaper_format(c, i)) == JND_TEX_FORMATS) continue;
+    saving[i] = jnd_texture_bytes(f[i], sizes[i][0], sizes[i][1], 1) - jnd_texture_bytes(g[i], sizes[i][0], sizes[i][1], 1);
+    int at = n++;   /* insertion: most saved first, then map order */
+    while (at > 0 && saving[order[at - 1]] < saving[i]) {
+      order[at] = order[at - 1];
+      at--;
+    }
+    order[at] = i;
+  }
+  double statistic = NAN;
+  int pass = 0;
+  for (int t = 0; t < n && s == JND_OK; t++) {
+    int i = order[t], ok = 0;
+    for (int q = 0; q < c->nmaps; q++)
+      if (c->leader[q] == i) f[q] = g[i];
+    jnd_judgement r;
+    if ((s = judge(c, level, sizes, f, 0, c->nviews, P, &r)) || (s = margin_pass(c, P, c->nviews, &ok))) break;
+    stage(c, "%s in %s: statistic %.3f, %s", c->mi[i].name, jnd_tex_format_name(g[i]), r.criterion.statistic,
+          ok ? "taken" : "not taken");
+    if (ok) {
+      taken++;
+      statistic = r.criterion.statistic;
+      pass = r.criterion.pass;
+    } else {
+      for (int q = 0; q < c->nmaps; q++)
+        if (c->leader[q] == i) f[q] = c->fmt[i];
+    }
+  }
+  int held = taken > 0;
+  for (int round = 0; held && s == JND_OK && round < c->p->texres.confirm_rounds; round++) {
+    int first = 0, nv = 0;
+    jnd_judgement r;
+    uint64_t seed = c->p->texres.judge.views.sampling.seed + 500 + (uint64_t)round;
+    double *Q = NULL;
+    if (!(s = held_out_views(c, 0, seed, c->nviews, &first, &nv)) && !(Q = jnd_calloc((size_t)nv, sizeof *Q)))
+      s = JND_ERR_NOMEM;
+    if (s == JND_OK && !(s = judge(c, level, sizes, f, first, nv, Q, &r))) s = margin_pass(c, Q, nv, &held);
+    free(Q);
+    if (s == JND_OK)
+      stage(c, "encodings on confirmation views %d: %s (statistic %.3f)", round + 1, held ? "hold" : "fail",
+            r.criterion.statistic);
+  }
+  if (s == JND_OK && held) {
+    jnd_budget_candidate *x = add_candidate(c, level, -3);
+    if (!x) {
+      s = JND_ERR_NOMEM;
+    } else {
+      memcpy(x->sizes, sizes, (size_t)c->nmaps * sizeof *sizes);
+      memcpy(x->formats, f, (size_t)c->nmaps * sizeof *f);
+      s = price(c, x);
+      x->statistic = statistic;
+      x->pass = pass;
+      x->searched_pass = 1;
+    }
+  }
+  free(order);
+  free(saving);
+  free(f);
+  free(g);
+  free(sizes);
+  return s;
 }
 
 /* not dominated: no other candidate at most as large in memory, triangles
@@ -270,22 +446,6 @@ static int choose(const ctx *c) {
   return best >= 0 ? best : 0;   /* nothing passes: texres at level 0, reported as failing */
 }
 
-/* held-out views at a distance (0: the viewing condition), added to the judge */
-static jnd_status held_out_views(ctx *c, double distance, uint64_t seed, int *first, int *n) {
-  jnd_view_set vs = c->p->texres.judge.views;
-  vs.cameras = NULL;
-  vs.cameras_path = NULL;
-  vs.sampling.count = c->p->verify_views;
-  vs.sampling.seed = seed;
-  vs.sampling.coverage = c->p->lod.poi.coverage;
-  vs.sampling.distance = distance;
-  jnd_view *views = NULL;
-  jnd_status s = jnd_view_set_make(c->scene, &vs, &views, n);
-  if (s == JND_OK) s = jnd_judge_add_views(c->j, views, *n, first);
-  free(views);
-  return s;
-}
-
 /* step 5: the written chain, finest first, each level verified from its switch distance */
 static jnd_status levels(ctx *c, const jnd_budget_candidate *ch) {
   jnd_budget_result *R = c->R;
@@ -311,7 +471,7 @@ static jnd_status levels(ctx *c, const jnd_budget_candidate *ch) {
     if (c->p->verify_views > 0 && isfinite(L->switch_distance)) {
       int first = 0, nv = 0;
       uint64_t seed = c->p->texres.judge.views.sampling.seed + 1000 + (uint64_t)k;
-      if ((s = held_out_views(c, L->switch_distance, seed, &first, &nv))) break;
+      if ((s = held_out_views(c, L->switch_distance, seed, c->p->verify_views, &first, &nv))) break;
       /* 000 §4: from here on no pixel samples finer mips than these */
       if (j > 0)
         for (int i = 0; i < c->nmaps; i++) {
@@ -329,7 +489,7 @@ static jnd_status levels(ctx *c, const jnd_budget_candidate *ch) {
       double *P = jnd_calloc((size_t)nv, sizeof *P);
       jnd_judgement r;
       if (!P) return JND_ERR_NOMEM;
-      s = judge(c, k, L->sizes, first, nv, P, &r);
+      s = judge(c, k, L->sizes, ch->formats, first, nv, P, &r);
       free(P);
       if (s) break;
       L->views = nv;
@@ -338,7 +498,7 @@ static jnd_status levels(ctx *c, const jnd_budget_candidate *ch) {
       stage(c, "level %d from distance %.3g: statistic %.3f on %d held-out views%s", k, L->switch_distance,
             L->statistic, nv, L->pass ? "" : "  FAILS");
     }
-    L->texture_bytes = texture_bytes(c, L->sizes);
+    L->texture_bytes = texture_bytes(c, L->sizes, ch->formats);
   }
   return s;
 }
@@ -352,7 +512,7 @@ static jnd_status check_budget(ctx *c, const char *model) {
   if (!sz) return JND_ERR_NOMEM;
   for (int i = 0; i < c->nmaps; i++) halved(c, i, 30, sz[i]);
   unify(c, sz);
-  size_t mem = texture_bytes(c, sz);
+  size_t mem = texture_bytes(c, sz, NULL);
   free(sz);
   int last = jnd_scene_lod_count(c->scene) - 1;
   jnd_lod_level_info li;
@@ -394,13 +554,10 @@ static jnd_status precheck(const char *model, const jnd_budget_params *p, const 
     jnd_lod_chain_params cp = {&lp->chain, lp->rebuild, lp->level_paths, lp->nlevel_paths};
     const char *src;
     s = jnd_scene_lod_chain(scene, model, &cp, &src);
-    ctx c = {scene, p, NULL, 0, NULL, NULL, NULL, NULL, 0, NULL, 0};
+    ctx c = {.scene = scene, .p = p};
     if (s == JND_OK) s = images_make(&c);
     if (s == JND_OK) s = check_budget(&c, model);
-    free(c.mi);
-    free(c.leader);
-    free(c.fmt);
-    free(c.cur);
+    ctx_free(&c);
   }
   jnd_scene_free(scene);
   return s;
@@ -427,7 +584,7 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
   /* 1. the chain, its analysis and switch distances */
   stage(&(ctx){.p = p}, "the chain and its switch distances");
   if ((s = jnd_lod_analyse(model, &lp, &R->lod))) return s;
-  ctx c = {R->lod.scene, p, R, 0, NULL, NULL, NULL, NULL, 0, NULL, 0};
+  ctx c = {.scene = R->lod.scene, .p = p, .R = R};
   double *P = NULL;
   if ((s = images_make(&c))) goto done;
   if (!(R->map_names = jnd_calloc((size_t)c.nmaps, sizeof *R->map_names))) {
@@ -495,7 +652,18 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
   for (int i = 0; i < R->ncandidates; i++) {
     jnd_budget_candidate *x = &R->candidates[i];
     jnd_judgement r;
-    if ((s = judge(&c, x->level, x->sizes, 0, c.nviews, P, &r))) goto done;
+    /* the ladder halves every map once more than the candidate before it
+     * (same level): after a statistic of 1 (every view certain to be
+     * noticed) it is 1 too, as detection never falls as a map shrinks
+     * (texres's bisection rests on it), so it is not rendered */
+    if (x->scale > 0 && x[-1].level == x->level && x[-1].scale == x->scale - 1 && x[-1].statistic >= 1) {
+      x->statistic = 1;
+      x->pass = 0;
+      x->inferred = 1;
+      if (p->progress) p->progress(p->progress_user, NULL, i + 1, R->ncandidates);
+      continue;
+    }
+    if ((s = judge(&c, x->level, x->sizes, x->formats, 0, c.nviews, P, &r))) goto done;
     x->statistic = r.criterion.statistic;
     x->pass = r.criterion.pass;
     if (x->scale == -2) {   /* the separate pair, with the margin texres chose with */
@@ -505,9 +673,9 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
     }
     if (p->progress) p->progress(p->progress_user, NULL, i + 1, R->ncandidates);
   }
+  /* 4. the encodings, from the cheapest that passes; the choice */
+  if (R->mode == 0 && R->candidates[choose(&c)].searched_pass && (s = search_encodings(&c, choose(&c), P))) goto done;
   mark_pareto(R);
-
-  /* 4. the choice */
   R->chosen = choose(&c);
   R->search_s = jnd_seconds() - t0;
 
@@ -519,14 +687,11 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
   for (int j = 0; j < R->nlevels; j++) R->passes = R->passes && R->levels[j].pass;
   R->verify_s = jnd_seconds() - t1;
   /* the scene as it is written: the choice's maps, level 0 selected */
-  s = set_state(&c, 0, ch->sizes);
+  s = set_state(&c, 0, ch->sizes, NULL);
 done:
   jnd_judge_free(c.j);
   free(P);
-  free(c.mi);
-  free(c.leader);
-  free(c.fmt);
-  free(c.cur);
+  ctx_free(&c);
   if (s != JND_OK) jnd_budget_result_clear(R);
   return s;
 }

@@ -4,7 +4,9 @@
 
 #include "tasks/report.h"
 
-static const char *kind_name(int scale) { return scale == -1 ? "searched" : scale == -2 ? "separate" : "ladder"; }
+static const char *kind_name(int scale) {
+  return scale == -1 ? "searched" : scale == -2 ? "separate" : scale == -3 ? "encoded" : "ladder";
+}
 
 static cJSON *sizes_json(const jnd_budget_result *R, int (*sizes)[2]) {
   cJSON *o = cJSON_CreateObject();
@@ -18,7 +20,10 @@ static cJSON *candidate_json(const jnd_budget_result *R, int i, int with_sizes) 
   cJSON_AddNumberToObject(o, "index", i);
   cJSON_AddStringToObject(o, "kind", kind_name(x->scale));
   cJSON_AddNumberToObject(o, "level", x->level);
-  if (x->scale >= 0) cJSON_AddNumberToObject(o, "halvings", x->scale);
+  if (x->scale >= 0) {
+    cJSON_AddNumberToObject(o, "halvings", x->scale);
+    cJSON_AddBoolToObject(o, "inferred", x->inferred);
+  }
   cJSON_AddNumberToObject(o, "memory_bytes", (double)x->memory_bytes);
   cJSON_AddNumberToObject(o, "triangles", (double)x->triangles);
   cJSON_AddNumberToObject(o, "cost_bytes", x->cost);
@@ -26,7 +31,11 @@ static cJSON *candidate_json(const jnd_budget_result *R, int i, int with_sizes) 
   cJSON_AddBoolToObject(o, "pass", x->pass);
   if (x->scale < 0) cJSON_AddBoolToObject(o, "passes_with_margin", x->searched_pass);
   cJSON_AddBoolToObject(o, "pareto", x->pareto);
-  if (with_sizes) cJSON_AddItemToObject(o, "sizes", sizes_json(R, x->sizes));
+  if (with_sizes) {
+    cJSON_AddItemToObject(o, "sizes", sizes_json(R, x->sizes));
+    cJSON *f = cJSON_AddObjectToObject(o, "formats");   /* per map: its image's GPU encoding */
+    for (int m = 0; m < R->nmaps; m++) cJSON_AddStringToObject(f, R->map_names[m], jnd_tex_format_name(x->formats[m]));
+  }
   return o;
 }
 
@@ -96,6 +105,9 @@ cJSON *budget_report(const char *model, const jnd_budget_params *p, const jnd_bu
   cJSON_AddItemToObject(res, "separate", candidate_json(R, R->separate, 1));
   const jnd_budget_candidate *ch = &R->candidates[R->chosen], *se = &R->candidates[R->separate];
   cJSON *cmp = cJSON_AddObjectToObject(res, "comparison");
+  for (int i = 0; i < R->ncandidates; i++)   /* the file as it is: level 0, every map at its size */
+    if (R->candidates[i].level == 0 && R->candidates[i].scale == 0)
+      cJSON_AddNumberToObject(cmp, "original_cost_bytes", R->candidates[i].cost);
   cJSON_AddNumberToObject(cmp, "chosen_cost_bytes", ch->cost);
   cJSON_AddNumberToObject(cmp, "separate_cost_bytes", se->cost);
   cJSON_AddNumberToObject(cmp, "saving_bytes", se->cost - ch->cost);

@@ -24,13 +24,24 @@ r = json.load(open(sys.argv[1]))
 assert r["command"] == "budget" and r["parameters"]["mode"] == "cheapest"
 res = r["result"]
 ch, se = res["chosen"], res["separate"]
-assert ch["kind"] in ("searched", "separate") and ch["passes_with_margin"]
+assert ch["kind"] in ("searched", "separate", "encoded") and ch["passes_with_margin"]
+# a cheaper encoding than the slot's block format only in the encoding search's candidate
+cheaper = [n for n, f in ch["formats"].items() if n.split("/")[-1] in ("baseColor", "normal") and f == "bc1"]
+assert bool(cheaper) == (ch["kind"] == "encoded"), (ch["kind"], ch["formats"])
+enc = [c for c in res["candidates"] if c["kind"] == "encoded"]
+assert len(enc) <= 1 and all(c["passes_with_margin"] and c["level"] == ch["level"] for c in enc)
 # the separate pair is a candidate of the search: where it passes, the choice is no dearer
 if se["passes_with_margin"]:
     assert ch["cost_bytes"] <= se["cost_bytes"] + 1e-6, (ch["cost_bytes"], se["cost_bytes"])
 rate = r["parameters"]["bytes_per_triangle"]
 for c in res["candidates"]:
     assert abs(c["cost_bytes"] - (c["memory_bytes"] + rate * c["triangles"])) < 1e-3 * max(1, c["cost_bytes"])
+# a ladder state not rendered follows one of the same level, one halving fewer, whose statistic was 1
+for c in res["candidates"]:
+    if c.get("inferred"):
+        prev = res["candidates"][c["index"] - 1]
+        assert c["statistic"] == 1 and not c["pass"] and prev["level"] == c["level"], c
+        assert prev["halvings"] == c["halvings"] - 1 and prev["statistic"] >= 1, (prev, c)
 # the front: nobody dominates a point on it, and every point off it is dominated
 cs = res["candidates"]
 def dom(a, b):
@@ -86,15 +97,18 @@ def png_size(i):
     v = g["bufferViews"][g["images"][i]["bufferView"]]
     off = binoff + v.get("byteOffset", 0)
     return struct.unpack_from(">II", data, off + 16)
-blocks = {"baseColorTexture": 16, "normalTexture": 16, "occlusionTexture": 8, "metallicRoughnessTexture": 8,
-          "emissiveTexture": 8}   # bytes per 4x4 block: bc7, bc5, bc4, bc1, bc1
+# the encoding budget.json gives each map (the slot's block format, or bc1 where chosen)
+block = {"bc7": 16, "bc5": 16, "bc4": 8, "bc1": 8}   # bytes per 4x4 block
+formats = r["chosen"]["formats"]
+slots_of = {"baseColorTexture": "baseColor", "normalTexture": "normal", "occlusionTexture": "occlusion",
+            "metallicRoughnessTexture": "metallicRoughness", "emissiveTexture": "emissive"}
 need = {}
 for m in g["materials"]:
     slots = dict(m.get("pbrMetallicRoughness", {}), **m)
-    for k, b in blocks.items():
+    for k, slot in slots_of.items():
         if k in slots:
             img = g["textures"][slots[k]["index"]]["source"]
-            need[img] = max(need.get(img, 0), b)
+            need[img] = max(need.get(img, 0), block[formats[m["name"] + "/" + slot]])
 def chain(w, h, b):
     t = 0
     while True:
@@ -105,6 +119,16 @@ def chain(w, h, b):
 mem = sum(chain(*png_size(i), b) for i, b in need.items())
 assert mem == r["chosen"]["memory_bytes"], (mem, r["chosen"]["memory_bytes"])
 PY
+
+# the Khronos glTF-Validator: 0 errors (the pinned npm package, cached by scripts/install-deps.sh)
+. "$(dirname "$0")/../../scripts/gltf_validator.sh"
+if gltf_validator >/dev/null && command -v node >/dev/null; then
+  check "the written model passes the Khronos glTF-Validator with 0 errors" \
+    gltf_validator_run "$T/a/model/builtin_sphere.glb"
+else
+  echo "skip: the glTF-Validator check: gltf-validator@$GLTF_VALIDATOR_VERSION is not cached or node is missing (scripts/install-deps.sh)"
+  if [ -n "${JND_NO_SKIP:-}" ]; then bad "the glTF-Validator check skipped, but JND_NO_SKIP is set"; fi
+fi
 
 nl=$(python3 -c 'import json,sys; print(len(json.load(open(sys.argv[1]))["result"]["levels"]))' "$T/a/budget.json")
 for k in $(seq 0 $((nl - 1))); do
@@ -133,6 +157,27 @@ PY
 expect_exit 2 "a budget nothing meets: exit 2" "$JND" budget builtin:sphere -o "$T/c" --memory 1KiB "${SMALL[@]}"
 check "... one line naming the smallest possible" sh -c "grep -q 'smallest possible is' '$T/err.txt' && [ \$(wc -l <'$T/err.txt') -eq 1 ]"
 check "... nothing written" test ! -e "$T/c"
+
+# jnd batch runs budget rows: the summary's costs and decision, the asset's page with its levels
+{
+  echo "id,asset,command,options"
+  echo "sph,builtin:sphere,budget,\"${SMALL[*]/--quiet/}\""
+} >"$T/m.csv"
+expect_exit 0 "jnd batch runs a budget row" "$JND" batch "$T/m.csv" -o "$T/batch" --quiet
+expect_exit 0 "... merged" "$JND" batch merge "$T/batch" --quiet
+expect_exit 0 "... reported" "$JND" report "$T/batch" --quiet
+check "... summary.json: the file's cost before, the chosen after, the decision against texres + lod" \
+  python3 - "$T/batch/summary.json" "$T/batch/sph/budget.json" <<'PY'
+import json, sys
+a = json.load(open(sys.argv[1]))["result"]["assets"][0]
+r = json.load(open(sys.argv[2]))["result"]
+assert a["command"] == "budget" and a["status"] == "ok", a
+assert a["memory_before_bytes"] == r["comparison"]["original_cost_bytes"]
+assert a["memory_after_bytes"] == r["comparison"]["chosen_cost_bytes"]
+assert a["decision"].startswith("level %d, " % r["chosen"]["level"]) and "texres + lod separately" in a["decision"], a["decision"]
+PY
+check "... the asset's page shows the written levels and pareto.png" \
+  sh -c "grep -q 'Written levels' '$T/batch/report/sph.html' && grep -q 'pareto.png' '$T/batch/report/sph.html'"
 
 # bad input: one line, exit 2, nothing written
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$T/plain.obj"
