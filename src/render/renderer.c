@@ -719,16 +719,10 @@ static void multisample_shading(const jnd_renderer *r) {
   }
 }
 
-jnd_status jnd_render(jnd_renderer *r, const jnd_scene *scene, const jnd_view *view, jnd_frame *frame) {
-  memset(frame, 0, sizeof *frame);
-  double vp[16];
-  jnd_status st = setup_view(r, scene, view, vp);
-  if (st) return st;
-  unsigned outs = view->outputs ? view->outputs : JND_OUT_COLOR;
+/* pass 1 of jnd_render: colour and coverage with MSAA, resolved */
+static jnd_status colour_pass(jnd_renderer *r, const jnd_scene *scene, const jnd_view *view, const double vp[16]) {
   float rot[9];
   env_rotation(view->env_rotation_deg, rot);
-
-  /* pass 1: colour and coverage with MSAA */
   glBindFramebuffer(GL_FRAMEBUFFER, r->msaa_fbo);
   glEnable(GL_MULTISAMPLE);
   multisample_shading(r);
@@ -758,7 +752,20 @@ jnd_status jnd_render(jnd_renderer *r, const jnd_scene *scene, const jnd_view *v
   draw_meshes(r, scene, view->camera.eye, view->unlit ? 2 : 0, NULL);
   glBlitNamedFramebuffer(r->msaa_fbo, r->resolve_fbo, 0, 0, r->w, r->h, 0, 0, r->w, r->h,
                          GL_COLOR_BUFFER_BIT, GL_NEAREST);
-  if ((st = gl_check("colour pass"))) return st;
+  return gl_check("colour pass");
+}
+
+jnd_status jnd_render(jnd_renderer *r, const jnd_scene *scene, const jnd_view *view, jnd_frame *frame) {
+  memset(frame, 0, sizeof *frame);
+  double vp[16];
+  jnd_status st = setup_view(r, scene, view, vp);
+  if (st) return st;
+  unsigned outs = view->outputs ? view->outputs : JND_OUT_COLOR;
+
+  /* pass 1: colour and coverage with MSAA, unless only pass 2's outputs are
+   * asked (a previous frame's depth: pop's disocclusion) */
+  if ((outs & (JND_OUT_COLOR | JND_OUT_MASK)) && (st = colour_pass(r, scene, view, vp))) return st;
+  const float zero[4] = {0, 0, 0, 0};
 
   /* pass 2: one sample per pixel for depth, motion and mip levels */
   int want_aux = (outs & (JND_OUT_DEPTH | JND_OUT_MOTION | JND_OUT_MIP)) != 0;
