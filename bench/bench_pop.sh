@@ -76,3 +76,22 @@ awk -v t="$wt" -v c="$ct" -v n="${#times[@]}" -v r="$renderer" 'BEGIN{
   printf "   jnd pop MODEL 1920x1080, orbit 120 deg/s (renders the pair; %s):\n", r
   printf "     %.3f s wall (median of %d), %.2f s user+sys\n", t, n, c }'
 jq -r '.result.timings | "     steps (last run): load \(.load_s*1000|floor) ms, render+predict \(.render_s*1000|floor) ms (model \(.model_s*1000|floor) ms), writing \(.write_s*1000|floor) ms"' "$out/a/pop.json"
+
+# the switch table (issue 29 item 3): `jnd pop MODEL --decide` with the
+# defaults (8 views at 512 x 512, the chain of nine error targets, speeds
+# 0, 30 and 120 deg/s: 27 searches) on a 100 K-triangle mesh, the teapot of
+# the shared data with every triangle split in 4 twice (101 K triangles).
+# Target: 120 s on 2 cores. user+sys beside the wall time: on a shared
+# machine the CPU time is the steadier (threads wait passively here, as
+# bench_lod.sh's note says why).
+data=${JND_SHARED:-$here/../../shared}/data/meshes
+if [ -f "$data/teapot.obj" ]; then
+  [ -s "$out/teapot_100k.obj" ] || python3 "$here/subdivide_obj.py" "$data/teapot.obj" "$out/teapot_100k.obj" 2
+  OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive} timed 1 "$out/d" "$JND" pop "$out/teapot_100k.obj" -o "$out/d" --decide --timings --quiet
+  awk -v t="${times[0]}" -v c="${cpu[0]}" 'BEGIN{
+    printf "   jnd pop teapot_100k.obj --decide (defaults: 27 searches): %.1f s wall, %.1f s user+sys; target 120 s: %s\n",
+           t, c, (t <= 120 ? "within" : "OVER") " (wall), " (c <= 120 ? "within" : "OVER") " (CPU)" }'
+  jq -r '"     \(.result.switch | map(.evaluations) | add) evaluations over \(.result.switch | length) searches; decide \(.result.timings.decide_s | floor) s"' "$out/d/pop.json"
+else
+  echo "   pop --decide on 100 K triangles: skipped, the shared meshes are not at $data"
+fi

@@ -3311,11 +3311,15 @@ JND_EXPERIMENTAL jnd_status jnd_pop_render(jnd_model *m, jnd_renderer *r, jnd_sc
 /* How a switch distance is searched. */
 typedef struct {
   double rating_limit;     /* the largest R must stay below this (1: "rarely visible", 004 §3.2) */
-  double tolerance;        /* relative: the bisection stops when far / near <= 1 + tolerance (0.05) */
+  double tolerance;        /* relative: the distances searched are near × (1 + tolerance)^i up to
+                              far (0.05) */
   double coverage_near;    /* the nearest distance searched: the bounding sphere (jnd_scene_subject_bounds)
                               fills this fraction of the image height (1) */
   double coverage_far;     /* the farthest (0.02) */
   int frame;               /* the switch frame along the motion (0: at the views' poses) */
+  double start;            /* a distance where the answer is likely (another speed's or level's
+                              answer): the search starts there and widens its bracket outwards;
+                              0: none, a bisection of the whole range */
 } jnd_pop_switch_params;
 
 /* Fills p with the defaults above. */
@@ -3346,10 +3350,14 @@ typedef struct {
  * directions and images (their distances are replaced: eye = target +
  * d × the unit direction from target to eye); at distance d each view's
  * switch is rendered (jnd_pop_render) and the largest R over the views
- * (views after one at or above the limit are skipped) compared with
- * sp->rating_limit; bisection on log d between the near and far distances,
- * assuming popping fades with distance, returns the farther end of the
- * last bracket, where max R < limit was measured. Deterministic. */
+ * (views after one at or above the limit are skipped; the view that failed
+ * last is asked first) compared with sp->rating_limit. The distances are a
+ * geometric grid from the near to the far distance (ratio 1 + tolerance);
+ * assuming popping fades with distance, the answer is the nearest grid
+ * distance where max R < limit was measured with max R >= limit measured at
+ * the grid distance before it — by bisection of the grid, or from sp->start
+ * outwards (doubling steps, then bisection): the same answer wherever the
+ * assumption holds. Deterministic. */
 JND_EXPERIMENTAL jnd_status jnd_pop_switch_distance(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *views,
                                    int nviews, const jnd_pop_motion *mo, int level, const jnd_pop_params *p,
                                    const jnd_pop_switch_params *sp, jnd_pop_switch *out);

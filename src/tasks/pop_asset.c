@@ -233,14 +233,17 @@ static void at_distance(const jnd_view *v, double d, jnd_view *out) {
 }
 
 /* the largest R over the views at distance d (−inf: no region); stops at the
- * first view at or above the limit, which decides already */
+ * first view at or above the limit, which decides already. The views are
+ * asked from *first on (then in order, wrapping): the caller passes the
+ * view that failed last, which at a popping distance usually fails again. */
 static jnd_status max_rating_at(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *views, int nviews,
                                 const jnd_pop_motion *mo, int level, const jnd_pop_params *p,
-                                const jnd_pop_switch_params *sp, double d, double *worst) {
+                                const jnd_pop_switch_params *sp, double d, int *first, double *worst) {
   jnd_pop_params q = *p;
   q.picture = 0;
   *worst = -INFINITY;
-  for (int v = 0; v < nviews; v++) {
+  for (int i = 0; i < nviews; i++) {
+    int v = (*first + i) % nviews;
     jnd_view at;
     jnd_pop_result res;
     at_distance(&views[v], d, &at);
@@ -248,13 +251,17 @@ static jnd_status max_rating_at(jnd_model *m, jnd_renderer *r, jnd_scene *scene,
     if (st) return st;
     if (res.nregions && res.max_rating > *worst) *worst = res.max_rating;
     jnd_pop_result_free(&res);
-    if (*worst >= sp->rating_limit) break;
+    if (*worst >= sp->rating_limit) {
+      *first = v;
+      break;
+    }
   }
   return JND_OK;
 }
 
-/* the search's test (switch_search): popping-free at distance d, the
- * largest R below the limit; the ratings of the last pass and fail kept */
+/* The search on the grid of distances lo (1 + tolerance)^i, i < n (the
+ * last one hi): each grid distance is asked once, its result and largest
+ * R kept. */
 typedef struct {
   jnd_model *m;
   jnd_renderer *r;
@@ -265,27 +272,89 @@ typedef struct {
   int level;
   const jnd_pop_params *p;
   const jnd_pop_switch_params *sp;
+  double lo, hi;
+  int n;
+  signed char *known;   /* n: −1 not asked, 0 pops, 1 popping-free */
+  double *rating;       /* n: the largest R measured there */
+  int first;            /* the view asked first (the last to fail) */
   int evaluations;
-  double r_pass, r_fail;
   jnd_status st;
 } pop_search;
 
-static int pop_test(void *user, double d) {
-  pop_search *s = user;
-  double worst;
-  s->st = max_rating_at(s->m, s->r, s->scene, s->views, s->nviews, s->mo, s->level, s->p, s->sp, d, &worst);
-  if (s->st) return -1;
-  s->evaluations++;
-  int pass = worst < s->sp->rating_limit;
-  if (pass) s->r_pass = worst;
-  else s->r_fail = worst;
-  return pass;
+static double grid_distance(const pop_search *s, int i) {
+  return i == 0 ? s->lo : i >= s->n - 1 ? s->hi : s->lo * pow(1 + s->sp->tolerance, i);
 }
 
-/* bisection on log distance, to the tolerance */
-static double pop_between(void *user, double lo, double hi) {
-  const pop_search *s = user;
-  return hi / lo > 1 + s->sp->tolerance ? sqrt(lo * hi) : NAN;
+/* popping-free at grid distance i: the largest R below the limit (−1: error) */
+static int pop_test(pop_search *s, int i) {
+  if (s->known[i] >= 0) return s->known[i];
+  double worst;
+  s->st = max_rating_at(s->m, s->r, s->scene, s->views, s->nviews, s->mo, s->level, s->p, s->sp, grid_distance(s, i),
+                        &s->first, &worst);
+  if (s->st) return -1;
+  s->evaluations++;
+  s->rating[i] = worst;
+  return s->known[i] = worst < s->sp->rating_limit;
+}
+
+/* The nearest grid index popping-free with the one before it popping
+ * (*at; *fail_at the one before), 0 when popping-free at the nearest
+ * distance (SWITCH_AT_START), −1 when popping at the farthest
+ * (SWITCH_NEVER). From a start index: doubling steps away from it until
+ * the bracket [popping, popping-free] holds, then bisection; without one
+ * (start < 0) the whole grid's ends first, as switch_search does. */
+static jnd_status grid_search(pop_search *s, int start, switch_found *found, int *at, int *fail_at) {
+  int lo = -1, hi = -1, r;   /* the nearest index known to pass, the farthest known to fail below it */
+  if (start < 0) {
+    if ((r = pop_test(s, 0)) < 0) return s->st;
+    if (r) lo = -1, hi = 0;
+    else if ((r = pop_test(s, s->n - 1)) < 0) return s->st;
+    else if (!r) lo = s->n - 1;
+    else lo = 0, hi = s->n - 1;
+  } else {
+    if ((r = pop_test(s, start)) < 0) return s->st;
+    if (r) {   /* popping-free at start: nearer, in doubling steps */
+      hi = start;
+      for (int step = 1;; step *= 2) {
+        int j = start - step > 0 ? start - step : 0;
+        if ((r = pop_test(s, j)) < 0) return s->st;
+        if (r) hi = j;
+        else lo = j;
+        if (!r || j == 0) break;
+      }
+    } else {   /* popping at start: farther */
+      lo = start;
+      for (int step = 1;; step *= 2) {
+        int j = start + step < s->n - 1 ? start + step : s->n - 1;
+        if ((r = pop_test(s, j)) < 0) return s->st;
+        if (r) hi = j;
+        else lo = j;
+        if (r || j == s->n - 1) break;
+      }
+    }
+  }
+  if (hi < 0) {
+    *found = SWITCH_NEVER;
+    *at = -1;
+    *fail_at = s->n - 1;
+    return JND_OK;
+  }
+  if (hi == 0) {
+    *found = SWITCH_AT_START;
+    *at = 0;
+    *fail_at = -1;
+    return JND_OK;
+  }
+  while (hi - lo > 1) {   /* fails at lo, passes at hi */
+    int mid = lo + (hi - lo) / 2;
+    if ((r = pop_test(s, mid)) < 0) return s->st;
+    if (r) hi = mid;
+    else lo = mid;
+  }
+  *found = SWITCH_FOUND;
+  *at = hi;
+  *fail_at = lo;
+  return JND_OK;
 }
 
 jnd_status jnd_pop_switch_distance(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *views,
@@ -318,29 +387,48 @@ jnd_status jnd_pop_switch_distance(jnd_model *m, jnd_renderer *r, jnd_scene *sce
   }
   out->distance_pixel_rule = isfinite(err) && err > 0 ? err * hpx / (2 * tan(fov * M_PI / 360)) : NAN;
 
-  double lo = jnd_camera_distance_for_coverage(radius, sp->coverage_near, fov);
-  double hi = jnd_camera_distance_for_coverage(radius, sp->coverage_far, fov);
-  pop_search ps = {m, r, scene, views, nviews, mo, level, p, sp, 0, NAN, NAN, JND_OK};
-  switch_found f;
-  double at, fail_at;
-  st = switch_search(lo, hi, pop_test, pop_between, &ps, &f, &at, &fail_at);
-  out->evaluations = ps.evaluations;
-  if (st) return ps.st ? ps.st : st;
-  if (f == SWITCH_AT_START) {
-    out->status = JND_POP_SWITCH_NEAREST;
-    out->distance = lo;
-    out->max_rating = ps.r_pass;
-  } else if (f == SWITCH_NEVER) {
-    out->status = JND_POP_SWITCH_NONE;
-    out->distance = INFINITY;
-    out->max_rating = ps.r_fail;
-  } else {
-    out->status = JND_POP_SWITCH_FOUND;
-    out->distance = at;
-    out->distance_popping = fail_at;
-    out->max_rating = ps.r_pass;
+  pop_search ps = {.m = m, .r = r, .scene = scene, .views = views, .nviews = nviews, .mo = mo, .level = level,
+                   .p = p, .sp = sp, .n = 1};
+  ps.lo = jnd_camera_distance_for_coverage(radius, sp->coverage_near, fov);
+  ps.hi = jnd_camera_distance_for_coverage(radius, sp->coverage_far, fov);
+  if (ps.hi > ps.lo * (1 + sp->tolerance)) ps.n = (int)ceil(log(ps.hi / ps.lo) / log1p(sp->tolerance)) + 1;
+  if (ps.n > 4096) return jnd_fail(JND_ERR_ARG, "pop: %d distances to search (tolerance too small)", ps.n);
+  ps.known = jnd_alloc((size_t)ps.n, 1);
+  ps.rating = jnd_alloc((size_t)ps.n, sizeof *ps.rating);
+  if (!ps.known || !ps.rating) {
+    free(ps.known);
+    free(ps.rating);
+    return jnd_fail(JND_ERR_NOMEM, "pop: out of memory");
   }
-  return JND_OK;
+  memset(ps.known, -1, (size_t)ps.n);
+  int start = -1;   /* the grid distance nearest to sp->start (on a log scale) */
+  if (sp->start > 0 && isfinite(sp->start) && ps.n > 1)
+    start = jnd_clampi((int)lround(log(sp->start / ps.lo) / log1p(sp->tolerance)), 0, ps.n - 1);
+  else if (isinf(sp->start) && sp->start > 0)
+    start = ps.n - 1;
+  switch_found f = SWITCH_NEVER;
+  int at = -1, fail_at = 0;
+  st = grid_search(&ps, start, &f, &at, &fail_at);
+  out->evaluations = ps.evaluations;
+  if (!st) {
+    if (f == SWITCH_AT_START) {
+      out->status = JND_POP_SWITCH_NEAREST;
+      out->distance = ps.lo;
+      out->max_rating = ps.rating[0];
+    } else if (f == SWITCH_NEVER) {
+      out->status = JND_POP_SWITCH_NONE;
+      out->distance = INFINITY;
+      out->max_rating = ps.rating[fail_at];
+    } else {
+      out->status = JND_POP_SWITCH_FOUND;
+      out->distance = grid_distance(&ps, at);
+      out->distance_popping = grid_distance(&ps, fail_at);
+      out->max_rating = ps.rating[at];
+    }
+  }
+  free(ps.known);
+  free(ps.rating);
+  return st;
 }
 
 /* ---- jnd pop MODEL as one call ---- */
@@ -501,19 +589,31 @@ jnd_status jnd_pop_asset_run(jnd_model *m, const char *model_path, const jnd_pop
     if (!out->rows) st = jnd_fail(JND_ERR_NOMEM, "pop: out of memory");
     for (int k = 1; k <= nl && !st; k++)
       for (int s = 0; s < nspeeds && !st; s++) {
-        if (p->progress) p->progress(p->progress_user, "switch distances", (k - 1) * nspeeds + s, nl * nspeeds);
+        /* the first search bisects the whole grid, the others start at a
+         * neighbour's answer and take a third of its evaluations or less:
+         * the time left is estimated from those others only */
+        int i = (k - 1) * nspeeds + s;
+        if (p->progress && i == 0) p->progress(p->progress_user, "the first switch distance (a bisection)", 0, 1);
+        if (p->progress && i > 0) p->progress(p->progress_user, "switch distances", i - 1, nl * nspeeds - 1);
         jnd_pop_switch_row *row = &out->rows[(size_t)(k - 1) * nspeeds + s];
         jnd_pop_motion mo = p->motion;
         mo.speed = speeds[s];
         row->level = k;
         row->speed_dps = speeds[s];
-        st = jnd_pop_switch_distance(m, r, scene, views, nviews, &mo, k, &p->pop, &p->search, &row->sw);
+        /* the search starts where the previous speed's answer for this
+         * level, or for the first speed the finer level's, was: motion
+         * moves the distances little, and a coarser level's lies near */
+        jnd_pop_switch_params sp = p->search;
+        const jnd_pop_switch_row *near = s > 0 ? row - 1 : k > 1 ? row - nspeeds : NULL;
+        if (near && sp.start == 0) sp.start = near->sw.distance;
+        st = jnd_pop_switch_distance(m, r, scene, views, nviews, &mo, k, &p->pop, &sp, &row->sw);
         double u = p->motion.unit_m > 0 ? p->motion.unit_m : 1;
         row->distance_m = row->sw.distance * u;
         row->distance_m_pixel_rule = row->sw.distance_pixel_rule * u;
         out->nrows++;
       }
-    if (!st && p->progress) p->progress(p->progress_user, "switch distances", nl * nspeeds, nl * nspeeds);
+    if (!st && p->progress && nl * nspeeds > 1)
+      p->progress(p->progress_user, "switch distances", nl * nspeeds - 1, nl * nspeeds - 1);
     if (!st) st = pop_switch_plot(out, speeds, nspeeds, &out->plot, NULL);
   }
   out->decide_s = jnd_seconds() - t2;
