@@ -153,6 +153,18 @@ inb = [c for c in res["candidates"] if c["memory_bytes"] <= M and c["triangles"]
 assert min(c["statistic"] for c in inb) == ch["statistic"]
 PY
 
+# budget mode where candidates of different statistics fit: the least visible is chosen
+# (under half the separate memory every candidate that fits is seen, statistic 1)
+"$JND" budget builtin:sphere -o "$T/b2" --memory "${sep}B" "${SMALL[@]}" >"$T/out.txt" 2>"$T/err.txt"
+check "budget mode at the separate memory: of candidates seen differently, the least visible" python3 - "$T/b2/budget.json" "$sep" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1])); M = float(sys.argv[2])
+res = r["result"]; ch = res["chosen"]
+inb = [c for c in res["candidates"] if c["memory_bytes"] <= M and c["statistic"] is not None]
+assert len({c["statistic"] for c in inb}) >= 2, inb
+assert ch["statistic"] == min(c["statistic"] for c in inb), (ch["statistic"], inb)
+PY
+
 # a budget nothing meets: one line naming the smallest possible, nothing written
 expect_exit 2 "a budget nothing meets: exit 2" "$JND" budget builtin:sphere -o "$T/c" --memory 1KiB "${SMALL[@]}"
 check "... one line naming the smallest possible" sh -c "grep -q 'smallest possible is' '$T/err.txt' && [ \$(wc -l <'$T/err.txt') -eq 1 ]"
