@@ -764,6 +764,10 @@ jnd_status jnd_scene_load(const char *path, jnd_scene **out);
  * strings are the caller's (jnd_asset_files_free). JND_ERR_NOMEM only. */
 jnd_status jnd_asset_files(const char *path, char ***files, int *count);
 void jnd_asset_files_free(char **files, int count);
+/* The unit of an asset's lengths, for labels: "m" for glTF and GLB (metres
+ * by the glTF specification), "object units" for OBJ and the built-in
+ * assets, which carry none. */
+JND_EXPERIMENTAL const char *jnd_asset_length_unit(const char *path);
 
 /* Parameters of the built-in procedural asset. */
 typedef struct {
@@ -3815,8 +3819,11 @@ JND_EXPERIMENTAL void jnd_gaze_table_free(jnd_gaze_table *t);
 JND_EXPERIMENTAL jnd_status jnd_gaze_table_write_csv(const jnd_gaze_table *t, const char *path);
 
 /* The picture of the table: the level over distance × eccentricity,
- * labelled (jnd_plot_grid). out is allocated, 3 channels sRGB 0..1. */
-JND_EXPERIMENTAL jnd_status jnd_gaze_table_figure(const jnd_gaze_table *t, jnd_image *out);
+ * labelled (jnd_plot_grid): the title gives the threshold both probabilities
+ * are below, the distance axis the asset's length unit (jnd_asset_length_unit).
+ * out is allocated, 3 channels sRGB 0..1. */
+JND_EXPERIMENTAL jnd_status jnd_gaze_table_figure(const jnd_gaze_table *t, double threshold, const char *length_unit,
+                                                    jnd_image *out);
 
 /* Observers' answers for fitting (002 "Calibrating the models"): one row per
  * trial with the stimulus's terms and the answer. */

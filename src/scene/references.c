@@ -198,3 +198,8 @@ void jnd_asset_files_free(char **files, int count) {
   for (int k = 0; k < count; k++) free(files[k]);
   free(files);
 }
+
+const char *jnd_asset_length_unit(const char *path) {
+  const char *dot = path ? strrchr(path, '.') : NULL;
+  return dot && (strcasecmp(dot, ".gltf") == 0 || strcasecmp(dot, ".glb") == 0) ? "m" : "object units";
+}

@@ -74,8 +74,10 @@ jnd_status jnd_budget_pareto_plot(const jnd_budget_result *r, const jnd_criterio
   char lsep[96], lch[96];
   snprintf(lsep, sizeof lsep, "texres + lod separately (level %d)", sep->level);
   snprintf(lch, sizeof lch, "chosen (level %d)", ch->level);
+  /* the two are often a few bytes apart: the separate choice's marker is
+   * drawn larger, beneath, so that it rings the chosen one where they meet */
   s[ns++] = (jnd_plot_series){.x = px, .y = py, .n = 1, .label = lsep, .colour = {0.15f, 0.35f, 0.85f}, .markers = 1,
-                              .width = 6};
+                              .width = 12};
   s[ns++] = (jnd_plot_series){.x = px + 1, .y = py + 1, .n = 1, .label = lch, .colour = {0.85f, 0.15f, 0.15f},
                               .markers = 1, .width = 6};
   jnd_plot_hline h = {.y = c->p, .label = "criterion p", .colour = {0.85f, 0.15f, 0.15f}};

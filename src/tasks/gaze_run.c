@@ -51,7 +51,7 @@ static jnd_status run_table(const char *model, const jnd_gaze_run_params *rp, re
   char path[4400];
   jnd_image fig = {0};
   if (!s) s = jnd_make_dirs(o->dir);
-  if (!s) s = jnd_gaze_table_figure(T, &fig);
+  if (!s) s = jnd_gaze_table_figure(T, p.threshold, jnd_asset_length_unit(model), &fig);
   join(o->dir, "gaze.png", path, sizeof path);
   if (!s) s = jnd_image_write_png(path, &fig, 8);
   jnd_image_free(&fig);

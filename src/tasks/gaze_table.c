@@ -434,7 +434,8 @@ jnd_status jnd_gaze_table_write_csv(const jnd_gaze_table *t, const char *path) {
   return st;
 }
 
-jnd_status jnd_gaze_table_figure(const jnd_gaze_table *t, jnd_image *out) {
+jnd_status jnd_gaze_table_figure(const jnd_gaze_table *t, double threshold, const char *length_unit,
+                                 jnd_image *out) {
   size_t cells = (size_t)t->nd * t->ne;
   double *v = jnd_calloc(cells, sizeof *v);
   char *text = jnd_calloc(cells, 8), (*rl)[32] = jnd_calloc((size_t)t->nd, 32), (*cl)[32] = jnd_calloc((size_t)t->ne, 32);
@@ -452,10 +453,12 @@ jnd_status jnd_gaze_table_figure(const jnd_gaze_table *t, jnd_image *out) {
       snprintf(text + 8 * i, 8, "%d", t->level[i]);
       ct[i] = text + 8 * i;
     }
-    char title[96];
-    snprintf(title, sizeof title, "L(d, ecc): coarsest level below the threshold (0 = finest of %d)", t->nlevels);
+    char title[128], row_title[64];
+    snprintf(title, sizeof title, "L(d, ecc): coarsest level with P below %.3g (0 = finest of %d)", threshold,
+             t->nlevels);
+    snprintf(row_title, sizeof row_title, "distance from the eye (%s)", length_unit ? length_unit : "object units");
     jnd_plot_grid_spec g = {.rows = t->nd, .cols = t->ne, .value = v, .cell_text = ct, .row_labels = rows,
-                            .col_labels = cols, .title = title, .row_title = "distance from the eye (m)",
+                            .col_labels = cols, .title = title, .row_title = row_title,
                             .col_title = "eccentricity from the gaze (\u00b0)", .scale_title = "level",
                             .vmin = 0, .vmax = t->nlevels - 1, .integer_scale = 1};
     st = jnd_plot_grid(&g, out);

@@ -24,7 +24,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 
 #include "core/core.h"
 #include "io/draw.h"
@@ -454,9 +453,7 @@ void jnd_pop_asset_report_free(jnd_pop_asset_report *r) {
 /* the unit of distances × motion.unit_m: glTF is in metres by its
  * specification; OBJ and the built-in assets carry no unit */
 static const char *distance_unit(const char *path, const jnd_pop_motion *mo) {
-  const char *dot = strrchr(path, '.');
-  int gltf = dot && (strcasecmp(dot, ".gltf") == 0 || strcasecmp(dot, ".glb") == 0);
-  return gltf || (mo->unit_m > 0 && mo->unit_m != 1) ? "m" : "object units";
+  return mo->unit_m > 0 && mo->unit_m != 1 ? "m" : jnd_asset_length_unit(path);
 }
 
 /* switch.png: each level's popping-free distance per speed and where its

@@ -437,7 +437,7 @@ TEST(the_gaze_table_picture_colours_each_cell_by_its_level) {
   t.nd = ND, t.ne = NE, t.nlevels = NL, t.orientations = 2;
   t.distances_m = dist_m, t.eccentricities_deg = ecc, t.level = level;
   jnd_image fig;
-  CHECK_OK(jnd_gaze_table_figure(&t, &fig));
+  CHECK_OK(jnd_gaze_table_figure(&t, 0.75, "object units", &fig));
   CHECK(fig.w > NE * 56 && fig.h > ND * 56);
   const char *dir = getenv("JND_FIGURE_DIR");
   if (dir) {
