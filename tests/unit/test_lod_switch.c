@@ -320,6 +320,7 @@ static double max_rating_at(jnd_scene *s, const jnd_lod_switch_params *p, const 
   vs.distance = d;
   jnd_display_defaults(&jp.model.display);
   jp.model.display.ppd = r->screen.ppd * scale;
+  jp.model.display.task = JND_TASK_FLICKER;   /* a switch in place (docs/model.md "Viewing task") */
   jp.views.render.width = jp.views.render.height = side;
   jnd_view views[8];
   jnd_model *m = NULL;
