@@ -175,7 +175,7 @@ jnd_status report_output_end(report_output *o, jnd_status st) {
 }
 
 jnd_status report_output_finish(report_output *o, jnd_status st, cJSON *report, const char *name, char **text) {
-  if (st == JND_OK) st = report ? report_output_write(o, report, name, text) : JND_ERR_NOMEM;
+  if (st == JND_OK) st = report && text ? report_output_write(o, report, name, text) : JND_ERR_NOMEM;
   cJSON_Delete(report);
   return report_output_end(o, st);
 }
