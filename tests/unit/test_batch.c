@@ -177,6 +177,223 @@ TEST(a_missing_asset_fails_its_row_relative_to_the_manifest) {
   CHECK_STATUS(jnd_batch_manifest_read("/nonexistent/assets.csv", NULL, NULL, &m), JND_ERR_IO);
 }
 
+/* a shell expands ~ and starts a comment with # only at the start of a word;
+ * inside one they are plain text, and so they are here */
+TEST(tilde_and_hash_inside_a_word_are_plain_text) {
+  CHECK(split_is("--maps a~b x#1 --label=v#2", 4, (const char *[]){"--maps", "a~b", "x#1", "--label=v#2"}));
+  int argc;
+  char **argv;
+  CHECK_STATUS(jnd_shell_split("a ~b", &argc, &argv), JND_ERR_FORMAT);
+  CHECK_STATUS(jnd_shell_split("a #b", &argc, &argv), JND_ERR_FORMAT);
+}
+
+/* a header as a spreadsheet saves it (a UTF-8 byte-order mark, blanks
+ * around names); ids that a folder name cannot be, or that OUT uses itself
+ * in any case; a third repeat names the first row, not the second */
+TEST(manifest_headers_ids_and_repeats_at_their_edges) {
+  jnd_batch_manifest m = csv("\xEF\xBB\xBF" "id , asset,command\nx,builtin,texres\n");
+  CHECK(m.nrows == 1 && !m.rows[0].error && strcmp(m.rows[0].id, "x") == 0);
+  jnd_batch_manifest_free(&m);
+  m = csv("id,asset,command\n-x,builtin,texres\n.x,builtin,texres\n_x,builtin,texres\nREPORT,builtin,texres\n"
+          "Summary.CSV,builtin,texres\nsummary.json,builtin,texres\na.b_c-9,builtin,texres\n"
+          "r,builtin,texres\nr,builtin,pca\nr,builtin,diff\n");
+  CHECK(m.nrows == 10);
+  if (m.nrows == 10) {
+    for (int i = 0; i < 3; i++) CHECK(strstr(err(&m, i), "is not a folder name") != NULL);
+    for (int i = 3; i < 6; i++) CHECK(strstr(err(&m, i), "is a name the output folder uses") != NULL);
+    CHECK(!m.rows[6].error && !m.rows[7].error);
+    CHECK(strstr(err(&m, 8), "assets.csv:10: duplicate id 'r' (first on line 9)") != NULL);
+    CHECK(strstr(err(&m, 9), "assets.csv:11: duplicate id 'r' (first on line 9)") != NULL);
+  }
+  jnd_batch_manifest_free(&m);
+  /* the line of a row after a record that spans two lines */
+  m = csv("id,asset,command,options\na,builtin,texres,\"--views\n2\"\nb,builtin,lodd,\n");
+  CHECK(m.nrows == 2 && !m.rows[0].error && m.rows[0].argc == 2 && strstr(err(&m, 1), "assets.csv:4: unknown command"));
+  jnd_batch_manifest_free(&m);
+  /* options batch sets, as --name=value too */
+  m = csv("id,asset,command,options\na,builtin,texres,--output=x\nb,builtin,pca,--out y\nc,builtin,texres,--jsonx 1\n");
+  CHECK(m.nrows == 3 && strstr(err(&m, 0), "--output is set by jnd batch") && strstr(err(&m, 1), "--out is set by jnd batch"));
+  CHECK(m.nrows == 3 && !m.rows[2].error);
+  jnd_batch_manifest_free(&m);
+  /* JSON rows say "entry" */
+  const char *j = "[{\"id\": \"a\", \"asset\": \"builtin\", \"command\": \"texres\"},"
+                  " {\"id\": \"a\", \"asset\": \"builtin\", \"command\": \"pca\"}]";
+  CHECK_OK(jnd_batch_manifest_parse_json("a.json", j, strlen(j), &m));
+  CHECK(m.nrows == 2 && strstr(err(&m, 1), "a.json: entry 2: duplicate id 'a' (first as entry 1)"));
+  jnd_batch_manifest_free(&m);
+}
+
+static void touch_file(const char *path) {
+  FILE *f = fopen(path, "w");
+  CHECK(f != NULL);
+  if (f) fclose(f);
+}
+
+/* a glob's ids: the match's path less the folders all matches share and its
+ * extension, '/' as '-', other characters outside the id alphabet as '_';
+ * rows in sorted order, numbered from 1 */
+TEST(a_glob_names_each_match_by_its_path_below_the_shared_folder) {
+  char d[1200], p[1400];
+  snprintf(d, sizeof d, "%s/batch_glob", test_tmp_dir());
+  jnd_remove_tree(d);
+  snprintf(p, sizeof p, "%s/one", d);
+  CHECK_OK(jnd_mkdirs(p));
+  snprintf(p, sizeof p, "%s/two", d);
+  CHECK_OK(jnd_mkdirs(p));
+  const char *files[] = {"one/x.obj", "two/y.v2.glb", "two/z w.obj"};
+  for (int i = 0; i < 3; i++) {
+    snprintf(p, sizeof p, "%s/%s", d, files[i]);
+    touch_file(p);
+  }
+  snprintf(p, sizeof p, "%s/*/*", d);
+  jnd_batch_manifest m;
+  CHECK_OK(jnd_batch_manifest_read(p, "texres", "--views 2", &m));
+  CHECK(m.nrows == 3);
+  if (m.nrows == 3) {
+    const char *ids[] = {"one-x", "two-y.v2", "two-z_w"};
+    for (int i = 0; i < 3; i++) {
+      CHECK(strcmp(m.rows[i].id, ids[i]) == 0 && m.rows[i].line == i + 1 && !m.rows[i].error);
+      if (strcmp(m.rows[i].id, ids[i]) != 0) fprintf(stderr, "  id %s, wanted %s\n", m.rows[i].id, ids[i]);
+      CHECK(m.rows[i].argc == 2 && strcmp(m.rows[i].command, "texres") == 0);
+    }
+  }
+  jnd_batch_manifest_free(&m);
+  /* one match: its file name */
+  snprintf(p, sizeof p, "%s/one/*.obj", d);
+  CHECK_OK(jnd_batch_manifest_read(p, "pca", NULL, &m));
+  CHECK(m.nrows == 1 && strcmp(m.rows[0].id, "x") == 0);
+  jnd_batch_manifest_free(&m);
+  snprintf(p, sizeof p, "%s/one/*.png", d);
+  CHECK_STATUS(jnd_batch_manifest_read(p, "pca", NULL, &m), JND_ERR_IO);
+  CHECK(strstr(jnd_last_error(), "no file matches") != NULL);
+}
+
+static char *read_path(const char *path);
+
+/* the Slurm scripts, read as sbatch reads their #SBATCH lines and run by
+ * bash as a node would run them (with a stand-in for jnd that logs how it
+ * was called): task 3 of 4 runs shard 3/4 in the manifest's folder, with the
+ * task's CPUs shared among the assets run at once; the merge job merges,
+ * then writes the report */
+TEST(slurm_scripts_run_the_shard_of_their_task_and_then_the_merge) {
+  char d[1200], base[1300], out[1300], exe[1300], logf[1300], cmd[4200];
+  snprintf(d, sizeof d, "%s/batch_slurm", test_tmp_dir());
+  jnd_remove_tree(d);
+  snprintf(base, sizeof base, "%s/base", d);
+  snprintf(out, sizeof out, "%s/out", d);
+  snprintf(exe, sizeof exe, "%s/fake-jnd", d);
+  snprintf(logf, sizeof logf, "%s/calls.log", d);
+  CHECK_OK(jnd_mkdirs(base));
+  FILE *f = fopen(exe, "w");
+  CHECK(f != NULL);
+  if (!f) return;
+  fprintf(f, "#!/bin/sh\necho \"$PWD|${OMP_NUM_THREADS:-}|$*\" >> '%s'\n", logf);
+  fclose(f);
+  chmod(exe, 0755);
+  jnd_batch_manifest m = csv("id,asset,command\na,builtin,texres\n");
+  free(m.source), free(m.base_dir);
+  m.source = jnd_path_join(base, "assets.csv");
+  m.base_dir = strdup(base);
+  jnd_batch_params run = {.out_dir = out, .jobs = 2, .timeout_s = 30, .force = 1, .jnd_exe = exe};
+  jnd_slurm_params sp;
+  jnd_slurm_defaults(&sp);
+  const char *extra[] = {"--qos=low"};
+  sp.shards = 4, sp.array_limit = 2, sp.cpus_per_task = 8, sp.mem = "4G", sp.time = "1-02:00:00";
+  sp.partition = "gpu", sp.gres = "gpu:1", sp.job_name = "nightly", sp.extra = extra, sp.nextra = 1;
+  char *a = NULL, *b = NULL;
+  CHECK_OK(jnd_slurm_scripts(&m, NULL, NULL, &run, &sp, &a, &b));
+  if (!a || !b) return;
+  char want[8000];
+  const char *lines_a[] = {"#SBATCH --array=0-3%2\n", "#SBATCH --cpus-per-task=8\n", "#SBATCH --mem=4G\n",
+                           "#SBATCH --time=1-02:00:00\n", "#SBATCH --partition=gpu\n", "#SBATCH --gres=gpu:1\n",
+                           "#SBATCH --job-name=nightly\n", "#SBATCH --qos=low\n", "#SBATCH --ntasks=1\n"};
+  for (size_t i = 0; i < sizeof lines_a / sizeof lines_a[0]; i++) {
+    CHECK(strstr(a, lines_a[i]) != NULL);
+    if (!strstr(a, lines_a[i])) fprintf(stderr, "  array script lacks %s", lines_a[i]);
+  }
+  snprintf(want, sizeof want, "#SBATCH --output=%s/_batch/slurm/shard-%%a.log\n", out);
+  CHECK(strstr(a, want) != NULL);
+  const char *lines_b[] = {"#SBATCH --job-name=nightly-merge\n", "#SBATCH --cpus-per-task=1\n", "#SBATCH --qos=low\n",
+                           "#SBATCH --time=1-02:00:00\n", "#SBATCH --partition=gpu\n"};
+  for (size_t i = 0; i < sizeof lines_b / sizeof lines_b[0]; i++) CHECK(strstr(b, lines_b[i]) != NULL);
+  snprintf(want, sizeof want, "#SBATCH --output=%s/_batch/slurm/merge.log\n", out);
+  CHECK(strstr(b, want) != NULL);
+  CHECK(!strstr(b, "--array") && !strstr(b, "--gres") && !strstr(b, "--mem"));
+  /* run them */
+  char pa[1400], pb[1400];
+  snprintf(pa, sizeof pa, "%s/array.sh", d);
+  snprintf(pb, sizeof pb, "%s/merge.sh", d);
+  CHECK_OK(jnd_write_file_atomic(pa, a, strlen(a)));
+  CHECK_OK(jnd_write_file_atomic(pb, b, strlen(b)));
+  snprintf(cmd, sizeof cmd, "cd / && env -i PATH=/usr/bin:/bin SLURM_ARRAY_TASK_ID=3 SLURM_CPUS_PER_TASK=8 bash '%s' "
+           "&& env -i PATH=/usr/bin:/bin bash '%s'", pa, pb);
+  CHECK(system(cmd) == 0);
+  char *calls = read_path(logf);
+  snprintf(want, sizeof want, "%s|4|batch %s/assets.csv -o %s --shard 3/4 --jobs 2 --timeout 30 --force\n"
+           "%s||batch merge %s\n%s||report %s\n", base, base, out, "/", out, "/", out);
+  CHECK(calls && strcmp(calls, want) == 0);
+  if (calls && strcmp(calls, want) != 0) fprintf(stderr, "  calls:\n%s  wanted:\n%s", calls, want);
+  free(calls);
+  free(a), free(b);
+  /* threads given: each asset's command gets that many, whatever the CPUs */
+  run.threads = 3;
+  sp.array_limit = 0;
+  CHECK_OK(jnd_slurm_scripts(&m, "texres", "--views 2", &run, &sp, &a, &b));
+  CHECK(a && strstr(a, "export OMP_NUM_THREADS=3\n") && strstr(a, "#SBATCH --array=0-3\n"));
+  snprintf(want, sizeof want, " batch assets.csv --command texres --options '--views 2' -o %s", out);
+  CHECK(a && strstr(a, want)); /* the glob relative to the folder it was given in */
+  free(a), free(b);
+  /* what sbatch would misread is refused */
+  const char *bad_time[] = {"1-", "-1", "1::2", "1:2:3:4", "1:", "a", "1-2-3"};
+  for (size_t i = 0; i < sizeof bad_time / sizeof bad_time[0]; i++) {
+    jnd_slurm_params q = sp;
+    q.time = bad_time[i];
+    CHECK_STATUS(jnd_slurm_scripts(&m, NULL, NULL, &run, &q, &a, &b), JND_ERR_ARG);
+  }
+  const char *good_time[] = {"30", "1:30", "2:00:00", "1-0", "1-2:30"};
+  for (size_t i = 0; i < sizeof good_time / sizeof good_time[0]; i++) {
+    jnd_slurm_params q = sp;
+    q.time = good_time[i];
+    CHECK_OK(jnd_slurm_scripts(&m, NULL, NULL, &run, &q, &a, &b));
+    free(a), free(b);
+  }
+  const char *bad_mem[] = {"4GB", "G", "4X", ""}, *good_mem[] = {"4000", "500M", "4g"};
+  for (size_t i = 0; i < 4; i++) {
+    jnd_slurm_params q = sp;
+    q.mem = bad_mem[i];
+    CHECK_STATUS(jnd_slurm_scripts(&m, NULL, NULL, &run, &q, &a, &b), JND_ERR_ARG);
+  }
+  for (size_t i = 0; i < 3; i++) {
+    jnd_slurm_params q = sp;
+    q.mem = good_mem[i];
+    CHECK_OK(jnd_slurm_scripts(&m, NULL, NULL, &run, &q, &a, &b));
+    free(a), free(b);
+  }
+  const char *bad_extra[] = {"-x", "--=1", "--a\nb", "qos=low"};
+  for (size_t i = 0; i < 4; i++) {
+    jnd_slurm_params q = sp;
+    q.extra = &bad_extra[i];
+    CHECK_STATUS(jnd_slurm_scripts(&m, NULL, NULL, &run, &q, &a, &b), JND_ERR_ARG);
+  }
+  jnd_slurm_params q = sp;
+  q.partition = "gpu;rm";
+  CHECK_STATUS(jnd_slurm_scripts(&m, NULL, NULL, &run, &q, &a, &b), JND_ERR_ARG);
+  q = sp, q.gres = "gpu 1";
+  CHECK_STATUS(jnd_slurm_scripts(&m, NULL, NULL, &run, &q, &a, &b), JND_ERR_ARG);
+  q = sp, q.shards = 0;
+  CHECK_STATUS(jnd_slurm_scripts(&m, NULL, NULL, &run, &q, &a, &b), JND_ERR_ARG);
+  q = sp, q.cpus_per_task = 0;
+  CHECK_STATUS(jnd_slurm_scripts(&m, NULL, NULL, &run, &q, &a, &b), JND_ERR_ARG);
+  q = sp, q.array_limit = -1;
+  CHECK_STATUS(jnd_slurm_scripts(&m, NULL, NULL, &run, &q, &a, &b), JND_ERR_ARG);
+  jnd_batch_params r2 = run;
+  char odd[1400];
+  snprintf(odd, sizeof odd, "%s/o ut", d);
+  r2.out_dir = odd;
+  CHECK_STATUS(jnd_slurm_scripts(&m, NULL, NULL, &r2, &sp, &a, &b), JND_ERR_ARG);
+  jnd_batch_manifest_free(&m);
+}
+
 TEST(shards_are_parsed_strictly) {
   int i = -1, n = -1;
   CHECK_OK(jnd_batch_shard_parse("0/1", &i, &n));
@@ -227,16 +444,21 @@ static void write_file(const char *dir, const char *name, const char *text) {
   free(p);
 }
 
-static char *read_all(const char *dir, const char *name) {
-  char *p = jnd_path_join(dir, name);
-  FILE *f = fopen(p, "rb");
-  free(p);
+static char *read_path(const char *path) {
+  FILE *f = path ? fopen(path, "rb") : NULL;
   if (!f) return NULL;
   static char buf[1 << 16];
   size_t n = fread(buf, 1, sizeof buf - 1, f);
   fclose(f);
   buf[n] = 0;
   return strdup(buf);
+}
+
+static char *read_all(const char *dir, const char *name) {
+  char *p = jnd_path_join(dir, name);
+  char *s = read_path(p);
+  free(p);
+  return s;
 }
 
 static void fake_out(const char *out, int order) {
@@ -336,6 +558,9 @@ TEST(the_report_has_a_page_per_asset_and_the_summary_numbers) {
 }
 
 RUN_TESTS(options_split_into_words_as_a_shell_splits_them, options_that_a_shell_would_expand_are_refused_not_passed_on,
+          tilde_and_hash_inside_a_word_are_plain_text, manifest_headers_ids_and_repeats_at_their_edges,
+          a_glob_names_each_match_by_its_path_below_the_shared_folder,
+          slurm_scripts_run_the_shard_of_their_task_and_then_the_merge,
           joined_words_split_back_to_themselves, a_csv_manifest_gives_one_row_per_asset_with_its_words,
           each_bad_row_fails_alone_naming_the_file_and_line, what_no_row_survives_is_an_error_of_the_whole_manifest,
           a_json_manifest_takes_a_string_or_a_list_of_words, a_missing_asset_fails_its_row_relative_to_the_manifest,
