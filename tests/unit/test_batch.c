@@ -557,6 +557,224 @@ TEST(the_report_has_a_page_per_asset_and_the_summary_numbers) {
   }
 }
 
+/* an output folder with an asset of each command, hand-built reports whose
+ * decisions and numbers are known */
+static void record(const char *out, const char *id, const char *command, const char *status, int code) {
+  char name[128], text[512];
+  snprintf(name, sizeof name, "_batch/records/%s.json", id);
+  snprintf(text, sizeof text, "{\"id\": \"%s\", \"command\": \"%s\", \"asset\": \"builtin\", \"options\": \"\", "
+           "\"status\": \"%s\", \"exit_status\": %d, \"seconds\": 0.25, \"log\": \"_batch/logs/%s.log\"%s}",
+           id, command, status, code, id, strcmp(status, "failed") == 0 ? ", \"error\": \"boom\"" : "");
+  write_file(out, name, text);
+}
+
+static void report_of(const char *out, const char *id, const char *json_name, const char *text) {
+  char d[1300], name[128];
+  snprintf(d, sizeof d, "%s/%s", out, id);
+  CHECK_OK(jnd_mkdirs(d));
+  snprintf(name, sizeof name, "%s/%s", id, json_name);
+  write_file(out, name, text);
+}
+
+static const struct {
+  const char *id, *command, *json, *report, *status;
+  int code;
+} KINDS[] = {
+    {"p", "pca", "pca.json",
+     "{\"result\": {\"channel_count\": 9, \"components_kept\": 4, \"components\": [{\"divisor\": 1}, {\"divisor\": 2}, "
+     "{\"divisor\": 4}, {\"divisor\": 1}], \"memory\": {\"before_bytes\": 4194304, \"after_bytes\": 1048576}, "
+     "\"rendered\": {\"p_criterion\": 0.125, \"pass\": true, \"p_per_view\": [0.1234, 0.5]}}}", "ok", 0},
+    {"d", "diff", "diff.json", "{\"result\": {\"p_detect\": 0.4321, \"pooling\": \"p93\", \"jnd_max\": 2.5}}", "above", 1},
+    {"l", "lod", "lod.json",
+     "{\"result\": {\"levels\": [{\"triangles\": 1000}, {\"triangles\": 250}], \"screens\": [{\"name\": \"phone\", "
+     "\"perceptual_level\": 1, \"perceptual_triangles\": 250, \"perceptual_statistic\": 0.05}, {\"name\": \"desk\", "
+     "\"perceptual_level\": 0, \"perceptual_triangles\": 1000, \"perceptual_statistic\": 0.15}], "
+     "\"memory\": {\"before_bytes\": 2000, \"after_bytes\": 500}}}", "ok", 0},
+    {"l2", "lod", "lod.json", "{\"result\": {\"levels\": [{\"triangles\": 10}], \"screens\": [], "
+     "\"memory\": {\"before_bytes\": 7000}}}", "ok", 0},
+    {"g", "gaze", "gaze.json", "{\"result\": {\"level\": [[0, 1, 2], [1, 3, 2]], \"distances_m\": [1, 2], "
+     "\"eccentricities_deg\": [0, 10, 20]}}", "ok", 0},
+    {"o0", "pop", "pop.json", "{\"result\": {\"region_count\": 0, \"detection_score\": 1}}", "ok", 0},
+    {"o1", "pop", "pop.json", "{\"result\": {\"region_count\": 1, \"max_rating\": 1.234, \"detection_score\": 3}}", "above", 1},
+    {"o3", "pop", "pop.json", "{\"result\": {\"region_count\": 3, \"max_rating\": 2.5, \"detection_score\": 4, "
+     "\"switch\": [{\"level\": 1, \"distance\": 4}]}}", "ok", 0},
+    {"u", "budget", "budget.json", "{\"result\": {\"chosen\": {\"level\": 2, \"statistic\": 0.09}, \"comparison\": "
+     "{\"chosen_cost_bytes\": 3145728, \"separate_cost_bytes\": 4194304, \"original_cost_bytes\": 8388608}}}", "ok", 0},
+    {"t", "texres", "texres.json",
+     "{\"parameters\": {\"criterion\": {\"p\": 0.2, \"q\": 0.1}}, \"result\": {\"maps\": [{\"name\": \"m/normal\", "
+     "\"original\": [64, 32], \"chosen\": [64, 32]}], \"memory\": {\"before_bytes\": 3145728, \"after_bytes\": 3145728, "
+     "\"reduction\": 0.125}, \"views\": {\"passes\": true, \"p\": [0.05, 0.1]}, \"verify\": {\"passes\": false}}}", "ok", 0},
+    {"f", "texres", NULL, NULL, "failed", 2},
+};
+#define NKINDS (sizeof KINDS / sizeof KINDS[0])
+
+static void fake_kinds(const char *out) {
+  char d[1300];
+  jnd_remove_tree(out);
+  snprintf(d, sizeof d, "%s/_batch/records", out);
+  CHECK_OK(jnd_mkdirs(d));
+  snprintf(d, sizeof d, "%s/_batch/logs", out);
+  CHECK_OK(jnd_mkdirs(d));
+  jnd_text plan = {0};
+  jnd_text_put(&plan, "{\"source\": \"/m/assets.csv\", \"base_dir\": \"/m\", \"rows\": [");
+  for (size_t i = 0; i < NKINDS; i++) {
+    jnd_text_printf(&plan, "%s{\"line\": %zu, \"id\": \"%s\", \"asset\": \"builtin\", \"command\": \"%s\", \"options\": \"\"}",
+                    i ? ", " : "", i + 2, KINDS[i].id, KINDS[i].command);
+    record(out, KINDS[i].id, KINDS[i].command, KINDS[i].status, KINDS[i].code);
+    if (KINDS[i].report) report_of(out, KINDS[i].id, KINDS[i].json, KINDS[i].report);
+  }
+  jnd_text_put(&plan, "]}");
+  char *text = jnd_text_take(&plan);
+  write_file(out, "_batch/manifest.json", text);
+  free(text);
+  write_file(out, "_batch/logs/f.log", "first line\nlast <line> of the log\n");
+}
+
+static const cJSON *asset_of(const cJSON *summary, const char *id) {
+  const cJSON *e;
+  cJSON_ArrayForEach(e, cJSON_GetObjectItem(cJSON_GetObjectItem(summary, "result"), "assets")) {
+    const cJSON *v = cJSON_GetObjectItem(e, "id");
+    if (cJSON_IsString(v) && strcmp(v->valuestring, id) == 0) return e;
+  }
+  return NULL;
+}
+
+static const char *text_of(const cJSON *e, const char *key) {
+  const cJSON *v = cJSON_GetObjectItem(e, key);
+  return cJSON_IsString(v) ? v->valuestring : "";
+}
+
+static double number_of(const cJSON *e, const char *key) {
+  const cJSON *v = cJSON_GetObjectItem(e, key);
+  return cJSON_IsNumber(v) ? v->valuedouble : NAN;
+}
+
+/* each command's decision in words and its numbers, from its own report:
+ * the texts and values below are written by hand from the reports above */
+TEST(merge_tells_each_commands_decision_and_numbers_from_its_report) {
+  char a[1200];
+  snprintf(a, sizeof a, "%s/batch_kinds", test_tmp_dir());
+  fake_kinds(a);
+  jnd_batch_totals t;
+  CHECK_OK(jnd_batch_merge(a, 1, &t));
+  CHECK(t.assets == (int)NKINDS && t.ok == 8 && t.above == 2 && t.failed == 1 && t.pending == 0);
+  char *text = read_all(a, "summary.json");
+  cJSON *doc = text ? cJSON_Parse(text) : NULL;
+  free(text);
+  CHECK(doc != NULL);
+  if (!doc) return;
+  const struct {
+    const char *id, *decision;
+    double p, before, after;
+  } want[] = {
+      {"p", "4 of 9 components, 2 at reduced resolution", 0.125, 4194304, 1048576},
+      {"d", "P(detect) 0.432 (p93), max 2.5 JND", 0.4321, NAN, NAN},
+      {"l", "phone level 1 (250 of 1000 triangles); desk level 0 (1000 of 1000 triangles)", 0.15, 2000, 500},
+      {"l2", "no perceptual choice (--no-perceptual)", NAN, 7000, NAN},
+      {"g", "levels 0–3 over 2 distances × 3 eccentricities", NAN, NAN, NAN},
+      {"o0", "no popping region, detection score 1 of 5", NAN, NAN, NAN},
+      {"o1", "1 popping region, max R 1.23, detection score 3 of 5", NAN, NAN, NAN},
+      {"o3", "3 popping regions, max R 2.50, detection score 4 of 5; 1 switch distance", NAN, NAN, NAN},
+      {"u", "level 2, 3.000 MiB of textures and mesh (texres + lod separately: 4.000 MiB)", 0.09, 8388608, 3145728},
+      {"t", "m/normal 64×32", 0.1, 3145728, 3145728},
+  };
+  for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
+    const cJSON *e = asset_of(doc, want[i].id);
+    CHECK(e != NULL);
+    if (!e) continue;
+    CHECK(strcmp(text_of(e, "decision"), want[i].decision) == 0);
+    if (strcmp(text_of(e, "decision"), want[i].decision) != 0)
+      fprintf(stderr, "  %s: '%s', wanted '%s'\n", want[i].id, text_of(e, "decision"), want[i].decision);
+    double v[3] = {number_of(e, "p_detect"), number_of(e, "memory_before_bytes"), number_of(e, "memory_after_bytes")};
+    double w[3] = {want[i].p, want[i].before, want[i].after};
+    for (int k = 0; k < 3; k++) CHECK(isnan(w[k]) ? isnan(v[k]) : v[k] == w[k]);
+    double red = number_of(e, "reduction");
+    CHECK(isnan(w[2]) ? isnan(red) : fabs(red - (1 - w[2] / w[1])) < 1e-12);
+  }
+  /* what was chosen, as JSON */
+  const cJSON *c = cJSON_GetObjectItem(asset_of(doc, "l"), "chosen");
+  CHECK(number_of(cJSON_GetObjectItem(c, "perceptual_level"), "phone") == 1);
+  c = cJSON_GetObjectItem(asset_of(doc, "g"), "chosen");
+  CHECK(number_of(c, "finest") == 0 && number_of(c, "coarsest") == 3);
+  c = cJSON_GetObjectItem(asset_of(doc, "p"), "chosen");
+  CHECK(number_of(c, "components") == 4 && number_of(c, "channels") == 9);
+  c = cJSON_GetObjectItem(asset_of(doc, "u"), "chosen");
+  CHECK(number_of(c, "level") == 2 && number_of(c, "cost_bytes") == 3145728);
+  c = cJSON_GetObjectItem(asset_of(doc, "o3"), "chosen");
+  CHECK(number_of(c, "detection_score") == 4 && cJSON_GetArraySize(cJSON_GetObjectItem(c, "switch")) == 1);
+  /* totals: memory over the assets that report both numbers (l2 reports only before) */
+  const cJSON *tot = cJSON_GetObjectItem(cJSON_GetObjectItem(doc, "result"), "totals");
+  double before = 4194304.0 + 2000 + 8388608 + 3145728, after = 1048576.0 + 500 + 3145728 + 3145728;
+  CHECK(number_of(tot, "with_memory") == 4);
+  CHECK(number_of(tot, "memory_before_bytes") == before && number_of(tot, "memory_after_bytes") == after);
+  CHECK_NEAR(number_of(tot, "reduction"), 1 - after / before, 1e-12);
+  CHECK_NEAR(number_of(tot, "seconds"), 0.25 * NKINDS, 1e-9);
+  CHECK(number_of(asset_of(doc, "d"), "exit_status") == 1 && strcmp(text_of(asset_of(doc, "d"), "status"), "above") == 0);
+  CHECK(strcmp(text_of(asset_of(doc, "f"), "error"), "boom") == 0);
+  cJSON_Delete(doc);
+}
+
+/* the report's pages show each number in its unit, recomputed here from
+ * the bytes and fractions of the reports above */
+TEST(the_report_shows_numbers_in_their_units_links_and_the_failures_log) {
+  char a[1200];
+  snprintf(a, sizeof a, "%s/batch_kinds_report", test_tmp_dir());
+  fake_kinds(a);
+  CHECK_OK(jnd_batch_merge(a, 1, NULL));
+  CHECK_OK(jnd_batch_report(a, NULL, 0));
+  char *html = read_all(a, "report/index.html");
+  CHECK(html != NULL);
+  if (!html) return;
+  double before = 4194304.0 + 2000 + 8388608 + 3145728, after = 1048576.0 + 500 + 3145728 + 3145728;
+  char want[512];
+  snprintf(want, sizeof want, "<div id=\"total-memory_before_bytes\" data-value=\"%.0f\"><b>%.2f MiB</b>", before,
+           before / 1048576);
+  CHECK(strstr(html, want) != NULL);
+  snprintf(want, sizeof want, "<div id=\"total-reduction\" data-value=\"%.17g\"><b>%.1f%%</b>", 1 - after / before,
+           100 * (1 - after / before));
+  CHECK(strstr(html, want) != NULL);
+  CHECK(strstr(html, "<div id=\"total-above\" data-value=\"2\"><b>2</b>") != NULL);
+  CHECK(strstr(html, "<div id=\"total-seconds\" data-value=\"2.75\"><b>2.75</b>") != NULL);
+  /* the pca row: P, 4 MiB before, 1 MiB after, 75 % smaller; l's 2000 bytes
+   * are 0.0019 MiB (four decimals under 0.01 MiB) */
+  CHECK(strstr(html, "<td class=\"num\" data-value=\"0.125\">0.125</td>"
+                     "<td class=\"num\" data-value=\"4194304\" title=\"4194304 bytes\">4.00 MiB</td>"
+                     "<td class=\"num\" data-value=\"1048576\" title=\"1048576 bytes\">1.00 MiB</td>"
+                     "<td class=\"num\" data-value=\"0.75\">75.0%</td>") != NULL);
+  CHECK(strstr(html, "title=\"2000 bytes\">0.0019 MiB</td>") != NULL);
+  CHECK(strstr(html, "<td class=\"num\" data-value=\"0.25\">0.2</td>") || strstr(html, "data-value=\"0.25\">0.3</td>"));
+  CHECK(strstr(html, "<tr data-status=\"above\" data-id=\"d\"><td><a href=\"d.html\">d</a></td><td>diff</td>"
+                     "<td data-value=\"above\"><span class=\"status above\">above</span></td>") != NULL);
+  free(html);
+  /* an asset's page: its fields in their formats, its tables, links to its
+   * neighbours in manifest order */
+  html = read_all(a, "report/t.html");
+  CHECK(html != NULL);
+  if (!html) return;
+  CHECK(strstr(html, "<tr><th>memory before (unique images, RGBA8 + mips)</th><td>3.00 MiB</td></tr>") != NULL);
+  CHECK(strstr(html, "<tr><th>reduction</th><td>12.5%</td></tr>") != NULL);
+  CHECK(strstr(html, "<tr><th>passes the criterion</th><td>yes</td></tr>") != NULL);
+  CHECK(strstr(html, "<tr><th>held-out views pass</th><td>no</td></tr>") != NULL);
+  CHECK(strstr(html, "<tr><th>P per view (pooled)</th><td>0.05, 0.1</td></tr>") != NULL);
+  CHECK(strstr(html, "<tr><th>criterion: P above</th><td>0.200</td></tr>") != NULL);
+  CHECK(strstr(html, "<tr><th>criterion: fraction of views allowed above</th><td>10.0%</td></tr>") != NULL);
+  CHECK(strstr(html, "<tr><td>m/normal</td><td>64×32</td><td>64×32</td><td>—</td>") != NULL);
+  CHECK(strstr(html, "<a href=\"u.html\">previous</a>") && strstr(html, "<a href=\"f.html\">next</a>"));
+  CHECK(strstr(html, "<dt>time</dt><dd>0.2 s</dd>") || strstr(html, "<dt>time</dt><dd>0.3 s</dd>"));
+  free(html);
+  html = read_all(a, "report/p.html");
+  CHECK(html && !strstr(html, "previous</a>") && strstr(html, "<a href=\"d.html\">next</a>"));
+  CHECK(html && strstr(html, "<tr><th>rendered: P per view</th><td>0.123, 0.5</td></tr>"));
+  CHECK(html && strstr(html, "<tr><th>components kept</th><td>4</td></tr>"));
+  free(html);
+  /* the failure's page: its error, exit status and the end of its log, escaped */
+  html = read_all(a, "report/f.html");
+  CHECK(html && strstr(html, "<dt>error</dt><dd>boom</dd>") && strstr(html, "<dt>exit status</dt><dd>2</dd>"));
+  CHECK(html && strstr(html, "<h2>End of its log</h2>\n<pre>first line\nlast &lt;line&gt; of the log\n</pre>"));
+  CHECK(html && !strstr(html, "next</a>"));
+  free(html);
+}
+
 RUN_TESTS(options_split_into_words_as_a_shell_splits_them, options_that_a_shell_would_expand_are_refused_not_passed_on,
           tilde_and_hash_inside_a_word_are_plain_text, manifest_headers_ids_and_repeats_at_their_edges,
           a_glob_names_each_match_by_its_path_below_the_shared_folder,
@@ -566,4 +784,6 @@ RUN_TESTS(options_split_into_words_as_a_shell_splits_them, options_that_a_shell_
           a_json_manifest_takes_a_string_or_a_list_of_words, a_missing_asset_fails_its_row_relative_to_the_manifest,
           shards_are_parsed_strictly, json_paths_select_what_the_table_of_commands_names,
           text_escapes_for_html_and_csv, merge_gives_the_same_summary_whatever_order_the_shards_wrote_in,
-          merge_of_a_folder_no_batch_ran_in_says_so, the_report_has_a_page_per_asset_and_the_summary_numbers)
+          merge_of_a_folder_no_batch_ran_in_says_so, the_report_has_a_page_per_asset_and_the_summary_numbers,
+          merge_tells_each_commands_decision_and_numbers_from_its_report,
+          the_report_shows_numbers_in_their_units_links_and_the_failures_log)
