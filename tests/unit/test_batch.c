@@ -461,13 +461,18 @@ static char *read_all(const char *dir, const char *name) {
   return s;
 }
 
-static void fake_out(const char *out, int order) {
-  char d[1200];
+/* an empty output folder with OUT/_batch/records and OUT/<also> */
+static void fresh_out(const char *out, const char *also) {
+  char d[1300];
   jnd_remove_tree(out);
   snprintf(d, sizeof d, "%s/_batch/records", out);
   CHECK_OK(jnd_mkdirs(d));
-  snprintf(d, sizeof d, "%s/a", out);
+  snprintf(d, sizeof d, "%s/%s", out, also);
   CHECK_OK(jnd_mkdirs(d));
+}
+
+static void fake_out(const char *out, int order) {
+  fresh_out(out, "a");
   write_file(out, "_batch/manifest.json",
              "{\"source\": \"/m/assets.csv\", \"base_dir\": \"/m\", \"rows\": ["
              "{\"line\": 2, \"id\": \"a\", \"asset\": \"builtin\", \"command\": \"texres\", \"options\": \"--views 2\"},"
@@ -609,12 +614,7 @@ static const struct {
 #define NKINDS (sizeof KINDS / sizeof KINDS[0])
 
 static void fake_kinds(const char *out) {
-  char d[1300];
-  jnd_remove_tree(out);
-  snprintf(d, sizeof d, "%s/_batch/records", out);
-  CHECK_OK(jnd_mkdirs(d));
-  snprintf(d, sizeof d, "%s/_batch/logs", out);
-  CHECK_OK(jnd_mkdirs(d));
+  fresh_out(out, "_batch/logs");
   jnd_text plan = {0};
   jnd_text_put(&plan, "{\"source\": \"/m/assets.csv\", \"base_dir\": \"/m\", \"rows\": [");
   for (size_t i = 0; i < NKINDS; i++) {
