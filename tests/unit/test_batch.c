@@ -181,6 +181,8 @@ TEST(a_missing_asset_fails_its_row_relative_to_the_manifest) {
  * inside one they are plain text, and so they are here */
 TEST(tilde_and_hash_inside_a_word_are_plain_text) {
   CHECK(split_is("--maps a~b x#1 --label=v#2", 4, (const char *[]){"--maps", "a~b", "x#1", "--label=v#2"}));
+  /* inside double quotes a backslash keeps $ and ` from expanding, as in a shell */
+  CHECK(split_is("\"cost \\$5 \\`x\\`\"", 1, (const char *[]){"cost $5 `x`"}));
   int argc;
   char **argv;
   CHECK_STATUS(jnd_shell_split("a ~b", &argc, &argv), JND_ERR_FORMAT);
@@ -369,8 +371,8 @@ TEST(slurm_scripts_run_the_shard_of_their_task_and_then_the_merge) {
     CHECK_OK(jnd_slurm_scripts(&m, NULL, NULL, &run, &q, &a, &b));
     free(a), free(b);
   }
-  const char *bad_extra[] = {"-x", "--=1", "--a\nb", "qos=low"};
-  for (size_t i = 0; i < 4; i++) {
+  const char *bad_extra[] = {"-x", "-qos=low", "--=1", "--a\nb", "qos=low"};
+  for (size_t i = 0; i < 5; i++) {
     jnd_slurm_params q = sp;
     q.extra = &bad_extra[i];
     CHECK_STATUS(jnd_slurm_scripts(&m, NULL, NULL, &run, &q, &a, &b), JND_ERR_ARG);
