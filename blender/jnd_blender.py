@@ -552,9 +552,9 @@ class JND_PT_panel(bpy.types.Panel):
         box.label(text=f"P {r['p']:.3f}, worst view {r['p_worst']:.3f}")
         box.label(text=f"P <= {r['threshold']:g}, Q {r['q']:g}: " + ("passes" if r["passes"] else "FAILS"))
         box.label(text=f"{r['before_mib']:.2f} -> {r['after_mib']:.2f} MiB")   # RGBA8 with mips
-        for im in r["images"]:
-            box.label(text=f"{im['image'] or ', '.join(im['maps'])}: {im['original'][0]}x{im['original'][1]}"
-                           f" -> {im['chosen'][0]}x{im['chosen'][1]}")
+        for im in r["images"]:   # the name, then the sizes: one line is cut in the sidebar
+            box.label(text=f"{im['image'] or ', '.join(im['maps'])}:")
+            box.label(text=f"  {im['original'][0]}x{im['original'][1]} -> {im['chosen'][0]}x{im['chosen'][1]}")
             nxt = im.get("next")
             if nxt:   # why it is not smaller
                 box.label(text=f"  {nxt['size'][0]}x{nxt['size'][1]}: P {'>= ' if nxt['at_least'] else ''}"
@@ -570,9 +570,8 @@ class JND_PT_panel(bpy.types.Panel):
     @staticmethod
     def draw_budget(context, lay, s, obj):
         col = lay.column()
-        row = col.row(align=True)
-        row.prop(s, "budget_memory")
-        row.prop(s, "budget_triangles")
+        col.prop(s, "budget_memory")   # a line each: side by side the sidebar cuts their names
+        col.prop(s, "budget_triangles")
         col.operator(JND_OT_budget.bl_idname, icon="SETTINGS")
         if obj is None or BUDGET_PROP not in obj:
             return
@@ -585,7 +584,8 @@ class JND_PT_panel(bpy.types.Panel):
         box.label(text=f"cost {c['cost_mib']:.2f} MiB (apart: {sep['cost_mib']:.2f})")
         for im in r["images"]:
             size = f"{im['original'][0]}x{im['original'][1]} -> " if im["original"] else ""
-            box.label(text=f"{im['image'] or ', '.join(im['maps'])}: {size}{im['chosen'][0]}x{im['chosen'][1]}")
+            box.label(text=f"{im['image'] or ', '.join(im['maps'])}:")
+            box.label(text=f"  {size}{im['chosen'][0]}x{im['chosen'][1]}")
         JND_PT_panel.draw_levels(context, box, r["levels"], r["switch_distance"])
         box.operator(JND_OT_apply_budget.bl_idname, icon="CHECKMARK")
 
