@@ -229,12 +229,29 @@ def _summary(obj, result):
 
 
 class _RunOnObject:
-    """An operator that exports the active mesh alone and runs a jnd task on it."""
+    """An operator that exports the active mesh alone and runs one jnd task
+    on it: a subclass names the task and the object's custom property that
+    keeps the run's summary, and says the task's options (task_options), what
+    the panel keeps of the result (summarise) and the line it reports
+    (report_line)."""
     bl_options = {"REGISTER"}
+    task = ""
+    prop = ""
 
     @classmethod
     def poll(cls, context):
         return context.active_object is not None and context.active_object.type == "MESH"
+
+    def task_options(self, s) -> dict:
+        """The task's keyword arguments from the panel's settings s."""
+        raise NotImplementedError
+
+    def summarise(self, obj, result, out) -> dict:
+        """What the panel shows and Apply needs (JSON-able)."""
+        raise NotImplementedError
+
+    def report_line(self, summary) -> str:
+        raise NotImplementedError
 
     def package(self, context):
         """The jnd package with only the active object selected (what the
@@ -252,11 +269,12 @@ class _RunOnObject:
         obj.select_set(True)
         return jnd
 
-    def export_and_run(self, context, task, call):
+    def _export_and_run(self, context, task, **options):
         """Exports the active object alone as GLB into a folder of Blender's
         temporary folder, kept (Apply imports from it), and runs
-        call(jnd, glb, out_dir) off the main thread: (its result, out_dir),
-        or None after reporting why not."""
+        jnd.<task>(glb, out_dir, **options) off the main thread, its
+        progress lines on the console: (its result, out_dir), or None after
+        reporting why not."""
         jnd = self.package(context)
         if jnd is None:
             return None
@@ -264,51 +282,45 @@ class _RunOnObject:
         glb = os.path.join(folder, f"{bpy.path.clean_name(context.active_object.name)}.glb")
         bpy.ops.export_scene.gltf(filepath=glb, export_format="GLB", use_selection=True)
         out = os.path.join(folder, task)
+
+        def progress(line, done, total):
+            if line:   # Blender's progress bar is the main thread's: the console's
+                print(f"jnd {task}: {line} ({done}/{total})")
+
+        run = getattr(jnd, task)
         try:
-            return _off_main_thread(lambda: call(jnd, glb, out)), out
+            return _off_main_thread(lambda: run(glb, out, progress=progress, **options)), out
         except jnd.JndError as e:
             self.report({"ERROR"}, f"jnd: {e}")
             return None
+
+    def execute(self, context):
+        obj = context.active_object
+        ran = self._export_and_run(context, self.task, **self.task_options(context.scene.jnd))
+        if ran is None:
+            return {"CANCELLED"}
+        summary = self.summarise(obj, *ran)
+        obj[self.prop] = json.dumps(summary)
+        self.report({"INFO"}, self.report_line(summary))
+        return {"FINISHED"}
 
 
 class JND_OT_texres(_RunOnObject, bpy.types.Operator):
     """Exports the selected object as GLB and runs jnd texres on it"""
     bl_idname = "jnd.texres"
     bl_label = "Run texres"
+    task, prop = "texres", PROP
 
-    def execute(self, context):
-        obj, s = context.active_object, context.scene.jnd
-        jnd = self.package(context)
-        if jnd is None:
-            return {"CANCELLED"}
-        wm = context.window_manager
-        main = threading.main_thread()
+    def task_options(self, s):
+        return dict(display=s.display, p=_decimal(s.p), q=_decimal(s.q), views=s.views,
+                    size=(s.view_size, s.view_size), confirm=s.confirm, min_size=s.min_size)
 
-        def progress(line, done, total):
-            if line:
-                print("jnd:", line)
-            if threading.current_thread() is main and total > 0:
-                wm.progress_update(min(done, total))
+    def summarise(self, obj, result, out):
+        return _summary(obj, result)
 
-        with tempfile.TemporaryDirectory(prefix="jnd_") as tmp:
-            glb = os.path.join(tmp, "object.glb")
-            bpy.ops.export_scene.gltf(filepath=glb, export_format="GLB", use_selection=True)
-            wm.progress_begin(0, 100)
-            try:
-                r = _off_main_thread(lambda: jnd.texres(
-                    glb, os.path.join(tmp, "out"), display=s.display, p=_decimal(s.p), q=_decimal(s.q),
-                    views=s.views, size=(s.view_size, s.view_size), confirm=s.confirm, min_size=s.min_size,
-                    progress=progress))
-            except jnd.JndError as e:
-                self.report({"ERROR"}, f"jnd: {e}")
-                return {"CANCELLED"}
-            finally:
-                wm.progress_end()
-        summary = _summary(obj, r)
-        obj[PROP] = json.dumps(summary)
-        self.report({"INFO"}, f"jnd: P {summary['p']:.3f}, {summary['before_mib']:.2f} MiB -> "
-                              f"{summary['after_mib']:.2f} MiB" + ("" if summary["passes"] else " (fails)"))
-        return {"FINISHED"}
+    def report_line(self, summary):
+        return (f"jnd: P {summary['p']:.3f}, {summary['before_mib']:.2f} MiB -> {summary['after_mib']:.2f} MiB"
+                + ("" if summary["passes"] else " (fails)"))
 
 
 class _ApplyRun:
@@ -370,25 +382,22 @@ class JND_OT_lod(_RunOnObject, bpy.types.Operator):
     """Exports the selected object as GLB and runs jnd lod on it for the screen"""
     bl_idname = "jnd.lod"
     bl_label = "Run lod"
+    task, prop = "lod", LOD_PROP
 
-    def execute(self, context):
-        obj, s = context.active_object, context.scene.jnd
-        ran = self.export_and_run(context, "lod", lambda jnd, glb, out: jnd.lod(
-            glb, out, screens=[s.display], p=_decimal(s.p), q=_decimal(s.q), views=s.lod_views,
-            judge_views=s.views, max_px=max(32, s.view_size), errors=s.lod_errors or None,
-            progress=lambda stage, done, total: print("jnd lod:", stage, done, total)))
-        if ran is None:
-            return {"CANCELLED"}
-        r, out = ran
+    def task_options(self, s):
+        return dict(screens=[s.display], p=_decimal(s.p), q=_decimal(s.q), views=s.lod_views, judge_views=s.views,
+                    max_px=max(32, s.view_size), errors=s.lod_errors or None)
+
+    def summarise(self, obj, r, out):
         sw = r.screens[0]   # the one screen
-        summary = {"levels": [lv["triangles"] for lv in r.levels], "glb": os.path.join(out, r.model["path"]),
-                   "screen": sw["name"], "perceptual_level": sw["perceptual_level"],
-                   "switch_distance": [-1 if d is None else d for d in sw["switch_distance_m"]]}
-        obj[LOD_PROP] = json.dumps(summary)
+        return {"levels": [lv["triangles"] for lv in r.levels], "glb": os.path.join(out, r.model["path"]),
+                "screen": sw["name"], "perceptual_level": sw["perceptual_level"],
+                "switch_distance": [-1 if d is None else d for d in sw["switch_distance_m"]]}
+
+    def report_line(self, summary):
         k = summary["perceptual_level"]
-        self.report({"INFO"}, f"jnd: {len(summary['levels'])} levels; on {summary['screen']} level {k} "
-                              f"({summary['levels'][k]} of {summary['levels'][0]} triangles)")
-        return {"FINISHED"}
+        return (f"jnd: {len(summary['levels'])} levels; on {summary['screen']} level {k} "
+                f"({summary['levels'][k]} of {summary['levels'][0]} triangles)")
 
 
 class JND_OT_apply_lod(_ApplyRun, bpy.types.Operator):
@@ -453,25 +462,22 @@ class JND_OT_budget(_RunOnObject, bpy.types.Operator):
     """Exports the selected object as GLB and runs jnd budget on it: texture sizes and levels chosen together"""
     bl_idname = "jnd.budget"
     bl_label = "Run budget"
+    task, prop = "budget", BUDGET_PROP
 
-    def execute(self, context):
-        obj, s = context.active_object, context.scene.jnd
-        ran = self.export_and_run(context, "budget", lambda jnd, glb, out: jnd.budget(
-            glb, out, display=s.display, screens=[s.display], p=_decimal(s.p), q=_decimal(s.q), views=s.views,
-            size=(s.view_size, s.view_size), confirm=s.confirm, min_size=s.min_size, judge_views=s.views,
-            max_px=max(32, s.view_size), errors=s.lod_errors or None,
-            memory=f"{_decimal(s.budget_memory)}MiB" if s.budget_memory > 0 else None,
-            triangles=s.budget_triangles or None,
-            progress=lambda line, done, total: line and print("jnd budget:", line)))
-        if ran is None:
-            return {"CANCELLED"}
-        r, out = ran
-        summary = _budget_summary(obj, r, out)
-        obj[BUDGET_PROP] = json.dumps(summary)
+    def task_options(self, s):
+        return dict(display=s.display, screens=[s.display], p=_decimal(s.p), q=_decimal(s.q), views=s.views,
+                    size=(s.view_size, s.view_size), confirm=s.confirm, min_size=s.min_size, judge_views=s.views,
+                    max_px=max(32, s.view_size), errors=s.lod_errors or None,
+                    memory=f"{_decimal(s.budget_memory)}MiB" if s.budget_memory > 0 else None,
+                    triangles=s.budget_triangles or None)
+
+    def summarise(self, obj, result, out):
+        return _budget_summary(obj, result, out)
+
+    def report_line(self, summary):
         c = summary["chosen"]
-        self.report({"INFO"}, f"jnd: level {c['level']}, {c['triangles']} triangles, {c['memory_mib']:.2f} MiB "
-                              f"of textures, P {c['statistic']:.3f}" + ("" if summary["passes"] else " (fails)"))
-        return {"FINISHED"}
+        return (f"jnd: level {c['level']}, {c['triangles']} triangles, {c['memory_mib']:.2f} MiB "
+                f"of textures, P {c['statistic']:.3f}" + ("" if summary["passes"] else " (fails)"))
 
 
 def _budget_summary(obj, result, out):
@@ -546,9 +552,9 @@ class JND_PT_panel(bpy.types.Panel):
         box.label(text=f"P {r['p']:.3f}, worst view {r['p_worst']:.3f}")
         box.label(text=f"P <= {r['threshold']:g}, Q {r['q']:g}: " + ("passes" if r["passes"] else "FAILS"))
         box.label(text=f"{r['before_mib']:.2f} -> {r['after_mib']:.2f} MiB")   # RGBA8 with mips
-        for im in r["images"]:
-            box.label(text=f"{im['image'] or ', '.join(im['maps'])}: {im['original'][0]}x{im['original'][1]}"
-                           f" -> {im['chosen'][0]}x{im['chosen'][1]}")
+        for im in r["images"]:   # the name, then the sizes: one line is cut in the sidebar
+            box.label(text=f"{im['image'] or ', '.join(im['maps'])}:")
+            box.label(text=f"  {im['original'][0]}x{im['original'][1]} -> {im['chosen'][0]}x{im['chosen'][1]}")
             nxt = im.get("next")
             if nxt:   # why it is not smaller
                 box.label(text=f"  {nxt['size'][0]}x{nxt['size'][1]}: P {'>= ' if nxt['at_least'] else ''}"
@@ -564,9 +570,8 @@ class JND_PT_panel(bpy.types.Panel):
     @staticmethod
     def draw_budget(context, lay, s, obj):
         col = lay.column()
-        row = col.row(align=True)
-        row.prop(s, "budget_memory")
-        row.prop(s, "budget_triangles")
+        col.prop(s, "budget_memory")   # a line each: side by side the sidebar cuts their names
+        col.prop(s, "budget_triangles")
         col.operator(JND_OT_budget.bl_idname, icon="SETTINGS")
         if obj is None or BUDGET_PROP not in obj:
             return
@@ -579,7 +584,8 @@ class JND_PT_panel(bpy.types.Panel):
         box.label(text=f"cost {c['cost_mib']:.2f} MiB (apart: {sep['cost_mib']:.2f})")
         for im in r["images"]:
             size = f"{im['original'][0]}x{im['original'][1]} -> " if im["original"] else ""
-            box.label(text=f"{im['image'] or ', '.join(im['maps'])}: {size}{im['chosen'][0]}x{im['chosen'][1]}")
+            box.label(text=f"{im['image'] or ', '.join(im['maps'])}:")
+            box.label(text=f"  {size}{im['chosen'][0]}x{im['chosen'][1]}")
         JND_PT_panel.draw_levels(context, box, r["levels"], r["switch_distance"])
         box.operator(JND_OT_apply_budget.bl_idname, icon="CHECKMARK")
 

@@ -375,6 +375,15 @@ const char *const *jnd_display_preset_names(void);
  * (inches) and resolution, seen from distance_m metres. */
 double jnd_ppd_from_geometry(double diagonal_in, int width_px, int height_px, double distance_m);
 
+/* Checks every quantity of d, as a display is accepted (jnd_model_create;
+ * jnd_display_apply checks the luminances it uses): ppd in [1, 1000]; peak
+ * in [0.01, 100000] cd/m²; 0 <= black < peak; ambient in [0, 200000] lux;
+ * reflectivity in [0, 1]; exr_scale in [1e-9, 1e9] cd/m² per unit; the
+ * geometry finite and not negative, a diagonal with a distance and a
+ * resolution; a known task; a terminated name. NaN and infinities fail
+ * every range. JND_ERR_ARG with one line, "display NAME: what is wrong". */
+jnd_status jnd_display_check(const jnd_display *d);
+
 /* Display model: converts an image in the file's encoding to absolute linear
  * RGB (Rec.709 primaries) in cd/m²: L = (peak − black)·EOTF(V) + black +
  * reflectivity·ambient/π. sRGB inputs use the sRGB EOTF; linear inputs are

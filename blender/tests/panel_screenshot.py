@@ -4,11 +4,12 @@ and the window only draws their results, which the objects keep:
 
     JND_PYTHONPATH=build/python blender -b --factory-startup -noaudio \\
         --python blender/tests/panel_screenshot.py -- prepare DIR/panel.blend
-    JND_PYTHONPATH=build/python xvfb-run -a -s "-screen 0 1280x960x24" blender DIR/panel.blend \\
+    JND_PYTHONPATH=build/python xvfb-run -a -s "-screen 0 1280x1440x24" blender DIR/panel.blend \\
         -noaudio --enable-event-simulate --python blender/tests/panel_screenshot.py -- shoot docs/blender_panel.png
 
 prepare: a UV sphere with a 256² image, the add-on installed and enabled,
-Run texres and Run lod with small settings, saved. shoot: Blender with a
+Run texres, Run lod and Run budget with small settings, saved (the three
+boxes of results showing). shoot: Blender with a
 window (Xvfb, Mesa's llvmpipe for GL), the sidebar open on the jnd tab,
 bpy.ops.screen.screenshot once the window has been drawn, and quit.
 xvfb-run comes from Debian's xvfb (scripts/install-deps.sh).
@@ -40,6 +41,7 @@ if mode == "prepare":
     s.lod_errors, s.lod_views = "1/256,1/64,1/16", 1
     assert bpy.ops.jnd.texres() == {"FINISHED"}
     assert bpy.ops.jnd.lod() == {"FINISHED"}
+    assert bpy.ops.jnd.budget() == {"FINISHED"}
     image.pack()
     bpy.ops.wm.save_as_mainfile(filepath=out)
 elif mode == "shoot":

@@ -79,10 +79,9 @@ class Display:
                                 # (toggled in place: stricter; docs/model.md "Viewing task")
 
     def _to_c(self):
-        """The jnd_display. The library checks the quantities where it uses
-        them (ppd: the model; peak and black: the display's transform), with
-        its one-line message; the EXR scale, which it takes as it comes, is
-        checked here."""
+        """The jnd_display. The library checks every quantity where a
+        display is accepted (jnd_display_check: the model; the display's
+        transform), with its one-line message ("display phone: ...")."""
         d = ffi.new("jnd_display *")
         name = self.name.encode()[:31]
         ffi.memmove(d.name, name, len(name))
@@ -92,8 +91,6 @@ class Display:
         task = ffi.new("jnd_viewing_task *")
         _check(lib.jnd_viewing_task_parse(str(self.task).encode(), task), f"display {self.name}: task: ")
         d.task = task[0]
-        if not d.exr_scale > 0:
-            raise JndError(f"display {self.name}: exr_scale {self.exr_scale:g} is not above 0 (cd/m² per unit)")
         return d
 
     @classmethod

@@ -266,7 +266,7 @@ class _Options:
         self._bad(f"--{name}: '{v}' is not WxH with W and H in {lo}..{hi} pixels")
 
     # -- display (cli_display_get: an explicit quantity wins over the preset's;
-    #    the library checks ppd, peak and black; task: "side-by-side" or "flicker")
+    #    the library checks every quantity, jnd_display_check; task: "side-by-side" or "flicker")
     def display(self, model_params, set_threads: bool = True) -> bool:
         """Sets model_params.display; returns whether exr_scale was given."""
         from . import Display, display as preset
@@ -274,9 +274,7 @@ class _Options:
         disp = preset(d) if isinstance(d, str) else preset() if d is None else d
         if not isinstance(disp, Display):
             self._bad(f"--display: a preset name or a jnd.Display, not {type(d).__name__}")
-        vals = {k: self.number(k, lo, hi) for k, lo, hi in (
-            ("ppd", None, None), ("peak", None, None), ("black", None, None), ("ambient", 0, 200000),
-            ("reflectivity", 0, 1), ("exr_scale", 1e-9, 1e9))}
+        vals = {k: self.number(k) for k in ("ppd", "peak", "black", "ambient", "reflectivity", "exr_scale")}
         c = disp._to_c()
         if vals["ppd"] is not None:
             c.ppd, c.diagonal_in, c.distance_m, c.width_px, c.height_px = vals["ppd"], 0, 0, 0, 0

@@ -5,6 +5,7 @@ import math
 import os
 import resource
 import subprocess
+import sys
 import threading
 import time
 
@@ -286,12 +287,23 @@ def test_texres_from_python_is_the_commands_report(tmp_path, renderer):
     assert all(isinstance(d, int) and isinstance(t, int) for _, d, t in lines)
 
 
-def test_texres_options_reach_the_library(tmp_path, renderer):
+def test_texres_options_reach_the_library_with_the_gil_free(tmp_path, renderer):
     args = ["builtin", *SMALL, "--confirm", "0", "--sizes", "128,64", "--maps", "baseColor", "--ppd", "60",
             "--peak", "400", "--elevation", "10,40", "--q", "0.5"]
-    same_as_cli(tmp_path, "texres", args,
-                lambda out: jnd.texres("builtin", out, confirm=0, sizes=[128, 64], maps=["baseColor"], ppd=60,
-                                       peak=400, elevation=(10, 40), q=0.5, **SMALL_KW))
+    timing = []
+
+    def call(out):
+        result = []
+        timing.append(ticks_during(lambda: result.append(
+            jnd.texres("builtin", out, confirm=0, sizes=[128, 64], maps=["baseColor"], ppd=60, peak=400,
+                       elevation=(10, 40), q=0.5, **SMALL_KW))))
+        return result[0]
+
+    same_as_cli(tmp_path, "texres", args, call)
+    # no progress callback: a GIL held for the whole run (seconds) would let
+    # the other thread tick once or twice
+    seconds, during = timing[0]
+    assert during >= 50, (seconds, during)
 
 
 def test_pca_from_python_is_the_commands_report(tmp_path, renderer):
@@ -302,16 +314,29 @@ def test_pca_from_python_is_the_commands_report(tmp_path, renderer):
     assert r.passes is None and r.report["command"] == "pca"
 
 
-def shared_maps():
+def shared_maps(folder):
+    """Two of the shared helmet's maps (2048² JPEG), every eighth pixel of
+    them as 256² PNG files in folder: the same content at a 64th of the
+    pixels (the command and the package read the same files)."""
     d = os.path.join(os.environ.get("JND_SHARED", "/nonexistent"), "data/texsets/damagedhelmet")
     maps = [os.path.join(d, f) for f in ("Default_AO.jpg", "Default_albedo.jpg")]
     if not all(os.path.isfile(m) for m in maps):
         pytest.skip("needs the shared texture sets ($JND_SHARED/data/texsets)")
-    return maps
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tests", "e2e"))
+    from pngwrite import png
+    small = []
+    for m in maps:
+        a, _ = jnd.read_image(m)
+        h, w, c = a[::8, ::8].shape
+        rows = a[::8, ::8].tolist()   # Python floats: pngwrite's loop is per pixel
+        path = os.path.join(folder, os.path.basename(m)[:-4] + ".png")
+        png(path, w, h, c, lambda x, y: rows[y][x])
+        small.append(path)
+    return small
 
 
 def test_pca_of_map_files_is_the_commands_report(tmp_path):
-    maps = shared_maps()
+    maps = shared_maps(tmp_path)
     args = [*maps, "--components", "3", "--bits", "16,8", "--resolutions", "1,2", "--weight", "albedo=2"]
     same_as_cli(tmp_path, "pca", args,
                 lambda out: jnd.pca(maps, out, components=3, bits=[16, 8], resolutions="1,2", weight="albedo=2"))
@@ -374,8 +399,8 @@ def test_bad_task_input_raises_jnds_message_and_writes_nothing(tmp_path):
     (dict(sizes="64,abc"), "--sizes:"),
 ])
 def test_bad_options_raise_one_line_and_write_nothing(tmp_path, kw, needle):
-    with pytest.raises(jnd.JndError) as e:
-        jnd.texres("builtin", tmp_path / "out", **kw)
+    with pytest.raises(jnd.JndError) as e:   # the builtin asset's smallest maps: the check, not the asset, is tested
+        jnd.texres("builtin", tmp_path / "out", map_size=16, **kw)
     assert needle in str(e.value) and "\n" not in str(e.value)
     assert not (tmp_path / "out").exists()
 
@@ -412,13 +437,6 @@ def test_an_exception_in_the_progress_callback_surfaces(tmp_path, renderer):
     assert len(calls) == 1   # not called again after it raised
 
 
-def test_the_gil_is_released_during_a_task(tmp_path, renderer):
-    seconds, during = ticks_during(lambda: jnd.texres("builtin", tmp_path / "out", confirm=0, **SMALL_KW))
-    # no progress callback: a GIL held for the whole run (seconds) would let
-    # the other thread tick once or twice
-    assert during >= 50, (seconds, during)
-
-
 def test_lod_from_python_is_the_commands_report(tmp_path, renderer):
     args = ["builtin", "--map-size", "64", "--screens", "phone,320x240@20", "--judge-views", "1", "--views", "1",
             "--max-px", "64", "--errors", "1/256,1/64", "--no-textures", "--pop-motion", "spin"]
@@ -429,8 +447,11 @@ def test_lod_from_python_is_the_commands_report(tmp_path, renderer):
                                         pop_motion="spin", progress=lambda *a: stages.append(a[0])))
     assert r.report["command"] == "lod" and len(r.levels) == 3
     assert stages and all(isinstance(s, str) for s in stages)
-    with pytest.raises(jnd.JndError, match="lod: tolerance 20 outside"):     # the library's check
-        jnd.lod("builtin", tmp_path / "x", tolerance=20, map_size=64)
+    # the library's check; it comes after the chain and 003's analysis (the
+    # switch distances'), so on the compared run's small options, not the defaults' (minutes)
+    with pytest.raises(jnd.JndError, match="lod: tolerance 20 outside"):
+        jnd.lod("builtin", tmp_path / "x", tolerance=20, map_size=64, screens=["320x240@20"], judge_views=1, views=1,
+                max_px=64, errors="1/256,1/64", no_textures=True, no_pop=True)
     with pytest.raises(jnd.JndError, match="--pop-motion: 'walk' is not orbit, spin or pan"):
         jnd.lod("builtin", tmp_path / "x", pop_motion="walk")
     with pytest.raises(jnd.JndError, match="lod: --screens: screen 'tv'"):
@@ -543,8 +564,9 @@ def test_gaze_table_from_python_is_the_commands_report_with_the_gil_free(tmp_pat
     assert r.report["command"] == "gaze" and r.report["parameters"]["display"]["task"] == "flicker"
     seconds, during = timing[0]
     assert during >= 50, (seconds, during)   # no progress callback: the GIL is free for the whole run
-    steps = []
-    jnd.gaze("builtin:sphere", tmp_path / "again", progress=lambda *a: steps.append(a), **GAZE_KW)
+    steps = []   # the progress of a run of one distance and one eccentricity
+    jnd.gaze("builtin:sphere", tmp_path / "again", progress=lambda *a: steps.append(a),
+             **{**GAZE_KW, "distances": [20], "eccentricities": [0]})
     assert steps and all(line is None and 0 <= done <= total for line, done, total in steps)
     assert steps[-1][1] == steps[-1][2]
     with pytest.raises(jnd.JndError, match=r"gaze: --size does not apply \(its views are --distances"):
@@ -656,12 +678,48 @@ def test_the_viewing_task_is_the_commands_task(tmp_path, demo):
 
 
 def test_the_display_is_checked_by_the_library():
-    """ppd, peak and black are the library's checks, in its words; the EXR
-    scale, which it takes as it comes, is the package's."""
+    """Every quantity of a display is the library's check (jnd_display_check),
+    in its words: NaN, infinite, negative or out of range, from a
+    jnd.Display or a task's keywords; the package checks none itself."""
     ref = np.full((16, 16), 0.5, np.float32)
-    with pytest.raises(jnd.JndError, match=r"model: pixels per degree must be in \[1, 1000\], not 0"):
+    with pytest.raises(jnd.JndError, match=r"^display phone: pixels per degree must be in \[1, 1000\], not 0$"):
         jnd.Model(jnd.display("phone", ppd=0))
-    with pytest.raises(jnd.JndError, match=r"display: need 0 <= black \(0\.5\) < peak \(0\) cd/m²"):
-        jnd.diff(ref, ref, display=jnd.display("phone", peak_cdm2=0))
-    with pytest.raises(jnd.JndError, match="exr_scale 0 is not above 0"):
+    with pytest.raises(jnd.JndError, match=r"^display phone: need 0 <= black \(0\.5\) < peak \(0\.4\) cd/m²$"):
+        jnd.diff(ref, ref, display=jnd.display("phone", peak_cdm2=0.4))
+    nan, inf = float("nan"), float("inf")
+    for field, word in (("ppd", "pixels per degree"), ("peak_cdm2", "peak"), ("black_cdm2", "black"),
+                        ("ambient_lux", "ambient"), ("reflectivity", "reflectivity"), ("exr_scale", "exr_scale"),
+                        ("diagonal_in", "diagonal"), ("distance_m", "distance")):
+        for bad in (nan, inf, -inf, -1.0):
+            with pytest.raises(jnd.JndError) as e:
+                jnd.diff(ref, ref, display=jnd.display("phone", **{field: bad}), encoding="linear")
+            msg = str(e.value)
+            assert msg.startswith("display phone: ") and word in msg and "\n" not in msg, (field, bad, msg)
+            assert e.value.status == "JND_ERR_ARG"
+    with pytest.raises(jnd.JndError, match=r"^display phone: exr_scale 0 is outside \[1e-09, 1e\+09\] cd/m² per unit$"):
         jnd.diff(ref, ref, display=jnd.display("phone", exr_scale=0), encoding="linear")
+    # no check of the package's own is left in its source
+    import inspect
+    assert "exr_scale" not in inspect.getsource(jnd.Display._to_c)
+
+
+def test_a_tasks_display_keywords_are_checked_by_the_library(tmp_path, demo):
+    """The command's --ambient, --reflectivity, --exr-scale, --peak from
+    Python: out of range, the library's line, nothing written; a display the
+    command's parser lets through (black above peak) gets the same line from
+    the command as from Python."""
+    for kw, needle in ((dict(ambient=-1), "display standard-fhd: ambient -1 lux is outside [0, 200000]"),
+                       (dict(reflectivity=2), "display standard-fhd: reflectivity 2 is outside [0, 1]"),
+                       (dict(exr_scale=0), "display standard-fhd: exr_scale 0 is outside"),
+                       (dict(display="phone", peak=1e6), "display phone: peak 1e+06 cd/m² is outside")):
+        with pytest.raises(jnd.JndError) as e:
+            jnd.diff_run(*demo, json=tmp_path / "out.json", **kw)
+        assert needle in str(e.value), (kw, str(e.value))
+    assert not (tmp_path / "out.json").exists()
+    with pytest.raises(jnd.JndError) as e:
+        jnd.diff_run(*demo, peak=0.5, black=1, json=tmp_path / "out.json")
+    cli = subprocess.run([JND, "diff", *demo, "--peak", "0.5", "--black", "1", "--json", str(tmp_path / "out.json")],
+                         capture_output=True, text=True, env=CLI_ENV)
+    assert cli.returncode == 2 and cli.stderr.strip() == "jnd: " + str(e.value)
+    assert "display standard-fhd: need 0 <= black (1) < peak (0.5) cd/m²" in str(e.value)
+    assert not (tmp_path / "out.json").exists()

@@ -74,6 +74,58 @@ jnd_status jnd_display_preset(const char *name, jnd_display *d) {
   return JND_OK;
 }
 
+/* The name a display's messages give: "display NAME: ..." ("display: ..."
+ * where it has none or it is not a terminated string). */
+static const char *label(const jnd_display *d, char buf[40]) {
+  if (memchr(d->name, 0, sizeof d->name) && d->name[0])
+    snprintf(buf, 40, "display %s", d->name);
+  else
+    snprintf(buf, 40, "display");
+  return buf;
+}
+
+static int within(double x, double lo, double hi) { return x >= lo && x <= hi; } /* NaN: no */
+
+/* The quantities the display's transform uses: luminances, the room's light, the EXR scale. */
+static jnd_status check_light(const jnd_display *d) {
+  char who[40];
+  if (!within(d->peak_cdm2, 0.01, 100000))
+    return jnd_fail(JND_ERR_ARG, "%s: peak %g cd/m² is outside [0.01, 100000]", label(d, who), d->peak_cdm2);
+  if (!(d->black_cdm2 >= 0 && d->black_cdm2 < d->peak_cdm2))
+    return jnd_fail(JND_ERR_ARG, "%s: need 0 <= black (%g) < peak (%g) cd/m²", label(d, who), d->black_cdm2,
+                    d->peak_cdm2);
+  if (!within(d->ambient_lux, 0, 200000))
+    return jnd_fail(JND_ERR_ARG, "%s: ambient %g lux is outside [0, 200000]", label(d, who), d->ambient_lux);
+  if (!within(d->reflectivity, 0, 1))
+    return jnd_fail(JND_ERR_ARG, "%s: reflectivity %g is outside [0, 1]", label(d, who), d->reflectivity);
+  if (!within(d->exr_scale, 1e-9, 1e9))
+    return jnd_fail(JND_ERR_ARG, "%s: exr_scale %g is outside [1e-09, 1e+09] cd/m² per unit", label(d, who),
+                    d->exr_scale);
+  return JND_OK;
+}
+
+jnd_status jnd_display_check(const jnd_display *d) {
+  char who[40];
+  if (!memchr(d->name, 0, sizeof d->name))
+    return jnd_fail(JND_ERR_ARG, "display: its name is not a string of under %d bytes", (int)sizeof d->name);
+  if (!within(d->ppd, 1, 1000))
+    return jnd_fail(JND_ERR_ARG, "%s: pixels per degree must be in [1, 1000], not %g", label(d, who), d->ppd);
+  jnd_status s = check_light(d);
+  if (s != JND_OK) return s;
+  /* the geometry the ppd came from: none (0, a ppd given directly), a
+   * resolution alone (a screen's pixels) or a whole screen */
+  if (!within(d->diagonal_in, 0, 1e6) || !within(d->distance_m, 0, 1e6) || d->width_px < 0 || d->height_px < 0)
+    return jnd_fail(JND_ERR_ARG, "%s: diagonal (%g in), distance (%g m) and resolution (%dx%d) must be finite, not negative",
+                    label(d, who), d->diagonal_in, d->distance_m, d->width_px, d->height_px);
+  if ((d->diagonal_in > 0 || d->distance_m > 0) &&
+      !(d->diagonal_in > 0 && d->distance_m > 0 && d->width_px > 0 && d->height_px > 0))
+    return jnd_fail(JND_ERR_ARG, "%s: a screen's geometry needs a diagonal (%g in), a distance (%g m) and a resolution (%dx%d)",
+                    label(d, who), d->diagonal_in, d->distance_m, d->width_px, d->height_px);
+  if (d->task != JND_TASK_SIDE_BY_SIDE && d->task != JND_TASK_FLICKER)
+    return jnd_fail(JND_ERR_ARG, "%s: unknown viewing task %d (side-by-side or flicker)", label(d, who), (int)d->task);
+  return JND_OK;
+}
+
 enum { SPAN = 8192 };
 
 /* One span of sRGB signal → cd/m². A span of 8-bit codes (most inputs) goes
@@ -134,9 +186,8 @@ static void display_channel(const float *src, const float *alpha, jnd_encoding e
 
 jnd_status jnd_display_apply(const jnd_display *d, const jnd_image *in, jnd_encoding enc, int has_alpha,
                              jnd_image *out) {
-  if (!(d->peak_cdm2 > 0) || d->black_cdm2 < 0 || d->black_cdm2 >= d->peak_cdm2)
-    return jnd_fail(JND_ERR_ARG, "display: need 0 <= black (%g) < peak (%g) cd/m²", d->black_cdm2,
-                    d->peak_cdm2);
+  jnd_status st = check_light(d);
+  if (st != JND_OK) return st;
   if (in->c < 1 || in->c > 4) return jnd_fail(JND_ERR_ARG, "display: images need 1–4 channels, not %d", in->c);
   int colour = in->c >= 3;
   int alpha_ch = has_alpha ? (in->c == 2 ? 1 : in->c == 4 ? 3 : -1) : -1;

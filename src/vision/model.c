@@ -125,8 +125,8 @@ static float *lut_band(const jnd_model *m, int band) {
 
 jnd_status jnd_model_create(const jnd_model_params *p, jnd_model **out) {
   *out = NULL;
-  if (!(p->display.ppd >= 1 && p->display.ppd <= 1000))
-    return jnd_fail(JND_ERR_ARG, "model: pixels per degree must be in [1, 1000], not %g", p->display.ppd);
+  jnd_status ds = jnd_display_check(&p->display);
+  if (ds != JND_OK) return ds;
   if (!(p->sensitivity > 0) || !(p->sens_rg >= 0) || !(p->sens_yv >= 0))
     return jnd_fail(JND_ERR_ARG, "model: sensitivities must be positive");
   if (!(p->min_band_cpd > 0.01)) return jnd_fail(JND_ERR_ARG, "model: min_band_cpd must be > 0.01");

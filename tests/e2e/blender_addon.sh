@@ -104,7 +104,7 @@ esac
 
 expect_exit 0 "jnd budget on the same ball export with the panel's options" \
   "$JND" budget "$T/ball.glb" -o "$T/cli_budget" --display standard-fhd --screens standard-fhd --p 0.2 --q 0.1 \
-  --views 2 --size 96x96 --confirm 0 --min-size 32 --judge-views 2 --max-px 96 --errors 1/256,1/64,1/16 --quiet
+  --views 2 --size 96x96 --confirm 0 --min-size 32 --judge-views 2 --max-px 96 --errors 1/64,1/16 --quiet
 verdict=$(python3 - "$T" <<'PY'
 import json, sys
 t = sys.argv[1]

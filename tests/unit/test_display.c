@@ -5,6 +5,7 @@
  * number a check compares with a value computed without the code. Every
  * decision of jnd depends on the ppd a preset gives. */
 #include <math.h>
+#include <stddef.h>
 
 #include "jnd.h"
 #include "test.h"
@@ -128,6 +129,107 @@ TEST(display_model_follows_its_formula_on_every_preset) {
   }
 }
 
+/* A display is checked where it is accepted (jnd_display_check; the model
+ * and the display's transform): every quantity NaN, infinite, negative or
+ * out of its range is JND_ERR_ARG with one line naming the display and the
+ * quantity, never a model or an image made of it */
+TEST(a_display_with_a_nan_inf_or_negative_quantity_is_refused_in_one_line) {
+  const double nan = NAN, inf = INFINITY;
+  static const struct {
+    size_t off;
+    double lo_bad, hi_bad; /* just outside the range, below and above (0: none) */
+    const char *word;
+  } q[] = {
+      {offsetof(jnd_display, ppd), 0.99, 1000.5, "pixels per degree"},
+      {offsetof(jnd_display, peak_cdm2), 0.009, 100001, "peak"},
+      {offsetof(jnd_display, black_cdm2), -1e-9, 0, "black"},
+      {offsetof(jnd_display, ambient_lux), -1e-9, 200001, "ambient"},
+      {offsetof(jnd_display, reflectivity), -1e-9, 1.000001, "reflectivity"},
+      {offsetof(jnd_display, exr_scale), 1e-10, 2e9, "exr_scale"},
+      {offsetof(jnd_display, diagonal_in), -1, 0, "diagonal"},
+      {offsetof(jnd_display, distance_m), -1, 0, "distance"},
+  };
+  jnd_image in;
+  CHECK_OK(jnd_image_alloc(&in, 4, 4, 3));
+  for (size_t i = 0; i < 48; i++) in.data[i] = 0.5f;
+  jnd_display good;
+  CHECK_OK(jnd_display_preset("phone", &good));
+  CHECK_OK(jnd_display_check(&good));
+  for (size_t k = 0; k < sizeof q / sizeof q[0]; k++) {
+    const double bad[] = {nan, inf, -inf, -1, q[k].lo_bad, q[k].hi_bad};
+    for (size_t b = 0; b < sizeof bad / sizeof bad[0]; b++) {
+      if (bad[b] == 0 && b >= 4) continue; /* no bound on that side */
+      jnd_display d = good;
+      *(double *)((char *)&d + q[k].off) = bad[b];
+      CHECK_STATUS(jnd_display_check(&d), JND_ERR_ARG);
+      const char *e = jnd_last_error();
+      fprintf(stderr, "  %s = %g: %s\n", q[k].word, bad[b], e);
+      CHECK(strncmp(e, "display phone: ", 15) == 0 && strstr(e, q[k].word) && !strchr(e, '\n'));
+      /* the model refuses it with the same line */
+      jnd_model_params mp;
+      jnd_model_defaults(&mp);
+      mp.display = d;
+      jnd_model *m = (jnd_model *)&mp; /* not NULL: the call must set it */
+      CHECK_STATUS(jnd_model_create(&mp, &m), JND_ERR_ARG);
+      CHECK(m == NULL && strstr(jnd_last_error(), q[k].word));
+      /* the transform refuses the quantities it uses and makes no image */
+      if (k >= 1 && k <= 5) {
+        jnd_image out = {0};
+        CHECK_STATUS(jnd_display_apply(&d, &in, JND_ENCODING_LINEAR, 0, &out), JND_ERR_ARG);
+        CHECK(out.data == NULL && strstr(jnd_last_error(), q[k].word));
+      }
+    }
+  }
+  /* black must stay below peak; the black a preset gives is inside */
+  jnd_display d = good;
+  d.black_cdm2 = d.peak_cdm2;
+  CHECK_STATUS(jnd_display_check(&d), JND_ERR_ARG);
+  CHECK(strstr(jnd_last_error(), "need 0 <= black (500) < peak (500)") != NULL);
+  /* the geometry: a diagonal without a distance or a resolution is no screen;
+   * a resolution alone (a screen's pixels, ppd given) and none at all are */
+  d = good;
+  d.distance_m = 0;
+  CHECK_STATUS(jnd_display_check(&d), JND_ERR_ARG);
+  CHECK(strstr(jnd_last_error(), "geometry") != NULL);
+  d = good;
+  d.width_px = -1;
+  CHECK_STATUS(jnd_display_check(&d), JND_ERR_ARG);
+  d = good;
+  d.diagonal_in = d.distance_m = 0;
+  CHECK_OK(jnd_display_check(&d));
+  d.width_px = d.height_px = 0;
+  CHECK_OK(jnd_display_check(&d));
+  /* a task outside the enum, a name without its end */
+  d = good;
+  d.task = (jnd_viewing_task)7;
+  CHECK_STATUS(jnd_display_check(&d), JND_ERR_ARG);
+  CHECK(strstr(jnd_last_error(), "task") != NULL);
+  d = good;
+  memset(d.name, 'x', sizeof d.name);
+  CHECK_STATUS(jnd_display_check(&d), JND_ERR_ARG);
+  CHECK(strncmp(jnd_last_error(), "display: ", 9) == 0);
+  /* every preset and the edges of each range pass */
+  const char *const *names = jnd_display_preset_names();
+  for (int i = 0; names[i]; i++) {
+    CHECK_OK(jnd_display_preset(names[i], &d));
+    CHECK_OK(jnd_display_check(&d));
+  }
+  d = good;
+  d.ppd = 1;
+  d.peak_cdm2 = 0.01;
+  d.black_cdm2 = 0;
+  d.ambient_lux = 200000;
+  d.reflectivity = 1;
+  d.exr_scale = 1e9;
+  CHECK_OK(jnd_display_check(&d));
+  d.ppd = 1000;
+  d.exr_scale = 1e-9;
+  d.peak_cdm2 = 100000;
+  CHECK_OK(jnd_display_check(&d));
+  jnd_image_free(&in);
+}
+
 RUN_TESTS(each_preset_ppd_is_recomputed_from_its_size_resolution_and_distance,
           ppd_grows_with_distance_and_resolution_and_falls_with_size,
-          every_preset_is_a_1000_to_1_matte_panel_in_a_dark_room, display_model_follows_its_formula_on_every_preset)
+          every_preset_is_a_1000_to_1_matte_panel_in_a_dark_room, display_model_follows_its_formula_on_every_preset,
+          a_display_with_a_nan_inf_or_negative_quantity_is_refused_in_one_line)
