@@ -36,11 +36,11 @@ measure() {
 
 read -r jt jm < <(measure "$JND" diff "$out/reference.png" "$out/test.png" --json "$out/diff.json" --quiet) || exit 1
 awk -v t="$jt" -v m="$jm" -v px="$px" -v n="$RUNS" 'BEGIN{
-  printf "   jnd diff         1920x1080: %.3f s (median of %d), %.2f Mpixel/s, peak %.1f MB = %.1f bytes/pixel\n",
+  printf "   jnd diff         1920x1080: %.3f s (median of %d), %.2f Mpixel/s, peak %.1f MiB = %.1f bytes/pixel\n",
          t, n, px / 1e6 / t, m / 1024, m * 1024 / px }'
 peer() { # peer NAME SECONDS PEAK_KIB
   awk -v name="$1" -v t="$2" -v m="$3" -v px="$px" -v n="$RUNS" 'BEGIN{
-    printf "   %-16s 1920x1080: %.3f s (median of %d), %.2f Mpixel/s, peak %.1f MB = %.1f bytes/pixel\n",
+    printf "   %-16s 1920x1080: %.3f s (median of %d), %.2f Mpixel/s, peak %.1f MiB = %.1f bytes/pixel\n",
            name, t, n, px / 1e6 / t, m / 1024, m * 1024 / px }'
   awk -v name="$1" -v a="$jt" -v b="$2" -v ma="$jm" -v mb="$3" 'BEGIN{
     printf "   ratio: jnd is %.1fx faster than %s (target 10x) and uses %.2fx its peak memory\n", b / a, name, ma / mb }'

@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # jnd pca: the decomposition of the DamagedHelmet set (2048² × 13 channels)
 # on 2 threads — target ≤ 2 s — and the whole run with block compression
-# (MB/s = MB of float32 channel data per second); then --p with rendered
+# (MiB/s = MiB of float32 channel data per second); then --p with rendered
 # visibility on webxr controllers (their material's own maps, 8 views at
 # 512², llvmpipe without a GPU): seconds, renderings, the chosen storage.
+# Memory lines come from bench/figures.py: what a GPU holds before and
+# after, each unique image once with its mips, in MiB.
 set -uo pipefail
 : "${JND:?JND must point at the jnd binary}"
 here=$(cd "$(dirname "$0")" && pwd)
@@ -22,9 +24,9 @@ done
 python3 - "$OUT/pca.json" "$best" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))['result']; t = float(sys.argv[2])
-mb = r['width'] * r['height'] * r['channel_count'] * 4 / 1e6
+mib = r['width'] * r['height'] * r['channel_count'] * 4 / 2 ** 20
 print(f"   decomposition {r['width']}x{r['height']}x{r['channel_count']} on 2 threads: {t:.3f} s, "
-      f"{mb / t:.0f} MB/s (target <= 2 s){'' if t <= 2 else '  OVER TARGET'}")
+      f"{mib / t:.0f} MiB/s (target <= 2 s){'' if t <= 2 else '  OVER TARGET'}")
 tm = r['timings_s']
 print(f"   --components 5: read {tm['read']:.2f} s, encode {tm['encoding']:.2f} s, total {tm['total']:.2f} s")
 PY
@@ -32,10 +34,11 @@ OMP_NUM_THREADS=2 "$JND" pca $MAPS -o "$OUT" --components 5 --timings --quiet ||
 python3 -c "
 import json; t=json.load(open('$OUT/pca.json'))['result']['timings_s']
 print(f\"   with block compression (BC1/BC4/BC5 encode + decode, 3 variants): {t['block_compression']:.2f} s, total {t['total']:.2f} s\")"
+echo "     $(python3 "$here/figures.py" memory "$OUT/pca.json")"
 OMP_NUM_THREADS=2 "$JND" pca $MAPS -o "$OUT" --psnr 35 --no-bc --timings --quiet || return 1
 python3 -c "
 import json; r=json.load(open('$OUT/pca.json'))['result']; t=r['timings_s']
-print(f\"   --psnr 35: choice {t['choice']:.2f} s, K={r['components_kept']}, {r['storage_bytes']/1e6:.2f} MB, total {t['total']:.2f} s\")"
+print(f\"   --psnr 35: choice {t['choice']:.2f} s, K={r['components_kept']}, stored {r['storage_bytes']/2**20:.2f} MiB, total {t['total']:.2f} s\")"
 }
 
 webxr() {
@@ -53,11 +56,12 @@ import json, sys
 r = json.load(open(sys.argv[1]))["result"]; rd = r["rendered"]; t = r["timings_s"]
 print(f"   --p 0.2 on {sys.argv[2]} ({rd['material']}, {r['width']}x{r['height']} x {r['channel_count']} channels), "
       f"{rd['views']} views at {rd['view_set']['width']}x{rd['view_set']['height']} on {rd['renderer']}:")
-print(f"     K={r['components_kept']}, {r['storage_bytes']/1e3:.0f} KB of {r['original_bytes']/1e3:.0f} KB; "
+print(f"     K={r['components_kept']}, stored {r['storage_bytes']/2**10:.0f} KiB of {r['original_bytes']/2**10:.0f} KiB; "
       f"{rd['search']['rendered']} of {rd['search']['candidates']} candidates rendered (+ reference, 3 BC variants); "
       f"P per view {' '.join(f'{p:.3f}' for p in rd['p_per_view'])}")
 print(f"     {t['total']:.1f} s total, rendering and comparison {t['rendering']:.1f} s")
 PY
+    echo "     $(python3 "$here/figures.py" memory "$OUT/webxr/pca.json")"
   done
 }
 

@@ -52,7 +52,7 @@ med() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END{print a[int((NR+1)/2)
 wt=$(med "${times[@]}") ct=$(med "${cpu[@]}")
 awk -v t="$wt" -v c="$ct" -v m="$rss" -v px="$px" -v n="$RUNS" -v src="$source" 'BEGIN{
   printf "   jnd pop 1920x1080 with motion (%s):\n", src
-  printf "     %.3f s wall (median of %d), %.2f s user+sys, peak %.1f MB = %.1f bytes/pixel; budget 0.5 s: %s\n",
+  printf "     %.3f s wall (median of %d), %.2f s user+sys, peak %.1f MiB = %.1f bytes/pixel; budget 0.5 s: %s\n",
          t, n, c, m / 1024, m * 1024 / px, t <= 0.5 ? "within" : "OVER" }'
 jq -r '.result.timings | "     steps (last run): read \(.read_s*1000|floor) ms, weights+dE94 \(.weights_s*1000|floor) ms, model \(.model_s*1000|floor) ms, regions \(.regions_s*1000|floor) ms, picture \(.picture_s*1000|floor) ms, writing \(.write_s*1000|floor) ms"' "$out/o/pop.json"
 jq -r '.result | "     \(.region_count) regions, max R \(.max_rating), detection score \(.detection_score)"' "$out/o/pop.json"

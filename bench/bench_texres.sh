@@ -30,9 +30,11 @@ measure() {
     /usr/bin/time -f "%e %U %S" -o "$d.time.$r" "$JND" texres "$model" -o "$d.$r" --verify-views 8 --quiet
     echo "$?" >"$d.rc.$r"
   done
-  python3 - "$d" "$RUNS" "$name" <<'PY'
+  python3 - "$d" "$RUNS" "$name" "$here" <<'PY'
 import json, statistics, sys
 d, runs, name = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+sys.path.insert(0, sys.argv[4])
+from figures import memory_line  # bench's memory figures: unique images, MiB
 rows = []
 for r in range(1, runs + 1):
     wall, user, sys_ = (float(x) for x in open("%s.time.%d" % (d, r)).read().split()[-3:])
@@ -42,7 +44,6 @@ wall, cpu, r = rows[len(rows) // 2]
 res = json.load(open("%s.%d/texres.json" % (d, r)))["result"]
 rc = open("%s.rc.%d" % (d, r)).read().strip()
 v = res["verify"]
-mem = res["memory"]
 print("   %s: %d maps; wall %.1f s (median of %d: %s), user+sys %.1f s; %d renderings (%.1f/s: %d references, %d whole, %d partial), %d evaluations; exit %s on %s"
       % (name, len(res["maps"]), wall, runs, " ".join("%.1f" % w for w, _, _ in sorted(rows, key=lambda x: x[2])), cpu,
          res["renderings"], res["renderings"] / wall, res["rendering_counts"]["references"], res["rendering_counts"]["whole"],
@@ -50,9 +51,7 @@ print("   %s: %d maps; wall %.1f s (median of %d: %s), user+sys %.1f s; %d rende
 print("     chosen on %d views (P = %.3f): %d above P = 0.2; held out: %d of %d above (%s; fraction of all views above: <= %.0f%% at 90%% confidence)"
       % (res["views"]["count"], json.load(open("%s.%d/texres.json" % (d, r)))["parameters"]["choice_p"], res["views"]["criterion"]["above"],
          v["criterion"]["above"], v["views"], "passes" if v["passes"] else "FAILS", 100 * v["criterion"]["fraction_upper"]))
-print("     memory (%d unique images) RGBA8 + mips: %.2f MiB -> %.2f MiB (-%.0f%%); block-compressed %.2f -> %.2f MiB"
-      % (len(mem["images"]), mem["before_bytes"] / 2**20, mem["after_bytes"] / 2**20, 100 * mem["reduction"],
-         mem["block_before_bytes"] / 2**20, mem["block_after_bytes"] / 2**20))
+print("     " + memory_line(json.load(open("%s.%d/texres.json" % (d, r)))))
 sizes = {}
 for m in res["maps"]:
     sizes.setdefault(m["slot"], []).append("%d" % max(m["chosen"]))

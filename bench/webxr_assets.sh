@@ -14,18 +14,14 @@ WEBXR_ASSETS_VERSION=1.0.20
 # sha256 of webxr-input-profiles-assets-1.0.20.tgz; the registry's integrity
 # for it is sha512-V/8NB4Ywgm//TBVMgo0TgJ9DtxsBoo0iiaF8AdfiP0F0cgbwkuQycEZAIOsplyd/iZ8L3mrFYNJBC6rzQb4tJA==
 WEBXR_ASSETS_SHA256=30df2a2268220fc0d0e034bed1550aabdd7a2500573c5216f64fc70d59c3d91e
+WEBXR_ASSETS_CHECK=dist/profiles # a folder the unpacked package has
 
 . "$(dirname "${BASH_SOURCE[0]}")/../scripts/npm_cache.sh"
 
 webxr_assets_cache() { npm_cache_dir @webxr-input-profiles/assets "$WEBXR_ASSETS_VERSION"; }
 
-webxr_assets() {
-  local d
-  d="$(webxr_assets_cache)/package"
-  [ -d "$d/dist/profiles" ] || return 1
-  echo "$d"
-}
+webxr_assets() { npm_cache_package @webxr-input-profiles/assets "$WEBXR_ASSETS_VERSION" "$WEBXR_ASSETS_CHECK"; }
 
 webxr_assets_fetch() {
-  npm_cache_fetch @webxr-input-profiles/assets "$WEBXR_ASSETS_VERSION" "$WEBXR_ASSETS_SHA256" dist/profiles
+  npm_cache_fetch @webxr-input-profiles/assets "$WEBXR_ASSETS_VERSION" "$WEBXR_ASSETS_SHA256" "$WEBXR_ASSETS_CHECK"
 }

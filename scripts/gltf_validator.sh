@@ -14,18 +14,14 @@ GLTF_VALIDATOR_VERSION=2.0.0-dev.3.10
 # sha256 of gltf-validator-2.0.0-dev.3.10.tgz; the registry's integrity for it is
 # sha512-odJ4k0tRkGXiDGn78yDBg+fBbAIvBnXxh3RwAta0emSxGtyagFE8B4xELB1oYe3S5RD8Ci3uZAsZaascH2LAEQ==
 GLTF_VALIDATOR_SHA256=4e03dbdc3bc0d1342afd5d2d7ae341a7e3474502ccb872b02dbbaddaee0fdec6
+GLTF_VALIDATOR_CHECK=gltf_validator.dart.js # a file the unpacked package has
 
 . "$(dirname "${BASH_SOURCE[0]}")/npm_cache.sh"
 
-gltf_validator() {
-  local d
-  d="$(npm_cache_dir gltf-validator "$GLTF_VALIDATOR_VERSION")/package"
-  [ -f "$d/gltf_validator.dart.js" ] || return 1
-  echo "$d"
-}
+gltf_validator() { npm_cache_package gltf-validator "$GLTF_VALIDATOR_VERSION" "$GLTF_VALIDATOR_CHECK"; }
 
 gltf_validator_fetch() {
-  npm_cache_fetch gltf-validator "$GLTF_VALIDATOR_VERSION" "$GLTF_VALIDATOR_SHA256" gltf_validator.dart.js
+  npm_cache_fetch gltf-validator "$GLTF_VALIDATOR_VERSION" "$GLTF_VALIDATOR_SHA256" "$GLTF_VALIDATOR_CHECK"
 }
 
 gltf_validator_run() {

@@ -46,23 +46,17 @@ fi
 # outside the build folder, so that the tests make no network request.
 # Without a network the webxr tests skip (and CI, where a skip fails, fails).
 . "$(dirname "$0")/../bench/webxr_assets.sh"
-if ! webxr_assets >/dev/null; then
-  echo "install-deps: fetching @webxr-input-profiles/assets@$WEBXR_ASSETS_VERSION into $(webxr_assets_cache)" >&2
-  webxr_assets_fetch || echo "install-deps: warning: without it the webxr tests skip" >&2
-fi
+npm_cache_install @webxr-input-profiles/assets "$WEBXR_ASSETS_VERSION" "$WEBXR_ASSETS_SHA256" "$WEBXR_ASSETS_CHECK" \
+  "the webxr tests skip"
 
 # The pinned playwright-core that drives Debian's chromium in the report's
 # browser test (tests/browser/playwright.sh), the same way.
 . "$(dirname "$0")/../tests/browser/playwright.sh"
-if ! playwright_core >/dev/null; then
-  echo "install-deps: fetching playwright-core@$PLAYWRIGHT_CORE_VERSION into $(npm_cache_dir playwright-core "$PLAYWRIGHT_CORE_VERSION")" >&2
-  playwright_core_fetch || echo "install-deps: warning: without it the report's browser test skips" >&2
-fi
+npm_cache_install playwright-core "$PLAYWRIGHT_CORE_VERSION" "$PLAYWRIGHT_CORE_SHA256" "$PLAYWRIGHT_CORE_CHECK" \
+  "the report's browser test skips"
 
 # The pinned Khronos glTF-Validator that checks the models jnd writes
 # (tests/e2e/budget.sh), the same way.
 . "$(dirname "$0")/gltf_validator.sh"
-if ! gltf_validator >/dev/null; then
-  echo "install-deps: fetching gltf-validator@$GLTF_VALIDATOR_VERSION into $(npm_cache_dir gltf-validator "$GLTF_VALIDATOR_VERSION")" >&2
-  gltf_validator_fetch || echo "install-deps: warning: without it the budget test's validator check skips" >&2
-fi
+npm_cache_install gltf-validator "$GLTF_VALIDATOR_VERSION" "$GLTF_VALIDATOR_SHA256" "$GLTF_VALIDATOR_CHECK" \
+  "the budget test's validator check skips"

@@ -5,13 +5,30 @@
 #   npm_cache_dir NAME VERSION        the package's cache folder (the unpacked
 #                                     package is its package/), under JND_CACHE,
 #                                     else XDG_CACHE_HOME/jnd, else ~/.cache/jnd
+#   npm_cache_package NAME VERSION CHECK
+#                                     prints the unpacked package folder when
+#                                     package/CHECK is there; 1 when not cached
 #   npm_cache_fetch NAME VERSION SHA256 CHECK
 #                                     fetches NAME@VERSION unless package/CHECK is
 #                                     there; 1 (with a one-line reason on stderr)
 #                                     when it cannot
+#   npm_cache_install NAME VERSION SHA256 CHECK WITHOUT
+#                                     scripts/install-deps.sh's step: fetches it
+#                                     unless cached (offline: nothing to do), saying
+#                                     so; when it cannot, warns "without it WITHOUT"
+# Each pinned package (bench/webxr_assets.sh, tests/browser/playwright.sh,
+# scripts/gltf_validator.sh) states its name, version, SHA-256 and CHECK file
+# once and calls these; none repeats the fetch.
 npm_cache_dir() {
   local name=${1#@}
   echo "${JND_CACHE:-${XDG_CACHE_HOME:-${HOME:-/tmp}/.cache}/jnd}/${name//\//-}-$2"
+}
+
+npm_cache_package() {
+  local d
+  d="$(npm_cache_dir "$1" "$2")/package"
+  [ -e "$d/$3" ] || return 1
+  echo "$d"
 }
 
 # npm pack into a temporary folder beside the cache, check the tarball's
@@ -48,4 +65,11 @@ npm_cache_fetch() {
   chmod 755 "$tmp" # mktemp made it private
   mv -T "$tmp" "$dest" 2>/dev/null || rm -rf "$tmp"
   [ -e "$dest/package/$check" ]
+}
+
+npm_cache_install() {
+  local name=$1 version=$2 sha=$3 check=$4 without=$5
+  npm_cache_package "$name" "$version" "$check" >/dev/null && return 0
+  echo "install-deps: fetching $name@$version into $(npm_cache_dir "$name" "$version")" >&2
+  npm_cache_fetch "$name" "$version" "$sha" "$check" || echo "install-deps: warning: without it $without" >&2
 }

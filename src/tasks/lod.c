@@ -766,61 +766,6 @@ fail:
   return st;
 }
 
-/* ---- the Pareto plot ---- */
-
-jnd_status jnd_poi_pareto_plot(const jnd_poi_result *r, int screen, int perceptual, jnd_image *out) {
-  if (screen < 0 || screen >= r->nscreens) return jnd_fail(JND_ERR_ARG, "pareto plot: screen %d out of range", screen);
-  const jnd_poi_screen_result *R = &r->screens[screen];
-  int n = R->nlevels;
-  double x[64], yu[64], yl[64], mu = 0, ml = 0;
-  for (int k = 0; k < n; k++) {
-    mu = fmax(mu, R->curve[k].error);
-    ml = fmax(ml, R->curve[k].error_lit);
-  }
-  for (int k = 0; k < n; k++) {
-    x[k] = (double)r->levels[k].triangles;
-    yu[k] = mu > 0 ? R->curve[k].error / mu : 0;
-    yl[k] = ml > 0 ? R->curve[k].error_lit / ml : 0;
-  }
-  char lu[96], ll[96], t[160], m[5][96], largest[2][32];
-  /* the two scales of the y axis, in one format (not %g's 5.02e-05) */
-  jnd_plot_number_labels((const double[2]){mu, ml}, 2, 3, largest);
-  snprintf(lu, sizeof lu, "unlit, eq. 1 (largest %s)", largest[0]);
-  snprintf(ll, sizeof ll, "lit, eq. 3 (largest %s)", largest[1]);
-  jnd_plot_series ser[2] = {
-      {.x = x, .y = yu, .n = n, .label = lu, .colour = jnd_palette(0), .line = 1, .markers = 1, .width = 2},
-      {.x = x, .y = yl, .n = n, .label = ll, .colour = jnd_palette(1), .line = 1, .markers = 1, .width = 2}};
-  snprintf(t, sizeof t, "003 Pareto curves: %s (%d x %d, %.0f px/deg)", R->screen.name, R->screen.width_px,
-           R->screen.height_px, R->screen.ppd);
-  snprintf(m[0], sizeof m[0], "003 lit %zu", r->levels[R->poi_level].triangles);
-  snprintf(m[1], sizeof m[1], "003 unlit %zu", r->levels[R->poi_level_unlit].triangles);
-  snprintf(m[2], sizeof m[2], "meshopt %zu", r->levels[R->meshopt_level].triangles);
-  snprintf(m[3], sizeof m[3], "px rule %zu", r->levels[R->pixel_level].triangles);
-  jnd_plot_mark marks[5] = {{x[R->poi_level], m[0], jnd_palette(1)},
-                            {x[R->poi_level_unlit], m[1], jnd_palette(0)},
-                            {x[R->meshopt_level], m[2], jnd_palette(2)},
-                            {x[R->pixel_level], m[3], jnd_palette(3)},
-                            {0, m[4], jnd_palette(4)}};
-  int nmarks = 4;
-  if (perceptual >= 0 && perceptual < n) {
-    snprintf(m[4], sizeof m[4], "perceptual %zu", r->levels[perceptual].triangles);
-    marks[4].x = x[perceptual];
-    nmarks = 5;
-  }
-  jnd_plot_axes ax;
-  memset(&ax, 0, sizeof ax);
-  ax.title = t;
-  ax.xlabel = "triangles (level of detail)";
-  ax.ylabel = "error / its largest value";
-  ax.log_x = 1;
-  ax.xmin = ax.xmax = NAN;
-  ax.ymin = 0;
-  ax.ymax = 1;
-  ax.marks = marks;
-  ax.nmarks = nmarks;
-  return jnd_plot_lines(&ax, ser, 2, out);
-}
-
 /* MSFT_screencoverage from the perceptual switch distances of one screen:
  * level k is shown while the sphere fills more of the screen than where
  * level k + 1 may take over (its switch coverage, a fraction of the

@@ -208,6 +208,15 @@ jnd_status texres_worst_view_figure(const jnd_image *ref_srgb, const jnd_image *
 
 /* ---- texres_figures.c (end) ---- */
 
+/* ---- lod_figures.c: lod's Pareto plot (begin) ---- */
+
+/* jnd_poi_pareto_plot's picture (out, unless NULL) and its layout (unless
+ * NULL): the ticks, labels and marks a test checks against the data. */
+jnd_status lod_pareto_plot(const jnd_poi_result *r, int screen, int perceptual, jnd_image *out,
+                           jnd_plot_layout *layout);
+
+/* ---- lod_figures.c (end) ---- */
+
 /* ---- csf_data.c: castleCSF colour (begin) ---- */
 
 /* castleCSF's CIE 2006 LMS → CIE XYZ matrix (derived for LED-LCD spectra),

@@ -10,16 +10,12 @@ PLAYWRIGHT_CORE_VERSION=1.61.1
 # sha256 of playwright-core-1.61.1.tgz; the registry's integrity for it is
 # sha512-h7Qlt6m4REp25qvIdvbDtVmD4LqVXfpRxhORv9L0jzETM05p4fuPJ3dKyuSXQxDSbXnmS79HAgi9589lGSpLkg==
 PLAYWRIGHT_CORE_SHA256=3740bba3a3e93b4c7bd7c0f6e3c0e5f8cdce498bef13511e4d534cc99a8ce198
+PLAYWRIGHT_CORE_CHECK=package.json # a file the unpacked package has
 
 . "$(dirname "${BASH_SOURCE[0]}")/../../scripts/npm_cache.sh"
 
-playwright_core() {
-  local d
-  d="$(npm_cache_dir playwright-core "$PLAYWRIGHT_CORE_VERSION")/package"
-  [ -f "$d/package.json" ] || return 1
-  echo "$d"
-}
+playwright_core() { npm_cache_package playwright-core "$PLAYWRIGHT_CORE_VERSION" "$PLAYWRIGHT_CORE_CHECK"; }
 
 playwright_core_fetch() {
-  npm_cache_fetch playwright-core "$PLAYWRIGHT_CORE_VERSION" "$PLAYWRIGHT_CORE_SHA256" package.json
+  npm_cache_fetch playwright-core "$PLAYWRIGHT_CORE_VERSION" "$PLAYWRIGHT_CORE_SHA256" "$PLAYWRIGHT_CORE_CHECK"
 }

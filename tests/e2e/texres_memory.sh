@@ -61,70 +61,6 @@ json.dump(t, open(f"{d}/mem.gltf", "w"))
 write_glb(f"{d}/mem.glb", g, geo, imgs)
 PY
 
-# the expected memory of a model, without jnd: the unique images the default
-# scene's materials sample (read from the PNG headers), each with its mip chain
-cat >"$T/gpu_bytes.py" <<'PY'
-import json, os, struct
-
-SLOTS = (("baseColor", ("pbrMetallicRoughness", "baseColorTexture")),
-         ("metallicRoughness", ("pbrMetallicRoughness", "metallicRoughnessTexture")),
-         ("normal", ("normalTexture",)), ("occlusion", ("occlusionTexture",)), ("emissive", ("emissiveTexture",)))
-# bytes a 4×4 block of each slot's usual format (docs/texres.md): baseColor
-# BC7 and normal BC5 16, the others (BC4, BC1) 8; RGBA8 4 a texel
-BLOCK = {"baseColor": 16, "normal": 16, "metallicRoughness": 8, "occlusion": 8, "emissive": 8}
-
-def load(path):
-    data = open(path, "rb").read()
-    if data[:4] == b"glTF":
-        jl = struct.unpack("<I", data[12:16])[0]
-        return json.loads(data[20:20 + jl]), data[20 + jl + 8:]
-    return json.loads(data), None
-
-def image_size(path, g, binary, i):
-    im = g["images"][i]
-    if "bufferView" in im:
-        bv = g["bufferViews"][im["bufferView"]]
-        head = binary[bv.get("byteOffset", 0):bv.get("byteOffset", 0) + 24]
-    else:
-        head = open(os.path.join(os.path.dirname(path), im["uri"]), "rb").read(24)
-    assert head[:8] == b"\x89PNG\r\n\x1a\n", head
-    return struct.unpack(">II", head[16:24])
-
-def chain(w, h, block):
-    total = 0
-    while True:
-        total += 4 * w * h if block == 0 else ((w + 3) // 4) * ((h + 3) // 4) * block
-        if w == 1 and h == 1: return total
-        w, h = max(1, w // 2), max(1, h // 2)
-
-def used(g):
-    """image index -> (size, the slots "MATERIAL/SLOT" that sample it) over the default scene's materials"""
-    mats = []
-    def walk(n):
-        node = g["nodes"][n]
-        for c in node.get("children", []): walk(c)
-        if "mesh" in node:
-            for p in g["meshes"][node["mesh"]]["primitives"]:
-                if "material" in p and p["material"] not in mats: mats.append(p["material"])
-    for n in g["scenes"][g.get("scene", 0)]["nodes"]: walk(n)
-    out = {}
-    for m in mats:
-        mat = g["materials"][m]
-        for slot, keys in SLOTS:
-            o = mat
-            for k in keys: o = o.get(k, {}) if isinstance(o, dict) else {}
-            if "index" in o:
-                out.setdefault(g["textures"][o["index"]]["source"], []).append(mat["name"] + "/" + slot)
-    return out
-
-def memory(path):
-    """RGBA8 and block-format bytes of the unique images, and {image: (size, slots)}"""
-    g, binary = load(path)
-    imgs = {i: (image_size(path, g, binary, i), slots) for i, slots in used(g).items()}
-    rgba = sum(chain(*wh, 0) for wh, _ in imgs.values())
-    block = sum(chain(*wh, max(BLOCK[s.split("/")[1]] for s in slots)) for wh, slots in imgs.values())
-    return rgba, block, imgs, g
-PY
 
 L="--views 2 --size 64x64 --anisotropy 1 --samples 1 --p 0.999 --q 0.5 --margin 0 --confirm 0 --min-size 8 --quiet"
 # every map searched; then one slot of the packed image and one of the
@@ -141,7 +77,7 @@ for run in "mem.gltf all" "mem.glb all" "mem.gltf some" "mem.glb some"; do
   rc=$?
   check "$m ($2): texres runs (exit 0 or 1)" [ $rc -le 1 ]
   check "$m ($2): the reported bytes are the unique images' mip chains, before (input) and after (the written model)" \
-    env PYTHONPATH="$T" python3 - "$T/$m" "$O/model/$m" "$O/texres.json" <<'PY'
+    env PYTHONPATH="$(dirname "$0")" python3 - "$T/$m" "$O/model/$m" "$O/texres.json" <<'PY'
 import json, sys
 from gpu_bytes import memory
 src, out, rep = sys.argv[1:]
@@ -175,7 +111,7 @@ for m in r["maps"]:
     assert m["chosen"] == mem["images"][m["image"]]["chosen"], m
 PY
   check "$m ($2): a packed or shared image stays one image, no image grows, the other materials keep theirs" \
-    env PYTHONPATH="$T" python3 - "$T/$m" "$O/model/$m" <<'PY'
+    env PYTHONPATH="$(dirname "$0")" python3 - "$T/$m" "$O/model/$m" <<'PY'
 import sys
 from gpu_bytes import load, image_size
 src, out = sys.argv[1:]

@@ -2,7 +2,8 @@
  * structure above 1 JND apart, leaves invisible differences alone and
  * magnifies small images; texres's matrix picture outlines the choice; pca's
  * contribution picture names the channels; texres's worst view shows the
- * chosen sizes whether or not the matrices ran. */
+ * chosen sizes whether or not the matrices ran; lod's Pareto plot labels
+ * each tick with its value in one format and every mark in full. */
 #include "test.h"
 
 #include "batch/plots.h"
@@ -331,6 +332,161 @@ TEST(pop_switch_plot_draws_the_pixel_rule_and_names_the_units_and_a_nearer_level
   jnd_image_free(&img);
 }
 
+/* the value a tick label says: "5000", "0.2", "10⁶" or "2.5×10⁵" (the
+ * superscript digits and minus of jnd_plot_tick_labels); NaN if it is none
+ * of these */
+static double tick_label_value(const char *s) {
+  static const char *const sup[10] = {"\u2070", "\u00b9", "\u00b2", "\u00b3", "\u2074",
+                                      "\u2075", "\u2076", "\u2077", "\u2078", "\u2079"};
+  char *end;
+  double m = strtod(s, &end);
+  if (end == s) return NAN;
+  if (!*end) return m;
+  const char *e = end;
+  if (strncmp(e, "\u00d7", 2) == 0) e += 2;
+  else if (m != 10) return NAN;
+  else m = 1, e = end - 2; /* "10ⁿ": the 10 read as the mantissa */
+  if (strncmp(e, "10", 2) != 0) return NAN;
+  e += 2;
+  int neg = 0, x = 0, digits = 0;
+  if (strncmp(e, "\u207b", 3) == 0) neg = 1, e += 3;
+  while (*e) {
+    int d = 0;
+    while (d < 10 && strncmp(e, sup[d], strlen(sup[d])) != 0) d++;
+    if (d == 10) return NAN;
+    e += strlen(sup[d]);
+    x = 10 * x + d;
+    digits++;
+  }
+  return digits ? m * pow(10, neg ? -x : x) : NAN;
+}
+
+/* a lod result of one screen: levels' triangles (finest first), rising
+ * errors, and the four marks' levels */
+static void fake_poi(jnd_poi_result *r, jnd_lod_level_info *li, jnd_poi_screen_result *sr, jnd_poi_point *c,
+                     const size_t *tri, int n, const int marks[4]) {
+  memset(r, 0, sizeof *r);
+  memset(sr, 0, sizeof *sr);
+  for (int k = 0; k < n; k++) {
+    memset(&li[k], 0, sizeof li[k]);
+    li[k].triangles = tri[k];
+    memset(&c[k], 0, sizeof c[k]);
+    c[k].error = 0.004 + 0.07 * k * k / ((n - 1.0) * (n - 1.0));
+    c[k].error_lit = 5e-5 * k * k * k / ((n - 1.0) * (n - 1.0) * (n - 1.0));
+  }
+  CHECK_OK(jnd_poi_screen_parse("800x600@40", &sr->screen));
+  sr->nlevels = n;
+  sr->curve = c;
+  sr->poi_level = marks[0];
+  sr->poi_level_unlit = marks[1];
+  sr->meshopt_level = marks[2];
+  sr->pixel_level = marks[3];
+  r->nlevels = n;
+  r->levels = li;
+  r->nscreens = 1;
+  r->screens = sr;
+}
+
+TEST(lod_pareto_ticks_labels_and_marks_match_the_data) {
+  /* the builtin sphere's chain (its 5000 tick between 3638 and 6101), and a
+   * million-triangle chain (its axis once mixed "100000" with "1e+06") */
+  static const size_t chains[2][10] = {{9600, 8000, 6500, 6101, 3638, 1500, 811, 456, 262, 180},
+                                       {1200000, 640000, 300000, 150000, 90000, 40000, 20000, 9000, 4100, 2000}};
+  static const int mk[2][4] = {{7, 6, 4, 3}, {6, 5, 2, 1}};
+  for (int ch = 0; ch < 2; ch++) {
+    jnd_poi_result r;
+    jnd_lod_level_info li[10];
+    jnd_poi_screen_result sr;
+    jnd_poi_point c[10];
+    fake_poi(&r, li, &sr, c, chains[ch], 10, mk[ch]);
+    int perceptual = 3;
+    jnd_image img;
+    jnd_plot_layout L;
+    CHECK_OK(lod_pareto_plot(&r, 0, perceptual, &img, &L));
+    CHECK(img.w == L.width && img.h == L.height);
+    /* the x axis covers the data, every tick inside it */
+    CHECK(L.log[0] && L.lo[0] <= (double)chains[ch][9]);
+    CHECK(L.hi[0] >= (double)chains[ch][0]);
+    int labelled = 0, sci = 0, plain = 0;
+    for (int i = 0; i < L.nticks[0]; i++) {
+      double t = L.tick[0][i];
+      CHECK(t >= L.lo[0] * (1 - 1e-9) && t <= L.hi[0] * (1 + 1e-9));
+      double px = jnd_plot_layout_map(&L, 0, t);
+      CHECK(px >= L.plot.x0 - 0.5 && px <= L.plot.x1 + 0.5);
+      const char *lab = L.tick_label[0][i];
+      if (!lab[0]) continue;
+      /* the label says its tick's value, in one format for the axis */
+      double v = tick_label_value(lab);
+      CHECK(fabs(v - t) <= 1e-9 * t);
+      if (!(fabs(v - t) <= 1e-9 * t)) fprintf(stderr, "tick %g labelled '%s'\n", t, lab);
+      /* m×10ⁿ or 10ⁿ; else plain digits (not %g's 1e+06) */
+      if (strstr(lab, "\u00d7") || (strncmp(lab, "10", 2) == 0 && (unsigned char)lab[2] >= 0x80)) {
+        sci++;
+      } else {
+        plain++;
+        CHECK(strspn(lab, "0123456789.") == strlen(lab));
+      }
+      /* the picture's text of that tick sits under it */
+      int found = 0;
+      for (int k = 0; k < L.ntexts; k++)
+        if (L.text_kind[k] == 'X' && strcmp(L.text[k], lab) == 0) {
+          found++;
+          CHECK(fabs(0.5 * (L.text_box[k].x0 + L.text_box[k].x1) - px) < 2);
+          CHECK(L.text_box[k].y0 >= L.plot.y1 && L.text_box[k].x0 >= 0 && L.text_box[k].x1 <= L.width);
+        }
+      CHECK(found == 1);
+      labelled++;
+    }
+    CHECK(labelled >= 3);
+    CHECK(sci == 0 || plain == 0);
+    /* the y axis: 0 to 1, the labels their ticks' values */
+    CHECK(L.lo[1] == 0 && L.hi[1] == 1);
+    for (int i = 0; i < L.nticks[1]; i++)
+      if (L.tick_label[1][i][0]) CHECK(fabs(tick_label_value(L.tick_label[1][i]) - L.tick[1][i]) < 1e-9);
+    /* every mark labelled in full, above the data, inside the picture, over
+     * its line (or moved in just enough to fit), none over another */
+    const int lv[5] = {mk[ch][0], mk[ch][1], mk[ch][2], mk[ch][3], perceptual};
+    const char *name[5] = {"003 lit ", "003 unlit ", "meshopt ", "px rule ", "perceptual "};
+    for (int m = 0; m < 5; m++) {
+      char want[96];
+      snprintf(want, sizeof want, "%s%zu", name[m], chains[ch][lv[m]]);
+      int found = 0;
+      for (int k = 0; k < L.ntexts; k++) {
+        if (L.text_kind[k] != 'm' || strcmp(L.text[k], want) != 0) continue;
+        found++;
+        const jnd_box *b = &L.text_box[k];
+        double px = jnd_plot_layout_map(&L, 0, (double)chains[ch][lv[m]]);
+        CHECK(b->x0 >= 0 && b->x1 <= L.width && b->y0 >= 0 && b->y1 <= L.plot.y0);
+        CHECK((b->x0 <= px && px <= b->x1) || b->x0 < 8 || b->x1 > L.width - 8);
+        for (int j = 0; j < L.ntexts; j++)
+          if (j != k && (L.text_kind[j] == 'm' || L.text_kind[j] == 't')) CHECK(!box_overlap(b, &L.text_box[j]));
+        /* its line is drawn at the level's triangles */
+        jnd_rgb col = jnd_palette(m == 0 ? 1 : m == 1 ? 0 : m == 2 ? 2 : m == 3 ? 3 : 4);
+        int ink = 0;
+        for (double y = L.plot.y0 + 4; y < L.plot.y1 - 4; y += 4) ink += ink_near(&img, px, y, 1, col);
+        if (m != 3) CHECK(ink > 0); /* px rule and perceptual share a line here: the later one is on top */
+      }
+      CHECK(found == 1);
+      if (found != 1) fprintf(stderr, "mark '%s' found %d times\n", want, found);
+    }
+    /* both curves named in a legend outside the data; each level's point
+     * drawn where its triangles and error are */
+    int legend = 0;
+    for (int k = 0; k < L.ntexts; k++) {
+      if (L.text_kind[k] != 'l') continue;
+      legend += strncmp(L.text[k], "unlit, eq. 1 (largest ", 22) == 0 || strncmp(L.text[k], "lit, eq. 3 (largest ", 20) == 0;
+      CHECK(!box_overlap(&L.text_box[k], &L.plot) && L.text_box[k].x1 <= L.width && L.text_box[k].y1 <= L.height);
+    }
+    CHECK(legend == 2);
+    /* (the coarsest level is 1 on both: the lit point drawn over the unlit) */
+    double mu = c[9].error;
+    for (int k = 0; k < 9; k++)
+      CHECK(ink_near(&img, jnd_plot_layout_map(&L, 0, (double)chains[ch][k]), jnd_plot_layout_map(&L, 1, c[k].error / mu),
+                     3, jnd_palette(0)));
+    jnd_image_free(&img);
+  }
+}
+
 TEST(the_calibration_histogram_has_a_bar_per_bin_as_tall_as_its_count) {
   /* bins of 32 px: −40 → −32, 0 and 10 → 0, 70 → 64, 600 → the open end bin 512 */
   double err[5] = {-40, 0, 10, 70, 600};
@@ -475,4 +631,4 @@ RUN_TESTS(the_heatmap_keeps_differences_above_one_jnd_apart, a_small_heatmap_is_
           pop_switch_plot_shows_every_speed_where_they_pop_alike,
           the_calibration_histogram_has_a_bar_per_bin_as_tall_as_its_count,
           the_worst_view_shows_the_chosen_sizes_whether_or_not_the_matrices_ran,
-          the_gaze_table_picture_colours_each_cell_by_its_level)
+          the_gaze_table_picture_colours_each_cell_by_its_level, lod_pareto_ticks_labels_and_marks_match_the_data)
