@@ -23,6 +23,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "core/fastmath.h"
 #include "render/render.h"
 #include "scene/scene.h"
 #include "tasks/tasks.h"
@@ -947,9 +948,39 @@ jnd_status jnd_judge_material_counts(jnd_judge *j, int v, int *counts) {
 
 /* ---- renderings compared as pairs ---- */
 
+/* linear RGB (a rendering) → sRGB 8-bit codes, into out (allocated once):
+ * the display's curve (jnd_srgb_encode) rounded as the PNG writer rounds */
+static jnd_status show_codes(const jnd_image *lin, display_codes *out) {
+  size_t n = (size_t)lin->w * lin->h * 3;
+  if (!out->px || out->w != lin->w || out->h != lin->h) {
+    free(out->px);
+    out->px = NULL;
+    if (!(out->px = jnd_alloc(n, 1))) return JND_ERR_NOMEM;
+  }
+  out->w = lin->w, out->h = lin->h, out->c = 3;
+  const float *v = lin->data;
+  uint8_t *px = out->px;
+#pragma omp parallel for simd schedule(static)
+  for (size_t i = 0; i < n; i++) px[i] = (uint8_t)(jnd_srgb_encode(v[i]) * 255.0 + 0.5);
+  return JND_OK;
+}
+
 jnd_status judge_render_level(jnd_renderer *r, jnd_scene *scene, int level, const jnd_view *v, jnd_frame *f) {
   jnd_status st = jnd_scene_lod_select(scene, level);
   return st ? st : jnd_render(r, scene, v, f);
+}
+
+jnd_status judge_level_codes(jnd_renderer *r, jnd_scene *scene, int level, const jnd_view *v, int unlit,
+                             display_codes *out) {
+  jnd_view w = *v;
+  w.unlit = unlit;
+  w.outputs = JND_OUT_COLOR;
+  jnd_frame f;
+  jnd_status st = judge_render_level(r, scene, level, &w, &f);
+  if (st) return st;
+  st = show_codes(&f.color, out);
+  jnd_frame_free(&f);
+  return st;
 }
 
 /* ---- the display path ---- */

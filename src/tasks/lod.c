@@ -43,7 +43,6 @@
 #include <string.h>
 
 #include "core/core.h"
-#include "core/fastmath.h"
 #include "io/draw.h"
 #include "jnd.h"
 #include "scene/scene.h"
@@ -106,33 +105,14 @@ jnd_status jnd_poi_screen_parse(const char *spec, jnd_poi_screen *s) {
   return JND_OK;
 }
 
-/* ---- images as a display shows them: 8-bit codes, planar ---- */
+/* ---- images as a display shows them: 8-bit codes, planar (the judge's
+ * judge_level_codes shows renderings so) ---- */
 
-typedef struct {
-  int w, h, c;
-  uint8_t *px;    /* c planes */
-} codes;
+typedef display_codes codes;
 
 static void codes_free(codes *c) {
   free(c->px);
   c->px = NULL;
-}
-
-/* linear RGB (a rendering) → sRGB 8-bit codes, into out (allocated once):
- * the display's curve (jnd_srgb_encode) rounded as the PNG writer rounds, so
- * that the codes are those of the frame jnd_render_to_srgb shows */
-static jnd_status codes_from_linear(const jnd_image *lin, codes *out) {
-  size_t n = (size_t)lin->w * lin->h * 3;
-  if (!out->px || out->w != lin->w || out->h != lin->h) {
-    codes_free(out);
-    if (!(out->px = jnd_alloc(n, 1))) return JND_ERR_NOMEM;
-  }
-  out->w = lin->w, out->h = lin->h, out->c = 3;
-  const float *v = lin->data;
-  uint8_t *px = out->px;
-#pragma omp parallel for simd schedule(static)
-  for (size_t i = 0; i < n; i++) px[i] = (uint8_t)(jnd_srgb_encode(v[i]) * 255.0 + 0.5);
-  return JND_OK;
 }
 
 /* Area weights of a minification (or magnification) along one axis: output
@@ -521,19 +501,6 @@ static void progress(const jnd_poi_params *p, const char *stage, int done, int t
   if (p->progress) p->progress(p->progress_user, stage, done, total);
 }
 
-/* renders the selected level from view v (unlit or lit) as codes into out */
-static jnd_status render_codes(jnd_renderer *r, jnd_scene *s, const jnd_view *v, int unlit, codes *out) {
-  jnd_view w = *v;
-  w.unlit = unlit;
-  w.outputs = JND_OUT_COLOR;
-  jnd_frame f;
-  jnd_status st = jnd_render(r, s, &w, &f);
-  if (st) return st;
-  st = codes_from_linear(&f.color, out);
-  jnd_frame_free(&f);
-  return st;
-}
-
 /* step 2 */
 static double object_term(size_t f1, size_t f2, double l2, double extent) {
   /* 003: "If F1 < F2, we can rewrite 1 − F2/F1 as 1 − F1/F2" */
@@ -671,9 +638,8 @@ jnd_status jnd_poi_analyse(jnd_scene *scene, const jnd_poi_params *pp, jnd_poi_r
   int total = p->views * n, done = 0;
   for (int v = 0; v < p->views && !st; v++) {
     for (int k = 0; k < n && !st; k++) {
-      if ((st = jnd_scene_lod_select(scene, k))) break;
-      if (!(st = render_codes(r, scene, &views[v], 1, k == 0 ? &ref : &u)))
-        st = render_codes(r, scene, &views[v], 0, &l);
+      if (!(st = judge_level_codes(r, scene, k, &views[v], 1, k == 0 ? &ref : &u)))
+        st = judge_level_codes(r, scene, k, &views[v], 0, &l);
       out->renderings += 2;
       if (st) break;
       /* the lit rendering's luma on M1 (003 §4.2 weighs luminance) */

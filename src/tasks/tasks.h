@@ -31,6 +31,21 @@ void object_window(double object_px, double grow, int margin_px, int min_px, int
  * rather than held by a scene judge (gaze's levels, pop's switch). */
 jnd_status judge_render_level(jnd_renderer *r, jnd_scene *scene, int level, const jnd_view *v, jnd_frame *f);
 
+/* A frame as the 8-bit codes a display is sent: c planes of w × h. */
+typedef struct {
+  int w, h, c;
+  uint8_t *px;
+} display_codes;
+
+/* 003's frames (lod's PoI metric, lod_poi.c): the scene at level `level`
+ * rendered from view v, unlit (flat base colour) or lit, and shown as the
+ * display's 8-bit sRGB codes (3 planes): the display's curve rounded as the
+ * PNG writer rounds, so that the codes are those of the frame
+ * jnd_render_to_srgb shows. out's pixels are reused when it has the size
+ * already (free them with free(out->px)). */
+jnd_status judge_level_codes(jnd_renderer *r, jnd_scene *scene, int level, const jnd_view *v, int unlit,
+                             display_codes *out);
+
 /* ---- judge.c (end) ---- */
 
 /* ---- linalg.c: small dense linear algebra for pca.c (begin) ---- */
