@@ -31,6 +31,12 @@ void object_window(double object_px, double grow, int margin_px, int min_px, int
  * rather than held by a scene judge (gaze's levels, pop's switch). */
 jnd_status judge_render_level(jnd_renderer *r, jnd_scene *scene, int level, const jnd_view *v, jnd_frame *f);
 
+/* The x of a fixation point ecc_deg degrees left of x = cx on a flat
+ * screen of ppd pixels per degree seen from the distance the ppd implies
+ * (as the model measures eccentricity): where 002's observers look when a
+ * stimulus is ecc_deg out. */
+double judge_fixation_left_of(double cx, double ecc_deg, double ppd);
+
 /* A frame as the 8-bit codes a display is sent: c planes of w × h. */
 typedef struct {
   int w, h, c;
