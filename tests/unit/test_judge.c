@@ -398,6 +398,14 @@ TEST(the_periphery_is_judged_less_visible_than_the_fovea) {
     CHECK(again[v] == fovea[v]);             /* the fixation point moved back: the same P */
   }
   CHECK(fovea[0] > 0.5 || fovea[1] > 0.5);   /* seen where the viewer looks (one view shows part 0 little) */
+  /* view 1 alone looks away; then the judge-wide point again is every view's */
+  double one_out[2], all[2];
+  CHECK_OK(jnd_judge_set_view_gaze(j, 1, 1, -2000, 47.5));
+  CHECK_OK(jnd_judge_eval(j, 0, 2, 0, one_out, NULL));
+  CHECK(one_out[0] == fovea[0] && one_out[1] < 0.5 * fovea[1]);
+  CHECK_OK(jnd_judge_set_gaze(j, 1, 47.5, 47.5));
+  CHECK_OK(jnd_judge_eval(j, 0, 2, 0, all, NULL));
+  for (int v = 0; v < 2; v++) CHECK(all[v] == fovea[v]);
   /* a judge made without a fixation point has none to move */
   jnd_judge *k = NULL;
   small(&p, 1, 1);
@@ -449,33 +457,6 @@ TEST(each_view_is_judged_at_its_own_gaze_point) {
   for (int v = 0; v < 2; v++) CHECK(back[v] == none[v]);
   CHECK_STATUS(jnd_judge_set_view_gaze(j, 2, 1, 0, 0), JND_ERR_ARG);
   CHECK_STATUS(jnd_judge_set_view_eccentricity(j, 0, 95, NULL, NULL), JND_ERR_ARG);
-done:
-  jnd_judge_free(j);
-  jnd_scene_free(s);
-}
-
-TEST(the_judge_wide_gaze_point_is_every_views) {
-  if (!test_renderer_available()) {
-    TEST_SKIP("no OpenGL context");
-    return;
-  }
-  jnd_judge_params p;
-  small(&p, 2, 1);
-  p.model.has_gaze = 1;
-  p.model.gaze_x = p.model.gaze_y = 47.5;
-  jnd_scene *s = parts_scene(2, 0);
-  jnd_judge *j = NULL;
-  CHECK_OK(jnd_judge_create(s, &p, &j));
-  if (!j) goto done;
-  CHECK_OK(jnd_scene_map_resize(s, map_of(s, "part0/baseColor"), 4, 4));
-  double centre[2], one_out[2], all[2];
-  CHECK_OK(jnd_judge_eval(j, 0, 2, 0, centre, NULL));
-  CHECK_OK(jnd_judge_set_view_gaze(j, 1, 1, -2000, 47.5));   /* view 1 alone looks away */
-  CHECK_OK(jnd_judge_eval(j, 0, 2, 0, one_out, NULL));
-  CHECK(one_out[0] == centre[0] && one_out[1] < 0.5 * centre[1]);
-  CHECK_OK(jnd_judge_set_gaze(j, 1, 47.5, 47.5));   /* all views: view 1's own point goes */
-  CHECK_OK(jnd_judge_eval(j, 0, 2, 0, all, NULL));
-  for (int v = 0; v < 2; v++) CHECK(all[v] == centre[v]);
 done:
   jnd_judge_free(j);
   jnd_scene_free(s);
@@ -603,5 +584,5 @@ RUN_TESTS(partial_rendering_equals_the_full_rendering, judges_sharing_a_renderer
           views_of_an_asset_on_the_ground_come_from_above_and_frame_the_asset,
           a_level_of_detail_is_a_state_the_judge_renders_and_recognises,
           the_periphery_is_judged_less_visible_than_the_fovea, each_view_is_judged_at_its_own_gaze_point,
-          the_judge_wide_gaze_point_is_every_views, showing_composes_over_the_background_by_coverage,
+          showing_composes_over_the_background_by_coverage,
           a_pair_judge_makes_one_model_per_ppd_whatever_the_pairs)
