@@ -54,6 +54,14 @@ jnd_status judge_level_codes(jnd_renderer *r, jnd_scene *scene, int level, const
 
 /* ---- judge.c (end) ---- */
 
+/* ---- lod_poi.c and lod.c: jnd lod (begin) ---- */
+
+/* The most screens one lod run analyses (003's analysis, the perceptual
+ * step's workers). */
+#define LOD_MAX_SCREENS 16
+
+/* ---- lod_poi.c and lod.c (end) ---- */
+
 /* ---- linalg.c: small dense linear algebra for pca.c (begin) ---- */
 
 /* Means of n channels: planes[ch] points at count floats. Double
@@ -94,7 +102,7 @@ int pca_map_samples_texture(const jnd_pca_result *R, int map, int tex);
 
 /* ---- pca.c (end) ---- */
 
-/* ---- lod.c: 003's screen-space and perceptual terms, for tests (begin) ---- */
+/* ---- lod_poi.c: 003's screen-space and perceptual terms, for tests (begin) ---- */
 
 /* E_p² · W2·H2 (003 eq. 2 before its normalisation): test, mw × mh 8-bit
  * codes (c planes, the M2 screen), against ref, w × h codes (M1), blocks by
@@ -109,7 +117,7 @@ double poi_mp_sum(const float *y1, const float *y2, int w, int h, double ppd);
  * planes; *out is allocated. */
 jnd_status poi_luma_codes(const uint8_t *px, int w, int h, int c, float **out);
 
-/* ---- lod.c (end) ---- */
+/* ---- lod_poi.c (end) ---- */
 
 /* ---- lod_switch.c: the perceptual choice and switch distances (begin) ---- */
 
