@@ -1390,6 +1390,23 @@ jnd_status jnd_judge_set_reference(jnd_judge *j);
  * every view. JND_ERR_ARG for a judge made without one. */
 jnd_status jnd_judge_set_gaze(jnd_judge *j, int has_gaze, double x, double y);
 
+/* A fixation point for view v alone (002: the object seen at an
+ * eccentricity): (x, y) in pixels of v's rendered frame (may lie outside
+ * it); every pixel's eccentricity is measured from it on a flat screen at
+ * the display's pixels per degree. has_gaze 0 removes it: the view follows
+ * the judge's point again (jnd_judge_set_gaze, which sets every view's, or
+ * none). Works on any judge: without model.has_gaze the views keep their
+ * crops and the point is carried into the crop. What was judged on v is
+ * forgotten when the point moves, the other views' judgements kept.
+ * JND_ERR_ARG for a view out of range or a point not finite. */
+jnd_status jnd_judge_set_view_gaze(jnd_judge *j, int v, int has_gaze, double x, double y);
+
+/* View v's object seen ecc_deg degrees (0..90) out: its fixation point
+ * placed ecc_deg to the left of the centre of the object's bounding box in
+ * the reference (jnd_judge_set_view_gaze), as 002's observers fixate; the
+ * point is written to *x, *y (either may be NULL). */
+jnd_status jnd_judge_set_view_eccentricity(jnd_judge *j, int v, double ecc_deg, double *x, double *y);
+
 /* Views held, and view v as rendered (owned by the judge). */
 int jnd_judge_view_count(const jnd_judge *j);
 const jnd_view *jnd_judge_view(const jnd_judge *j, int v);

@@ -70,7 +70,7 @@ jnd_status jnd_budget_run(const char *model, const jnd_budget_params *pp, const 
     double total = jnd_seconds() - t0;
     report = budget_report(model, &p, R, rel, coverage, p.run.timings ? &total : NULL);
   }
-  s = report_output_finish(&o, s, report, "budget.json", R ? &R->report : NULL);
+  s = REPORT_OUTPUT_FINISH(&o, s, report, "budget.json", R);
   if (s != JND_OK) {
     jnd_budget_result_free(R);
     return s;

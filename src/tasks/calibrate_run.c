@@ -284,7 +284,7 @@ jnd_status jnd_calibrate_run(const char *csv_path, const jnd_calibrate_run_param
     s = jnd_fail(JND_ERR_ARG, "%s: %s", csv_path, jnd_last_error());
   if (s == JND_OK && staged_hist) s = write_histogram(staged_hist, R);
   if (s == JND_OK) report = calibrate_report(csv_path, &p, R, cs, maps, p.histogram);
-  s = report_output_finish(&o, s, report, staged_out, R ? &R->report : NULL);
+  s = REPORT_OUTPUT_FINISH(&o, s, report, staged_out, R);
   free(maps);
   free(cs);
   free(sc);

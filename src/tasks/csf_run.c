@@ -138,7 +138,7 @@ jnd_status jnd_csf_run(const char *data, const jnd_csf_run_params *pp, const cha
   }
   if (!s && csv_out) s = write_rows(csv_out, &R->data, &R->eval, p.options.cross_validate);
   if (!s) report = csf_report(data, colors, bkgs, &p, &R->data, &R->eval);
-  s = report_output_finish(&o, s, report, NULL, R ? &R->report : NULL);
+  s = REPORT_OUTPUT_FINISH(&o, s, report, NULL, R);
   if (s) {
     jnd_csf_run_result_free(R);
     return s;

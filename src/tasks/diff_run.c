@@ -170,7 +170,7 @@ jnd_status jnd_diff_run(const char *ref_path, const char *test_path, const jnd_d
     jnd_pooling_name(&pool, R->pooling, sizeof R->pooling);
     report = diff_report(ref_path, test_path, &ri, &ti, &p, &mp, model, R, p.run.timings ? times : NULL);
   }
-  s = report_output_finish(&o, s, report, NULL, R ? &R->report : NULL);
+  s = REPORT_OUTPUT_FINISH(&o, s, report, NULL, R);
   jnd_model_free(model);
   jnd_image_free(&ref);
   jnd_image_free(&test);

@@ -146,7 +146,7 @@ jnd_status jnd_gaze_run(const char *input, const jnd_gaze_run_params *pp, const 
   s = p.mode == JND_GAZE_RUN_OBSERVERS ? run_observers(&p, &o, R, &report)
       : p.mode == JND_GAZE_RUN_FIT     ? run_fit(input, &p, &o, R, &report)
                                        : run_table(input, &p, &o, R, &report);
-  s = report_output_finish(&o, s, report, name, R ? &R->report : NULL);
+  s = REPORT_OUTPUT_FINISH(&o, s, report, name, R);
   if (s) {
     jnd_gaze_run_result_free(R);
     return s;

@@ -23,6 +23,7 @@
 #include <string.h>
 
 #include "core/core.h"
+#include "core/fastmath.h"
 #include "render/render.h"
 #include "scene/scene.h"
 #include "tasks/tasks.h"
@@ -46,6 +47,9 @@ typedef struct {
   unsigned depth;        /* the reference's multisampled depth (0: none) */
   mat_part *part;        /* per material (partial mode) */
   double *mip_min;       /* per map: the finest level sampled, INFINITY if none */
+  double cx, cy;         /* the centre of the object's bounding box in the frame (the frame's: nothing seen) */
+  int has_gaze;          /* 1: this view's own fixation point (gaze_x, gaze_y: pixels of the frame) */
+  double gaze_x, gaze_y;
 } jview;
 
 typedef struct {
@@ -309,6 +313,8 @@ static jnd_status render_reference(jnd_judge *j, jview *jv) {
         ay0 = y < ay0 ? y : ay0, ay1 = y > ay1 ? y : ay1;
       }
     }
+  jv->cx = x1 < 0 ? 0.5 * (W - 1) : 0.5 * (x0 + x1);
+  jv->cy = x1 < 0 ? 0.5 * (H - 1) : 0.5 * (y0 + y1);
   /* nothing on screen, or a fixation point given in the frame's pixels
    * (eccentricity is measured from it): the whole frame */
   if (x1 < 0 || j->p.model.has_gaze) x0 = y0 = 0, x1 = W - 1, y1 = H - 1;
@@ -539,6 +545,9 @@ static jnd_status judge_view(jnd_judge *j, int v, const change_set *c, double *P
   }
   jnd_diff_inputs in = {0};
   if (jv->motion.data) in.motion = &jv->motion;
+  /* the view's fixation point, else the judge's, in the crop's pixels */
+  if (jv->has_gaze) jnd_model_set_gaze(j->m, 1, jv->gaze_x - jv->x0, jv->gaze_y - jv->y0);
+  else jnd_model_set_gaze(j->m, j->p.model.has_gaze, j->p.model.gaze_x - jv->x0, j->p.model.gaze_y - jv->y0);
   st = jnd_model_diff(j->m, &jv->ref_cdm2, &test, &in, &map);
   jnd_image_free(&test);
   if (st != JND_OK) return st;
@@ -758,10 +767,13 @@ static jnd_status set_reference(jnd_judge *j) {
   jnd_status st = take_reference(j);
   if (st != JND_OK) return st;
   for (int v = 0; v < j->nv; v++) {
-    jnd_view keep = j->v[v].view;
+    jview keep = j->v[v];   /* its view and fixation point */
     view_free(j, &j->v[v]);
     memset(&j->v[v], 0, sizeof j->v[v]);
-    j->v[v].view = keep;
+    j->v[v].view = keep.view;
+    j->v[v].has_gaze = keep.has_gaze;
+    j->v[v].gaze_x = keep.gaze_x;
+    j->v[v].gaze_y = keep.gaze_y;
   }
   view_range r = {0, j->nv};
   return render_references(j, &r);
@@ -799,9 +811,48 @@ jnd_status jnd_judge_set_gaze(jnd_judge *j, int has_gaze, double x, double y) {
   if (!has_gaze) return JND_OK;
   j->p.model.gaze_x = x;
   j->p.model.gaze_y = y;
+  for (int v = 0; v < j->nv; v++) j->v[v].has_gaze = 0;   /* every view: the judge's point */
   forget_states(j);   /* every P depends on where the viewer looks */
   jnd_model_set_gaze(j->m, 1, x, y);   /* the same model: the fixation point is read per comparison */
   return JND_OK;
+}
+
+/* what was judged on view v is forgotten in every state (its fixation point moved) */
+static void forget_view(jnd_judge *j, int v) {
+  size_t per = (size_t)j->scene->nmaterials + 1;
+  for (int e = 0; e < j->nst; e++) {
+    j->st[e].p[v] = NAN;
+    memset(j->st[e].above + (size_t)v * per, 0, per * sizeof *j->st[e].above);
+  }
+}
+
+jnd_status jnd_judge_set_view_gaze(jnd_judge *j, int v, int has_gaze, double x, double y) {
+  if (v < 0 || v >= j->nv) return jnd_fail(JND_ERR_ARG, "judge: view %d of %d", v, j->nv);
+  if (has_gaze && !(isfinite(x) && isfinite(y))) return jnd_fail(JND_ERR_ARG, "judge: a fixation point must be finite");
+  jview *jv = &j->v[v];
+  has_gaze = has_gaze != 0;
+  if (jv->has_gaze == has_gaze && (!has_gaze || (jv->gaze_x == x && jv->gaze_y == y))) return JND_OK;
+  jv->has_gaze = has_gaze;
+  jv->gaze_x = has_gaze ? x : 0;
+  jv->gaze_y = has_gaze ? y : 0;
+  forget_view(j, v);
+  return JND_OK;
+}
+
+double judge_fixation_left_of(double cx, double ecc_deg, double ppd) {
+  const double dist_px = 1.0 / tan(M_PI / 180.0 / ppd);   /* the viewing distance in pixels */
+  return cx - dist_px * tan(ecc_deg * M_PI / 180.0);
+}
+
+jnd_status jnd_judge_set_view_eccentricity(jnd_judge *j, int v, double ecc_deg, double *x, double *y) {
+  if (v < 0 || v >= j->nv) return jnd_fail(JND_ERR_ARG, "judge: view %d of %d", v, j->nv);
+  if (!(ecc_deg >= 0 && ecc_deg < 90))
+    return jnd_fail(JND_ERR_ARG, "judge: eccentricity %g degrees outside [0, 90)", ecc_deg);
+  const jview *jv = &j->v[v];
+  double gx = judge_fixation_left_of(jv->cx, ecc_deg, j->p.model.display.ppd), gy = jv->cy;
+  if (x) *x = gx;
+  if (y) *y = gy;
+  return jnd_judge_set_view_gaze(j, v, 1, gx, gy);
 }
 
 int jnd_judge_view_count(const jnd_judge *j) { return j->nv; }
@@ -947,9 +998,39 @@ jnd_status jnd_judge_material_counts(jnd_judge *j, int v, int *counts) {
 
 /* ---- renderings compared as pairs ---- */
 
+/* linear RGB (a rendering) → sRGB 8-bit codes, into out (allocated once):
+ * the display's curve (jnd_srgb_encode) rounded as the PNG writer rounds */
+static jnd_status show_codes(const jnd_image *lin, display_codes *out) {
+  size_t n = (size_t)lin->w * lin->h * 3;
+  if (!out->px || out->w != lin->w || out->h != lin->h) {
+    free(out->px);
+    out->px = NULL;
+    if (!(out->px = jnd_alloc(n, 1))) return JND_ERR_NOMEM;
+  }
+  out->w = lin->w, out->h = lin->h, out->c = 3;
+  const float *v = lin->data;
+  uint8_t *px = out->px;
+#pragma omp parallel for simd schedule(static)
+  for (size_t i = 0; i < n; i++) px[i] = (uint8_t)(jnd_srgb_encode(v[i]) * 255.0 + 0.5);
+  return JND_OK;
+}
+
 jnd_status judge_render_level(jnd_renderer *r, jnd_scene *scene, int level, const jnd_view *v, jnd_frame *f) {
   jnd_status st = jnd_scene_lod_select(scene, level);
   return st ? st : jnd_render(r, scene, v, f);
+}
+
+jnd_status judge_level_codes(jnd_renderer *r, jnd_scene *scene, int level, const jnd_view *v, int unlit,
+                             display_codes *out) {
+  jnd_view w = *v;
+  w.unlit = unlit;
+  w.outputs = JND_OUT_COLOR;
+  jnd_frame f;
+  jnd_status st = judge_render_level(r, scene, level, &w, &f);
+  if (st) return st;
+  st = show_codes(&f.color, out);
+  jnd_frame_free(&f);
+  return st;
 }
 
 /* ---- the display path ---- */

@@ -79,7 +79,7 @@ jnd_status jnd_lod_run(const char *model, const jnd_lod_run_params *pp, const ch
     R->write_s += jnd_seconds() - t0;
     report = lod_report(model, &p, R, rel);
   }
-  s = report_output_finish(&o, s, report, "lod.json", R ? &R->report : NULL);
+  s = REPORT_OUTPUT_FINISH(&o, s, report, "lod.json", R);
   if (s != JND_OK) {
     jnd_lod_result_free(R);
     return s;

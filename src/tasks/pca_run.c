@@ -392,7 +392,7 @@ jnd_status jnd_pca_run(const char *model, const jnd_pca_params *pp, const char *
     report = pca_report(&p, R, textures, p.run.timings ? &total : NULL);
     textures = NULL;
   }
-  s = report_output_finish(&o, s, report, "pca.json", R ? &R->report : NULL);
+  s = REPORT_OUTPUT_FINISH(&o, s, report, "pca.json", R);
   cJSON_Delete(textures);
   if (s != JND_OK) {
     jnd_pca_result_free(R);

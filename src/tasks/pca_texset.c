@@ -35,31 +35,54 @@ static int plane_constant(const float *p, size_t n) {
 
 static int planes_equal(const float *a, const float *b, size_t n) { return memcmp(a, b, n * sizeof *a) == 0; }
 
-/* "normal=rg,metalRoughness=gb" → picks[map] = letters string; -1 for unknown map */
-static jnd_status parse_picks(const char *spec, const char *const *names, int n, char picks[][8]) {
-  for (int i = 0; i < n; i++) picks[i][0] = 0;
+/* A comma-separated list of NAME=VALUE (--channels, --weight): each
+ * assignment handed to assign(user, name, value) in order, the first error
+ * returned. option and form name the option and its form in the error for
+ * an item without '=' ("--weight: 'x' is not NAME=WEIGHT (e.g. albedo=2)"). */
+static jnd_status parse_assignments(const char *spec, const char *option, const char *form,
+                                    jnd_status (*assign)(void *user, const char *name, const char *value),
+                                    void *user) {
   if (!spec || !*spec) return JND_OK;
   char buf[1024];
   snprintf(buf, sizeof buf, "%s", spec);
   char *save = NULL;
   for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
     char *eq = strchr(tok, '=');
-    if (!eq) return jnd_fail(JND_ERR_ARG, "--channels: '%s' is not MAP=LETTERS (e.g. normal=rg)", tok);
+    if (!eq) return jnd_fail(JND_ERR_ARG, "%s: '%s' is not %s", option, tok, form);
     *eq = 0;
-    int m = -1;
-    for (int i = 0; i < n; i++)
-      if (strcmp(names[i], tok) == 0) m = i;
-    if (m < 0) return jnd_fail(JND_ERR_ARG, "--channels: no map named '%s'", tok);
-    const char *l = eq + 1;
-    size_t len = strlen(l);
-    if (len == 0 || len > 4) return jnd_fail(JND_ERR_ARG, "--channels: '%s' needs 1 to 4 of r, g, b, a", tok);
-    for (size_t k = 0; k < len; k++)
-      if (!strchr(letters, tolower((unsigned char)l[k])))
-        return jnd_fail(JND_ERR_ARG, "--channels: '%c' is not one of r, g, b, a", l[k]);
-    for (size_t k = 0; k < len; k++) picks[m][k] = (char)tolower((unsigned char)l[k]);
-    picks[m][len] = 0;
+    jnd_status st = assign(user, tok, eq + 1);
+    if (st != JND_OK) return st;
   }
   return JND_OK;
+}
+
+typedef struct {
+  const char *const *names;
+  int n;
+  char (*picks)[8];
+} picks_ctx;
+
+static jnd_status assign_pick(void *user, const char *tok, const char *l) {
+  picks_ctx *x = user;
+  int m = -1;
+  for (int i = 0; i < x->n; i++)
+    if (strcmp(x->names[i], tok) == 0) m = i;
+  if (m < 0) return jnd_fail(JND_ERR_ARG, "--channels: no map named '%s'", tok);
+  size_t len = strlen(l);
+  if (len == 0 || len > 4) return jnd_fail(JND_ERR_ARG, "--channels: '%s' needs 1 to 4 of r, g, b, a", tok);
+  for (size_t k = 0; k < len; k++)
+    if (!strchr(letters, tolower((unsigned char)l[k])))
+      return jnd_fail(JND_ERR_ARG, "--channels: '%c' is not one of r, g, b, a", l[k]);
+  for (size_t k = 0; k < len; k++) x->picks[m][k] = (char)tolower((unsigned char)l[k]);
+  x->picks[m][len] = 0;
+  return JND_OK;
+}
+
+/* "normal=rg,metalRoughness=gb" → picks[map] = letters string; -1 for unknown map */
+static jnd_status parse_picks(const char *spec, const char *const *names, int n, char picks[][8]) {
+  for (int i = 0; i < n; i++) picks[i][0] = 0;
+  picks_ctx x = {names, n, picks};
+  return parse_assignments(spec, "--channels", "MAP=LETTERS (e.g. normal=rg)", assign_pick, &x);
 }
 
 /* labels name the inputs in errors (paths for files) */
@@ -247,29 +270,32 @@ jnd_status jnd_texset_map_image(const jnd_texset *set, const jnd_image *channels
   return JND_OK;
 }
 
+typedef struct {
+  const jnd_texset *set;
+  double *weights;
+} weights_ctx;
+
+static jnd_status assign_weight(void *user, const char *tok, const char *value) {
+  weights_ctx *x = user;
+  const jnd_texset *set = x->set;
+  char *end;
+  double w = strtod(value, &end);
+  if (end == value || *end || !(w > 0) || !isfinite(w))
+    return jnd_fail(JND_ERR_ARG, "--weight: %s: '%s' is not a positive number", tok, value);
+  int hit = 0;
+  for (int c = 0; c < set->c; c++)
+    if (strcmp(set->names[c], tok) == 0 || strcmp(set->maps[set->map_of[c]].name, tok) == 0) {
+      x->weights[c] = w;
+      hit = 1;
+    }
+  if (!hit) return jnd_fail(JND_ERR_ARG, "--weight: no map or channel named '%s'", tok);
+  return JND_OK;
+}
+
 jnd_status jnd_texset_parse_weights(const jnd_texset *set, const char *spec, double *weights) {
   for (int c = 0; c < set->c; c++) weights[c] = 1.0;
-  if (!spec || !*spec) return JND_OK;
-  char buf[1024];
-  snprintf(buf, sizeof buf, "%s", spec);
-  char *save = NULL;
-  for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
-    char *eq = strchr(tok, '=');
-    if (!eq) return jnd_fail(JND_ERR_ARG, "--weight: '%s' is not NAME=WEIGHT (e.g. albedo=2)", tok);
-    *eq = 0;
-    char *end;
-    double w = strtod(eq + 1, &end);
-    if (end == eq + 1 || *end || !(w > 0) || !isfinite(w))
-      return jnd_fail(JND_ERR_ARG, "--weight: %s: '%s' is not a positive number", tok, eq + 1);
-    int hit = 0;
-    for (int c = 0; c < set->c; c++)
-      if (strcmp(set->names[c], tok) == 0 || strcmp(set->maps[set->map_of[c]].name, tok) == 0) {
-        weights[c] = w;
-        hit = 1;
-      }
-    if (!hit) return jnd_fail(JND_ERR_ARG, "--weight: no map or channel named '%s'", tok);
-  }
-  return JND_OK;
+  weights_ctx x = {set, weights};
+  return parse_assignments(spec, "--weight", "NAME=WEIGHT (e.g. albedo=2)", assign_weight, &x);
 }
 
 /* the set's planes (pca_stages.h) */

@@ -148,7 +148,7 @@ jnd_status jnd_pop_run(const char *model, const jnd_pop_run_params *pp, const ch
     double timings[2] = {jnd_seconds() - t_write, jnd_seconds() - t0};
     report = pop_report(model, &p, &ap, R, p.run.timings ? timings : NULL);
   }
-  s = report_output_finish(&o, s, report, "pop.json", R ? &R->report : NULL);
+  s = REPORT_OUTPUT_FINISH(&o, s, report, "pop.json", R);
   if (!s) R->total_s = jnd_seconds() - t0;
   jnd_model_free(m);
   if (s) {

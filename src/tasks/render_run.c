@@ -277,7 +277,7 @@ jnd_status jnd_render_run(const char *model, const jnd_render_params *pp, const 
   if (!st) {
     render_report_end(report, (p.outputs & JND_RENDER_MIP) ? mip_min : NULL, R, p.run.timings);
   }
-  st = report_output_finish(&o, st, report, "views.json", R ? &R->report : NULL);
+  st = REPORT_OUTPUT_FINISH(&o, st, report, "views.json", R);
   free(mip_min);
   free(views);
   jnd_renderer_free(r);

@@ -60,12 +60,20 @@ jnd_status report_output_write(report_output *o, cJSON *report, const char *name
 jnd_status report_output_end(report_output *o, jnd_status st);
 
 /* The end of every run: when st is JND_OK, writes report (taken; NULL:
- * out of memory building it) as report_output_write does, then ends as
- * report_output_end does: everything published, or all removed on any
- * error. Returns st, the write's or the commit's error:
- *   if (s == JND_OK) report = <task>_report(...);
- *   s = report_output_finish(&o, s, report, "<task>.json", &R->report);   */
+ * out of memory building it) as report_output_write does, its text into
+ * *text (text NULL: there is nowhere to put it, JND_ERR_NOMEM), then ends
+ * as report_output_end does: everything published, or all removed on any
+ * error. Returns st, the write's or the commit's error. */
 jnd_status report_output_finish(report_output *o, jnd_status st, cJSON *report, const char *name, char **text);
+
+/* How every run ends, R its result (any jnd_<task>_result, whose report's
+ * text goes into R->report) or NULL where the run failed before making it
+ * (st is then an error: nothing is published). The one place that guards
+ * R:
+ *   if (s == JND_OK) report = <task>_report(...);
+ *   s = REPORT_OUTPUT_FINISH(&o, s, report, "<task>.json", R);   */
+#define REPORT_OUTPUT_FINISH(o, st, report, name, R) \
+  report_output_finish((o), (st), (report), (name), (R) ? &(R)->report : NULL)
 
 /* ---- each task's report, built by its <task>_report.c ---- */
 

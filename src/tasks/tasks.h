@@ -31,7 +31,36 @@ void object_window(double object_px, double grow, int margin_px, int min_px, int
  * rather than held by a scene judge (gaze's levels, pop's switch). */
 jnd_status judge_render_level(jnd_renderer *r, jnd_scene *scene, int level, const jnd_view *v, jnd_frame *f);
 
+/* The x of a fixation point ecc_deg degrees left of x = cx on a flat
+ * screen of ppd pixels per degree seen from the distance the ppd implies
+ * (as the model measures eccentricity): where 002's observers look when a
+ * stimulus is ecc_deg out. */
+double judge_fixation_left_of(double cx, double ecc_deg, double ppd);
+
+/* A frame as the 8-bit codes a display is sent: c planes of w × h. */
+typedef struct {
+  int w, h, c;
+  uint8_t *px;
+} display_codes;
+
+/* 003's frames (lod's PoI metric, lod_poi.c): the scene at level `level`
+ * rendered from view v, unlit (flat base colour) or lit, and shown as the
+ * display's 8-bit sRGB codes (3 planes): the display's curve rounded as the
+ * PNG writer rounds, so that the codes are those of the frame
+ * jnd_render_to_srgb shows. out's pixels are reused when it has the size
+ * already (free them with free(out->px)). */
+jnd_status judge_level_codes(jnd_renderer *r, jnd_scene *scene, int level, const jnd_view *v, int unlit,
+                             display_codes *out);
+
 /* ---- judge.c (end) ---- */
+
+/* ---- lod_poi.c and lod.c: jnd lod (begin) ---- */
+
+/* The most screens one lod run analyses (003's analysis, the perceptual
+ * step's workers). */
+#define LOD_MAX_SCREENS 16
+
+/* ---- lod_poi.c and lod.c (end) ---- */
 
 /* ---- linalg.c: small dense linear algebra for pca.c (begin) ---- */
 
@@ -73,7 +102,7 @@ int pca_map_samples_texture(const jnd_pca_result *R, int map, int tex);
 
 /* ---- pca.c (end) ---- */
 
-/* ---- lod.c: 003's screen-space and perceptual terms, for tests (begin) ---- */
+/* ---- lod_poi.c: 003's screen-space and perceptual terms, for tests (begin) ---- */
 
 /* E_p² · W2·H2 (003 eq. 2 before its normalisation): test, mw × mh 8-bit
  * codes (c planes, the M2 screen), against ref, w × h codes (M1), blocks by
@@ -88,7 +117,7 @@ double poi_mp_sum(const float *y1, const float *y2, int w, int h, double ppd);
  * planes; *out is allocated. */
 jnd_status poi_luma_codes(const uint8_t *px, int w, int h, int c, float **out);
 
-/* ---- lod.c (end) ---- */
+/* ---- lod_poi.c (end) ---- */
 
 /* ---- lod_switch.c: the perceptual choice and switch distances (begin) ---- */
 

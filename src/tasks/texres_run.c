@@ -111,7 +111,7 @@ jnd_status jnd_texres_run(const char *model, const jnd_texres_params *pp, const 
     map_files = NULL;
   }
   if (s == JND_OK) R->passes = R->views.pass && (R->verify_views == 0 || R->verify.pass);
-  s = report_output_finish(&o, s, report, "texres.json", R ? &R->report : NULL);
+  s = REPORT_OUTPUT_FINISH(&o, s, report, "texres.json", R);
   cJSON_Delete(map_files);
   free(final_model);
   jnd_scene_free(scene);

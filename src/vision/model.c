@@ -7,6 +7,12 @@
  *   eccentricity) → masking transducer T → |T(test) − T(ref)|^2.4 summed over
  *   channels → collapse across bands → ^(1/2.4) → JND map.
  *
+ * diff_lms calls them in that order, from LMS on: gaussian_pyramids,
+ * adaptation_luminance and csf_velocity (what the CSF is evaluated at),
+ * band_differences (contrast, opponent channels, CSF, masking and the
+ * difference summed over the channels, band by band: band_difference,
+ * baseband_difference), collapse_bands, jnd_map_of.
+ *
  * Memory: the two Gaussian pyramids (3 × 4/3 floats a pixel each) are the
  * bulk. Contrast bands are never stored: each band's difference is computed
  * row by row from the Gaussian levels, expanding the coarser levels on the
@@ -1284,6 +1290,193 @@ static jnd_status velocity_map(const jnd_model *m, const jnd_image *motion, int 
   return JND_OK;
 }
 
+/* ---- diff_lms's stages, in 004 §3.1's order (the list at the top) ---- */
+
+/* Gaussian pyramids of both images' L, M, S planes (lms[a] is taken over:
+ * plane 0 of channel L owns it, freed here on failure), and whether each
+ * image is uniform (a psychophysical background needs no contrast bands). */
+static jnd_status gaussian_pyramids(diff_state *st, float *lms[2], int w, int h, int levels, int threads) {
+  jnd_status s = JND_OK;
+  size_t npx = (size_t)w * h;
+  for (int a = 0; a < 2 && s == JND_OK; a++)
+    for (int c = 0; c < 3 && s == JND_OK; c++) {
+      s = jnd_gauss_build(&st->g[a][c], lms[a] + (size_t)c * npx, w, h, levels, threads);
+      if (s == JND_OK && c == 0) st->g[a][c].own0 = 1; /* plane 0 of channel L owns the buffer */
+    }
+  if (s != JND_OK) {
+    for (int a = 0; a < 2; a++)
+      if (!st->g[a][0].own0) free(lms[a]);
+    return s;
+  }
+  /* a uniform image (a psychophysical background) needs no contrast bands */
+  for (int a = 0; a < 2; a++) {
+    st->uniform[a] = 1;
+    for (int c = 0; c < 3 && st->uniform[a]; c++) {
+      const float *p = lms[a] + (size_t)c * npx;
+      for (size_t i = 1; i < npx; i++)
+        if (p[i] != p[0]) {
+          st->uniform[a] = 0;
+          break;
+        }
+    }
+  }
+  return JND_OK;
+}
+
+/* The adaptation luminance of the CSF: Y at the level where a pixel is
+ * about one degree, of each image and their mean, and the CSF table's
+ * columns it needs. */
+static jnd_status adaptation_luminance(jnd_model *m, diff_state *st, int levels) {
+  st->alev = m->adapt_level < levels ? m->adapt_level : levels - 1;
+  st->aw = st->g[0][0].w[st->alev];
+  st->ah = st->g[0][0].h[st->alev];
+  for (int a = 0; a < 2; a++) {
+    st->adapt[a] = jnd_alloc((size_t)st->aw * st->ah, sizeof(float));
+    if (!st->adapt[a]) return JND_ERR_NOMEM;
+    for (size_t i = 0; i < (size_t)st->aw * st->ah; i++) {
+      double y = 0;
+      for (int c = 0; c < 3; c++) y += m->lum_w[c] * st->g[a][c].plane[st->alev][i];
+      st->adapt[a][i] = (float)fmax(y, 1e-6);
+    }
+  }
+  st->adapt_mid = jnd_alloc((size_t)st->aw * st->ah, sizeof(float));
+  if (!st->adapt_mid) return JND_ERR_NOMEM;
+  for (size_t i = 0; i < (size_t)st->aw * st->ah; i++) st->adapt_mid[i] = 0.5f * (st->adapt[0][i] + st->adapt[1][i]);
+  /* the CSF table columns these adaptation luminances need (one more either
+   * side for the interpolation) */
+  float lo = st->adapt[0][0], hi = lo;
+  for (int a = 0; a < 2; a++)
+    for (size_t i = 0; i < (size_t)st->aw * st->ah; i++) {
+      lo = jnd_minf(lo, st->adapt[a][i]);
+      hi = jnd_maxf(hi, st->adapt[a][i]);
+    }
+  st->il0 = jnd_clampi((int)floor((log10(lo) - LUT_LOGL0) / LUT_DLOGL) - 1, 0, LUT_NL - 1);
+  st->il1 = jnd_clampi((int)ceil((log10(hi) - LUT_LOGL0) / LUT_DLOGL) + 1, 0, LUT_NL - 1);
+  lut_fill(m, st->il0, st->il1);
+  return JND_OK;
+}
+
+/* The CSF's velocity: the retinal velocity of each pixel (pyramids of the
+ * motion maps), a uniform one, or a temporal modulation. */
+static jnd_status csf_velocity(jnd_model *m, diff_state *st, const jnd_diff_inputs *in, int w, int h, int threads) {
+  const int nb = m->nbands;
+  float *vel0 = NULL;
+  jnd_status s = JND_OK;
+  st->uniform_v = JND_DRIFT_DPS; /* 004 §3.1: static images keep the drift minimum */
+  if (in && in->temporal_hz > 0) {
+    st->temporal_hz = in->temporal_hz;
+  } else if (in && in->retinal_dps > 0) {
+    st->uniform_v = (float)in->retinal_dps;
+  } else if (in && (in->motion || in->motion_test)) {
+    /* 004 §3: each frame's own displacement; one pyramid when they are the same */
+    st->vel_shared = !in->motion_test || in->motion_test == in->motion;
+    for (int a = 0; a < (st->vel_shared ? 1 : 2); a++) {
+      const jnd_image *mo = a == 0 ? in->motion : in->motion_test;
+      if ((s = velocity_map(m, mo, w, h, &vel0)) != JND_OK) break;
+      if ((s = jnd_gauss_build(&st->vel[a], vel0, w, h, nb + 1, threads)) != JND_OK) break;
+      st->vel[a].own0 = 1;
+      vel0 = NULL;
+      st->has_vel = 1;
+    }
+    if (s == JND_OK && st->vel_shared) st->vel[1] = st->vel[0];
+  }
+  free(vel0);
+  return s;
+}
+
+/* Each band's difference, contrast pyramid → opponent channels → CSF
+ * normalisation → masking transducer → |T(test) − T(ref)|^β summed over
+ * the channels, into Dlev[b] (b = 0..nb, nb the baseband). */
+static jnd_status band_differences(jnd_model *m, diff_state *st, float **Dlev, int threads) {
+  const int nb = m->nbands;
+  jnd_status s = JND_OK;
+  /* from the coarsest band to the finest, so that each band's masking pool
+   * can take in the next coarser band's pooled maskers (kept at that
+   * band's level: 3/4 of a float a pixel at most) */
+  const int xband = m->p.masking_band_oct > 0 && !st->uniform[0] && !st->uniform[1];
+  const int apart = chroma_summation_apart(&m->p);
+  float *mk_coarse[NCH] = {0}, *mk_this[NCH] = {0};
+  for (int b = nb - 1; b >= 0 && s == JND_OK; b--) {
+    int w1 = st->g[0][0].w[b + 1], h1 = st->g[0][0].h[b + 1];
+    if (xband && b > 0)
+      for (int c = 0; c < NCH && s == JND_OK; c++) {
+        mk_this[c] = jnd_alloc((size_t)st->g[0][0].w[b] * st->g[0][0].h[b], sizeof(float));
+        if (!mk_this[c]) s = jnd_fail(JND_ERR_NOMEM, "model: out of memory");
+      }
+    float *xexp[2][3] = {{0}};
+    /* EXPAND(G_{i+2}) at level i+1; the row loop expands it once more to level i */
+    for (int a = 0; a < 2 && s == JND_OK; a++)
+      for (int c = 0; c < 3; c++) {
+        xexp[a][c] = jnd_alloc((size_t)w1 * h1, sizeof(float));
+        if (!xexp[a][c] || !jnd_pyr_expand(st->g[a][c].plane[b + 2], st->g[a][c].w[b + 2], st->g[a][c].h[b + 2],
+                                           xexp[a][c], w1, h1, threads)) {
+          s = jnd_fail(JND_ERR_NOMEM, "model: out of memory");
+          break;
+        }
+      }
+    float *Dc = NULL;
+    if (s == JND_OK) s = level_planes(st, b, apart, &Dlev[b], &Dc);
+    if (s == JND_OK)
+      s = band_difference(m, st, b, xexp, Dlev[b], Dc, xband && mk_coarse[0] ? mk_coarse : NULL,
+                          xband && b > 0 ? mk_this : NULL);
+    for (int c = 0; c < NCH; c++) {
+      free(mk_coarse[c]);
+      mk_coarse[c] = mk_this[c];
+      mk_this[c] = NULL;
+    }
+    if (s == JND_OK) s = summation_levels(m, b, Dlev[b], Dc, st->g[0][0].w[b], st->g[0][0].h[b]);
+    free(Dc);
+    for (int a = 0; a < 2; a++)
+      for (int c = 0; c < 3; c++) free(xexp[a][c]);
+  }
+  for (int c = 0; c < NCH; c++) free(mk_coarse[c]);
+  /* the baseband, as one more level below the coarsest band */
+  if (s == JND_OK) {
+    float *Dc = NULL;
+    s = level_planes(st, nb, apart, &Dlev[nb], &Dc);
+    if (s == JND_OK) s = baseband_difference(m, st, Dlev[nb], Dc);
+    if (s == JND_OK) s = summation_levels(m, nb, Dlev[nb], Dc, st->g[0][0].w[nb], st->g[0][0].h[nb]);
+    /* a temporal modulation is a flicker whatever the display's task */
+    if (s == JND_OK && m->p.display.task == JND_TASK_SIDE_BY_SIDE && !(st->temporal_hz > 0))
+      side_by_side_baseband(m, st, Dlev[nb]);
+    free(Dc);
+  }
+  return s;
+}
+
+/* 004 §3.2: the bands collapsed into Dlev[0] (full resolution), the
+ * coarser levels freed. */
+static jnd_status collapse_bands(float **Dlev, int nb, int w, int h, int threads) {
+  /* 004 §3.2: collapse the difference pyramid (Minkowski sum across bands):
+   * acc_i = D_i + EXPAND(acc_{i+1}), from the baseband to the finest band */
+  for (int b = nb; b > 0; b--) {
+    int cw = w, ch = h, fw = w, fh = h;
+    for (int k = 0; k < b; k++) { cw = (cw + 1) / 2; ch = (ch + 1) / 2; }
+    for (int k = 0; k < b - 1; k++) { fw = (fw + 1) / 2; fh = (fh + 1) / 2; }
+    /* acc_{b-1} += max(EXPAND(acc_b), 0), a row at a time */
+    if (!jnd_pyr_expand_add(Dlev[b], cw, ch, Dlev[b - 1], fw, fh, threads))
+      return jnd_fail(JND_ERR_NOMEM, "model: out of memory");
+    free(Dlev[b]);
+    Dlev[b] = NULL;
+  }
+  return JND_OK;
+}
+
+/* ^(1/β) of the collapsed sum, and the caller's weights: the JND map, in place. */
+static void jnd_map_of(const jnd_model *m, const jnd_diff_inputs *in, float *o, size_t npx, int threads) {
+  const float inv = (float)(1.0 / m->p.minkowski);
+  const float *wt = in && in->weights ? in->weights->data : NULL;
+  /* two loops, not one with a branch, so that both vectorise */
+  const size_t span = 16384;
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (size_t i = 0; i < npx; i += span) pow_span(o + i, o + i, npx - i < span ? npx - i : span, inv);
+  /* 004 §3.2: weights scale down the difference map */
+  if (wt) {
+#pragma omp parallel for num_threads(threads) schedule(static)
+    for (size_t i = 0; i < npx; i++) o[i] *= jnd_maxf(wt[i], 0.0f);
+  }
+}
+
 /* The model on two LMS images (planar, 3 channels) whose buffers it takes over. */
 static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_diff_inputs *in,
                            jnd_image *jnd_out) {
@@ -1294,178 +1487,26 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
   /* Gaussian levels: bands need G_{i+2}; the adaptation level must exist too */
   int levels = nb + 2;
   if (m->adapt_level + 1 > levels) levels = m->adapt_level + 1;
-  jnd_status s = JND_OK;
   size_t npx = (size_t)w * h;
-  jnd_image out = {0};
   float *Dlev[MAX_BANDS] = {0};
-  float *vel0 = NULL;
-
-  for (int a = 0; a < 2 && s == JND_OK; a++)
-    for (int c = 0; c < 3 && s == JND_OK; c++) {
-      s = jnd_gauss_build(&st.g[a][c], lms[a] + (size_t)c * npx, w, h, levels, threads);
-      if (s == JND_OK && c == 0) st.g[a][c].own0 = 1; /* plane 0 of channel L owns the buffer */
-    }
-  if (s != JND_OK) {
-    for (int a = 0; a < 2; a++)
-      if (!st.g[a][0].own0) free(lms[a]);
-    goto done;
-  }
-  /* a uniform image (a psychophysical background) needs no contrast bands */
-  for (int a = 0; a < 2; a++) {
-    st.uniform[a] = 1;
-    for (int c = 0; c < 3 && st.uniform[a]; c++) {
-      const float *p = lms[a] + (size_t)c * npx;
-      for (size_t i = 1; i < npx; i++)
-        if (p[i] != p[0]) {
-          st.uniform[a] = 0;
-          break;
-        }
-    }
-  }
-  /* adaptation luminance: Y at the level where a pixel is about one degree */
-  st.alev = m->adapt_level < levels ? m->adapt_level : levels - 1;
-  st.aw = st.g[0][0].w[st.alev];
-  st.ah = st.g[0][0].h[st.alev];
-  for (int a = 0; a < 2; a++) {
-    st.adapt[a] = jnd_alloc((size_t)st.aw * st.ah, sizeof(float));
-    if (!st.adapt[a]) { s = JND_ERR_NOMEM; goto done; }
-    for (size_t i = 0; i < (size_t)st.aw * st.ah; i++) {
-      double y = 0;
-      for (int c = 0; c < 3; c++) y += m->lum_w[c] * st.g[a][c].plane[st.alev][i];
-      st.adapt[a][i] = (float)fmax(y, 1e-6);
-    }
-  }
-  st.adapt_mid = jnd_alloc((size_t)st.aw * st.ah, sizeof(float));
-  if (!st.adapt_mid) { s = JND_ERR_NOMEM; goto done; }
-  for (size_t i = 0; i < (size_t)st.aw * st.ah; i++) st.adapt_mid[i] = 0.5f * (st.adapt[0][i] + st.adapt[1][i]);
-  /* the CSF table columns these adaptation luminances need (one more either
-   * side for the interpolation) */
-  {
-    float lo = st.adapt[0][0], hi = lo;
-    for (int a = 0; a < 2; a++)
-      for (size_t i = 0; i < (size_t)st.aw * st.ah; i++) {
-        lo = jnd_minf(lo, st.adapt[a][i]);
-        hi = jnd_maxf(hi, st.adapt[a][i]);
-      }
-    st.il0 = jnd_clampi((int)floor((log10(lo) - LUT_LOGL0) / LUT_DLOGL) - 1, 0, LUT_NL - 1);
-    st.il1 = jnd_clampi((int)ceil((log10(hi) - LUT_LOGL0) / LUT_DLOGL) + 1, 0, LUT_NL - 1);
-    lut_fill(m, st.il0, st.il1);
-  }
-  /* retinal velocity, or a temporal modulation */
-  st.uniform_v = JND_DRIFT_DPS; /* 004 §3.1: static images keep the drift minimum */
-  if (in && in->temporal_hz > 0) {
-    st.temporal_hz = in->temporal_hz;
-  } else if (in && in->retinal_dps > 0) {
-    st.uniform_v = (float)in->retinal_dps;
-  } else if (in && (in->motion || in->motion_test)) {
-    /* 004 §3: each frame's own displacement; one pyramid when they are the same */
-    st.vel_shared = !in->motion_test || in->motion_test == in->motion;
-    for (int a = 0; a < (st.vel_shared ? 1 : 2); a++) {
-      const jnd_image *mo = a == 0 ? in->motion : in->motion_test;
-      if ((s = velocity_map(m, mo, w, h, &vel0)) != JND_OK) goto done;
-      if ((s = jnd_gauss_build(&st.vel[a], vel0, w, h, nb + 1, threads)) != JND_OK) goto done;
-      st.vel[a].own0 = 1;
-      vel0 = NULL;
-      st.has_vel = 1;
-    }
-    if (st.vel_shared) st.vel[1] = st.vel[0];
-  }
-
-  /* from the coarsest band to the finest, so that each band's masking pool
-   * can take in the next coarser band's pooled maskers (kept at that
-   * band's level: 3/4 of a float a pixel at most) */
-  const int xband = m->p.masking_band_oct > 0 && !st.uniform[0] && !st.uniform[1];
-  const int apart = chroma_summation_apart(&m->p);
-  float *mk_coarse[NCH] = {0}, *mk_this[NCH] = {0};
-  for (int b = nb - 1; b >= 0 && s == JND_OK; b--) {
-    int w1 = st.g[0][0].w[b + 1], h1 = st.g[0][0].h[b + 1];
-    if (xband && b > 0)
-      for (int c = 0; c < NCH && s == JND_OK; c++) {
-        mk_this[c] = jnd_alloc((size_t)st.g[0][0].w[b] * st.g[0][0].h[b], sizeof(float));
-        if (!mk_this[c]) s = jnd_fail(JND_ERR_NOMEM, "model: out of memory");
-      }
-    float *xexp[2][3] = {{0}};
-    /* EXPAND(G_{i+2}) at level i+1; the row loop expands it once more to level i */
-    for (int a = 0; a < 2 && s == JND_OK; a++)
-      for (int c = 0; c < 3; c++) {
-        xexp[a][c] = jnd_alloc((size_t)w1 * h1, sizeof(float));
-        if (!xexp[a][c] || !jnd_pyr_expand(st.g[a][c].plane[b + 2], st.g[a][c].w[b + 2], st.g[a][c].h[b + 2],
-                                           xexp[a][c], w1, h1, threads)) {
-          s = jnd_fail(JND_ERR_NOMEM, "model: out of memory");
-          break;
-        }
-      }
-    float *Dc = NULL;
-    if (s == JND_OK) s = level_planes(&st, b, apart, &Dlev[b], &Dc);
-    if (s == JND_OK)
-      s = band_difference(m, &st, b, xexp, Dlev[b], Dc, xband && mk_coarse[0] ? mk_coarse : NULL,
-                          xband && b > 0 ? mk_this : NULL);
-    for (int c = 0; c < NCH; c++) {
-      free(mk_coarse[c]);
-      mk_coarse[c] = mk_this[c];
-      mk_this[c] = NULL;
-    }
-    if (s == JND_OK) s = summation_levels(m, b, Dlev[b], Dc, st.g[0][0].w[b], st.g[0][0].h[b]);
-    free(Dc);
-    for (int a = 0; a < 2; a++)
-      for (int c = 0; c < 3; c++) free(xexp[a][c]);
-  }
-  for (int c = 0; c < NCH; c++) free(mk_coarse[c]);
-  /* the baseband, as one more level below the coarsest band */
-  if (s == JND_OK) {
-    float *Dc = NULL;
-    s = level_planes(&st, nb, apart, &Dlev[nb], &Dc);
-    if (s == JND_OK) s = baseband_difference(m, &st, Dlev[nb], Dc);
-    if (s == JND_OK) s = summation_levels(m, nb, Dlev[nb], Dc, st.g[0][0].w[nb], st.g[0][0].h[nb]);
-    /* a temporal modulation is a flicker whatever the display's task */
-    if (s == JND_OK && m->p.display.task == JND_TASK_SIDE_BY_SIDE && !(st.temporal_hz > 0))
-      side_by_side_baseband(m, &st, Dlev[nb]);
-    free(Dc);
-  }
-  if (s != JND_OK) goto done;
+  jnd_status s = gaussian_pyramids(&st, lms, w, h, levels, threads);
+  if (s == JND_OK) s = adaptation_luminance(m, &st, levels);
+  if (s == JND_OK) s = csf_velocity(m, &st, in, w, h, threads);
+  if (s == JND_OK) s = band_differences(m, &st, Dlev, threads);
   state_free(&st);
-  memset(&st, 0, sizeof st);
-
-  /* 004 §3.2: collapse the difference pyramid (Minkowski sum across bands):
-   * acc_i = D_i + EXPAND(acc_{i+1}), from the baseband to the finest band */
-  for (int b = nb; b > 0; b--) {
-    int cw = w, ch = h, fw = w, fh = h;
-    for (int k = 0; k < b; k++) { cw = (cw + 1) / 2; ch = (ch + 1) / 2; }
-    for (int k = 0; k < b - 1; k++) { fw = (fw + 1) / 2; fh = (fh + 1) / 2; }
-    /* acc_{b-1} += max(EXPAND(acc_b), 0), a row at a time */
-    if (!jnd_pyr_expand_add(Dlev[b], cw, ch, Dlev[b - 1], fw, fh, threads)) {
-      s = jnd_fail(JND_ERR_NOMEM, "model: out of memory");
-      goto done;
-    }
-    free(Dlev[b]);
-    Dlev[b] = NULL;
+  if (s == JND_OK) s = collapse_bands(Dlev, nb, w, h, threads);
+  if (s != JND_OK) {
+    for (int b = 0; b < MAX_BANDS; b++) free(Dlev[b]);
+    return s;
   }
+  jnd_map_of(m, in, Dlev[0], npx, threads);
+  jnd_image out = {0};
   out.w = w;
   out.h = h;
   out.c = 1;
   out.data = Dlev[0];
-  Dlev[0] = NULL;
-  {
-    const float inv = (float)(1.0 / m->p.minkowski);
-    const float *wt = in && in->weights ? in->weights->data : NULL;
-    float *o = out.data;
-    /* two loops, not one with a branch, so that both vectorise */
-    const size_t span = 16384;
-#pragma omp parallel for num_threads(threads) schedule(static)
-    for (size_t i = 0; i < npx; i += span) pow_span(o + i, o + i, npx - i < span ? npx - i : span, inv);
-    /* 004 §3.2: weights scale down the difference map */
-    if (wt) {
-#pragma omp parallel for num_threads(threads) schedule(static)
-      for (size_t i = 0; i < npx; i++) o[i] *= jnd_maxf(wt[i], 0.0f);
-    }
-  }
   *jnd_out = out;
   return JND_OK;
-done:
-  state_free(&st);
-  for (int b = 0; b < MAX_BANDS; b++) free(Dlev[b]);
-  free(vel0);
-  return s;
 }
 
 static jnd_status check_pair(const jnd_image *a, const jnd_image *b, const jnd_diff_inputs *in) {

@@ -31,6 +31,7 @@
 #include <string.h>
 
 #include "jnd.h"
+#include "../task_params.h"
 
 static int texres(const char *model, const char *out_dir) {
   jnd_texres_params p;
@@ -99,18 +100,8 @@ static int calibrate(const char *csv, const char *out_path) {
 
 static int lod(const char *model, const char *out_dir) {
   jnd_lod_run_params p;
-  jnd_lod_run_defaults(&p);
   jnd_poi_screen screen;
-  if (jnd_poi_screen_parse("320x240", &screen) != JND_OK) return 2;
-  p.poi.screens = &screen;
-  p.poi.nscreens = 1;
-  p.poi.views = 1;
-  p.poi.surface_samples = 4096;
-  p.run.map_size = 64;
-  p.sw.judge.views.sampling.count = 1;
-  p.sw.max_px = 96;
-  p.sw.tolerance = 0.5;
-  p.sw.far_coverage = 0.05;
+  if (task_lod_params(&p, &screen) != JND_OK) return 2;
   jnd_lod_result *r = NULL;
   if (jnd_lod_run(model, &p, out_dir, &r) != JND_OK) {
     fprintf(stderr, "jnd: %s\n", jnd_last_error());

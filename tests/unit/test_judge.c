@@ -398,12 +398,65 @@ TEST(the_periphery_is_judged_less_visible_than_the_fovea) {
     CHECK(again[v] == fovea[v]);             /* the fixation point moved back: the same P */
   }
   CHECK(fovea[0] > 0.5 || fovea[1] > 0.5);   /* seen where the viewer looks (one view shows part 0 little) */
+  /* view 1 alone looks away; then the judge-wide point again is every view's */
+  double one_out[2], all[2];
+  CHECK_OK(jnd_judge_set_view_gaze(j, 1, 1, -2000, 47.5));
+  CHECK_OK(jnd_judge_eval(j, 0, 2, 0, one_out, NULL));
+  CHECK(one_out[0] == fovea[0] && one_out[1] < 0.5 * fovea[1]);
+  CHECK_OK(jnd_judge_set_gaze(j, 1, 47.5, 47.5));
+  CHECK_OK(jnd_judge_eval(j, 0, 2, 0, all, NULL));
+  for (int v = 0; v < 2; v++) CHECK(all[v] == fovea[v]);
   /* a judge made without a fixation point has none to move */
   jnd_judge *k = NULL;
   small(&p, 1, 1);
   CHECK_OK(jnd_judge_create(s, &p, &k));
   if (k) CHECK_STATUS(jnd_judge_set_gaze(k, 1, 0, 0), JND_ERR_ARG);
   jnd_judge_free(k);
+done:
+  jnd_judge_free(j);
+  jnd_scene_free(s);
+}
+
+TEST(each_view_is_judged_at_its_own_gaze_point) {
+  if (!test_renderer_available()) {
+    TEST_SKIP("no OpenGL context");
+    return;
+  }
+  jnd_judge_params p;
+  small(&p, 2, 1);   /* no judge-wide fixation point: the views keep their crops */
+  jnd_scene *s = parts_scene(2, 0);
+  jnd_judge *j = NULL;
+  CHECK_OK(jnd_judge_create(s, &p, &j));
+  if (!j) goto done;
+  CHECK_OK(jnd_scene_map_resize(s, map_of(s, "part0/baseColor"), 4, 4));
+  double none[2], fovea[2], split[2], swapped[2], back[2];
+  CHECK_OK(jnd_judge_eval(j, 0, 2, 0, none, NULL));
+  /* both views looked at: the object at 0° */
+  double x0, y0, x1, y1;
+  CHECK_OK(jnd_judge_set_view_eccentricity(j, 0, 0, &x0, &y0));
+  CHECK_OK(jnd_judge_set_view_eccentricity(j, 1, 0, &x1, &y1));
+  CHECK(x0 > 0 && x0 < 96 && y0 > 0 && y0 < 96);   /* the object's centre, inside the 96² frame */
+  CHECK_OK(jnd_judge_eval(j, 0, 2, 0, fovea, NULL));
+  /* view 0's object 40° out, view 1's still looked at: only view 0 changes */
+  double gx, gy;
+  CHECK_OK(jnd_judge_set_view_eccentricity(j, 0, 40, &gx, &gy));
+  CHECK(gx < x0 - 1000 && gy == y0);   /* far to the left of the object, on its row */
+  CHECK_OK(jnd_judge_eval(j, 0, 2, 0, split, NULL));
+  /* and the other way round */
+  CHECK_OK(jnd_judge_set_view_gaze(j, 0, 1, x0, y0));
+  CHECK_OK(jnd_judge_set_view_eccentricity(j, 1, 40, NULL, NULL));
+  CHECK_OK(jnd_judge_eval(j, 0, 2, 0, swapped, NULL));
+  for (int v = 0; v < 2; v++) CHECK(fovea[v] > 0);
+  CHECK(fovea[0] > 0.5 || fovea[1] > 0.5);   /* seen where the viewer looks (one view shows part 0 little) */
+  CHECK(split[0] < 0.5 * fovea[0] && split[1] == fovea[1]);
+  CHECK(swapped[0] == fovea[0] && swapped[1] < 0.5 * fovea[1]);
+  /* the points removed: each view judged as with none */
+  CHECK_OK(jnd_judge_set_view_gaze(j, 0, 0, 0, 0));
+  CHECK_OK(jnd_judge_set_view_gaze(j, 1, 0, 0, 0));
+  CHECK_OK(jnd_judge_eval(j, 0, 2, 0, back, NULL));
+  for (int v = 0; v < 2; v++) CHECK(back[v] == none[v]);
+  CHECK_STATUS(jnd_judge_set_view_gaze(j, 2, 1, 0, 0), JND_ERR_ARG);
+  CHECK_STATUS(jnd_judge_set_view_eccentricity(j, 0, 95, NULL, NULL), JND_ERR_ARG);
 done:
   jnd_judge_free(j);
   jnd_scene_free(s);
@@ -530,5 +583,6 @@ RUN_TESTS(partial_rendering_equals_the_full_rendering, judges_sharing_a_renderer
           views_added_later_are_referenced_in_the_reference_state,
           views_of_an_asset_on_the_ground_come_from_above_and_frame_the_asset,
           a_level_of_detail_is_a_state_the_judge_renders_and_recognises,
-          the_periphery_is_judged_less_visible_than_the_fovea, showing_composes_over_the_background_by_coverage,
+          the_periphery_is_judged_less_visible_than_the_fovea, each_view_is_judged_at_its_own_gaze_point,
+          showing_composes_over_the_background_by_coverage,
           a_pair_judge_makes_one_model_per_ppd_whatever_the_pairs)

@@ -9,6 +9,7 @@
 #include "batch/batch.h"
 #include "tasks/report_schema.h"
 #include "test.h"
+#include "task_params.h"
 
 static int kind_is(const cJSON *v, report_kind k) {
   switch (k) {
@@ -155,18 +156,8 @@ TEST(every_rendering_task_report_has_every_field_of_the_schema) {
   }
   {
     jnd_lod_run_params p;
-    jnd_lod_run_defaults(&p);
     jnd_poi_screen screen;
-    CHECK_OK(jnd_poi_screen_parse("320x240", &screen));
-    p.poi.screens = &screen;
-    p.poi.nscreens = 1;
-    p.poi.views = 1;
-    p.poi.surface_samples = 4096;
-    p.run.map_size = 64;
-    p.sw.judge.views.sampling.count = 1;
-    p.sw.max_px = 96;
-    p.sw.tolerance = 0.5;
-    p.sw.far_coverage = 0.05;
+    CHECK_OK(task_lod_params(&p, &screen));   /* task_runs.c's lod */
     jnd_lod_result *r = NULL;
     CHECK_OK(jnd_lod_run("builtin:sphere", &p, out_dir("lod"), &r));
     static const char *const hold[] = {RS_WHEN_PERCEPTUAL, NULL};
