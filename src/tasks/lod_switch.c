@@ -223,9 +223,10 @@ typedef struct {
   int nviews, nlevels, ngrid;
   double *grid;              /* distances */
   jnd_judge **judge;         /* per grid point: its judge (NULL: not made yet) */
+  jnd_view *views;           /* ngrid × nviews: each grid point's views, added to its judge as first asked */
   double *scale;             /* per grid point: the screen's scale its judge renders at */
   signed char *known;        /* nlevels × ngrid: −1 not asked, 0 fails, 1 passes */
-  double *P;                 /* nviews */
+  double *P, *z;             /* nviews: each view's P; for the criterion, 0 where not judged */
   jnd_lod_switch_result *out;
   jnd_status st;
 } oracle;
@@ -265,13 +266,54 @@ static jnd_judge_params params_at(const oracle *o, double d, int *Rp, double *sc
 
 /* The judge of grid point g: its window and scale from the object's size
  * there, its views sampled at that distance (the same seed, so the same
- * directions and lights at every distance), their references level 0. */
+ * directions and lights at every distance), their references level 0. The
+ * judge is made with the first view only; decide() adds the others when it
+ * first asks them (a reference is a rendering of level 0, the finest and
+ * dearest level, and most distances are decided by a view or two). */
 static jnd_status judge_at(oracle *o, int g) {
   int R;
   jnd_judge_params jp = params_at(o, o->grid[g], &R, &o->scale[g]);
-  jnd_status st = jnd_scene_lod_select(o->scene, 0);
+  jnd_view *v = o->views + (size_t)g * o->nviews;
+  /* as jnd_view_set_make samples them for a judge of all the views */
+  jnd_view_sampling vs = jp.views.sampling;
+  vs.count = o->nviews;
+  vs.aspect = 1;
+  jnd_status st = jnd_views_sample(o->scene, &vs, v);
+  jp.views.cameras = v;
+  jp.views.ncameras = 1;
+  if (!st) st = jnd_scene_lod_select(o->scene, 0);
   if (!st) st = jnd_judge_create(o->scene, &jp, &o->judge[g]);
   if (!st) o->out->distances++;
+  return st;
+}
+
+/* jnd_judge_eval(JND_JUDGE_DECIDE) on grid point g's views, each view's
+ * reference rendered when the view is first asked: the views in their own
+ * order (DECIDE's order by the changed materials' pixels is the views' own
+ * when only the level changes: a level changes no material's maps),
+ * stopping once more than floor(q·n) have P > p; views not judged count as
+ * P = 0 and the state fails. The same views judged, the same judgement. */
+static jnd_status decide(oracle *o, int g, jnd_judgement *r) {
+  jnd_judge *j = o->judge[g];
+  const jnd_criterion *c = &o->jp.criterion;
+  int n = o->nviews, allowed = (int)floor(c->q * n + 1e-9), above = 0, judged = 0;
+  jnd_status st = JND_OK;
+  for (int v = 0; v < n; v++) o->P[v] = NAN;
+  for (int v = 0; v < n && above <= allowed && !st; v++) {
+    if (v >= jnd_judge_view_count(j)) {
+      st = jnd_judge_add_views(j, o->views + (size_t)g * n + v, 1, NULL);
+      if (st) break;
+    }
+    if ((st = jnd_judge_eval(j, v, 1, 0, &o->P[v], NULL))) break;
+    judged++;
+    above += o->P[v] > c->p;
+  }
+  if (st) return st;
+  for (int v = 0; v < n; v++) o->z[v] = isnan(o->P[v]) ? 0 : o->P[v];
+  r->views = n;
+  r->judged = judged;
+  st = jnd_criterion_eval(o->z, n, c->p, c->q, c->confidence, &r->criterion);
+  if (judged < n) r->criterion.pass = 0;
   return st;
 }
 
@@ -286,7 +328,7 @@ static int rendered_passes(void *user, int k, int g) {
   jnd_status st = o->judge[g] ? JND_OK : judge_at(o, g);
   jnd_judgement r;
   if (!st) st = jnd_scene_lod_select(o->scene, k);
-  if (!st) st = jnd_judge_eval(o->judge[g], 0, o->nviews, JND_JUDGE_DECIDE, o->P, &r);
+  if (!st) st = decide(o, g, &r);
   if (st) {
     o->st = st;
     return -1;
@@ -443,9 +485,11 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
   o.ppd = o.jp.model.display.ppd;
   o.grid = jnd_alloc((size_t)ngrid, sizeof *o.grid);
   o.judge = jnd_calloc((size_t)ngrid, sizeof *o.judge);
+  o.views = jnd_calloc((size_t)ngrid * o.nviews, sizeof *o.views);
   o.scale = jnd_alloc((size_t)ngrid, sizeof *o.scale);
   o.known = jnd_alloc((size_t)n * ngrid, 1);
   o.P = jnd_alloc((size_t)o.nviews, sizeof *o.P);
+  o.z = jnd_alloc((size_t)o.nviews, sizeof *o.z);
   int *idx = jnd_alloc((size_t)n, sizeof *idx);
   out->statistic = jnd_alloc((size_t)n, sizeof *out->statistic);
   out->p_max = jnd_alloc((size_t)n, sizeof *out->p_max);
@@ -457,7 +501,7 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
   out->pop_max_rating = jnd_alloc((size_t)n, sizeof *out->pop_max_rating);
   out->switch_by = jnd_alloc((size_t)n, sizeof *out->switch_by);
   jnd_status st = JND_OK;
-  if (!o.grid || !o.judge || !o.scale || !o.known || !o.P || !idx || !out->statistic || !out->p_max || !out->switch_distance ||
+  if (!o.grid || !o.judge || !o.views || !o.scale || !o.known || !o.P || !o.z || !idx || !out->statistic || !out->p_max || !out->switch_distance ||
       !out->switch_coverage || !out->switch_distance_criterion || !out->switch_scale || !out->switch_distance_pop ||
       !out->pop_max_rating || !out->switch_by)
     st = jnd_fail(JND_ERR_NOMEM, "lod: out of memory");
@@ -509,9 +553,11 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
   jnd_renderer_free(own);
   free(o.grid);
   free(o.judge);
+  free(o.views);
   free(o.scale);
   free(o.known);
   free(o.P);
+  free(o.z);
   free(idx);
   if (st) jnd_lod_switch_result_free(out);
   return st;

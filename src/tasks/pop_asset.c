@@ -148,7 +148,9 @@ jnd_status jnd_pop_render(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const
   cur.has_prev = moving;
   cur.prev_camera = prev.camera;
   memcpy(cur.prev_model, prev.model, sizeof cur.prev_model);
-  cur.outputs = JND_OUT_COLOR | JND_OUT_DEPTH | JND_OUT_MASK | (moving ? JND_OUT_MOTION : 0);
+  /* depth only for the disocclusion inputs of a moving view (3): for a
+   * static one it would be a second drawing of each level for nothing */
+  cur.outputs = JND_OUT_COLOR | JND_OUT_MASK | (moving ? JND_OUT_DEPTH | JND_OUT_MOTION : 0);
   prev.has_prev = 0;
   prev.outputs = JND_OUT_DEPTH;
   /* 3b: the previous frame is the expected level's: it also needs its colour;
