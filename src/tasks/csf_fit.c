@@ -36,6 +36,7 @@
 #define MAX_STEP 1.0      /* largest change of one ln(constant) in a step */
 #define STOP_GAIN 1e-4    /* a fit stops when a step gains less than this fraction of the objective */
 #define MAX_REJECTS 8     /* or when this many steps in a row, each damped 4× more, do not lower it */
+#define FIT_REFRESHES 3   /* forward-difference Jacobians a fit may compute after its first */
 
 void jnd_csf_options_defaults(jnd_csf_options *o) {
   memset(o, 0, sizeof *o);
@@ -365,18 +366,18 @@ jnd_status jnd_csf_evaluate(const jnd_csf_data *d, const jnd_model_params *base,
       goto done;
     }
     if ((s = residuals(&f, theta, search, nsearch, res)) != JND_OK) goto done;
-    if ((s = jacobian(&f, theta, search, nsearch, res, J)) != JND_OK) goto done;
     if (opt->fit) {
-      if ((s = lm_fit(&f, search, nsearch, theta, J, res, 3)) != JND_OK) goto done;
+      if ((s = jacobian(&f, theta, search, nsearch, res, J)) != JND_OK) goto done;
+      if ((s = lm_fit(&f, search, nsearch, theta, J, res, FIT_REFRESHES)) != JND_OK) goto done;
       params_at(&f, theta, &r->params);
+      double sd[JND_MAX_CONSTANTS];
+      posterior_sd(&f, J, res, nsearch, sd);
+      for (int k = 0; k < K; k++) {
+        r->fitted[f.idx[k]] = 1;
+        r->sd_ln[f.idx[k]] = sd[k];
+      }
     }
     r->search_rmse_db = rms_of(res, nsearch);
-    double sd[JND_MAX_CONSTANTS];
-    posterior_sd(&f, J, res, nsearch, sd);
-    for (int k = 0; k < K; k++) {
-      r->fitted[f.idx[k]] = opt->fit;
-      if (opt->fit) r->sd_ln[f.idx[k]] = sd[k];
-    }
   }
   /* the training figure: every used row, searched */
   if ((s = predict(&f, &r->params, used, nused, 0, pred, "predict")) != JND_OK) goto done;
@@ -384,6 +385,14 @@ jnd_status jnd_csf_evaluate(const jnd_csf_data *d, const jnd_model_params *base,
   score(d, r->predicted, 0, r);
 
   if (opt->cross_validate && fitting) {
+    /* the folds start from the priors, which no row chose: J and res at
+     * them over every search row (a row's residual and Jacobian row depend
+     * on that row and the constants only, so each fold takes its own rows
+     * from these as a forward difference of its own would give them) */
+    double theta0[JND_MAX_CONSTANTS];
+    for (int k = 0; k < K; k++) theta0[k] = jnd_clampd(f.mu[k], f.lo[k], f.hi[k]);
+    if ((s = residuals(&f, theta0, search, nsearch, res)) != JND_OK) goto done;
+    if ((s = jacobian(&f, theta0, search, nsearch, res, J)) != JND_OK) goto done;
     r->fold_value = jnd_alloc((size_t)d->ndatasets * nc, sizeof(double));
     Jf = jnd_alloc((size_t)(nsearch + K) * K, sizeof *Jf);
     rf = jnd_alloc((size_t)(nsearch + K), sizeof *rf);
@@ -410,10 +419,10 @@ jnd_status jnd_csf_evaluate(const jnd_csf_data *d, const jnd_model_params *base,
         if (d->rows[used[q]].dataset == ds) left[nleft++] = used[q];
       if (nleft == 0 || nf == 0) continue;
       memcpy(Jf + (size_t)nf * K, J + (size_t)nsearch * K, sizeof(double) * K * K);
-      memcpy(thetaf, theta, sizeof(double) * K);
-      for (int k = 0; k < K; k++) rf[nf + k] = opt->prior_weight_db * (thetaf[k] - f.mu[k]) / f.sd[k];
+      memcpy(thetaf, theta0, sizeof(double) * K);
+      for (int k = 0; k < K; k++) rf[nf + k] = res[nsearch + k];
       if (opt->progress) opt->progress(opt->user, d->datasets[ds], 0, 1);
-      if ((s = lm_fit(&f, rows_f, nf, thetaf, Jf, rf, 0)) != JND_OK) break;
+      if ((s = lm_fit(&f, rows_f, nf, thetaf, Jf, rf, FIT_REFRESHES)) != JND_OK) break;
       jnd_model_params pf;
       params_at(&f, thetaf, &pf);
       for (int k = 0; k < nc; k++) r->fold_value[(size_t)ds * nc + k] = jnd_model_constant_get(&pf, k);

@@ -67,6 +67,26 @@ check the_bias_is_the_mean_error_of_each_data_set jq -e \
 check each_fold_reports_its_constants jq -e '.parameters.constants.sensitivity.without | length == 5' "$T/cv.json"
 "$JND" csf "$T/data.csv" --cross-validate --fit-only sensitivity,sens_rg --threads 1 --json "$T/cv1.json" --quiet
 check cross_validation_does_not_depend_on_the_thread_count cmp -s "$T/cv.json" "$T/cv1.json"
+# the folds are honest: a held-out set's own thresholds never reach its
+# prediction (the achromatic set's measured sensitivities ×4: its cross-
+# validated predictions stay to the last digit, its training fit moves) ...
+awk -F, 'BEGIN{OFS=","} NR>1 && $9=="achromatic"{$15*=4} 1' "$T/data.csv" >"$T/data4.csv"
+"$JND" csf "$T/data4.csv" --colors "$T/color_directions.csv" --backgrounds "$T/backgrounds.csv" \
+  --cross-validate --fit-only sensitivity,sens_rg -o "$T/cv4.csv" --quiet
+pred_of() { awk -F, -v ds="$2" -v col="$3" 'NR==1{for(i=1;i<=NF;i++) if($i==col) c=i; next} ds=="" || $9==ds{print $c}' "$1"; }
+check a_held_out_sets_thresholds_do_not_reach_its_prediction \
+  test "$(pred_of "$T/cv.csv" achromatic predicted_cv)" = "$(pred_of "$T/cv4.csv" achromatic predicted_cv)"
+"$JND" csf "$T/data4.csv" --colors "$T/color_directions.csv" --backgrounds "$T/backgrounds.csv" \
+  --fit --fit-only sensitivity,sens_rg -o "$T/fit4.csv" --quiet
+"$JND" csf "$T/data.csv" --fit --fit-only sensitivity,sens_rg -o "$T/fit1.csv" --quiet
+check while_the_training_fit_follows_them \
+  test "$(pred_of "$T/fit1.csv" achromatic predicted_sensitivity)" != "$(pred_of "$T/fit4.csv" achromatic predicted_sensitivity)"
+# ... and every fold starts from the priors, not from the constants given
+# (the defaults were fitted on all the data): --set of a fitted constant
+# leaves every fold as it was
+"$JND" csf "$T/data.csv" --cross-validate --fit-only sensitivity,sens_rg --set sensitivity=0.05 --set sens_rg=5000 -o "$T/cvset.csv" --quiet
+check the_folds_start_from_the_priors_not_the_defaults \
+  test "$(pred_of "$T/cv.csv" "" predicted_cv)" = "$(pred_of "$T/cvset.csv" "" predicted_cv)"
 expect_exit 2 unknown_constant_exits_two "$JND" csf "$T/data.csv" --set nonsense=1
 check unknown_constant_error_is_one_line one_line_error
 expect_exit 2 constant_out_of_bounds_exits_two "$JND" csf "$T/data.csv" --set sensitivity=-1
