@@ -15,10 +15,16 @@
  *  3. Prediction: every used row with the constants, each threshold searched
  *     to 0.02 dB: the training figure.
  *  4. Leave-one-data-set-out: for each data set, step 2 on the other data
- *     sets' search rows (starting from step 2's constants and Jacobian, its
- *     rows of the left-out set removed), then step 3 for the left-out rows
- *     with those constants. A constant only the left-out set measures goes
- *     back to its prior, not to the value that set gave it.
+ *     sets' search rows from the priors (the literature's values of
+ *     jnd_model_constants(), which no row chose; not the defaults, which were
+ *     fitted on every data set), with forward-difference Jacobians and the
+ *     same refreshes as step 2, then step 3 for the left-out rows with those
+ *     constants. The left-out rows are never searched and the constants
+ *     given (base) never reach a fold: the procedure is the same whatever
+ *     figure it gives. A constant only the left-out set measures stays near
+ *     its prior. The first Jacobian is computed once at the priors over
+ *     every search row and each fold takes its own rows of it: a row's
+ *     residual and Jacobian row depend only on that row and the constants.
  *  5. Uncertainty: the posterior covariance s²·(JᵀJ)⁻¹ at the fit (J with
  *     the prior rows, s² the residual variance of the rows), and the spread
  *     of each constant across the folds. */
