@@ -1662,6 +1662,10 @@ typedef struct {
   int threads;               /* 0: OpenMP's default; results do not depend on it */
   void (*progress)(void *user, const char *stage, int done, int total); /* may be NULL */
   void *user;
+  const char *const *folds;  /* with cross_validate: only these data sets' folds (NULL: every
+                                data set); each fold is the same, the pooled cross-validated
+                                figure covers only these sets. A name not in the data: error */
+  int nfolds;
 } jnd_csf_options;
 
 JND_EXPERIMENTAL void jnd_csf_options_defaults(jnd_csf_options *o);

@@ -22,7 +22,9 @@
  *     constants. The left-out rows are never searched and the constants
  *     given (base) never reach a fold: the procedure is the same whatever
  *     figure it gives. A constant only the left-out set measures stays near
- *     its prior. The first Jacobian is computed once at the priors over
+ *     its prior. o->folds may name the folds to compute (a quick look at
+ *     one set); each is the same fold, and the pooled figure covers those
+ *     sets only. The first Jacobian is computed once at the priors over
  *     every search row and each fold takes its own rows of it: a row's
  *     residual and Jacobian row depend only on that row and the constants.
  *  5. Uncertainty: the posterior covariance s²·(JᵀJ)⁻¹ at the fit (J with
@@ -302,6 +304,21 @@ void jnd_csf_result_free(jnd_csf_result *r) {
   memset(r, 0, sizeof *r);
 }
 
+/* the data set called name, or -1 */
+static int fold_index(const jnd_csf_data *d, const char *name) {
+  for (int ds = 0; ds < d->ndatasets; ds++)
+    if (strcmp(d->datasets[ds], name) == 0) return ds;
+  return -1;
+}
+
+/* whether the cross-validation computes data set ds's fold (o->folds) */
+static int fold_wanted(const jnd_csf_data *d, const jnd_csf_options *o, int ds) {
+  if (o->nfolds <= 0) return 1;
+  for (int q = 0; q < o->nfolds; q++)
+    if (fold_index(d, o->folds[q]) == ds) return 1;
+  return 0;
+}
+
 jnd_status jnd_csf_evaluate(const jnd_csf_data *d, const jnd_model_params *base, const jnd_csf_options *opt,
                             jnd_csf_result *r) {
   memset(r, 0, sizeof *r);
@@ -312,6 +329,8 @@ jnd_status jnd_csf_evaluate(const jnd_csf_data *d, const jnd_model_params *base,
   }
   if (opt->search_every < 1 || opt->max_iterations < 0 || !(opt->prior_weight_db > 0))
     return jnd_fail(JND_ERR_ARG, "csf: search_every >= 1, max_iterations >= 0 and prior_weight_db > 0 needed");
+  for (int q = 0; q < opt->nfolds; q++)
+    if (fold_index(d, opt->folds[q]) < 0) return jnd_fail(JND_ERR_ARG, "csf: fold '%s': no data set of that name", opt->folds[q]);
   fit_ctx f;
   memset(&f, 0, sizeof f);
   f.d = d;
@@ -423,7 +442,7 @@ jnd_status jnd_csf_evaluate(const jnd_csf_data *d, const jnd_model_params *base,
       }
       for (int q = 0; q < nused; q++)
         if (d->rows[used[q]].dataset == ds) left[nleft++] = used[q];
-      if (nleft == 0 || nf == 0) continue;
+      if (nleft == 0 || nf == 0 || !fold_wanted(d, opt, ds)) continue;
       memcpy(Jf + (size_t)nf * K, J + (size_t)nsearch * K, sizeof(double) * K * K);
       memcpy(thetaf, theta0, sizeof(double) * K);
       for (int k = 0; k < K; k++) rf[nf + k] = res[nsearch + k];

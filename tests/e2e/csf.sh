@@ -87,6 +87,21 @@ check while_the_training_fit_follows_them \
 "$JND" csf "$T/data.csv" --cross-validate --fit-only sensitivity,sens_rg --set sensitivity=0.05 --set sens_rg=5000 -o "$T/cvset.csv" --quiet
 check the_folds_start_from_the_priors_not_the_defaults \
   test "$(pred_of "$T/cv.csv" "" predicted_cv)" = "$(pred_of "$T/cvset.csv" "" predicted_cv)"
+# --fold: only the named folds, each the same fold as in the full run; the
+# pooled figure says which sets it covers
+"$JND" csf "$T/data.csv" --cross-validate --fit-only sensitivity,sens_rg --fold achromatic --fold moving \
+  -o "$T/cvfold.csv" --json "$T/cvfold.json" --quiet
+check a_fold_named_is_the_fold_of_the_full_run \
+  test "$(pred_of "$T/cv.csv" achromatic predicted_cv; pred_of "$T/cv.csv" moving predicted_cv)" = \
+  "$(pred_of "$T/cvfold.csv" achromatic predicted_cv; pred_of "$T/cvfold.csv" moving predicted_cv)"
+check the_other_folds_are_not_computed test "$(pred_of "$T/cvfold.csv" chromatic predicted_cv)" = NaN
+check the_report_says_which_sets_the_cross_validation_pools jq -e \
+  '.result.cv_pooled_over == ["achromatic", "moving"] and .result.cv_every_fold == false and (.result.datasets.chromatic | has("cv_rmse_db") | not) and (.parameters.constants.sensitivity.without | keys) == ["achromatic", "moving"]' "$T/cvfold.json"
+check a_full_run_pools_every_set jq -e '(.result.cv_pooled_over | length) == 5 and .result.cv_every_fold' "$T/cv.json"
+expect_exit 2 a_fold_of_no_data_set_exits_two "$JND" csf "$T/data.csv" --cross-validate --fold nonsense
+check a_fold_of_no_data_set_is_named grep -q "fold 'nonsense'" "$T/err.txt"
+check a_fold_of_no_data_set_error_is_one_line one_line_error
+expect_exit 2 a_fold_without_cross_validation_exits_two "$JND" csf "$T/data.csv" --fold achromatic
 expect_exit 2 unknown_constant_exits_two "$JND" csf "$T/data.csv" --set nonsense=1
 check unknown_constant_error_is_one_line one_line_error
 expect_exit 2 constant_out_of_bounds_exits_two "$JND" csf "$T/data.csv" --set sensitivity=-1
