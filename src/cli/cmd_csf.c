@@ -39,7 +39,10 @@ static void help(void) {
       "  --fit-only A,B,...  fit only these constants (default: all but those\n"
       "                      --list-constants shows as held at their prior)\n"
       "  --search-every N    fits search on every N-th row of each data set (default 1);\n"
-      "                      every reported figure uses all rows\n"
+      "                      every reported figure uses all rows; each search row\n"
+      "                      stands for the N rows it was picked from\n"
+      "  --prior-weight DB   the priors weigh as much as one row off by DB per prior\n"
+      "                      width, against every row of the data (default 5.66)\n"
       "  --iterations N      Levenberg-Marquardt iterations of a fit (default 40)\n"
       "  --set NAME=VALUE    set one of the model's constants (repeatable);\n"
       "                      --list-constants shows them with their priors\n"
@@ -157,6 +160,8 @@ static int run(int argc, char **argv) {
       opt->fit_mask_set = 1;
     } else if (cli_opt(ap, "--search-every", &v)) {
       opt->search_every = cli_int(ap, "--search-every", v, 1, 1000);
+    } else if (cli_opt(ap, "--prior-weight", &v)) {
+      opt->prior_weight_db = cli_double(ap, "--prior-weight", v, 0.01, 1000);
     } else if (cli_opt(ap, "--iterations", &v)) {
       opt->max_iterations = cli_int(ap, "--iterations", v, 0, 1000);
     } else if (cli_opt(ap, "--set", &v)) {

@@ -7,7 +7,10 @@
  *  2. Fit: maximum a posteriori over the chosen constants θ, in natural-log
  *     units: minimise  Σ_rows e_i² + Σ_k (w·(θ_k − ln prior_k) / sd_k)²,
  *     e_i = 20·log10(S_predicted / S_measured) in dB (the field's error), w
- *     = prior_weight_db, priors from jnd_model_constants(). Levenberg–
+ *     = prior_weight_db / √search_every (each search row stands for the
+ *     search_every rows it was picked from, so the priors weigh the same
+ *     against the data whatever the subsample), priors from
+ *     jnd_model_constants(). Levenberg–
  *     Marquardt on the linear surrogate of each threshold (one model run a
  *     row, jnd_csf_context_set_linear); the Jacobian comes from forward
  *     differences and is kept current between refreshes by Broyden's
@@ -45,12 +48,15 @@
 #define STOP_GAIN 1e-4    /* a fit stops when a step gains less than this fraction of the objective */
 #define MAX_REJECTS 8     /* or when this many steps in a row, each damped 4× more, do not lower it */
 #define FIT_REFRESHES 3   /* forward-difference Jacobians a fit may compute after its first */
+/* the priors' weight against every row of the data: the defaults were
+ * fitted with 4 dB against every second row, which is this against all */
+#define PRIOR_WEIGHT_DB (4.0 * M_SQRT2)
 
 void jnd_csf_options_defaults(jnd_csf_options *o) {
   memset(o, 0, sizeof *o);
   o->search_every = 1;
   o->max_iterations = 40;
-  o->prior_weight_db = 4.0;
+  o->prior_weight_db = PRIOR_WEIGHT_DB;
 }
 
 typedef struct {
@@ -117,7 +123,11 @@ static jnd_status residuals(fit_ctx *f, const double *theta, const int *rows, in
   jnd_status s = predict(f, &p, rows, n, 1, r, NULL);
   if (s != JND_OK) return s;
   for (int i = 0; i < n; i++) r[i] = 20.0 * log10(fmax(r[i], 1e-9) / f->d->rows[rows[i]].measured);
-  for (int k = 0; k < f->K; k++) r[n + k] = f->o->prior_weight_db * (theta[k] - f->mu[k]) / f->sd[k];
+  /* each search row stands for the search_every rows of its data set it
+   * was picked from: the objective is the one over every row, whatever
+   * the subsample, so a fit on fewer rows is not pulled harder to the priors */
+  const double w = f->o->prior_weight_db / sqrt(f->o->search_every);
+  for (int k = 0; k < f->K; k++) r[n + k] = w * (theta[k] - f->mu[k]) / f->sd[k];
   return JND_OK;
 }
 
