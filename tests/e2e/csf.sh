@@ -98,6 +98,25 @@ check the_other_folds_are_not_computed test "$(pred_of "$T/cvfold.csv" chromatic
 check the_report_says_which_sets_the_cross_validation_pools jq -e \
   '.result.cv_pooled_over == ["achromatic", "moving"] and .result.cv_every_fold == false and (.result.datasets.chromatic | has("cv_rmse_db") | not) and (.parameters.constants.sensitivity.without | keys) == ["achromatic", "moving"]' "$T/cvfold.json"
 check a_full_run_pools_every_set jq -e '(.result.cv_pooled_over | length) == 5 and .result.cv_every_fold' "$T/cv.json"
+# each search row stands for the search_every rows it was picked from: with
+# every row given twice, a fit on every 2nd row is the fit on every row, and
+# --prior-weight weighs the priors against every row (the single rows with
+# weight 4 are the doubled rows' objective with the default 4·√2, halved)
+awk 'NR == 1 {print; next} {print; print}' "$T/data.csv" >"$T/data2.csv"
+fit_on() { "$JND" csf "$1" --colors "$T/color_directions.csv" --backgrounds "$T/backgrounds.csv" \
+  --fit --fit-only sensitivity,sens_rg --set sensitivity=0.3 --json "$2" --quiet "${@:3}"; }
+fit_on "$T/data2.csv" "$T/dup1.json" --search-every 1
+fit_on "$T/data2.csv" "$T/dup2.json" --search-every 2
+fit_on "$T/data.csv" "$T/one.json" --search-every 1
+fit_on "$T/data.csv" "$T/one4.json" --search-every 1 --prior-weight 4
+# the same objective, fitted to about 1e-4 (LM's stopping rule), while the
+# priors' weight ×√2 moves sens_rg by 4%
+same_fit() { jq -e -n --slurpfile a "$1" --slurpfile b "$2" \
+  '[$a[0], $b[0]] | map(.parameters.constants) | (.[0].sensitivity.value / .[1].sensitivity.value - 1 | fabs) < 5e-3
+   and (.[0].sens_rg.value / .[1].sens_rg.value - 1 | fabs) < 5e-3'; }
+check a_search_row_stands_for_the_rows_it_was_picked_from same_fit "$T/dup1.json" "$T/dup2.json"
+check the_prior_weight_is_against_every_row same_fit "$T/one4.json" "$T/dup1.json"
+check the_prior_weight_matters bash -c "$(declare -f same_fit); ! same_fit '$T/one.json' '$T/one4.json'"
 expect_exit 2 a_fold_of_no_data_set_exits_two "$JND" csf "$T/data.csv" --cross-validate --fold nonsense
 check a_fold_of_no_data_set_is_named grep -q "fold 'nonsense'" "$T/err.txt"
 check a_fold_of_no_data_set_error_is_one_line one_line_error
