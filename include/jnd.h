@@ -1684,10 +1684,16 @@ typedef struct {
   int fit_mask_set;          /* 1: fit_mask says which constants to fit; 0: all not held */
   unsigned long long fit_mask; /* bit k: jnd_model_constants()[k] */
   double prior_weight_db;    /* the priors weigh as much as one row off by this × (constant −
-                                prior) / prior_sd, in dB (default 4) */
+                                prior) / prior_sd, in dB, against every row of the data: a fit
+                                on every N-th row weighs its rows N times (default 4·√2, the
+                                defaults' 4 dB against every second row) */
   int threads;               /* 0: OpenMP's default; results do not depend on it */
   void (*progress)(void *user, const char *stage, int done, int total); /* may be NULL */
   void *user;
+  const char *const *folds;  /* with cross_validate: only these data sets' folds (NULL: every
+                                data set); each fold is the same, the pooled cross-validated
+                                figure covers only these sets. A name not in the data: error */
+  int nfolds;
 } jnd_csf_options;
 
 JND_EXPERIMENTAL void jnd_csf_options_defaults(jnd_csf_options *o);

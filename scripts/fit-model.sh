@@ -8,7 +8,9 @@
 # constant with a prior from the literature). It prints the constants for
 # jnd_model_defaults() (src/vision/model.c) with their uncertainty.
 # Step 2 is `jnd csf --cross-validate` with those constants: each data set is
-# predicted by constants refitted without it.
+# predicted by every constant refitted without it, from the priors (the
+# fitted defaults reach no fold; they give the training figure), searching
+# every 8th row as e2e.csf_train_slow does.
 #
 # usage: scripts/fit-model.sh JND [DATA.csv] [SEARCH_EVERY]
 #   SEARCH_EVERY: fits search on every N-th row of each data set (default 2);
@@ -26,7 +28,7 @@ sets=()
 while IFS= read -r line; do sets+=(--set "$line"); done < <(jq -r '.parameters.constants | to_entries[] | "\(.key)=\(.value.value)"' "$work/fit.json")
 
 echo "== leave-one-data-set-out with the fitted constants" >&2
-"$JND" csf "$DATA" "${sets[@]}" --cross-validate --search-every "$EVERY" --json "$work/cv.json"
+"$JND" csf "$DATA" "${sets[@]}" --cross-validate --search-every 8 --json "$work/cv.json"
 
 echo "== for jnd_model_defaults():"
 jq -r '.parameters.constants | to_entries[] | "  p->\(.key) = \(.value.value);  /* ±\(((.value.sd_ln // 0) * 100 | round))% */"' "$work/fit.json"

@@ -33,10 +33,16 @@ static void help(void) {
       "                      docs/model.md) and predict with them\n"
       "  --cross-validate    leave-one-data-set-out: refit on all data sets but one,\n"
       "                      predict that one, for each data set\n"
+      "  --fold NAME         with --cross-validate: compute only this data set's fold\n"
+      "                      (repeatable; the same fold as in the full run, but the\n"
+      "                      pooled cross-validated figure covers only these sets)\n"
       "  --fit-only A,B,...  fit only these constants (default: all but those\n"
       "                      --list-constants shows as held at their prior)\n"
       "  --search-every N    fits search on every N-th row of each data set (default 1);\n"
-      "                      every reported figure uses all rows\n"
+      "                      every reported figure uses all rows; each search row\n"
+      "                      stands for the N rows it was picked from\n"
+      "  --prior-weight DB   the priors weigh as much as one row off by DB per prior\n"
+      "                      width, against every row of the data (default 5.66)\n"
       "  --iterations N      Levenberg-Marquardt iterations of a fit (default 40)\n"
       "  --set NAME=VALUE    set one of the model's constants (repeatable);\n"
       "                      --list-constants shows them with their priors\n"
@@ -118,7 +124,7 @@ static int run(int argc, char **argv) {
   jnd_csf_run_defaults(&p);
   jnd_csf_options *opt = &p.options;
   const char *data = NULL, *out_csv = NULL;
-  const char *only[16];
+  const char *only[16], *folds[16];
   cli_args args = cli_args_start(argc, argv, "csf"), *ap = &args;
   for (; args.i < argc && !args.bad; args.i++) {
     const char *v;
@@ -145,11 +151,17 @@ static int run(int argc, char **argv) {
       opt->fit = 1;
     } else if (cli_flag(ap, "--cross-validate")) {
       opt->cross_validate = 1;
+    } else if (cli_opt(ap, "--fold", &v)) {
+      if (opt->nfolds == 16) return cli_bad("csf: at most 16 --fold options");
+      folds[opt->nfolds++] = v;
+      opt->folds = folds;
     } else if (cli_opt(ap, "--fit-only", &v)) {
       if (parse_fit_only(v, &opt->fit_mask) != EXIT_OK) return EXIT_BAD;
       opt->fit_mask_set = 1;
     } else if (cli_opt(ap, "--search-every", &v)) {
       opt->search_every = cli_int(ap, "--search-every", v, 1, 1000);
+    } else if (cli_opt(ap, "--prior-weight", &v)) {
+      opt->prior_weight_db = cli_double(ap, "--prior-weight", v, 0.01, 1000);
     } else if (cli_opt(ap, "--iterations", &v)) {
       opt->max_iterations = cli_int(ap, "--iterations", v, 0, 1000);
     } else if (cli_opt(ap, "--set", &v)) {
@@ -163,6 +175,7 @@ static int run(int argc, char **argv) {
   }
   if (args.bad) return EXIT_BAD;
   if (!data) return cli_bad("csf: needs a CSV of thresholds (jnd csf --help)");
+  if (opt->nfolds && !opt->cross_validate) return cli_bad("csf: --fold needs --cross-validate");
   progress_state ps = {&common, {0}, "", isatty(2)};
   opt->threads = common.threads;
   opt->progress = progress;

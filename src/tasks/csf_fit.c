@@ -7,7 +7,10 @@
  *  2. Fit: maximum a posteriori over the chosen constants θ, in natural-log
  *     units: minimise  Σ_rows e_i² + Σ_k (w·(θ_k − ln prior_k) / sd_k)²,
  *     e_i = 20·log10(S_predicted / S_measured) in dB (the field's error), w
- *     = prior_weight_db, priors from jnd_model_constants(). Levenberg–
+ *     = prior_weight_db / √search_every (each search row stands for the
+ *     search_every rows it was picked from, so the priors weigh the same
+ *     against the data whatever the subsample), priors from
+ *     jnd_model_constants(). Levenberg–
  *     Marquardt on the linear surrogate of each threshold (one model run a
  *     row, jnd_csf_context_set_linear); the Jacobian comes from forward
  *     differences and is kept current between refreshes by Broyden's
@@ -15,10 +18,18 @@
  *  3. Prediction: every used row with the constants, each threshold searched
  *     to 0.02 dB: the training figure.
  *  4. Leave-one-data-set-out: for each data set, step 2 on the other data
- *     sets' search rows (starting from step 2's constants and Jacobian, its
- *     rows of the left-out set removed), then step 3 for the left-out rows
- *     with those constants. A constant only the left-out set measures goes
- *     back to its prior, not to the value that set gave it.
+ *     sets' search rows from the priors (the literature's values of
+ *     jnd_model_constants(), which no row chose; not the defaults, which were
+ *     fitted on every data set), with forward-difference Jacobians and the
+ *     same refreshes as step 2, then step 3 for the left-out rows with those
+ *     constants. The left-out rows are never searched and the constants
+ *     given (base) never reach a fold: the procedure is the same whatever
+ *     figure it gives. A constant only the left-out set measures stays near
+ *     its prior. o->folds may name the folds to compute (a quick look at
+ *     one set); each is the same fold, and the pooled figure covers those
+ *     sets only. The first Jacobian is computed once at the priors over
+ *     every search row and each fold takes its own rows of it: a row's
+ *     residual and Jacobian row depend only on that row and the constants.
  *  5. Uncertainty: the posterior covariance s²·(JᵀJ)⁻¹ at the fit (J with
  *     the prior rows, s² the residual variance of the rows), and the spread
  *     of each constant across the folds. */
@@ -36,12 +47,16 @@
 #define MAX_STEP 1.0      /* largest change of one ln(constant) in a step */
 #define STOP_GAIN 1e-4    /* a fit stops when a step gains less than this fraction of the objective */
 #define MAX_REJECTS 8     /* or when this many steps in a row, each damped 4× more, do not lower it */
+#define FIT_REFRESHES 3   /* forward-difference Jacobians a fit may compute after its first */
+/* the priors' weight against every row of the data: the defaults were
+ * fitted with 4 dB against every second row, which is this against all */
+#define PRIOR_WEIGHT_DB (4.0 * M_SQRT2)
 
 void jnd_csf_options_defaults(jnd_csf_options *o) {
   memset(o, 0, sizeof *o);
   o->search_every = 1;
   o->max_iterations = 40;
-  o->prior_weight_db = 4.0;
+  o->prior_weight_db = PRIOR_WEIGHT_DB;
 }
 
 typedef struct {
@@ -108,7 +123,11 @@ static jnd_status residuals(fit_ctx *f, const double *theta, const int *rows, in
   jnd_status s = predict(f, &p, rows, n, 1, r, NULL);
   if (s != JND_OK) return s;
   for (int i = 0; i < n; i++) r[i] = 20.0 * log10(fmax(r[i], 1e-9) / f->d->rows[rows[i]].measured);
-  for (int k = 0; k < f->K; k++) r[n + k] = f->o->prior_weight_db * (theta[k] - f->mu[k]) / f->sd[k];
+  /* each search row stands for the search_every rows of its data set it
+   * was picked from: the objective is the one over every row, whatever
+   * the subsample, so a fit on fewer rows is not pulled harder to the priors */
+  const double w = f->o->prior_weight_db / sqrt(f->o->search_every);
+  for (int k = 0; k < f->K; k++) r[n + k] = w * (theta[k] - f->mu[k]) / f->sd[k];
   return JND_OK;
 }
 
@@ -295,6 +314,21 @@ void jnd_csf_result_free(jnd_csf_result *r) {
   memset(r, 0, sizeof *r);
 }
 
+/* the data set called name, or -1 */
+static int fold_index(const jnd_csf_data *d, const char *name) {
+  for (int ds = 0; ds < d->ndatasets; ds++)
+    if (strcmp(d->datasets[ds], name) == 0) return ds;
+  return -1;
+}
+
+/* whether the cross-validation computes data set ds's fold (o->folds) */
+static int fold_wanted(const jnd_csf_data *d, const jnd_csf_options *o, int ds) {
+  if (o->nfolds <= 0) return 1;
+  for (int q = 0; q < o->nfolds; q++)
+    if (fold_index(d, o->folds[q]) == ds) return 1;
+  return 0;
+}
+
 jnd_status jnd_csf_evaluate(const jnd_csf_data *d, const jnd_model_params *base, const jnd_csf_options *opt,
                             jnd_csf_result *r) {
   memset(r, 0, sizeof *r);
@@ -305,6 +339,8 @@ jnd_status jnd_csf_evaluate(const jnd_csf_data *d, const jnd_model_params *base,
   }
   if (opt->search_every < 1 || opt->max_iterations < 0 || !(opt->prior_weight_db > 0))
     return jnd_fail(JND_ERR_ARG, "csf: search_every >= 1, max_iterations >= 0 and prior_weight_db > 0 needed");
+  for (int q = 0; q < opt->nfolds; q++)
+    if (fold_index(d, opt->folds[q]) < 0) return jnd_fail(JND_ERR_ARG, "csf: fold '%s': no data set of that name", opt->folds[q]);
   fit_ctx f;
   memset(&f, 0, sizeof f);
   f.d = d;
@@ -365,18 +401,18 @@ jnd_status jnd_csf_evaluate(const jnd_csf_data *d, const jnd_model_params *base,
       goto done;
     }
     if ((s = residuals(&f, theta, search, nsearch, res)) != JND_OK) goto done;
-    if ((s = jacobian(&f, theta, search, nsearch, res, J)) != JND_OK) goto done;
     if (opt->fit) {
-      if ((s = lm_fit(&f, search, nsearch, theta, J, res, 3)) != JND_OK) goto done;
+      if ((s = jacobian(&f, theta, search, nsearch, res, J)) != JND_OK) goto done;
+      if ((s = lm_fit(&f, search, nsearch, theta, J, res, FIT_REFRESHES)) != JND_OK) goto done;
       params_at(&f, theta, &r->params);
+      double sd[JND_MAX_CONSTANTS];
+      posterior_sd(&f, J, res, nsearch, sd);
+      for (int k = 0; k < K; k++) {
+        r->fitted[f.idx[k]] = 1;
+        r->sd_ln[f.idx[k]] = sd[k];
+      }
     }
     r->search_rmse_db = rms_of(res, nsearch);
-    double sd[JND_MAX_CONSTANTS];
-    posterior_sd(&f, J, res, nsearch, sd);
-    for (int k = 0; k < K; k++) {
-      r->fitted[f.idx[k]] = opt->fit;
-      if (opt->fit) r->sd_ln[f.idx[k]] = sd[k];
-    }
   }
   /* the training figure: every used row, searched */
   if ((s = predict(&f, &r->params, used, nused, 0, pred, "predict")) != JND_OK) goto done;
@@ -384,6 +420,14 @@ jnd_status jnd_csf_evaluate(const jnd_csf_data *d, const jnd_model_params *base,
   score(d, r->predicted, 0, r);
 
   if (opt->cross_validate && fitting) {
+    /* the folds start from the priors, which no row chose: J and res at
+     * them over every search row (a row's residual and Jacobian row depend
+     * on that row and the constants only, so each fold takes its own rows
+     * from these as a forward difference of its own would give them) */
+    double theta0[JND_MAX_CONSTANTS];
+    for (int k = 0; k < K; k++) theta0[k] = jnd_clampd(f.mu[k], f.lo[k], f.hi[k]);
+    if ((s = residuals(&f, theta0, search, nsearch, res)) != JND_OK) goto done;
+    if ((s = jacobian(&f, theta0, search, nsearch, res, J)) != JND_OK) goto done;
     r->fold_value = jnd_alloc((size_t)d->ndatasets * nc, sizeof(double));
     Jf = jnd_alloc((size_t)(nsearch + K) * K, sizeof *Jf);
     rf = jnd_alloc((size_t)(nsearch + K), sizeof *rf);
@@ -408,12 +452,12 @@ jnd_status jnd_csf_evaluate(const jnd_csf_data *d, const jnd_model_params *base,
       }
       for (int q = 0; q < nused; q++)
         if (d->rows[used[q]].dataset == ds) left[nleft++] = used[q];
-      if (nleft == 0 || nf == 0) continue;
+      if (nleft == 0 || nf == 0 || !fold_wanted(d, opt, ds)) continue;
       memcpy(Jf + (size_t)nf * K, J + (size_t)nsearch * K, sizeof(double) * K * K);
-      memcpy(thetaf, theta, sizeof(double) * K);
-      for (int k = 0; k < K; k++) rf[nf + k] = opt->prior_weight_db * (thetaf[k] - f.mu[k]) / f.sd[k];
+      memcpy(thetaf, theta0, sizeof(double) * K);
+      for (int k = 0; k < K; k++) rf[nf + k] = res[nsearch + k];
       if (opt->progress) opt->progress(opt->user, d->datasets[ds], 0, 1);
-      if ((s = lm_fit(&f, rows_f, nf, thetaf, Jf, rf, 0)) != JND_OK) break;
+      if ((s = lm_fit(&f, rows_f, nf, thetaf, Jf, rf, FIT_REFRESHES)) != JND_OK) break;
       jnd_model_params pf;
       params_at(&f, thetaf, &pf);
       for (int k = 0; k < nc; k++) r->fold_value[(size_t)ds * nc + k] = jnd_model_constant_get(&pf, k);

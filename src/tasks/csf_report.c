@@ -97,6 +97,13 @@ cJSON *csf_report(const char *data, const char *colors, const char *backgrounds,
   if (cv) {
     if (res->pooled.static_rows) cJSON_AddNumberToObject(result, "cv_rmse_db_static", res->pooled.cv_rmse_db_static);
     cJSON_AddNumberToObject(result, "cv_rmse_db", res->pooled.cv_rmse_db);
+    /* the data sets the cross-validated figures pool: every one, or those
+     * --fold named (jnd_csf_options.folds) */
+    cJSON *over = cJSON_AddArrayToObject(result, "cv_pooled_over");
+    for (int ds = 0; ds < d->ndatasets; ds++)
+      if (!isnan(res->dataset[ds].cv_rmse_db))
+        cJSON_AddItemToArray(over, cJSON_CreateString(d->datasets[ds]));
+    cJSON_AddBoolToObject(result, "cv_every_fold", p->options.nfolds == 0);
   }
   cJSON_AddNumberToObject(result, "model_passes", res->model_passes);
   derived_json(result, d);

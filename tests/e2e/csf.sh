@@ -67,6 +67,60 @@ check the_bias_is_the_mean_error_of_each_data_set jq -e \
 check each_fold_reports_its_constants jq -e '.parameters.constants.sensitivity.without | length == 5' "$T/cv.json"
 "$JND" csf "$T/data.csv" --cross-validate --fit-only sensitivity,sens_rg --threads 1 --json "$T/cv1.json" --quiet
 check cross_validation_does_not_depend_on_the_thread_count cmp -s "$T/cv.json" "$T/cv1.json"
+# the folds are honest: a held-out set's own thresholds never reach its
+# prediction (the achromatic set's measured sensitivities ×4: its cross-
+# validated predictions stay to the last digit, its training fit moves) ...
+awk -F, 'BEGIN{OFS=","} NR>1 && $9=="achromatic"{$15*=4} 1' "$T/data.csv" >"$T/data4.csv"
+"$JND" csf "$T/data4.csv" --colors "$T/color_directions.csv" --backgrounds "$T/backgrounds.csv" \
+  --cross-validate --fit-only sensitivity,sens_rg -o "$T/cv4.csv" --quiet
+pred_of() { awk -F, -v ds="$2" -v col="$3" 'NR==1{for(i=1;i<=NF;i++) if($i==col) c=i; next} ds=="" || $9==ds{print $c}' "$1"; }
+check a_held_out_sets_thresholds_do_not_reach_its_prediction \
+  test "$(pred_of "$T/cv.csv" achromatic predicted_cv)" = "$(pred_of "$T/cv4.csv" achromatic predicted_cv)"
+"$JND" csf "$T/data4.csv" --colors "$T/color_directions.csv" --backgrounds "$T/backgrounds.csv" \
+  --fit --fit-only sensitivity,sens_rg -o "$T/fit4.csv" --quiet
+"$JND" csf "$T/data.csv" --fit --fit-only sensitivity,sens_rg -o "$T/fit1.csv" --quiet
+check while_the_training_fit_follows_them \
+  test "$(pred_of "$T/fit1.csv" achromatic predicted_sensitivity)" != "$(pred_of "$T/fit4.csv" achromatic predicted_sensitivity)"
+# ... and every fold starts from the priors, not from the constants given
+# (the defaults were fitted on all the data): --set of a fitted constant
+# leaves every fold as it was
+"$JND" csf "$T/data.csv" --cross-validate --fit-only sensitivity,sens_rg --set sensitivity=0.05 --set sens_rg=5000 -o "$T/cvset.csv" --quiet
+check the_folds_start_from_the_priors_not_the_defaults \
+  test "$(pred_of "$T/cv.csv" "" predicted_cv)" = "$(pred_of "$T/cvset.csv" "" predicted_cv)"
+# --fold: only the named folds, each the same fold as in the full run; the
+# pooled figure says which sets it covers
+"$JND" csf "$T/data.csv" --cross-validate --fit-only sensitivity,sens_rg --fold achromatic --fold moving \
+  -o "$T/cvfold.csv" --json "$T/cvfold.json" --quiet
+check a_fold_named_is_the_fold_of_the_full_run \
+  test "$(pred_of "$T/cv.csv" achromatic predicted_cv; pred_of "$T/cv.csv" moving predicted_cv)" = \
+  "$(pred_of "$T/cvfold.csv" achromatic predicted_cv; pred_of "$T/cvfold.csv" moving predicted_cv)"
+check the_other_folds_are_not_computed test "$(pred_of "$T/cvfold.csv" chromatic predicted_cv)" = NaN
+check the_report_says_which_sets_the_cross_validation_pools jq -e \
+  '.result.cv_pooled_over == ["achromatic", "moving"] and .result.cv_every_fold == false and (.result.datasets.chromatic | has("cv_rmse_db") | not) and (.parameters.constants.sensitivity.without | keys) == ["achromatic", "moving"]' "$T/cvfold.json"
+check a_full_run_pools_every_set jq -e '(.result.cv_pooled_over | length) == 5 and .result.cv_every_fold' "$T/cv.json"
+# each search row stands for the search_every rows it was picked from: with
+# every row given twice, a fit on every 2nd row is the fit on every row, and
+# --prior-weight weighs the priors against every row (the single rows with
+# weight 4 are the doubled rows' objective with the default 4·√2, halved)
+awk 'NR == 1 {print; next} {print; print}' "$T/data.csv" >"$T/data2.csv"
+fit_on() { "$JND" csf "$1" --colors "$T/color_directions.csv" --backgrounds "$T/backgrounds.csv" \
+  --fit --fit-only sensitivity,sens_rg --set sensitivity=0.3 --json "$2" --quiet "${@:3}"; }
+fit_on "$T/data2.csv" "$T/dup1.json" --search-every 1
+fit_on "$T/data2.csv" "$T/dup2.json" --search-every 2
+fit_on "$T/data.csv" "$T/one.json" --search-every 1
+fit_on "$T/data.csv" "$T/one4.json" --search-every 1 --prior-weight 4
+# the same objective, fitted to about 1e-4 (LM's stopping rule), while the
+# priors' weight ×√2 moves sens_rg by 4%
+same_fit() { jq -e -n --slurpfile a "$1" --slurpfile b "$2" \
+  '[$a[0], $b[0]] | map(.parameters.constants) | (.[0].sensitivity.value / .[1].sensitivity.value - 1 | fabs) < 5e-3
+   and (.[0].sens_rg.value / .[1].sens_rg.value - 1 | fabs) < 5e-3'; }
+check a_search_row_stands_for_the_rows_it_was_picked_from same_fit "$T/dup1.json" "$T/dup2.json"
+check the_prior_weight_is_against_every_row same_fit "$T/one4.json" "$T/dup1.json"
+check the_prior_weight_matters bash -c "$(declare -f same_fit); ! same_fit '$T/one.json' '$T/one4.json'"
+expect_exit 2 a_fold_of_no_data_set_exits_two "$JND" csf "$T/data.csv" --cross-validate --fold nonsense
+check a_fold_of_no_data_set_is_named grep -q "fold 'nonsense'" "$T/err.txt"
+check a_fold_of_no_data_set_error_is_one_line one_line_error
+expect_exit 2 a_fold_without_cross_validation_exits_two "$JND" csf "$T/data.csv" --fold achromatic
 expect_exit 2 unknown_constant_exits_two "$JND" csf "$T/data.csv" --set nonsense=1
 check unknown_constant_error_is_one_line one_line_error
 expect_exit 2 constant_out_of_bounds_exits_two "$JND" csf "$T/data.csv" --set sensitivity=-1
