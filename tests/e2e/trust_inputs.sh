@@ -43,6 +43,7 @@ open(f"{d}/obj/quad.obj", "w").write("mtllib quad.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0
 open(f"{d}/rates.csv", "w").write("scene,model,map,resolution,rate\na,asset/quad.gltf,m/baseColor,8,0.1\n"
                                   "a,asset/quad.gltf,m/baseColor,4,0.9\n")
 open(f"{d}/assets.csv", "w").write("id,asset,command,options\npair,pics/reference.png,diff,pics/test.png\n")
+open(f"{d}/model.csv", "w").write("id,asset,command,options\nq,asset/quad.gltf,render,--views 1 --size 16x16\n")
 PY
 ln -s pics/reference.png "$W/link.png"
 mkdir -p "$W/seq" && cp "$W/pics/reference.png" "$W/seq/f0.png" && cp "$W/pics/test.png" "$W/seq/g0.png"
@@ -93,18 +94,26 @@ done
 refuse "pca -o . beside the maps" pca $A $B -o pics
 refuse "pca -o a map" pca $A $B -o $B
 refuse "pca --json a map through a symlink" pca $A $B -o out --json link.png
+refuse "pca --model: --json the glTF's buffer" pca --model $G --material m -o out --json asset/quad.bin
+refuse "pca --model: -o the asset's folder through a symlink" pca --model $G --material m -o assetlink
 refuse "pop -o the NEW frame" pop $A $B -o $A
 refuse "pop -o the frames' folder" pop $A $B -o pics
 refuse "pop --json the EXPECTED frame" pop $A $B -o out --json $B
+refuse "pop --json the REF frame through a symlink" pop $A $B -o out --json link.png
+refuse_in "$W/pics" "pop -o . in the frames' folder" pop reference.png test.png -o .
 refuse "pop: a sequence's frame" pop seq/f%d.png seq/g%d.png --frames 0,0 -o out --json seq/g0.png
 refuse "pop MODEL -o the asset's folder" pop $G -o asset
 refuse "pop MODEL --json the glTF's buffer" pop $G -o out --json asset/quad.bin
 refuse "calibrate -o the table" calibrate rates.csv -o rates.csv
 refuse "calibrate -o a model the table names" calibrate rates.csv -o $G
 refuse "calibrate --histogram a texture the model references" calibrate rates.csv -o cal.json --histogram asset/tex.png
+refuse "calibrate -o that texture through a symlink" calibrate rates.csv -o assetlink/tex.png
 refuse "batch -o the manifest's folder" batch assets.csv -o .
 refuse "batch -o a folder holding an asset" batch assets.csv -o pics
 refuse "batch --json the manifest" batch assets.csv -o out --json assets.csv
+refuse "batch --json an asset through a symlink" batch assets.csv -o out --json link.png
+refuse "batch --json the buffer a glTF asset references" batch model.csv -o out --json asset/quad.bin
+refuse "batch -o a glTF asset's folder through a symlink" batch model.csv -o assetlink
 refuse "gaze fit --json the data" gaze fit rates.csv --json rates.csv
 refuse "csf -o the thresholds" csf rates.csv -o rates.csv
 # report: OUT/report made a symlink to an asset's folder, which holds the
