@@ -201,7 +201,8 @@ static const jnd_batch_command COMMANDS[] = {
         .plots = {{"series.png", jnd_plot_texres_series,
                    "Each map alone at each candidate size: the criterion statistic (the view quantile of pooled P) "
                    "against the size; open triangles with an arrow up are lower bounds (judging stopped once the "
-                   "candidate failed); the dashed grey line is the threshold p"}},
+                   "candidate failed); the dashed grey line is the criterion's p, the red one the choice line "
+                   "p(1 - margin) a size must stay below"}},
     },
     {
         .name = "pca",

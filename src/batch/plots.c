@@ -59,17 +59,25 @@ int jnd_plot_texres_series_image(const cJSON *report, jnd_image *img, jnd_plot_l
     ns++;
   }
   if (!ns) return 0;
-  double p = jnd_json_number(report, RS_TEXRES_CRITERION_P);
-  char plabel[64];
-  snprintf(plabel, sizeof plabel, "threshold p = %g", p);
-  jnd_plot_hline threshold = {.y = p, .label = plabel, .colour = {0.45f, 0.45f, 0.45f}};
+  /* texres chooses against the choice line p·(1 − margin) (000 §6 with
+   * --margin; texres.c's choice_p), not against p itself: with the default
+   * margin 0.5 a size whose statistic lies between the two failed, and
+   * without the choice line it would look as if it had passed (issue 25) */
+  double p = jnd_json_number(report, RS_TEXRES_CRITERION_P), cp = jnd_json_number(report, RS_TEXRES_CHOICE_P);
+  char plabel[64], clabel[96];
+  snprintf(plabel, sizeof plabel, "criterion p = %g", p);
+  snprintf(clabel, sizeof clabel, "choice line p(1 - margin) = %g: a size passes below it", cp);
+  jnd_plot_hline lines[2] = {{.y = p, .label = plabel, .colour = {0.45f, 0.45f, 0.45f}},
+                             {.y = cp, .label = clabel, .colour = {0.85f, 0.15f, 0.15f}}};
+  int nlines = isfinite(p) ? 1 : 0;
+  if (isfinite(cp) && cp > 0 && (!nlines || cp < p)) lines[nlines++] = lines[1];
   jnd_plot_axes ax = {.title = "Each map alone: visibility against size",
                       .xlabel = "longer side of the map (pixels)",
                       .ylabel = "criterion statistic (P)",
                       .log_x = 1,
                       .xmin = NAN, .xmax = NAN, .ymin = 0, .ymax = 1,
                       .width = 760, .height = 460,
-                      .hlines = &threshold, .nhlines = isfinite(p) ? 1 : 0,
+                      .hlines = lines, .nhlines = nlines,
                       .bound_label = "judged until it failed: a lower bound"};
   return draw(&ax, s, ns, img, layout);
 }

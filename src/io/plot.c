@@ -505,18 +505,20 @@ jnd_status jnd_plot_lines_layout(const jnd_plot_axes *ax, const jnd_plot_series 
 }
 
 /* an open triangle at (x, y) pointing the way of the bound, with an arrow
- * from it that way (up for a lower bound), stopped at the plot's edge */
-static void draw_bound(jnd_image *img, const frame *f, double x, double y, int dir, jnd_rgb c) {
+ * from it that way (up for a lower bound), stopped at the plot's edge; k
+ * scales it: a series drawn wider beneath another (pop's speeds that pop
+ * alike) draws its bound larger too, so that both show where they meet */
+static void draw_bound(jnd_image *img, const frame *f, double x, double y, int dir, jnd_rgb c, double k) {
   double s = dir > 0 ? -1 : 1; /* screen y grows downwards */
-  jnd_draw_line(img, x, y + 5 * s, x - 5, y - 4 * s, 1.5, c);
-  jnd_draw_line(img, x - 5, y - 4 * s, x + 5, y - 4 * s, 1.5, c);
-  jnd_draw_line(img, x + 5, y - 4 * s, x, y + 5 * s, 1.5, c);
-  double end = y + 22 * s;
+  jnd_draw_line(img, x, y + 5 * k * s, x - 5 * k, y - 4 * k * s, 1.5 * k, c);
+  jnd_draw_line(img, x - 5 * k, y - 4 * k * s, x + 5 * k, y - 4 * k * s, 1.5 * k, c);
+  jnd_draw_line(img, x + 5 * k, y - 4 * k * s, x, y + 5 * k * s, 1.5 * k, c);
+  double end = y + (17 + 5 * k) * s;
   end = s < 0 ? fmax(end, f->y0 + 1) : fmin(end, f->y1 - 1);
-  if (fabs(end - (y + 6 * s)) < 4) return;
-  jnd_draw_line(img, x, y + 6 * s, x, end, 2, c);
-  jnd_draw_line(img, x - 4, end - 5 * s, x, end, 2, c);
-  jnd_draw_line(img, x + 4, end - 5 * s, x, end, 2, c);
+  if (fabs(end - (y + 6 * k * s)) < 4) return;
+  jnd_draw_line(img, x, y + 6 * k * s, x, end, 2 * k, c);
+  jnd_draw_line(img, x - 4 * k, end - 5 * k * s, x, end, 2 * k, c);
+  jnd_draw_line(img, x + 4 * k, end - 5 * k * s, x, end, 2 * k, c);
 }
 
 /* dashes of 6 pixels every 10; phase j of n draws every n-th dash from the
@@ -626,7 +628,7 @@ jnd_status jnd_plot_lines(const jnd_plot_axes *ax, const jnd_plot_series *series
           py = ok ? cy : NAN;
         }
         if (pass == 2 && ok) {
-          if (b) draw_bound(out, f, cx, cy, b, ps->colour);
+          if (b) draw_bound(out, f, cx, cy, b, ps->colour, 0.5 + 0.25 * w);
           else if (ps->markers) jnd_draw_circle(out, cx, cy, w + 2, ps->markers == 1, ps->colour);
         }
       }
@@ -644,7 +646,7 @@ jnd_status jnd_plot_lines(const jnd_plot_axes *ax, const jnd_plot_series *series
       dashed(out, x, y, x + SAMPLE_W, y, 2, ax->hlines[P->leg[e].index].colour);
     } else {
       frame fr = {0, y - 12, 0, y + 12, {0, 0}, {1, 1}, {0, 0}};
-      draw_bound(out, &fr, x + 0.5 * SAMPLE_W, y + 4 * P->leg[e].index, P->leg[e].index, INK);
+      draw_bound(out, &fr, x + 0.5 * SAMPLE_W, y + 4 * P->leg[e].index, P->leg[e].index, INK, 1);
     }
     while (t < L->ntexts && L->text_kind[t] != 'l') t++;
     if (t < L->ntexts) {
@@ -706,6 +708,13 @@ jnd_status jnd_plot_grid(const jnd_plot_grid_spec *g, jnd_image *out) {
   int spill = tw > gw ? (int)ceil((tw - gw) / 2) + 8 : 0;
   if (left < spill) left = spill;
   if (right < spill) right = spill;
+  /* the row title, drawn upright centred on the grid, gets room above and
+   * below where it is longer than the grid is tall: otherwise it ran off
+   * the picture and under the title (gaze.png of a 3 × 3 table, issue 25) */
+  double rtw = g->row_title ? jnd_text_width(g->row_title, LABEL_PX) : 0;
+  int vspill = rtw > gh ? (int)ceil((rtw - gh) / 2) : 0;
+  top += vspill;
+  bottom += vspill;
   int W = left + gw + right, H = top + gh + bottom;
   if (W > 16384 || H > 16384) return jnd_fail(JND_ERR_LIMIT, "plot: grid picture %d × %d is too large", W, H);
   (void)cl;

@@ -43,6 +43,7 @@ double jnd_json_number(const cJSON *root, const char *path);
 #define RS_TEXRES_VERIFY_PASSES "result.verify.passes"            /* with held-out views */
 #define RS_TEXRES_CRITERION_P "parameters.criterion.p"
 #define RS_TEXRES_CRITERION_Q "parameters.criterion.q"
+#define RS_TEXRES_CHOICE_P "parameters.choice_p"              /* p·(1 − margin): a size passes below it */
 #define RS_TEXRES_PPD "result.ppd"
 #define RS_TEXRES_RENDERER "result.renderer"
 #define RS_TEXRES_MAPS "result.maps[]"                            /* one per searched map: */

@@ -175,7 +175,8 @@ static int box_overlap(const jnd_box *a, const jnd_box *b) {
 TEST(texres_series_draws_early_stopped_values_as_bounds_and_the_threshold) {
   /* the zig-zag of issue 25: 256 and 64 were judged until they failed, so
    * 0.357 and 0.97 are lower bounds; 512 and 128 were judged on every view */
-  cJSON *r = cJSON_Parse("{\"parameters\": {\"criterion\": {\"p\": 0.25, \"q\": 0.1}}, \"result\": {\"maps\": [{"
+  cJSON *r = cJSON_Parse("{\"parameters\": {\"criterion\": {\"p\": 0.25, \"q\": 0.1}, \"choice_p\": 0.125},"
+                         "\"result\": {\"maps\": [{"
                          "\"name\": \"body/normal\", \"searched\": true,"
                          "\"candidates\": [[512, 512], [256, 256], [128, 128], [64, 64], [32, 32]],"
                          "\"series\": [0, 0.357, 0.104, 0.97, null],"
@@ -203,15 +204,22 @@ TEST(texres_series_draws_early_stopped_values_as_bounds_and_the_threshold) {
   int drawn = 0, n = 0;
   for (double xx = L.plot.x0 + 4; xx < L.plot.x1 - 4; xx++, n++) drawn += ink_near(&img, xx, ty, 0, (jnd_rgb){0.45f, 0.45f, 0.45f});
   CHECK(drawn > n / 2);
-  /* the legend, outside the data, names the map, the threshold and the bounds */
+  /* and so is the choice line p(1 - margin) = 0.125 (parameters.choice_p)
+   * that texres chooses against: 128's 0.104 passed below it, while a value
+   * between it and p fails, which the line p alone would hide */
+  double cy = jnd_plot_layout_map(&L, 1, 0.125);
+  drawn = n = 0;
+  for (double xx = L.plot.x0 + 4; xx < L.plot.x1 - 4; xx++, n++) drawn += ink_near(&img, xx, cy, 0, (jnd_rgb){0.85f, 0.15f, 0.15f});
+  CHECK(drawn > n / 2);
+  /* the legend, outside the data, names the map, both lines and the bounds */
   int named = 0;
   for (int i = 0; i < L.ntexts; i++) {
     if (L.text_kind[i] != 'l') continue;
     CHECK(!box_overlap(&L.text_box[i], &L.plot));
     named |= (strcmp(L.text[i], "body/normal") == 0) | (strstr(L.text[i], "p = 0.25") ? 2 : 0) |
-             (strstr(L.text[i], "lower bound") ? 4 : 0);
+             (strstr(L.text[i], "lower bound") ? 4 : 0) | (strstr(L.text[i], "choice line") && strstr(L.text[i], "0.125") ? 8 : 0);
   }
-  CHECK(named == 7);
+  CHECK(named == 15);
   CHECK(!box_overlap(&L.legend, &L.plot));
   jnd_image_free(&img);
   cJSON_Delete(r);
@@ -236,13 +244,15 @@ TEST(pca_energy_marks_the_components_kept_with_their_share) {
 TEST(pop_switch_plot_shows_every_speed_where_they_pop_alike) {
   /* two speeds with the same distances (a static viewer and a slow orbit
    * often are): the first drawn wider beneath the second, both show at
-   * every point */
+   * every point, a measured one and a bound alike (level 1: popping-free at
+   * the nearest distance searched at both speeds, spot.obj's level 1 in
+   * issue 25's pictures, where the static speed's bound was hidden) */
   jnd_pop_asset_report r;
   memset(&r, 0, sizeof r);
   r.nlevels = 3;
   r.distance_unit = "object units";
   jnd_pop_switch_row rows[4];
-  const double d[2] = {6, 25};
+  const double d[2] = {25, 6};
   for (int k = 0; k < 2; k++)
     for (int s = 0; s < 2; s++) {
       jnd_pop_switch_row *w = &rows[k * 2 + s];
@@ -250,6 +260,7 @@ TEST(pop_switch_plot_shows_every_speed_where_they_pop_alike) {
       w->level = k + 1;
       w->distance_m = d[k];
       w->distance_m_pixel_rule = NAN;
+      w->sw.status = k == 0 ? JND_POP_SWITCH_NEAREST : JND_POP_SWITCH_FOUND;
     }
   r.rows = rows;
   r.nrows = 4;
@@ -257,7 +268,7 @@ TEST(pop_switch_plot_shows_every_speed_where_they_pop_alike) {
   jnd_image img;
   jnd_plot_layout L;
   CHECK_OK(pop_switch_plot(&r, speeds, 2, &img, &L));
-  for (int k = 0; k < 2; k++) {
+  for (int k = 0; k < 2; k++) { /* level 1: the bound's triangles, level 2: the markers */
     double x = jnd_plot_layout_map(&L, 0, k + 1), y = jnd_plot_layout_map(&L, 1, d[k]);
     CHECK(ink_near(&img, x, y, 6, jnd_palette(0)));
     CHECK(ink_near(&img, x, y, 6, jnd_palette(1)));
@@ -619,6 +630,29 @@ TEST(the_gaze_table_picture_colours_each_cell_by_its_level) {
   for (int l = 0; l < NL; l++) {
     CHECK(count[l] > cells[l] * 40 * 40);
     CHECK(count[l] < cells[l] * 56 * 56 + 200);
+  }
+  jnd_image_free(&fig);
+  /* a 3 × 3 table (jnd gaze with three distances and eccentricities): its
+   * row title is longer than the grid is tall, and stays whole in the
+   * picture, below the title: no ink at the picture's edges, none in the
+   * row title's column between the title and the grid's top */
+  t.nd = t.ne = 3;
+  CHECK_OK(jnd_gaze_table_figure(&t, 0.75, "object units", &fig));
+  int edge = 0, between = 0;
+  for (int y = 0; y < fig.h; y++)
+    for (int x = 0; x < fig.w; x++) {
+      float c[3];
+      px(&fig, x, y, c);
+      int ink = c[0] + c[1] + c[2] < 1.5f;
+      edge += ink && (x < 3 || y < 3 || x >= fig.w - 3 || y >= fig.h - 3);
+      between += ink && x >= 12 && x <= 28 && y >= 35 && y <= 42;
+    }
+  CHECK(edge == 0);
+  CHECK(between == 0);
+  if (dir) {
+    char path[4096];
+    snprintf(path, sizeof path, "%s/gaze_table_3x3.png", dir);
+    CHECK_OK(jnd_image_write_png(path, &fig, 8));
   }
   jnd_image_free(&fig);
 }
