@@ -284,10 +284,15 @@ static int run(int argc, char **argv) {
   else
     cli_info(&common, "no popping region (detection score 1 of 5); max dE94 %.2f   %dx%d, %.2f s\n",
              pair->max_delta_e94, pair->w, pair->h, R->total_s);
-  for (int i = 0; i < A->nrows; i++)
-    cli_info(&common, "  level %d at %g deg/s: switch from %.3g %s (max R %.2f); 1-pixel rule %.3g %s\n",
-             A->rows[i].level, A->rows[i].speed_dps, A->rows[i].distance_m, A->distance_unit,
-             A->rows[i].sw.max_rating, A->rows[i].distance_m_pixel_rule, A->distance_unit);
+  for (int i = 0; i < A->nrows; i++) {
+    /* max R is -inf where the switch shows no popping region at all (JSON: null) */
+    char rating[32];
+    if (isfinite(A->rows[i].sw.max_rating)) snprintf(rating, sizeof rating, "max R %.2f", A->rows[i].sw.max_rating);
+    else snprintf(rating, sizeof rating, "no popping region");
+    cli_info(&common, "  level %d at %g deg/s: switch from %.3g %s (%s); 1-pixel rule %.3g %s\n", A->rows[i].level,
+             A->rows[i].speed_dps, A->rows[i].distance_m, A->distance_unit, rating, A->rows[i].distance_m_pixel_rule,
+             A->distance_unit);
+  }
   if (R->above) cli_info(&common, "above --fail-above %g\n", rp.fail_above);
   if (rc == EXIT_OK && R->above) rc = EXIT_ABOVE;
   jnd_pop_run_result_free(R);

@@ -88,10 +88,10 @@ static void summary(const cli_common *common, const jnd_texres_params *p, const 
   }
   size_t bb = R->before_bytes[JND_TEX_RGBA8], ba = R->after_bytes[JND_TEX_RGBA8];
   cli_info(common,
-           "memory (%d unique image%s, RGBA8 + mips): %.2f MiB -> %.2f MiB (-%.0f%%); block-compressed %.2f MiB -> "
+           "memory (%d unique image%s, RGBA8 + mips): %.2f MiB -> %.2f MiB (%+.0f%%); block-compressed %.2f MiB -> "
            "%.2f MiB\n",
            R->nimages, R->nimages == 1 ? "" : "s", bb / 1048576.0, ba / 1048576.0,
-           bb ? 100.0 * (1.0 - (double)ba / bb) : 0, R->block_before_bytes / 1048576.0,
+           bb ? 100.0 * ((double)ba / bb - 1.0) : 0.0, R->block_before_bytes / 1048576.0,
            R->block_after_bytes / 1048576.0);
   cli_info(common, "views above P=%.2f: %.0f%% of %d (criterion <= %.0f%%; sizes chosen against P <= %.3f, p less the margin)%s",
            p->judge.criterion.p, 100 * R->views.fraction_above, R->nviews, 100 * p->judge.criterion.q, R->choice_p,
