@@ -13,9 +13,11 @@
 #include "tasks/tasks.h"
 
 #define LEGEND_W 210
-#define MIN_H 350 /* the legend column: text lines, then the colour bar */
+#define MIN_H 370 /* the legend column: text lines, then the colour bar */
 #define R_MIN 0.0 /* the colour scale's range of R */
 #define R_MAX 4.0
+#define SMALL_REGION_PX 12 /* a region at most this wide and tall is ringed */
+#define RING_GAP 4         /* pixels between a region's box and its ring */
 
 static const jnd_rgb INK = {0.13f, 0.13f, 0.13f};
 
@@ -78,6 +80,17 @@ jnd_status pop_picture(const jnd_image *grey, const jnd_pop_result *r, jnd_image
       g2[x] = g * (1 - a) + c.b * a;
     }
   }
+  /* a region a few pixels across is lost at the frame's own size (a
+   * controller's 256² rendering: 8 regions, 0.1 % of the object): ring it,
+   * in its colour, a few pixels outside its box (issue 25) */
+  int ringed = 0;
+  for (int k = 0; k < r->nregions; k++) {
+    const int *b = r->regions[k].bbox;
+    if (b[2] - b[0] + 1 > SMALL_REGION_PX || b[3] - b[1] + 1 > SMALL_REGION_PX) continue;
+    jnd_draw_frame(out, fmax(b[0] - RING_GAP, 0), fmax(b[1] - RING_GAP, 0), fmin(b[2] + 1 + RING_GAP, w - 1),
+                   fmin(b[3] + 1 + RING_GAP, h - 1), 1.5, rating_colour(r->regions[k].rating));
+    ringed++;
+  }
   /* the legend */
   const double x0 = w + 14;
   double y = 26;
@@ -87,6 +100,11 @@ jnd_status pop_picture(const jnd_image *grey, const jnd_pop_result *r, jnd_image
   snprintf(line, sizeof line, "regions: %d", r->nregions);
   jnd_draw_text(out, x0, y, line, 13, INK, JND_ALIGN_LEFT, 0);
   y += 19;
+  if (ringed) {
+    snprintf(line, sizeof line, "  (%d small one%s ringed)", ringed, ringed == 1 ? "" : "s");
+    jnd_draw_text(out, x0, y, line, 11, INK, JND_ALIGN_LEFT, 0);
+    y += 15;
+  }
   if (r->nregions)
     snprintf(line, sizeof line, "max R: %.2f", r->max_rating);
   else

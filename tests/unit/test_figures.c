@@ -276,6 +276,36 @@ TEST(pop_switch_plot_shows_every_speed_where_they_pop_alike) {
   jnd_image_free(&img);
 }
 
+/* pop's regions.png (004 Fig. 4): a region a few pixels across, lost at the
+ * frame's own size, is ringed in its rating's colour a few pixels outside
+ * its box; the frame elsewhere stays grey */
+TEST(pop_regions_picture_rings_a_small_region_in_its_colour) {
+  enum { W = 64 };
+  jnd_image grey;
+  CHECK_OK(jnd_image_alloc(&grey, W, W, 1));
+  for (int i = 0; i < W * W; i++) grey.data[i] = 0.4f;
+  int32_t labels[W * W];
+  for (int i = 0; i < W * W; i++) labels[i] = -1;
+  for (int y = 30; y <= 32; y++)
+    for (int x = 30; x <= 32; x++) labels[y * W + x] = 0;
+  jnd_pop_region reg = {.pixels = 9, .rating = 2, .bbox = {30, 30, 32, 32}};
+  jnd_pop_result r;
+  memset(&r, 0, sizeof r);
+  r.w = r.h = W;
+  r.nregions = 1;
+  r.regions = &reg;
+  r.labels = labels;
+  r.max_rating = 2;
+  jnd_image img;
+  CHECK_OK(pop_picture(&grey, &r, &img));
+  jnd_rgb c = jnd_colour_scale(0.5); /* R = 2 on the scale 0..4 */
+  CHECK(ink_near(&img, 26, 31, 1, c));  /* the ring's left side, 4 pixels out */
+  CHECK(ink_near(&img, 37, 31, 1, c));  /* its right side */
+  CHECK(!ink_near(&img, 18, 31, 2, c)); /* grey beyond it */
+  jnd_image_free(&img);
+  jnd_image_free(&grey);
+}
+
 TEST(pop_switch_plot_draws_the_pixel_rule_and_names_the_units_and_a_nearer_level) {
   /* three switches at two speeds; level 3 pops less than level 2 and comes
    * out nearer (as measured); the pixel rule's distances exist for every level */
@@ -662,7 +692,7 @@ RUN_TESTS(the_heatmap_keeps_differences_above_one_jnd_apart, a_small_heatmap_is_
           texres_series_draws_early_stopped_values_as_bounds_and_the_threshold,
           pca_energy_marks_the_components_kept_with_their_share,
           pop_switch_plot_draws_the_pixel_rule_and_names_the_units_and_a_nearer_level,
-          pop_switch_plot_shows_every_speed_where_they_pop_alike,
+          pop_switch_plot_shows_every_speed_where_they_pop_alike, pop_regions_picture_rings_a_small_region_in_its_colour,
           the_calibration_histogram_has_a_bar_per_bin_as_tall_as_its_count,
           the_worst_view_shows_the_chosen_sizes_whether_or_not_the_matrices_ran,
           the_gaze_table_picture_colours_each_cell_by_its_level, lod_pareto_ticks_labels_and_marks_match_the_data)
