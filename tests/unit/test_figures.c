@@ -225,6 +225,35 @@ TEST(texres_series_draws_early_stopped_values_as_bounds_and_the_threshold) {
   cJSON_Delete(r);
 }
 
+/* more maps than the plot tells apart (8 colours × discs or rings): the
+ * first 16 are drawn, each labelled, and the title says how many there are
+ * (the 6-material bench asset's 24 maps lost 8 unsaid) */
+TEST(texres_series_of_many_maps_says_which_it_shows) {
+  char json[8192];
+  int n = snprintf(json, sizeof json, "{\"parameters\": {\"criterion\": {\"p\": 0.2, \"q\": 0.1}, \"choice_p\": 0.1},"
+                                      "\"result\": {\"maps\": [");
+  for (int m = 0; m < 20; m++)
+    n += snprintf(json + n, sizeof json - (size_t)n,
+                  "%s{\"name\": \"part%d/baseColor\", \"searched\": true, \"candidates\": [[64, 64], [32, 32]],"
+                  "\"series\": [0, %g], \"series_decided_early\": [false, false]}",
+                  m ? "," : "", m, 0.01 * m);
+  snprintf(json + n, sizeof json - (size_t)n, "]}}");
+  cJSON *r = cJSON_Parse(json);
+  CHECK(r != NULL);
+  jnd_image img;
+  jnd_plot_layout L;
+  CHECK(jnd_plot_texres_series_image(r, &img, &L) == 1);
+  int title = 0, labelled = 0;
+  for (int i = 0; i < L.ntexts; i++) {
+    title += L.text_kind[i] == 't' && strstr(L.text[i], "the first 16 of 20 maps") != NULL;
+    labelled += L.text_kind[i] == 'l' && strncmp(L.text[i], "part", 4) == 0;
+  }
+  CHECK(title == 1);
+  CHECK(labelled == 16);
+  jnd_image_free(&img);
+  cJSON_Delete(r);
+}
+
 TEST(pca_energy_marks_the_components_kept_with_their_share) {
   cJSON *r = cJSON_Parse("{\"result\": {\"components_kept\": 2, \"energy_fraction\": [0.7, 0.2, 0.06, 0.04],"
                          "\"cumulative_energy\": [0.7, 0.9, 0.96, 1.0]}}");
@@ -689,7 +718,7 @@ TEST(the_gaze_table_picture_colours_each_cell_by_its_level) {
 
 RUN_TESTS(the_heatmap_keeps_differences_above_one_jnd_apart, a_small_heatmap_is_magnified_to_a_readable_size,
           the_texres_matrix_picture_outlines_the_chosen_pair, the_contribution_picture_names_channels_and_has_a_legend,
-          texres_series_draws_early_stopped_values_as_bounds_and_the_threshold,
+          texres_series_draws_early_stopped_values_as_bounds_and_the_threshold, texres_series_of_many_maps_says_which_it_shows,
           pca_energy_marks_the_components_kept_with_their_share,
           pop_switch_plot_draws_the_pixel_rule_and_names_the_units_and_a_nearer_level,
           pop_switch_plot_shows_every_speed_where_they_pop_alike, pop_regions_picture_rings_a_small_region_in_its_colour,
