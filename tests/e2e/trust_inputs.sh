@@ -91,7 +91,8 @@ for cmd in render texres lod gaze budget; do
 done
 
 # ---- pca, pop, calibrate, batch ----
-refuse "pca -o . beside the maps" pca $A $B -o pics
+refuse "pca -o the maps' folder" pca $A $B -o pics
+refuse_in "$W/pics" "pca -o . beside the maps" pca reference.png test.png -o .
 refuse "pca -o a map" pca $A $B -o $B
 refuse "pca --json a map through a symlink" pca $A $B -o out --json link.png
 refuse "pca --model: --json the glTF's buffer" pca --model $G --material m -o out --json asset/quad.bin
