@@ -145,4 +145,11 @@ int jnd_haar_band_energy(const float *plane, int w, int h, double *energy, int m
 jnd_status jnd_delta_e94_map_where(const jnd_display *d, const jnd_image *ref, const jnd_image *test,
                                    const uint8_t *where, jnd_image *out, double *max);
 
+/* ---- the display (display.c) ---- */
+/* The luminance (cd/m²) jnd_display_apply gives each 8-bit sRGB code
+ * without alpha, bit for bit: a decoder that writes these for an 8-bit
+ * file's samples (jnd_image_read_mapped) leaves the display nothing to do.
+ * Fails as jnd_display_apply does on the display's luminances. */
+jnd_status jnd_display_code_luminances(const jnd_display *d, float lum[256]);
+
 #endif
