@@ -1424,10 +1424,12 @@ static jnd_status band_differences(jnd_model *m, diff_state *st, float **Dlev, i
       mk_coarse[c] = mk_this[c];
       mk_this[c] = NULL;
     }
-    if (s == JND_OK) s = summation_levels(m, b, Dlev[b], Dc, st->g[0][0].w[b], st->g[0][0].h[b]);
-    free(Dc);
+    /* the expanded levels are done with: freed before summation's plane,
+     * which can then take their memory instead of fresh pages */
     for (int a = 0; a < 2; a++)
       for (int c = 0; c < 3; c++) free(xexp[a][c]);
+    if (s == JND_OK) s = summation_levels(m, b, Dlev[b], Dc, st->g[0][0].w[b], st->g[0][0].h[b]);
+    free(Dc);
   }
   for (int c = 0; c < NCH; c++) free(mk_coarse[c]);
   /* the baseband, as one more level below the coarsest band */
