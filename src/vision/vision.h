@@ -64,6 +64,10 @@ typedef struct {
 } jnd_row_cache;
 /* coarse row crow of src (cw wide) expanded to width fw, from the cache */
 const float *jnd_pyr_cached_row(jnd_row_cache *c, const float *src, int cw, int crow, int fw);
+/* Row y of EXPAND(src) (src cw × ch, the expanded image fw wide) into out,
+ * src's rows expanded horizontally through the cache c: bit for bit row y
+ * of jnd_pyr_expand, without the expanded image. */
+void jnd_pyr_expanded_row(jnd_row_cache *c, const float *src, int cw, int ch, int y, float *out, int fw);
 static inline int jnd_mirror(int i, int n) {
   if (n == 1) return 0;
   while (i < 0 || i >= n) {
