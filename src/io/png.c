@@ -431,7 +431,13 @@ static int png_decode_whole(png_decoder *d, jnd_image *out) {
 }
 
 jnd_status jnd_png_decode(const char *name, const unsigned char *buf, size_t n, jnd_image *out, int *bits) {
+  return jnd_png_decode_mapped(name, buf, n, out, bits, NULL, NULL);
+}
+
+jnd_status jnd_png_decode_mapped(const char *name, const unsigned char *buf, size_t n, jnd_image *out, int *bits,
+                                 const float code_value[256], int *mapped) {
   memset(out, 0, sizeof *out);
+  if (mapped) *mapped = 0;
   png_decoder d;
   memset(&d, 0, sizeof d);
   d.name = name;
@@ -444,7 +450,9 @@ jnd_status jnd_png_decode(const char *name, const unsigned char *buf, size_t n, 
   if (s != JND_OK) return s;
   if ((s = jnd_image_alloc(out, (int)w, (int)h, (int)channels)) != JND_OK)
     return jnd_fail(s, "%s: out of memory for %u × %u × %u", name, (unsigned)w, (unsigned)h, channels);
-  for (int v = 0; v < 256; v++) d.to_float[v] = (float)(v * (1.0 / 255));
+  /* an 8-bit RGB file's samples straight to the caller's values */
+  const int map = code_value && d.depth == 8 && channels == 3;
+  for (int v = 0; v < 256; v++) d.to_float[v] = map ? code_value[v] : (float)(v * (1.0 / 255));
   int whole = png_decode_whole(&d, out);
   if (whole) {
     if (whole < 0) {
@@ -452,6 +460,7 @@ jnd_status jnd_png_decode(const char *name, const unsigned char *buf, size_t n, 
       return jnd_fail(JND_ERR_NOMEM, "%s: out of memory for %u × %u × %u", name, (unsigned)w, (unsigned)h, channels);
     }
     *bits = (int)d.depth;
+    if (mapped) *mapped = map;
     return JND_OK;
   }
   d.rows = jnd_calloc(1 + d.block, d.stride); /* the row above the first is zeros (§9.2) */
@@ -471,6 +480,7 @@ jnd_status jnd_png_decode(const char *name, const unsigned char *buf, size_t n, 
     return s;
   }
   *bits = (int)d.depth;
+  if (mapped) *mapped = map;
   return JND_OK;
 }
 

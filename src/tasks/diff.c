@@ -7,6 +7,7 @@
 #include "core/core.h"
 #include "core/fastmath.h"
 #include "pool/pool.h"
+#include "tasks/tasks.h"
 #include "vision/vision.h"
 
 
@@ -100,6 +101,13 @@ jnd_status jnd_diff_summarise(const jnd_image *map, double beta, const jnd_pooli
 jnd_status jnd_diff_files(jnd_model *m, jnd_image *ref, const jnd_image_info *ri, jnd_image *test,
                           const jnd_image_info *ti, const jnd_diff_inputs *in, const jnd_pooling *pool,
                           jnd_image *jnd_out, jnd_diff_stats *stats) {
+  static const int none[2] = {0, 0};
+  return diff_files_mapped(m, ref, ri, test, ti, in, pool, jnd_out, stats, none);
+}
+
+jnd_status diff_files_mapped(jnd_model *m, jnd_image *ref, const jnd_image_info *ri, jnd_image *test,
+                             const jnd_image_info *ti, const jnd_diff_inputs *in, const jnd_pooling *pool,
+                             jnd_image *jnd_out, jnd_diff_stats *stats, const int mapped[2]) {
   const jnd_model_params *p = jnd_model_get_params(m);
   jnd_image map = {0};
   jnd_status s = JND_OK;
@@ -107,8 +115,9 @@ jnd_status jnd_diff_files(jnd_model *m, jnd_image *ref, const jnd_image_info *ri
     s = jnd_fail(JND_ERR_ARG, "image sizes differ: %d × %d vs %d × %d", ref->w, ref->h, test->w, test->h);
     goto fail;
   }
-  if ((s = jnd_display_apply(&p->display, ref, ri->encoding, ri->has_alpha, ref)) != JND_OK) goto fail;
-  if ((s = jnd_display_apply(&p->display, test, ti->encoding, ti->has_alpha, test)) != JND_OK) goto fail;
+  if (!mapped[0] && (s = jnd_display_apply(&p->display, ref, ri->encoding, ri->has_alpha, ref)) != JND_OK) goto fail;
+  if (!mapped[1] && (s = jnd_display_apply(&p->display, test, ti->encoding, ti->has_alpha, test)) != JND_OK)
+    goto fail;
   if ((s = jnd_model_diff_consume(m, ref, test, in, &map)) != JND_OK) return s;
   if (stats && (s = jnd_diff_summarise(&map, p->beta, pool, stats)) != JND_OK) {
     jnd_image_free(&map);

@@ -8,6 +8,17 @@
 #include "jnd.h"
 #include "io/draw.h"
 
+/* ---- diff.c: jnd_diff_files on images already on the display (begin) ---- */
+
+/* jnd_diff_files where mapped[a] says that image a (0 ref, 1 test) already
+ * holds the display's luminances (jnd_image_read_mapped with
+ * jnd_display_code_luminances): its jnd_display_apply is skipped. */
+jnd_status diff_files_mapped(jnd_model *m, jnd_image *ref, const jnd_image_info *ri, jnd_image *test,
+                             const jnd_image_info *ti, const jnd_diff_inputs *in, const jnd_pooling *pool,
+                             jnd_image *jnd_out, jnd_diff_stats *stats, const int mapped[2]);
+
+/* ---- diff.c (end) ---- */
+
 /* ---- judge.c: the judge's crop and the object's window (begin) ---- */
 
 /* Pixels the judge keeps around the object's bounding box in each view:

@@ -184,6 +184,34 @@ static void display_channel(const float *src, const float *alpha, jnd_encoding e
               (size_t)(n - i < SPAN ? n - i : SPAN));
 }
 
+/* the display's light: its range above black, its black and the ambient
+ * light it reflects, cd/m² */
+typedef struct {
+  float range, black, refl;
+} display_light;
+
+static display_light light_of(const jnd_display *d) {
+  display_light l;
+  float refl = (float)(d->reflectivity * d->ambient_lux / M_PI); /* Lambertian screen */
+  float range = (float)(d->peak_cdm2 - d->black_cdm2), black = (float)d->black_cdm2;
+  l.range = range;
+  l.black = black;
+  l.refl = refl;
+  return l;
+}
+
+/* the luminance of each 8-bit sRGB code on display d */
+static void code_luminances(const jnd_display *d, float lum[256]) {
+  const display_light l = light_of(d);
+  for (int k = 0; k < 256; k++) lum[k] = l.range * jnd_srgb_decode(k / 255.0f) + l.black + l.refl;
+}
+
+jnd_status jnd_display_code_luminances(const jnd_display *d, float lum[256]) {
+  jnd_status st = check_light(d);
+  if (st == JND_OK) code_luminances(d, lum);
+  return st;
+}
+
 jnd_status jnd_display_apply(const jnd_display *d, const jnd_image *in, jnd_encoding enc, int has_alpha,
                              jnd_image *out) {
   jnd_status st = check_light(d);
@@ -203,11 +231,11 @@ jnd_status jnd_display_apply(const jnd_display *d, const jnd_image *in, jnd_enco
     jnd_status s = jnd_image_alloc(&tmp, in->w, in->h, 3);
     if (s != JND_OK) return s;
   }
-  float refl = (float)(d->reflectivity * d->ambient_lux / M_PI); /* Lambertian screen */
-  float range = (float)(d->peak_cdm2 - d->black_cdm2), black = (float)d->black_cdm2;
+  const display_light l = light_of(d);
+  const float refl = l.refl, range = l.range, black = l.black;
   const float *alpha = alpha_ch >= 0 ? jnd_image_plane(in, alpha_ch) : NULL;
   float lum[256]; /* the luminance of each 8-bit sRGB code */
-  for (int k = 0; k < 256; k++) lum[k] = range * jnd_srgb_decode(k / 255.0f) + black + refl;
+  code_luminances(d, lum);
   for (int ch = 0; ch < 3; ch++)
     display_channel(jnd_image_plane(in, colour ? ch : 0), alpha, enc, lum, range, black, (float)d->exr_scale,
                     refl, jnd_image_plane(&tmp, ch), n);

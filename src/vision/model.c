@@ -375,7 +375,6 @@ typedef struct {
   const diff_state *st;
   int band, w, h, w1;
   int unmasked;         /* 1: one image is uniform, so the mutual masker is 0 */
-  float *xexp[2][3];    /* EXPAND(G_{i+2}) at level i+1 */
   const float *lut;     /* the band's CSF tables over (velocity, luminance), with a motion map */
   float lut1[LUT_NL][4];   /* the tables at the one retinal velocity, without: [iL][A, a, b, -] */
   interp_axis ax, ay;   /* bilinear sampling of the adaptation map */
@@ -396,6 +395,8 @@ typedef struct {
 /* One thread's rows: caches of expanded coarse rows and the row stages. */
 typedef struct {
   jnd_row_cache cache[2][3][2]; /* [image][cone][G_{i+1}, EXPAND(G_{i+2})] */
+  jnd_row_cache g2[2][3]; /* rows of G_{i+2} expanded horizontally to level i+1 */
+  float *xrow;            /* a row of EXPAND(G_{i+2}) at level i+1 */
   float *opp[2][3], *logl, *logv, *sens[NCH], *eccf[NCH];
   int *lix;            /* the CSF table column of each pixel (sens_row) */
   float *mask[5][NCH]; /* ring of 5 rows: the mutual masker, pooled along the row */
@@ -408,14 +409,21 @@ typedef struct {
 } row_scratch;
 
 static int scratch_init(row_scratch *r, int w) {
-  /* 12 caches × 3 rows; opponent values (2 × 3), log adaptation and log velocity (2), sensitivities
+  /* 12 caches × 3 rows; 6 caches × 3 rows of G_{i+2} and a row of its EXPAND; opponent values (2 × 3), log adaptation and log velocity (2), sensitivities
    * (3), eccentricity factors (3), masker ring (5 × 3), difference ring (3 × 3), pooled maskers (3),
    * 3 caches × 3 rows of the coarser band's maskers, the CSF table columns, the luminance contrast's
    * two terms, one row of scratch */
   _Static_assert(sizeof(int) == sizeof(float), "the column indices share the float scratch");
-  r->mem = malloc(sizeof(float) * (size_t)w * (36 + 6 + 2 + 3 + 3 + 15 + 9 + 3 + 9 + 1 + 2 + 1));
+  r->mem = malloc(sizeof(float) * (size_t)w * (36 + 18 + 1 + 6 + 2 + 3 + 3 + 15 + 9 + 3 + 9 + 1 + 2 + 1));
   if (!r->mem) return 0;
   float *p = r->mem;
+  for (int a = 0; a < 2; a++)
+    for (int c = 0; c < 3; c++) {
+      r->g2[a][c].buf = p;
+      p += (size_t)3 * w;
+      r->g2[a][c].row[0] = r->g2[a][c].row[1] = r->g2[a][c].row[2] = -1;
+    }
+  r->xrow = p, p += w;
   for (int a = 0; a < 2; a++)
     for (int c = 0; c < 3; c++)
       for (int k = 0; k < 2; k++) {
@@ -579,6 +587,24 @@ JND_HOT static void ecc_row(const band_ctx *k, row_scratch *r, int y) {
   }
 }
 
+/* Row crow of EXPAND(G_{i+2}) at level i+1 expanded once more to level i,
+ * from the row cache: EXPAND(G_{i+2}) is made a row at a time as the rows
+ * ask for it (jnd_pyr_expanded_row), never as a plane — the same values as
+ * the six planes of level i+1 it used to be (12 MB at the finest band). */
+static const float *expanded_row(const band_ctx *k, row_scratch *r, int a, int c, int crow) {
+  jnd_row_cache *q = &r->cache[a][c][1];
+  const int slot = crow % 3;
+  float *dst = q->buf + (size_t)slot * k->w;
+  if (q->row[slot] != crow) {
+    const jnd_gauss *g = &k->st->g[a][c];
+    const int b2 = k->band + 2;
+    jnd_pyr_expanded_row(&r->g2[a][c], g->plane[b2], g->w[b2], g->h[b2], crow, r->xrow, k->w1);
+    jnd_pyr_expand_row(r->xrow, k->w1, dst, k->w);
+    q->row[slot] = crow;
+  }
+  return dst;
+}
+
 /* one image's CSF-normalised contrasts on row y: opp[a][A, a, b] */
 JND_HOT static void image_row(const band_ctx *k, row_scratch *r, int a, int y, const int rows[3], const float wts[3]) {
   const diff_state *st = k->st;
@@ -593,9 +619,9 @@ JND_HOT static void image_row(const band_ctx *k, row_scratch *r, int a, int y, c
     const float *p0 = jnd_pyr_cached_row(&r->cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[0], w);
     const float *p1 = jnd_pyr_cached_row(&r->cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[1], w);
     const float *p2 = jnd_pyr_cached_row(&r->cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[2], w);
-    const float *q0 = jnd_pyr_cached_row(&r->cache[a][c][1], k->xexp[a][c], w1, rows[0], w);
-    const float *q1 = jnd_pyr_cached_row(&r->cache[a][c][1], k->xexp[a][c], w1, rows[1], w);
-    const float *q2 = jnd_pyr_cached_row(&r->cache[a][c][1], k->xexp[a][c], w1, rows[2], w);
+    const float *q0 = expanded_row(k, r, a, c, rows[0]);
+    const float *q1 = expanded_row(k, r, a, c, rows[1]);
+    const float *q2 = expanded_row(k, r, a, c, rows[2]);
     float *o = r->opp[a][c];
     const float w0 = wts[0], w1_ = wts[1], w2 = wts[2];
     const float wc = c < 2 ? k->lum_w[c] : 0.0f; /* S's weight in Y is left out */
@@ -861,14 +887,12 @@ static float band_masking_weight(const jnd_model *m, int band) {
 /* Difference of band i, summed over channels (band_rows). coarse: the next
  * coarser band's pooled maskers (NULL: none); mask_out: where this band's
  * go (NULL: not needed). */
-static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, float *xexp[2][3],
-                                  float *D, float *Dc, float *const coarse[NCH], float *const mask_out[NCH]) {
+static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, float *D, float *Dc,
+                                  float *const coarse[NCH], float *const mask_out[NCH]) {
   band_ctx k;
   jnd_status s = band_setup(m, st, band, &k);
   if (s != JND_OK) return s;
   k.Dc = Dc;
-  for (int a = 0; a < 2; a++)
-    for (int c = 0; c < 3; c++) k.xexp[a][c] = xexp[a][c];
   for (int c = 0; c < NCH; c++) {
     k.coarse_mask[c] = coarse ? coarse[c] : NULL;
     k.mask_out[c] = mask_out ? mask_out[c] : NULL;
@@ -1397,37 +1421,32 @@ static jnd_status band_differences(jnd_model *m, diff_state *st, float **Dlev, i
   const int apart = chroma_summation_apart(&m->p);
   float *mk_coarse[NCH] = {0}, *mk_this[NCH] = {0};
   for (int b = nb - 1; b >= 0 && s == JND_OK; b--) {
-    int w1 = st->g[0][0].w[b + 1], h1 = st->g[0][0].h[b + 1];
     if (xband && b > 0)
       for (int c = 0; c < NCH && s == JND_OK; c++) {
         mk_this[c] = jnd_alloc((size_t)st->g[0][0].w[b] * st->g[0][0].h[b], sizeof(float));
         if (!mk_this[c]) s = jnd_fail(JND_ERR_NOMEM, "model: out of memory");
       }
-    float *xexp[2][3] = {{0}};
-    /* EXPAND(G_{i+2}) at level i+1; the row loop expands it once more to level i */
-    for (int a = 0; a < 2 && s == JND_OK; a++)
-      for (int c = 0; c < 3; c++) {
-        xexp[a][c] = jnd_alloc((size_t)w1 * h1, sizeof(float));
-        if (!xexp[a][c] || !jnd_pyr_expand(st->g[a][c].plane[b + 2], st->g[a][c].w[b + 2], st->g[a][c].h[b + 2],
-                                           xexp[a][c], w1, h1, threads)) {
-          s = jnd_fail(JND_ERR_NOMEM, "model: out of memory");
-          break;
-        }
-      }
     float *Dc = NULL;
     if (s == JND_OK) s = level_planes(st, b, apart, &Dlev[b], &Dc);
     if (s == JND_OK)
-      s = band_difference(m, st, b, xexp, Dlev[b], Dc, xband && mk_coarse[0] ? mk_coarse : NULL,
+      s = band_difference(m, st, b, Dlev[b], Dc, xband && mk_coarse[0] ? mk_coarse : NULL,
                           xband && b > 0 ? mk_this : NULL);
     for (int c = 0; c < NCH; c++) {
       free(mk_coarse[c]);
       mk_coarse[c] = mk_this[c];
       mk_this[c] = NULL;
     }
+    /* the finest band was the last to read level 0 of the images' pyramids
+     * (the images themselves, 50 MB at 1920×1080): freed before its
+     * summation, the peak of a diff's memory */
+    if (b == 0)
+      for (int a = 0; a < 2; a++) {
+        if (st->g[a][0].own0) free(st->g[a][0].plane[0]);
+        st->g[a][0].own0 = 0;
+        for (int c = 0; c < 3; c++) st->g[a][c].plane[0] = NULL;
+      }
     if (s == JND_OK) s = summation_levels(m, b, Dlev[b], Dc, st->g[0][0].w[b], st->g[0][0].h[b]);
     free(Dc);
-    for (int a = 0; a < 2; a++)
-      for (int c = 0; c < 3; c++) free(xexp[a][c]);
   }
   for (int c = 0; c < NCH; c++) free(mk_coarse[c]);
   /* the baseband, as one more level below the coarsest band */

@@ -128,6 +128,15 @@ JND_HOT static void expand_col(const float *const rb[3], const float wts[3], int
   for (int x = 0; x < dw; x++) o[x] = w0 * r0[x] + w1 * r1[x] + w2 * r2[x];
 }
 
+void jnd_pyr_expanded_row(jnd_row_cache *c, const float *src, int cw, int ch, int y, float *out, int fw) {
+  int rows[3];
+  float wts[3];
+  int n = jnd_pyr_expand_rows(y, ch, rows, wts);
+  const float *rb[3];
+  for (int k = 0; k < n; k++) rb[k] = jnd_pyr_cached_row(c, src, cw, rows[k], fw);
+  expand_col(rb, wts, n, out, fw);
+}
+
 /* dst += max(o, 0) along a row */
 JND_HOT static void add_positive(const float *o, float *dst, int n) {
   for (int x = 0; x < n; x++) dst[x] += jnd_maxf(o[x], 0.0f);

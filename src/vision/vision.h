@@ -64,6 +64,10 @@ typedef struct {
 } jnd_row_cache;
 /* coarse row crow of src (cw wide) expanded to width fw, from the cache */
 const float *jnd_pyr_cached_row(jnd_row_cache *c, const float *src, int cw, int crow, int fw);
+/* Row y of EXPAND(src) (src cw × ch, the expanded image fw wide) into out,
+ * src's rows expanded horizontally through the cache c: bit for bit row y
+ * of jnd_pyr_expand, without the expanded image. */
+void jnd_pyr_expanded_row(jnd_row_cache *c, const float *src, int cw, int ch, int y, float *out, int fw);
 static inline int jnd_mirror(int i, int n) {
   if (n == 1) return 0;
   while (i < 0 || i >= n) {
@@ -144,5 +148,12 @@ int jnd_haar_band_energy(const float *plane, int w, int h, double *energy, int m
  * value when `where` marks every pixel whose colours differ. */
 jnd_status jnd_delta_e94_map_where(const jnd_display *d, const jnd_image *ref, const jnd_image *test,
                                    const uint8_t *where, jnd_image *out, double *max);
+
+/* ---- the display (display.c) ---- */
+/* The luminance (cd/m²) jnd_display_apply gives each 8-bit sRGB code
+ * without alpha, bit for bit: a decoder that writes these for an 8-bit
+ * file's samples (jnd_image_read_mapped) leaves the display nothing to do.
+ * Fails as jnd_display_apply does on the display's luminances. */
+jnd_status jnd_display_code_luminances(const jnd_display *d, float lum[256]);
 
 #endif

@@ -44,6 +44,24 @@ png(f'{d}/faint_ref.png', 256, 96, 3, lambda x, y: (0.5, 0.5, 0.5), bits=16)
 png(f'{d}/faint_test.png', 256, 96, 3, test, bits=16)
 PY
 F=("$T/faint_ref.png" "$T/faint_test.png")
+
+# An 8-bit RGB PNG decodes straight to the display's luminances (issue 29):
+# the same picture at 8 and at 16 bits, either as the reference, is the same
+# image on the display, and so is an 8-bit RGBA one whose alpha is opaque.
+PYTHONPATH="$(dirname "$0")" python3 - "$T" <<'PY'
+import sys
+from pngwrite import png
+d = sys.argv[1]
+f = lambda x, y: (((x * 7 + y * 3) % 256) / 255, ((x * 5) % 256) / 255, ((y * 11) % 256) / 255)
+png(f'{d}/bits8.png', 64, 48, 3, f)
+png(f'{d}/bits16.png', 64, 48, 3, f, bits=16)
+png(f'{d}/bits8a.png', 64, 48, 4, lambda x, y: f(x, y) + (1.0,))
+PY
+for pair in "bits16 bits8" "bits8 bits16" "bits8a bits8" "bits8 bits8a"; do
+  set -- $pair
+  "$JND" diff "$T/$1.png" "$T/$2.png" --json "$T/bits.json" --quiet
+  check "an_8_bit_png_is_the_same_image_as_${1}_against_${2}" jq -e '.result.jnd_max == 0' "$T/bits.json"
+done
 expect_exit 0 faint_pair_runs "$JND" diff "${F[@]}" --json "$T/faint.json" --quiet
 check faint_pair_has_jnds_around_one jq -e '.result.jnd_max > 0.5 and .result.jnd_max < 2 and .result.p_p93 > 0.02 and .result.p_p93 < 0.98' "$T/faint.json"
 check default_pooling_p93_and_beta_3_5_are_reported \

@@ -11,6 +11,7 @@
 #include "test.h"
 #include "core/core.h"
 #include "io/io.h"
+#include "vision/vision.h"
 #include "jnd.h"
 
 /* ---- helpers ---- */
@@ -1197,7 +1198,50 @@ TEST(embedded_texture_has_the_codes_the_png_writer_writes) {
   jnd_image_free(&b);
 }
 
-RUN_TESTS(embedded_texture_has_the_codes_the_png_writer_writes, exr_float_round_trips_exactly, exr_half_round_trips_within_half_precision,
+/* jnd diff decodes an 8-bit RGB PNG straight to the display's luminances
+ * (jnd_image_read_mapped with jnd_display_code_luminances): bit for bit
+ * what reading it and jnd_display_apply give, on every code and on a
+ * display with ambient light; any other PNG (alpha, grey, 16 bits) is read
+ * as jnd_image_read reads it and said unmapped. */
+TEST(png_decoded_to_the_display_is_bit_for_bit_the_display_of_the_decoded_png) {
+  jnd_display d;
+  CHECK_OK(jnd_display_preset("phone", &d));
+  d.ambient_lux = 250;
+  float lum[256];
+  CHECK_OK(jnd_display_code_luminances(&d, lum));
+  const int w = 256, h = 3;
+  for (int c = 1; c <= 4; c++)
+    for (int bits = 8; bits <= 16; bits += 8) {
+      jnd_image im = {0}, a = {0}, b = {0};
+      jnd_image_info ia, ib;
+      CHECK_OK(jnd_image_alloc(&im, w, h, c));
+      for (int ch = 0; ch < c; ch++) /* every code in every channel, in a different order per row */
+        for (int y = 0; y < h; y++)
+          for (int x = 0; x < w; x++)
+            jnd_image_plane(&im, ch)[(size_t)y * w + x] = (float)((x * (2 * y + 1) + 37 * ch) % 256) / 255.0f;
+      const char *path = tmp_file("mapped.png");
+      CHECK_OK(jnd_image_write_png(path, &im, bits));
+      CHECK_OK(jnd_image_read(path, &a, &ia));
+      int mapped = -1;
+      CHECK_OK(jnd_image_read_mapped(path, &b, &ib, lum, &mapped));
+      CHECK(mapped == (c == 3 && bits == 8));
+      if (mapped != 1) CHECK_OK(jnd_display_apply(&d, &b, ib.encoding, ib.has_alpha, &b));
+      CHECK_OK(jnd_display_apply(&d, &a, ia.encoding, ia.has_alpha, &a));
+      size_t same = 0, n = (size_t)w * h * 3;
+      CHECK(a.c == 3 && b.c == 3);
+      for (size_t i = 0; a.data && b.data && a.c == 3 && b.c == 3 && i < n; i++) same += memcmp(&a.data[i], &b.data[i], 4) == 0;
+      CHECK(same == n);
+      jnd_image_free(&im);
+      jnd_image_free(&a);
+      jnd_image_free(&b);
+    }
+  /* a display whose luminances are refused gives no table */
+  d.peak_cdm2 = -1;
+  CHECK(jnd_display_code_luminances(&d, lum) != JND_OK);
+}
+
+RUN_TESTS(png_decoded_to_the_display_is_bit_for_bit_the_display_of_the_decoded_png,
+          embedded_texture_has_the_codes_the_png_writer_writes, exr_float_round_trips_exactly, exr_half_round_trips_within_half_precision,
           exr_half_write_clamps_to_the_half_range_instead_of_infinity,
           exr_default_names_give_back_the_same_channel_order,
           exr_channels_are_read_as_r_g_b_a_whatever_their_order,

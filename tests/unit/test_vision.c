@@ -133,6 +133,36 @@ TEST(expand_add_equals_expanding_then_adding_the_positive_part) {
   }
 }
 
+/* jnd_pyr_expanded_row (the model makes EXPAND(G_{i+2}) a row at a time):
+ * bit for bit jnd_pyr_expand's rows, asked in order, backwards, or
+ * skipping about (a thread's chunk starts anywhere; the cache must never
+ * hand back a row it does not hold), for even and odd sizes */
+TEST(expanded_rows_are_bit_for_bit_the_rows_of_expand) {
+  enum { W = 37, H = 21, CW = 19, CH = 11 };
+  float coarse[CW * CH], up[W * H], row[W], cache[3 * W];
+  jnd_rng r;
+  jnd_rng_seed(&r, 5);
+  for (int i = 0; i < CW * CH; i++) coarse[i] = (float)jnd_rng_uniform(&r);
+  for (int even = 0; even < 2; even++) {
+    const int w = W - even, h = H - even; /* 36 × 20 from 19 × 11 as well */
+    CHECK(jnd_pyr_expand(coarse, CW, CH, up, w, h, 1));
+    const int orders[3][6] = {{0, 1, 2, 3, 4, 5}, {20, 19, 18, 17, 16, 15}, {7, 3, 3, 12, 0, 8}};
+    for (int o = 0; o < 3; o++) {
+      jnd_row_cache c = {cache, {-1, -1, -1}};
+      int same = 0, asked = 0;
+      for (int start = 0; start < h; start += 6)
+        for (int k = 0; k < 6; k++) {
+          int y = o == 1 ? h - 1 - orders[0][k] - start : (start + orders[o][k]) % h;
+          if (y < 0) continue;
+          jnd_pyr_expanded_row(&c, coarse, CW, CH, y, row, w);
+          same += memcmp(row, up + (size_t)y * w, sizeof(float) * (size_t)w) == 0;
+          asked++;
+        }
+      CHECK(asked > 0 && same == asked);
+    }
+  }
+}
+
 TEST(lms_luminance_weights_recover_y) {
   double w[3];
   jnd_lms_luminance_weights(w);
@@ -1369,7 +1399,7 @@ TEST(default_beta_of_3_5_is_what_diff_uses) {
   jnd_model_free(m);
 }
 
-RUN_TESTS(flicker_sensitivity_is_band_pass_at_low_spatial_frequency_and_low_pass_at_high,
+RUN_TESTS(expanded_rows_are_bit_for_bit_the_rows_of_expand, flicker_sensitivity_is_band_pass_at_low_spatial_frequency_and_low_pass_at_high,
           flicker_at_half_a_cycle_per_degree_is_best_seen_near_6_hz_as_robson_1966,
           chromatic_flicker_is_flat_at_low_temporal_frequencies_and_fades_above_ten_hertz,
           red_green_sensitivity_falls_faster_with_eccentricity_than_luminance,
