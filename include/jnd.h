@@ -1876,6 +1876,14 @@ typedef struct {
   int level;                 /* the mesh level judged with the maps (0): the reference stays level 0
                                 with the file's maps; every candidate state draws this level of the
                                 scene's chain (jnd budget searches textures under each level) */
+  jnd_judge *judge_shared;   /* NULL (default): the search makes its own judge (and renders the
+                                references). Otherwise borrowed, not freed: a judge of this scene made
+                                in the reference state (level 0, the file's maps) with judge.views —
+                                its first views are the search's — and the criterion p·(1 − margin)
+                                the search decides with; the search adds its confirmation and
+                                held-out views to it. Searches under several levels then render the
+                                references once and share every state judged (jnd budget). counts
+                                are then the judge's so far, not this search's alone */
   int matrix;                /* baseColor × normal matrix of each material that has both
                                 (000 Fig. 13), an illustration: 0 (default) none; 1 the candidates
                                 down to each map's first failure on its own; 2 every candidate */

@@ -246,11 +246,15 @@ static jnd_status price(ctx *c, jnd_budget_candidate *x) {
   return s;
 }
 
-/* the candidate on the judge's views [first, first + n) */
+/* the candidate on the judge's views [first, first + n), the criterion at
+ * the report's p (the judge decides at texres's p·(1 − margin): it is
+ * texres's, shared) */
 static jnd_status judge(ctx *c, int level, int (*sizes)[2], const jnd_tex_format *formats, int first, int n, double *P,
                         jnd_judgement *r) {
+  const jnd_criterion *cr = &c->p->texres.judge.criterion;
   jnd_status s = set_state(c, level, sizes, formats);
   if (s == JND_OK) s = jnd_judge_eval(c->j, first, n, 0, P, r);
+  if (s == JND_OK) s = jnd_criterion_eval(P, n, cr->p, cr->q, cr->confidence, &r->criterion);
   return s;
 }
 
@@ -261,6 +265,7 @@ static jnd_status search_level(ctx *c, int k, jnd_texres_result *T) {
   tp.judge.views.sampling.distance = 0;
   tp.level = k;
   tp.matrix = 0;
+  tp.judge_shared = c->j;   /* the references rendered once, every state judged remembered */
   jnd_status s = restore(c);
   if (s == JND_OK) s = jnd_texres_search(c->scene, &tp, T);
   if (s != JND_OK) return s;
@@ -609,6 +614,19 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
     R->bytes_per_triangle = li.triangles ? (double)b / (double)li.triangles : 0;
   }
 
+  /* one judge at the viewing condition for every search and candidate:
+   * the reference (level 0, the file's maps) rendered once; it decides at
+   * texres's p·(1 − margin), as texres's own would, and the candidates'
+   * criterion is taken again at p (judge) */
+  {
+    jnd_judge_params jp = p->texres.judge;
+    jp.views.sampling.coverage = p->lod.poi.coverage;
+    jp.views.sampling.distance = 0;
+    if (p->texres.margin > 0) jp.criterion.p *= 1 - p->texres.margin;
+    if ((s = restore(&c)) || (s = jnd_judge_create(c.scene, &jp, &c.j))) goto done;
+    c.nviews = jnd_judge_view_count(c.j);
+  }
+
   /* 2. textures under each level up to the perceptual one */
   if ((s = search_level(&c, 0, &R->texres))) goto done;
   for (int k = 1; k <= perceptual; k++) {
@@ -639,14 +657,7 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
       if ((s = price(&c, x))) goto done;
     }
 
-  /* 3. every candidate on one judge at the viewing condition */
-  {
-    jnd_judge_params jp = p->texres.judge;
-    jp.views.sampling.coverage = p->lod.poi.coverage;
-    jp.views.sampling.distance = 0;
-    if ((s = restore(&c)) || (s = jnd_judge_create(c.scene, &jp, &c.j))) goto done;
-    c.nviews = jnd_judge_view_count(c.j);
-  }
+  /* 3. every candidate on the judge's first views (a state a search judged is not rendered again) */
   if (!(P = jnd_calloc((size_t)c.nviews, sizeof *P))) {
     s = JND_ERR_NOMEM;
     goto done;
