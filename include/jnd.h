@@ -2531,13 +2531,15 @@ void jnd_budget_defaults(jnd_budget_params *p);
 typedef struct {
   int level;                 /* the chain's level drawn nearest (levels finer than it are dropped) */
   int scale;                 /* −1: sizes of texres's search at that level; −2: the separately chosen
-                                (texres at level 0 with lod's perceptual level); −3: the cheapest of
-                                those with cheaper encodings per image (docs/budget.md); s ≥ 0:
+                                (texres at level 0 with lod's perceptual level); −3: cheaper encodings per image
+                                (docs/budget.md): in cheapest-unnoticed mode the cheapest of those,
+                                in budget mode a candidate over the memory budget with as few images
+                                encoded as bring it within; s ≥ 0:
                                 every map at its original halved s times (not below min_size) */
   int (*sizes)[2];           /* per scene map: width, height in pixels (owned) */
   jnd_tex_format *formats;   /* per scene map: its image's encoding on the GPU (owned): the slots'
                                 block format (jnd_slot_block_format), or BC1 where the encoding
-                                search found its artefacts unnoticed (scale −3) */
+                                search chose it (scale −3) */
   size_t memory_bytes;       /* the textures: unique images, their formats, mip chains */
   size_t triangles;          /* of the level */
   double cost;               /* memory_bytes + triangles × the exchange rate */
@@ -2545,7 +2547,9 @@ typedef struct {
                                 judge's views at the viewing condition */
   int pass;                  /* statistic ≤ p there */
   int searched_pass;         /* scale −1: texres's search passed (its margin, confirmation, held-out
-                                views); −2: the statistic is at most p·(1 − margin); else 0 */
+                                views); −2 (and −3 in budget mode): the statistic is at most
+                                p·(1 − margin); −3 in cheapest-unnoticed mode: that and the
+                                confirmation rounds; else 0 */
   int pareto;                /* not dominated in (memory, triangles, statistic) */
   int inferred;              /* 1: a ladder state not rendered, as the one before it (one halving
                                 fewer, same level) had statistic 1 and detection never falls as a

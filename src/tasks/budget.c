@@ -416,6 +416,90 @@ static jnd_status search_encodings(ctx *c, int base, double *P) {
   return s;
 }
 
+/* Budget mode's encodings: every candidate judged at the slots' formats
+ * that fits the triangle budget but not the memory budget gets a variant
+ * whose images take their cheaper encoding (cheaper_format), the one that
+ * saves most first, until it fits; the variant is judged like the ladder,
+ * on the judge's views (its statistic reported, not confirmed), a
+ * candidate (scale −3) beside the others. A candidate whose statistic is 1
+ * already gets none (an encoding only adds error). */
+/* an encoded variant of x (the first t images of order encoded) made already
+ * from a candidate of the same level and sizes (texres's choice is the
+ * separate pair's too) */
+static int encoded_twice(const ctx *c, int n0, const jnd_budget_candidate *x, const int *order, int t) {
+  for (int b = n0; b < c->R->ncandidates; b++) {
+    const jnd_budget_candidate *y = &c->R->candidates[b];
+    int same = y->level == x->level && !memcmp(y->sizes, x->sizes, (size_t)c->nmaps * sizeof *x->sizes);
+    for (int i = 0; i < c->nmaps && same; i++) {
+      int enc = 0;
+      for (int u = 0; u < t; u++) enc |= c->leader[i] == order[u];
+      same = (y->formats[i] != c->fmt[c->leader[i]]) == enc;
+    }
+    if (same) return 1;
+  }
+  return 0;
+}
+
+static jnd_status budget_encodings(ctx *c, double *P) {
+  jnd_budget_result *R = c->R;
+  const jnd_budget_params *p = c->p;
+  int n0 = R->ncandidates, *order = jnd_calloc((size_t)c->nmaps, sizeof *order);
+  jnd_tex_format *g = jnd_calloc((size_t)c->nmaps, sizeof *g);
+  jnd_status s = order && g ? JND_OK : JND_ERR_NOMEM;
+  for (int i = 0; i < c->nmaps && s == JND_OK; i++) g[i] = c->leader[i] == i ? cheaper_format(c, i) : JND_TEX_FORMATS;
+  for (int a = 0; a < n0 && s == JND_OK; a++) {
+    const jnd_budget_candidate *x = &R->candidates[a];
+    if (!(p->memory_bytes > 0) || (double)x->memory_bytes <= p->memory_bytes || !isfinite(x->statistic) ||
+        x->statistic >= 1 || (p->triangles > 0 && (double)x->triangles > p->triangles))
+      continue;
+    int n = 0;   /* the images that can take a cheaper encoding, most saved first */
+    for (int i = 0; i < c->nmaps; i++) {
+      if (g[i] == JND_TEX_FORMATS) continue;
+      size_t si = jnd_texture_bytes(c->fmt[i], x->sizes[i][0], x->sizes[i][1], 1) -
+                  jnd_texture_bytes(g[i], x->sizes[i][0], x->sizes[i][1], 1);
+      int at = n++;
+      while (at > 0) {
+        int o = order[at - 1];
+        size_t so = jnd_texture_bytes(c->fmt[o], x->sizes[o][0], x->sizes[o][1], 1) -
+                    jnd_texture_bytes(g[o], x->sizes[o][0], x->sizes[o][1], 1);
+        if (so >= si) break;
+        order[at] = o;
+        at--;
+      }
+      order[at] = i;
+    }
+    size_t mem = x->memory_bytes;
+    int t = 0;
+    while (t < n && (double)mem > p->memory_bytes) {
+      int i = order[t++];
+      mem -= jnd_texture_bytes(c->fmt[i], x->sizes[i][0], x->sizes[i][1], 1) -
+             jnd_texture_bytes(g[i], x->sizes[i][0], x->sizes[i][1], 1);
+    }
+    if ((double)mem > p->memory_bytes || encoded_twice(c, n0, x, order, t)) continue;
+    jnd_budget_candidate *y = add_candidate(c, x->level, -3);
+    if (!y) {
+      s = JND_ERR_NOMEM;
+      break;
+    }
+    x = &R->candidates[a];   /* add_candidate may move the array */
+    memcpy(y->sizes, x->sizes, (size_t)c->nmaps * sizeof *y->sizes);
+    for (int u = 0; u < t; u++)
+      for (int q = 0; q < c->nmaps; q++)
+        if (c->leader[q] == order[u]) y->formats[q] = g[order[u]];
+    if ((s = price(c, y))) break;
+    jnd_judgement r;
+    if ((s = judge(c, y->level, y->sizes, y->formats, 0, c->nviews, P, &r)) || (s = margin_pass(c, P, c->nviews, &y->searched_pass)))
+      break;
+    y->statistic = r.criterion.statistic;
+    y->pass = r.criterion.pass;
+    stage(c, "level %d, %d image%s in %s: %.3f MiB, statistic %.3f", y->level, t, t == 1 ? "" : "s",
+          jnd_tex_format_name(JND_TEX_BC1), (double)y->memory_bytes / 1048576.0, y->statistic);
+  }
+  free(order);
+  free(g);
+  return s;
+}
+
 /* not dominated: no other candidate at most as large in memory, triangles
  * and statistic and smaller in one */
 static void mark_pareto(jnd_budget_result *R) {
@@ -690,6 +774,7 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
   }
   /* 4. the encodings, from the cheapest that passes; the choice */
   if (R->mode == 0 && R->candidates[choose(&c)].searched_pass && (s = search_encodings(&c, choose(&c), P))) goto done;
+  if (R->mode == 1 && (s = budget_encodings(&c, P))) goto done;
   mark_pareto(R);
   R->chosen = choose(&c);
   R->search_s = jnd_seconds() - t0;

@@ -154,15 +154,32 @@ assert min(c["statistic"] for c in inb) == ch["statistic"]
 PY
 
 # budget mode where candidates of different statistics fit: the least visible is chosen
-# (under half the separate memory every candidate that fits is seen, statistic 1)
-"$JND" budget builtin:sphere -o "$T/b2" --memory "${sep}B" "${SMALL[@]}" >"$T/out.txt" 2>"$T/err.txt"
-check "budget mode at the separate memory: of candidates seen differently, the least visible" python3 - "$T/b2/budget.json" "$sep" <<'PY'
+# (under half the separate memory every candidate that fits is seen, statistic 1). One
+# byte under the separate memory the sphere's maps at the slots' formats that fit are all
+# halved past what is unnoticed; budget mode's encoding search brings larger ones within
+# the budget with BC1 for the baseColor, less visible than any of those
+"$JND" budget builtin:sphere -o "$T/b2" --memory "$((sep - 1))B" "${SMALL[@]}" >"$T/out.txt" 2>"$T/err.txt"
+check "budget mode under the separate memory: of candidates seen differently, the least visible" python3 - "$T/b2/budget.json" "$((sep - 1))" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1])); M = float(sys.argv[2])
 res = r["result"]; ch = res["chosen"]
 inb = [c for c in res["candidates"] if c["memory_bytes"] <= M and c["statistic"] is not None]
 assert len({c["statistic"] for c in inb}) >= 2, inb
 assert ch["statistic"] == min(c["statistic"] for c in inb), (ch["statistic"], inb)
+PY
+check "budget mode searches encodings: the choice is an encoded candidate within the budget, less visible than every one at the slots' formats" \
+  python3 - "$T/b2/budget.json" "$((sep - 1))" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1])); M = float(sys.argv[2])
+res = r["result"]; ch = res["chosen"]
+assert ch["kind"] == "encoded" and ch["memory_bytes"] <= M, ch
+assert any(f == "bc1" for n, f in ch["formats"].items() if n.split("/")[-1] in ("baseColor", "normal")), ch["formats"]
+plain = [c for c in res["candidates"] if c["kind"] != "encoded" and c["memory_bytes"] <= M]
+assert plain and ch["statistic"] < min(c["statistic"] for c in plain), (ch["statistic"], plain)
+enc = [c for c in res["candidates"] if c["kind"] == "encoded"]
+assert all(c["memory_bytes"] <= M for c in enc)
+key = lambda c: (c["level"], c["memory_bytes"], c["statistic"])
+assert len({key(c) for c in enc}) == len(enc), "an encoded variant made twice"
 PY
 
 # a budget nothing meets: one line naming the smallest possible, nothing written
