@@ -2540,6 +2540,9 @@ typedef struct {
   jnd_tex_format *formats;   /* per scene map: its image's encoding on the GPU (owned): the slots'
                                 block format (jnd_slot_block_format), or BC1 where the encoding
                                 search chose it (scale −3) */
+  int *packed;               /* per scene map: the principal components its material is packed in
+                                (001, pca's encoding, components in BC4/BC5 with mips), or 0 (owned;
+                                scale −3 only) */
   size_t memory_bytes;       /* the textures: unique images, their formats, mip chains */
   size_t triangles;          /* of the level */
   double cost;               /* memory_bytes + triangles × the exchange rate */
