@@ -1876,6 +1876,14 @@ typedef struct {
   int level;                 /* the mesh level judged with the maps (0): the reference stays level 0
                                 with the file's maps; every candidate state draws this level of the
                                 scene's chain (jnd budget searches textures under each level) */
+  jnd_judge *judge_shared;   /* NULL (default): the search makes its own judge (and renders the
+                                references). Otherwise borrowed, not freed: a judge of this scene made
+                                in the reference state (level 0, the file's maps) with judge.views —
+                                its first views are the search's — and the criterion p·(1 − margin)
+                                the search decides with; the search adds its confirmation and
+                                held-out views to it. Searches under several levels then render the
+                                references once and share every state judged (jnd budget). counts
+                                are then the judge's so far, not this search's alone */
   int matrix;                /* baseColor × normal matrix of each material that has both
                                 (000 Fig. 13), an illustration: 0 (default) none; 1 the candidates
                                 down to each map's first failure on its own; 2 every candidate */
@@ -2523,13 +2531,18 @@ void jnd_budget_defaults(jnd_budget_params *p);
 typedef struct {
   int level;                 /* the chain's level drawn nearest (levels finer than it are dropped) */
   int scale;                 /* −1: sizes of texres's search at that level; −2: the separately chosen
-                                (texres at level 0 with lod's perceptual level); −3: the cheapest of
-                                those with cheaper encodings per image (docs/budget.md); s ≥ 0:
+                                (texres at level 0 with lod's perceptual level); −3: cheaper encodings per image
+                                (docs/budget.md): in cheapest-unnoticed mode the cheapest of those,
+                                in budget mode a candidate over the memory budget with as few images
+                                encoded as bring it within; s ≥ 0:
                                 every map at its original halved s times (not below min_size) */
   int (*sizes)[2];           /* per scene map: width, height in pixels (owned) */
   jnd_tex_format *formats;   /* per scene map: its image's encoding on the GPU (owned): the slots'
                                 block format (jnd_slot_block_format), or BC1 where the encoding
-                                search found its artefacts unnoticed (scale −3) */
+                                search chose it (scale −3) */
+  int *packed;               /* per scene map: the principal components its material is packed in
+                                (001, pca's encoding, components in BC4/BC5 with mips), or 0 (owned;
+                                scale −3 only) */
   size_t memory_bytes;       /* the textures: unique images, their formats, mip chains */
   size_t triangles;          /* of the level */
   double cost;               /* memory_bytes + triangles × the exchange rate */
@@ -2537,7 +2550,9 @@ typedef struct {
                                 judge's views at the viewing condition */
   int pass;                  /* statistic ≤ p there */
   int searched_pass;         /* scale −1: texres's search passed (its margin, confirmation, held-out
-                                views); −2: the statistic is at most p·(1 − margin); else 0 */
+                                views); −2 (and −3 in budget mode): the statistic is at most
+                                p·(1 − margin); −3 in cheapest-unnoticed mode: that and the
+                                confirmation rounds; else 0 */
   int pareto;                /* not dominated in (memory, triangles, statistic) */
   int inferred;              /* 1: a ladder state not rendered, as the one before it (one halving
                                 fewer, same level) had statistic 1 and detection never falls as a

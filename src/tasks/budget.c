@@ -33,6 +33,7 @@
 
 #include "core/core.h"
 #include "tasks/tasks.h"
+#include "tasks/pca_stages.h"
 
 void jnd_budget_defaults(jnd_budget_params *p) {
   memset(p, 0, sizeof *p);
@@ -47,6 +48,7 @@ void jnd_budget_defaults(jnd_budget_params *p) {
 static void candidate_clear(jnd_budget_candidate *c) {
   free(c->sizes);
   free(c->formats);
+  free(c->packed);
 }
 
 void jnd_budget_result_clear(jnd_budget_result *r) {
@@ -80,6 +82,11 @@ typedef struct {
   jnd_tex_format *fmt;     /* per leader: the block format its slots need together */
   int (*cur)[2];           /* sizes in the scene now */
   jnd_tex_format *curfmt;  /* per map: the encoding its image has in the scene now */
+  int *curpack;            /* per map: the components its material is packed in now (0: not) */
+  int nmat;
+  unsigned char *repack;   /* per material: set_state packs it again */
+  size_t *packbytes;       /* per material: its components' GPU bytes as last packed */
+  int packc;               /* the channels of the set last packed */
   int nscales;             /* the ladder's halvings, 0 .. nscales − 1 */
   jnd_judge *j;
   int nviews;
@@ -104,7 +111,12 @@ static jnd_status images_make(ctx *c) {
   c->fmt = jnd_calloc((size_t)c->nmaps, sizeof *c->fmt);
   c->cur = jnd_calloc((size_t)c->nmaps, sizeof *c->cur);
   c->curfmt = jnd_calloc((size_t)c->nmaps, sizeof *c->curfmt);
-  if (!c->mi || !c->leader || !c->fmt || !c->cur || !c->curfmt) return JND_ERR_NOMEM;
+  c->curpack = jnd_calloc((size_t)c->nmaps, sizeof *c->curpack);
+  c->nmat = jnd_scene_material_count(c->scene);
+  c->repack = jnd_calloc((size_t)c->nmat + 1, sizeof *c->repack);
+  c->packbytes = jnd_calloc((size_t)c->nmat + 1, sizeof *c->packbytes);
+  if (!c->mi || !c->leader || !c->fmt || !c->cur || !c->curfmt || !c->curpack || !c->repack || !c->packbytes)
+    return JND_ERR_NOMEM;
   for (int i = 0; i < c->nmaps; i++) {
     jnd_scene_map_info(c->scene, i, &c->mi[i]);
     const jnd_map_info *m = &c->mi[i];
@@ -127,6 +139,9 @@ static void ctx_free(ctx *c) {
   free(c->fmt);
   free(c->cur);
   free(c->curfmt);
+  free(c->curpack);
+  free(c->repack);
+  free(c->packbytes);
 }
 
 /* one size per image: the largest any of its maps has */
@@ -138,11 +153,19 @@ static void unify(const ctx *c, int (*sizes)[2]) {
   for (int i = 0; i < c->nmaps; i++) memcpy(sizes[i], sizes[c->leader[i]], sizeof sizes[i]);
 }
 
-/* formats: per map, the encoding of its image (NULL: the slots' block formats) */
-static size_t texture_bytes(const ctx *c, int (*sizes)[2], const jnd_tex_format *formats) {
+/* formats: per map, the encoding of its image (NULL: the slots' block
+ * formats); packed (NULL: none): per map, its material's PCA components
+ * (the packed materials' bytes are c->packbytes, set_state's) */
+static size_t texture_bytes(const ctx *c, int (*sizes)[2], const jnd_tex_format *formats, const int *packed) {
   size_t b = 0;
   for (int i = 0; i < c->nmaps; i++)
-    if (c->leader[i] == i) b += jnd_texture_bytes(formats ? formats[i] : c->fmt[i], sizes[i][0], sizes[i][1], 1);
+    if (c->leader[i] == i && !(packed && packed[i]))
+      b += jnd_texture_bytes(formats ? formats[i] : c->fmt[i], sizes[i][0], sizes[i][1], 1);
+  for (int m = 0; packed && m < c->nmat; m++) {
+    int in = 0;
+    for (int i = 0; i < c->nmaps && !in; i++) in = packed[i] && c->mi[i].material == m;
+    if (in) b += c->packbytes[m];
+  }
   return b;
 }
 
@@ -184,11 +207,60 @@ static jnd_status encode_bc1(ctx *c, int i) {
   return s;
 }
 
-/* formats: per map, its image's encoding (NULL: the slots' block formats) */
-static jnd_status set_state(ctx *c, int level, int (*sizes)[2], const jnd_tex_format *formats) {
+/* Material m's maps as they are now packed into K principal components
+ * (001: the set of the channels the shader reads, mean-centred,
+ * decorrelated, the first K kept at full size and 8 bits — pca's own
+ * encoding, jnd_pca_encode), the components block-compressed as a GPU holds
+ * them (BC4, pairs BC5: pca's JND_PCA_BC_PCA_BC4) and the maps rebuilt from
+ * them put in the scene; c->packbytes[m] the components' bytes with their
+ * mip chains. *channels (may be NULL) receives the set's channels. */
+static jnd_status pack_material(ctx *c, int m, int K, int *channels) {
+  jnd_texset set;
+  jnd_map_slot slots[JND_PCA_MAX_MAPS];
+  int map_of[JND_PCA_MAX_MAPS];
+  jnd_pca pca;
+  jnd_pca_encoding e;
+  jnd_pca_encoded enc;
+  jnd_image rec = {0};
+  memset(&enc, 0, sizeof enc);
+  jnd_status s = pca_scene_material_set(c->scene, m, 0, NULL, &set, slots, map_of, NULL);
+  if (s == JND_OK && set.nmaps == 0) s = jnd_fail(JND_ERR_ARG, "budget: material %d has no maps", m);
+  if (s == JND_OK) c->packc = set.c;
+  if (s == JND_OK && channels) *channels = set.c;
+  if (s == JND_OK) s = jnd_pca_analyse(&set, NULL, &pca);
+  if (s == JND_OK) {
+    jnd_pca_encoding_default(&pca, &e);
+    e.components = K < set.c ? K : set.c;
+    s = jnd_pca_encode(&set, &pca, &e, &enc);
+  }
+  if (s == JND_OK) s = pca_block_compressed_gpu(&set, &enc, JND_PCA_BC_PCA_BC4, &rec, NULL, &c->packbytes[m]);
+  for (int i = 0; i < set.nmaps && s == JND_OK; i++) {
+    jnd_image img = {0};
+    s = jnd_texset_map_image(&set, &rec, i, &img);
+    if (s == JND_OK) s = jnd_scene_map_set(c->scene, map_of[i], &img);
+    if (s == JND_OK) c->curpack[map_of[i]] = K;
+    jnd_image_free(&img);
+  }
+  jnd_image_free(&rec);
+  jnd_pca_encoded_free(&enc);
+  jnd_texset_free(&set);
+  return s;
+}
+
+/* formats: per map, its image's encoding (NULL: the slots' block formats);
+ * packed (NULL: none): per map, the components its material is packed in
+ * (0: not packed; a packed material's maps all have the same) */
+static jnd_status set_state(ctx *c, int level, int (*sizes)[2], const jnd_tex_format *formats, const int *packed) {
+  memset(c->repack, 0, (size_t)c->nmat);
+  for (int i = 0; i < c->nmaps && packed; i++)
+    if (packed[i] && (sizes[i][0] != c->cur[i][0] || sizes[i][1] != c->cur[i][1] || c->curpack[i] != packed[i]))
+      c->repack[c->mi[i].material] = 1;
   for (int i = 0; i < c->nmaps; i++) {
     jnd_tex_format f = formats ? formats[i] : c->fmt[c->leader[i]];
-    if (sizes[i][0] == c->cur[i][0] && sizes[i][1] == c->cur[i][1] && f == c->curfmt[i]) continue;
+    int k = packed ? packed[i] : 0;
+    if (!(k && c->repack[c->mi[i].material]) && sizes[i][0] == c->cur[i][0] && sizes[i][1] == c->cur[i][1] &&
+        f == c->curfmt[i] && k == c->curpack[i])
+      continue;
     jnd_status s;
     if (sizes[i][0] == c->mi[i].orig_width && sizes[i][1] == c->mi[i].orig_height) {
       jnd_scene_map_restore(c->scene, i);
@@ -197,13 +269,21 @@ static jnd_status set_state(ctx *c, int level, int (*sizes)[2], const jnd_tex_fo
       s = jnd_scene_map_resize(c->scene, i, sizes[i][0], sizes[i][1]);
     }
     c->curfmt[i] = c->fmt[c->leader[i]];
-    if (s == JND_OK && f != c->curfmt[i]) {
+    c->curpack[i] = 0;
+    if (s == JND_OK && !k && f != c->curfmt[i]) {
       s = f == JND_TEX_BC1 ? encode_bc1(c, i) : jnd_fail(JND_ERR_ARG, "budget: no encoder for %s", jnd_tex_format_name(f));
       if (s == JND_OK) c->curfmt[i] = f;
     }
     if (s != JND_OK) return s;
     c->cur[i][0] = sizes[i][0];
     c->cur[i][1] = sizes[i][1];
+  }
+  for (int i = 0; i < c->nmaps && packed; i++) {
+    int m = c->mi[i].material;
+    if (!packed[i] || !c->repack[m]) continue;
+    c->repack[m] = 0;
+    jnd_status s = pack_material(c, m, packed[i], NULL);
+    if (s != JND_OK) return s;
   }
   return jnd_scene_lod_select(c->scene, level);
 }
@@ -214,6 +294,7 @@ static jnd_status restore(ctx *c) {
     c->cur[i][0] = c->mi[i].orig_width;
     c->cur[i][1] = c->mi[i].orig_height;
     c->curfmt[i] = c->fmt[c->leader[i]];
+    c->curpack[i] = 0;
   }
   return jnd_scene_lod_select(c->scene, 0);
 }
@@ -227,8 +308,9 @@ static jnd_budget_candidate *add_candidate(ctx *c, int level, int scale) {
   memset(x, 0, sizeof *x);
   x->sizes = jnd_calloc((size_t)c->nmaps, sizeof *x->sizes);
   x->formats = jnd_calloc((size_t)c->nmaps, sizeof *x->formats);
+  x->packed = jnd_calloc((size_t)c->nmaps, sizeof *x->packed);
   R->ncandidates++;   /* cleared with the result even when half made */
-  if (!x->sizes || !x->formats) return NULL;
+  if (!x->sizes || !x->formats || !x->packed) return NULL;
   for (int i = 0; i < c->nmaps; i++) x->formats[i] = c->fmt[c->leader[i]];
   x->level = level;
   x->scale = scale;
@@ -236,21 +318,32 @@ static jnd_budget_candidate *add_candidate(ctx *c, int level, int scale) {
   return x;
 }
 
+static int any_packed(const ctx *c, const int *packed) {
+  int n = 0;
+  for (int i = 0; i < c->nmaps; i++) n += packed[i] > 0;
+  return n;
+}
+
 static jnd_status price(ctx *c, jnd_budget_candidate *x) {
   unify(c, x->sizes);
-  x->memory_bytes = texture_bytes(c, x->sizes, x->formats);
+  jnd_status s = any_packed(c, x->packed) ? set_state(c, x->level, x->sizes, x->formats, x->packed) : JND_OK;
+  x->memory_bytes = texture_bytes(c, x->sizes, x->formats, x->packed);
   jnd_lod_level_info li;
-  jnd_status s = jnd_scene_lod_info(c->scene, x->level, &li);
+  if (s == JND_OK) s = jnd_scene_lod_info(c->scene, x->level, &li);
   x->triangles = li.triangles;
   x->cost = (double)x->memory_bytes + (double)x->triangles * c->R->bytes_per_triangle;
   return s;
 }
 
-/* the candidate on the judge's views [first, first + n) */
-static jnd_status judge(ctx *c, int level, int (*sizes)[2], const jnd_tex_format *formats, int first, int n, double *P,
-                        jnd_judgement *r) {
-  jnd_status s = set_state(c, level, sizes, formats);
+/* the candidate on the judge's views [first, first + n), the criterion at
+ * the report's p (the judge decides at texres's p·(1 − margin): it is
+ * texres's, shared) */
+static jnd_status judge(ctx *c, int level, int (*sizes)[2], const jnd_tex_format *formats, const int *packed, int first,
+                        int n, double *P, jnd_judgement *r) {
+  const jnd_criterion *cr = &c->p->texres.judge.criterion;
+  jnd_status s = set_state(c, level, sizes, formats, packed);
   if (s == JND_OK) s = jnd_judge_eval(c->j, first, n, 0, P, r);
+  if (s == JND_OK) s = jnd_criterion_eval(P, n, cr->p, cr->q, cr->confidence, &r->criterion);
   return s;
 }
 
@@ -261,6 +354,7 @@ static jnd_status search_level(ctx *c, int k, jnd_texres_result *T) {
   tp.judge.views.sampling.distance = 0;
   tp.level = k;
   tp.matrix = 0;
+  tp.judge_shared = c->j;   /* the references rendered once, every state judged remembered */
   jnd_status s = restore(c);
   if (s == JND_OK) s = jnd_texres_search(c->scene, &tp, T);
   if (s != JND_OK) return s;
@@ -325,6 +419,76 @@ static jnd_status margin_pass(const ctx *c, const double *P, int n, int *pass) {
   return s;
 }
 
+/* material m's images are its own: none sampled by another material's
+ * slot (a packed material's images are replaced by its components) */
+static int packable(const ctx *c, int m) {
+  int n = 0;
+  for (int i = 0; i < c->nmaps; i++) {
+    int mine = c->mi[i].material == m, leads = c->mi[c->leader[i]].material == m;
+    if (mine != leads) return 0;
+    n += mine;
+  }
+  return n > 0;
+}
+
+typedef struct {
+  int components;   /* K taken, 0: refused */
+  double statistic;
+  int pass;
+} pca_try;
+
+/* 001's packing of material m beside the slots' formats and BC1: the
+ * fewest components K whose packing (pack_material) passes with texres's
+ * margin on the judge's views, every encoding taken before included, by
+ * bisection over K (detection falls as components are added: the
+ * reconstruction only gains), a K whose components take at least the
+ * material's images' bytes (sizes and formats as they are) cutting the
+ * range, as would every larger K. Taken (pk of m's maps = K) when one is
+ * found; else pk stays 0 and the material keeps its images. */
+static jnd_status search_packing(ctx *c, int m, int level, int (*sizes)[2], const jnd_tex_format *f, int *pk, double *P,
+                                 pca_try *t) {
+  memset(t, 0, sizeof *t);
+  if (!packable(c, m)) return JND_OK;
+  size_t now = 0;
+  for (int i = 0; i < c->nmaps; i++)
+    if (c->leader[i] == i && c->mi[i].material == m) now += jnd_texture_bytes(f[i], sizes[i][0], sizes[i][1], 1);
+  for (int i = 0; i < c->nmaps; i++)
+    if (c->mi[i].material == m) pk[i] = 1;
+  jnd_status s = set_state(c, level, sizes, f, pk);   /* the set's channels C: K = 1..C */
+  int lo = 1, hi = c->packc + 1;
+  while (lo < hi && s == JND_OK) {
+    int K = lo + (hi - lo) / 2;
+    for (int i = 0; i < c->nmaps; i++)
+      if (c->mi[i].material == m) pk[i] = K;
+    if ((s = set_state(c, level, sizes, f, pk))) break;
+    size_t b = c->packbytes[m];
+    if (b >= now) {
+      stage(c, "%s packed in %d component%s: %.3f MiB, not under its images' %.3f MiB",
+            jnd_scene_material_name(c->scene, m), K, K == 1 ? "" : "s", b / 1048576.0, now / 1048576.0);
+      hi = K;
+      continue;
+    }
+    jnd_judgement r;
+    int ok = 0;
+    if ((s = judge(c, level, sizes, f, pk, 0, c->nviews, P, &r)) || (s = margin_pass(c, P, c->nviews, &ok))) break;
+    stage(c, "%s packed in %d component%s: %.3f MiB against %.3f MiB, statistic %.3f, %s",
+          jnd_scene_material_name(c->scene, m), K, K == 1 ? "" : "s", b / 1048576.0, now / 1048576.0,
+          r.criterion.statistic, ok ? "passes" : "seen");
+    if (ok) {   /* passes with the margin: fewer components may too */
+      t->components = K;
+      t->statistic = r.criterion.statistic;
+      t->pass = r.criterion.pass;
+      hi = K;
+    } else {
+      lo = K + 1;
+    }
+  }
+  for (int i = 0; i < c->nmaps; i++)
+    if (c->mi[i].material == m) pk[i] = t->components;
+  stage(c, "%s: %s", jnd_scene_material_name(c->scene, m), t->components ? "packed (001)" : "its images kept");
+  return s;
+}
+
 /* From candidate base (the cheapest that passes with the margin), each
  * image in turn, the one that saves most first, takes its cheaper encoding
  * (cheaper_format) if the asset, every encoding taken so far included,
@@ -337,8 +501,8 @@ static jnd_status search_encodings(ctx *c, int base, double *P) {
   int level = R->candidates[base].level, n = 0, taken = 0, *order = jnd_calloc((size_t)c->nmaps, sizeof *order);
   size_t *saving = jnd_calloc((size_t)c->nmaps, sizeof *saving);
   jnd_tex_format *f = jnd_calloc((size_t)c->nmaps, sizeof *f), *g = jnd_calloc((size_t)c->nmaps, sizeof *g);
-  int (*sizes)[2] = jnd_calloc((size_t)c->nmaps, sizeof *sizes);
-  jnd_status s = order && saving && f && g && sizes ? JND_OK : JND_ERR_NOMEM;
+  int (*sizes)[2] = jnd_calloc((size_t)c->nmaps, sizeof *sizes), *pk = jnd_calloc((size_t)c->nmaps, sizeof *pk);
+  jnd_status s = order && saving && f && g && sizes && pk ? JND_OK : JND_ERR_NOMEM;
   if (s == JND_OK) {
     memcpy(f, R->candidates[base].formats, (size_t)c->nmaps * sizeof *f);
     memcpy(sizes, R->candidates[base].sizes, (size_t)c->nmaps * sizeof *sizes);
@@ -360,7 +524,7 @@ static jnd_status search_encodings(ctx *c, int base, double *P) {
     for (int q = 0; q < c->nmaps; q++)
       if (c->leader[q] == i) f[q] = g[i];
     jnd_judgement r;
-    if ((s = judge(c, level, sizes, f, 0, c->nviews, P, &r)) || (s = margin_pass(c, P, c->nviews, &ok))) break;
+    if ((s = judge(c, level, sizes, f, pk, 0, c->nviews, P, &r)) || (s = margin_pass(c, P, c->nviews, &ok))) break;
     stage(c, "%s in %s: statistic %.3f, %s", c->mi[i].name, jnd_tex_format_name(g[i]), r.criterion.statistic,
           ok ? "taken" : "not taken");
     if (ok) {
@@ -371,6 +535,13 @@ static jnd_status search_encodings(ctx *c, int base, double *P) {
       for (int q = 0; q < c->nmaps; q++)
         if (c->leader[q] == i) f[q] = c->fmt[i];
     }
+  }
+  for (int m = 0; m < c->nmat && s == JND_OK; m++) {
+    pca_try t;
+    if ((s = search_packing(c, m, level, sizes, f, pk, P, &t)) || !t.components) continue;
+    taken++;
+    statistic = t.statistic;
+    pass = t.pass;
   }
   /* at least one round, whatever texres's --confirm: an encoding the asset
    * did not ask for is taken on the judge's few views, and without fresh
@@ -384,7 +555,7 @@ static jnd_status search_encodings(ctx *c, int base, double *P) {
     double *Q = NULL;
     if (!(s = held_out_views(c, 0, seed, c->nviews, &first, &nv)) && !(Q = jnd_calloc((size_t)nv, sizeof *Q)))
       s = JND_ERR_NOMEM;
-    if (s == JND_OK && !(s = judge(c, level, sizes, f, first, nv, Q, &r))) s = margin_pass(c, Q, nv, &held);
+    if (s == JND_OK && !(s = judge(c, level, sizes, f, pk, first, nv, Q, &r))) s = margin_pass(c, Q, nv, &held);
     free(Q);
     if (s == JND_OK)
       stage(c, "encodings on confirmation views %d: %s (statistic %.3f)", round + 1, held ? "hold" : "fail",
@@ -397,6 +568,7 @@ static jnd_status search_encodings(ctx *c, int base, double *P) {
     } else {
       memcpy(x->sizes, sizes, (size_t)c->nmaps * sizeof *sizes);
       memcpy(x->formats, f, (size_t)c->nmaps * sizeof *f);
+      memcpy(x->packed, pk, (size_t)c->nmaps * sizeof *pk);
       s = price(c, x);
       x->statistic = statistic;
       x->pass = pass;
@@ -408,6 +580,91 @@ static jnd_status search_encodings(ctx *c, int base, double *P) {
   free(f);
   free(g);
   free(sizes);
+  free(pk);
+  return s;
+}
+
+/* Budget mode's encodings: every candidate judged at the slots' formats
+ * that fits the triangle budget but not the memory budget gets a variant
+ * whose images take their cheaper encoding (cheaper_format), the one that
+ * saves most first, until it fits; the variant is judged like the ladder,
+ * on the judge's views (its statistic reported, not confirmed), a
+ * candidate (scale −3) beside the others. A candidate whose statistic is 1
+ * already gets none (an encoding only adds error). */
+/* an encoded variant of x (the first t images of order encoded) made already
+ * from a candidate of the same level and sizes (texres's choice is the
+ * separate pair's too) */
+static int encoded_twice(const ctx *c, int n0, const jnd_budget_candidate *x, const int *order, int t) {
+  for (int b = n0; b < c->R->ncandidates; b++) {
+    const jnd_budget_candidate *y = &c->R->candidates[b];
+    int same = y->level == x->level && !memcmp(y->sizes, x->sizes, (size_t)c->nmaps * sizeof *x->sizes);
+    for (int i = 0; i < c->nmaps && same; i++) {
+      int enc = 0;
+      for (int u = 0; u < t; u++) enc |= c->leader[i] == order[u];
+      same = (y->formats[i] != c->fmt[c->leader[i]]) == enc;
+    }
+    if (same) return 1;
+  }
+  return 0;
+}
+
+static jnd_status budget_encodings(ctx *c, double *P) {
+  jnd_budget_result *R = c->R;
+  const jnd_budget_params *p = c->p;
+  int n0 = R->ncandidates, *order = jnd_calloc((size_t)c->nmaps, sizeof *order);
+  jnd_tex_format *g = jnd_calloc((size_t)c->nmaps, sizeof *g);
+  jnd_status s = order && g ? JND_OK : JND_ERR_NOMEM;
+  for (int i = 0; i < c->nmaps && s == JND_OK; i++) g[i] = c->leader[i] == i ? cheaper_format(c, i) : JND_TEX_FORMATS;
+  for (int a = 0; a < n0 && s == JND_OK; a++) {
+    const jnd_budget_candidate *x = &R->candidates[a];
+    if (!(p->memory_bytes > 0) || (double)x->memory_bytes <= p->memory_bytes || !isfinite(x->statistic) ||
+        x->statistic >= 1 || (p->triangles > 0 && (double)x->triangles > p->triangles))
+      continue;
+    int n = 0;   /* the images that can take a cheaper encoding, most saved first */
+    for (int i = 0; i < c->nmaps; i++) {
+      if (g[i] == JND_TEX_FORMATS) continue;
+      size_t si = jnd_texture_bytes(c->fmt[i], x->sizes[i][0], x->sizes[i][1], 1) -
+                  jnd_texture_bytes(g[i], x->sizes[i][0], x->sizes[i][1], 1);
+      int at = n++;
+      while (at > 0) {
+        int o = order[at - 1];
+        size_t so = jnd_texture_bytes(c->fmt[o], x->sizes[o][0], x->sizes[o][1], 1) -
+                    jnd_texture_bytes(g[o], x->sizes[o][0], x->sizes[o][1], 1);
+        if (so >= si) break;
+        order[at] = o;
+        at--;
+      }
+      order[at] = i;
+    }
+    size_t mem = x->memory_bytes;
+    int t = 0;
+    while (t < n && (double)mem > p->memory_bytes) {
+      int i = order[t++];
+      mem -= jnd_texture_bytes(c->fmt[i], x->sizes[i][0], x->sizes[i][1], 1) -
+             jnd_texture_bytes(g[i], x->sizes[i][0], x->sizes[i][1], 1);
+    }
+    if ((double)mem > p->memory_bytes || encoded_twice(c, n0, x, order, t)) continue;
+    jnd_budget_candidate *y = add_candidate(c, x->level, -3);
+    if (!y) {
+      s = JND_ERR_NOMEM;
+      break;
+    }
+    x = &R->candidates[a];   /* add_candidate may move the array */
+    memcpy(y->sizes, x->sizes, (size_t)c->nmaps * sizeof *y->sizes);
+    for (int u = 0; u < t; u++)
+      for (int q = 0; q < c->nmaps; q++)
+        if (c->leader[q] == order[u]) y->formats[q] = g[order[u]];
+    if ((s = price(c, y))) break;
+    jnd_judgement r;
+    if ((s = judge(c, y->level, y->sizes, y->formats, NULL, 0, c->nviews, P, &r)) || (s = margin_pass(c, P, c->nviews, &y->searched_pass)))
+      break;
+    y->statistic = r.criterion.statistic;
+    y->pass = r.criterion.pass;
+    stage(c, "level %d, %d image%s in %s: %.3f MiB, statistic %.3f", y->level, t, t == 1 ? "" : "s",
+          jnd_tex_format_name(JND_TEX_BC1), (double)y->memory_bytes / 1048576.0, y->statistic);
+  }
+  free(order);
+  free(g);
   return s;
 }
 
@@ -493,7 +750,7 @@ static jnd_status levels(ctx *c, const jnd_budget_candidate *ch) {
       double *P = jnd_calloc((size_t)nv, sizeof *P);
       jnd_judgement r;
       if (!P) return JND_ERR_NOMEM;
-      s = judge(c, k, L->sizes, ch->formats, first, nv, P, &r);
+      s = judge(c, k, L->sizes, ch->formats, ch->packed, first, nv, P, &r);
       free(P);
       if (s) break;
       L->views = nv;
@@ -502,7 +759,8 @@ static jnd_status levels(ctx *c, const jnd_budget_candidate *ch) {
       stage(c, "level %d from distance %.3g: statistic %.3f on %d held-out views%s", k, L->switch_distance,
             L->statistic, nv, L->pass ? "" : "  FAILS");
     }
-    L->texture_bytes = texture_bytes(c, L->sizes, ch->formats);
+    if (any_packed(c, ch->packed) && (s = set_state(c, k, L->sizes, ch->formats, ch->packed))) break;
+    L->texture_bytes = texture_bytes(c, L->sizes, ch->formats, ch->packed);
   }
   return s;
 }
@@ -516,7 +774,7 @@ static jnd_status check_budget(ctx *c, const char *model) {
   if (!sz) return JND_ERR_NOMEM;
   for (int i = 0; i < c->nmaps; i++) halved(c, i, 30, sz[i]);
   unify(c, sz);
-  size_t mem = texture_bytes(c, sz, NULL);
+  size_t mem = texture_bytes(c, sz, NULL, NULL);
   free(sz);
   int last = jnd_scene_lod_count(c->scene) - 1;
   jnd_lod_level_info li;
@@ -609,6 +867,19 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
     R->bytes_per_triangle = li.triangles ? (double)b / (double)li.triangles : 0;
   }
 
+  /* one judge at the viewing condition for every search and candidate:
+   * the reference (level 0, the file's maps) rendered once; it decides at
+   * texres's p·(1 − margin), as texres's own would, and the candidates'
+   * criterion is taken again at p (judge) */
+  {
+    jnd_judge_params jp = p->texres.judge;
+    jp.views.sampling.coverage = p->lod.poi.coverage;
+    jp.views.sampling.distance = 0;
+    if (p->texres.margin > 0) jp.criterion.p *= 1 - p->texres.margin;
+    if ((s = restore(&c)) || (s = jnd_judge_create(c.scene, &jp, &c.j))) goto done;
+    c.nviews = jnd_judge_view_count(c.j);
+  }
+
   /* 2. textures under each level up to the perceptual one */
   if ((s = search_level(&c, 0, &R->texres))) goto done;
   for (int k = 1; k <= perceptual; k++) {
@@ -639,14 +910,7 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
       if ((s = price(&c, x))) goto done;
     }
 
-  /* 3. every candidate on one judge at the viewing condition */
-  {
-    jnd_judge_params jp = p->texres.judge;
-    jp.views.sampling.coverage = p->lod.poi.coverage;
-    jp.views.sampling.distance = 0;
-    if ((s = restore(&c)) || (s = jnd_judge_create(c.scene, &jp, &c.j))) goto done;
-    c.nviews = jnd_judge_view_count(c.j);
-  }
+  /* 3. every candidate on the judge's first views (a state a search judged is not rendered again) */
   if (!(P = jnd_calloc((size_t)c.nviews, sizeof *P))) {
     s = JND_ERR_NOMEM;
     goto done;
@@ -667,7 +931,7 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
       if (p->progress) p->progress(p->progress_user, NULL, i + 1, R->ncandidates);
       continue;
     }
-    if ((s = judge(&c, x->level, x->sizes, x->formats, 0, c.nviews, P, &r))) goto done;
+    if ((s = judge(&c, x->level, x->sizes, x->formats, NULL, 0, c.nviews, P, &r))) goto done;
     x->statistic = r.criterion.statistic;
     x->pass = r.criterion.pass;
     if (x->scale == -2) {   /* the separate pair, with the margin texres chose with */
@@ -679,6 +943,7 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
   }
   /* 4. the encodings, from the cheapest that passes; the choice */
   if (R->mode == 0 && R->candidates[choose(&c)].searched_pass && (s = search_encodings(&c, choose(&c), P))) goto done;
+  if (R->mode == 1 && (s = budget_encodings(&c, P))) goto done;
   mark_pareto(R);
   R->chosen = choose(&c);
   R->search_s = jnd_seconds() - t0;
@@ -691,7 +956,7 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
   for (int j = 0; j < R->nlevels; j++) R->passes = R->passes && R->levels[j].pass;
   R->verify_s = jnd_seconds() - t1;
   /* the scene as it is written: the choice's maps, level 0 selected */
-  s = set_state(&c, 0, ch->sizes, NULL);
+  s = set_state(&c, 0, ch->sizes, NULL, NULL);
 done:
   jnd_judge_free(c.j);
   free(P);

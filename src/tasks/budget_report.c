@@ -34,7 +34,15 @@ static cJSON *candidate_json(const jnd_budget_result *R, int i, int with_sizes) 
   if (with_sizes) {
     cJSON_AddItemToObject(o, "sizes", sizes_json(R, x->sizes));
     cJSON *f = cJSON_AddObjectToObject(o, "formats");   /* per map: its image's GPU encoding */
-    for (int m = 0; m < R->nmaps; m++) cJSON_AddStringToObject(f, R->map_names[m], jnd_tex_format_name(x->formats[m]));
+    for (int m = 0; m < R->nmaps; m++)
+      cJSON_AddStringToObject(f, R->map_names[m], x->packed[m] ? "pca" : jnd_tex_format_name(x->formats[m]));
+    int packed = 0;
+    for (int m = 0; m < R->nmaps; m++) packed += x->packed[m] > 0;
+    if (packed) {   /* per map packed: its material's principal components (001), BC4/BC5 */
+      cJSON *k = cJSON_AddObjectToObject(o, "pca_components");
+      for (int m = 0; m < R->nmaps; m++)
+        if (x->packed[m]) cJSON_AddNumberToObject(k, R->map_names[m], x->packed[m]);
+    }
   }
   return o;
 }

@@ -19,9 +19,12 @@
 /* ------------------------------------------------------------------------ */
 
 /* Compresses channels [first, first+n) of img with f and decodes them back
- * in place; returns the bytes it took. */
-static jnd_status bc_roundtrip(jnd_bc_format f, jnd_image *img, int first, size_t *bytes) {
+ * in place; returns the bytes it took, and in *gpu (may be NULL) adds the
+ * texture's with its mip chain (000 Table 2, as jnd budget counts). */
+static jnd_status bc_roundtrip(jnd_bc_format f, jnd_image *img, int first, size_t *bytes, size_t *gpu) {
   size_t n = jnd_bc_size(f, img->w, img->h);
+  if (gpu)
+    *gpu += jnd_texture_bytes(f == JND_BC1 ? JND_TEX_BC1 : f == JND_BC4 ? JND_TEX_BC4 : JND_TEX_BC5, img->w, img->h, 1);
   uint8_t *blocks = jnd_alloc(n, 1);
   if (!blocks) return JND_ERR_NOMEM;
   jnd_status s = jnd_bc_encode(f, img, first, blocks);
@@ -33,7 +36,7 @@ static jnd_status bc_roundtrip(jnd_bc_format f, jnd_image *img, int first, size_
 
 /* components grouped (by threes of one size when bc1, else pairs),
  * block-compressed and reconstructed into rec (w × h × C, allocated) */
-static jnd_status bc_components(const jnd_pca_encoded *enc, int bc1, jnd_image *rec, size_t *bytes) {
+static jnd_status bc_components(const jnd_pca_encoded *enc, int bc1, jnd_image *rec, size_t *bytes, size_t *gpu) {
   int K = enc->enc.components;
   jnd_image comp[MAXC];
   memset(comp, 0, sizeof comp);
@@ -52,7 +55,7 @@ static jnd_status bc_components(const jnd_pca_encoded *enc, int bc1, jnd_image *
       memcpy(jnd_image_plane(&packed, g), enc->comp[group[g]].data, (size_t)src->w * src->h * sizeof(float));
       done[group[g]] = 1;
     }
-    if (s == JND_OK) s = bc_roundtrip(n == 3 ? JND_BC1 : n == 2 ? JND_BC5 : JND_BC4, &packed, 0, bytes);
+    if (s == JND_OK) s = bc_roundtrip(n == 3 ? JND_BC1 : n == 2 ? JND_BC5 : JND_BC4, &packed, 0, bytes, gpu);
     for (int g = 0; g < n && s == JND_OK; g++) {
       s = jnd_image_alloc(&comp[group[g]], src->w, src->h, 1);
       if (s == JND_OK)
@@ -74,12 +77,12 @@ static jnd_status bc_plain(const jnd_texset *set, jnd_image *rec, size_t *bytes)
     const jnd_texset_map *m = &set->maps[i];
     jnd_image view = {set->w, set->h, m->count, jnd_image_plane(rec, m->first)};
     switch (m->count) {
-    case 1: s = bc_roundtrip(JND_BC4, &view, 0, bytes); break;
-    case 2: s = bc_roundtrip(JND_BC5, &view, 0, bytes); break;
-    case 3: s = bc_roundtrip(JND_BC1, &view, 0, bytes); break;
+    case 1: s = bc_roundtrip(JND_BC4, &view, 0, bytes, NULL); break;
+    case 2: s = bc_roundtrip(JND_BC5, &view, 0, bytes, NULL); break;
+    case 3: s = bc_roundtrip(JND_BC1, &view, 0, bytes, NULL); break;
     default:
-      s = bc_roundtrip(JND_BC1, &view, 0, bytes);
-      if (s == JND_OK) s = bc_roundtrip(JND_BC4, &view, 3, bytes);
+      s = bc_roundtrip(JND_BC1, &view, 0, bytes, NULL);
+      if (s == JND_OK) s = bc_roundtrip(JND_BC4, &view, 3, bytes, NULL);
       break;
     }
   }
@@ -89,6 +92,12 @@ static jnd_status bc_plain(const jnd_texset *set, jnd_image *rec, size_t *bytes)
 
 jnd_status jnd_pca_block_compressed(const jnd_texset *set, const jnd_pca_encoded *enc, jnd_pca_bc_variant v,
                                     jnd_image *out, size_t *bytes) {
+  return pca_block_compressed_gpu(set, enc, v, out, bytes, NULL);
+}
+
+jnd_status pca_block_compressed_gpu(const jnd_texset *set, const jnd_pca_encoded *enc, jnd_pca_bc_variant v,
+                                    jnd_image *out, size_t *bytes, size_t *gpu) {
+  if (gpu) *gpu = 0;
   memset(out, 0, sizeof *out);
   size_t b = 0;
   if (!set || !set->data) return jnd_fail(JND_ERR_ARG, "block compression: no set");
@@ -96,8 +105,8 @@ jnd_status jnd_pca_block_compressed(const jnd_texset *set, const jnd_pca_encoded
     return jnd_fail(JND_ERR_ARG, "block compression: set and encoding differ");
   jnd_status s;
   switch (v) {
-  case JND_PCA_BC_PCA_BC4: s = bc_components(enc, 0, out, &b); break;
-  case JND_PCA_BC_PCA_BC1: s = bc_components(enc, 1, out, &b); break;
+  case JND_PCA_BC_PCA_BC4: s = bc_components(enc, 0, out, &b, gpu); break;
+  case JND_PCA_BC_PCA_BC1: s = bc_components(enc, 1, out, &b, gpu); break;
   case JND_PCA_BC_PLAIN: s = bc_plain(set, out, &b); break;
   default: return jnd_fail(JND_ERR_ARG, "block compression: variant %d", (int)v);
   }

@@ -133,8 +133,12 @@ int jnd_pca_slot_guess(const char *name, jnd_map_slot *slot) {
   return 0;
 }
 
-jnd_status jnd_pca_render_material_set(const jnd_pca_render *r, const char *channels, jnd_texset *set,
-                                       jnd_map_slot *slots, size_t *orig_bytes) {
+/* The material's maps as a set, the channels the shader reads; orig 1:
+ * the file's versions, 0: as the scene uses them now (jnd budget packs a
+ * candidate's sizes). map_of (may be NULL) receives each set map's scene
+ * map. n == 0 is left to the caller (set->nmaps 0, JND_OK). */
+jnd_status pca_scene_material_set(const jnd_scene *scene, int material, int orig, const char *channels,
+                                  jnd_texset *set, jnd_map_slot *slots, int *map_of, size_t *orig_bytes) {
   memset(set, 0, sizeof *set);
   if (orig_bytes) *orig_bytes = 0;
   jnd_image maps[JND_MAP_SLOTS];
@@ -144,18 +148,19 @@ jnd_status jnd_pca_render_material_set(const jnd_pca_render *r, const char *chan
   char picks[256] = "";
   int n = 0;
   jnd_status s = JND_OK;
-  const char *mname = jnd_scene_material_name(r->scene, r->material);
+  const char *mname = jnd_scene_material_name(scene, material);
   for (int slot = 0; slot < JND_MAP_SLOTS && s == JND_OK; slot++) {
     char full[256];
     snprintf(full, sizeof full, "%s/%s", mname, jnd_map_slot_name((jnd_map_slot)slot));
-    int idx = jnd_scene_map_find(r->scene, full);
+    int idx = jnd_scene_map_find(scene, full);
     if (idx < 0) continue;
     jnd_map_info mi;
-    if ((s = jnd_scene_map_info(r->scene, idx, &mi)) != JND_OK) break;
-    if ((s = jnd_scene_map_get(r->scene, idx, 1, &maps[n])) != JND_OK) break;
+    if ((s = jnd_scene_map_info(scene, idx, &mi)) != JND_OK) break;
+    if ((s = jnd_scene_map_get(scene, idx, orig, &maps[n])) != JND_OK) break;
     image[n] = mi.image;
     names[n] = jnd_map_slot_name((jnd_map_slot)slot);
     slots[n] = (jnd_map_slot)slot;
+    if (map_of) map_of[n] = idx;
     /* the channels the shader reads (docs/render.md "Materials") */
     const char *use = slot == JND_MAP_METALLIC_ROUGHNESS && maps[n].c >= 3 ? "gb"
                       : slot == JND_MAP_OCCLUSION && maps[n].c >= 2       ? "r"
@@ -175,14 +180,21 @@ jnd_status jnd_pca_render_material_set(const jnd_pca_render *r, const char *chan
     if (orig_bytes && !shared) *orig_bytes += (size_t)maps[n].w * maps[n].h * maps[n].c;
     n++;
   }
-  if (s == JND_OK && n == 0)
-    s = jnd_fail(JND_ERR_ARG, "%s: material '%s' has no texture maps", r->path, mname);
-  if (s == JND_OK && channels && *channels) {
+  if (s == JND_OK && n > 0 && channels && *channels) {
     size_t k = strlen(picks);
     snprintf(picks + k, sizeof picks - k, "%s%s", k ? "," : "", channels);
   }
-  if (s == JND_OK) s = jnd_texset_from_images(maps, names, n, picks, set);
+  if (s == JND_OK && n > 0) s = jnd_texset_from_images(maps, names, n, picks, set);
   for (int i = 0; i < n; i++) jnd_image_free(&maps[i]);
+  return s;
+}
+
+jnd_status jnd_pca_render_material_set(const jnd_pca_render *r, const char *channels, jnd_texset *set,
+                                       jnd_map_slot *slots, size_t *orig_bytes) {
+  jnd_status s = pca_scene_material_set(r->scene, r->material, 1, channels, set, slots, NULL, orig_bytes);
+  if (s == JND_OK && set->nmaps == 0)
+    s = jnd_fail(JND_ERR_ARG, "%s: material '%s' has no texture maps", r->path,
+                 jnd_scene_material_name(r->scene, r->material));
   return s;
 }
 

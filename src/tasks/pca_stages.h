@@ -11,6 +11,16 @@
 /* pca_texset.c: the set's C planes (w·h floats each) into planes */
 const float *const *pca_set_planes(const jnd_texset *set, const float **planes);
 
+/* pca_render.c: a material's maps as a set (jnd_pca_render_material_set's
+ * rule) from any scene, the file's (orig 1) or as in use now (0) */
+jnd_status pca_scene_material_set(const jnd_scene *scene, int material, int orig, const char *channels,
+                                  jnd_texset *set, jnd_map_slot *slots, int *map_of, size_t *orig_bytes);
+
+/* pca_bc.c: jnd_pca_block_compressed, and in *gpu (may be NULL) the bytes of
+ * its textures with their mip chains, as a GPU holds them */
+jnd_status pca_block_compressed_gpu(const jnd_texset *set, const jnd_pca_encoded *enc, jnd_pca_bc_variant v,
+                                    jnd_image *out, size_t *bytes, size_t *gpu);
+
 /* pca.c */
 jnd_status pca_upsample(const float *coarse, int w, int h, int s, float *dst);
 void pca_project(const jnd_texset *set, const jnd_pca *pca, int K, float *proj);

@@ -726,7 +726,16 @@ jnd_status jnd_texres_search(jnd_scene *scene, const jnd_texres_params *pp, jnd_
   /* the reference is level 0; the candidates draw p->level (a mesh level
    * changed is rendered whole, the maps' states still memoised) */
   if ((s = jnd_scene_lod_select(scene, 0)) != JND_OK) goto done;
-  if ((s = jnd_judge_create(scene, &jp, &c.j)) != JND_OK) goto done;
+  if (p->judge_shared) {
+    if (jnd_judge_view_count(p->judge_shared) < c.nviews) {
+      s = jnd_fail(JND_ERR_ARG, "texres: the shared judge has %d views, the search %d",
+                   jnd_judge_view_count(p->judge_shared), c.nviews);
+      goto done;
+    }
+    c.j = p->judge_shared;
+  } else if ((s = jnd_judge_create(scene, &jp, &c.j)) != JND_OK) {
+    goto done;
+  }
   if (p->level && (s = jnd_scene_lod_select(scene, p->level)) != JND_OK) goto done;
   snprintf(out->renderer, sizeof out->renderer, "%s", jnd_judge_renderer(c.j));
   for (int i = 0; i < nall; i++) out->maps[i].mip_min = jnd_judge_mip_min(c.j, i, 0, c.nviews);
@@ -848,7 +857,7 @@ done:
   free(c.first);
   free(k);
   free(start);
-  jnd_judge_free(c.j);
+  if (!p->judge_shared) jnd_judge_free(c.j);
   if (p->level) jnd_scene_lod_select(scene, 0);
   if (s != JND_OK) jnd_texres_result_clear(out);
   return s;

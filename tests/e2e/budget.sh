@@ -74,9 +74,82 @@ for l in shown:
         assert l["texture_bytes"] < ch["memory_bytes"], (l["level"], l["texture_bytes"], ch["memory_bytes"])
 PY
 
+# 001's packing refused: the built-in sphere's maps are independent patterns, and 3 or 4
+# components are seen on every view (statistic 1) while 5 take more than its images; its
+# baseColor in BC1 is not seen, and that is the choice
+check "the sphere's choice: baseColor in BC1, its material not packed (PCA refused)" python3 - "$T/a/budget.json" <<'PY'
+import json, sys
+ch = json.load(open(sys.argv[1]))["result"]["chosen"]
+assert ch["kind"] == "encoded" and ch["formats"]["builtin/baseColor"] == "bc1", ch["formats"]
+assert "pca" not in ch["formats"].values() and "pca_components" not in ch, ch
+PY
+
+# 001's packing chosen: a ball whose three images (baseColor, metallicRoughness, occlusion)
+# are affine in one pattern: one principal component rebuilds them, in BC4 a quarter of
+# their bytes after baseColor's BC1
+PYTHONPATH="$(dirname "$0")" python3 - "$T" <<'PY'
+import math, struct, sys, zlib
+from gltfwrite import write_glb
+d, N = sys.argv[1], 64
+def png(f):   # RGB, every channel affine in one pattern v (rank 1 once centred)
+    raw = bytearray()
+    for y in range(N):
+        raw.append(0)
+        for x in range(N):
+            v = 0.5 + 0.4 * math.sin(0.21 * x + 0.13 * y) * math.cos(0.17 * y - 0.05 * x)
+            raw.extend(max(0, min(255, int(round(c * 255)))) for c in f(v))
+    ch = lambda t, b: struct.pack('>I', len(b)) + t + b + struct.pack('>I', zlib.crc32(t + b) & 0xffffffff)
+    return (b'\x89PNG\r\n\x1a\n' + ch(b'IHDR', struct.pack('>IIBBBBB', N, N, 8, 2, 0, 0, 0))
+            + ch(b'IDAT', zlib.compress(bytes(raw))) + ch(b'IEND', b''))
+S, R = 32, 16   # a UV sphere of radius 1
+pos, uv, idx = [], [], []
+for j in range(R + 1):
+    for i in range(S + 1):
+        t, p = math.pi * j / R, 2 * math.pi * i / S
+        pos += [math.sin(t) * math.cos(p), math.cos(t), math.sin(t) * math.sin(p)]
+        uv += [i / S, j / R]
+for j in range(R):
+    for i in range(S):
+        a, b = j * (S + 1) + i, (j + 1) * (S + 1) + i
+        idx += [a, a + 1, b, a + 1, b + 1, b]
+nv = len(pos) // 3
+geo = struct.pack('<%df' % len(pos), *pos) * 2 + struct.pack('<%df' % len(uv), *uv) + struct.pack('<%dI' % len(idx), *idx)
+view = lambda off, n: {"buffer": 0, "byteOffset": off, "byteLength": n}
+g = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+     "bufferViews": [view(0, 12 * nv), view(12 * nv, 12 * nv), view(24 * nv, 8 * nv), view(32 * nv, 4 * len(idx))],
+     "accessors": [{"bufferView": 0, "componentType": 5126, "count": nv, "type": "VEC3", "min": [-1, -1, -1], "max": [1, 1, 1]},
+                   {"bufferView": 1, "componentType": 5126, "count": nv, "type": "VEC3"},
+                   {"bufferView": 2, "componentType": 5126, "count": nv, "type": "VEC2"},
+                   {"bufferView": 3, "componentType": 5125, "count": len(idx), "type": "SCALAR"}],
+     "textures": [{"source": 0}, {"source": 1}, {"source": 2}],
+     "materials": [{"name": "ball", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0},
+                                                             "metallicRoughnessTexture": {"index": 1}},
+                    "occlusionTexture": {"index": 2}}],
+     "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3, "material": 0}]}]}
+write_glb(d + "/ball.glb", g, geo, [png(lambda v: (v, 0.2 + 0.6 * v, 0.9 - 0.5 * v)),
+                                    png(lambda v: (0, 0.3 + 0.5 * v, 0.7 - 0.6 * v)),
+                                    png(lambda v: (1 - 0.6 * v, 1 - 0.6 * v, 1 - 0.6 * v))])
+PY
+expect_exit 0 "cheapest unnoticed: a ball whose maps are one pattern passes" "$JND" budget "$T/ball.glb" -o "$T/p" \
+  "${SMALL[@]}" --errors 0.03
+check "... its material packed in one principal component (001), counted in BC4 with its mip chain" \
+  env PYTHONPATH="$(dirname "$0")" python3 - "$T/p/budget.json" <<'PY'
+import json, sys
+from gltfwrite import mip_chain_bytes as chain
+r = json.load(open(sys.argv[1]))["result"]
+ch = r["chosen"]
+assert ch["kind"] == "encoded" and ch["passes_with_margin"] and r["passes"], ch
+assert set(ch["formats"].values()) == {"pca"} and set(ch["pca_components"].values()) == {1}, ch
+w = max(max(wh) for wh in ch["sizes"].values())   # the set: the material's largest map
+assert ch["memory_bytes"] == chain(w, w, 8), (ch["memory_bytes"], chain(w, w, 8))
+unpacked = [c for c in r["candidates"] if c["kind"] != "encoded" and c.get("passes_with_margin") is True]
+assert unpacked and all(ch["cost_bytes"] < c["cost_bytes"] for c in unpacked)
+PY
+
 # the written model: levels, MSFT_screencoverage, texture memory and triangles as budget.json says
-check "memory and triangles recomputed from the written GLB" python3 - "$T/a/budget.json" "$T/a/model/builtin_sphere.glb" <<'PY'
+check "memory and triangles recomputed from the written GLB" env PYTHONPATH="$(dirname "$0")" python3 - "$T/a/budget.json" "$T/a/model/builtin_sphere.glb" <<'PY'
 import json, struct, sys
+from gltfwrite import mip_chain_bytes as chain
 r = json.load(open(sys.argv[1]))["result"]
 data = open(sys.argv[2], "rb").read()
 n = struct.unpack_from("<I", data, 12)[0]
@@ -109,13 +182,6 @@ for m in g["materials"]:
         if k in slots:
             img = g["textures"][slots[k]["index"]]["source"]
             need[img] = max(need.get(img, 0), block[formats[m["name"] + "/" + slot]])
-def chain(w, h, b):
-    t = 0
-    while True:
-        t += ((w + 3) // 4) * ((h + 3) // 4) * b
-        if w == 1 and h == 1:
-            return t
-        w, h = max(1, w // 2), max(1, h // 2)
 mem = sum(chain(*png_size(i), b) for i, b in need.items())
 assert mem == r["chosen"]["memory_bytes"], (mem, r["chosen"]["memory_bytes"])
 PY
@@ -154,15 +220,32 @@ assert min(c["statistic"] for c in inb) == ch["statistic"]
 PY
 
 # budget mode where candidates of different statistics fit: the least visible is chosen
-# (under half the separate memory every candidate that fits is seen, statistic 1)
-"$JND" budget builtin:sphere -o "$T/b2" --memory "${sep}B" "${SMALL[@]}" >"$T/out.txt" 2>"$T/err.txt"
-check "budget mode at the separate memory: of candidates seen differently, the least visible" python3 - "$T/b2/budget.json" "$sep" <<'PY'
+# (under half the separate memory every candidate that fits is seen, statistic 1). One
+# byte under the separate memory the sphere's maps at the slots' formats that fit are all
+# halved past what is unnoticed; budget mode's encoding search brings larger ones within
+# the budget with BC1 for the baseColor, less visible than any of those
+"$JND" budget builtin:sphere -o "$T/b2" --memory "$((sep - 1))B" "${SMALL[@]}" >"$T/out.txt" 2>"$T/err.txt"
+check "budget mode under the separate memory: of candidates seen differently, the least visible" python3 - "$T/b2/budget.json" "$((sep - 1))" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1])); M = float(sys.argv[2])
 res = r["result"]; ch = res["chosen"]
 inb = [c for c in res["candidates"] if c["memory_bytes"] <= M and c["statistic"] is not None]
 assert len({c["statistic"] for c in inb}) >= 2, inb
 assert ch["statistic"] == min(c["statistic"] for c in inb), (ch["statistic"], inb)
+PY
+check "budget mode searches encodings: the choice is an encoded candidate within the budget, less visible than every one at the slots' formats" \
+  python3 - "$T/b2/budget.json" "$((sep - 1))" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1])); M = float(sys.argv[2])
+res = r["result"]; ch = res["chosen"]
+assert ch["kind"] == "encoded" and ch["memory_bytes"] <= M, ch
+assert any(f == "bc1" for n, f in ch["formats"].items() if n.split("/")[-1] in ("baseColor", "normal")), ch["formats"]
+plain = [c for c in res["candidates"] if c["kind"] != "encoded" and c["memory_bytes"] <= M]
+assert plain and ch["statistic"] < min(c["statistic"] for c in plain), (ch["statistic"], plain)
+enc = [c for c in res["candidates"] if c["kind"] == "encoded"]
+assert all(c["memory_bytes"] <= M for c in enc)
+key = lambda c: (c["level"], c["memory_bytes"], c["statistic"])
+assert len({key(c) for c in enc}) == len(enc), "an encoded variant made twice"
 PY
 
 # a budget nothing meets: one line naming the smallest possible, nothing written

@@ -4,7 +4,9 @@ png_bytes(w, h, k): a w x h RGB PNG (bytes) of a smooth pattern that k varies.
 write_glb(path, g, geo, images): writes the glTF dict g as one .glb whose
 binary chunk holds geo (the bytes g's first bufferViews already point into)
 and then each of images (PNG bytes), each image given its own bufferView;
-g gets its images and buffers. Import with PYTHONPATH set to this folder.
+g gets its images and buffers.
+mip_chain_bytes(w, h, block): bytes of a w x h texture of block bytes per 4x4 block
+with its mip chain (000 Table 2). Import with PYTHONPATH set to this folder.
 """
 import json
 import math
@@ -45,3 +47,12 @@ def write_glb(path, g, geo, images):
     open(path, "wb").write(b"glTF" + struct.pack("<II", 2, 12 + 8 + len(js) + 8 + len(binary))
                            + struct.pack("<I", len(js)) + b"JSON" + js
                            + struct.pack("<I", len(binary)) + b"BIN\x00" + bytes(binary))
+
+
+def mip_chain_bytes(w, h, block):
+    t = 0
+    while True:
+        t += ((w + 3) // 4) * ((h + 3) // 4) * block
+        if w == 1 and h == 1:
+            return t
+        w, h = max(1, w // 2), max(1, h // 2)
