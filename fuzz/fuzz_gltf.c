@@ -1,5 +1,5 @@
 /* libFuzzer target: the glTF readers jnd has of its own, on arbitrary bytes
- * as the source model: texres's glTF writer (src/tasks/texres_model.c) and
+ * as the source model: texres's glTF writer (src/scene/gltf_edit.c, through src/tasks/texres_model.c) and
  * the MSFT_lod reader of the level-of-detail chain (src/scene/gltf_lod.c,
  * which rewrites the file once per level for assimp to import; every level
  * it reports must rewrite, and a rewrite must parse as the container it came

@@ -139,6 +139,44 @@ double jnd_scene_extent(const jnd_scene *s);
  * first + j, coverage[j] its MSFT_screencoverage (gltf_write.c). */
 jnd_status jnd_scene_write_lod_glb_from(const jnd_scene *s, const char *path, const double *coverage, int first);
 
+/* ---- gltf_edit.c: a glTF document edited, not regenerated ---- */
+/* A .gltf or .glb file read for editing: its JSON and binary chunk. An edit
+ * changes only the members it needs, so what jnd does not model
+ * (animations, extensions, extras) survives into the copy. */
+typedef struct jnd_gltf_doc jnd_gltf_doc;
+/* Reads src (JND_ERR_FORMAT "SRC: not a glTF 2.0 file ..." for a file whose
+ * container or JSON does not parse); free with jnd_gltf_doc_free. */
+jnd_status jnd_gltf_doc_read(const char *src, jnd_gltf_doc **out);
+void jnd_gltf_doc_free(jnd_gltf_doc *d);
+/* gmat[j] (caller's, one per scene material) gets the glTF material that
+ * scene's material j is, in the order assimp loads them (the default
+ * scene's meshes first use them, a node's children before its own mesh), or
+ * -1 for a material the file does not have. The match is checked against the
+ * scene (names; need, NULL or materials × JND_MAP_SLOTS flags: those slots
+ * must have a texture): JND_ERR_FORMAT rather than a copy that would not
+ * match. */
+jnd_status jnd_gltf_doc_materials(const jnd_gltf_doc *d, const jnd_scene *scene, const unsigned char *need,
+                                  int *gmat);
+/* A slot of glTF material `material` to sample the scene's map `map`, which
+ * is width × height now. */
+typedef struct {
+  int material;
+  jnd_map_slot slot;
+  int map, width, height;
+} jnd_gltf_image_edit;
+/* Applies edits: each slot's image re-encoded from the map as the file had
+ * it (PNG or JPEG; PNG for a map with alpha). Slots that sample one image at
+ * one size keep one image; an image another slot still uses as it was, or
+ * at another size, is copied (new image and texture, appended). Slots
+ * without a texture are skipped. Call once. */
+jnd_status jnd_gltf_doc_set_images(jnd_gltf_doc *d, const jnd_scene *scene, const jnd_gltf_image_edit *edits,
+                                   int n);
+/* Writes the document under out_dir with the source's file name: a .glb as
+ * one .glb (binary chunk compacted view by view, new images in it); a .gltf
+ * with its new images (NAME_imageI.png/.jpg) and external buffers and
+ * images as files beside it. out_path (NULL or n bytes) gets the path. */
+jnd_status jnd_gltf_doc_write(jnd_gltf_doc *d, const char *out_dir, char *out_path, size_t n);
+
 /* Frees the level storage (lod.c); the meshes then own nothing. */
 void jnd_scene_lod_free(jnd_scene *s);
 

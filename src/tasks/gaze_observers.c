@@ -79,7 +79,7 @@ static jnd_status judge_size(jnd_scene *scene, jnd_renderer *r, jnd_pair_judge *
   jnd_gaze_model unit;
   jnd_gaze_model_defaults(&unit);
   unit.alpha = 0, unit.b = 1;
-  const double dist_px = 1.0 / tan(M_PI / 180.0 / ppd), cx = 0.5 * side - 0.5;
+  const double cx = 0.5 * side - 0.5;
   jnd_gaze_measure_params mp = p->measure;
   mp.judge = judge;
   const int ntask = no * ne * (L - 1);
@@ -89,7 +89,7 @@ static jnd_status judge_size(jnd_scene *scene, jnd_renderer *r, jnd_pair_judge *
     for (int t = 0; t < ntask; t++) {
       int k = 1 + t % (L - 1), e = t / (L - 1) % ne, o = t / (L - 1) / ne;
       const jnd_image *c = R.color + (size_t)o * L, *m = R.mask + (size_t)o * L;
-      double gx = cx - dist_px * tan(ecc[e] * M_PI / 180.0);
+      double gx = judge_fixation_left_of(cx, ecc[e], ppd);
       jnd_gaze_stimulus *x = &s[t];
       jnd_gaze_terms sp, sw;
       jnd_status q = jnd_gaze_spatial(&unit, &mp, ppd, gx, cx, &c[0], &m[0], &c[k], &m[k], &sp);
@@ -150,10 +150,8 @@ jnd_status jnd_gaze_observers_run(jnd_scene *const *scenes, int nscenes, const j
   }
   out->stimuli = jnd_calloc((size_t)total, sizeof *out->stimuli);
   out->answers = p->answers;
-  jnd_renderer_params rp = p->render;
-  rp.width = rp.height = p->min_px;
   jnd_renderer *r = NULL;
-  st = out->stimuli ? jnd_renderer_create(&rp, &r) : JND_ERR_NOMEM;
+  st = out->stimuli ? judge_renderer(&p->render, p->min_px, &r) : JND_ERR_NOMEM;
   /* one judge of pairs for the run (a model per size's ppd and per thread) */
   jnd_model_params model = p->measure.model;
   model.threads = 1;   /* the stimuli run in parallel instead */

@@ -302,10 +302,8 @@ jnd_status jnd_gaze_table_run(jnd_scene *scene, const jnd_gaze_table_params *p, 
     if (jnd_scene_lod_info(scene, k, &li) == JND_OK) out->triangles[k] = li.triangles;
   }
 
-  jnd_renderer_params rp = p->render;
-  rp.width = rp.height = p->min_px;
   jnd_renderer *r = NULL;
-  st = jnd_renderer_create(&rp, &r);
+  st = judge_renderer(&p->render, p->min_px, &r);
   /* one judge of pairs for the run: a model per distance's ppd and per
    * thread, not one per pair */
   jnd_gaze_measure_params mp = p->measure;

@@ -721,7 +721,7 @@ jnd_status jnd_judge_create(jnd_scene *scene, const jnd_judge_params *p, jnd_jud
   if (st == JND_OK) {
     j->own_r = !p->renderer;
     if (p->renderer) j->r = p->renderer;
-    else st = jnd_renderer_create(&p->views.render, &j->r);
+    else st = judge_renderer(&p->views.render, 0, &j->r);
   }
   if (st == JND_OK) st = make_model(j);
   if (st == JND_OK) st = take_reference(j);
@@ -837,6 +837,14 @@ jnd_status jnd_judge_set_view_gaze(jnd_judge *j, int v, int has_gaze, double x, 
   jv->gaze_y = has_gaze ? y : 0;
   forget_view(j, v);
   return JND_OK;
+}
+
+jnd_status judge_renderer(const jnd_renderer_params *rp, int side, jnd_renderer **r) {
+  jnd_renderer_params q;
+  if (rp) q = *rp;
+  else jnd_renderer_defaults(&q);
+  if (side > 0) q.width = q.height = side;
+  return jnd_renderer_create(&q, r);
 }
 
 double judge_fixation_left_of(double cx, double ecc_deg, double ppd) {

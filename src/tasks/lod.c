@@ -139,9 +139,8 @@ static void *judge_screen_worker(void *arg) {
   jnd_renderer *r = NULL;
   jnd_status st = JND_OK;
   if (!sp.judge.renderer) {
-    jnd_renderer_params rp = sp.judge.views.render;
-    rp.width = rp.height = 64;   /* each judge sizes it */
-    if (!(st = jnd_renderer_create(&rp, &r))) sp.judge.renderer = r;
+    /* each judge sizes it */
+    if (!(st = judge_renderer(&sp.judge.views.render, 64, &r))) sp.judge.renderer = r;
   }
   for (int i = w->first; i < n; i += w->step) {
     if (!st) st = jnd_lod_switch_analyse(w->scene, &w->out->poi.screens[i].screen, &sp, &w->out->sw[i]);

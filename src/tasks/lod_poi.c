@@ -608,13 +608,12 @@ jnd_status jnd_poi_analyse(jnd_scene *scene, const jnd_poi_params *pp, jnd_poi_r
   progress(p, "renderings", 0, p->views * n);
   jnd_renderer_params rp;
   jnd_renderer_defaults(&rp);
-  rp.width = rp.height = S1;
   rp.samples = 1;   /* M1 is the supersampled reference: minification antialiases */
   rp.anisotropy = p->anisotropy > 0 ? p->anisotropy : 1;
   rp.env_path = p->env_path;
   rp.platform = p->platform;
   jnd_renderer *r = NULL;
-  if ((st = jnd_renderer_create(&rp, &r))) {
+  if ((st = judge_renderer(&rp, S1, &r))) {
     free(views);
     goto fail;
   }

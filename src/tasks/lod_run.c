@@ -7,6 +7,7 @@
 
 #include "core/core.h"
 #include "tasks/report.h"
+#include "tasks/tasks.h"
 
 /* model/NAME.glb: every level, MSFT_lod with MSFT_screencoverage; *rel its
  * path under the folder */
@@ -48,7 +49,9 @@ jnd_status jnd_lod_run(const char *model, const jnd_lod_run_params *pp, const ch
   jnd_lod_run_params p;
   if (pp) p = *pp;
   else jnd_lod_run_defaults(&p);
-  /* the outputs checked against every input before any work */
+  /* the parameters and the outputs checked before any work */
+  jnd_status s = lod_switch_check(&p.sw);
+  if (s != JND_OK) return s;
   int nin = 2 + (p.nlevel_paths > 0 ? p.nlevel_paths : 0);
   const char **inputs = jnd_calloc((size_t)nin, sizeof *inputs);
   if (!inputs) return jnd_fail(JND_ERR_NOMEM, "lod: out of memory");
@@ -56,7 +59,7 @@ jnd_status jnd_lod_run(const char *model, const jnd_lod_run_params *pp, const ch
   inputs[1] = p.poi.env_path;
   for (int i = 0; i < p.nlevel_paths; i++) inputs[2 + i] = p.level_paths[i];
   report_output o;
-  jnd_status s = report_output_open(&o, inputs, nin, out_dir, &p.run);
+  s = report_output_open(&o, inputs, nin, out_dir, &p.run);
   free(inputs);
   if (s != JND_OK) return s;
   jnd_lod_result *R = jnd_calloc(1, sizeof *R);

@@ -429,13 +429,8 @@ static jnd_status pop_step(oracle *o, jnd_lod_switch_result *out) {
   return st;
 }
 
-jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen, const jnd_lod_switch_params *p,
-                                  jnd_lod_switch_result *out) {
-  memset(out, 0, sizeof *out);
-  int n = jnd_scene_lod_count(scene);
-  if (n < 2) return jnd_fail(JND_ERR_ARG, "%s: no levels of detail to compare (build or add a chain)", jnd_scene_path(scene));
+jnd_status lod_switch_check(const jnd_lod_switch_params *p) {
   const jnd_view_sampling *s0 = &p->judge.views.sampling;
-  double fov = s0->fov_y_deg > 0 ? s0->fov_y_deg : 45;
   if (s0->count < 1 || s0->count > JND_VIEWS_MAX)
     return jnd_fail(JND_ERR_ARG, "lod: %d views (1..%d)", s0->count, JND_VIEWS_MAX);
   if (!(p->distance > 0) && !(p->coverage > 0 && p->coverage <= 1))
@@ -443,11 +438,23 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
   if (!(p->far_coverage > 0 && p->far_coverage <= 1)) return jnd_fail(JND_ERR_ARG, "lod: far coverage %g outside (0, 1]", p->far_coverage);
   if (!(p->tolerance >= 0.001 && p->tolerance <= 10)) return jnd_fail(JND_ERR_ARG, "lod: tolerance %g outside [0.001, 10]", p->tolerance);
   if (p->max_px < 32 || p->max_px > 8192) return jnd_fail(JND_ERR_ARG, "lod: largest rendering %d px (32..8192)", p->max_px);
-  if (screen->height_px < 1 || !(screen->ppd > 0)) return jnd_fail(JND_ERR_ARG, "lod: screen '%s' needs pixels and pixels per degree", screen->name);
   if (p->pop && p->pop_motion != JND_POP_ORBIT && p->pop_motion != JND_POP_OBJECT && p->pop_motion != JND_POP_PAN)
     return jnd_fail(JND_ERR_ARG, "lod: the popping motion must be an orbit, a spin or a pan (degrees per second)");
   if (p->pop && (!isfinite(p->pop_speed) || !(p->pop_rating_limit > 0)))
     return jnd_fail(JND_ERR_ARG, "lod: popping speed %g or rating limit %g", p->pop_speed, p->pop_rating_limit);
+  return JND_OK;
+}
+
+jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen, const jnd_lod_switch_params *p,
+                                  jnd_lod_switch_result *out) {
+  memset(out, 0, sizeof *out);
+  int n = jnd_scene_lod_count(scene);
+  if (n < 2) return jnd_fail(JND_ERR_ARG, "%s: no levels of detail to compare (build or add a chain)", jnd_scene_path(scene));
+  const jnd_view_sampling *s0 = &p->judge.views.sampling;
+  double fov = s0->fov_y_deg > 0 ? s0->fov_y_deg : 45;
+  jnd_status pst = lod_switch_check(p);
+  if (pst != JND_OK) return pst;
+  if (screen->height_px < 1 || !(screen->ppd > 0)) return jnd_fail(JND_ERR_ARG, "lod: screen '%s' needs pixels and pixels per degree", screen->name);
 
   /* steps 1 and 2 */
   double centre[3], radius;
@@ -518,9 +525,7 @@ jnd_status jnd_lod_switch_analyse(jnd_scene *scene, const jnd_poi_screen *screen
    * screens). Made first: it tells a missing renderer early. */
   jnd_renderer *own = NULL;
   if (!st && !o.jp.renderer) {
-    jnd_renderer_params rp = o.jp.views.render;
-    rp.width = rp.height = out->window_px;
-    if (!(st = jnd_renderer_create(&rp, &own))) o.jp.renderer = own;
+    if (!(st = judge_renderer(&o.jp.views.render, out->window_px, &own))) o.jp.renderer = own;
   }
   if (!st) st = judge_at(&o, 0);
   if (!st) {

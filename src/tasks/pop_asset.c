@@ -571,7 +571,7 @@ jnd_status jnd_pop_asset_run(jnd_model *m, const char *model_path, const jnd_pop
   if (!st) st = jnd_view_set_make(scene, &vs, &views, &nviews);
   out->nviews = nviews;
   out->load_s = jnd_seconds() - t0;
-  if (!st) st = jnd_renderer_create(&vs.render, &r);
+  if (!st) st = judge_renderer(&vs.render, 0, &r);
   if (!st) snprintf(out->renderer, sizeof out->renderer, "%s", jnd_renderer_description(r));
   double t1 = jnd_seconds();
   if (!st) {

@@ -42,6 +42,14 @@ void object_window(double object_px, double grow, int margin_px, int min_px, int
  * rather than held by a scene judge (gaze's levels, pop's switch). */
 jnd_status judge_render_level(jnd_renderer *r, jnd_scene *scene, int level, const jnd_view *v, jnd_frame *f);
 
+/* The renderer a task renders its views with: the viewer's, so that no file
+ * under src/tasks but judge.c (and render_run.c, whose product is the
+ * rendering) makes one (e2e.task_shape checks). rp's settings (NULL: the
+ * defaults) at side × side pixels (side 0: rp's own size); a judge or task
+ * resizes it to each window, and may share it across its screens or
+ * distances. Free with jnd_renderer_free. */
+jnd_status judge_renderer(const jnd_renderer_params *rp, int side, jnd_renderer **r);
+
 /* The x of a fixation point ecc_deg degrees left of x = cx on a flat
  * screen of ppd pixels per degree seen from the distance the ppd implies
  * (as the model measures eccentricity): where 002's observers look when a
@@ -163,6 +171,12 @@ typedef int (*lod_passes_fn)(void *user, int level, int grid);
 /* Whether asking about grid distance `grid` is cheap now (its references
  * are rendered): 1 yes, 0 no. */
 typedef int (*lod_ready_fn)(void *user, int grid);
+
+/* The perceptual step's parameters that need no scene (views per distance,
+ * coverages, tolerance, max_px, popping motion): JND_ERR_ARG naming the
+ * first out of range. jnd_lod_run checks them before any work (issue 28:
+ * they were refused only after minutes of 003's analysis). */
+jnd_status lod_switch_check(const jnd_lod_switch_params *p);
 
 /* The decisions of jnd_lod_switch_analyse on any oracle: *perceptual gets
  * the coarsest level passing at grid 0 (0: none); switch_idx[k] (nlevels,

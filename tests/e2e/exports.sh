@@ -19,6 +19,14 @@ comm -23 "$T/exported.txt" "$T/declared.txt" >"$T/extra.txt"
 check "libjnd.so exports nothing the header does not declare ($(head -c 300 "$T/extra.txt" | tr '\n' ' '))" [ ! -s "$T/extra.txt" ]
 comm -13 "$T/exported.txt" "$T/declared.txt" >"$T/missing.txt"
 check "every function the header declares is exported ($(head -c 300 "$T/missing.txt" | tr '\n' ' '))" [ ! -s "$T/missing.txt" ]
+# issue 24's task shape: under src/tasks only the viewer/judge (judge.c) makes a renderer or shows frames as
+# the display shows them, besides render_run.c (whose product is the rendering) and the tasks whose inputs
+# are images a user gives (diff, pop from files); a task asks judge_renderer for its renderer
+grep -l 'jnd_renderer_create *(' "$JND_SRC"/src/tasks/*.c | xargs -r -n1 basename | grep -vxE 'judge\.c|render_run\.c' >"$T/makers.txt"
+check "task shape: no task makes its own renderer ($(tr '\n' ' ' <"$T/makers.txt"))" [ ! -s "$T/makers.txt" ]
+grep -lE 'jnd_(render_to_srgb|display_apply) *\(' "$JND_SRC"/src/tasks/*.c | xargs -r -n1 basename |
+  grep -vxE 'judge\.c|render_run\.c|diff\.c|diff_run\.c|pop\.c' >"$T/shows.txt"
+check "task shape: no task converts frames to the display its own way ($(tr '\n' ' ' <"$T/shows.txt"))" [ ! -s "$T/shows.txt" ]
 # the header's two tiers (issue 24 item 5): a declaration marked JND_EXPERIMENTAL is the experimental tier,
 # every other one the core; the library exports exactly the two together (checked above), each name in one tier
 python3 - "$JND_SRC/include/jnd.h" "$T" <<'PY'

@@ -308,6 +308,12 @@ for opt in --views --judge-views; do
   expect_exit 2 "$opt 4097: exit 2" "$JND" lod builtin -o "$T/x" "$opt" 4097 --map-size 16
   check "$opt 4097: one line naming the limit" bash -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q -- \"^jnd: $opt: 4097 is outside \\[1, 4096\\]\" '$T/err.txt'"
 done
+# issue 28: a bad perceptual option is refused before any work, in one line, writing nothing (the library
+# checks them too before 003's analysis: unit.test_lod's bad_perceptual_options_are_refused_before_any_work)
+for bad in "--tolerance 0.0005" "--max-px 31" "--judge-views 0"; do
+  expect_exit 2 "$bad: exit 2" "$JND" lod builtin -o "$T/x" $bad
+  check "$bad: one line naming the option, nothing written" bash -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q -- '^jnd: ${bad% *}' '$T/err.txt' && [ ! -e '$T/x' ]"
+done
 check "--help states the limit" bash -c "'$JND' lod --help | grep -- '--judge-views N .*1\.\.4096' >/dev/null"
 expect_exit 2 "a --level file with another material: exit 2" "$JND" lod builtin --level "$B/range.obj" -o "$T/x" --map-size 16
 check "nothing written for bad options" [ ! -e "$T/x" ]

@@ -133,9 +133,10 @@ for mi, mat in enumerate(g0["materials"]):
         w0, h0 = image_size(src, g0, b0, i0)
         w1, h1 = image_size(out, g1, b1, img(g1, mi, *keys))
         assert w1 <= w0 and h1 <= h0, (mat["name"], keys, (w0, h0), (w1, h1))
-# the unused and the variant-only materials were not judged: their images keep their size
-for mi in (0, 4):
-    for keys in (("pbrMetallicRoughness", "baseColorTexture"),):
+# the unused and the variant-only materials were not judged: their images keep their size, the packed
+# image they share with metal's judged slots (the unused one's occlusion, gold's metallicRoughness) too
+for mi, slots in ((0, ("occlusionTexture",)), (4, ("pbrMetallicRoughness", "metallicRoughnessTexture"))):
+    for keys in (("pbrMetallicRoughness", "baseColorTexture"), slots):
         assert image_size(out, g1, b1, img(g1, mi, *keys)) == image_size(src, g0, b0, img(g0, mi, *keys))
 PY
 done

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include <cjson/cJSON.h>
 
@@ -697,6 +698,29 @@ TEST(a_twin_shows_its_own_level_and_shares_the_rest) {
   jnd_scene_free(s);
 }
 
+TEST(bad_perceptual_options_are_refused_before_any_work) {
+  /* issue 28: jnd_lod_run refused a bad tolerance, max_px or views per
+   * distance only after 003's analysis (minutes): now before the chain is
+   * built and before the output folder exists */
+  for (int bad = 0; bad < 3; bad++) {
+    jnd_lod_run_params p;
+    jnd_lod_run_defaults(&p);
+    const char *want = "tolerance";
+    if (bad == 0) p.sw.tolerance = 0.0005;
+    if (bad == 1) p.sw.max_px = 31, want = "largest rendering";
+    if (bad == 2) p.sw.judge.views.sampling.count = 0, want = "views";
+    char dir[64];
+    snprintf(dir, sizeof dir, "/tmp/jnd-test-lod-bad-%d", bad);
+    jnd_lod_result *r = NULL;
+    double c0 = jnd_cpu_seconds();
+    CHECK_STATUS(jnd_lod_run("builtin:sphere", &p, dir, &r), JND_ERR_ARG);
+    CHECK_LT(jnd_cpu_seconds() - c0, 0.5);   /* 003's analysis of the sphere takes seconds */
+    CHECK(r == NULL && strstr(jnd_last_error(), want) && !strchr(jnd_last_error(), '\n'));
+    struct stat st;
+    CHECK(stat(dir, &st) != 0);
+  }
+}
+
 TEST(a_mesh_without_uvs_or_normals_imports_the_same_whatever_the_heap_held) {
   /* An OBJ of positions and faces only (as bench/subdivide_obj.py writes):
    * the attributes it lacks must come out as the importer's defaults, not as
@@ -870,4 +894,4 @@ RUN_TESTS(chain_levels_lose_triangles_and_stay_within_their_targets, uv_seams_ar
           distance_to_a_parallel_surface_is_its_offset, surface_samples_spread_by_area,
           a_written_chain_loads_back_with_every_level, msft_lod_variants_swap_nodes_and_refuse_bad_ids,
           a_mesh_without_uvs_or_normals_imports_the_same_whatever_the_heap_held,
-          a_twin_shows_its_own_level_and_shares_the_rest)
+          a_twin_shows_its_own_level_and_shares_the_rest, bad_perceptual_options_are_refused_before_any_work)
