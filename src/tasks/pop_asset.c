@@ -138,6 +138,7 @@ static jnd_status reproject_depth(const jnd_image *depth, const jnd_view *cur, c
 typedef struct {
   int side;      /* the window's side, centred in the frame; 0: the whole frame is rendered */
   int W, H;      /* the frame */
+  double fov;    /* the frame's field of view (the view's is the window's) */
 } pop_frame_window;
 
 static jnd_status unwindow(const pop_frame_window *win, jnd_frame *f) {
@@ -206,8 +207,11 @@ static jnd_status pop_render_in(jnd_model *m, jnd_renderer *r, jnd_scene *scene,
   if (!st) st = jnd_judge_show(d, &fe.color, NULL, 0, NULL, &ce, NULL);
   if (!st && moving) st = jnd_judge_show(d, &pe.color, NULL, 0, NULL, &cp, NULL);
   if (!st && moving) st = jnd_judge_show(d, &fs.color, NULL, 0, NULL, &cs, NULL);
-  if (!st && moving) st = reproject_depth(&fa.depth, &cur, &prev, &za);
-  if (!st && moving) st = reproject_depth(&fe.depth, &cur, &prev, &ze);
+  /* the depth is the frame's again: so is the field of view it unprojects with */
+  jnd_view cur_f = cur, prev_f = prev;
+  if (win && win->side > 0) cur_f.camera.fov_y_deg = prev_f.camera.fov_y_deg = win->fov;
+  if (!st && moving) st = reproject_depth(&fa.depth, &cur_f, &prev_f, &za);
+  if (!st && moving) st = reproject_depth(&fe.depth, &cur_f, &prev_f, &ze);
   if (!st) st = jnd_image_alloc(&mask, fa.mask.w, fa.mask.h, 1);
   if (!st) {
     size_t np = (size_t)mask.w * mask.h;
@@ -240,6 +244,32 @@ jnd_status jnd_pop_render(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const
                           const jnd_pop_motion *mo, int level, int frame, const jnd_pop_params *p,
                           jnd_pop_result *out) {
   return pop_render_in(m, r, scene, view, mo, level, frame, p, NULL, out);
+}
+
+/* the field of view of a centred window of side pixels in a frame H high seen with fov */
+static double window_fov(double fov, int side, int H) {
+  return 2 * atan((double)side / H * tan(fov * M_PI / 360)) * 180 / M_PI;
+}
+
+jnd_status pop_render_window(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *view,
+                             const jnd_pop_motion *mo, int level, int frame, const jnd_pop_params *p, int side,
+                             jnd_pop_result *out) {
+  int W, H;
+  jnd_renderer_size(r, &W, &H);
+  if (side <= 0) return pop_render_in(m, r, scene, view, mo, level, frame, p, NULL, out);
+  memset(out, 0, sizeof *out);
+  if (side > W || side > H || (W - side) % 2 || (H - side) % 2)
+    return jnd_fail(JND_ERR_ARG, "pop: a window of %d pixels is not centred in a %d × %d frame", side, W, H);
+  double fov = view->camera.fov_y_deg > 0 ? view->camera.fov_y_deg : 45;
+  pop_frame_window win = {side, W, H, fov};
+  jnd_view at = *view;
+  at.camera.fov_y_deg = window_fov(fov, side, H);
+  jnd_status st = jnd_renderer_resize(r, side, side);
+  if (!st) st = pop_render_in(m, r, scene, &at, mo, level, frame, p, &win, out);
+  jnd_status back = jnd_renderer_resize(r, W, H);
+  if (!st) st = back;
+  if (st) jnd_pop_result_free(out);
+  return st;
 }
 
 /* ---- 5. decisions ---- */
@@ -350,7 +380,7 @@ static void pop_window(const pop_search *s, double d, int *side, double *fov) {
   R += (s->frame_h - R) & 1;
   if (scale != 1 || R >= s->frame_h) return;
   *side = R;
-  *fov = 2 * atan((double)R / s->frame_h * tan(s->fov * M_PI / 360)) * 180 / M_PI;
+  *fov = window_fov(s->fov, R, s->frame_h);
 }
 
 /* popping-free at grid distance i: the largest R below the limit (−1: error) */
@@ -361,7 +391,7 @@ static int pop_test(pop_search *s, int i) {
   pop_window(s, grid_distance(s, i), &side, &fov);
   s->st = side > 0 ? jnd_renderer_resize(s->r, side, side) : jnd_renderer_resize(s->r, s->frame_w, s->frame_h);
   if (s->st) return -1;
-  pop_frame_window win = {side, s->frame_w, s->frame_h};
+  pop_frame_window win = {side, s->frame_w, s->frame_h, s->fov};
   s->st = max_rating_at(s->m, s->r, s->scene, s->views, s->nviews, s->mo, s->level, s->p, s->sp, grid_distance(s, i),
                         fov, &win, &s->first, &worst);
   if (s->st) return -1;
