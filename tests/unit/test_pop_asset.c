@@ -253,6 +253,24 @@ static jnd_scene *builtin_with_a_coarse_level(void) {
   return s;
 }
 
+/* the switch search on one view of the built-in asset with a coarse level,
+ * from coverage_near (grid ratio 1.1) at speed (°/s, an orbit) */
+static jnd_pop_switch search_switch(jnd_renderer *r, jnd_scene *s, jnd_model *m, const jnd_view *v,
+                                    double coverage_near, double speed) {
+  jnd_pop_params pp;
+  jnd_pop_defaults(&pp);
+  jnd_pop_switch_params sp;
+  jnd_pop_switch_defaults(&sp);
+  sp.tolerance = 0.1;
+  sp.coverage_near = coverage_near;
+  jnd_pop_motion mo;
+  jnd_pop_motion_defaults(&mo);
+  mo.speed = speed;
+  jnd_pop_switch sw;
+  CHECK_OK(jnd_pop_switch_distance(m, r, s, v, 1, &mo, 1, &pp, &sp, &sw));
+  return sw;
+}
+
 TEST(the_switch_distance_brackets_the_limit) {
   if (!test_renderer_available()) {
     TEST_SKIP("no OpenGL context");
@@ -261,20 +279,17 @@ TEST(the_switch_distance_brackets_the_limit) {
   jnd_scene *s = builtin_with_a_coarse_level();
   jnd_model *m = model();
   jnd_view v = view(s, 0.8);
+  /* from the whole image height: the object still whole in the frame, and
+   * the level's change 3.6 JND there (1.3 at half the height, no region) */
+  jnd_pop_switch sw = search_switch(renderer(), s, m, &v, 1.0, 0);
+  jnd_pop_motion mo;
+  jnd_pop_motion_defaults(&mo);
   jnd_pop_params pp;
   jnd_pop_defaults(&pp);
   jnd_pop_switch_params sp;
   jnd_pop_switch_defaults(&sp);
-  sp.tolerance = 0.1;
-  /* from the whole image height: the object still whole in the frame, and
-   * the level's change 3.6 JND there (1.3 at half the height, no region) */
-  sp.coverage_near = 1.0;
-  jnd_pop_motion mo;
-  jnd_pop_motion_defaults(&mo);
-  jnd_pop_switch sw;
-  CHECK_OK(jnd_pop_switch_distance(m, renderer(), s, &v, 1, &mo, 1, &pp, &sp, &sw));
   CHECK(sw.status == JND_POP_SWITCH_FOUND);
-  CHECK(sw.distance_popping < sw.distance && sw.distance <= sw.distance_popping * (1 + sp.tolerance));
+  CHECK(sw.distance_popping < sw.distance && sw.distance <= sw.distance_popping * 1.1);
   CHECK(sw.evaluations > 3);
   /* recomputed here: below the limit at the distance, at or above it just nearer */
   double at = max_r(m, s, &v, &mo, 1, sw.distance), nearer = max_r(m, s, &v, &mo, 1, sw.distance_popping);
@@ -311,17 +326,12 @@ TEST(a_far_distance_rendered_in_the_objects_window_rates_as_the_whole_frame) {
   jnd_scene *s = builtin_with_a_coarse_level();
   jnd_model *m = model();
   jnd_view v = view(s, 0.8);
+  jnd_pop_switch sw = search_switch(r, s, m, &v, 0.5, 120);
   jnd_pop_params pp;
   jnd_pop_defaults(&pp);
-  jnd_pop_switch_params sp;
-  jnd_pop_switch_defaults(&sp);
-  sp.tolerance = 0.1;
-  sp.coverage_near = 0.5;
   jnd_pop_motion mo;
   jnd_pop_motion_defaults(&mo);
   mo.speed = 120;
-  jnd_pop_switch sw;
-  CHECK_OK(jnd_pop_switch_distance(m, r, s, &v, 1, &mo, 1, &pp, &sp, &sw));
   CHECK(sw.status == JND_POP_SWITCH_FOUND);
   int w, h;
   jnd_renderer_size(r, &w, &h);
