@@ -516,7 +516,7 @@ jnd_status jnd_pop_switch_distance(jnd_model *m, jnd_renderer *r, jnd_scene *sce
 
   pop_search ps = {.m = m, .r = r, .scene = scene, .views = views, .nviews = nviews, .mo = mo, .level = level,
                    .p = p, .sp = sp, .n = 1, .frame_w = wpx, .frame_h = hpx, .radius = radius, .fov = fov};
-  ps.windowed = centred_views(views, nviews, mo, centre, ground, fov);
+  ps.windowed = !sp->whole_frame && centred_views(views, nviews, mo, centre, ground, fov);
   ps.lo = jnd_camera_distance_for_coverage(radius, sp->coverage_near, fov);
   ps.hi = jnd_camera_distance_for_coverage(radius, sp->coverage_far, fov);
   if (ps.hi > ps.lo * (1 + sp->tolerance)) ps.n = (int)ceil(log(ps.hi / ps.lo) / log1p(sp->tolerance)) + 1;
