@@ -22,17 +22,18 @@ if [ ! -f "$real" ]; then
   python3 "$here/make_asset.py" "$real" --parts 6 --size 512 --shape real || { echo "   (cannot build the real-shaped asset)"; exit 1; }
 fi
 
-# measure NAME MODEL: RUNS runs, the median's figures
+# measure NAME MODEL [TARGET]: RUNS runs, the median's figures (and, with
+# a target in seconds, the median's wall and user+sys against it)
 measure() {
-  local name=$1 model=$2 d="$out/$1" walls=()
+  local name=$1 model=$2 target=${3:-0} d="$out/$1" walls=()
   mkdir -p "$(dirname "$d")" # the controllers' names have a folder: pico-4u/left.glb
   for r in $(seq "$RUNS"); do
     /usr/bin/time -f "%e %U %S" -o "$d.time.$r" "$JND" texres "$model" -o "$d.$r" --verify-views 8 --quiet
     echo "$?" >"$d.rc.$r"
   done
-  python3 - "$d" "$RUNS" "$name" "$here" <<'PY'
+  python3 - "$d" "$RUNS" "$name" "$here" "$target" <<'PY'
 import json, statistics, sys
-d, runs, name = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+d, runs, name, target = sys.argv[1], int(sys.argv[2]), sys.argv[3], float(sys.argv[5])
 sys.path.insert(0, sys.argv[4])
 from figures import memory_line  # bench's memory figures: unique images, MiB
 rows = []
@@ -48,6 +49,9 @@ print("   %s: %d maps; wall %.1f s (median of %d: %s), user+sys %.1f s; %d rende
       % (name, len(res["maps"]), wall, runs, " ".join("%.1f" % w for w, _, _ in sorted(rows, key=lambda x: x[2])), cpu,
          res["renderings"], res["renderings"] / wall, res["rendering_counts"]["references"], res["rendering_counts"]["whole"],
          res["rendering_counts"]["partial"], res["evaluations"], rc, res["renderer"]))
+if target > 0:
+    print("     target %.0f s: %s (wall %.1f s), %s (user+sys %.1f s, the steadier on a shared machine)"
+          % (target, "within" if wall <= target else "OVER", wall, "within" if cpu <= target else "OVER", cpu))
 print("     chosen on %d views (P = %.3f): %d above P = 0.2; held out: %d of %d above (%s; fraction of all views above: <= %.0f%% at 90%% confidence)"
       % (res["views"]["count"], json.load(open("%s.%d/texres.json" % (d, r)))["parameters"]["choice_p"], res["views"]["criterion"]["above"],
          v["criterion"]["above"], v["views"], "passes" if v["passes"] else "FAILS", 100 * v["criterion"]["fraction_upper"]))
@@ -62,7 +66,7 @@ PY
 # wall times mean little on a shared machine: say what else was running
 echo "   $(nproc) cores; load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
 measure "6-material glTF (bench/make_asset.py, 24 maps of 512x512)" "$asset"
-measure "real-shaped glTF (make_asset.py --shape real: 26 slots, 17 images of 512x512; target 60 s)" "$real"
+measure "real-shaped glTF (make_asset.py --shape real: 26 slots, 17 images of 512x512)" "$real" 60
 echo "   load average after: $(cut -d' ' -f1-3 /proc/loadavg)"
 ASSETS=$(webxr_assets_fetch && webxr_assets) || { echo "   webxr assets skipped: @webxr-input-profiles/assets not available (npm/network)"; exit 0; }
 for m in ${BENCH_TEXRES_MODELS:-pico-4u/left.glb oculus-touch/left.glb generic-trigger-squeeze-thumbstick/left.glb}; do

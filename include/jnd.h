@@ -3371,6 +3371,9 @@ typedef struct {
   double start;            /* a distance where the answer is likely (another speed's or level's
                               answer): the search starts there and widens its bracket outwards;
                               0: none, a bisection of the whole range */
+  int whole_frame;         /* 1: every distance rendered whole; 0 (default): where the object stays
+                              centred, only its window of the frame (docs/pop.md "Switch decisions"),
+                              R equal to the whole frame's to about 1e-4 */
 } jnd_pop_switch_params;
 
 /* Fills p with the defaults above. */

@@ -415,6 +415,9 @@ static jnd_status pop_step(oracle *o, jnd_lod_switch_result *out) {
     sp.coverage_near = cfrom * window_cov;
     sp.coverage_far = fmin(p->far_coverage, cfrom / (1 + p->tolerance)) * window_cov;
     jnd_pop_switch sw;
+    /* the judge's window already frames the object: rendered whole, as the
+     * judges' renderings are (the popping distance reproducible exactly) */
+    sp.whole_frame = 1;
     if ((st = jnd_pop_switch_distance(m, o->jp.renderer, o->scene, views, o->nviews, &mo, k, &pp, &sp, &sw))) break;
     /* popping-free where the search started: that distance exactly (pop's is
      * the same up to the rounding of its coverage-to-distance conversion,

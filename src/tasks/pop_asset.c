@@ -131,9 +131,38 @@ static jnd_status reproject_depth(const jnd_image *depth, const jnd_view *cur, c
   return JND_OK;
 }
 
-jnd_status jnd_pop_render(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *view,
-                          const jnd_pop_motion *mo, int level, int frame, const jnd_pop_params *p,
-                          jnd_pop_result *out) {
+/* A frame rendered in a window of the view's frame (pop_window): every
+ * image of it placed at the window's spot in a W × H image whose other
+ * pixels are the background's (0 in colour, coverage, depth and motion),
+ * so that the predictor sees the frame's own pixels. */
+typedef struct {
+  int side;      /* the window's side, centred in the frame; 0: the whole frame is rendered */
+  int W, H;      /* the frame */
+  double fov;    /* the frame's field of view (the view's is the window's) */
+} pop_frame_window;
+
+static jnd_status unwindow(const pop_frame_window *win, jnd_frame *f) {
+  if (!win || win->side <= 0) return JND_OK;
+  jnd_image *im[] = {&f->color, &f->depth, &f->mask, &f->motion};
+  int ox = (win->W - win->side) / 2, oy = (win->H - win->side) / 2;
+  for (size_t k = 0; k < sizeof im / sizeof *im; k++) {
+    if (!im[k]->data) continue;
+    jnd_image big = {0};
+    jnd_status st = jnd_image_alloc(&big, win->W, win->H, im[k]->c);   /* zeroed */
+    if (st) return st;
+    for (int c = 0; c < im[k]->c; c++)
+      for (int y = 0; y < im[k]->h; y++)
+        memcpy(big.data + ((size_t)c * win->H + oy + y) * win->W + ox,
+               im[k]->data + ((size_t)c * im[k]->h + y) * im[k]->w, (size_t)im[k]->w * sizeof(float));
+    jnd_image_free(im[k]);
+    *im[k] = big;
+  }
+  return JND_OK;
+}
+
+static jnd_status pop_render_in(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *view,
+                                const jnd_pop_motion *mo, int level, int frame, const jnd_pop_params *p,
+                                const pop_frame_window *win, jnd_pop_result *out) {
   memset(out, 0, sizeof *out);
   int n = jnd_scene_lod_count(scene), keep = jnd_scene_lod_selected(scene);
   if (level < 0 || level + 1 >= n)
@@ -170,14 +199,19 @@ jnd_status jnd_pop_render(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const
   if (!st && moving) st = judge_render_level(r, scene, level, &shade, &fs);
   jnd_status sel = jnd_scene_lod_select(scene, keep);
   if (!st) st = sel;
+  jnd_frame *rendered[] = {&fa, &fe, &pa, &pe, &fs};
+  for (size_t k = 0; k < sizeof rendered / sizeof *rendered && !st; k++) st = unwindow(win, rendered[k]);
   /* 4: each frame as the viewer sees it, as the judge shows frames */
   const jnd_display *d = &jnd_model_get_params(m)->display;
   if (!st) st = jnd_judge_show(d, &fa.color, NULL, 0, NULL, &ca, NULL);
   if (!st) st = jnd_judge_show(d, &fe.color, NULL, 0, NULL, &ce, NULL);
   if (!st && moving) st = jnd_judge_show(d, &pe.color, NULL, 0, NULL, &cp, NULL);
   if (!st && moving) st = jnd_judge_show(d, &fs.color, NULL, 0, NULL, &cs, NULL);
-  if (!st && moving) st = reproject_depth(&fa.depth, &cur, &prev, &za);
-  if (!st && moving) st = reproject_depth(&fe.depth, &cur, &prev, &ze);
+  /* the depth is the frame's again: so is the field of view it unprojects with */
+  jnd_view cur_f = cur, prev_f = prev;
+  if (win && win->side > 0) cur_f.camera.fov_y_deg = prev_f.camera.fov_y_deg = win->fov;
+  if (!st && moving) st = reproject_depth(&fa.depth, &cur_f, &prev_f, &za);
+  if (!st && moving) st = reproject_depth(&fe.depth, &cur_f, &prev_f, &ze);
   if (!st) st = jnd_image_alloc(&mask, fa.mask.w, fa.mask.h, 1);
   if (!st) {
     size_t np = (size_t)mask.w * mask.h;
@@ -203,6 +237,38 @@ jnd_status jnd_pop_render(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const
   jnd_image_free(&za);
   jnd_image_free(&ze);
   jnd_image_free(&mask);
+  return st;
+}
+
+jnd_status jnd_pop_render(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *view,
+                          const jnd_pop_motion *mo, int level, int frame, const jnd_pop_params *p,
+                          jnd_pop_result *out) {
+  return pop_render_in(m, r, scene, view, mo, level, frame, p, NULL, out);
+}
+
+/* the field of view of a centred window of side pixels in a frame H high seen with fov */
+static double window_fov(double fov, int side, int H) {
+  return 2 * atan((double)side / H * tan(fov * M_PI / 360)) * 180 / M_PI;
+}
+
+jnd_status pop_render_window(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *view,
+                             const jnd_pop_motion *mo, int level, int frame, const jnd_pop_params *p, int side,
+                             jnd_pop_result *out) {
+  int W, H;
+  jnd_renderer_size(r, &W, &H);
+  if (side <= 0) return pop_render_in(m, r, scene, view, mo, level, frame, p, NULL, out);
+  memset(out, 0, sizeof *out);
+  if (side > W || side > H || (W - side) % 2 || (H - side) % 2)
+    return jnd_fail(JND_ERR_ARG, "pop: a window of %d pixels is not centred in a %d × %d frame", side, W, H);
+  double fov = view->camera.fov_y_deg > 0 ? view->camera.fov_y_deg : 45;
+  pop_frame_window win = {side, W, H, fov};
+  jnd_view at = *view;
+  at.camera.fov_y_deg = window_fov(fov, side, H);
+  jnd_status st = jnd_renderer_resize(r, side, side);
+  if (!st) st = pop_render_in(m, r, scene, &at, mo, level, frame, p, &win, out);
+  jnd_status back = jnd_renderer_resize(r, W, H);
+  if (!st) st = back;
+  if (st) jnd_pop_result_free(out);
   return st;
 }
 
@@ -239,7 +305,8 @@ static void at_distance(const jnd_view *v, double d, jnd_view *out) {
  * view that failed last, which at a popping distance usually fails again. */
 static jnd_status max_rating_at(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *views, int nviews,
                                 const jnd_pop_motion *mo, int level, const jnd_pop_params *p,
-                                const jnd_pop_switch_params *sp, double d, int *first, double *worst) {
+                                const jnd_pop_switch_params *sp, double d, double fov_y_deg,
+                                const pop_frame_window *win, int *first, double *worst) {
   jnd_pop_params q = *p;
   q.picture = 0;
   *worst = -INFINITY;
@@ -248,7 +315,8 @@ static jnd_status max_rating_at(jnd_model *m, jnd_renderer *r, jnd_scene *scene,
     jnd_view at;
     jnd_pop_result res;
     at_distance(&views[v], d, &at);
-    jnd_status st = jnd_pop_render(m, r, scene, &at, mo, level - 1, sp->frame, &q, &res);
+    if (fov_y_deg > 0) at.camera.fov_y_deg = fov_y_deg;
+    jnd_status st = pop_render_in(m, r, scene, &at, mo, level - 1, sp->frame, &q, win, &res);
     if (st) return st;
     if (res.nregions && res.max_rating > *worst) *worst = res.max_rating;
     jnd_pop_result_free(&res);
@@ -275,6 +343,9 @@ typedef struct {
   const jnd_pop_switch_params *sp;
   double lo, hi;
   int n;
+  int frame_w, frame_h;  /* the views' frame (the renderer's size when the search began) */
+  int windowed;          /* 1: a distance renders only the object's window (pop_window) */
+  double radius, fov;    /* the object's bounding sphere, the views' field of view */
   signed char *known;   /* n: −1 not asked, 0 pops, 1 popping-free */
   double *rating;       /* n: the largest R measured there */
   int first;            /* the view asked first (the last to fail) */
@@ -286,12 +357,43 @@ static double grid_distance(const pop_search *s, int i) {
   return i == 0 ? s->lo : i >= s->n - 1 ? s->hi : s->lo * pow(1 + s->sp->tolerance, i);
 }
 
+/* The pixels a distance renders (docs/pop.md "Switch decisions"): at a far
+ * distance the object fills a few percent of the frame, yet every
+ * rendering, read-back and model pass would be of the whole frame. When
+ * the object stays centred through the motion (the views look at its
+ * centre, and the camera orbits it or it spins about it), only the judge's
+ * object window is rendered: a square of the frame's own pixels around the
+ * object's bounding sphere with the pyramid's margin (object_window, as
+ * jnd lod's judges frame it), centred as the frame is, so that its pixels
+ * are the frame's pixels (the frame's and the window's sides differ by an
+ * even count) and the field of view shrinks with it. Outside the window
+ * the frame is background in both levels. *side: the window's side (the
+ * frame's own size where no smaller window holds the object); *fov: the
+ * window's field of view (0: the views' own). */
+static void pop_window(const pop_search *s, double d, int *side, double *fov) {
+  *side = 0;
+  *fov = 0;
+  if (!s->windowed || s->frame_w != s->frame_h) return;
+  double scale, object_px = fmin(jnd_coverage_at_distance(s->radius, d, s->fov), 1.0) * s->frame_h;
+  int R;
+  object_window(object_px, 1, JUDGE_CROP_MARGIN, 0, s->frame_h, 1, &R, &scale);
+  R += (s->frame_h - R) & 1;
+  if (scale != 1 || R >= s->frame_h) return;
+  *side = R;
+  *fov = window_fov(s->fov, R, s->frame_h);
+}
+
 /* popping-free at grid distance i: the largest R below the limit (−1: error) */
 static int pop_test(pop_search *s, int i) {
   if (s->known[i] >= 0) return s->known[i];
-  double worst;
+  double worst, fov;
+  int side;
+  pop_window(s, grid_distance(s, i), &side, &fov);
+  s->st = side > 0 ? jnd_renderer_resize(s->r, side, side) : jnd_renderer_resize(s->r, s->frame_w, s->frame_h);
+  if (s->st) return -1;
+  pop_frame_window win = {side, s->frame_w, s->frame_h, s->fov};
   s->st = max_rating_at(s->m, s->r, s->scene, s->views, s->nviews, s->mo, s->level, s->p, s->sp, grid_distance(s, i),
-                        &s->first, &worst);
+                        fov, &win, &s->first, &worst);
   if (s->st) return -1;
   s->evaluations++;
   s->rating[i] = worst;
@@ -358,6 +460,30 @@ static jnd_status grid_search(pop_search *s, int start, switch_found *found, int
   return JND_OK;
 }
 
+/* Whether the object stays centred in every view through the motion, so
+ * that pop_window may frame it: no ground plane (it would reach past the
+ * window), a black background, every view looking at the object's centre
+ * with the same field of view and no model transform, and a motion that
+ * keeps the centre where it is (an orbit about it, a spin about it; a pan
+ * or a travel moves it across the frame). */
+static int centred_views(const jnd_view *views, int nviews, const jnd_pop_motion *mo, const double centre[3],
+                         int ground, double fov) {
+  static const double identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  if (ground >= 0 || (mo->speed != 0 && mo->kind != JND_POP_ORBIT && mo->kind != JND_POP_OBJECT)) return 0;
+  for (int v = 0; v < nviews; v++) {
+    const jnd_camera *c = &views[v].camera;
+    double off = 0, len = 0;
+    for (int k = 0; k < 3; k++) {
+      off += (c->target[k] - centre[k]) * (c->target[k] - centre[k]);
+      len += (c->eye[k] - c->target[k]) * (c->eye[k] - c->target[k]);
+    }
+    if (views[v].background_env || (c->fov_y_deg > 0 ? c->fov_y_deg : 45) != fov || off > 1e-12 * len ||
+        memcmp(views[v].model, identity, sizeof identity) != 0)
+      return 0;
+  }
+  return 1;
+}
+
 jnd_status jnd_pop_switch_distance(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *views,
                                    int nviews, const jnd_pop_motion *mo, int level, const jnd_pop_params *p,
                                    const jnd_pop_switch_params *sp, jnd_pop_switch *out) {
@@ -389,7 +515,8 @@ jnd_status jnd_pop_switch_distance(jnd_model *m, jnd_renderer *r, jnd_scene *sce
   out->distance_pixel_rule = isfinite(err) && err > 0 ? err * hpx / (2 * tan(fov * M_PI / 360)) : NAN;
 
   pop_search ps = {.m = m, .r = r, .scene = scene, .views = views, .nviews = nviews, .mo = mo, .level = level,
-                   .p = p, .sp = sp, .n = 1};
+                   .p = p, .sp = sp, .n = 1, .frame_w = wpx, .frame_h = hpx, .radius = radius, .fov = fov};
+  ps.windowed = !sp->whole_frame && centred_views(views, nviews, mo, centre, ground, fov);
   ps.lo = jnd_camera_distance_for_coverage(radius, sp->coverage_near, fov);
   ps.hi = jnd_camera_distance_for_coverage(radius, sp->coverage_far, fov);
   if (ps.hi > ps.lo * (1 + sp->tolerance)) ps.n = (int)ceil(log(ps.hi / ps.lo) / log1p(sp->tolerance)) + 1;
@@ -410,6 +537,8 @@ jnd_status jnd_pop_switch_distance(jnd_model *m, jnd_renderer *r, jnd_scene *sce
   switch_found f = SWITCH_NEVER;
   int at = -1, fail_at = 0;
   st = grid_search(&ps, start, &f, &at, &fail_at);
+  jnd_status back = jnd_renderer_resize(r, wpx, hpx);   /* the caller's frame again */
+  if (!st) st = back;
   out->evaluations = ps.evaluations;
   if (!st) {
     if (f == SWITCH_AT_START) {

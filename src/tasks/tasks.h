@@ -244,6 +244,15 @@ jnd_status pop_picture(const jnd_image *grey, const jnd_pop_result *r, jnd_image
 jnd_status pop_switch_plot(const jnd_pop_asset_report *r, const double *speeds, int nspeeds, jnd_image *out,
                            jnd_plot_layout *layout);
 
+/* pop_asset.c: jnd_pop_render of a view whose object stays centred, with
+ * only a centred window of side pixels of r's frame rendered (the frame's
+ * side minus side even) and put back in the frame, as the switch search
+ * renders far distances (docs/pop.md "Switch decisions"); side 0: the whole
+ * frame. r is left at its size. */
+jnd_status pop_render_window(jnd_model *m, jnd_renderer *r, jnd_scene *scene, const jnd_view *view,
+                             const jnd_pop_motion *mo, int level, int frame, const jnd_pop_params *p, int side,
+                             jnd_pop_result *out);
+
 /* ---- texres.c (begin) ---- */
 /* The whole mip levels a map whose finest sampled level is mip_min
  * (jnd_judge_mip_min, ≥ 0) can drop without a visible change: 000 §4's

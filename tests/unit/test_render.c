@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <sys/stat.h>
 
+#include "core/fastmath.h"
 #include "jnd.h"
 #include "scene/scene.h"
 #include "test.h"
@@ -64,6 +65,29 @@ static double mad(const jnd_image *a, const jnd_image *b) {
   jnd_image_free(&sa);
   jnd_image_free(&sb);
   return s / n;
+}
+
+/* jnd_render_to_srgb encodes a span at a time, vectorised: every sample as
+ * the scalar curve gives it, bit for bit (NaN and out-of-range included),
+ * so that shown frames do not depend on the instruction set */
+TEST(the_vectorised_srgb_curve_is_the_scalar_one) {
+  jnd_image lin;
+  const int n = 1 << 16;
+  CHECK_OK(jnd_image_alloc(&lin, n / 4, 4, 1));
+  for (int i = 0; i < n; i++) lin.data[i] = -0.1f + 1.3f * (float)i / (n - 1) + 1e-7f * (float)(i % 7);
+  lin.data[17] = NAN;
+  lin.data[18] = INFINITY;
+  lin.data[19] = 0.0031308f;
+  jnd_image enc;
+  CHECK_OK(jnd_render_to_srgb(&lin, &enc));
+  int same = 0;
+  for (int i = 0; i < n; i++) {
+    float want = jnd_srgb_encode(lin.data[i]);
+    same += memcmp(&want, &enc.data[i], sizeof want) == 0;
+  }
+  CHECK(same == n);
+  jnd_image_free(&lin);
+  jnd_image_free(&enc);
 }
 
 static int render(const jnd_scene *s, const jnd_view *v, jnd_frame *f) {
@@ -937,7 +961,7 @@ static void close_renderer(void) {
   jnd_renderer_free(renderer());
 }
 
-RUN_TESTS(views_json_is_parsed_and_impossible_cameras_are_refused, gltf_texture_transform_is_applied_as_its_extension_defines, builtin_maps_are_addressable_by_material_and_slot, resampling_a_constant_map_keeps_it_constant,
+RUN_TESTS(the_vectorised_srgb_curve_is_the_scalar_one, views_json_is_parsed_and_impossible_cameras_are_refused, gltf_texture_transform_is_applied_as_its_extension_defines, builtin_maps_are_addressable_by_material_and_slot, resampling_a_constant_map_keeps_it_constant,
           colour_maps_are_filtered_in_linear_light, resampled_normal_maps_hold_unit_vectors,
           broken_files_are_refused_as_malformed, truncated_glb_is_refused,
           obj_with_missing_texture_falls_back_to_the_factor_with_a_warning, object_fills_the_coverage_asked_for,
