@@ -2,57 +2,77 @@
  * against its criterion statistic, one series per mesh level, the Pareto
  * front of (memory, triangles, statistic), the choice and the separately
  * chosen pair marked, the criterion's p as a line; drawn with the shared
- * line plot (io/draw.h). */
+ * line plot (io/draw.h). The figure is built once (budget_build) and either
+ * drawn or laid out, so that a test reads the ticks, labels and points the
+ * picture holds. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 
 #include "core/core.h"
 #include "io/draw.h"
+#include "jnd.h"
+#include "tasks/tasks.h"
 
 #define MAX_SERIES 12
+#define MAX_LEVEL_GROUPS 8
 
-jnd_status jnd_budget_pareto_plot(const jnd_budget_result *r, const jnd_criterion *c, jnd_image *out) {
+typedef struct {
+  double *x, *y; /* MAX_SERIES blocks of n values (owned) */
+  char labels[MAX_SERIES][96];
+  jnd_plot_series s[MAX_SERIES];
+  int ns;
+  jnd_plot_hline h;
+  jnd_plot_axes ax;
+} budget_figure;
+
+static void budget_figure_free(budget_figure *f) {
+  free(f->x);
+  free(f->y);
+}
+
+static jnd_status budget_build(const jnd_budget_result *r, const jnd_criterion *c, budget_figure *f) {
   int n = r->ncandidates;
   if (n < 1) return jnd_fail(JND_ERR_ARG, "budget: no candidates to draw");
-  double *x = jnd_calloc((size_t)n * (MAX_SERIES + 1), sizeof *x), *y = jnd_calloc((size_t)n * (MAX_SERIES + 1), sizeof *y);
-  if (!x || !y) {
-    free(x);
-    free(y);
-    return jnd_fail(JND_ERR_NOMEM, "budget: out of memory");
-  }
-  static const jnd_rgb level_colour[8] = {{0.55f, 0.55f, 0.55f}, {0.45f, 0.62f, 0.80f}, {0.60f, 0.78f, 0.55f},
-                                          {0.85f, 0.70f, 0.45f}, {0.75f, 0.55f, 0.80f}, {0.50f, 0.75f, 0.75f},
-                                          {0.80f, 0.60f, 0.60f}, {0.70f, 0.70f, 0.40f}};
-  jnd_plot_series s[MAX_SERIES];
-  char labels[MAX_SERIES][96];
-  int ns = 0, nlev = jnd_scene_lod_count(r->lod.scene);
+  if (r->chosen < 0 || r->chosen >= n || r->separate < 0 || r->separate >= n)
+    return jnd_fail(JND_ERR_ARG, "budget: the chosen or separate candidate is out of range");
+  f->x = jnd_calloc((size_t)n * MAX_SERIES, sizeof *f->x);
+  f->y = jnd_calloc((size_t)n * MAX_SERIES, sizeof *f->y);
+  if (!f->x || !f->y) return jnd_fail(JND_ERR_NOMEM, "budget: out of memory");
+  static const jnd_rgb level_colour[MAX_LEVEL_GROUPS] = {
+      {0.55f, 0.55f, 0.55f}, {0.45f, 0.62f, 0.80f}, {0.60f, 0.78f, 0.55f}, {0.85f, 0.70f, 0.45f},
+      {0.75f, 0.55f, 0.80f}, {0.50f, 0.75f, 0.75f}, {0.80f, 0.60f, 0.60f}, {0.70f, 0.70f, 0.40f}};
+  double *x = f->x, *y = f->y;
+  int ns = 0, nlev = 0;
+  /* the levels the candidates use (the chain's coarser levels, never a
+   * candidate, are not in the picture) */
+  for (int i = 0; i < n; i++)
+    if (r->candidates[i].level + 1 > nlev) nlev = r->candidates[i].level + 1;
   /* the ladder's points per level (at most 8 levels drawn apart, the rest together) */
-  int groups = nlev < 8 ? nlev : 8;
+  int groups = nlev < MAX_LEVEL_GROUPS ? nlev : MAX_LEVEL_GROUPS;
   for (int g = 0; g < groups; g++) {
     int m = 0;
+    size_t tris = 0;
     for (int i = 0; i < n; i++) {
       const jnd_budget_candidate *q = &r->candidates[i];
       int grp = q->level < groups - 1 ? q->level : groups - 1;
+      if (q->level == g) tris = q->triangles;
       if (grp != g || !isfinite(q->statistic)) continue;
       x[ns * n + m] = q->memory_bytes / 1048576.0;
       y[ns * n + m] = q->statistic;
       m++;
     }
     if (m == 0) continue;
-    size_t tris = 0;
-    for (int i = 0; i < n; i++)
-      if (r->candidates[i].level == g) tris = r->candidates[i].triangles;
-    snprintf(labels[ns], sizeof labels[ns], g == groups - 1 && nlev > groups ? "levels %d.. (%zu triangles and fewer)" : "level %d (%zu triangles)",
-             g, tris);
-    s[ns] = (jnd_plot_series){.x = x + ns * n, .y = y + ns * n, .n = m, .label = labels[ns],
-                              .colour = level_colour[g % 8], .markers = 2};
+    snprintf(f->labels[ns], sizeof f->labels[ns],
+             g == groups - 1 && nlev > groups ? "levels %d.. (%zu triangles and fewer)" : "level %d (%zu triangles)", g, tris);
+    f->s[ns] = (jnd_plot_series){.x = x + ns * n, .y = y + ns * n, .n = m, .label = f->labels[ns],
+                                 .colour = level_colour[g], .markers = 2};
     ns++;
   }
   /* the front (in memory order; drawn as points: its third axis, triangles, is the series) */
   int m = 0;
   for (int i = 0; i < n; i++)
-    if (r->candidates[i].pareto) {
+    if (r->candidates[i].pareto && isfinite(r->candidates[i].statistic)) {
       double mx = r->candidates[i].memory_bytes / 1048576.0, my = r->candidates[i].statistic;
       int j = m++;
       for (; j > 0 && x[ns * n + j - 1] > mx; j--) {
@@ -62,32 +82,48 @@ jnd_status jnd_budget_pareto_plot(const jnd_budget_result *r, const jnd_criterio
       x[ns * n + j] = mx;
       y[ns * n + j] = my;
     }
-  s[ns] = (jnd_plot_series){.x = x + ns * n, .y = y + ns * n, .n = m, .label = "Pareto front (memory, triangles, statistic)",
-                            .colour = {0.13f, 0.13f, 0.13f}, .markers = 1};
-  ns++;
+  if (m > 0) {
+    f->s[ns] = (jnd_plot_series){.x = x + ns * n, .y = y + ns * n, .n = m,
+                                 .label = "Pareto front (memory, triangles, statistic)",
+                                 .colour = {0.13f, 0.13f, 0.13f}, .markers = 1};
+    ns++;
+  }
   const jnd_budget_candidate *sep = &r->candidates[r->separate], *ch = &r->candidates[r->chosen];
   double *px = x + ns * n, *py = y + ns * n;
   px[0] = sep->memory_bytes / 1048576.0;
   py[0] = sep->statistic;
   px[1] = ch->memory_bytes / 1048576.0;
   py[1] = ch->statistic;
-  char lsep[96], lch[96];
-  snprintf(lsep, sizeof lsep, "texres + lod separately (level %d)", sep->level);
-  snprintf(lch, sizeof lch, "chosen (level %d)", ch->level);
+  snprintf(f->labels[ns], sizeof f->labels[ns], "texres + lod separately (level %d)", sep->level);
+  snprintf(f->labels[ns + 1], sizeof f->labels[ns + 1], "chosen (level %d)", ch->level);
   /* the two are often a few bytes apart: the separate choice's marker is
    * drawn larger, beneath, so that it rings the chosen one where they meet */
-  s[ns++] = (jnd_plot_series){.x = px, .y = py, .n = 1, .label = lsep, .colour = {0.15f, 0.35f, 0.85f}, .markers = 1,
-                              .width = 12};
-  s[ns++] = (jnd_plot_series){.x = px + 1, .y = py + 1, .n = 1, .label = lch, .colour = {0.85f, 0.15f, 0.15f},
-                              .markers = 1, .width = 6};
-  jnd_plot_hline h = {.y = c->p, .label = "criterion p", .colour = {0.85f, 0.15f, 0.15f}};
-  jnd_plot_axes ax = {.title = "Budget: texture memory against visibility, per mesh level",
-                      .xlabel = "texture memory (MiB: unique images, mip chains, block formats)",
-                      .ylabel = "criterion statistic (view quantile of pooled P)",
-                      .log_x = 1, .xmin = NAN, .xmax = NAN, .ymin = 0, .ymax = NAN, .hlines = &h, .nhlines = 1,
-                      .width = 900, .height = 560};
-  jnd_status st = jnd_plot_lines(&ax, s, ns, out);
-  free(x);
-  free(y);
+  f->s[ns] = (jnd_plot_series){.x = px, .y = py, .n = 1, .label = f->labels[ns], .colour = {0.15f, 0.35f, 0.85f},
+                               .markers = 1, .width = 12};
+  f->s[ns + 1] = (jnd_plot_series){.x = px + 1, .y = py + 1, .n = 1, .label = f->labels[ns + 1],
+                                   .colour = {0.85f, 0.15f, 0.15f}, .markers = 1, .width = 6};
+  f->ns = ns + 2;
+  f->h = (jnd_plot_hline){.y = c->p, .label = "criterion p", .colour = {0.85f, 0.15f, 0.15f}};
+  f->ax = (jnd_plot_axes){.title = "Budget: texture memory against visibility, per mesh level",
+                          .xlabel = "texture memory (MiB: unique images, mip chains, block formats)",
+                          .ylabel = "criterion statistic (view quantile of pooled P)",
+                          .log_x = 1, .xmin = NAN, .xmax = NAN, .ymin = 0, .ymax = NAN, .hlines = &f->h,
+                          .nhlines = 1, .width = 900, .height = 560};
+  return JND_OK;
+}
+
+jnd_status budget_pareto_plot(const jnd_budget_result *r, const jnd_criterion *c, jnd_image *out,
+                              jnd_plot_layout *layout) {
+  budget_figure *f = jnd_calloc(1, sizeof *f);
+  if (!f) return jnd_fail(JND_ERR_NOMEM, "budget: out of memory");
+  jnd_status st = budget_build(r, c, f);
+  if (st == JND_OK && layout) st = jnd_plot_lines_layout(&f->ax, f->s, f->ns, layout);
+  if (st == JND_OK && out) st = jnd_plot_lines(&f->ax, f->s, f->ns, out);
+  budget_figure_free(f);
+  free(f);
   return st;
+}
+
+jnd_status jnd_budget_pareto_plot(const jnd_budget_result *r, const jnd_criterion *c, jnd_image *out) {
+  return budget_pareto_plot(r, c, out, NULL);
 }

@@ -280,6 +280,15 @@ jnd_status lod_pareto_plot(const jnd_poi_result *r, int screen, int perceptual, 
 
 /* ---- lod_figures.c (end) ---- */
 
+/* ---- budget_figures.c: budget's Pareto plot (begin) ---- */
+
+/* jnd_budget_pareto_plot's picture (out, unless NULL) and its layout (unless
+ * NULL): the ticks and legend a test checks against the candidates. */
+jnd_status budget_pareto_plot(const jnd_budget_result *r, const jnd_criterion *c, jnd_image *out,
+                              jnd_plot_layout *layout);
+
+/* ---- budget_figures.c (end) ---- */
+
 /* ---- csf_data.c: castleCSF colour (begin) ---- */
 
 /* castleCSF's CIE 2006 LMS → CIE XYZ matrix (derived for LED-LCD spectra),

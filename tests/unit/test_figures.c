@@ -557,6 +557,93 @@ TEST(lod_pareto_ticks_labels_and_marks_match_the_data) {
   }
 }
 
+TEST(budget_pareto_draws_every_candidate_the_front_the_choice_and_the_criterion) {
+  /* two levels' ladders (memory halving to a quarter, the statistic
+   * growing), the front, the separately chosen pair and the choice */
+  enum { N = 7 };
+  static const double mib[N] = {4.0, 1.0, 0.25, 0.0625, 2.0, 0.5, 0.125};
+  static const double stat[N] = {0.01, 0.04, 0.16, 0.72, 0.03, 0.09, 0.45};
+  static const int level[N] = {0, 0, 0, 0, 1, 1, 1};
+  static const int front[N] = {1, 0, 0, 1, 1, 1, 1};
+  jnd_budget_candidate cand[N];
+  memset(cand, 0, sizeof cand);
+  for (int i = 0; i < N; i++) {
+    cand[i].memory_bytes = (size_t)(mib[i] * 1048576.0);
+    cand[i].statistic = stat[i];
+    cand[i].level = level[i];
+    cand[i].triangles = level[i] == 0 ? 4000 : 1200;
+    cand[i].pareto = front[i];
+  }
+  jnd_budget_result r;
+  memset(&r, 0, sizeof r);
+  r.ncandidates = N;
+  r.candidates = cand;
+  r.separate = 1;
+  r.chosen = 5;
+  jnd_criterion c = {.p = 0.25, .q = 0.1};
+  jnd_image img;
+  jnd_plot_layout L;
+  CHECK_OK(budget_pareto_plot(&r, &c, &img, &L));
+  CHECK(img.w == L.width && img.h == L.height);
+  /* both axes cover every candidate and the criterion */
+  CHECK(L.log[0] && L.lo[0] <= 0.0625 && L.hi[0] >= 4.0);
+  CHECK(!L.log[1] && L.lo[1] == 0 && L.hi[1] >= 0.72);
+  /* each tick inside its axis, labelled with its own value, one format an axis */
+  for (int a = 0; a < 2; a++) {
+    int labelled = 0, sci = 0, plain = 0;
+    for (int i = 0; i < L.nticks[a]; i++) {
+      double t = L.tick[a][i];
+      CHECK(t >= L.lo[a] - 1e-9 * fabs(L.lo[a]) - 1e-12 && t <= L.hi[a] * (1 + 1e-9));
+      const char *lab = L.tick_label[a][i];
+      if (!lab[0]) continue;
+      labelled++;
+      CHECK(fabs(tick_label_value(lab) - t) <= 1e-9 * fmax(fabs(t), 1e-9));
+      if (strstr(lab, "\u00d7") || (strncmp(lab, "10", 2) == 0 && (unsigned char)lab[2] >= 0x80)) sci++;
+      else plain++;
+    }
+    CHECK(labelled >= 3);
+    CHECK(sci == 0 || plain == 0);
+  }
+  /* every candidate drawn where its memory and statistic are: a ring in its
+   * level's colour, or, on the front, the front's disc over it */
+  const jnd_rgb level_ink[2] = {{0.55f, 0.55f, 0.55f}, {0.45f, 0.62f, 0.80f}}, front_ink = {0.13f, 0.13f, 0.13f};
+  for (int i = 0; i < N; i++) {
+    if (i == r.chosen || i == r.separate) continue;
+    double x = jnd_plot_layout_map(&L, 0, mib[i]), y = jnd_plot_layout_map(&L, 1, stat[i]);
+    CHECK(ink_near(&img, x, y, 5, front[i] ? front_ink : level_ink[level[i]]));
+    if (!ink_near(&img, x, y, 5, front[i] ? front_ink : level_ink[level[i]])) fprintf(stderr, "candidate %d not drawn\n", i);
+  }
+  /* the choice in red over the separate pair's larger blue disc */
+  const jnd_rgb red = {0.85f, 0.15f, 0.15f}, blue = {0.15f, 0.35f, 0.85f};
+  double cx = jnd_plot_layout_map(&L, 0, mib[r.chosen]), cy = jnd_plot_layout_map(&L, 1, stat[r.chosen]);
+  double sx = jnd_plot_layout_map(&L, 0, mib[r.separate]), sy = jnd_plot_layout_map(&L, 1, stat[r.separate]);
+  CHECK(ink_near(&img, cx, cy, 1, red));
+  CHECK(ink_near(&img, sx, sy, 1, blue));
+  /* the criterion: a dashed red line across the data at p */
+  double yp = jnd_plot_layout_map(&L, 1, c.p);
+  int dashes = 0, samples = 0;
+  for (double x = L.plot.x0 + 4; x < L.plot.x1 - 4; x += 3, samples++) dashes += ink_near(&img, x, yp, 1, red);
+  CHECK(dashes > samples / 3);
+  /* the legend, outside the data, names each level, the front, both choices and p */
+  const char *want[6] = {"level 0 (4000 triangles)", "level 1 (1200 triangles)", "Pareto front (memory, triangles, statistic)",
+                         "texres + lod separately (level 0)", "chosen (level 1)", "criterion p"};
+  for (int w = 0; w < 6; w++) {
+    int found = 0;
+    for (int k = 0; k < L.ntexts; k++) {
+      if (L.text_kind[k] != 'l' || strcmp(L.text[k], want[w]) != 0) continue;
+      found++;
+      CHECK(!box_overlap(&L.text_box[k], &L.plot) && L.text_box[k].x0 >= 0 && L.text_box[k].x1 <= L.width &&
+            L.text_box[k].y1 <= L.height);
+    }
+    CHECK(found == 1);
+    if (found != 1) fprintf(stderr, "legend '%s' found %d times\n", want[w], found);
+  }
+  jnd_image_free(&img);
+  /* a chosen index outside the candidates is refused, not read */
+  r.chosen = N;
+  CHECK(budget_pareto_plot(&r, &c, NULL, &L) == JND_ERR_ARG);
+}
+
 TEST(the_calibration_histogram_has_a_bar_per_bin_as_tall_as_its_count) {
   /* bins of 32 px: −40 → −32, 0 and 10 → 0, 70 → 64, 600 → the open end bin 512 */
   double err[5] = {-40, 0, 10, 70, 600};
@@ -724,4 +811,5 @@ RUN_TESTS(the_heatmap_keeps_differences_above_one_jnd_apart, a_small_heatmap_is_
           pop_switch_plot_shows_every_speed_where_they_pop_alike, pop_regions_picture_rings_a_small_region_in_its_colour,
           the_calibration_histogram_has_a_bar_per_bin_as_tall_as_its_count,
           the_worst_view_shows_the_chosen_sizes_whether_or_not_the_matrices_ran,
-          the_gaze_table_picture_colours_each_cell_by_its_level, lod_pareto_ticks_labels_and_marks_match_the_data)
+          the_gaze_table_picture_colours_each_cell_by_its_level, lod_pareto_ticks_labels_and_marks_match_the_data,
+          budget_pareto_draws_every_candidate_the_front_the_choice_and_the_criterion)
