@@ -9,7 +9,6 @@
 #ifndef JND_CLI_H
 #define JND_CLI_H
 
-#include <cjson/cJSON.h>
 #include <stdio.h>
 
 #include "jnd.h"

@@ -27,6 +27,9 @@ check "task shape: no task makes its own renderer ($(tr '\n' ' ' <"$T/makers.txt
 grep -lE 'jnd_(render_to_srgb|display_apply) *\(' "$JND_SRC"/src/tasks/*.c | xargs -r -n1 basename |
   grep -vxE 'judge\.c|render_run\.c|diff\.c|diff_run\.c|pop\.c' >"$T/shows.txt"
 check "task shape: no task converts frames to the display its own way ($(tr '\n' ' ' <"$T/shows.txt"))" [ ! -s "$T/shows.txt" ]
+# every report is built by the library (src/tasks/*_report.c): the CLI holds no cJSON at all
+grep -l 'cJSON' "$JND_SRC"/src/cli/*.c "$JND_SRC"/src/cli/*.h 2>/dev/null | xargs -r -n1 basename >"$T/cli_json.txt"
+check "task shape: src/cli builds no JSON ($(tr '\n' ' ' <"$T/cli_json.txt"))" [ ! -s "$T/cli_json.txt" ]
 # the header's two tiers (issue 24 item 5): a declaration marked JND_EXPERIMENTAL is the experimental tier,
 # every other one the core; the library exports exactly the two together (checked above), each name in one tier
 python3 - "$JND_SRC/include/jnd.h" "$T" <<'PY'
