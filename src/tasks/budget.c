@@ -410,6 +410,31 @@ static jnd_tex_format cheaper_format(const ctx *c, int i) {
   return JND_TEX_BC1;
 }
 
+/* g[i]: each image's cheaper encoding (cheaper_format; JND_TEX_FORMATS for
+ * none, and for a map that is not its image's leader) */
+static void cheaper_formats(const ctx *c, jnd_tex_format *g) {
+  for (int i = 0; i < c->nmaps; i++) g[i] = c->leader[i] == i ? cheaper_format(c, i) : JND_TEX_FORMATS;
+}
+
+/* order[0, n): the images with a cheaper encoding g[i], the most bytes
+ * saved first (from their encodings from at sizes), then map order;
+ * saving[i]: the bytes each saves. Returns n. */
+static int by_saving(const ctx *c, int (*sizes)[2], const jnd_tex_format *from, const jnd_tex_format *g, int *order,
+                     size_t *saving) {
+  int n = 0;
+  for (int i = 0; i < c->nmaps; i++) {
+    if (g[i] == JND_TEX_FORMATS) continue;
+    saving[i] = jnd_texture_bytes(from[i], sizes[i][0], sizes[i][1], 1) - jnd_texture_bytes(g[i], sizes[i][0], sizes[i][1], 1);
+    int at = n++;   /* insertion */
+    while (at > 0 && saving[order[at - 1]] < saving[i]) {
+      order[at] = order[at - 1];
+      at--;
+    }
+    order[at] = i;
+  }
+  return n;
+}
+
 /* the candidate passes with texres's margin: statistic ≤ p·(1 − margin) */
 static jnd_status margin_pass(const ctx *c, const double *P, int n, int *pass) {
   const jnd_criterion *cr = &c->p->texres.judge.criterion;
@@ -507,15 +532,9 @@ static jnd_status search_encodings(ctx *c, int base, double *P) {
     memcpy(f, R->candidates[base].formats, (size_t)c->nmaps * sizeof *f);
     memcpy(sizes, R->candidates[base].sizes, (size_t)c->nmaps * sizeof *sizes);
   }
-  for (int i = 0; i < c->nmaps && s == JND_OK; i++) {
-    if (c->leader[i] != i || (g[i] = cheaper_format(c, i)) == JND_TEX_FORMATS) continue;
-    saving[i] = jnd_texture_bytes(f[i], sizes[i][0], sizes[i][1], 1) - jnd_texture_bytes(g[i], sizes[i][0], sizes[i][1], 1);
-    int at = n++;   /* insertion: most saved first, then map order */
-    while (at > 0 && saving[order[at - 1]] < saving[i]) {
-      order[at] = order[at - 1];
-      at--;
-    }
-    order[at] = i;
+  if (s == JND_OK) {
+    cheaper_formats(c, g);
+    n = by_saving(c, sizes, f, g, order, saving);
   }
   double statistic = NAN;
   int pass = 0;
@@ -612,37 +631,20 @@ static jnd_status budget_encodings(ctx *c, double *P) {
   jnd_budget_result *R = c->R;
   const jnd_budget_params *p = c->p;
   int n0 = R->ncandidates, *order = jnd_calloc((size_t)c->nmaps, sizeof *order);
+  size_t *saving = jnd_calloc((size_t)c->nmaps, sizeof *saving);
   jnd_tex_format *g = jnd_calloc((size_t)c->nmaps, sizeof *g);
-  jnd_status s = order && g ? JND_OK : JND_ERR_NOMEM;
-  for (int i = 0; i < c->nmaps && s == JND_OK; i++) g[i] = c->leader[i] == i ? cheaper_format(c, i) : JND_TEX_FORMATS;
+  jnd_status s = order && saving && g ? JND_OK : JND_ERR_NOMEM;
+  if (s == JND_OK) cheaper_formats(c, g);
   for (int a = 0; a < n0 && s == JND_OK; a++) {
     const jnd_budget_candidate *x = &R->candidates[a];
     if (!(p->memory_bytes > 0) || (double)x->memory_bytes <= p->memory_bytes || !isfinite(x->statistic) ||
         x->statistic >= 1 || (p->triangles > 0 && (double)x->triangles > p->triangles))
       continue;
-    int n = 0;   /* the images that can take a cheaper encoding, most saved first */
-    for (int i = 0; i < c->nmaps; i++) {
-      if (g[i] == JND_TEX_FORMATS) continue;
-      size_t si = jnd_texture_bytes(c->fmt[i], x->sizes[i][0], x->sizes[i][1], 1) -
-                  jnd_texture_bytes(g[i], x->sizes[i][0], x->sizes[i][1], 1);
-      int at = n++;
-      while (at > 0) {
-        int o = order[at - 1];
-        size_t so = jnd_texture_bytes(c->fmt[o], x->sizes[o][0], x->sizes[o][1], 1) -
-                    jnd_texture_bytes(g[o], x->sizes[o][0], x->sizes[o][1], 1);
-        if (so >= si) break;
-        order[at] = o;
-        at--;
-      }
-      order[at] = i;
-    }
+    /* the images that can take a cheaper encoding, most saved first */
+    int n = by_saving(c, x->sizes, c->fmt, g, order, saving);
     size_t mem = x->memory_bytes;
     int t = 0;
-    while (t < n && (double)mem > p->memory_bytes) {
-      int i = order[t++];
-      mem -= jnd_texture_bytes(c->fmt[i], x->sizes[i][0], x->sizes[i][1], 1) -
-             jnd_texture_bytes(g[i], x->sizes[i][0], x->sizes[i][1], 1);
-    }
+    while (t < n && (double)mem > p->memory_bytes) mem -= saving[order[t++]];
     if ((double)mem > p->memory_bytes || encoded_twice(c, n0, x, order, t)) continue;
     jnd_budget_candidate *y = add_candidate(c, x->level, -3);
     if (!y) {
@@ -664,6 +666,7 @@ static jnd_status budget_encodings(ctx *c, double *P) {
           jnd_tex_format_name(JND_TEX_BC1), (double)y->memory_bytes / 1048576.0, y->statistic);
   }
   free(order);
+  free(saving);
   free(g);
   return s;
 }
