@@ -8,6 +8,7 @@
 set -uo pipefail
 : "${JND:?}"
 here=$(cd "$(dirname "$0")" && pwd)
+. "$here/targets.sh"
 out=${BENCH_OUT:-$here/out}/diff
 mkdir -p "$out"
 RUNS=${BENCH_RUNS:-5}
@@ -38,12 +39,14 @@ read -r jt jm < <(measure "$JND" diff "$out/reference.png" "$out/test.png" --jso
 awk -v t="$jt" -v m="$jm" -v px="$px" -v n="$RUNS" 'BEGIN{
   printf "   jnd diff         1920x1080: %.3f s (median of %d), %.2f Mpixel/s, peak %.1f MiB = %.1f bytes/pixel\n",
          t, n, px / 1e6 / t, m / 1024, m * 1024 / px }'
+target "diff 1080p: jnd's peak memory (issue 29)" "$(awk -v m="$jm" -v px="$px" 'BEGIN{printf "%.1f", m * 1024 / px}')" "<=" 64 "B/pixel"
 peer() { # peer NAME SECONDS PEAK_KIB
   awk -v name="$1" -v t="$2" -v m="$3" -v px="$px" -v n="$RUNS" 'BEGIN{
     printf "   %-16s 1920x1080: %.3f s (median of %d), %.2f Mpixel/s, peak %.1f MiB = %.1f bytes/pixel\n",
            name, t, n, px / 1e6 / t, m / 1024, m * 1024 / px }'
   awk -v name="$1" -v a="$jt" -v b="$2" -v ma="$jm" -v mb="$3" 'BEGIN{
     printf "   ratio: jnd is %.1fx faster than %s (target 10x) and uses %.2fx its peak memory\n", b / a, name, ma / mb }'
+  target "diff 1080p: jnd's speed over $1's (issue 29)" "$(awk -v a="$jt" -v b="$2" 'BEGIN{printf "%.2f", b / a}')" ">=" 10 "x"
 }
 flip_src=${JND_SHARED:-$here/../../shared}/anchors/flip
 flip_bin=$(dirname "$JND")/bench/flip

@@ -14,6 +14,7 @@ set -uo pipefail
 # cores). The bench says which policy it ran with.
 export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
 here=$(cd "$(dirname "$0")" && pwd)
+. "$here/targets.sh"
 out=${BENCH_OUT:-$here/out}/lod
 data=${JND_SHARED:-$here/../../shared}/data/meshes
 mkdir -p "$out"
@@ -44,6 +45,7 @@ echo "     chain: wall $(cut -d' ' -f4 "$out/chain.txt" | median) s, user + sys 
      "(medians of $runs; the target is 2 s on 2 cores); whole command (loading the 43 MB OBJ, writing the" \
      "10-level GLB): wall $(cut -d' ' -f1 "$out/chain.txt" | median) s, user $(cut -d' ' -f2 "$out/chain.txt" | median) s," \
      "sys $(cut -d' ' -f3 "$out/chain.txt" | median) s; load average $(cut -d' ' -f1 /proc/loadavg)"
+target "lod chain of a 1.1 M-triangle bunny: the chain's wall" "$(cut -d' ' -f4 "$out/chain.txt" | median)" "<=" 2 "s"
 
 aruns=${BENCH_LOD_ANALYSIS_RUNS:-1}
 : >"$out/analysis.txt"
@@ -80,6 +82,7 @@ python3 - "$wall" "$cpu" <<'PY'
 import sys
 wall, cpu = float(sys.argv[1]), float(sys.argv[2])
 est = cpu / 2
-print("     lod of teapot_100k on 4 screens: wall %.1f s, user + sys %.1f s = %.1f s on 2 busy cores; target 60 s (on the CPU time): %s"
-      % (wall, cpu, est, "met" if est <= 60 else "NOT met"))
+print("     lod of teapot_100k on 4 screens: wall %.1f s, user + sys %.1f s = %.1f s on 2 busy cores; target 60 s: %s (wall), %s (CPU over 2 cores)"
+      % (wall, cpu, est, "met" if wall <= 60 else "NOT met", "met" if est <= 60 else "NOT met"))
 PY
+target "lod of a 100 K-triangle teapot on 4 screens: wall (issue 29)" "$wall" "<=" 60 "s"
