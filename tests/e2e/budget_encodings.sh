@@ -1,0 +1,89 @@
+#!/usr/bin/env bash
+# jnd budget, budget mode's encodings (src/tasks/budget.c budget_encodings,
+# by_saving): a candidate over the memory budget gets a variant whose images
+# take BC1 (4 bits a texel where their slots ask for 8), the image that saves
+# most first, until it fits. A ball of two materials whose baseColors differ
+# in size (128² and 32², both BC7: BC1 halves each), under a budget that
+# encoding the larger one alone meets and the smaller one alone does not:
+# the larger takes BC1 and the smaller keeps BC7 (taking the smaller first,
+# both would be encoded). The choice's memory is recomputed from its sizes and
+# formats (000 Table 2), and it is the least visible within the budget.
+set -uo pipefail
+. "$(dirname "$0")/lib.bash"
+need_renderer
+command -v python3 >/dev/null || skip "needs python3"
+
+# the maps: a texel checker of two colours per 4×4 block, each an RGB565
+# endpoint exactly (channels 0 or 255), so BC1 holds every block without
+# error while any halving blends the two (seen on every view)
+PYTHONPATH="$(dirname "$0")" python3 - "$T" <<'PY'
+import struct, sys
+from gltfwrite import uv_sphere, write_glb
+from pngwrite import png
+d = sys.argv[1]
+corners = [(a, b, c) for a in (0, 1) for b in (0, 1) for c in (0, 1)]
+def checker(x, y, k):
+    bx, by = x // 4, y // 4
+    a, b = corners[(3 * bx + 5 * by + k) % 8], corners[(bx + 7 * by + 3 + k) % 8]
+    if a == b:
+        b = corners[(corners.index(a) + 1) % 8]
+    return a if (x + y) % 2 else b
+images = []
+for n, (side, k) in enumerate(((128, 0), (32, 1))):
+    png(d + "/m%d.png" % n, side, side, 3, lambda x, y: checker(x, y, k))
+    images.append(open(d + "/m%d.png" % n, "rb").read())
+S, R = 32, 16
+pos, uv, idx = uv_sphere(S, R)
+half = len(idx) // 2   # the upper rings' triangles, then the lower ones'
+nv = len(pos) // 3
+geo = (struct.pack('<%df' % len(pos), *pos) * 2 + struct.pack('<%df' % len(uv), *uv)
+       + struct.pack('<%dI' % len(idx), *idx))
+view = lambda off, n: {"buffer": 0, "byteOffset": off, "byteLength": n}
+ib = 32 * nv
+g = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+     "bufferViews": [view(0, 12 * nv), view(12 * nv, 12 * nv), view(24 * nv, 8 * nv), view(ib, 4 * half),
+                     view(ib + 4 * half, 4 * (len(idx) - half))],
+     "accessors": [{"bufferView": 0, "componentType": 5126, "count": nv, "type": "VEC3", "min": [-1, -1, -1], "max": [1, 1, 1]},
+                   {"bufferView": 1, "componentType": 5126, "count": nv, "type": "VEC3"},
+                   {"bufferView": 2, "componentType": 5126, "count": nv, "type": "VEC2"},
+                   {"bufferView": 3, "componentType": 5125, "count": half, "type": "SCALAR"},
+                   {"bufferView": 4, "componentType": 5125, "count": len(idx) - half, "type": "SCALAR"}],
+     "textures": [{"source": 0}, {"source": 1}],
+     "materials": [{"name": "large", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0}},
+                   {"name": "small", "pbrMetallicRoughness": {"baseColorTexture": {"index": 1}, "metallicFactor": 0}}],
+     "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3, "material": 0},
+                                {"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 4, "material": 1}]}]}
+write_glb(d + "/two.glb", g, geo, images)
+PY
+
+# the budget: both at BC7 less half the larger's bytes (000 Table 2, mip chains):
+# the larger in BC1 fits exactly, the smaller in BC1 saves a sixteenth of that
+budget=$(PYTHONPATH="$(dirname "$0")" python3 -c '
+from gltfwrite import mip_chain_bytes as chain
+print(chain(128, 128, 16) + chain(32, 32, 16) - (chain(128, 128, 16) - chain(128, 128, 8)))')
+SMALL=(--map-size 128 --size 96x96 --samples 1 --views 4 --confirm 0 --screens 640x480 --errors 0.01
+       --judge-views 2 --max-px 128 --tolerance 0.5 --far-coverage 0.05 --verify-views 2 --min-size 16 --quiet)
+"$JND" budget "$T/two.glb" -o "$T/b" --memory "${budget}B" "${SMALL[@]}" >"$T/out.txt" 2>"$T/err.txt"
+rc=$?
+check "budget mode runs (exit 0 or 1; rc $rc: $(head -c 200 "$T/err.txt"))" test "$rc" -le 1 -a -s "$T/b/budget.json"
+check "the larger image takes BC1 and the smaller keeps BC7, at their full sizes: the least visible candidate within the budget" \
+  env PYTHONPATH="$(dirname "$0")" python3 - "$T/b/budget.json" "$budget" <<'PY'
+import json, sys
+from gltfwrite import mip_chain_bytes as chain
+r = json.load(open(sys.argv[1])); M = int(sys.argv[2])
+res = r["result"]; ch = res["chosen"]
+assert r["parameters"]["mode"] == "budget"
+assert ch["kind"] == "encoded", ch
+f, sz = ch["formats"], ch["sizes"]
+assert sz == {"large/baseColor": [128, 128], "small/baseColor": [32, 32]}, sz
+assert f == {"large/baseColor": "bc1", "small/baseColor": "bc7"}, f
+# its memory from its sizes and formats (000 Table 2), within the budget
+block = {"bc7": 16, "bc1": 8}
+mem = sum(chain(*sz[n], block[f[n]]) for n in f)
+assert mem == ch["memory_bytes"] <= M, (mem, ch["memory_bytes"], M)
+# seen on no view (BC1 holds the checker exactly); every halving is seen on every view
+assert ch["statistic"] == 0, ch
+inb = [c for c in res["candidates"] if c["memory_bytes"] <= M and c["kind"] != "encoded"]
+assert inb and all(c["statistic"] > ch["statistic"] for c in inb), inb
+PY
+finish
