@@ -86,4 +86,27 @@ assert ch["statistic"] == 0, ch
 inb = [c for c in res["candidates"] if c["memory_bytes"] <= M and c["kind"] != "encoded"]
 assert inb and all(c["statistic"] > ch["statistic"] for c in inb), inb
 PY
+
+# the smallest budget possible (every map at --min-size, 16², at the slots'
+# formats): met, not refused; one byte less is refused before any rendering.
+# Every candidate that fits is seen on every view (statistic 1), so the tie
+# goes to the cheapest: the coarser level's triangles
+least=$(PYTHONPATH="$(dirname "$0")" python3 -c 'from gltfwrite import mip_chain_bytes as chain; print(2 * chain(16, 16, 16))')
+"$JND" budget "$T/two.glb" -o "$T/m" --memory "${least}B" "${SMALL[@]}" >"$T/out.txt" 2>"$T/err.txt"
+rc=$?
+check "a budget of the smallest possible memory is met (rc $rc: $(head -c 200 "$T/err.txt"))" test "$rc" -le 1 -a -s "$T/m/budget.json"
+check "... of the candidates within it, equally seen, the cheapest" python3 - "$T/m/budget.json" "$least" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1])); M = int(sys.argv[2])
+res = r["result"]; ch = res["chosen"]
+inb = [c for c in res["candidates"] if c["memory_bytes"] <= M]
+assert ch["memory_bytes"] == M and ch["statistic"] == min(c["statistic"] for c in inb), (ch, inb)
+tied = [c for c in inb if c["statistic"] == ch["statistic"]]
+assert len({c["cost_bytes"] for c in tied}) >= 2, ("no tie to break", tied)
+assert ch["cost_bytes"] == min(c["cost_bytes"] for c in tied), (ch["cost_bytes"], tied)
+PY
+expect_exit 2 "a byte under the smallest possible: exit 2" "$JND" budget "$T/two.glb" -o "$T/n" --memory "$((least - 1))B" \
+  "${SMALL[@]}"
+check "... one line naming the smallest possible, nothing written" \
+  sh -c "[ \$(wc -l <'$T/err.txt') -eq 1 ] && grep -q 'smallest possible is' '$T/err.txt' && [ ! -e '$T/n' ]"
 finish
