@@ -87,6 +87,21 @@ inb = [c for c in res["candidates"] if c["memory_bytes"] <= M and c["kind"] != "
 assert inb and all(c["statistic"] > ch["statistic"] for c in inb), inb
 PY
 
+# every written level renders with jnd render --lod K, and it is that level:
+# its triangles as budget.json says
+nl=$(python3 -c 'import json,sys; print(len(json.load(open(sys.argv[1]))["result"]["levels"]))' "$T/b/budget.json")
+check "the written model has a coarser level (nl $nl)" test "$nl" -ge 2
+for k in $(seq 0 $((nl - 1))); do
+  expect_exit 0 "jnd render --lod $k renders written level $k" "$JND" render "$T/b/model/two.glb" --lod "$k" \
+    -o "$T/r$k" --views 1 --size 48x48 --quiet --json "$T/r$k.json"
+  check "... with level $k's triangles" python3 - "$T/b/budget.json" "$T/r$k.json" "$k" <<'PY'
+import json, sys
+lv = json.load(open(sys.argv[1]))["result"]["levels"][int(sys.argv[3])]
+got = json.load(open(sys.argv[2]))["result"]["triangles"]
+assert got == lv["triangles"], (got, lv)
+PY
+done
+
 # the smallest budget possible (every map at --min-size, 16², at the slots'
 # formats): met, not refused; one byte less is refused before any rendering.
 # Every candidate that fits is seen on every view (statistic 1), so the tie
