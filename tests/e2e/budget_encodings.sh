@@ -57,7 +57,7 @@ write_glb(d + "/two.glb", g, geo, images)
 PY
 
 # the budget: both at BC7 less half the larger's bytes (000 Table 2, mip chains):
-# the larger in BC1 fits exactly, the smaller in BC1 saves a sixteenth of that
+# the larger in BC1 fits exactly; the smaller in BC1 saves about a sixteenth of that
 budget=$(PYTHONPATH="$(dirname "$0")" python3 -c '
 from gltfwrite import mip_chain_bytes as chain
 print(chain(128, 128, 16) + chain(32, 32, 16) - (chain(128, 128, 16) - chain(128, 128, 8)))')
