@@ -69,3 +69,7 @@ else
   echo "   DamagedHelmet skipped: no model at $helmet (the shared data has its texture set only)"
 fi
 echo "   load average after: $(cut -d' ' -f1-3 /proc/loadavg)"
+# the written models through the Khronos glTF-Validator (issue 27: 0 errors);
+# the bench fails where one has an error, not where the validator is missing
+bash "$here/validate_budget.sh" "$out"
+[ $? -ne 1 ]

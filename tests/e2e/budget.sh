@@ -89,7 +89,7 @@ PY
 # their bytes after baseColor's BC1
 PYTHONPATH="$(dirname "$0")" python3 - "$T" <<'PY'
 import math, struct, sys, zlib
-from gltfwrite import write_glb
+from gltfwrite import uv_sphere, write_glb
 d, N = sys.argv[1], 64
 def png(f):   # RGB, every channel affine in one pattern v (rank 1 once centred)
     raw = bytearray()
@@ -101,17 +101,7 @@ def png(f):   # RGB, every channel affine in one pattern v (rank 1 once centred)
     ch = lambda t, b: struct.pack('>I', len(b)) + t + b + struct.pack('>I', zlib.crc32(t + b) & 0xffffffff)
     return (b'\x89PNG\r\n\x1a\n' + ch(b'IHDR', struct.pack('>IIBBBBB', N, N, 8, 2, 0, 0, 0))
             + ch(b'IDAT', zlib.compress(bytes(raw))) + ch(b'IEND', b''))
-S, R = 32, 16   # a UV sphere of radius 1
-pos, uv, idx = [], [], []
-for j in range(R + 1):
-    for i in range(S + 1):
-        t, p = math.pi * j / R, 2 * math.pi * i / S
-        pos += [math.sin(t) * math.cos(p), math.cos(t), math.sin(t) * math.sin(p)]
-        uv += [i / S, j / R]
-for j in range(R):
-    for i in range(S):
-        a, b = j * (S + 1) + i, (j + 1) * (S + 1) + i
-        idx += [a, a + 1, b, a + 1, b + 1, b]
+pos, uv, idx = uv_sphere(32, 16)   # a UV sphere of radius 1
 nv = len(pos) // 3
 geo = struct.pack('<%df' % len(pos), *pos) * 2 + struct.pack('<%df' % len(uv), *uv) + struct.pack('<%dI' % len(idx), *idx)
 view = lambda off, n: {"buffer": 0, "byteOffset": off, "byteLength": n}

@@ -6,7 +6,11 @@ binary chunk holds geo (the bytes g's first bufferViews already point into)
 and then each of images (PNG bytes), each image given its own bufferView;
 g gets its images and buffers.
 mip_chain_bytes(w, h, block): bytes of a w x h texture of block bytes per 4x4 block
-with its mip chain (000 Table 2). Import with PYTHONPATH set to this folder.
+with its mip chain (000 Table 2).
+uv_sphere(S, R): a unit UV sphere of S segments and R rings: (positions,
+texcoords, indices) as flat lists (its normals are its positions); the
+triangles of ring j come before those of ring j + 1 (2·S per ring).
+Import with PYTHONPATH set to this folder.
 """
 import json
 import math
@@ -56,3 +60,17 @@ def mip_chain_bytes(w, h, block):
         if w == 1 and h == 1:
             return t
         w, h = max(1, w // 2), max(1, h // 2)
+
+
+def uv_sphere(S=32, R=16):
+    pos, uv, idx = [], [], []
+    for j in range(R + 1):
+        for i in range(S + 1):
+            t, p = math.pi * j / R, 2 * math.pi * i / S
+            pos += [math.sin(t) * math.cos(p), math.cos(t), math.sin(t) * math.sin(p)]
+            uv += [i / S, j / R]
+    for j in range(R):
+        for i in range(S):
+            a, b = j * (S + 1) + i, (j + 1) * (S + 1) + i
+            idx += [a, a + 1, b, a + 1, b + 1, b]
+    return pos, uv, idx
