@@ -471,33 +471,58 @@ static jnd_status png_read_header(png_decoder *d, uint32_t *w, uint32_t *h, unsi
   return JND_OK;
 }
 
-/* The whole image data in one call: the IDAT chunks joined, their deflate
- * stream inflated by libdeflate into every filtered row at once, then the
- * rows unfiltered and written out a group at a time. 1 when that decoded
- * the image; 0 when the stream is not exactly the rows (shorter or longer,
- * corrupt, a preset dictionary) or a row has an unknown filter: the
- * streaming decoder then decodes what it can and reports the rest in its
- * words. NOMEM: -1. */
+/* The whole image data in one call: the IDAT chunks' data (joined when
+ * there are several), their deflate stream inflated by libdeflate into
+ * every filtered row at once, then the rows unfiltered and written out a
+ * group at a time. 1 when that decoded the image; 0 when the stream is not
+ * exactly the rows (shorter or longer, corrupt, a preset dictionary) or a
+ * row has an unknown filter: the streaming decoder then decodes what it can
+ * and reports the rest in its words. NOMEM: -1.
+ *
+ * Where a filtered row is shorter than a row of a plane by more than
+ * PNG_SLACK bytes (up to 3 bytes a pixel: 8-bit grey, grey and alpha, RGB;
+ * 16-bit grey), the filtered rows are inflated into the end of the image's
+ * own memory instead of a buffer of their own (6 MB of fresh pages at
+ * 1920 × 1080 RGB): writing out rows y… of the last plane, at 4 · w bytes a
+ * row, stays behind the filtered rows still to read, which start
+ * stride ≤ 4 · w − PNG_SLACK − 1 bytes a row later (png_in_place). */
+static int png_in_place(const png_decoder *d, const jnd_image *out) {
+  return d->stride + PNG_SLACK < (size_t)out->w * sizeof(float);
+}
+
 static int png_decode_whole(png_decoder *d, jnd_image *out) {
   const size_t h = (size_t)out->h;
-  size_t raw_n, zn = 0, pos = d->pos;
+  size_t raw_n, zn = 0, pos = d->pos, chunks = 0;
   png_chunk c;
-  if (!png_mul(h, d->stride, &raw_n)) return 0;
+  const unsigned char *z = NULL;
+  if (!png_mul(h, d->stride, &raw_n) || raw_n > SIZE_MAX - PNG_SLACK) return 0;
   while (png_next_chunk(d->buf, d->n, &pos, &c))
-    if (png_chunk_is(&c, "IDAT")) zn += c.len;
+    if (png_chunk_is(&c, "IDAT")) {
+      zn += c.len;
+      chunks++;
+      z = c.data;
+    }
   if (zn < 2) return 0;
-  unsigned char *z = jnd_alloc(zn, 1), *raw = raw_n <= SIZE_MAX - PNG_SLACK ? jnd_alloc(raw_n + PNG_SLACK, 1) : NULL;
+  unsigned char *joined = chunks > 1 ? jnd_alloc(zn, 1) : NULL, *raw;
+  const int in_place = png_in_place(d, out);
+  if (in_place) /* the image's memory ends PNG_SLACK bytes after the rows */
+    raw = (unsigned char *)(out->data + (size_t)out->w * out->h * out->c) - raw_n - PNG_SLACK;
+  else
+    raw = jnd_alloc(raw_n + PNG_SLACK, 1);
   struct libdeflate_decompressor *dd = libdeflate_alloc_decompressor();
   int ok = -1;
-  if (z && raw && dd) {
+  if ((chunks == 1 || joined) && raw && dd) {
     memset(raw + raw_n, 0, PNG_SLACK);
-    zn = 0;
-    pos = d->pos;
-    while (png_next_chunk(d->buf, d->n, &pos, &c))
-      if (png_chunk_is(&c, "IDAT")) {
-        memcpy(z + zn, c.data, c.len);
-        zn += c.len;
-      }
+    if (joined) {
+      zn = 0;
+      pos = d->pos;
+      while (png_next_chunk(d->buf, d->n, &pos, &c))
+        if (png_chunk_is(&c, "IDAT")) {
+          memcpy(joined + zn, c.data, c.len);
+          zn += c.len;
+        }
+      z = joined;
+    }
     /* the zlib header (RFC 1950): deflate, a valid check, no dictionary;
      * the Adler-32 after the rows is not read, as the streaming path */
     size_t got = 0;
@@ -509,8 +534,8 @@ static int png_decode_whole(png_decoder *d, jnd_image *out) {
         ok = 0;
   }
   libdeflate_free_decompressor(dd);
-  free(z);
-  free(raw);
+  free(joined);
+  if (!in_place) free(raw);
   return ok;
 }
 
