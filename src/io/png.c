@@ -331,6 +331,17 @@ static inline __attribute__((always_inline)) void png_bytes_to_planes(const floa
     for (size_t ch = 0; ch < c; ch++) dst[ch][x] = to_float[row[x * c + ch]];
 }
 
+/* RGB: no plane overlaps the row or the table (restrict), so the row's
+ * bytes need not be read again after each store */
+JND_HOT static void png_rgb_to_planes(const float *restrict to_float, const unsigned char *restrict row,
+                                      float *restrict r, float *restrict g, float *restrict b, size_t w) {
+  for (size_t x = 0; x < w; x++) {
+    r[x] = to_float[row[3 * x]];
+    g[x] = to_float[row[3 * x + 1]];
+    b[x] = to_float[row[3 * x + 2]];
+  }
+}
+
 static void png_row_to_planes(const png_decoder *d, const unsigned char *row, size_t y, jnd_image *out) {
   size_t w = (size_t)out->w, c = (size_t)out->c;
   if (d->depth == 8) {
@@ -340,7 +351,7 @@ static void png_row_to_planes(const png_decoder *d, const unsigned char *row, si
     float *dst[4];
     for (size_t ch = 0; ch < c; ch++) dst[ch] = jnd_image_plane(out, (int)ch) + y * w;
     if (c == 3)
-      png_bytes_to_planes(d->to_float, row, dst, w, 3);
+      png_rgb_to_planes(d->to_float, row, dst[0], dst[1], dst[2], w);
     else if (c == 4)
       png_bytes_to_planes(d->to_float, row, dst, w, 4);
     else
