@@ -196,9 +196,9 @@ typedef struct {
  * neighbours a (left), up and c (upper left). Paeth (§9.4) as
  * pa = |up − c|, pb = |a − c|, pc = |a + up − 2c|: left (a) on ties, then
  * up; with no pixel to the left (a = c = 0) it predicts up. */
-static inline __attribute__((always_inline)) void png_wave_predict(const png_wave *W, const png_w16 *up_,
+static inline __attribute__((always_inline)) void png_wave_predict(const png_wave *W, const png_w16 *upper,
                                                                    png_w16 *pred) {
-  const png_w16 a = W->r[0], up = *up_, c = W->up;
+  const png_w16 a = W->r[0], up = *upper, c = W->up;
   png_w16 da = up - c, db = a - c, dc = da + db;
   png_w16 pa = PNG_WAVE_ABS(da), pb = PNG_WAVE_ABS(db), pc = PNG_WAVE_ABS(dc);
   png_w16 ma = (pa <= pb) & (pa <= pc), mb = pb <= pc; /* lanes of all ones where true */
