@@ -14,6 +14,24 @@ jnd_status jnd_fail(jnd_status status, const char *fmt, ...)
 void *jnd_alloc(size_t count, size_t size);
 void *jnd_calloc(size_t count, size_t size);
 
+/* A shared library opened when a program first calls into it (dlopen),
+ * for the dependencies only some commands use: `jnd diff` maps, relocates
+ * and initialises none of assimp's or LAPACK's ten libraries (about 2.5 ms
+ * of its start-up). jnd_lazy_symbol gives the address of `name` in it, or
+ * NULL with a message naming the library (jnd_last_error) when either
+ * cannot be had. Any thread may call it; a library is opened once. */
+typedef struct {
+  const char *soname; /* as the linker records it, e.g. "libassimp.so.5" */
+  void *_Atomic handle;
+} jnd_lazy_lib;
+void *jnd_lazy_symbol(jnd_lazy_lib *lib, const char *name);
+/* In a shim's body: f, the function `name` of lib, of pointer type `type`,
+ * looked up once (NULL, with the loader's message, where it cannot be had). */
+#define JND_LAZY_FN(lib, type, name)            \
+  static _Atomic(type) name##_p;                \
+  __typeof__(type) f = name##_p;                \
+  if (!f) name##_p = f = (__typeof__(type))jnd_lazy_symbol(lib, #name)
+
 /* Checks w × h × c against the stated limits. */
 jnd_status jnd_check_size(int w, int h, int c, const char *what);
 

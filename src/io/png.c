@@ -159,65 +159,117 @@ static unsigned png_paeth(unsigned a, unsigned b, unsigned c) {
   return pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
 }
 
-/* Paeth undone a pixel at a time for 8-bit RGB and RGBA (bpp 3 or 4): the
- * channels of a pixel in the lanes of one vector, so that only the pixels,
- * not the bytes, wait on each other. The same predictor as png_paeth:
- * pa = |b − c|, pb = |a − c|, pc = |a + b − 2c|, a (left) on ties, then b
- * (up); with no pixel to the left (a = c = 0) it predicts up. */
-typedef short png_v8 __attribute__((vector_size(16)));
-typedef unsigned char png_b16 __attribute__((vector_size(16)));
+/* Rows whose pixels are 3 or 4 bytes (8-bit RGB and RGBA, 16-bit grey and
+ * alpha) are unfiltered PNG_WAVE at a time, as a wavefront. Each row's
+ * pixels wait on each other (Sub, Average and Paeth predict from the pixel
+ * to the left), so a row at a time goes at the pace of one pixel's
+ * arithmetic; the group's rows share that pace: the lanes of one vector of
+ * shorts hold a pixel's bytes of each row (4 × 4), and each row's filter
+ * type selects its predictor by masks. At step s, row g undoes its pixel
+ * s − PNG_LAG·g: its left neighbour is its own pixel of the step before,
+ * its upper and upper-left ones row g − 1's of PNG_LAG and PNG_LAG + 1
+ * steps before (row 0's: the row above the group). With a lag of 2, moving
+ * the upper neighbours across the vector is off the chain of steps, which
+ * runs through the left neighbour alone. Loads and stores move 4 bytes, so
+ * rows are read and written with PNG_SLACK bytes after them. */
+enum { PNG_WAVE = 4, PNG_LAG = 2, PNG_SLACK = 16 };
+typedef short png_w16 __attribute__((vector_size(32)));       /* shorts: 4 rows × 4 bytes */
+typedef unsigned char png_wb __attribute__((vector_size(16))); /* the same bytes */
+typedef uint32_t png_w32 __attribute__((vector_size(16)));      /* the same, a row's pixel a lane */
 
-/* One pixel: v its filtered bytes, up and c the unfiltered ones above and
- * above-left, a the one to the left; lanes outside `lanes` (0 or 0xff) come
- * out 0 whatever v holds there. */
-static inline png_v8 png_unpaeth_one(png_v8 a, png_v8 up, png_v8 c, png_v8 v, png_v8 lanes) {
-  png_v8 da = up - c, db = a - c, dc = da + db;
-  png_v8 pa = (da ^ (da >> 15)) - (da >> 15), pb = (db ^ (db >> 15)) - (db >> 15),
-         pc = (dc ^ (dc >> 15)) - (dc >> 15);         /* |·|, lanes of all ones where < 0 */
-  png_v8 ma = (pa <= pb) & (pa <= pc), mb = pb <= pc; /* lanes of all ones where true */
-  png_v8 pred = (a & ma) | (((up & mb) | (c & ~mb)) & ~ma);
-  return (v + pred) & lanes;
+/* (32-byte vectors go to the helpers by address: passed by value they
+ * would change the baseline clone's calling convention, GCC's -Wpsabi) */
+typedef struct {
+  const unsigned char *in[PNG_WAVE], *above; /* filtered rows; the unfiltered row above in[0] */
+  unsigned char *out[PNG_WAVE];              /* unfiltered rows */
+  size_t w, bpp;
+  png_w16 m[5];        /* m[t]: the lanes of the rows of filter type t */
+  png_w16 all;         /* 0xff in every byte of the group's rows, 0 in the rest */
+  png_w16 r[PNG_LAG];  /* each row's pixels of the last PNG_LAG steps, r[0] the last */
+  png_w16 up;          /* the upper neighbours of the last step */
+} png_wave;
+
+/* |x| of every lane (none is −32768) */
+#define PNG_WAVE_ABS(x) (((x) ^ ((x) >> 15)) - ((x) >> 15))
+
+/* The predictor of each lane's row (PNG spec §9.2) from the unfiltered
+ * neighbours a (left), up and c (upper left). Paeth (§9.4) as
+ * pa = |up − c|, pb = |a − c|, pc = |a + up − 2c|: left (a) on ties, then
+ * up; with no pixel to the left (a = c = 0) it predicts up. */
+static inline __attribute__((always_inline)) void png_wave_predict(const png_wave *W, const png_w16 *upper,
+                                                                   png_w16 *pred) {
+  const png_w16 a = W->r[0], up = *upper, c = W->up;
+  png_w16 da = up - c, db = a - c, dc = da + db;
+  png_w16 pa = PNG_WAVE_ABS(da), pb = PNG_WAVE_ABS(db), pc = PNG_WAVE_ABS(dc);
+  png_w16 ma = (pa <= pb) & (pa <= pc), mb = pb <= pc; /* lanes of all ones where true */
+  png_w16 paeth = (a & ma) | (((up & mb) | (c & ~mb)) & ~ma);
+  *pred = (a & W->m[1]) | (up & W->m[2]) | (((a + up) >> 1) & W->m[3]) | (paeth & W->m[4]);
 }
 
-/* four bytes at p into the low lanes of a vector of shorts (one load and
- * one widening shuffle: GCC >= 12 and clang), and a pixel's bytes back */
-static inline png_v8 png_load4(const unsigned char *p) {
-  png_b16 v = {0};
-  memcpy(&v, p, 4);
-  const png_b16 zero = {0};
-  return (png_v8)__builtin_shufflevector(v, zero, 0, 16, 1, 16, 2, 16, 3, 16, 4, 16, 5, 16, 6, 16, 7, 16);
-}
-static inline void png_store(unsigned char *p, png_v8 r, size_t bpp) {
-  png_b16 v = __builtin_shufflevector((png_b16)r, (png_b16)r, 0, 2, 4, 6, 8, 10, 12, 14, 0, 2, 4, 6, 8, 10, 12, 14);
-  memcpy(p, &v, bpp == 4 ? 4 : 2);
-  if (bpp == 3) p[2] = v[2];
+/* Step s: each row g whose bit is set in `act` undoes its pixel
+ * s − PNG_LAG·g; lanes: 0xff in the bytes of those pixels, 0 elsewhere (a
+ * row not yet begun holds zeros, its pixel −1's neighbours). */
+static inline __attribute__((always_inline)) void png_wave_step(png_wave *W, const png_w16 *lanes, unsigned act,
+                                                                size_t s) {
+  uint32_t x[PNG_WAVE] = {0}, u = 0;
+  for (size_t g = 0; g < PNG_WAVE; g++)
+    if (act >> g & 1) memcpy(&x[g], W->in[g] + (s - PNG_LAG * g) * W->bpp, 4);
+  if (act & 1) memcpy(&u, W->above + s * W->bpp, 4);
+  png_w32 xv = {x[0], x[1], x[2], x[3]}, uv = {u, 0, 0, 0};
+  png_w16 v = __builtin_convertvector((png_wb)xv, png_w16), ua = __builtin_convertvector((png_wb)uv, png_w16);
+  /* row g's upper neighbour: row g − 1's pixel of PNG_LAG steps before */
+  png_w16 up = __builtin_shufflevector(W->r[PNG_LAG - 1], ua, 16, 17, 18, 19, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11),
+          pred;
+  png_wave_predict(W, &up, &pred);
+  for (int k = PNG_LAG - 1; k > 0; k--) W->r[k] = W->r[k - 1];
+  W->r[0] = (v + pred) & *lanes;
+  W->up = up;
+  png_wb rb = __builtin_convertvector(W->r[0], png_wb);
+  uint32_t y[PNG_WAVE];
+  memcpy(y, &rb, sizeof y);
+  for (size_t g = 0; g < PNG_WAVE; g++)
+    if (act >> g & 1) memcpy(W->out[g] + (s - PNG_LAG * g) * W->bpp, &y[g], 4);
 }
 
-JND_HOT static void png_unpaeth_pixels(unsigned char *x, const unsigned char *b, size_t len, size_t bpp) {
-  const png_v8 lanes = {0xff, 0xff, 0xff, bpp == 4 ? 0xff : 0};
-  png_v8 a = {0}, c = {0};
-  size_t i = 0;
-  /* four bytes loaded at once while the row has them (with 3 bytes a pixel
-   * the fourth is the next pixel's first, masked off): the byte loads and
-   * lane inserts of a 3-byte pixel cost more than the predictor. Stores
-   * stay inside the pixel, so that the next pixel's load does not wait for
-   * a store it overlaps. */
-  for (; i + 4 <= len; i += bpp) {
-    png_v8 up = png_load4(b + i) & lanes, v = png_load4(x + i);
-    png_v8 r = png_unpaeth_one(a, up, c, v, lanes);
-    png_store(x + i, r, bpp);
-    a = r;
-    c = up;
+/* A step where some rows have not begun or have ended. */
+static inline __attribute__((always_inline)) void png_wave_edge(png_wave *W, size_t s) {
+  unsigned act = 0;
+  png_w16 lanes = W->all;
+  for (size_t g = 0; g < PNG_WAVE; g++) {
+    const short on = s >= PNG_LAG * g && s - PNG_LAG * g < W->w;
+    act |= (unsigned)on << g;
+    for (size_t l = 4 * g; l < 4 * g + 4; l++) lanes[l] &= (short)-on;
   }
-  for (; i + bpp <= len; i += bpp) { /* the last 3-byte pixel */
-    png_v8 up = {b[i], b[i + 1], b[i + 2], 0}, v = {x[i], x[i + 1], x[i + 2], 0};
-    png_v8 r = png_unpaeth_one(a, up, c, v, lanes);
-    x[i] = (unsigned char)r[0];
-    x[i + 1] = (unsigned char)r[1];
-    x[i + 2] = (unsigned char)r[2];
-    a = r;
-    c = up;
+  png_wave_step(W, &lanes, act, s);
+}
+
+/* PNG_WAVE rows of w pixels of bpp (3 or 4) bytes: in[g] filtered with
+ * filter[g] (0–4), unfiltered into out[g]; above: the unfiltered row above
+ * in[0] (zeros above the first). A group with fewer rows left in the image
+ * passes keep[g] = 0 for the others, and any row of PNG_SLACK readable bytes
+ * beyond w · bpp as their in[g] and out[g]: they come out zeros. */
+JND_HOT static void png_unfilter_wave(const unsigned char *const in[PNG_WAVE], unsigned char *const out[PNG_WAVE],
+                                      const unsigned char *above, const unsigned filter[PNG_WAVE],
+                                      const int keep[PNG_WAVE], size_t w, size_t bpp) {
+  /* the rows' addresses in a local where no store through them can reach:
+   * the compiler would reload them after each store otherwise */
+  png_wave W;
+  memset(&W, 0, sizeof W);
+  memcpy(W.in, in, sizeof W.in);
+  memcpy(W.out, out, sizeof W.out);
+  W.above = above;
+  W.w = w;
+  W.bpp = bpp;
+  for (int l = 0; l < 4 * PNG_WAVE; l++) {
+    const int g = l / 4, byte = (size_t)(l % 4) < bpp && keep[g];
+    for (unsigned t = 0; t < 5; t++) W.m[t][l] = (short)(byte && filter[g] == t ? -1 : 0);
+    W.all[l] = (short)(byte ? 0xff : 0);
   }
+  const size_t lead = PNG_LAG * (PNG_WAVE - 1); /* the steps of the last row's start */
+  size_t s = 0;
+  for (; s < lead; s++) png_wave_edge(&W, s);
+  for (; s < w; s++) png_wave_step(&W, &W.all, (1u << PNG_WAVE) - 1, s);
+  for (; s < w + lead; s++) png_wave_edge(&W, s);
 }
 
 /* Undoes one row's filter in place (PNG spec §9.2, filter method 0): x is
@@ -237,10 +289,6 @@ JND_HOT static void png_unfilter(unsigned filter, unsigned char *x, const unsign
     for (; i < len; i++) x[i] = (unsigned char)(x[i] + ((x[i - bpp] + b[i]) >> 1));
     break;
   case 4: /* Paeth; with no pixel to the left it predicts up */
-    if (bpp == 3 || bpp == 4) {
-      png_unpaeth_pixels(x, b, len, bpp);
-      break;
-    }
     for (i = 0; i < bpp; i++) x[i] = (unsigned char)(x[i] + b[i]);
     for (; i < len; i++) x[i] = (unsigned char)(x[i] + png_paeth(x[i - bpp], b[i], b[i - bpp]));
     break;
@@ -254,8 +302,8 @@ JND_HOT static void png_unfilter(unsigned filter, unsigned char *x, const unsign
  * about a tenth more, and a block this size still sits in the cache. */
 #define PNG_BLOCK_BYTES ((size_t)64 << 10)
 
-/* The decoder's state: the zlib stream, the IDAT chunk it reads, and the
- * rows: the last unfiltered one, then a block inflated but not yet used. */
+/* The decoder's state: the zlib stream, the IDAT chunk it reads, a block
+ * of rows inflated but not yet used, and the unfiltered rows. */
 typedef struct {
   const char *name;
   const unsigned char *buf;
@@ -263,8 +311,13 @@ typedef struct {
   z_stream z;
   unsigned depth;
   size_t bpp, row, stride; /* stride = 1 + row: the filter type byte first */
-  unsigned char *rows;     /* (1 + block) × stride */
+  unsigned char *rows;     /* block × stride, and PNG_SLACK */
   size_t block;
+  /* PNG_WAVE + 2 rows of pitch bytes: the last row unfiltered (zeros above
+   * the first, PNG spec §9.2), a group's rows, a row for a short group's
+   * missing ones */
+  unsigned char *bank;
+  size_t pitch;
   float to_float[256]; /* 8-bit samples as floats */
 } png_decoder;
 
@@ -278,6 +331,17 @@ static inline __attribute__((always_inline)) void png_bytes_to_planes(const floa
     for (size_t ch = 0; ch < c; ch++) dst[ch][x] = to_float[row[x * c + ch]];
 }
 
+/* RGB: no plane overlaps the row or the table (restrict), so the row's
+ * bytes need not be read again after each store */
+JND_HOT static void png_rgb_to_planes(const float *restrict to_float, const unsigned char *restrict row,
+                                      float *restrict r, float *restrict g, float *restrict b, size_t w) {
+  for (size_t x = 0; x < w; x++) {
+    r[x] = to_float[row[3 * x]];
+    g[x] = to_float[row[3 * x + 1]];
+    b[x] = to_float[row[3 * x + 2]];
+  }
+}
+
 static void png_row_to_planes(const png_decoder *d, const unsigned char *row, size_t y, jnd_image *out) {
   size_t w = (size_t)out->w, c = (size_t)out->c;
   if (d->depth == 8) {
@@ -287,7 +351,7 @@ static void png_row_to_planes(const png_decoder *d, const unsigned char *row, si
     float *dst[4];
     for (size_t ch = 0; ch < c; ch++) dst[ch] = jnd_image_plane(out, (int)ch) + y * w;
     if (c == 3)
-      png_bytes_to_planes(d->to_float, row, dst, w, 3);
+      png_rgb_to_planes(d->to_float, row, dst[0], dst[1], dst[2], w);
     else if (c == 4)
       png_bytes_to_planes(d->to_float, row, dst, w, 4);
     else
@@ -302,6 +366,41 @@ static void png_row_to_planes(const png_decoder *d, const unsigned char *row, si
       dst[x] = (float)((p[0] << 8 | p[1]) * scale);
     }
   }
+}
+
+/* The n (1 to PNG_WAVE) rows at filtered, stride bytes apart (each its
+ * filter type, then its bytes; PNG_SLACK readable bytes after the last),
+ * rows y… of the image: unfiltered against the bank's last row into the
+ * bank (PNG spec §7.3, §9), written out, the last of them kept as the next
+ * group's row above. 0, or the row (from 1) of the first unknown filter
+ * type. */
+static size_t png_unfilter_group(png_decoder *d, const unsigned char *filtered, size_t stride, size_t n, size_t y,
+                                 jnd_image *out) {
+  for (size_t g = 0; g < n; g++)
+    if (filtered[g * stride] > 4) return y + g + 1;
+  unsigned char *above = d->bank, *spare = d->bank + (PNG_WAVE + 1) * d->pitch;
+  if (d->bpp == 3 || d->bpp == 4) {
+    const unsigned char *in[PNG_WAVE];
+    unsigned char *rows[PNG_WAVE];
+    unsigned filter[PNG_WAVE];
+    int keep[PNG_WAVE];
+    for (size_t g = 0; g < PNG_WAVE; g++) {
+      keep[g] = g < n;
+      in[g] = keep[g] ? filtered + g * stride + 1 : spare;
+      rows[g] = keep[g] ? d->bank + (g + 1) * d->pitch : spare;
+      filter[g] = keep[g] ? filtered[g * stride] : 0;
+    }
+    png_unfilter_wave(in, rows, above, filter, keep, (size_t)out->w, d->bpp);
+  } else {
+    for (size_t g = 0; g < n; g++) {
+      unsigned char *x = d->bank + (g + 1) * d->pitch;
+      memcpy(x, filtered + g * stride + 1, d->row);
+      png_unfilter(filtered[g * stride], x, x - d->pitch, d->row, d->bpp);
+    }
+  }
+  for (size_t g = 0; g < n; g++) png_row_to_planes(d, d->bank + (g + 1) * d->pitch, y + g, out);
+  memcpy(above, d->bank + n * d->pitch, d->row);
+  return 0;
 }
 
 /* Inflates the next len bytes of the image data into out (PNG spec §10: the
@@ -336,25 +435,24 @@ static jnd_status png_inflate(png_decoder *d, unsigned char *out, size_t len, si
   return JND_OK;
 }
 
-/* The rows, a block at a time: inflated, each unfiltered against the one
- * above (PNG spec §7.3, §9), written out, and the block's last row kept for
- * the next block's first. */
+/* A bad filter type's message: row counts from 1. */
+static jnd_status png_bad_filter(const png_decoder *d, size_t row, unsigned type) {
+  return jnd_fail(JND_ERR_FORMAT, "%s: corrupt PNG (row %zu has filter type %u, not 0–4)", d->name, row, type);
+}
+
+/* The rows, a block at a time: inflated, then unfiltered and written out a
+ * group at a time. */
 static jnd_status png_decode_rows(png_decoder *d, jnd_image *out) {
   size_t h = (size_t)out->h;
   for (size_t y = 0; y < h; y += d->block) {
     size_t k = h - y < d->block ? h - y : d->block;
-    unsigned char *first = d->rows + d->stride;
-    jnd_status s = png_inflate(d, first, k * d->stride, y, h);
+    jnd_status s = png_inflate(d, d->rows, k * d->stride, y, h);
     if (s != JND_OK) return s;
-    for (size_t i = 0; i < k; i++) {
-      unsigned char *cur = first + i * d->stride;
-      if (cur[0] > 4)
-        return jnd_fail(JND_ERR_FORMAT, "%s: corrupt PNG (row %zu has filter type %u, not 0–4)", d->name,
-                        y + i + 1, cur[0]);
-      png_unfilter(cur[0], cur + 1, cur + 1 - d->stride, d->row, d->bpp);
-      png_row_to_planes(d, cur + 1, y + i, out);
+    for (size_t i = 0; i < k; i += PNG_WAVE) {
+      size_t bad = png_unfilter_group(d, d->rows + i * d->stride, d->stride, k - i < PNG_WAVE ? k - i : PNG_WAVE,
+                                      y + i, out);
+      if (bad) return png_bad_filter(d, bad, d->rows[(bad - 1 - y) * d->stride]);
     }
-    memcpy(d->rows, first + (k - 1) * d->stride, d->stride);
   }
   return JND_OK; /* what the stream holds after the last row is not read */
 }
@@ -378,55 +476,77 @@ static jnd_status png_read_header(png_decoder *d, uint32_t *w, uint32_t *h, unsi
     return jnd_fail(JND_ERR_LIMIT, "%s: PNG too large (%u × %u)", d->name, (unsigned)*w, (unsigned)*h);
   d->stride = d->row + 1;
   d->block = d->stride >= PNG_BLOCK_BYTES ? 1 : PNG_BLOCK_BYTES / d->stride;
+  if (d->block > PNG_WAVE) d->block -= d->block % PNG_WAVE; /* whole groups */
   if (d->block > *h) d->block = *h;
+  d->pitch = (d->row + PNG_SLACK + 63) & ~(size_t)63;
   return JND_OK;
 }
 
-/* The whole image data in one call: the IDAT chunks joined, their deflate
- * stream inflated by libdeflate into every filtered row at once, then the
- * rows unfiltered and written out. 1 when that decoded the image; 0 when the
- * stream is not exactly the rows (shorter or longer, corrupt, a preset
- * dictionary) or a row has an unknown filter: the streaming decoder then
- * decodes what it can and reports the rest in its words. NOMEM: -1. */
+/* The whole image data in one call: the IDAT chunks' data (joined when
+ * there are several), their deflate stream inflated by libdeflate into
+ * every filtered row at once, then the rows unfiltered and written out a
+ * group at a time. 1 when that decoded the image; 0 when the stream is not
+ * exactly the rows (shorter or longer, corrupt, a preset dictionary) or a
+ * row has an unknown filter: the streaming decoder then decodes what it can
+ * and reports the rest in its words. NOMEM: -1.
+ *
+ * Where a filtered row is shorter than a row of a plane by more than
+ * PNG_SLACK bytes (up to 3 bytes a pixel: 8-bit grey, grey and alpha, RGB;
+ * 16-bit grey), the filtered rows are inflated into the end of the image's
+ * own memory instead of a buffer of their own (6 MB of fresh pages at
+ * 1920 × 1080 RGB): writing out rows y… of the last plane, at 4 · w bytes a
+ * row, stays behind the filtered rows still to read, which start
+ * stride ≤ 4 · w − PNG_SLACK − 1 bytes a row later (png_in_place). */
+static int png_in_place(const png_decoder *d, const jnd_image *out) {
+  return d->stride + PNG_SLACK < (size_t)out->w * sizeof(float);
+}
+
 static int png_decode_whole(png_decoder *d, jnd_image *out) {
   const size_t h = (size_t)out->h;
-  size_t raw_n, zn = 0, pos = d->pos;
+  size_t raw_n, zn = 0, pos = d->pos, chunks = 0;
   png_chunk c;
-  if (!png_mul(h, d->stride, &raw_n)) return 0;
+  const unsigned char *z = NULL;
+  if (!png_mul(h, d->stride, &raw_n) || raw_n > SIZE_MAX - PNG_SLACK) return 0;
   while (png_next_chunk(d->buf, d->n, &pos, &c))
-    if (png_chunk_is(&c, "IDAT")) zn += c.len;
+    if (png_chunk_is(&c, "IDAT")) {
+      zn += c.len;
+      chunks++;
+      z = c.data;
+    }
   if (zn < 2) return 0;
-  unsigned char *z = jnd_alloc(zn, 1), *raw = jnd_alloc(raw_n, 1), *zeros = calloc(1, d->stride);
+  unsigned char *joined = chunks > 1 ? jnd_alloc(zn, 1) : NULL, *raw;
+  const int in_place = png_in_place(d, out);
+  if (in_place) /* the image's memory ends PNG_SLACK bytes after the rows */
+    raw = (unsigned char *)(out->data + (size_t)out->w * out->h * out->c) - raw_n - PNG_SLACK;
+  else
+    raw = jnd_alloc(raw_n + PNG_SLACK, 1);
   struct libdeflate_decompressor *dd = libdeflate_alloc_decompressor();
   int ok = -1;
-  if (z && raw && zeros && dd) {
-    zn = 0;
-    pos = d->pos;
-    while (png_next_chunk(d->buf, d->n, &pos, &c))
-      if (png_chunk_is(&c, "IDAT")) {
-        memcpy(z + zn, c.data, c.len);
-        zn += c.len;
-      }
+  if ((chunks == 1 || joined) && raw && dd) {
+    memset(raw + raw_n, 0, PNG_SLACK);
+    if (joined) {
+      zn = 0;
+      pos = d->pos;
+      while (png_next_chunk(d->buf, d->n, &pos, &c))
+        if (png_chunk_is(&c, "IDAT")) {
+          memcpy(joined + zn, c.data, c.len);
+          zn += c.len;
+        }
+      z = joined;
+    }
     /* the zlib header (RFC 1950): deflate, a valid check, no dictionary;
      * the Adler-32 after the rows is not read, as the streaming path */
     size_t got = 0;
     ok = (z[0] & 0x0f) == 8 && (z[0] >> 4) <= 7 && ((unsigned)z[0] << 8 | z[1]) % 31 == 0 && !(z[1] & 0x20) &&
          libdeflate_deflate_decompress_ex(dd, z + 2, zn - 2, raw, raw_n, NULL, &got) == LIBDEFLATE_SUCCESS &&
          got == raw_n;
-    for (size_t y = 0; ok == 1 && y < h; y++) {
-      unsigned char *cur = raw + y * d->stride;
-      if (cur[0] > 4) {
+    for (size_t y = 0; ok == 1 && y < h; y += PNG_WAVE)
+      if (png_unfilter_group(d, raw + y * d->stride, d->stride, h - y < PNG_WAVE ? h - y : PNG_WAVE, y, out))
         ok = 0;
-        break;
-      }
-      png_unfilter(cur[0], cur + 1, y ? cur + 1 - d->stride : zeros + 1, d->row, d->bpp);
-      png_row_to_planes(d, cur + 1, y, out);
-    }
   }
   libdeflate_free_decompressor(dd);
-  free(z);
-  free(raw);
-  free(zeros);
+  free(joined);
+  if (!in_place) free(raw);
   return ok;
 }
 
@@ -453,8 +573,10 @@ jnd_status jnd_png_decode_mapped(const char *name, const unsigned char *buf, siz
   /* an 8-bit RGB file's samples straight to the caller's values */
   const int map = code_value && d.depth == 8 && channels == 3;
   for (int v = 0; v < 256; v++) d.to_float[v] = map ? code_value[v] : (float)(v * (1.0 / 255));
-  int whole = png_decode_whole(&d, out);
+  d.bank = jnd_calloc(PNG_WAVE + 2, d.pitch);
+  int whole = d.bank ? png_decode_whole(&d, out) : -1;
   if (whole) {
+    free(d.bank);
     if (whole < 0) {
       jnd_image_free(out);
       return jnd_fail(JND_ERR_NOMEM, "%s: out of memory for %u × %u × %u", name, (unsigned)w, (unsigned)h, channels);
@@ -463,9 +585,12 @@ jnd_status jnd_png_decode_mapped(const char *name, const unsigned char *buf, siz
     if (mapped) *mapped = map;
     return JND_OK;
   }
-  d.rows = jnd_calloc(1 + d.block, d.stride); /* the row above the first is zeros (§9.2) */
+  memset(d.bank, 0, d.pitch); /* the row above the first is zeros (§9.2) */
+  d.rows = d.block * d.stride <= SIZE_MAX - PNG_SLACK ? jnd_alloc(d.block * d.stride + PNG_SLACK, 1) : NULL;
+  if (d.rows) memset(d.rows + d.block * d.stride, 0, PNG_SLACK);
   if (!d.rows || inflateInit(&d.z) != Z_OK) {
     free(d.rows);
+    free(d.bank);
     jnd_image_free(out);
     return jnd_fail(JND_ERR_NOMEM, "%s: out of memory for zlib", name);
   }
@@ -475,6 +600,7 @@ jnd_status jnd_png_decode_mapped(const char *name, const unsigned char *buf, siz
   s = png_decode_rows(&d, out);
   inflateEnd(&d.z);
   free(d.rows);
+  free(d.bank);
   if (s != JND_OK) {
     jnd_image_free(out);
     return s;

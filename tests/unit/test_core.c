@@ -1,9 +1,11 @@
 #include <float.h>
 #include <math.h>
+#include <string.h>
 #include "test.h"
 #include "core/core.h"
 #include "jnd.h"
 #include "core/fastmath.h"
+#include "tasks/tasks.h"
 
 TEST(image_alloc_is_zeroed_and_planar) {
   jnd_image img;
@@ -113,5 +115,25 @@ TEST(clocks_advance_with_work_and_never_go_back) {
   CHECK(x > 0);
 }
 
-RUN_TESTS(clocks_advance_with_work_and_never_go_back, first_outside_finds_the_first_bad_value_in_any_block, fast_pow_matches_libm_to_1e5_relative, image_alloc_is_zeroed_and_planar, image_alloc_refuses_zero_and_oversized,
+/* A library opened on first use (core.h, jnd_lazy_symbol): its functions
+ * are the library's own; a library or symbol that cannot be had is NULL
+ * with a message naming it, and the shims built for assimp and LAPACKE call
+ * through. */
+TEST(lazy_libraries_give_their_own_functions_or_name_what_is_missing) {
+  jnd_lazy_lib m = {"libm.so.6", NULL};
+  double (*cosine)(double) = (double (*)(double))jnd_lazy_symbol(&m, "cos");
+  CHECK(cosine != NULL && cosine(0.5) == cos(0.5));
+  CHECK(jnd_lazy_symbol(&m, "jnd_no_such_function") == NULL);
+  CHECK(strstr(jnd_last_error(), "libm.so.6") && strstr(jnd_last_error(), "jnd_no_such_function"));
+  jnd_lazy_lib none = {"libjnd-no-such-library.so.0", NULL};
+  CHECK(jnd_lazy_symbol(&none, "cos") == NULL && none.handle == NULL);
+  CHECK(strstr(jnd_last_error(), "libjnd-no-such-library.so.0") != NULL);
+  /* through the LAPACKE shim (or LAPACKE itself): [[2, 1], [1, 2]] has
+   * eigenvalues 1 and 3 */
+  double a[4] = {2, 1, 1, 2}, val[2] = {0, 0}, vec[4];
+  CHECK_OK(linalg_symmetric_eigen(a, 2, val, vec));
+  CHECK(fabs(val[0] + val[1] - 4) < 1e-12 && fabs(val[0] * val[1] - 3) < 1e-12);
+}
+
+RUN_TESTS(lazy_libraries_give_their_own_functions_or_name_what_is_missing, clocks_advance_with_work_and_never_go_back, first_outside_finds_the_first_bad_value_in_any_block, fast_pow_matches_libm_to_1e5_relative, image_alloc_is_zeroed_and_planar, image_alloc_refuses_zero_and_oversized,
           error_messages_are_one_line, rng_is_deterministic_and_uniform)

@@ -846,6 +846,53 @@ TEST(png_zlib_path_matches_stb_for_every_plain_layout_filter_and_odd_width) {
   }
 }
 
+/* Rows of 3- and 4-byte pixels are unfiltered four at a time, each row two
+ * pixels behind the one above (png.c, png_unfilter_wave), and rows of up to
+ * 3 bytes a pixel inflated into the end of the image's own memory where a
+ * row is short enough (png_in_place: RGB from 18 pixels wide, grey from
+ * 6): every height (whole and short groups), widths shorter and longer than
+ * the wave's start and either side of the in-place bound, every mix of
+ * filter types in a group, on both decoding paths — libdeflate's whole
+ * stream, and zlib's blocks when data follows the rows — give stb_image's
+ * floats and the samples themselves. */
+TEST(png_rows_unfiltered_in_groups_and_in_place_match_stb_for_every_height_width_and_filter_mix) {
+  static const int layouts[4][2] = {{2, 8}, {6, 8}, {4, 16}, {0, 8}}, widths[8] = {1, 2, 5, 6, 7, 17, 18, 41};
+  int bad = 0, n_files = 0;
+  for (int k = 0; k < 4 * 8 * 11 * 5; k++) {
+    const int lay = k / 440, width = widths[k / 55 % 8], h = 1 + k / 5 % 11, first = k % 5;
+    png_layout L = {width, h, layouts[lay][0], layouts[lay][1], 0, NULL, 0};
+    size_t row = png_row_bytes(&L, L.w), c = png_samples(L.colour);
+    jnd_rng r;
+    jnd_rng_seed(&r, 7000 + (uint64_t)k);
+    unsigned char *raw = malloc(row * h);
+    for (size_t i = 0; i < row * h; i++) raw[i] = (unsigned char)jnd_rng_next(&r);
+    unsigned char *data = filter_rows(raw, row, h, c * L.depth / 8, first);
+    for (int extra = 0; extra < 2; extra++) { /* extra: bytes after the rows, zlib's path */
+      size_t len = (1 + row) * h, n;
+      unsigned char *more = calloc(len + 9, 1);
+      memcpy(more, data, len);
+      unsigned char *buf = png_from_image_data(&L, more, len + (extra ? 9 : 0), &n);
+      char name[64];
+      snprintf(name, sizeof name, "c%d_d%d_w%d_h%d_f%d_x%d.png", L.colour, L.depth, L.w, h, first, extra);
+      jnd_image img;
+      int same = png_paths_agree(name, buf, n) && jnd_decode_png(name, buf, n, &img, NULL) == JND_OK;
+      for (size_t i = 0; same && i < (size_t)L.w * h * c; i++) {
+        unsigned v = L.depth == 8 ? raw[i] : (unsigned)(raw[2 * i] << 8 | raw[2 * i + 1]);
+        same = jnd_image_plane(&img, (int)(i % c))[i / c] == (float)(v * (1.0 / (L.depth == 8 ? 255 : 65535)));
+      }
+      if (same) jnd_image_free(&img);
+      else fprintf(stderr, "%s: decoded wrong\n", name);
+      bad += !same;
+      n_files++;
+      free(buf);
+      free(more);
+    }
+    free(data);
+    free(raw);
+  }
+  CHECK(bad == 0 && n_files == 2 * 1760);
+}
+
 TEST(png_zlib_path_matches_stb_on_the_kodak_photographs) {
   const char *data = test_shared_data();
   if (!data) {
@@ -1261,6 +1308,7 @@ RUN_TESTS(png_decoded_to_the_display_is_bit_for_bit_the_display_of_the_decoded_p
           every_truncation_of_a_png_is_refused, png_without_iend_is_refused,
           png_claiming_more_than_the_size_limit_is_refused,
           png_zlib_path_matches_stb_for_every_plain_layout_filter_and_odd_width,
+          png_rows_unfiltered_in_groups_and_in_place_match_stb_for_every_height_width_and_filter_mix,
           png_zlib_path_matches_stb_on_the_kodak_photographs, png_with_data_after_the_last_row_decodes,
           png_with_a_truncated_deflate_stream_is_refused_naming_the_file,
           png_row_with_filter_type_5_is_refused_naming_the_file,
