@@ -720,6 +720,17 @@ static void add_coarse_maskers(const band_ctx *k, row_scratch *r, int y, const f
   }
 }
 
+/* A pixel's three channels' terms into D, or the achromatic one into D and
+ * the chromatic ones into Dc when they are summed apart (crow non-NULL) */
+static inline void put_channels(float *drow, float *crow, int x, float p0, float p1, float p2) {
+  if (crow) {
+    drow[x] = p0;
+    crow[x] = p1 + p2;
+  } else {
+    drow[x] = p0 + p1 + p2;
+  }
+}
+
 /* Rows [y0, y1) of band i's difference, summed over channels:
  *   D_i = Σ_ch (|n_test − n_ref| · T′(m))^e
  * with n the CSF-normalised contrasts and m the mutual masker
@@ -776,18 +787,31 @@ JND_HOT static void band_rows(const band_ctx *k, row_scratch *r, int y0, int y1,
     }
     /* 004 §3.2: difference of the responses, Minkowski over channels; each
      * channel is masked by its own masker plus `cross` times the other
-     * channels' (cross-channel masking, docs/model.md "Masking") */
-    float *drow = D + (size_t)y * w;
-    for (int c = 0; c < NCH; c++) {
-      const float *d = r->dif[(y + 6) % 3][c];
-      const float *mine = own[c], *o1 = own[(c + 1) % NCH], *o2 = own[(c + 2) % NCH];
-      if (c == 1 && k->Dc) drow = k->Dc + (size_t)y * w; /* the chromatic channels apart */
-      if (c == 0 || (c == 1 && k->Dc)) {
+     * channels' (cross-channel masking, docs/model.md "Masking"); with
+     * cross = 1 (the default) the three channels share one masker, whose
+     * terms are computed once (jnd_masked_pow) */
+    float *drow = D + (size_t)y * w, *crow = k->Dc ? k->Dc + (size_t)y * w : NULL;
+    const float *d0 = r->dif[(y + 6) % 3][0], *d1 = r->dif[(y + 6) % 3][1], *d2 = r->dif[(y + 6) % 3][2];
+    const float *w0 = own[0], *w1 = own[1], *w2 = own[2];
+    if (cross == 1.0f) {
 #pragma omp simd
-        for (int x = 0; x < w; x++) drow[x] = jnd_fast_pow(d[x] * jnd_masking_gain(mine[x] + cross * (o1[x] + o2[x]), slope), e);
-      } else {
+      for (int x = 0; x < w; x++) {
+        float a, l;
+        jnd_masker_terms(w0[x] + (w1[x] + w2[x]), slope, &a, &l);
+        const float p0 = jnd_masked_pow(d0[x], a, l, slope, e), p1 = jnd_masked_pow(d1[x], a, l, slope, e),
+                    p2 = jnd_masked_pow(d2[x], a, l, slope, e);
+        put_channels(drow, crow, x, p0, p1, p2);
+      }
+    } else {
 #pragma omp simd
-        for (int x = 0; x < w; x++) drow[x] += jnd_fast_pow(d[x] * jnd_masking_gain(mine[x] + cross * (o1[x] + o2[x]), slope), e);
+      for (int x = 0; x < w; x++) {
+        float a0, l0, a1, l1, a2, l2;
+        jnd_masker_terms(w0[x] + cross * (w1[x] + w2[x]), slope, &a0, &l0);
+        jnd_masker_terms(w1[x] + cross * (w2[x] + w0[x]), slope, &a1, &l1);
+        jnd_masker_terms(w2[x] + cross * (w0[x] + w1[x]), slope, &a2, &l2);
+        const float p0 = jnd_masked_pow(d0[x], a0, l0, slope, e), p1 = jnd_masked_pow(d1[x], a1, l1, slope, e),
+                    p2 = jnd_masked_pow(d2[x], a2, l2, slope, e);
+        put_channels(drow, crow, x, p0, p1, p2);
       }
     }
   }
