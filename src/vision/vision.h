@@ -149,6 +149,23 @@ static inline float jnd_masked_pow(float d, float a, float l, float slope, float
   return x > 0.0f ? r : 0.0f;
 }
 
+/* ---- local summation's last step (model.c local_summation) ---- */
+/* A pixel's pooled difference (gain · sum)^down, sum its window's sum of
+ * j^beta and down = e/beta, capped at bound · j^e (bound = gain^down: where
+ * the band has no difference of its own, pooling must not bring in its
+ * neighbours'), from d = j^e ... */
+static inline float jnd_pooled_capped(float sum, float d, float gain, float down, float bound) {
+  float pooled = jnd_fast_pow(sum * gain, down), cap = bound * d;
+  return pooled < cap ? pooled : cap;
+}
+/* ... and the same from d = j^beta, where the cap is (gain · j^beta)^down:
+ * (gain · min(sum, j^beta))^down, one pow (no j^e → j^beta pass before the
+ * window's sums); within 1e-5 relative of the first (unit.test_vision,
+ * docs/speed.md "Fourth pass") */
+static inline float jnd_pooled_min(float sum, float dbeta, float gain, float down) {
+  return jnd_fast_pow(gain * jnd_minf(sum, dbeta), down);
+}
+
 /* ---- CSF-weighted Haar bands of 003 §4.2 (haar.c) ---- */
 /* The Mannos–Sakrison CSF as 003 writes it, f in cycles per degree. */
 double jnd_csf_mannos_sakrison(double f_cpd);

@@ -843,6 +843,31 @@ TEST(masked_pow_is_the_two_step_masked_difference) {
   CHECK(jnd_masked_pow(0.0f, a, l, 0.6f, 2.4f) == 0.0f);
 }
 
+/* Local summation's pooled, capped difference from j^beta (jnd_pooled_min,
+ * the achromatic channel when the chromatic ones are summed apart) against
+ * the computation it replaced: j^e from the bands, taken to beta/e before
+ * the window's sums, and capped after (jnd_pooled_capped). The same
+ * equation: within 1e-5 relative over sums and differences of 1e-6 .. 1e4,
+ * gains of 1 .. 1e3, the default exponents. A cap forgotten, or taken at
+ * the sum, is off by far more. */
+TEST(pooled_min_is_the_capped_pool_of_j_to_e) {
+  const float e = 2.4f, beta = 3.12089f, down = e / beta;
+  double worst = 0;
+  for (double gain = 1; gain <= 1e3; gain *= 3.7) {
+    const float bound = jnd_fast_pow((float)gain, down);
+    for (double sum = 1e-6; sum <= 1e4; sum *= 1.31)
+      for (double j = 1e-2; j <= 1e2; j *= 1.17) {
+        const float dbeta = jnd_fast_pow((float)j, beta), de = jnd_fast_pow((float)j, e);
+        const double want = jnd_pooled_capped((float)sum, de, (float)gain, down, bound);
+        const double got = jnd_pooled_min((float)sum, dbeta, (float)gain, down);
+        if (want > 1e-30) worst = fmax(worst, fabs(got / want - 1));
+      }
+  }
+  printf("pooled_min: largest relative difference %.3g\n", worst);
+  CHECK(worst < 1e-5);
+  CHECK(jnd_pooled_min(5.0f, 0.0f, 10.0f, down) == 0.0f); /* no difference of its own: nothing pooled in */
+}
+
 /* A grating of Weber contrast c (vertical bars, cosine phase at the centre)
  * in a Gaussian window on a grey of lum cd/m². */
 static jnd_image centred_grating(int n, double lum, double c, double f, double sigma) {
@@ -1453,7 +1478,7 @@ RUN_TESTS(expanded_rows_are_bit_for_bit_the_rows_of_expand, flicker_sensitivity_
           zero_weights_remove_differences, mismatched_sizes_are_refused, probability_is_half_at_one_jnd,
           display_presets_have_sensible_ppd, display_model_maps_white_to_peak_and_black_to_black_level,
           psychometric_function_follows_000_eq4_at_hand_values, masking_gain_is_the_slope_of_004s_transducer_at_hand_values,
-          masked_pow_is_the_two_step_masked_difference,
+          masked_pow_is_the_two_step_masked_difference, pooled_min_is_the_capped_pool_of_j_to_e,
           suprathreshold_pedestal_raises_the_threshold_with_legges_slope,
           channels_combine_by_minkowski_summation_with_exponent_2_4,
           colour_is_summed_over_its_own_window_and_luminance_over_its_own, a_stimulus_is_summed_the_same_however_far_the_border,
