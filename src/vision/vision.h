@@ -123,9 +123,47 @@ double jnd_cortical_magnification(double ecc_deg, double e2_deg);
  * 1 on a uniform field, (1 − γ) m^−γ on a strong masker. The model evaluates
  * it at the mutual masker min(|n_test|, |n_ref|) pooled over the band's
  * neighbourhood (docs/model.md, "Masking"). */
-static inline float jnd_masking_gain(float m, float slope) {
+/* its terms a = 1 + (1 − γ) m³ and l = log2(1 + m³) */
+static inline void jnd_masker_terms(float m, float slope, float *a, float *l) {
   float m3 = m * m * m;
-  return (1.0f + (1.0f - slope) * m3) * jnd_fast_exp2(-(1.0f + slope * (1.0f / 3)) * jnd_fast_log2(1.0f + m3));
+  *a = 1.0f + (1.0f - slope) * m3;
+  *l = jnd_fast_log2(1.0f + m3);
+}
+static inline float jnd_masking_gain(float m, float slope) {
+  float a, l;
+  jnd_masker_terms(m, slope, &a, &l);
+  return a * jnd_fast_exp2(-(1.0f + slope * (1.0f / 3)) * l);
+}
+
+/* The masked difference to the Minkowski exponent, (d · T′(m))^e, in one
+ * exp2 instead of the two of jnd_fast_pow(d · jnd_masking_gain(m, γ), e):
+ *   e · (log2(d · (1 + (1 − γ) m³)) − (1 + γ/3) · log2(1 + m³)),
+ * from the masker's terms a = 1 + (1 − γ) m³ and l = log2(1 + m³)
+ * (jnd_masker_terms), which channels pooled by the same masker share. The
+ * same equation, rounded differently: within 1e-5 of the two-step value
+ * relative (unit.test_vision checks it over the range the model sees;
+ * docs/speed.md "Fourth pass"). */
+static inline float jnd_masked_pow(float d, float a, float l, float slope, float e) {
+  float x = d * a;
+  float r = jnd_fast_exp2(e * (jnd_fast_log2(x > 1e-30f ? x : 1e-30f) - (1.0f + slope * (1.0f / 3)) * l));
+  return x > 0.0f ? r : 0.0f;
+}
+
+/* ---- local summation's last step (model.c local_summation) ---- */
+/* A pixel's pooled difference (gain · sum)^down, sum its window's sum of
+ * j^beta and down = e/beta, capped at bound · j^e (bound = gain^down: where
+ * the band has no difference of its own, pooling must not bring in its
+ * neighbours'), from d = j^e ... */
+static inline float jnd_pooled_capped(float sum, float d, float gain, float down, float bound) {
+  float pooled = jnd_fast_pow(sum * gain, down), cap = bound * d;
+  return pooled < cap ? pooled : cap;
+}
+/* ... and the same from d = j^beta, where the cap is (gain · j^beta)^down:
+ * (gain · min(sum, j^beta))^down, one pow (no j^e → j^beta pass before the
+ * window's sums); within 1e-5 relative of the first (unit.test_vision,
+ * docs/speed.md "Fourth pass") */
+static inline float jnd_pooled_min(float sum, float dbeta, float gain, float down) {
+  return jnd_fast_pow(gain * jnd_minf(sum, dbeta), down);
 }
 
 /* ---- CSF-weighted Haar bands of 003 §4.2 (haar.c) ---- */

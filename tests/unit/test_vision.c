@@ -568,9 +568,12 @@ static jnd_model *masking_model(double cross, double band_oct) {
  * background there is no masker, so the pool cannot move a threshold of the
  * human data (docs/csf.md). */
 TEST(an_achromatic_texture_masks_a_colour_change) {
-  double j[2], jflat[2];
-  for (int k = 0; k < 2; k++) {
-    jnd_model *m = masking_model(k, 1);
+  /* cross 0.5 and 1 − 1e-6 take the per-channel pools (band_rows' general
+   * path), 1 the one shared pool: the latter two must agree */
+  const double cross[4] = {0, 1, 0.5, 1 - 1e-6};
+  double j[4], jflat[4];
+  for (int k = 0; k < 4; k++) {
+    jnd_model *m = masking_model(cross[k], 1);
     CHECK(m != NULL);
     /* masker: a 0.4-contrast achromatic grating at 4 cpd; signal: a 2%
      * red–green grating at 4 cpd in the other orientation (the same band),
@@ -591,6 +594,8 @@ TEST(an_achromatic_texture_masks_a_colour_change) {
   CHECK(jflat[0] == jflat[1]);           /* no masker on a uniform field */
   CHECK_NEAR(j[0] / jflat[0], 1.0, 0.1); /* per-channel masking: the texture does not mask colour */
   CHECK_LT(j[1], 0.5 * j[0]);            /* one pool: it does */
+  CHECK(j[1] < j[2] && j[2] < j[0]);     /* half the cross term: between the two */
+  CHECK_NEAR(j[3] / j[1], 1.0, 1e-4);    /* the general path at cross → 1 is the shared pool */
 }
 
 /* an achromatic plaid: a masker of contrast cm at fm cycles/pixel across
@@ -808,6 +813,59 @@ TEST(masking_gain_is_the_slope_of_004s_transducer_at_hand_values) {
     CHECK_NEAR(jnd_masking_gain(m[i], 0.6f), g6[i], 3e-5 * g6[i] + 1e-6);
   }
   CHECK(jnd_masking_gain(0.0f, 0.6f) == 1.0f);
+}
+
+/* The model's one-exp2 masked difference (jnd_masked_pow from the shared
+ * masker terms) against the two-step computation it replaced,
+ * jnd_fast_pow(d · jnd_masking_gain(m, γ), e): the same equation, so within
+ * float rounding over the range the model sees (differences 1e-6 .. 1e3,
+ * maskers 0 .. 1e3, both slopes, e = 2.4 and 1): 5.4e-6 relative at most
+ * (each of the two carries the fast log2/exp2's error); measured
+ * on the maps of the bench pairs, at most 2.2e-6 JND (docs/speed.md "Fourth
+ * pass"). A slip in the exponent's 1 + γ/3 is off by far more. */
+TEST(masked_pow_is_the_two_step_masked_difference) {
+  const float slopes[2] = {0.3f, 0.6f}, es[2] = {2.4f, 1.0f};
+  double worst = 0;
+  for (int si = 0; si < 2; si++)
+    for (int ei = 0; ei < 2; ei++)
+      for (double m = 0; m <= 1e3; m = m < 1e-3 ? m + 1e-4 : m * 1.07)
+        for (double d = 1e-6; d <= 1e3; d *= 1.13) {
+          float a, l;
+          jnd_masker_terms((float)m, slopes[si], &a, &l);
+          const double got = jnd_masked_pow((float)d, a, l, slopes[si], es[ei]);
+          const double want = jnd_fast_pow((float)d * jnd_masking_gain((float)m, slopes[si]), es[ei]);
+          if (want > 1e-30) worst = fmax(worst, fabs(got / want - 1));
+        }
+  printf("masked_pow: largest relative difference %.3g\n", worst);
+  CHECK(worst < 1e-5);
+  float a, l;
+  jnd_masker_terms(0.5f, 0.6f, &a, &l);
+  CHECK(jnd_masked_pow(0.0f, a, l, 0.6f, 2.4f) == 0.0f);
+}
+
+/* Local summation's pooled, capped difference from j^beta (jnd_pooled_min,
+ * the achromatic channel when the chromatic ones are summed apart) against
+ * the computation it replaced: j^e from the bands, taken to beta/e before
+ * the window's sums, and capped after (jnd_pooled_capped). The same
+ * equation: within 1e-5 relative over sums and differences of 1e-6 .. 1e4,
+ * gains of 1 .. 1e3, the default exponents. A cap forgotten, or taken at
+ * the sum, is off by far more. */
+TEST(pooled_min_is_the_capped_pool_of_j_to_e) {
+  const float e = 2.4f, beta = 3.12089f, down = e / beta;
+  double worst = 0;
+  for (double gain = 1; gain <= 1e3; gain *= 3.7) {
+    const float bound = jnd_fast_pow((float)gain, down);
+    for (double sum = 1e-6; sum <= 1e4; sum *= 1.31)
+      for (double j = 1e-2; j <= 1e2; j *= 1.17) {
+        const float dbeta = jnd_fast_pow((float)j, beta), de = jnd_fast_pow((float)j, e);
+        const double want = jnd_pooled_capped((float)sum, de, (float)gain, down, bound);
+        const double got = jnd_pooled_min((float)sum, dbeta, (float)gain, down);
+        if (want > 1e-30) worst = fmax(worst, fabs(got / want - 1));
+      }
+  }
+  printf("pooled_min: largest relative difference %.3g\n", worst);
+  CHECK(worst < 1e-5);
+  CHECK(jnd_pooled_min(5.0f, 0.0f, 10.0f, down) == 0.0f); /* no difference of its own: nothing pooled in */
 }
 
 /* A grating of Weber contrast c (vertical bars, cosine phase at the centre)
@@ -1420,6 +1478,7 @@ RUN_TESTS(expanded_rows_are_bit_for_bit_the_rows_of_expand, flicker_sensitivity_
           zero_weights_remove_differences, mismatched_sizes_are_refused, probability_is_half_at_one_jnd,
           display_presets_have_sensible_ppd, display_model_maps_white_to_peak_and_black_to_black_level,
           psychometric_function_follows_000_eq4_at_hand_values, masking_gain_is_the_slope_of_004s_transducer_at_hand_values,
+          masked_pow_is_the_two_step_masked_difference, pooled_min_is_the_capped_pool_of_j_to_e,
           suprathreshold_pedestal_raises_the_threshold_with_legges_slope,
           channels_combine_by_minkowski_summation_with_exponent_2_4,
           colour_is_summed_over_its_own_window_and_luminance_over_its_own, a_stimulus_is_summed_the_same_however_far_the_border,
