@@ -569,14 +569,18 @@ typedef struct {
  * material's images' bytes (sizes and formats as they are) cutting the
  * range, as would every larger K. Taken (pk of m's maps = K) when one is
  * found; else pk stays 0 and the material keeps its images. */
+static jnd_status search_layouts(ctx *c, int m, int level, int (*sizes)[2], const jnd_tex_format *f, int *pk,
+                                 jnd_pca_encoding *lay, double *P, pca_try *t, size_t best);
+
 static jnd_status search_packing(ctx *c, int m, int level, int (*sizes)[2], const jnd_tex_format *f, int *pk,
-                                 const jnd_pca_encoding *lay, double *P, pca_try *t) {
+                                 jnd_pca_encoding *lay, double *P, pca_try *t) {
   memset(t, 0, sizeof *t);
   if (!packable(c, m)) return JND_OK;
   size_t now = 0;
   for (int i = 0; i < c->nmaps; i++)
     if (c->leader[i] == i && c->mi[i].material == m) now += jnd_texture_bytes(f[i], sizes[i][0], sizes[i][1], 1);
-  pca_analysis *a;
+  pca_analysis *a = NULL;
+  size_t kbytes = 0;   /* the components' bytes of the K taken */
   jnd_status s = plain_analysis(c, m, level, sizes, f, pk, lay, &a);   /* the set's channels C: K = 1..C */
   int lo = 1, hi = s == JND_OK ? a->set.c + 1 : 1;
   while (lo < hi && s == JND_OK) {
@@ -598,6 +602,7 @@ static jnd_status search_packing(ctx *c, int m, int level, int (*sizes)[2], cons
           jnd_scene_material_name(c->scene, m), K, K == 1 ? "" : "s", b / 1048576.0, now / 1048576.0,
           r.criterion.statistic, ok ? "passes" : "seen");
     if (ok) {   /* passes with the margin: fewer components may too */
+      kbytes = b;
       t->components = K;
       t->statistic = r.criterion.statistic;
       t->pass = r.criterion.pass;
@@ -608,7 +613,88 @@ static jnd_status search_packing(ctx *c, int m, int level, int (*sizes)[2], cons
   }
   for (int i = 0; i < c->nmaps; i++)
     if (c->mi[i].material == m) pk[i] = t->components;
+  /* then pca's layouts with fewer bytes than that (or than the images) */
+  if (s == JND_OK && a)
+    s = search_layouts(c, m, level, sizes, f, pk, lay, P, t, t->components ? kbytes : now);
   stage(c, "%s: %s", jnd_scene_material_name(c->scene, m), t->components ? "packed (001)" : "its images kept");
+  return s;
+}
+
+static int coarse(int n, int k) { return (n + (1 << k) - 1) >> k; }   /* pca's component side at scale k */
+
+/* The layouts `jnd pca`'s rendered search tries (001; pca_chooser_run,
+ * pca's --max-scale 2): for each PSNR floor 14, 16, ... 60 dB the cheapest
+ * layout — K, each component's scale — whose every channel reaches it, at 8
+ * bits (a GPU block holds 8), those whose components (BC4 each, pairs in
+ * BC5: Σ_k a BC4 texture of component k's side, with mips) take fewer than
+ * best bytes, cheapest first; the cheapest that passes with texres's margin
+ * on the judge's views, every encoding taken before included, by
+ * bisection (the error falls as the floor rises, as pca's own search
+ * assumes). Taken (lay[m], pk of m's maps) when one passes. */
+static jnd_status search_layouts(ctx *c, int m, int level, int (*sizes)[2], const jnd_tex_format *f, int *pk,
+                                 jnd_pca_encoding *lay, double *P, pca_try *t, size_t best) {
+  enum { FLOORS = 24 };
+  pca_analysis *a;
+  jnd_status s = plain_analysis(c, m, level, sizes, f, pk, lay, &a);
+  if (s != JND_OK) return s;
+  psnr_chooser ch;
+  jnd_pca_params dp;
+  jnd_pca_defaults(&dp);
+  if ((s = pca_chooser_init(&a->set, &a->pca, dp.max_scale, &ch))) return s;
+  jnd_pca_encoding fam[FLOORS];
+  size_t bytes[FLOORS];
+  int n = 0;
+  for (int db = 14; db <= 60 && s == JND_OK && n < FLOORS; db += 2) {
+    jnd_pca_encoding e;
+    s = pca_chooser_run(&ch, &a->set, &a->pca, db, &e);
+    if (s == JND_ERR_ARG) {   /* unreachable floor: the higher ones are too */
+      s = JND_OK;
+      break;
+    }
+    if (s != JND_OK) break;
+    size_t b = 0;
+    for (int k = 0; k < e.components; k++) {
+      e.bits[k] = 8;
+      b += jnd_texture_bytes(JND_TEX_BC4, coarse(a->set.w, e.scale[k]), coarse(a->set.h, e.scale[k]), 1);
+    }
+    int dup = !(b < best) || e.components < 1;
+    for (int j = 0; j < n && !dup; j++) dup = same_layout(&fam[j], &e);
+    if (dup) continue;
+    int at = n++;   /* insertion by bytes */
+    while (at > 0 && bytes[at - 1] > b) {
+      fam[at] = fam[at - 1];
+      bytes[at] = bytes[at - 1];
+      at--;
+    }
+    fam[at] = e;
+    bytes[at] = b;
+  }
+  pca_chooser_free(&ch);
+  jnd_pca_encoding keep = lay[m];
+  int found = -1, lo = 0, hi = n;
+  while (lo < hi && s == JND_OK) {
+    int mid = lo + (hi - lo) / 2, ok = 0;
+    lay[m] = fam[mid];
+    for (int i = 0; i < c->nmaps; i++)
+      if (c->mi[i].material == m) pk[i] = fam[mid].components;
+    jnd_judgement r;
+    if ((s = judge(c, level, sizes, f, pk, lay, 0, c->nviews, P, &r)) || (s = margin_pass(c, P, c->nviews, &ok))) break;
+    stage(c, "%s in pca's layout of %d component%s: %.3f MiB, statistic %.3f, %s", jnd_scene_material_name(c->scene, m),
+          fam[mid].components, fam[mid].components == 1 ? "" : "s", c->packbytes[m] / 1048576.0, r.criterion.statistic,
+          ok ? "passes" : "seen");
+    if (ok) {
+      found = mid;
+      t->components = fam[mid].components;
+      t->statistic = r.criterion.statistic;
+      t->pass = r.criterion.pass;
+      hi = mid;
+    } else {
+      lo = mid + 1;
+    }
+  }
+  lay[m] = found >= 0 ? fam[found] : keep;
+  for (int i = 0; i < c->nmaps; i++)
+    if (c->mi[i].material == m) pk[i] = t->components;
   return s;
 }
 
