@@ -2,7 +2,7 @@
 # jnd budget (issue 27) on real assets: webxr controllers (npm
 # @webxr-input-profiles/assets, MIT) and, where the shared data has its
 # model, DamagedHelmet. Per asset: the cost of the joint choice and of texres
-# + lod chosen separately (texture memory + triangles x rate), whether each
+# + pca + lod chosen separately (texture memory + triangles x rate), whether each
 # passes, the held-out check at every switch distance, wall and CPU time
 # (issue 27's target: <= 5 minutes on 2 cores with llvmpipe for a
 # 6-material asset; on a shared machine the CPU time, user + sys, is the
@@ -12,6 +12,7 @@ set -uo pipefail
 export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
 here=$(cd "$(dirname "$0")" && pwd)
 . "$here/webxr_assets.sh"
+. "$here/../scripts/gltf_validator.sh"
 out=${BENCH_OUT:-$here/out}/budget
 mkdir -p "$out"
 screens=${BENCH_BUDGET_SCREENS:-standard-fhd}
@@ -35,12 +36,18 @@ ch, se = res["chosen"], res["separate"]
 mib = 2.0 ** 20
 print("   %s: wall %.1f s, user+sys %.1f s, exit %s; rate %.1f B/triangle; %d candidates, %d on the front"
       % (name, wall, user + sys_, rc, r["parameters"]["bytes_per_triangle"], len(res["candidates"]), len(res["pareto"])))
-for label, c in (("joint", ch), ("texres + lod separately", se)):
-    print("     %-24s level %d, textures %.3f MiB, %d triangles, cost %.3f MiB, statistic %.3f%s"
+for label, c in (("joint", ch), ("texres + pca + lod separately", se)):
+    print("     %-30s level %d, textures %.3f MiB, %d triangles, cost %.3f MiB, statistic %.3f%s"
           % (label, c["level"], c["memory_bytes"] / mib, c["triangles"], c["cost_bytes"] / mib, c["statistic"],
              "" if c["passes_with_margin"] else " (fails with texres's margin)"))
 bc1 = [n for n, f in ch["formats"].items() if f == "bc1" and se["formats"][n] != "bc1"]
 print("     encodings: %s" % ("BC1 for " + ", ".join(bc1) if bc1 else "the slots' block formats"))
+for q in res.get("separate_pca", []):
+    print("     pca separately, %s: %s%s" % (q["material"], q["status"], "" if q["statistic"] is None else
+          " (%d components, statistic %.3f on pca's views; %.3f MiB against its images' %.3f MiB)"
+          % (q["encoding"]["components"], q["statistic"], q.get("components_bytes", 0) / mib, q["images_bytes"] / mib)))
+packed = [m for m, l in ch.get("pca_layouts", {}).items()] or sorted({n.split("/")[0] for n, f in ch["formats"].items() if f == "pca"})
+print("     joint's packed materials (001): %s" % (", ".join(packed) or "none"))
 print("     candidates rendered %d, inferred (ladder beyond a statistic of 1) %d"
       % (sum(not c.get("inferred") for c in res["candidates"]), sum(bool(c.get("inferred")) for c in res["candidates"])))
 t = res.get("timings", {})
@@ -51,6 +58,12 @@ print("     joint saves %.3f MiB (%.1f%%) over separately" % (saving / mib, 100 
 print("     levels: " + "; ".join("%d from %s (%s)" % (l["level"], "-" if l["switch_distance"] is None else "%.3g" % l["switch_distance"],
                                                     "pass" if l["verification"]["pass"] else "FAIL") for l in res["levels"]))
 PY
+  # the written model through the Khronos glTF-Validator (the pinned npm package, where cached)
+  if gltf_validator >/dev/null 2>&1 && command -v node >/dev/null; then
+    for glb in "$d"/model/*.glb; do [ -f "$glb" ] && echo "     glTF-Validator: $(gltf_validator_run "$glb" 2>&1 | head -1)"; done
+  else
+    echo "     glTF-Validator: not cached (scripts/install-deps.sh)"
+  fi
 }
 
 echo "   $(nproc) cores; load average before: $(cut -d' ' -f1-3 /proc/loadavg)"

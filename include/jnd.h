@@ -2483,143 +2483,6 @@ JND_EXPERIMENTAL jnd_status jnd_lod_analyse(const char *model_path, const jnd_lo
 JND_EXPERIMENTAL void jnd_lod_result_clear(jnd_lod_result *r);
 
 /* ------------------------------------------------------------------------ */
-/* Tasks: one budget for the whole asset (texture sizes and LOD chain)      */
-/* ------------------------------------------------------------------------ */
-/* `jnd budget` (docs/budget.md): the texture sizes and the levels of detail
- * chosen together on the judge, with one cost — the textures' GPU memory
- * (unique images, their mip chains, the block formats of
- * jnd_slot_block_format) plus the finest level's triangles × an exchange
- * rate in bytes. The chain and its popping-free switch distances are
- * jnd_lod_analyse's; per mesh level up to lod's perceptual one, the texture
- * sizes are texres's search with that level drawn (jnd_texres_params.level);
- * a ladder of uniform texture scales per level gives the Pareto front of
- * (memory, triangles, statistic) and budget mode's candidates; each coarser
- * level is checked on held-out views at its switch distance with its maps
- * capped at the mips that distance samples (000 §4). Typical use:
- *
- *     jnd_budget_params bp;  jnd_budget_defaults(&bp);    // cheapest unnoticed
- *     bp.memory_bytes = 8 << 20;  bp.triangles = 20000;   // or: least noticed within a budget
- *     jnd_budget_result *r;  jnd_budget_run("helmet.glb", &bp, "out", &r);
- *     // r->chosen, r->separate, r->candidates (r->ncandidates), out/model/helmet.glb
- *     jnd_budget_result_free(r);
- */
-
-typedef struct {
-  jnd_texres_params texres;  /* the texture search and the judge of every candidate: views (their
-                                coverage is set to lod.poi.coverage, the one viewing condition),
-                                display, model, calibration, criterion (p, q), margin, held-out views */
-  jnd_lod_run_params lod;    /* the chain, the screens and the switch distances (jnd_lod_analyse with
-                                the perceptual step; the model's MSFT_screencoverage is the first
-                                screen's) */
-  double bytes_per_triangle; /* the exchange rate of a triangle in bytes; 0 (default): level 0's own,
-                                its vertex and index bytes as written (jnd_scene_lod_bytes) over its
-                                triangles, so that the cost is the GPU bytes of textures and mesh */
-  double memory_bytes;       /* budget mode: the most texture bytes (0: no bound) ... */
-  double triangles;          /* ... and the most triangles of the finest level (0: no bound); with
-                                either, the candidate within both with the lowest statistic */
-  int verify_views;          /* held-out views at each coarser level's switch distance (4) */
-  void (*progress)(void *user, const char *line, int done, int total); /* NULL or per stage */
-  void *progress_user;
-  jnd_run_options run;       /* map side of "builtin[:...]" (512), the report's copy, timings, warnings */
-} jnd_budget_params;
-
-/* Fills p with the defaults above (texres's and lod's own; 003's texture
- * analysis off, lod's map side 512). */
-void jnd_budget_defaults(jnd_budget_params *p);
-
-/* One candidate: a finest level and a size per map. */
-typedef struct {
-  int level;                 /* the chain's level drawn nearest (levels finer than it are dropped) */
-  int scale;                 /* −1: sizes of texres's search at that level; −2: the separately chosen
-                                (texres at level 0 with lod's perceptual level); −3: cheaper encodings per image
-                                (docs/budget.md): in cheapest-unnoticed mode the cheapest of those,
-                                in budget mode a candidate over the memory budget with as few images
-                                encoded as bring it within; s ≥ 0:
-                                every map at its original halved s times (not below min_size) */
-  int (*sizes)[2];           /* per scene map: width, height in pixels (owned) */
-  jnd_tex_format *formats;   /* per scene map: its image's encoding on the GPU (owned): the slots'
-                                block format (jnd_slot_block_format), or BC1 where the encoding
-                                search chose it (scale −3) */
-  int *packed;               /* per scene map: the principal components its material is packed in
-                                (001, pca's encoding, components in BC4/BC5 with mips), or 0 (owned;
-                                scale −3 only) */
-  size_t memory_bytes;       /* the textures: unique images, their formats, mip chains */
-  size_t triangles;          /* of the level */
-  double cost;               /* memory_bytes + triangles × the exchange rate */
-  double statistic;          /* the criterion's statistic (the (⌊q·n⌋ + 1)-th largest pooled P) on the
-                                judge's views at the viewing condition */
-  int pass;                  /* statistic ≤ p there */
-  int searched_pass;         /* scale −1: texres's search passed (its margin, confirmation, held-out
-                                views); −2 (and −3 in budget mode): the statistic is at most
-                                p·(1 − margin); −3 in cheapest-unnoticed mode: that and the
-                                confirmation rounds; else 0 */
-  int pareto;                /* not dominated in (memory, triangles, statistic) */
-  int inferred;              /* 1: a ladder state not rendered, as the one before it (one halving
-                                fewer, same level) had statistic 1 and detection never falls as a
-                                map shrinks: its statistic is 1 */
-} jnd_budget_candidate;
-
-/* A level of the written chain, from its switch distance on. */
-typedef struct {
-  int level;                 /* the chain's level */
-  double switch_distance;    /* first screen, object units (0: the finest written) */
-  double switch_coverage;    /* the sphere's projected diameter over the screen's height there */
-  int (*sizes)[2];           /* per map: the chosen size capped at the mips that distance samples
-                                (000 §4's bound; what a streaming engine holds; owned) */
-  size_t texture_bytes, geometry_bytes, triangles; /* held while only this level is shown */
-  int views;                 /* held-out views judged at the switch distance (0: not verified) */
-  double statistic;          /* the criterion's statistic there (NaN: not verified) */
-  int pass;
-} jnd_budget_level;
-
-typedef struct {
-  int mode;                  /* 0 cheapest unnoticed, 1 least noticed within the budget */
-  double bytes_per_triangle; /* the rate used */
-  int nmaps;
-  char (*map_names)[128];    /* owned */
-  int ncandidates;
-  jnd_budget_candidate *candidates; /* owned: every candidate judged */
-  int chosen, separate;      /* indices into candidates */
-  int nlevels;
-  jnd_budget_level *levels;  /* owned: the written chain, finest first */
-  jnd_lod_result lod;        /* the chain and switch distances (its scene holds the chosen maps) */
-  jnd_texres_result texres;  /* texres's search at level 0 (the separately chosen sizes) */
-  int passes;                /* the choice passes at the viewing condition and at every switch distance */
-  double search_s, verify_s; /* wall-clock seconds */
-  /* set by jnd_budget_run only */
-  char model_path[4600];     /* the GLB written: out_dir/model/NAME.glb */
-  char *report;              /* the report's JSON text, as written to out_dir/budget.json */
-} jnd_budget_result;
-
-/* The task (`jnd budget`): reads model (glTF, GLB, OBJ or builtin[:...]),
- * searches as above and writes into out_dir, through one output writer
- * (nothing over an input; all or nothing): budget.json (the report),
- * model/NAME.glb (the chosen levels, MSFT_lod with MSFT_screencoverage, the
- * maps at the chosen sizes) and pareto.png. *out is allocated
- * (jnd_budget_result_free). Bad input — a budget below 0, an asset without
- * maps or without triangles, a budget no candidate meets (the message
- * names the smallest memory and triangles possible) — is one error "FILE:
- * problem", JND_ERR_ARG, nothing written. */
-jnd_status jnd_budget_run(const char *model, const jnd_budget_params *p, const char *out_dir,
-                          jnd_budget_result **out);
-
-/* Frees what jnd_budget_run returned (NULL is fine). */
-void jnd_budget_result_free(jnd_budget_result *r);
-
-/* The search alone (writes nothing): the chain and its analysis, the
- * candidates, the choice and the levels' verification. out is the
- * caller's (jnd_budget_result_clear). */
-JND_EXPERIMENTAL jnd_status jnd_budget_search(const char *model, const jnd_budget_params *p, jnd_budget_result *out);
-
-/* Frees a result's arrays; safe on a zeroed struct. */
-void jnd_budget_result_clear(jnd_budget_result *r);
-
-/* pareto.png: memory against statistic of every candidate, the Pareto
- * front, the choice and the separately chosen marked. out is allocated (3
- * channels, sRGB 0..1). */
-JND_EXPERIMENTAL jnd_status jnd_budget_pareto_plot(const jnd_budget_result *r, const jnd_criterion *c, jnd_image *out);
-
-/* ------------------------------------------------------------------------ */
 /* Tasks: texture-set PCA (001)                                             */
 /* ------------------------------------------------------------------------ */
 /* A material's maps (albedo, normal, roughness, ...) packed as one (w·h) × C
@@ -3076,6 +2939,169 @@ typedef struct {
  * have 1–3 channels). tex (caller's, JND_PCA_MAX_CHANNELS entries) receives
  * *n textures; the caller frees their images. */
 JND_EXPERIMENTAL jnd_status jnd_pca_pack(const jnd_pca_encoded *enc, jnd_pca_texture *tex, int *n);
+
+/* ------------------------------------------------------------------------ */
+/* Tasks: one budget for the whole asset (texture sizes and LOD chain)      */
+/* ------------------------------------------------------------------------ */
+/* `jnd budget` (docs/budget.md): the texture sizes and the levels of detail
+ * chosen together on the judge, with one cost — the textures' GPU memory
+ * (unique images, their mip chains, the block formats of
+ * jnd_slot_block_format) plus the finest level's triangles × an exchange
+ * rate in bytes. The chain and its popping-free switch distances are
+ * jnd_lod_analyse's; per mesh level up to lod's perceptual one, the texture
+ * sizes are texres's search with that level drawn (jnd_texres_params.level);
+ * a ladder of uniform texture scales per level gives the Pareto front of
+ * (memory, triangles, statistic) and budget mode's candidates; each coarser
+ * level is checked on held-out views at its switch distance with its maps
+ * capped at the mips that distance samples (000 §4). Typical use:
+ *
+ *     jnd_budget_params bp;  jnd_budget_defaults(&bp);    // cheapest unnoticed
+ *     bp.memory_bytes = 8 << 20;  bp.triangles = 20000;   // or: least noticed within a budget
+ *     jnd_budget_result *r;  jnd_budget_run("helmet.glb", &bp, "out", &r);
+ *     // r->chosen, r->separate, r->candidates (r->ncandidates), out/model/helmet.glb
+ *     jnd_budget_result_free(r);
+ */
+
+typedef struct {
+  jnd_texres_params texres;  /* the texture search and the judge of every candidate: views (their
+                                coverage is set to lod.poi.coverage, the one viewing condition),
+                                display, model, calibration, criterion (p, q), margin, held-out views */
+  jnd_lod_run_params lod;    /* the chain, the screens and the switch distances (jnd_lod_analyse with
+                                the perceptual step; the model's MSFT_screencoverage is the first
+                                screen's) */
+  double bytes_per_triangle; /* the exchange rate of a triangle in bytes; 0 (default): level 0's own,
+                                its vertex and index bytes as written (jnd_scene_lod_bytes) over its
+                                triangles, so that the cost is the GPU bytes of textures and mesh */
+  double memory_bytes;       /* budget mode: the most texture bytes (0: no bound) ... */
+  double triangles;          /* ... and the most triangles of the finest level (0: no bound); with
+                                either, the candidate within both with the lowest statistic */
+  int verify_views;          /* held-out views at each coarser level's switch distance (4) */
+  void (*progress)(void *user, const char *line, int done, int total); /* NULL or per stage */
+  void *progress_user;
+  jnd_run_options run;       /* map side of "builtin[:...]" (512), the report's copy, timings, warnings */
+} jnd_budget_params;
+
+/* Fills p with the defaults above (texres's and lod's own; 003's texture
+ * analysis off, lod's map side 512). */
+void jnd_budget_defaults(jnd_budget_params *p);
+
+/* One candidate: a finest level and a size per map. */
+typedef struct {
+  int level;                 /* the chain's level drawn nearest (levels finer than it are dropped) */
+  int scale;                 /* −1: sizes of texres's search at that level; −2: the separately chosen
+                                (texres at level 0 with lod's perceptual level); −3: cheaper encodings per image
+                                (docs/budget.md): in cheapest-unnoticed mode the cheapest of those,
+                                in budget mode a candidate over the memory budget with as few images
+                                encoded as bring it within; s ≥ 0:
+                                every map at its original halved s times (not below min_size) */
+  int (*sizes)[2];           /* per scene map: width, height in pixels (owned) */
+  jnd_tex_format *formats;   /* per scene map: its image's encoding on the GPU (owned): the slots'
+                                block format (jnd_slot_block_format), or BC1 where the encoding
+                                search chose it (scale −3) */
+  int *packed;               /* per scene map: the principal components its material is packed in
+                                (001, pca's encoding, components in BC4/BC5 with mips), or 0 (owned;
+                                scale −3, and −2 where `jnd pca`'s own choice is taken) */
+  jnd_pca_encoding *layouts; /* per scene material: the layout of a packed material's components
+                                (their scales and bits) where `jnd pca` chose it (scale −2 and the
+                                candidates made from it); components 0: K components at full size
+                                and 8 bits, budget's own search (owned) */
+  size_t memory_bytes;       /* the textures: unique images, their formats, mip chains */
+  size_t triangles;          /* of the level */
+  double cost;               /* memory_bytes + triangles × the exchange rate */
+  double statistic;          /* the criterion's statistic (the (⌊q·n⌋ + 1)-th largest pooled P) on the
+                                judge's views at the viewing condition */
+  int pass;                  /* statistic ≤ p there */
+  int searched_pass;         /* scale −1: texres's search passed (its margin, confirmation, held-out
+                                views); −2 (and −3 in budget mode): the statistic is at most
+                                p·(1 − margin); −3 in cheapest-unnoticed mode: that and the
+                                confirmation rounds; else 0 */
+  int pareto;                /* not dominated in (memory, triangles, statistic) */
+  int inferred;              /* 1: a ladder state not rendered, as the one before it (one halving
+                                fewer, same level) had statistic 1 and detection never falls as a
+                                map shrinks: its statistic is 1 */
+} jnd_budget_candidate;
+
+/* `jnd pca`'s own choice for one material, the separately chosen
+ * candidate's third part (docs/budget.md "The separate choice"). */
+typedef enum {
+  JND_BUDGET_PCA_SHARED = 0,  /* not offered: another material samples one of its images */
+  JND_BUDGET_PCA_NONE,        /* pca's rendered search found no encoding that passes */
+  JND_BUDGET_PCA_DEARER,      /* chosen, not taken: at texres's sizes its components take at least
+                                 the material's images' bytes */
+  JND_BUDGET_PCA_TAKEN        /* taken: the material's maps at texres's sizes packed in its layout */
+} jnd_budget_pca_status;
+
+typedef struct {
+  int material;              /* scene material */
+  int maps;                  /* its maps (0: none, not listed) */
+  jnd_budget_pca_status status;
+  jnd_pca_encoding encoding; /* pca's choice (status DEARER, TAKEN) */
+  double statistic;          /* its criterion statistic on pca's own views (NaN: none) */
+  size_t components_bytes;   /* at texres's sizes, BC4/BC5 with mips (status DEARER, TAKEN) */
+  size_t images_bytes;       /* the material's images at texres's sizes, slots' block formats */
+} jnd_budget_pca;
+
+/* A level of the written chain, from its switch distance on. */
+typedef struct {
+  int level;                 /* the chain's level */
+  double switch_distance;    /* first screen, object units (0: the finest written) */
+  double switch_coverage;    /* the sphere's projected diameter over the screen's height there */
+  int (*sizes)[2];           /* per map: the chosen size capped at the mips that distance samples
+                                (000 §4's bound; what a streaming engine holds; owned) */
+  size_t texture_bytes, geometry_bytes, triangles; /* held while only this level is shown */
+  int views;                 /* held-out views judged at the switch distance (0: not verified) */
+  double statistic;          /* the criterion's statistic there (NaN: not verified) */
+  int pass;
+} jnd_budget_level;
+
+typedef struct {
+  int mode;                  /* 0 cheapest unnoticed, 1 least noticed within the budget */
+  double bytes_per_triangle; /* the rate used */
+  int nmaps;
+  char (*map_names)[128];    /* owned */
+  int ncandidates;
+  jnd_budget_candidate *candidates; /* owned: every candidate judged */
+  int chosen, separate;      /* indices into candidates */
+  int nlevels;
+  jnd_budget_level *levels;  /* owned: the written chain, finest first */
+  jnd_lod_result lod;        /* the chain and switch distances (its scene holds the chosen maps) */
+  jnd_texres_result texres;  /* texres's search at level 0 (the separately chosen sizes) */
+  int npca;
+  jnd_budget_pca *pca;       /* owned, per scene material: `jnd pca`'s own choice (the separate one) */
+  int passes;                /* the choice passes at the viewing condition and at every switch distance */
+  double search_s, verify_s; /* wall-clock seconds */
+  /* set by jnd_budget_run only */
+  char model_path[4600];     /* the GLB written: out_dir/model/NAME.glb */
+  char *report;              /* the report's JSON text, as written to out_dir/budget.json */
+} jnd_budget_result;
+
+/* The task (`jnd budget`): reads model (glTF, GLB, OBJ or builtin[:...]),
+ * searches as above and writes into out_dir, through one output writer
+ * (nothing over an input; all or nothing): budget.json (the report),
+ * model/NAME.glb (the chosen levels, MSFT_lod with MSFT_screencoverage, the
+ * maps at the chosen sizes) and pareto.png. *out is allocated
+ * (jnd_budget_result_free). Bad input — a budget below 0, an asset without
+ * maps or without triangles, a budget no candidate meets (the message
+ * names the smallest memory and triangles possible) — is one error "FILE:
+ * problem", JND_ERR_ARG, nothing written. */
+jnd_status jnd_budget_run(const char *model, const jnd_budget_params *p, const char *out_dir,
+                          jnd_budget_result **out);
+
+/* Frees what jnd_budget_run returned (NULL is fine). */
+void jnd_budget_result_free(jnd_budget_result *r);
+
+/* The search alone (writes nothing): the chain and its analysis, the
+ * candidates, the choice and the levels' verification. out is the
+ * caller's (jnd_budget_result_clear). */
+JND_EXPERIMENTAL jnd_status jnd_budget_search(const char *model, const jnd_budget_params *p, jnd_budget_result *out);
+
+/* Frees a result's arrays; safe on a zeroed struct. */
+void jnd_budget_result_clear(jnd_budget_result *r);
+
+/* pareto.png: memory against statistic of every candidate, the Pareto
+ * front, the choice and the separately chosen marked. out is allocated (3
+ * channels, sRGB 0..1). */
+JND_EXPERIMENTAL jnd_status jnd_budget_pareto_plot(const jnd_budget_result *r, const jnd_criterion *c, jnd_image *out);
 
 /* ------------------------------------------------------------------------ */
 /* Popping (Schwarz & Stamminger 2009, 004 §3.2, §4, §5.2)                  */

@@ -93,13 +93,13 @@ static int parse_size(const char *v, double *out) {
 
 static void summary(const cli_common *common, const jnd_budget_result *R) {
   const jnd_budget_candidate *ch = &R->candidates[R->chosen], *se = &R->candidates[R->separate];
-  cli_info(common, "%-28s %6s %14s %10s %14s %10s\n", "", "level", "textures MiB", "triangles", "cost MiB",
+  cli_info(common, "%-30s %6s %14s %10s %14s %10s\n", "", "level", "textures MiB", "triangles", "cost MiB",
            "statistic");
   const jnd_budget_candidate *rows[2] = {ch, se};
   const char *names[2] = {R->mode ? "chosen (within the budget)" : "chosen (cheapest unnoticed)",
-                          "texres + lod separately"};
+                          "texres + pca + lod separately"};
   for (int i = 0; i < 2; i++)
-    cli_info(common, "%-28s %6d %14.3f %10zu %14.3f %10.3f%s\n", names[i], rows[i]->level,
+    cli_info(common, "%-30s %6d %14.3f %10zu %14.3f %10.3f%s\n", names[i], rows[i]->level,
              rows[i]->memory_bytes / 1048576.0, rows[i]->triangles, rows[i]->cost / 1048576.0, rows[i]->statistic,
              i == 1 && !rows[i]->searched_pass ? "  (fails with the margin)" : "");
   int front = 0;

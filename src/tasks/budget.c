@@ -49,6 +49,7 @@ static void candidate_clear(jnd_budget_candidate *c) {
   free(c->sizes);
   free(c->formats);
   free(c->packed);
+  free(c->layouts);
 }
 
 void jnd_budget_result_clear(jnd_budget_result *r) {
@@ -58,6 +59,7 @@ void jnd_budget_result_clear(jnd_budget_result *r) {
   for (int k = 0; k < r->nlevels; k++) free(r->levels[k].sizes);
   free(r->levels);
   free(r->map_names);
+  free(r->pca);
   jnd_lod_result_clear(&r->lod);
   jnd_texres_result_clear(&r->texres);
   free(r->report);
@@ -71,6 +73,18 @@ void jnd_budget_result_free(jnd_budget_result *r) {
 }
 
 /* ---- the images a GPU holds ---- */
+
+/* A material's set (the channels the shader reads, from its maps plain at
+ * the sizes key) and its decomposition (001): the same for every number of
+ * components kept, so made once per material and sizes */
+typedef struct {
+  int made;
+  int key[JND_PCA_MAX_MAPS][2];   /* per set map: the size it was made at */
+  jnd_texset set;
+  jnd_map_slot slots[JND_PCA_MAX_MAPS];
+  int map_of[JND_PCA_MAX_MAPS];   /* per set map: its scene map */
+  jnd_pca pca;
+} pca_analysis;
 
 typedef struct {
   jnd_scene *scene;
@@ -86,7 +100,8 @@ typedef struct {
   int nmat;
   unsigned char *repack;   /* per material: set_state packs it again */
   size_t *packbytes;       /* per material: its components' GPU bytes as last packed */
-  int packc;               /* the channels of the set last packed */
+  jnd_pca_encoding *curlay;   /* per material: the layout it is packed with now (components 0: not) */
+  pca_analysis *an;        /* per material: its set and decomposition as last made */
   int nscales;             /* the ladder's halvings, 0 .. nscales − 1 */
   jnd_judge *j;
   int nviews;
@@ -115,7 +130,10 @@ static jnd_status images_make(ctx *c) {
   c->nmat = jnd_scene_material_count(c->scene);
   c->repack = jnd_calloc((size_t)c->nmat + 1, sizeof *c->repack);
   c->packbytes = jnd_calloc((size_t)c->nmat + 1, sizeof *c->packbytes);
-  if (!c->mi || !c->leader || !c->fmt || !c->cur || !c->curfmt || !c->curpack || !c->repack || !c->packbytes)
+  c->curlay = jnd_calloc((size_t)c->nmat + 1, sizeof *c->curlay);
+  c->an = jnd_calloc((size_t)c->nmat + 1, sizeof *c->an);
+  if (!c->mi || !c->leader || !c->fmt || !c->cur || !c->curfmt || !c->curpack || !c->repack || !c->packbytes ||
+      !c->curlay || !c->an)
     return JND_ERR_NOMEM;
   for (int i = 0; i < c->nmaps; i++) {
     jnd_scene_map_info(c->scene, i, &c->mi[i]);
@@ -142,6 +160,9 @@ static void ctx_free(ctx *c) {
   free(c->curpack);
   free(c->repack);
   free(c->packbytes);
+  free(c->curlay);
+  for (int m = 0; c->an && m < c->nmat; m++) jnd_texset_free(&c->an[m].set);
+  free(c->an);
 }
 
 /* one size per image: the largest any of its maps has */
@@ -207,54 +228,104 @@ static jnd_status encode_bc1(ctx *c, int i) {
   return s;
 }
 
-/* Material m's maps as they are now packed into K principal components
+/* the layout material m is packed with for K components: lay[m] where
+ * given (pca's own choice: its components' scales and bits), else K
+ * components at full size and 8 bits (budget's own search) */
+static void layout_of(int m, int K, const jnd_pca_encoding *lay, jnd_pca_encoding *e) {
+  if (lay && lay[m].components > 0) {
+    *e = lay[m];
+    return;
+  }
+  memset(e, 0, sizeof *e);
+  e->components = K;
+  for (int k = 0; k < JND_PCA_MAX_CHANNELS; k++) e->bits[k] = 8;
+}
+
+static int same_layout(const jnd_pca_encoding *a, const jnd_pca_encoding *b) {
+  if (a->components != b->components) return 0;
+  for (int k = 0; k < a->components; k++)
+    if (a->scale[k] != b->scale[k] || a->bits[k] != b->bits[k]) return 0;
+  return 1;
+}
+
+/* material m's analysis was made at sizes */
+static int analysis_fits(const ctx *c, int m, int (*sizes)[2]) {
+  const pca_analysis *a = &c->an[m];
+  if (!a->made) return 0;
+  for (int i = 0; i < a->set.nmaps; i++)
+    if (sizes[a->map_of[i]][0] != a->key[i][0] || sizes[a->map_of[i]][1] != a->key[i][1]) return 0;
+  return 1;
+}
+
+/* Material m's set (pca_scene_material_set, as `jnd pca --model` builds
+ * it, from the maps as the scene has them now: plain, at c->cur) and its
+ * decomposition (jnd_pca_analyse), kept in c->an[m] and made again only
+ * when the sizes change: it does not depend on the components kept. */
+static jnd_status analysis(ctx *c, int m, pca_analysis **out) {
+  pca_analysis *a = &c->an[m];
+  *out = a;
+  if (analysis_fits(c, m, c->cur)) return JND_OK;
+  jnd_texset_free(&a->set);
+  a->made = 0;
+  jnd_status s = pca_scene_material_set(c->scene, m, 0, NULL, &a->set, a->slots, a->map_of, NULL);
+  if (s == JND_OK && a->set.nmaps == 0) s = jnd_fail(JND_ERR_ARG, "budget: material %d has no maps", m);
+  if (s == JND_OK) s = jnd_pca_analyse(&a->set, NULL, &a->pca);
+  if (s != JND_OK) {
+    jnd_texset_free(&a->set);
+    return s;
+  }
+  for (int i = 0; i < a->set.nmaps; i++) memcpy(a->key[i], c->cur[a->map_of[i]], sizeof a->key[i]);
+  a->made = 1;
+  return JND_OK;
+}
+
+/* Material m's maps as they are now (plain, at c->cur) packed in layout e
  * (001: the set of the channels the shader reads, mean-centred,
- * decorrelated, the first K kept at full size and 8 bits — pca's own
- * encoding, jnd_pca_encode), the components block-compressed as a GPU holds
- * them (BC4, pairs BC5: pca's JND_PCA_BC_PCA_BC4) and the maps rebuilt from
- * them put in the scene; c->packbytes[m] the components' bytes with their
- * mip chains. *channels (may be NULL) receives the set's channels. */
-static jnd_status pack_material(ctx *c, int m, int K, int *channels) {
-  jnd_texset set;
-  jnd_map_slot slots[JND_PCA_MAX_MAPS];
-  int map_of[JND_PCA_MAX_MAPS];
-  jnd_pca pca;
-  jnd_pca_encoding e;
+ * decorrelated, the first K kept — pca's own encoding, jnd_pca_encode),
+ * the components block-compressed as a GPU holds them (BC4, pairs BC5:
+ * pca's JND_PCA_BC_PCA_BC4) and the maps rebuilt from them put in the
+ * scene; c->packbytes[m] the components' bytes with their mip chains. */
+static jnd_status pack_material(ctx *c, int m, const jnd_pca_encoding *want) {
+  pca_analysis *a;
   jnd_pca_encoded enc;
   jnd_image rec = {0};
   memset(&enc, 0, sizeof enc);
-  jnd_status s = pca_scene_material_set(c->scene, m, 0, NULL, &set, slots, map_of, NULL);
-  if (s == JND_OK && set.nmaps == 0) s = jnd_fail(JND_ERR_ARG, "budget: material %d has no maps", m);
-  if (s == JND_OK) c->packc = set.c;
-  if (s == JND_OK && channels) *channels = set.c;
-  if (s == JND_OK) s = jnd_pca_analyse(&set, NULL, &pca);
+  jnd_status s = analysis(c, m, &a);
   if (s == JND_OK) {
-    jnd_pca_encoding_default(&pca, &e);
-    e.components = K < set.c ? K : set.c;
-    s = jnd_pca_encode(&set, &pca, &e, &enc);
+    jnd_pca_encoding e = *want;
+    if (e.components > a->set.c) e.components = a->set.c;
+    s = jnd_pca_encode(&a->set, &a->pca, &e, &enc);
   }
-  if (s == JND_OK) s = pca_block_compressed_gpu(&set, &enc, JND_PCA_BC_PCA_BC4, &rec, NULL, &c->packbytes[m]);
-  for (int i = 0; i < set.nmaps && s == JND_OK; i++) {
+  if (s == JND_OK) s = pca_block_compressed_gpu(&a->set, &enc, JND_PCA_BC_PCA_BC4, &rec, NULL, &c->packbytes[m]);
+  for (int i = 0; i < a->set.nmaps && s == JND_OK; i++) {
     jnd_image img = {0};
-    s = jnd_texset_map_image(&set, &rec, i, &img);
-    if (s == JND_OK) s = jnd_scene_map_set(c->scene, map_of[i], &img);
-    if (s == JND_OK) c->curpack[map_of[i]] = K;
+    s = jnd_texset_map_image(&a->set, &rec, i, &img);
+    if (s == JND_OK) s = jnd_scene_map_set(c->scene, a->map_of[i], &img);
+    if (s == JND_OK) c->curpack[a->map_of[i]] = want->components;
     jnd_image_free(&img);
   }
+  if (s == JND_OK) c->curlay[m] = *want;
   jnd_image_free(&rec);
   jnd_pca_encoded_free(&enc);
-  jnd_texset_free(&set);
   return s;
 }
 
 /* formats: per map, its image's encoding (NULL: the slots' block formats);
  * packed (NULL: none): per map, the components its material is packed in
- * (0: not packed; a packed material's maps all have the same) */
-static jnd_status set_state(ctx *c, int level, int (*sizes)[2], const jnd_tex_format *formats, const int *packed) {
+ * (0: not packed; a packed material's maps all have the same), lay (NULL:
+ * none) per material the layout (layout_of) */
+static jnd_status set_state(ctx *c, int level, int (*sizes)[2], const jnd_tex_format *formats, const int *packed,
+                            const jnd_pca_encoding *lay) {
   memset(c->repack, 0, (size_t)c->nmat);
-  for (int i = 0; i < c->nmaps && packed; i++)
-    if (packed[i] && (sizes[i][0] != c->cur[i][0] || sizes[i][1] != c->cur[i][1] || c->curpack[i] != packed[i]))
-      c->repack[c->mi[i].material] = 1;
+  for (int i = 0; i < c->nmaps && packed; i++) {
+    if (!packed[i]) continue;
+    int m = c->mi[i].material;
+    jnd_pca_encoding e;
+    layout_of(m, packed[i], lay, &e);
+    if (sizes[i][0] != c->cur[i][0] || sizes[i][1] != c->cur[i][1] || c->curpack[i] != packed[i] ||
+        !same_layout(&e, &c->curlay[m]))
+      c->repack[m] = 1;
+  }
   for (int i = 0; i < c->nmaps; i++) {
     jnd_tex_format f = formats ? formats[i] : c->fmt[c->leader[i]];
     int k = packed ? packed[i] : 0;
@@ -270,6 +341,7 @@ static jnd_status set_state(ctx *c, int level, int (*sizes)[2], const jnd_tex_fo
     }
     c->curfmt[i] = c->fmt[c->leader[i]];
     c->curpack[i] = 0;
+    c->curlay[c->mi[i].material].components = 0;
     if (s == JND_OK && !k && f != c->curfmt[i]) {
       s = f == JND_TEX_BC1 ? encode_bc1(c, i) : jnd_fail(JND_ERR_ARG, "budget: no encoder for %s", jnd_tex_format_name(f));
       if (s == JND_OK) c->curfmt[i] = f;
@@ -282,7 +354,9 @@ static jnd_status set_state(ctx *c, int level, int (*sizes)[2], const jnd_tex_fo
     int m = c->mi[i].material;
     if (!packed[i] || !c->repack[m]) continue;
     c->repack[m] = 0;
-    jnd_status s = pack_material(c, m, packed[i], NULL);
+    jnd_pca_encoding e;
+    layout_of(m, packed[i], lay, &e);
+    jnd_status s = pack_material(c, m, &e);
     if (s != JND_OK) return s;
   }
   return jnd_scene_lod_select(c->scene, level);
@@ -309,8 +383,9 @@ static jnd_budget_candidate *add_candidate(ctx *c, int level, int scale) {
   x->sizes = jnd_calloc((size_t)c->nmaps, sizeof *x->sizes);
   x->formats = jnd_calloc((size_t)c->nmaps, sizeof *x->formats);
   x->packed = jnd_calloc((size_t)c->nmaps, sizeof *x->packed);
+  x->layouts = jnd_calloc((size_t)c->nmat + 1, sizeof *x->layouts);
   R->ncandidates++;   /* cleared with the result even when half made */
-  if (!x->sizes || !x->formats || !x->packed) return NULL;
+  if (!x->sizes || !x->formats || !x->packed || !x->layouts) return NULL;
   for (int i = 0; i < c->nmaps; i++) x->formats[i] = c->fmt[c->leader[i]];
   x->level = level;
   x->scale = scale;
@@ -326,7 +401,7 @@ static int any_packed(const ctx *c, const int *packed) {
 
 static jnd_status price(ctx *c, jnd_budget_candidate *x) {
   unify(c, x->sizes);
-  jnd_status s = any_packed(c, x->packed) ? set_state(c, x->level, x->sizes, x->formats, x->packed) : JND_OK;
+  jnd_status s = any_packed(c, x->packed) ? set_state(c, x->level, x->sizes, x->formats, x->packed, x->layouts) : JND_OK;
   x->memory_bytes = texture_bytes(c, x->sizes, x->formats, x->packed);
   jnd_lod_level_info li;
   if (s == JND_OK) s = jnd_scene_lod_info(c->scene, x->level, &li);
@@ -338,10 +413,10 @@ static jnd_status price(ctx *c, jnd_budget_candidate *x) {
 /* the candidate on the judge's views [first, first + n), the criterion at
  * the report's p (the judge decides at texres's p·(1 − margin): it is
  * texres's, shared) */
-static jnd_status judge(ctx *c, int level, int (*sizes)[2], const jnd_tex_format *formats, const int *packed, int first,
-                        int n, double *P, jnd_judgement *r) {
+static jnd_status judge(ctx *c, int level, int (*sizes)[2], const jnd_tex_format *formats, const int *packed,
+                        const jnd_pca_encoding *lay, int first, int n, double *P, jnd_judgement *r) {
   const jnd_criterion *cr = &c->p->texres.judge.criterion;
-  jnd_status s = set_state(c, level, sizes, formats, packed);
+  jnd_status s = set_state(c, level, sizes, formats, packed, lay);
   if (s == JND_OK) s = jnd_judge_eval(c->j, first, n, 0, P, r);
   if (s == JND_OK) s = jnd_criterion_eval(P, n, cr->p, cr->q, cr->confidence, &r->criterion);
   return s;
@@ -456,6 +531,30 @@ static int packable(const ctx *c, int m) {
   return n > 0;
 }
 
+/* material m's analysis at sizes (analysis), its maps first made plain
+ * there when it is not made yet: the other maps as f and pk say, m's at
+ * their slots' formats, not packed */
+static jnd_status plain_analysis(ctx *c, int m, int level, int (*sizes)[2], const jnd_tex_format *f, const int *pk,
+                                 const jnd_pca_encoding *lay, pca_analysis **a) {
+  if (analysis_fits(c, m, sizes)) {
+    *a = &c->an[m];
+    return JND_OK;
+  }
+  jnd_tex_format *g = jnd_calloc((size_t)c->nmaps, sizeof *g);
+  int *q = jnd_calloc((size_t)c->nmaps, sizeof *q);
+  jnd_status s = g && q ? JND_OK : JND_ERR_NOMEM;
+  for (int i = 0; i < c->nmaps && s == JND_OK; i++) {
+    int mine = c->mi[i].material == m;
+    g[i] = mine ? c->fmt[c->leader[i]] : f[i];
+    q[i] = mine ? 0 : pk[i];
+  }
+  if (s == JND_OK) s = set_state(c, level, sizes, g, q, lay);
+  if (s == JND_OK) s = analysis(c, m, a);
+  free(g);
+  free(q);
+  return s;
+}
+
 typedef struct {
   int components;   /* K taken, 0: refused */
   double statistic;
@@ -470,22 +569,25 @@ typedef struct {
  * material's images' bytes (sizes and formats as they are) cutting the
  * range, as would every larger K. Taken (pk of m's maps = K) when one is
  * found; else pk stays 0 and the material keeps its images. */
-static jnd_status search_packing(ctx *c, int m, int level, int (*sizes)[2], const jnd_tex_format *f, int *pk, double *P,
-                                 pca_try *t) {
+static jnd_status search_layouts(ctx *c, int m, int level, int (*sizes)[2], const jnd_tex_format *f, int *pk,
+                                 jnd_pca_encoding *lay, double *P, pca_try *t, size_t best);
+
+static jnd_status search_packing(ctx *c, int m, int level, int (*sizes)[2], const jnd_tex_format *f, int *pk,
+                                 jnd_pca_encoding *lay, double *P, pca_try *t) {
   memset(t, 0, sizeof *t);
   if (!packable(c, m)) return JND_OK;
   size_t now = 0;
   for (int i = 0; i < c->nmaps; i++)
     if (c->leader[i] == i && c->mi[i].material == m) now += jnd_texture_bytes(f[i], sizes[i][0], sizes[i][1], 1);
-  for (int i = 0; i < c->nmaps; i++)
-    if (c->mi[i].material == m) pk[i] = 1;
-  jnd_status s = set_state(c, level, sizes, f, pk);   /* the set's channels C: K = 1..C */
-  int lo = 1, hi = c->packc + 1;
+  pca_analysis *a = NULL;
+  size_t kbytes = 0;   /* the components' bytes of the K taken */
+  jnd_status s = plain_analysis(c, m, level, sizes, f, pk, lay, &a);   /* the set's channels C: K = 1..C */
+  int lo = 1, hi = s == JND_OK ? a->set.c + 1 : 1;
   while (lo < hi && s == JND_OK) {
     int K = lo + (hi - lo) / 2;
     for (int i = 0; i < c->nmaps; i++)
       if (c->mi[i].material == m) pk[i] = K;
-    if ((s = set_state(c, level, sizes, f, pk))) break;
+    if ((s = set_state(c, level, sizes, f, pk, lay))) break;
     size_t b = c->packbytes[m];
     if (b >= now) {
       stage(c, "%s packed in %d component%s: %.3f MiB, not under its images' %.3f MiB",
@@ -495,11 +597,12 @@ static jnd_status search_packing(ctx *c, int m, int level, int (*sizes)[2], cons
     }
     jnd_judgement r;
     int ok = 0;
-    if ((s = judge(c, level, sizes, f, pk, 0, c->nviews, P, &r)) || (s = margin_pass(c, P, c->nviews, &ok))) break;
+    if ((s = judge(c, level, sizes, f, pk, lay, 0, c->nviews, P, &r)) || (s = margin_pass(c, P, c->nviews, &ok))) break;
     stage(c, "%s packed in %d component%s: %.3f MiB against %.3f MiB, statistic %.3f, %s",
           jnd_scene_material_name(c->scene, m), K, K == 1 ? "" : "s", b / 1048576.0, now / 1048576.0,
           r.criterion.statistic, ok ? "passes" : "seen");
     if (ok) {   /* passes with the margin: fewer components may too */
+      kbytes = b;
       t->components = K;
       t->statistic = r.criterion.statistic;
       t->pass = r.criterion.pass;
@@ -510,7 +613,189 @@ static jnd_status search_packing(ctx *c, int m, int level, int (*sizes)[2], cons
   }
   for (int i = 0; i < c->nmaps; i++)
     if (c->mi[i].material == m) pk[i] = t->components;
+  /* then pca's layouts with fewer bytes than that (or than the images) */
+  if (s == JND_OK && a)
+    s = search_layouts(c, m, level, sizes, f, pk, lay, P, t, t->components ? kbytes : now);
   stage(c, "%s: %s", jnd_scene_material_name(c->scene, m), t->components ? "packed (001)" : "its images kept");
+  return s;
+}
+
+static int coarse(int n, int k) { return (n + (1 << k) - 1) >> k; }   /* pca's component side at scale k */
+
+/* The layouts `jnd pca`'s rendered search tries (001; pca_chooser_run,
+ * pca's --max-scale 2): for each PSNR floor 14, 16, ... 60 dB the cheapest
+ * layout — K, each component's scale — whose every channel reaches it, at 8
+ * bits (a GPU block holds 8), those whose components (BC4 each, pairs in
+ * BC5: Σ_k a BC4 texture of component k's side, with mips) take fewer than
+ * best bytes, cheapest first; the cheapest that passes with texres's margin
+ * on the judge's views, every encoding taken before included, by
+ * bisection (the error falls as the floor rises, as pca's own search
+ * assumes). Taken (lay[m], pk of m's maps) when one passes. */
+static jnd_status search_layouts(ctx *c, int m, int level, int (*sizes)[2], const jnd_tex_format *f, int *pk,
+                                 jnd_pca_encoding *lay, double *P, pca_try *t, size_t best) {
+  enum { FLOORS = 24 };
+  pca_analysis *a;
+  jnd_status s = plain_analysis(c, m, level, sizes, f, pk, lay, &a);
+  if (s != JND_OK) return s;
+  psnr_chooser ch;
+  jnd_pca_params dp;
+  jnd_pca_defaults(&dp);
+  if ((s = pca_chooser_init(&a->set, &a->pca, dp.max_scale, &ch))) return s;
+  jnd_pca_encoding fam[FLOORS];
+  size_t bytes[FLOORS];
+  int n = 0;
+  for (int db = 14; db <= 60 && s == JND_OK && n < FLOORS; db += 2) {
+    jnd_pca_encoding e;
+    s = pca_chooser_run(&ch, &a->set, &a->pca, db, &e);
+    if (s == JND_ERR_ARG) {   /* unreachable floor: the higher ones are too */
+      s = JND_OK;
+      break;
+    }
+    if (s != JND_OK) break;
+    size_t b = 0;
+    for (int k = 0; k < e.components; k++) {
+      e.bits[k] = 8;
+      b += jnd_texture_bytes(JND_TEX_BC4, coarse(a->set.w, e.scale[k]), coarse(a->set.h, e.scale[k]), 1);
+    }
+    int dup = !(b < best) || e.components < 1;
+    for (int j = 0; j < n && !dup; j++) dup = same_layout(&fam[j], &e);
+    if (dup) continue;
+    int at = n++;   /* insertion by bytes */
+    while (at > 0 && bytes[at - 1] > b) {
+      fam[at] = fam[at - 1];
+      bytes[at] = bytes[at - 1];
+      at--;
+    }
+    fam[at] = e;
+    bytes[at] = b;
+  }
+  pca_chooser_free(&ch);
+  jnd_pca_encoding keep = lay[m];
+  int found = -1, lo = 0, hi = n;
+  while (lo < hi && s == JND_OK) {
+    int mid = lo + (hi - lo) / 2, ok = 0;
+    lay[m] = fam[mid];
+    for (int i = 0; i < c->nmaps; i++)
+      if (c->mi[i].material == m) pk[i] = fam[mid].components;
+    jnd_judgement r;
+    if ((s = judge(c, level, sizes, f, pk, lay, 0, c->nviews, P, &r)) || (s = margin_pass(c, P, c->nviews, &ok))) break;
+    stage(c, "%s in pca's layout of %d component%s: %.3f MiB, statistic %.3f, %s", jnd_scene_material_name(c->scene, m),
+          fam[mid].components, fam[mid].components == 1 ? "" : "s", c->packbytes[m] / 1048576.0, r.criterion.statistic,
+          ok ? "passes" : "seen");
+    if (ok) {
+      found = mid;
+      t->components = fam[mid].components;
+      t->statistic = r.criterion.statistic;
+      t->pass = r.criterion.pass;
+      hi = mid;
+    } else {
+      lo = mid + 1;
+    }
+  }
+  lay[m] = found >= 0 ? fam[found] : keep;
+  for (int i = 0; i < c->nmaps; i++)
+    if (c->mi[i].material == m) pk[i] = t->components;
+  return s;
+}
+
+/* the GPU bytes of material m's images at sizes, in their slots' block
+ * formats */
+static size_t material_images_bytes(const ctx *c, int m, int (*sizes)[2]) {
+  size_t b = 0;
+  for (int i = 0; i < c->nmaps; i++)
+    if (c->leader[i] == i && c->mi[i].material == m) b += jnd_texture_bytes(c->fmt[i], sizes[i][0], sizes[i][1], 1);
+  return b;
+}
+
+/* The separate choice's third part: `jnd pca`'s own choice for each
+ * material whose images are its own (packable), by the library's rendered
+ * search as `jnd pca --model MODEL --material NAME` runs it
+ * (jnd_pca_render_open, _material_set, _bind, jnd_pca_analyse,
+ * jnd_pca_choose_rendered: its reference is the material's maps as the
+ * file has them on level 0, its family of encodings by PSNR floor, its
+ * bisection), with budget's views, display and criterion (p, q; pca has
+ * no margin) and pca's default --max-scale. Combined with texres's sizes
+ * (x): pca's layout (K, each component's scale and bits) packs the
+ * material's maps as texres sized them, and is taken where those
+ * components take fewer bytes than the material's images there (an artist
+ * adding up the commands' savings keeps a packing that saves). */
+static jnd_status separate_pca(ctx *c, const char *model, jnd_budget_candidate *x) {
+  jnd_budget_result *R = c->R;
+  const jnd_budget_params *p = c->p;
+  if (!(R->pca = jnd_calloc((size_t)c->nmat + 1, sizeof *R->pca))) return JND_ERR_NOMEM;
+  R->npca = c->nmat;
+  jnd_pca_render_params rp;
+  jnd_pca_render_defaults(&rp);
+  rp.judge = p->texres.judge;
+  rp.judge.views.sampling.coverage = p->lod.poi.coverage;
+  rp.judge.views.sampling.distance = 0;
+  rp.builtin_map_size = p->run.map_size > 0 ? p->run.map_size : 512;
+  jnd_pca_params dp;
+  jnd_pca_defaults(&dp);
+  int *pk = jnd_calloc((size_t)c->nmaps, sizeof *pk);
+  jnd_status s = pk ? JND_OK : JND_ERR_NOMEM;
+  for (int m = 0; m < c->nmat && s == JND_OK; m++) {
+    jnd_budget_pca *o = &R->pca[m];
+    const char *name = jnd_scene_material_name(c->scene, m);
+    o->material = m;
+    o->statistic = NAN;
+    o->images_bytes = material_images_bytes(c, m, x->sizes);
+    for (int i = 0; i < c->nmaps; i++) o->maps += c->mi[i].material == m;
+    if (!packable(c, m)) continue;
+    jnd_pca_render *r = NULL;
+    jnd_texset set;
+    jnd_map_slot slots[JND_PCA_MAX_MAPS];
+    jnd_pca pca;
+    jnd_pca_visibility v;
+    int wf = 0;   /* the set's side as pca decided on it: the file's maps */
+    memset(&set, 0, sizeof set);
+    s = jnd_pca_render_open(model, name, &rp, &r);
+    if (s == JND_OK) s = jnd_pca_render_material_set(r, NULL, &set, slots, NULL);
+    if (s == JND_OK) s = jnd_pca_render_bind(r, &set, slots);
+    if (s == JND_OK) s = jnd_pca_analyse(&set, NULL, &pca);
+    if (s == JND_OK) {
+      s = jnd_pca_choose_rendered(r, &set, &pca, dp.max_scale, &o->encoding, &v, NULL);
+      o->status = s == JND_OK ? JND_BUDGET_PCA_DEARER : JND_BUDGET_PCA_NONE;
+      if (s == JND_OK) o->statistic = v.p_criterion;
+      wf = set.w;
+      if (s == JND_ERR_ARG) s = JND_OK;   /* no encoding passes: the material keeps its images */
+    }
+    jnd_texset_free(&set);
+    jnd_pca_render_free(r);
+    if (s != JND_OK || o->status != JND_BUDGET_PCA_DEARER) {
+      stage(c, "separately, pca for %s: no encoding passes", name);
+      continue;
+    }
+    /* its layout at texres's sizes, priced as every packing is: each
+     * component as many texels as pca gave it on the file's maps, at most
+     * the set's at texres's sizes (pca's scale k halves the file's side k
+     * times; where texres halved the maps d times already, k − d remain) */
+    int wt = 0, d = 0;
+    memset(pk, 0, (size_t)c->nmaps * sizeof *pk);
+    for (int i = 0; i < c->nmaps; i++)
+      if (c->mi[i].material == m) {
+        pk[i] = o->encoding.components;
+        if (x->sizes[i][0] > wt) wt = x->sizes[i][0];
+      }
+    while (wt > 0 && (long)wt << (d + 1) <= wf) d++;
+    jnd_pca_encoding *lay = x->layouts;
+    lay[m] = o->encoding;
+    for (int k = 0; k < lay[m].components; k++) lay[m].scale[k] = lay[m].scale[k] > d ? lay[m].scale[k] - d : 0;
+    if ((s = set_state(c, x->level, x->sizes, NULL, pk, lay))) break;
+    o->components_bytes = c->packbytes[m];
+    if (o->components_bytes < o->images_bytes) {
+      o->status = JND_BUDGET_PCA_TAKEN;
+      for (int i = 0; i < c->nmaps; i++)
+        if (c->mi[i].material == m) x->packed[i] = o->encoding.components;
+    } else {
+      memset(&lay[m], 0, sizeof lay[m]);
+    }
+    stage(c, "separately, pca for %s: %d component%s (statistic %.3f on its views), %.3f MiB at texres's sizes against "
+          "its images' %.3f MiB: %s", name, o->encoding.components, o->encoding.components == 1 ? "" : "s",
+          o->statistic, o->components_bytes / 1048576.0, o->images_bytes / 1048576.0,
+          o->status == JND_BUDGET_PCA_TAKEN ? "taken" : "not taken");
+  }
+  free(pk);
   return s;
 }
 
@@ -527,13 +812,19 @@ static jnd_status search_encodings(ctx *c, int base, double *P) {
   size_t *saving = jnd_calloc((size_t)c->nmaps, sizeof *saving);
   jnd_tex_format *f = jnd_calloc((size_t)c->nmaps, sizeof *f), *g = jnd_calloc((size_t)c->nmaps, sizeof *g);
   int (*sizes)[2] = jnd_calloc((size_t)c->nmaps, sizeof *sizes), *pk = jnd_calloc((size_t)c->nmaps, sizeof *pk);
-  jnd_status s = order && saving && f && g && sizes && pk ? JND_OK : JND_ERR_NOMEM;
-  if (s == JND_OK) {
-    memcpy(f, R->candidates[base].formats, (size_t)c->nmaps * sizeof *f);
-    memcpy(sizes, R->candidates[base].sizes, (size_t)c->nmaps * sizeof *sizes);
+  jnd_pca_encoding *lay = jnd_calloc((size_t)c->nmat + 1, sizeof *lay);
+  jnd_status s = order && saving && f && g && sizes && pk && lay ? JND_OK : JND_ERR_NOMEM;
+  if (s == JND_OK) {   /* the base's sizes, encodings and packing (the separate choice's pca) */
+    const jnd_budget_candidate *b = &R->candidates[base];
+    memcpy(f, b->formats, (size_t)c->nmaps * sizeof *f);
+    memcpy(sizes, b->sizes, (size_t)c->nmaps * sizeof *sizes);
+    memcpy(pk, b->packed, (size_t)c->nmaps * sizeof *pk);
+    memcpy(lay, b->layouts, (size_t)c->nmat * sizeof *lay);
   }
   if (s == JND_OK) {
     cheaper_formats(c, g);
+    for (int i = 0; i < c->nmaps; i++)   /* a packed material holds components, not images */
+      if (pk[i]) g[c->leader[i]] = JND_TEX_FORMATS;
     n = by_saving(c, sizes, f, g, order, saving);
   }
   double statistic = NAN;
@@ -543,7 +834,7 @@ static jnd_status search_encodings(ctx *c, int base, double *P) {
     for (int q = 0; q < c->nmaps; q++)
       if (c->leader[q] == i) f[q] = g[i];
     jnd_judgement r;
-    if ((s = judge(c, level, sizes, f, pk, 0, c->nviews, P, &r)) || (s = margin_pass(c, P, c->nviews, &ok))) break;
+    if ((s = judge(c, level, sizes, f, pk, lay, 0, c->nviews, P, &r)) || (s = margin_pass(c, P, c->nviews, &ok))) break;
     stage(c, "%s in %s: statistic %.3f, %s", c->mi[i].name, jnd_tex_format_name(g[i]), r.criterion.statistic,
           ok ? "taken" : "not taken");
     if (ok) {
@@ -557,7 +848,10 @@ static jnd_status search_encodings(ctx *c, int base, double *P) {
   }
   for (int m = 0; m < c->nmat && s == JND_OK; m++) {
     pca_try t;
-    if ((s = search_packing(c, m, level, sizes, f, pk, P, &t)) || !t.components) continue;
+    int packed = 0;
+    for (int i = 0; i < c->nmaps; i++) packed |= pk[i] && c->mi[i].material == m;
+    if (packed) continue;   /* as the base has it */
+    if ((s = search_packing(c, m, level, sizes, f, pk, lay, P, &t)) || !t.components) continue;
     taken++;
     statistic = t.statistic;
     pass = t.pass;
@@ -574,7 +868,7 @@ static jnd_status search_encodings(ctx *c, int base, double *P) {
     double *Q = NULL;
     if (!(s = held_out_views(c, 0, seed, c->nviews, &first, &nv)) && !(Q = jnd_calloc((size_t)nv, sizeof *Q)))
       s = JND_ERR_NOMEM;
-    if (s == JND_OK && !(s = judge(c, level, sizes, f, pk, first, nv, Q, &r))) s = margin_pass(c, Q, nv, &held);
+    if (s == JND_OK && !(s = judge(c, level, sizes, f, pk, lay, first, nv, Q, &r))) s = margin_pass(c, Q, nv, &held);
     free(Q);
     if (s == JND_OK)
       stage(c, "encodings on confirmation views %d: %s (statistic %.3f)", round + 1, held ? "hold" : "fail",
@@ -588,6 +882,7 @@ static jnd_status search_encodings(ctx *c, int base, double *P) {
       memcpy(x->sizes, sizes, (size_t)c->nmaps * sizeof *sizes);
       memcpy(x->formats, f, (size_t)c->nmaps * sizeof *f);
       memcpy(x->packed, pk, (size_t)c->nmaps * sizeof *pk);
+      memcpy(x->layouts, lay, (size_t)c->nmat * sizeof *lay);
       s = price(c, x);
       x->statistic = statistic;
       x->pass = pass;
@@ -600,6 +895,7 @@ static jnd_status search_encodings(ctx *c, int base, double *P) {
   free(g);
   free(sizes);
   free(pk);
+  free(lay);
   return s;
 }
 
@@ -613,11 +909,13 @@ static jnd_status search_encodings(ctx *c, int base, double *P) {
 /* an encoded variant of x (the first t images of order encoded) made already
  * from a candidate of the same level and sizes (texres's choice is the
  * separate pair's too) */
-static int encoded_twice(const ctx *c, int n0, const jnd_budget_candidate *x, const int *order, int t) {
+static int encoded_twice(const ctx *c, int n0, int level, int (*sizes)[2], const int *pk, const int *order, int t) {
   for (int b = n0; b < c->R->ncandidates; b++) {
     const jnd_budget_candidate *y = &c->R->candidates[b];
-    int same = y->level == x->level && !memcmp(y->sizes, x->sizes, (size_t)c->nmaps * sizeof *x->sizes);
+    int same = y->level == level && !memcmp(y->sizes, sizes, (size_t)c->nmaps * sizeof *sizes) &&
+               !memcmp(y->packed, pk, (size_t)c->nmaps * sizeof *pk);
     for (int i = 0; i < c->nmaps && same; i++) {
+      if (pk[i]) continue;
       int enc = 0;
       for (int u = 0; u < t; u++) enc |= c->leader[i] == order[u];
       same = (y->formats[i] != c->fmt[c->leader[i]]) == enc;
@@ -627,47 +925,132 @@ static int encoded_twice(const ctx *c, int n0, const jnd_budget_candidate *x, co
   return 0;
 }
 
+/* images of x's materials packed in pk hold components, not images: g
+ * (cheaper_formats) with theirs masked into h; then the images left, most
+ * saved first (by_saving), as few as bring mem within the budget: their
+ * count, or −1 when even all of them do not */
+static int bc1_to_fit(const ctx *c, const jnd_budget_candidate *x, const int *pk, size_t mem, const jnd_tex_format *g,
+                      jnd_tex_format *h, int *order, size_t *saving) {
+  memcpy(h, g, (size_t)c->nmaps * sizeof *h);
+  for (int i = 0; i < c->nmaps; i++)
+    if (pk[i]) h[c->leader[i]] = JND_TEX_FORMATS;
+  int n = by_saving(c, x->sizes, c->fmt, h, order, saving), t = 0;
+  while (t < n && (double)mem > c->p->memory_bytes) mem -= saving[order[t++]];
+  return (double)mem > c->p->memory_bytes ? -1 : t;
+}
+
+/* Budget mode's variant of candidate a: packed as pk says (its own packing
+ * and layouts kept, a material it adds packed in K components at full size
+ * and 8 bits, its maps at its largest map's size: the set and the
+ * components take that size whatever the maps', so a smaller map would
+ * only add error), the first t images of order in their cheaper encoding
+ * h; judged like the ladder on the judge's views, a candidate (scale −3)
+ * unless made before. */
+static jnd_status budget_variant(ctx *c, int n0, int a, const int *pk, const jnd_tex_format *h, const int *order, int t,
+                                 double *P) {
+  jnd_budget_result *R = c->R;
+  int (*sz)[2] = jnd_calloc((size_t)c->nmaps, sizeof *sz);
+  if (!sz) return JND_ERR_NOMEM;
+  const jnd_budget_candidate *x = &R->candidates[a];
+  memcpy(sz, x->sizes, (size_t)c->nmaps * sizeof *sz);
+  for (int i = 0; i < c->nmaps; i++)
+    for (int q = 0; q < c->nmaps && pk[i] && !x->packed[i]; q++)
+      if (c->mi[q].material == c->mi[i].material && longer(x->sizes[q]) > longer(sz[i])) memcpy(sz[i], x->sizes[q], sizeof sz[i]);
+  if (encoded_twice(c, n0, x->level, sz, pk, order, t)) {
+    free(sz);
+    return JND_OK;
+  }
+  jnd_budget_candidate *y = add_candidate(c, x->level, -3);
+  if (!y) {
+    free(sz);
+    return JND_ERR_NOMEM;
+  }
+  x = &R->candidates[a];   /* add_candidate may move the array */
+  memcpy(y->sizes, sz, (size_t)c->nmaps * sizeof *y->sizes);
+  free(sz);
+  memcpy(y->packed, pk, (size_t)c->nmaps * sizeof *pk);
+  memcpy(y->layouts, x->layouts, (size_t)c->nmat * sizeof *y->layouts);
+  for (int u = 0; u < t; u++)
+    for (int q = 0; q < c->nmaps; q++)
+      if (c->leader[q] == order[u]) y->formats[q] = h[order[u]];
+  jnd_status s = price(c, y);
+  jnd_judgement r;
+  if (s == JND_OK) s = judge(c, y->level, y->sizes, y->formats, y->packed, y->layouts, 0, c->nviews, P, &r);
+  if (s == JND_OK) s = margin_pass(c, P, c->nviews, &y->searched_pass);
+  if (s != JND_OK) return s;
+  y->statistic = r.criterion.statistic;
+  y->pass = r.criterion.pass;
+  int packed = 0;
+  for (int i = 0; i < c->nmaps; i++) packed += pk[i] != x->packed[i];
+  stage(c, "level %d, %d image%s in %s%s: %.3f MiB, statistic %.3f", y->level, t, t == 1 ? "" : "s",
+        jnd_tex_format_name(JND_TEX_BC1), packed ? ", materials packed (001)" : "", (double)y->memory_bytes / 1048576.0,
+        y->statistic);
+  return JND_OK;
+}
+
 static jnd_status budget_encodings(ctx *c, double *P) {
   jnd_budget_result *R = c->R;
   const jnd_budget_params *p = c->p;
   int n0 = R->ncandidates, *order = jnd_calloc((size_t)c->nmaps, sizeof *order);
-  size_t *saving = jnd_calloc((size_t)c->nmaps, sizeof *saving);
-  jnd_tex_format *g = jnd_calloc((size_t)c->nmaps, sizeof *g);
-  jnd_status s = order && saving && g ? JND_OK : JND_ERR_NOMEM;
+  int *pk = jnd_calloc((size_t)c->nmaps, sizeof *pk), *C = jnd_calloc((size_t)c->nmat + 1, sizeof *C);
+  size_t *saving = jnd_calloc((size_t)c->nmaps, sizeof *saving), *bc4 = jnd_calloc((size_t)c->nmat + 1, sizeof *bc4),
+         *img = jnd_calloc((size_t)c->nmat + 1, sizeof *img);
+  jnd_tex_format *g = jnd_calloc((size_t)c->nmaps, sizeof *g), *h = jnd_calloc((size_t)c->nmaps, sizeof *h);
+  jnd_status s = order && pk && C && saving && bc4 && img && g && h ? JND_OK : JND_ERR_NOMEM;
   if (s == JND_OK) cheaper_formats(c, g);
   for (int a = 0; a < n0 && s == JND_OK; a++) {
     const jnd_budget_candidate *x = &R->candidates[a];
     if (!(p->memory_bytes > 0) || (double)x->memory_bytes <= p->memory_bytes || !isfinite(x->statistic) ||
         x->statistic >= 1 || (p->triangles > 0 && (double)x->triangles > p->triangles))
       continue;
-    /* the images that can take a cheaper encoding, most saved first */
-    int n = by_saving(c, x->sizes, c->fmt, g, order, saving);
-    size_t mem = x->memory_bytes;
-    int t = 0;
-    while (t < n && (double)mem > p->memory_bytes) mem -= saving[order[t++]];
-    if ((double)mem > p->memory_bytes || encoded_twice(c, n0, x, order, t)) continue;
-    jnd_budget_candidate *y = add_candidate(c, x->level, -3);
-    if (!y) {
-      s = JND_ERR_NOMEM;
+    /* BC1: the images that can take it, most saved first, as few as bring it within */
+    int t = bc1_to_fit(c, x, x->packed, x->memory_bytes, g, h, order, saving);
+    if (t >= 0 && (s = budget_variant(c, n0, a, x->packed, h, order, t, P))) break;
+    /* 001's packing: every material it can pack (packable, not packed in
+     * x) in K components, one K for all, the most that fits: from the
+     * largest number of channels down, each material in min(K, its
+     * channels), where that takes fewer bytes than its images at x's sizes
+     * (else it keeps them), its other images in BC1 as needed */
+    int Kmax = 0;
+    for (int m = 0; m < c->nmat && s == JND_OK; m++) {
+      x = &R->candidates[a];
+      C[m] = 0;
+      int own = packable(c, m);
+      for (int i = 0; i < c->nmaps && own; i++) own = !(x->packed[i] && c->mi[i].material == m);
+      if (!own) continue;
+      pca_analysis *an;
+      if ((s = plain_analysis(c, m, x->level, x->sizes, x->formats, x->packed, x->layouts, &an))) break;
+      C[m] = an->set.c;
+      bc4[m] = jnd_texture_bytes(JND_TEX_BC4, an->set.w, an->set.h, 1);
+      img[m] = material_images_bytes(c, m, x->sizes);
+      if (C[m] > Kmax) Kmax = C[m];
+    }
+    for (int K = Kmax; K >= 1 && s == JND_OK; K--) {
+      x = &R->candidates[a];
+      size_t mem = x->memory_bytes;
+      int any = 0;
+      memcpy(pk, x->packed, (size_t)c->nmaps * sizeof *pk);
+      for (int m = 0; m < c->nmat; m++) {
+        int k = K < C[m] ? K : C[m];
+        if (!k || (size_t)k * bc4[m] >= img[m]) continue;
+        mem -= img[m] - (size_t)k * bc4[m];
+        any = 1;
+        for (int i = 0; i < c->nmaps; i++)
+          if (c->mi[i].material == m) pk[i] = k;
+      }
+      if (!any || (t = bc1_to_fit(c, x, pk, mem, g, h, order, saving)) < 0) continue;
+      s = budget_variant(c, n0, a, pk, h, order, t, P);
       break;
     }
-    x = &R->candidates[a];   /* add_candidate may move the array */
-    memcpy(y->sizes, x->sizes, (size_t)c->nmaps * sizeof *y->sizes);
-    for (int u = 0; u < t; u++)
-      for (int q = 0; q < c->nmaps; q++)
-        if (c->leader[q] == order[u]) y->formats[q] = g[order[u]];
-    if ((s = price(c, y))) break;
-    jnd_judgement r;
-    if ((s = judge(c, y->level, y->sizes, y->formats, NULL, 0, c->nviews, P, &r)) || (s = margin_pass(c, P, c->nviews, &y->searched_pass)))
-      break;
-    y->statistic = r.criterion.statistic;
-    y->pass = r.criterion.pass;
-    stage(c, "level %d, %d image%s in %s: %.3f MiB, statistic %.3f", y->level, t, t == 1 ? "" : "s",
-          jnd_tex_format_name(JND_TEX_BC1), (double)y->memory_bytes / 1048576.0, y->statistic);
   }
   free(order);
+  free(pk);
+  free(C);
   free(saving);
+  free(bc4);
+  free(img);
   free(g);
+  free(h);
   return s;
 }
 
@@ -753,7 +1136,7 @@ static jnd_status levels(ctx *c, const jnd_budget_candidate *ch) {
       double *P = jnd_calloc((size_t)nv, sizeof *P);
       jnd_judgement r;
       if (!P) return JND_ERR_NOMEM;
-      s = judge(c, k, L->sizes, ch->formats, ch->packed, first, nv, P, &r);
+      s = judge(c, k, L->sizes, ch->formats, ch->packed, ch->layouts, first, nv, P, &r);
       free(P);
       if (s) break;
       L->views = nv;
@@ -762,7 +1145,7 @@ static jnd_status levels(ctx *c, const jnd_budget_candidate *ch) {
       stage(c, "level %d from distance %.3g: statistic %.3f on %d held-out views%s", k, L->switch_distance,
             L->statistic, nv, L->pass ? "" : "  FAILS");
     }
-    if (any_packed(c, ch->packed) && (s = set_state(c, k, L->sizes, ch->formats, ch->packed))) break;
+    if (any_packed(c, ch->packed) && (s = set_state(c, k, L->sizes, ch->formats, ch->packed, ch->layouts))) break;
     L->texture_bytes = texture_bytes(c, L->sizes, ch->formats, ch->packed);
   }
   return s;
@@ -898,8 +1281,11 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
       goto done;
     }
     for (int i = 0; i < c.nmaps; i++) memcpy(x->sizes[i], R->texres.maps[i].chosen, sizeof x->sizes[i]);
-    if ((s = price(&c, x))) goto done;
+    unify(&c, x->sizes);
     R->separate = R->ncandidates - 1;
+    if ((s = separate_pca(&c, model, x))) goto done;
+    x = &R->candidates[R->separate];
+    if ((s = price(&c, x))) goto done;
   }
   c.nscales = ladder_scales(&c);
   for (int k = 0; k < jnd_scene_lod_count(c.scene); k++)
@@ -934,7 +1320,7 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
       if (p->progress) p->progress(p->progress_user, NULL, i + 1, R->ncandidates);
       continue;
     }
-    if ((s = judge(&c, x->level, x->sizes, x->formats, NULL, 0, c.nviews, P, &r))) goto done;
+    if ((s = judge(&c, x->level, x->sizes, x->formats, x->packed, x->layouts, 0, c.nviews, P, &r))) goto done;
     x->statistic = r.criterion.statistic;
     x->pass = r.criterion.pass;
     if (x->scale == -2) {   /* the separate pair, with the margin texres chose with */
@@ -959,7 +1345,7 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
   for (int j = 0; j < R->nlevels; j++) R->passes = R->passes && R->levels[j].pass;
   R->verify_s = jnd_seconds() - t1;
   /* the scene as it is written: the choice's maps, level 0 selected */
-  s = set_state(&c, 0, ch->sizes, NULL, NULL);
+  s = set_state(&c, 0, ch->sizes, NULL, NULL, NULL);
 done:
   jnd_judge_free(c.j);
   free(P);

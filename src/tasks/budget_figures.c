@@ -94,7 +94,7 @@ static jnd_status budget_build(const jnd_budget_result *r, const jnd_criterion *
   py[0] = sep->statistic;
   px[1] = ch->memory_bytes / 1048576.0;
   py[1] = ch->statistic;
-  snprintf(f->labels[ns], sizeof f->labels[ns], "texres + lod separately (level %d)", sep->level);
+  snprintf(f->labels[ns], sizeof f->labels[ns], "texres + pca + lod separately (level %d)", sep->level);
   snprintf(f->labels[ns + 1], sizeof f->labels[ns + 1], "chosen (level %d)", ch->level);
   /* the two are often a few bytes apart: the separate choice's marker is
    * drawn larger, beneath, so that it rings the chosen one where they meet */

@@ -14,6 +14,39 @@ static cJSON *sizes_json(const jnd_budget_result *R, int (*sizes)[2]) {
   return o;
 }
 
+static cJSON *layout_json(const jnd_pca_encoding *e) {
+  cJSON *o = cJSON_CreateObject(), *sc = cJSON_CreateArray(), *bits = cJSON_CreateArray();
+  cJSON_AddNumberToObject(o, "components", e->components);
+  for (int k = 0; k < e->components; k++) {
+    cJSON_AddItemToArray(sc, cJSON_CreateNumber(e->scale[k]));
+    cJSON_AddItemToArray(bits, cJSON_CreateNumber(e->bits[k]));
+  }
+  cJSON_AddItemToObject(o, "scale", sc);
+  cJSON_AddItemToObject(o, "bits", bits);
+  return o;
+}
+
+/* `jnd pca`'s own choice per material, the separate candidate's third part */
+static cJSON *separate_pca_json(const jnd_budget_result *R) {
+  static const char *status[] = {"shared", "none passes", "dearer than its images", "taken"};
+  cJSON *a = cJSON_CreateArray();
+  for (int m = 0; m < R->npca; m++) {
+    const jnd_budget_pca *q = &R->pca[m];
+    if (!q->maps) continue;
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "material", jnd_scene_material_name(R->lod.scene, q->material));
+    cJSON_AddStringToObject(o, "status", status[q->status]);
+    cJSON_AddItemToObject(o, "statistic", report_number_or_null(q->statistic));
+    if (q->status >= JND_BUDGET_PCA_DEARER) {
+      cJSON_AddItemToObject(o, "encoding", layout_json(&q->encoding));
+      cJSON_AddNumberToObject(o, "components_bytes", (double)q->components_bytes);
+    }
+    cJSON_AddNumberToObject(o, "images_bytes", (double)q->images_bytes);
+    cJSON_AddItemToArray(a, o);
+  }
+  return a;
+}
+
 static cJSON *candidate_json(const jnd_budget_result *R, int i, int with_sizes) {
   const jnd_budget_candidate *x = &R->candidates[i];
   cJSON *o = cJSON_CreateObject();
@@ -31,6 +64,16 @@ static cJSON *candidate_json(const jnd_budget_result *R, int i, int with_sizes) 
   cJSON_AddBoolToObject(o, "pass", x->pass);
   if (x->scale < 0) cJSON_AddBoolToObject(o, "passes_with_margin", x->searched_pass);
   cJSON_AddBoolToObject(o, "pareto", x->pareto);
+  int npacked = 0;   /* the materials packed by 001's PCA */
+  for (int m = 0; m < jnd_scene_material_count(R->lod.scene); m++) {
+    int in = 0;
+    for (int q = 0; q < R->nmaps && !in; q++) {
+      jnd_map_info mi;
+      in = x->packed[q] && jnd_scene_map_info(R->lod.scene, q, &mi) == JND_OK && mi.material == m;
+    }
+    npacked += in;
+  }
+  cJSON_AddNumberToObject(o, "packed_materials", npacked);
   if (with_sizes) {
     cJSON_AddItemToObject(o, "sizes", sizes_json(R, x->sizes));
     cJSON *f = cJSON_AddObjectToObject(o, "formats");   /* per map: its image's GPU encoding */
@@ -42,6 +85,12 @@ static cJSON *candidate_json(const jnd_budget_result *R, int i, int with_sizes) 
       cJSON *k = cJSON_AddObjectToObject(o, "pca_components");
       for (int m = 0; m < R->nmaps; m++)
         if (x->packed[m]) cJSON_AddNumberToObject(k, R->map_names[m], x->packed[m]);
+      cJSON *lay = NULL;   /* per material packed in `jnd pca`'s own layout: its components' scales and bits */
+      for (int m = 0; m < jnd_scene_material_count(R->lod.scene); m++)
+        if (x->layouts[m].components > 0) {
+          if (!lay) lay = cJSON_AddObjectToObject(o, "pca_layouts");
+          cJSON_AddItemToObject(lay, jnd_scene_material_name(R->lod.scene, m), layout_json(&x->layouts[m]));
+        }
     }
   }
   return o;
@@ -111,6 +160,9 @@ cJSON *budget_report(const char *model, const jnd_budget_params *p, const jnd_bu
   }
   cJSON_AddItemToObject(res, "chosen", candidate_json(R, R->chosen, 1));
   cJSON_AddItemToObject(res, "separate", candidate_json(R, R->separate, 1));
+  /* the separate candidate: texres's sizes, `jnd pca`'s choice per material, lod's perceptual level */
+  cJSON_AddStringToObject(res, "separate_is", "texres + pca + lod");
+  cJSON_AddItemToObject(res, "separate_pca", separate_pca_json(R));
   const jnd_budget_candidate *ch = &R->candidates[R->chosen], *se = &R->candidates[R->separate];
   cJSON *cmp = cJSON_AddObjectToObject(res, "comparison");
   for (int i = 0; i < R->ncandidates; i++)   /* the file as it is: level 0, every map at its size */

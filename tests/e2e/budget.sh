@@ -74,6 +74,28 @@ for l in shown:
         assert l["texture_bytes"] < ch["memory_bytes"], (l["level"], l["texture_bytes"], ch["memory_bytes"])
 PY
 
+check "the separate candidate is texres + pca + lod: pca's own choice per material, at texres's sizes" \
+  python3 - "$T/a/budget.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+res = r["result"]
+se, sp = res["separate"], res["separate_pca"]
+assert res["separate_is"] == "texres + pca + lod" and [q["material"] for q in sp] == ["builtin"], sp
+q = sp[0]
+# pca's rendered choice on the file's maps; taken where its components, at texres's sizes, take fewer bytes
+assert q["status"] in ("taken", "dearer than its images", "none passes"), q
+if q["status"] != "none passes":
+    assert 0 <= q["statistic"] <= r["parameters"]["criterion"]["p"], q
+    assert (q["status"] == "taken") == (q["components_bytes"] < q["images_bytes"]), q
+taken = q["status"] == "taken"
+assert all((f == "pca") == taken for f in se["formats"].values()), se["formats"]
+if taken:
+    lay = se["pca_layouts"]["builtin"]
+    assert lay["components"] == q["encoding"]["components"] == se["pca_components"]["builtin/baseColor"]
+    # texres's maps are at most the file's: each component keeps pca's texels, no more than the set's
+    assert all(0 <= a <= b for a, b in zip(lay["scale"], q["encoding"]["scale"])), (lay, q)
+PY
+
 # 001's packing refused: the built-in sphere's maps are independent patterns, and 3 or 4
 # components are seen on every view (statistic 1) while 5 take more than its images; its
 # baseColor in BC1 is not seen, and that is the choice
@@ -134,6 +156,36 @@ w = max(max(wh) for wh in ch["sizes"].values())   # the set: the material's larg
 assert ch["memory_bytes"] == chain(w, w, 8), (ch["memory_bytes"], chain(w, w, 8))
 unpacked = [c for c in r["candidates"] if c["kind"] != "encoded" and c.get("passes_with_margin") is True]
 assert unpacked and all(ch["cost_bytes"] < c["cost_bytes"] for c in unpacked)
+PY
+
+check "... separately, pca's layout on texres's halved maps: each component keeps pca's texels (scales less texres's halvings)" \
+  env PYTHONPATH="$(dirname "$0")" python3 - "$T/p/budget.json" <<'PY'
+import json, math, sys
+from gltfwrite import mip_chain_bytes as chain
+res = json.load(open(sys.argv[1]))["result"]
+se, q = res["separate"], [q for q in res["separate_pca"] if q["material"] == "ball"][0]
+assert q["status"] == "taken", q
+lay, enc = se["pca_layouts"]["ball"], q["encoding"]
+w = max(max(wh) for wh in se["sizes"].values())   # texres's set; the file's is 64
+d = int(round(math.log2(64 / w)))
+assert d >= 1 and lay["scale"] == [max(0, k - d) for k in enc["scale"]], (d, lay, enc)
+assert q["components_bytes"] == sum(chain(w >> k, w >> k, 8) for k in lay["scale"]), q
+assert se["memory_bytes"] == q["components_bytes"], se
+PY
+
+# budget mode packs too: under the ball's images at their size, its material in one component at
+# full size (001, BC4) is less visible than the maps halved (the searched size) or in BC1
+"$JND" budget "$T/ball.glb" -o "$T/pb" --memory 2800B "${SMALL[@]}" --errors 0.03 >"$T/out.txt" 2>"$T/err.txt"
+check "budget mode searches PCA packing: the ball's choice within 2800 B is its material packed, the least visible" \
+  env PYTHONPATH="$(dirname "$0")" python3 - "$T/pb/budget.json" <<'PY'
+import json, sys
+from gltfwrite import mip_chain_bytes as chain
+res = json.load(open(sys.argv[1]))["result"]
+ch, M = res["chosen"], 2800
+assert ch["kind"] == "encoded" and set(ch["formats"].values()) == {"pca"}, ch
+assert ch["memory_bytes"] == chain(64, 64, 8) <= M and ch["packed_materials"] == 1, ch
+plain = [c for c in res["candidates"] if c["packed_materials"] == 0 and c["memory_bytes"] <= M]
+assert plain and ch["statistic"] < min(c["statistic"] for c in plain), (ch["statistic"], plain)
 PY
 
 # the written model: levels, MSFT_screencoverage, texture memory and triangles as budget.json says
@@ -234,7 +286,7 @@ plain = [c for c in res["candidates"] if c["kind"] != "encoded" and c["memory_by
 assert plain and ch["statistic"] < min(c["statistic"] for c in plain), (ch["statistic"], plain)
 enc = [c for c in res["candidates"] if c["kind"] == "encoded"]
 assert all(c["memory_bytes"] <= M for c in enc)
-key = lambda c: (c["level"], c["memory_bytes"], c["statistic"])
+key = lambda c: (c["level"], c["memory_bytes"], c["statistic"], c["packed_materials"])
 assert len({key(c) for c in enc}) == len(enc), "an encoded variant made twice"
 PY
 

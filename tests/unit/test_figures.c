@@ -626,7 +626,7 @@ TEST(budget_pareto_draws_every_candidate_the_front_the_choice_and_the_criterion)
   CHECK(dashes > samples / 3);
   /* the legend, outside the data, names each level, the front, both choices and p */
   const char *want[6] = {"level 0 (4000 triangles)", "level 1 (1200 triangles)", "Pareto front (memory, triangles, statistic)",
-                         "texres + lod separately (level 0)", "chosen (level 1)", "criterion p"};
+                         "texres + pca + lod separately (level 0)", "chosen (level 1)", "criterion p"};
   for (int w = 0; w < 6; w++) {
     int found = 0;
     for (int k = 0; k < L.ntexts; k++) {
