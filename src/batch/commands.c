@@ -137,13 +137,13 @@ static void pop_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
   }
 }
 
-/* budget: the chosen finest level and its cost, beside texres + lod's */
+/* budget: the chosen finest level and its cost, beside texres + pca + lod chosen separately */
 static void budget_decision(const cJSON *report, jnd_text *out, cJSON *chosen) {
   double lv = jnd_json_number(report, "result.chosen.level"), c = jnd_json_number(report, "result.comparison.chosen_cost_bytes"),
          se = jnd_json_number(report, "result.comparison.separate_cost_bytes");
   if (!isfinite(lv) || !isfinite(c)) return;
   jnd_text_printf(out, "level %d, %.3f MiB of textures and mesh", (int)lv, c / 1048576.0);
-  if (isfinite(se)) jnd_text_printf(out, " (texres + lod separately: %.3f MiB)", se / 1048576.0);
+  if (isfinite(se)) jnd_text_printf(out, " (texres + pca + lod separately: %.3f MiB)", se / 1048576.0);
   if (chosen) {
     cJSON_AddNumberToObject(chosen, "level", lv);
     cJSON_AddNumberToObject(chosen, "cost_bytes", c);
@@ -377,7 +377,7 @@ static const jnd_batch_command COMMANDS[] = {
         .fields = {{"mode", "parameters.mode", JND_FMT_TEXT},
                    {"cost of the file (textures + level 0's mesh)", "result.comparison.original_cost_bytes", JND_FMT_BYTES},
                    {"cost chosen", "result.comparison.chosen_cost_bytes", JND_FMT_BYTES},
-                   {"cost of texres + lod separately", "result.comparison.separate_cost_bytes", JND_FMT_BYTES},
+                   {"cost of texres + pca + lod separately", "result.comparison.separate_cost_bytes", JND_FMT_BYTES},
                    {"chosen: textures", "result.chosen.memory_bytes", JND_FMT_BYTES},
                    {"chosen: triangles", "result.chosen.triangles", JND_FMT_NUMBER},
                    {"chosen: statistic", "result.chosen.statistic", JND_FMT_P},
@@ -392,7 +392,7 @@ static const jnd_batch_command COMMANDS[] = {
                      {"held-out statistic", "verification.statistic", JND_FMT_P}}}},
         .pictures = {{.file = "pareto.png",
                       .caption = "Texture memory against the statistic of every candidate, one series per mesh "
-                                 "level, the Pareto front, the choice and texres + lod chosen separately marked"}},
+                                 "level, the Pareto front, the choice and texres + pca + lod chosen separately marked"}},
     },
 };
 #define NCOMMANDS (sizeof COMMANDS / sizeof COMMANDS[0])

@@ -2,7 +2,7 @@
 # jnd budget: texture sizes and the LOD chain chosen together. The report's
 # fields; the written GLB (every level renders with jnd render --lod K, its
 # MSFT_screencoverage, the texture memory and triangles recomputed from the
-# file); the choice at most as costly as texres + lod chosen separately;
+# file); the choice at most as costly as texres + pca + lod chosen separately;
 # budget mode (a budget the separate choice exceeds gives a candidate within
 # it); a budget nothing meets and bad input: one line, exit 2, nothing written.
 set -uo pipefail
@@ -17,7 +17,7 @@ expect_exit 0 "cheapest unnoticed: builtin:sphere passes" "$JND" budget builtin:
 check "budget.json, the model and pareto.png are written" test -s "$T/a/budget.json" -a -s "$T/a/pareto.png" \
   -a -s "$T/a/model/builtin_sphere.glb"
 
-check "the choice is at most as costly as texres + lod separately, and passes at every switch distance" \
+check "the choice is at most as costly as texres + pca + lod separately, and passes at every switch distance" \
   python3 - "$T/a/budget.json" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
@@ -303,7 +303,7 @@ check "... nothing written" test ! -e "$T/c"
 expect_exit 0 "jnd batch runs a budget row" "$JND" batch "$T/m.csv" -o "$T/batch" --quiet
 expect_exit 0 "... merged" "$JND" batch merge "$T/batch" --quiet
 expect_exit 0 "... reported" "$JND" report "$T/batch" --quiet
-check "... summary.json: the file's cost before, the chosen after, the decision against texres + lod" \
+check "... summary.json: the file's cost before, the chosen after, the decision against texres + pca + lod" \
   python3 - "$T/batch/summary.json" "$T/batch/sph/budget.json" <<'PY'
 import json, sys
 a = json.load(open(sys.argv[1]))["result"]["assets"][0]
@@ -311,7 +311,7 @@ r = json.load(open(sys.argv[2]))["result"]
 assert a["command"] == "budget" and a["status"] == "ok", a
 assert a["memory_before_bytes"] == r["comparison"]["original_cost_bytes"]
 assert a["memory_after_bytes"] == r["comparison"]["chosen_cost_bytes"]
-assert a["decision"].startswith("level %d, " % r["chosen"]["level"]) and "texres + lod separately" in a["decision"], a["decision"]
+assert a["decision"].startswith("level %d, " % r["chosen"]["level"]) and "texres + pca + lod separately" in a["decision"], a["decision"]
 PY
 check "... the asset's page shows the written levels and pareto.png" \
   sh -c "grep -q 'Written levels' '$T/batch/report/sph.html' && grep -q 'pareto.png' '$T/batch/report/sph.html'"

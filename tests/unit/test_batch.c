@@ -677,7 +677,7 @@ TEST(merge_tells_each_commands_decision_and_numbers_from_its_report) {
       {"o0", "no popping region, detection score 1 of 5", NAN, NAN, NAN},
       {"o1", "1 popping region, max R 1.23, detection score 3 of 5", NAN, NAN, NAN},
       {"o3", "3 popping regions, max R 2.50, detection score 4 of 5; 1 switch distance", NAN, NAN, NAN},
-      {"u", "level 2, 3.000 MiB of textures and mesh (texres + lod separately: 4.000 MiB)", 0.09, 8388608, 3145728},
+      {"u", "level 2, 3.000 MiB of textures and mesh (texres + pca + lod separately: 4.000 MiB)", 0.09, 8388608, 3145728},
       {"t", "m/normal 64×32", 0.1, 3145728, 3145728},
   };
   for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
