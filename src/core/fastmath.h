@@ -48,9 +48,14 @@ static inline float jnd_fast_exp2(float y) {
 static inline float jnd_maxf(float a, float b) { return a > b ? a : b; }
 static inline float jnd_minf(float a, float b) { return a < b ? a : b; }
 
+/* jnd_fast_pow's log2 of x (x floored at 1e-30), for loops that raise the
+ * same x to several powers: jnd_fast_pow(x, y) is exactly
+ * x > 0 ? jnd_fast_exp2(y * jnd_fast_log2_of(x)) : 0 */
+static inline float jnd_fast_log2_of(float x) { return jnd_fast_log2(x > 1e-30f ? x : 1e-30f); }
+
 /* x^y for x > 0 (0 for x <= 0) */
 static inline float jnd_fast_pow(float x, float y) {
-  float r = jnd_fast_exp2(y * jnd_fast_log2(x > 1e-30f ? x : 1e-30f));
+  float r = jnd_fast_exp2(y * jnd_fast_log2_of(x));
   return x > 0.0f ? r : 0.0f;
 }
 /* The sRGB transfer curves (IEC 61966-2-1), written once for all of jnd:

@@ -18,26 +18,34 @@ static double prob_of(double j, const void *beta) { return jnd_prob_of_jnd((floa
 enum { SUM_BLOCK = 4096 };
 
 /* one block's Σ j, Σ j^2.4, Σ P and (for Minkowski pooling) Σ P^2.4: the
- * values in vectorisable loops, then summed in order */
+ * values in vectorisable loops, then summed in order. j^2.4 and P share j's
+ * log2 (the same floats as jnd_fast_pow and jnd_prob_of_jnd); without
+ * Minkowski pooling Σ P^2.4 is 0 and not computed. */
 JND_HOT static void block_sums(const float *j, size_t m, float beta, int minkowski, double out[4]) {
-  float a[SUM_BLOCK], b[SUM_BLOCK], c[SUM_BLOCK];
+  float a[SUM_BLOCK], b[SUM_BLOCK];
 #pragma omp simd
   for (size_t i = 0; i < m; i++) {
-    a[i] = jnd_fast_pow(j[i], 2.4f);
-    b[i] = jnd_prob_of_jnd(j[i], beta);
-  }
-  if (minkowski) {
-#pragma omp simd
-    for (size_t i = 0; i < m; i++) c[i] = jnd_fast_pow(b[i], 2.4f);
-  } else {
-    memset(c, 0, sizeof(float) * m);
+    const float l = jnd_fast_log2_of(j[i]);
+    a[i] = j[i] > 0.0f ? jnd_fast_exp2(2.4f * l) : 0.0f;
+    b[i] = jnd_prob_of_jnd_log2(j[i], l, beta);
   }
   double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
-  for (size_t i = 0; i < m; i++) {
-    s0 += j[i];
-    s1 += a[i];
-    s2 += b[i];
-    s3 += c[i];
+  if (minkowski) {
+    float c[SUM_BLOCK];
+#pragma omp simd
+    for (size_t i = 0; i < m; i++) c[i] = jnd_fast_pow(b[i], 2.4f);
+    for (size_t i = 0; i < m; i++) {
+      s0 += j[i];
+      s1 += a[i];
+      s2 += b[i];
+      s3 += c[i];
+    }
+  } else {
+    for (size_t i = 0; i < m; i++) {
+      s0 += j[i];
+      s1 += a[i];
+      s2 += b[i];
+    }
   }
   out[0] = s0;
   out[1] = s1;

@@ -28,9 +28,13 @@ static inline void jnd_opponent_colour(float cl, float cm, float cs, float *a, f
 /* ---- the psychometric function (000 eq. 4), the one definition ---- */
 /* P = 1 − exp(ln 0.5 · jnd^β) = 1 − 2^(−jnd^β), with the fast pow so that
  * per-pixel loops vectorise; jnd_probability and every pooling call it. */
-static inline float jnd_prob_of_jnd(float j, float beta) {
-  return j > 0 ? 1.0f - jnd_fast_exp2(-jnd_fast_pow(j, beta)) : 0.0f;
+static inline float jnd_prob_of_jnd_log2(float j, float l, float beta) {
+  return j > 0 ? 1.0f - jnd_fast_exp2(-jnd_fast_exp2(beta * l)) : 0.0f;
 }
+/* the same from j alone; jnd_prob_of_jnd_log2 above takes l =
+ * jnd_fast_log2_of(j), for loops that raise j to other powers too
+ * (jnd_fast_pow(j, β) is exp2(β · l) where j > 0): the same floats */
+static inline float jnd_prob_of_jnd(float j, float beta) { return jnd_prob_of_jnd_log2(j, jnd_fast_log2_of(j), beta); }
 
 /* ---- pyramids (pyramid.c) ---- */
 typedef struct {
