@@ -112,7 +112,7 @@ static unsigned attributes(const jnd_scene *s, int mat, const float *verts, cons
 
 /* one primitive: the used vertices of (verts, idx) compacted, each attribute its own view */
 static jnd_status add_primitive(writer *w, cJSON *prims, const jnd_scene *s, const float *verts, size_t nverts,
-                                const uint32_t *idx, size_t ntris, int material) {
+                                const uint32_t *idx, size_t ntris, int material, int written_material) {
   uint32_t *ind = jnd_alloc(3 * ntris, sizeof *ind), *order = NULL;
   size_t nu = ind ? compact(nverts, idx, ntris, &order, ind) : SIZE_MAX;
   float *attr = nu != SIZE_MAX ? jnd_alloc(nu ? nu : 1, 4 * sizeof(float)) : NULL;
@@ -142,7 +142,7 @@ static jnd_status add_primitive(writer *w, cJSON *prims, const jnd_scene *s, con
   }
   int view = add_view(w, ind, 3 * ntris * sizeof *ind, ELEMENT_ARRAY_BUFFER);
   cJSON_AddNumberToObject(prim, "indices", add_accessor(w, view, GL_UINT_T, 3 * ntris, "SCALAR", NULL, NULL, 1));
-  cJSON_AddNumberToObject(prim, "material", material);
+  if (written_material >= 0) cJSON_AddNumberToObject(prim, "material", written_material);
   cJSON_AddItemToArray(prims, prim);
   free(ind);
   free(attr);
@@ -272,22 +272,46 @@ jnd_status jnd_scene_write_lod_glb_from(const jnd_scene *s, const char *path, co
   w.views = cJSON_AddArrayToObject(root, "bufferViews");
   jnd_status st = JND_OK;
 
+  /* What the file draws: a material no mesh uses (assimp adds a default
+   * one to every import it converts) is not written, nor an image that only
+   * such materials sample — the written asset holds what it shows.
+   * written[mi]: the material's index in the file, -1 when left out. */
+  int *written = jnd_calloc((size_t)s->nmaterials + 1, sizeof *written);
+  char *sampled = jnd_calloc((size_t)s->nmaps + 1, 1);
+  if (!written || !sampled) st = JND_ERR_NOMEM;
+  for (int i = 0; i < s->nmeshes && !st; i++)
+    if (s->meshes[i].material >= 0 && s->meshes[i].material < s->nmaterials) written[s->meshes[i].material] = 1;
+  for (int mi = 0, nw = 0; mi < s->nmaterials && !st; mi++) {
+    if (!written[mi]) {
+      written[mi] = -1;
+      continue;
+    }
+    written[mi] = nw++;
+    for (int k = 0; k < JND_MAP_SLOTS; k++)
+      if (s->materials[mi].map[k] >= 0 && s->materials[mi].map[k] < s->nmaps) sampled[s->materials[mi].map[k]] = 1;
+  }
+
   /* textures first: their bytes lead the binary chunk */
   int *tex = jnd_alloc((size_t)s->nmaps + 1, sizeof *tex), uses_transform = 0;
-  if (!tex) st = JND_ERR_NOMEM;
+  if (!tex && !st) st = JND_ERR_NOMEM;
   for (int i = 0; i < s->nmaps && !st; i++) {
+    if (!sampled[i]) {
+      tex[i] = -1;
+      continue;
+    }
     /* an image that several slots sample (a packed occlusion-roughness-metal
      * image) is written once, as the GPU holds it, when it is used at one
      * size and sampled alike */
     const jnd_map *m = &s->maps[i], *f = &s->maps[m->image];
     const jnd_image *a = jnd_map_image(m), *b = jnd_map_image(f);
-    if (m->image < i && a->w == b->w && a->h == b->h && a->c == b->c && m->wrap_s == f->wrap_s &&
+    if (m->image < i && tex[m->image] >= 0 && a->w == b->w && a->h == b->h && a->c == b->c && m->wrap_s == f->wrap_s &&
         m->wrap_t == f->wrap_t && m->mag_nearest == f->mag_nearest && m->min_nearest == f->min_nearest)
       tex[i] = tex[m->image];
     else
       tex[i] = add_texture(&w, s, i, images, samplers, textures, &st);
   }
   for (int mi = 0; mi < s->nmaterials && !st; mi++) {
+    if (written[mi] < 0) continue;
     const jnd_material *m = &s->materials[mi];
     cJSON *o = cJSON_CreateObject(), *pbr = cJSON_AddObjectToObject(o, "pbrMetallicRoughness");
     cJSON_AddStringToObject(o, "name", m->name);
@@ -320,6 +344,7 @@ jnd_status jnd_scene_write_lod_glb_from(const jnd_scene *s, const char *path, co
     cJSON_AddItemToArray(materials, o);
   }
   free(tex);
+  free(sampled);
   if (uses_transform) cJSON_AddItemToArray(used, cJSON_CreateString("KHR_texture_transform"));
   if (cJSON_GetArraySize(images) > 0) {
     cJSON_AddItemToObject(root, "images", images);
@@ -342,7 +367,9 @@ jnd_status jnd_scene_write_lod_glb_from(const jnd_scene *s, const char *path, co
       const uint32_t *idx;
       size_t nv, nt;
       level_mesh(s, first + k, i, &verts, &nv, &idx, &nt);
-      if (nt > 0) st = add_primitive(&w, prims, s, verts, nv, idx, nt, s->meshes[i].material);
+      int mat = s->meshes[i].material;
+      if (nt > 0)
+        st = add_primitive(&w, prims, s, verts, nv, idx, nt, mat, mat >= 0 && mat < s->nmaterials ? written[mat] : -1);
     }
     if (!st && cJSON_GetArraySize(prims) == 0) st = jnd_fail(JND_ERR_ARG, "%s: level %d has no triangles", path, k);
     cJSON_AddItemToArray(meshes, mesh);
@@ -360,6 +387,8 @@ jnd_status jnd_scene_write_lod_glb_from(const jnd_scene *s, const char *path, co
     cJSON_AddItemToArray(nodes, node);
   }
   if (cJSON_GetArraySize(used) == 0) cJSON_DeleteItemFromObjectCaseSensitive(root, "extensionsUsed");
+  if (cJSON_GetArraySize(materials) == 0) cJSON_DeleteItemFromObjectCaseSensitive(root, "materials"); /* glTF: minItems 1 */
+  free(written);
   cJSON *buf = cJSON_CreateObject();
   cJSON_AddNumberToObject(buf, "byteLength", (double)((w.bin.n + 3) / 4 * 4));
   cJSON_AddItemToArray(cJSON_AddArrayToObject(root, "buffers"), buf);

@@ -195,6 +195,17 @@ b, a = (json.load(open(p))["result"] for p in sys.argv[1:3])
 assert b["chain_source"] == "file" and [l["method"] for l in b["levels"][1:]] == ["imported"] * (len(b["levels"]) - 1)
 assert [l["triangles"] for l in b["levels"]] == [l["triangles"] for l in a["levels"]]
 PY
+check "a glTF input written again: every material is drawn, none added (assimp's default material left out)" python3 - "$T/b" "$GLB" <<'PY'
+import glob, json, struct, sys
+def doc(path):
+    b = open(path, "rb").read()
+    n, = struct.unpack_from("<I", b, 12)
+    return json.loads(b[20:20 + n])
+out, src = doc(glob.glob(sys.argv[1] + "/model/*.glb")[0]), doc(sys.argv[2])
+drawn = {p["material"] for m in out["meshes"] for p in m["primitives"]}
+assert drawn == set(range(len(out["materials"]))), (drawn, len(out["materials"]))
+assert len(out["materials"]) == len(src["materials"]), (len(out["materials"]), len(src["materials"]))
+PY
 # levels from files given on the command line
 "$JND" lod builtin:sphere -o "$T/c" --errors 0.01 --chain-only --map-size 64 --quiet
 expect_exit 0 "--level files make the chain" "$JND" lod builtin:sphere --level "$T/c/model/builtin_sphere.glb" -o "$T/d" --chain-only --map-size 64 --quiet
