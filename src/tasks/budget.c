@@ -241,13 +241,6 @@ static void layout_of(int m, int K, const jnd_pca_encoding *lay, jnd_pca_encodin
   for (int k = 0; k < JND_PCA_MAX_CHANNELS; k++) e->bits[k] = 8;
 }
 
-static int same_layout(const jnd_pca_encoding *a, const jnd_pca_encoding *b) {
-  if (a->components != b->components) return 0;
-  for (int k = 0; k < a->components; k++)
-    if (a->scale[k] != b->scale[k] || a->bits[k] != b->bits[k]) return 0;
-  return 1;
-}
-
 /* material m's analysis was made at sizes */
 static int analysis_fits(const ctx *c, int m, int (*sizes)[2]) {
   const pca_analysis *a = &c->an[m];
@@ -323,7 +316,7 @@ static jnd_status set_state(ctx *c, int level, int (*sizes)[2], const jnd_tex_fo
     jnd_pca_encoding e;
     layout_of(m, packed[i], lay, &e);
     if (sizes[i][0] != c->cur[i][0] || sizes[i][1] != c->cur[i][1] || c->curpack[i] != packed[i] ||
-        !same_layout(&e, &c->curlay[m]))
+        !pca_same_encoding(&e, &c->curlay[m]))
       c->repack[m] = 1;
   }
   for (int i = 0; i < c->nmaps; i++) {
@@ -620,7 +613,6 @@ static jnd_status search_packing(ctx *c, int m, int level, int (*sizes)[2], cons
   return s;
 }
 
-static int coarse(int n, int k) { return (n + (1 << k) - 1) >> k; }   /* pca's component side at scale k */
 
 /* The layouts `jnd pca`'s rendered search tries (001; pca_chooser_run,
  * pca's --max-scale 2): for each PSNR floor 14, 16, ... 60 dB the cheapest
@@ -655,10 +647,10 @@ static jnd_status search_layouts(ctx *c, int m, int level, int (*sizes)[2], cons
     size_t b = 0;
     for (int k = 0; k < e.components; k++) {
       e.bits[k] = 8;
-      b += jnd_texture_bytes(JND_TEX_BC4, coarse(a->set.w, e.scale[k]), coarse(a->set.h, e.scale[k]), 1);
+      b += jnd_texture_bytes(JND_TEX_BC4, pca_coarse_side(a->set.w, e.scale[k]), pca_coarse_side(a->set.h, e.scale[k]), 1);
     }
     int dup = !(b < best) || e.components < 1;
-    for (int j = 0; j < n && !dup; j++) dup = same_layout(&fam[j], &e);
+    for (int j = 0; j < n && !dup; j++) dup = pca_same_encoding(&fam[j], &e);
     if (dup) continue;
     int at = n++;   /* insertion by bytes */
     while (at > 0 && bytes[at - 1] > b) {

@@ -32,7 +32,7 @@
 /* Resampling: the scene layer's (jnd_resample_plane, jnd_box_down_plane)    */
 /* ------------------------------------------------------------------------ */
 
-static int coarse_side(int n, int s) { return (n + (1 << s) - 1) >> s; }
+int pca_coarse_side(int n, int s) { return (n + (1 << s) - 1) >> s; }
 
 /* a plane made by jnd_box_down_plane(src, w, h, s, ...) back to w × h with
  * Lanczos-3, the coarse samples sitting at the centres of their boxes */
@@ -42,7 +42,7 @@ jnd_status pca_upsample(const float *coarse, int w, int h, int s, float *dst) {
     return JND_OK;
   }
   double r = 1.0 / (1 << s);
-  return jnd_resample_plane(coarse, coarse_side(w, s), coarse_side(h, s), dst, w, h, r, r, 0, 0);
+  return jnd_resample_plane(coarse, pca_coarse_side(w, s), pca_coarse_side(h, s), dst, w, h, r, r, 0, 0);
 }
 
 /* ------------------------------------------------------------------------ */
@@ -105,7 +105,7 @@ void jnd_pca_encoding_default(const jnd_pca *pca, jnd_pca_encoding *e) {
   for (int k = 0; k < MAXC; k++) e->bits[k] = 8;
 }
 
-static size_t comp_pixels(int w, int h, int s) { return (size_t)coarse_side(w, s) * coarse_side(h, s); }
+static size_t comp_pixels(int w, int h, int s) { return (size_t)pca_coarse_side(w, s) * pca_coarse_side(h, s); }
 
 size_t jnd_pca_storage_bytes(const jnd_pca_encoding *e, int c, int w, int h) {
   size_t bits = 0;
@@ -157,7 +157,7 @@ void pca_project(const jnd_texset *set, const jnd_pca *pca, int K, float *proj) 
  * quantised to bits (0: not quantised). */
 jnd_status pca_store_component(const float *u, int w, int h, int s, int bits, jnd_image *img, double *scale,
                                   double *offset) {
-  int cw = coarse_side(w, s), ch = coarse_side(h, s);
+  int cw = pca_coarse_side(w, s), ch = pca_coarse_side(h, s);
   jnd_status st = jnd_image_alloc(img, cw, ch, 1);
   if (st != JND_OK) return st;
   if (s == 0)
@@ -254,9 +254,9 @@ jnd_status jnd_pca_reconstruct(const jnd_pca_encoded *enc, const jnd_image *comp
   }
   for (int k = 0; k < K && s == JND_OK; k++) {
     int sc = enc->enc.scale[k];
-    if (comp[k].w != coarse_side(w, sc) || comp[k].h != coarse_side(h, sc) || comp[k].c < 1)
+    if (comp[k].w != pca_coarse_side(w, sc) || comp[k].h != pca_coarse_side(h, sc) || comp[k].c < 1)
       s = jnd_fail(JND_ERR_ARG, "reconstruct: component %d is %d × %d, wanted %d × %d", k, comp[k].w, comp[k].h,
-                   coarse_side(w, sc), coarse_side(h, sc));
+                   pca_coarse_side(w, sc), pca_coarse_side(h, sc));
     else
       s = pca_upsample(comp[k].data, w, h, sc, up + (size_t)k * np);
   }

@@ -294,7 +294,7 @@ static void search_log_add(jnd_pca_search_log *log, const jnd_pca_encoding *e, s
   log->vis[t] = *v;
 }
 
-static int same_encoding(const jnd_pca_encoding *a, const jnd_pca_encoding *b) {
+int pca_same_encoding(const jnd_pca_encoding *a, const jnd_pca_encoding *b) {
   if (a->components != b->components) return 0;
   for (int k = 0; k < a->components; k++)
     if (a->scale[k] != b->scale[k] || a->bits[k] != b->bits[k]) return 0;
@@ -342,7 +342,7 @@ jnd_status jnd_pca_choose_rendered(jnd_pca_render *r, const jnd_texset *set, con
   int m = 0;
   for (int i = 0; i < n; i++) {
     int dup = 0;
-    for (int j = 0; j < m && !dup; j++) dup = same_encoding(&fam[j], &fam[i]);
+    for (int j = 0; j < m && !dup; j++) dup = pca_same_encoding(&fam[j], &fam[i]);
     if (dup) continue;
     fam[m] = fam[i];
     floor_db[m] = floor_db[i];
@@ -401,7 +401,7 @@ jnd_status jnd_pca_choose_rendered(jnd_pca_render *r, const jnd_texset *set, con
         f_hi = f;
         continue;
       }
-      if (same_encoding(&e, &fam[best - 1])) {   /* known to fail */
+      if (pca_same_encoding(&e, &fam[best - 1])) {   /* known to fail */
         f_lo = f;
         continue;
       }
@@ -426,7 +426,7 @@ jnd_status jnd_pca_choose_rendered(jnd_pca_render *r, const jnd_texset *set, con
                     r->path, r->p.judge.criterion.p, r->p.judge.criterion.q);
   if (log)
     for (int t = 0; t < log->tried; t++)
-      if (same_encoding(&log->enc[t], &best_enc)) log->chosen = t;
+      if (pca_same_encoding(&log->enc[t], &best_enc)) log->chosen = t;
   *out = best_enc;
   if (vis) *vis = best_vis;
   return JND_OK;

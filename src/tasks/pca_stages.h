@@ -21,6 +21,12 @@ jnd_status pca_scene_material_set(const jnd_scene *scene, int material, int orig
 jnd_status pca_block_compressed_gpu(const jnd_texset *set, const jnd_pca_encoded *enc, jnd_pca_bc_variant v,
                                     jnd_image *out, size_t *bytes, size_t *gpu);
 
+/* pca.c: a component's side at scale s (1/2^s of n, rounded up) */
+int pca_coarse_side(int n, int s);
+
+/* pca_render.c: a and b keep the same components at the same scales and bits */
+int pca_same_encoding(const jnd_pca_encoding *a, const jnd_pca_encoding *b);
+
 /* pca.c */
 jnd_status pca_upsample(const float *coarse, int w, int h, int s, float *dst);
 void pca_project(const jnd_texset *set, const jnd_pca *pca, int K, float *proj);
