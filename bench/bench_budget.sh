@@ -13,7 +13,6 @@ export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
 here=$(cd "$(dirname "$0")" && pwd)
 . "$here/targets.sh"
 . "$here/webxr_assets.sh"
-. "$here/../scripts/gltf_validator.sh"
 out=${BENCH_OUT:-$here/out}/budget
 mkdir -p "$out"
 screens=${BENCH_BUDGET_SCREENS:-standard-fhd}
@@ -60,12 +59,6 @@ print("     joint saves %.3f MiB (%.1f%%) over separately" % (saving / mib, 100 
 print("     levels: " + "; ".join("%d from %s (%s)" % (l["level"], "-" if l["switch_distance"] is None else "%.3g" % l["switch_distance"],
                                                     "pass" if l["verification"]["pass"] else "FAIL") for l in res["levels"]))
 PY
-  # the written model through the Khronos glTF-Validator (the pinned npm package, where cached)
-  if gltf_validator >/dev/null 2>&1 && command -v node >/dev/null; then
-    for glb in "$d"/model/*.glb; do [ -f "$glb" ] && echo "     glTF-Validator: $(gltf_validator_run "$glb" 2>&1 | head -1)"; done
-  else
-    echo "     glTF-Validator: not cached (scripts/install-deps.sh)"
-  fi
 }
 
 echo "   $(nproc) cores; load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
