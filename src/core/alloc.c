@@ -1,5 +1,6 @@
 /* Checked allocation: sizes that overflow or memory that cannot be had become
  * JND_ERR_NOMEM messages instead of crashes. */
+#include <omp.h>
 #include <stdatomic.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -22,7 +23,7 @@
  * - the block's pages populated in one call (MADV_POPULATE_WRITE, Linux 5.14)
  *   instead of a fault each: they are all written soon anyway.
  * Where the kernel has either off, the call fails and nothing changes. */
-enum { HUGE = 2 << 20, PAGE = 4096, POPULATE_MIN = 16 * PAGE };
+enum { HUGE = 2 << 20, PAGE = 4096, POPULATE_MIN = 16 * PAGE, POPULATE_SPLIT = 256 * PAGE };
 
 #ifdef MADV_HUGEPAGE
 /* the end of the main heap already advised; the heap only grows upwards
@@ -40,6 +41,36 @@ static void heap_pages(uintptr_t p) {
 }
 #endif
 
+#ifdef MADV_POPULATE_WRITE
+/* Populating is the kernel zeroing and mapping pages, about 3 GB/s a thread
+ * on this machine. A block asked for between parallel loops (the model's
+ * levels and band planes: 72 MB of a 1920×1080 diff) was populated by one
+ * thread while the others waited for the next loop — 20–35 ms of the run on
+ * 2 threads with one idle (docs/speed.md, "Fifth pass: the process"). So a
+ * block of POPULATE_SPLIT bytes or more asked for outside a parallel region
+ * is populated by the team, a slice each, cut at huge-page boundaries where
+ * the block has several per thread (a huge page is zeroed whole by
+ * whichever thread touches it first). Inside a parallel region (the two
+ * files decoding at once) the calling thread populates its block alone.
+ * Which thread populates a page changes no value. */
+static void populate(uintptr_t a, uintptr_t e) {
+  const int nt = omp_in_parallel() ? 1 : omp_get_max_threads();
+  if (nt <= 1 || e - a < POPULATE_SPLIT) {
+    (void)madvise((void *)a, e - a, MADV_POPULATE_WRITE);
+    return;
+  }
+  const uintptr_t grain = e - a >= 2 * (uintptr_t)HUGE * (uintptr_t)nt ? HUGE : PAGE;
+#pragma omp parallel for num_threads(nt) schedule(static)
+  for (int t = 0; t < nt; t++) {
+    uintptr_t from = a + (e - a) / (uintptr_t)nt * (uintptr_t)t, to = a + (e - a) / (uintptr_t)nt * (uintptr_t)(t + 1);
+    from = t == 0 ? a : (from + grain - 1) & ~(grain - 1);
+    to = (to + grain - 1) & ~(grain - 1); /* the last slice's end rounds to e or past it */
+    if (to > e) to = e;
+    if (to > from) (void)madvise((void *)from, to - from, MADV_POPULATE_WRITE);
+  }
+}
+#endif
+
 static void *large_pages(void *p, size_t bytes) {
   if (!p || bytes < POPULATE_MIN) return p;
 #ifdef MADV_HUGEPAGE
@@ -53,7 +84,7 @@ static void *large_pages(void *p, size_t bytes) {
 #ifdef MADV_POPULATE_WRITE
   uintptr_t a = ((uintptr_t)p + PAGE - 1) & ~(uintptr_t)(PAGE - 1);
   uintptr_t e = ((uintptr_t)p + bytes) & ~(uintptr_t)(PAGE - 1);
-  if (e > a) (void)madvise((void *)a, e - a, MADV_POPULATE_WRITE);
+  if (e > a) populate(a, e);
 #endif
   return p;
 }

@@ -1,6 +1,12 @@
 #include <float.h>
+#include <malloc.h>
 #include <math.h>
+#include <omp.h>
+#include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
+#include <unistd.h>
 #include "test.h"
 #include "core/core.h"
 #include "jnd.h"
@@ -17,6 +23,65 @@ TEST(image_alloc_is_zeroed_and_planar) {
   CHECK(s == 0);
   jnd_image_free(&img);
   CHECK(img.data == NULL);
+}
+
+/* the whole pages of [p, p + n) that are not mapped in yet */
+static size_t pages_not_resident(const void *p, size_t n) {
+  const uintptr_t page = (uintptr_t)sysconf(_SC_PAGESIZE);
+  const uintptr_t a = ((uintptr_t)p + page - 1) & ~(page - 1), e = ((uintptr_t)p + n) & ~(page - 1);
+  if (e <= a) return 0;
+  size_t np = (e - a) / page, missing = 0;
+  unsigned char *v = malloc(np);
+  if (!v || mincore((void *)a, e - a, v) != 0) {
+    free(v);
+    return (size_t)-1;
+  }
+  for (size_t i = 0; i < np; i++) missing += !(v[i] & 1);
+  free(v);
+  return missing;
+}
+
+/* jnd_alloc populates a block of 16 pages or more before handing it out
+ * (src/core/alloc.c); between parallel loops the team populates it, a slice
+ * each: no page may fall between two slices, whatever the block's length
+ * and alignment, the thread count, or whether the caller is in a parallel
+ * region. Where the kernel has no MADV_POPULATE_WRITE (before 5.14) there
+ * is nothing to check. */
+TEST(large_blocks_are_mapped_in_whole_whoever_populates_them) {
+#ifdef MADV_POPULATE_WRITE
+  void *probe = mmap(NULL, 4096, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  CHECK(probe != MAP_FAILED);
+  const int works = madvise(probe, 4096, MADV_POPULATE_WRITE) == 0;
+  munmap(probe, 4096);
+  if (!works) return;
+  /* every block a fresh mapping: glibc would otherwise raise its mmap
+   * threshold after the first free and hand out heap memory already mapped in */
+  CHECK(mallopt(M_MMAP_THRESHOLD, 64 * 1024) == 1);
+  const size_t sizes[] = {16 * 4096 + 100, 256 * 4096, 257 * 4096 + 1, (4u << 20) + 3 * 4096 + 8, (9u << 20) + 12345,
+                          (16u << 20) + 5 * 4096};
+  const int previous = omp_get_max_threads();
+  for (int nt = 1; nt <= 3; nt++) {
+    omp_set_num_threads(nt);
+    for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; i++) {
+      unsigned char *p = jnd_alloc(sizes[i], 1), *q = jnd_calloc(sizes[i], 1);
+      CHECK(p && q);
+      CHECK(pages_not_resident(p, sizes[i]) == 0);
+      CHECK(pages_not_resident(q, sizes[i]) == 0);
+      CHECK(q[0] == 0 && q[sizes[i] / 2] == 0 && q[sizes[i] - 1] == 0);
+      free(p);
+      free(q);
+    }
+    size_t missing = 0;
+#pragma omp parallel num_threads(2) reduction(+ : missing)
+    {
+      unsigned char *p = jnd_alloc(sizes[4], 1);
+      missing += p ? pages_not_resident(p, sizes[4]) : 1;
+      free(p);
+    }
+    CHECK(missing == 0);
+  }
+  omp_set_num_threads(previous);
+#endif
 }
 
 TEST(image_alloc_refuses_zero_and_oversized) {
@@ -154,5 +219,5 @@ TEST(lazy_libraries_give_their_own_functions_or_name_what_is_missing) {
   CHECK(fabs(val[0] + val[1] - 4) < 1e-12 && fabs(val[0] * val[1] - 3) < 1e-12);
 }
 
-RUN_TESTS(lazy_libraries_give_their_own_functions_or_name_what_is_missing, clocks_advance_with_work_and_never_go_back, first_outside_finds_the_first_bad_value_in_any_block, fast_log2_exp2_pow_match_libm_over_the_models_ranges, image_alloc_is_zeroed_and_planar, image_alloc_refuses_zero_and_oversized,
+RUN_TESTS(large_blocks_are_mapped_in_whole_whoever_populates_them, lazy_libraries_give_their_own_functions_or_name_what_is_missing, clocks_advance_with_work_and_never_go_back, first_outside_finds_the_first_bad_value_in_any_block, fast_log2_exp2_pow_match_libm_over_the_models_ranges, image_alloc_is_zeroed_and_planar, image_alloc_refuses_zero_and_oversized,
           error_messages_are_one_line, rng_is_deterministic_and_uniform)
