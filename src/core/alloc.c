@@ -52,7 +52,8 @@ static void heap_pages(uintptr_t p) {
  * the block has several per thread (a huge page is zeroed whole by
  * whichever thread touches it first). Inside a parallel region (the two
  * files decoding at once) the calling thread populates its block alone.
- * Which thread populates a page changes no value.
+ * Only the process's first thread does so (below). Which thread populates a
+ * page changes no value.
  *
  * A populating call holds the process's mmap lock (for reading) until it
  * returns, and mmap and MADV_HUGEPAGE wait for it (they write): the second
@@ -66,7 +67,10 @@ static void populate_run(uintptr_t a, uintptr_t e) {
 }
 
 static void populate(uintptr_t a, uintptr_t e) {
-  const int nt = omp_in_parallel() ? 1 : omp_get_max_threads();
+  /* only the process's first thread starts a team: a thread of jnd's own
+   * (lod's and pop's workers, pthreads) would start one more team each,
+   * more threads than cores, for a block it fills itself anyway */
+  const int nt = omp_in_parallel() || gettid() != getpid() ? 1 : omp_get_max_threads();
   if (nt <= 1 || e - a < POPULATE_SPLIT) {
     populate_run(a, e);
     return;
