@@ -615,17 +615,16 @@ static jnd_status search_packing(ctx *c, int m, int level, int (*sizes)[2], cons
 
 
 /* The layouts `jnd pca`'s rendered search tries (001; pca_chooser_run,
- * pca's --max-scale 2) on material m's set made from its maps at sizes: for
- * each PSNR floor 14, 16, ... 60 dB the cheapest layout — K, each
- * component's scale — whose every channel reaches it, at 8 bits (a GPU
- * block holds 8), those whose components (BC4 each, pairs in BC5: Σ_k a
- * BC4 texture of component k's side, with mips) take fewer than best
- * bytes, cheapest first; the cheapest that passes with texres's margin on
- * the judge's views, every encoding taken before included, by bisection
- * (the error falls as the floor rises, as pca's own search assumes). Taken
- * (lay[m], pk of m's maps, *taken its bytes) when one passes. */
-static jnd_status layout_family(ctx *c, int m, int level, int (*sizes)[2], const jnd_tex_format *f, int *pk,
-                                jnd_pca_encoding *lay, double *P, pca_try *t, size_t best, size_t *taken) {
+ * pca's --max-scale 2): for each PSNR floor 14, 16, ... 60 dB the cheapest
+ * layout — K, each component's scale — whose every channel reaches it, at 8
+ * bits (a GPU block holds 8), those whose components (BC4 each, pairs in
+ * BC5: Σ_k a BC4 texture of component k's side, with mips) take fewer than
+ * best bytes, cheapest first; the cheapest that passes with texres's margin
+ * on the judge's views, every encoding taken before included, by
+ * bisection (the error falls as the floor rises, as pca's own search
+ * assumes). Taken (lay[m], pk of m's maps) when one passes. */
+static jnd_status search_layouts(ctx *c, int m, int level, int (*sizes)[2], const jnd_tex_format *f, int *pk,
+                                 jnd_pca_encoding *lay, double *P, pca_try *t, size_t best) {
   enum { FLOORS = 24 };
   pca_analysis *a;
   jnd_status s = plain_analysis(c, m, level, sizes, f, pk, lay, &a);
@@ -672,15 +671,14 @@ static jnd_status layout_family(ctx *c, int m, int level, int (*sizes)[2], const
       if (c->mi[i].material == m) pk[i] = fam[mid].components;
     jnd_judgement r;
     if ((s = judge(c, level, sizes, f, pk, lay, 0, c->nviews, P, &r)) || (s = margin_pass(c, P, c->nviews, &ok))) break;
-    stage(c, "%s in pca's layout of %d component%s (set %dx%d): %.3f MiB, statistic %.3f, %s",
-          jnd_scene_material_name(c->scene, m), fam[mid].components, fam[mid].components == 1 ? "" : "s", a->set.w,
-          a->set.h, c->packbytes[m] / 1048576.0, r.criterion.statistic, ok ? "passes" : "seen");
+    stage(c, "%s in pca's layout of %d component%s: %.3f MiB, statistic %.3f, %s", jnd_scene_material_name(c->scene, m),
+          fam[mid].components, fam[mid].components == 1 ? "" : "s", c->packbytes[m] / 1048576.0, r.criterion.statistic,
+          ok ? "passes" : "seen");
     if (ok) {
       found = mid;
       t->components = fam[mid].components;
       t->statistic = r.criterion.statistic;
       t->pass = r.criterion.pass;
-      *taken = bytes[mid];
       hi = mid;
     } else {
       lo = mid + 1;
@@ -689,41 +687,6 @@ static jnd_status layout_family(ctx *c, int m, int level, int (*sizes)[2], const
   lay[m] = found >= 0 ? fam[found] : keep;
   for (int i = 0; i < c->nmaps; i++)
     if (c->mi[i].material == m) pk[i] = t->components;
-  return s;
-}
-
-/* pca's layouts (layout_family) on material m's set made twice: from its
- * maps at sizes (the base's, texres's), then from its maps at the file's
- * sizes. A packed material holds its components, not its images, so its
- * maps' sizes cost nothing, only the components' sides do; the set at the
- * file's sizes gives the same sides at a scale one higher for each halving
- * texres made, without inheriting texres's downsizing error. The second
- * family is offered only under what the first took (or best): the cheapest
- * that passes wins, the base's sizes on a tie. Where the file's sizes win,
- * m's maps in sizes take them. */
-static jnd_status search_layouts(ctx *c, int m, int level, int (*sizes)[2], const jnd_tex_format *f, int *pk,
-                                 jnd_pca_encoding *lay, double *P, pca_try *t, size_t best) {
-  size_t taken = 0;
-  jnd_status s = layout_family(c, m, level, sizes, f, pk, lay, P, t, best, &taken);
-  int (*full)[2] = jnd_calloc((size_t)c->nmaps, sizeof *full), halved_any = 0;
-  if (s == JND_OK && !full) s = JND_ERR_NOMEM;
-  for (int i = 0; i < c->nmaps && s == JND_OK; i++) {
-    memcpy(full[i], sizes[i], sizeof full[i]);
-    if (c->mi[i].material != m) continue;
-    halved_any |= sizes[i][0] != c->mi[i].orig_width || sizes[i][1] != c->mi[i].orig_height;
-    full[i][0] = c->mi[i].orig_width;
-    full[i][1] = c->mi[i].orig_height;
-  }
-  if (s == JND_OK && halved_any) {
-    unify(c, full);
-    size_t won = 0;
-    pca_try u = *t;
-    if ((s = layout_family(c, m, level, full, f, pk, lay, P, &u, taken ? taken : best, &won)) == JND_OK && won) {
-      *t = u;
-      memcpy(sizes, full, (size_t)c->nmaps * sizeof *sizes);
-    }
-  }
-  free(full);
   return s;
 }
 
