@@ -1144,7 +1144,8 @@ static jnd_status levels(ctx *c, const jnd_budget_candidate *ch, const char *who
           }
           int cap[2];
           halved(c, i, mm < 0 ? 30 : texres_mip_bound_level(mm), cap);
-          if (longer(cap) < longer(L->sizes[i])) memcpy(L->sizes[i], cap, sizeof cap);
+          for (int q = 0; q < c->nmaps; q++)   /* every map of the image: unify takes the largest */
+            if (c->leader[q] == i && longer(cap) < longer(L->sizes[q])) memcpy(L->sizes[q], cap, sizeof cap);
         }
       unify(c, L->sizes);
       double *P = jnd_calloc((size_t)nv, sizeof *P);
