@@ -58,6 +58,10 @@ saving = res["comparison"]["saving_bytes"]
 print("     joint saves %.3f MiB (%.1f%%) over separately" % (saving / mib, 100 * saving / se["cost_bytes"]))
 print("     levels: " + "; ".join("%d from %s (%s)" % (l["level"], "-" if l["switch_distance"] is None else "%.3g" % l["switch_distance"],
                                                     "pass" if l["verification"]["pass"] else "FAIL") for l in res["levels"]))
+sv = [l for l in se.get("verification", []) if l["views"]]
+if sv:   # texres + pca + lod judged as the joint one is: held-out views at its switch distances, at p
+    print("     separately, held out: " + "; ".join("%d from %.3g: %.3f %s" % (l["level"], l["switch_distance"], l["statistic"],
+                                                     "pass" if l["pass"] else "FAIL") for l in sv))
 PY
 }
 

@@ -3064,6 +3064,8 @@ typedef struct {
   int chosen, separate;      /* indices into candidates */
   int nlevels;
   jnd_budget_level *levels;  /* owned: the written chain, finest first */
+  int nseparate_levels;
+  jnd_budget_level *separate_levels; /* owned: the separate candidate's chain, verified as levels is */
   jnd_lod_result lod;        /* the chain and switch distances (its scene holds the chosen maps) */
   jnd_texres_result texres;  /* texres's search at level 0 (the separately chosen sizes) */
   int npca;

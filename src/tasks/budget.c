@@ -58,6 +58,8 @@ void jnd_budget_result_clear(jnd_budget_result *r) {
   free(r->candidates);
   for (int k = 0; k < r->nlevels; k++) free(r->levels[k].sizes);
   free(r->levels);
+  for (int k = 0; k < r->nseparate_levels; k++) free(r->separate_levels[k].sizes);
+  free(r->separate_levels);
   free(r->map_names);
   free(r->pca);
   jnd_lod_result_clear(&r->lod);
@@ -105,6 +107,7 @@ typedef struct {
   int nscales;             /* the ladder's halvings, 0 .. nscales − 1 */
   jnd_judge *j;
   int nviews;
+  int (*vviews)[2];        /* per level k, 2k + (at the viewing condition): its held-out views' first, count */
 } ctx;
 
 __attribute__((format(printf, 2, 3))) static void stage(const ctx *c, const char *fmt, ...) {
@@ -163,6 +166,7 @@ static void ctx_free(ctx *c) {
   free(c->curlay);
   for (int m = 0; c->an && m < c->nmat; m++) jnd_texset_free(&c->an[m].set);
   free(c->an);
+  free(c->vviews);
 }
 
 /* one size per image: the largest any of its maps has */
@@ -1085,17 +1089,36 @@ static int choose(const ctx *c) {
   return best >= 0 ? best : 0;   /* nothing passes: texres at level 0, reported as failing */
 }
 
-/* step 5: the written chain, finest first, each level verified from its switch distance */
-static jnd_status levels(ctx *c, const jnd_budget_candidate *ch) {
+/* the held-out views of level k at distance (0: the viewing condition,
+ * where a finer level is not written), added to the judge once and shared
+ * by every candidate verified there (the chosen and the separate one) */
+static jnd_status level_views(ctx *c, int k, double distance, int *first, int *n) {
+  int at = 2 * k + (distance == 0), nl = jnd_scene_lod_count(c->scene);
+  if (!c->vviews && !(c->vviews = jnd_calloc((size_t)(2 * nl), sizeof *c->vviews))) return JND_ERR_NOMEM;
+  if (c->vviews[at][1] == 0) {
+    uint64_t seed = c->p->texres.judge.views.sampling.seed + 1000 + (uint64_t)k;
+    jnd_status s = held_out_views(c, distance, seed, c->p->verify_views, &c->vviews[at][0], &c->vviews[at][1]);
+    if (s != JND_OK) return s;
+  }
+  *first = c->vviews[at][0];
+  *n = c->vviews[at][1];
+  return JND_OK;
+}
+
+/* step 5 for candidate ch: its chain (its level and every coarser one,
+ * finest first) into *out, each level verified from its switch distance
+ * (the first screen's) on held-out views there, its maps capped at the
+ * mips that distance samples; who names the candidate in the stage log */
+static jnd_status levels(ctx *c, const jnd_budget_candidate *ch, const char *who, jnd_budget_level **out, int *count) {
   jnd_budget_result *R = c->R;
   const jnd_lod_switch_result *w = R->lod.nsw > 0 ? &R->lod.sw[0] : NULL;
   int n = jnd_scene_lod_count(c->scene) - ch->level;
-  R->levels = jnd_calloc((size_t)n, sizeof *R->levels);
-  if (!R->levels) return JND_ERR_NOMEM;
-  R->nlevels = n;
+  *out = jnd_calloc((size_t)n, sizeof **out);
+  if (!*out) return JND_ERR_NOMEM;
+  *count = n;
   jnd_status s = JND_OK;
   for (int j = 0; j < n && s == JND_OK; j++) {
-    jnd_budget_level *L = &R->levels[j];
+    jnd_budget_level *L = &(*out)[j];
     int k = ch->level + j;
     L->level = k;
     L->statistic = NAN;
@@ -1109,8 +1132,7 @@ static jnd_status levels(ctx *c, const jnd_budget_candidate *ch) {
     L->triangles = li.triangles;
     if (c->p->verify_views > 0 && isfinite(L->switch_distance)) {
       int first = 0, nv = 0;
-      uint64_t seed = c->p->texres.judge.views.sampling.seed + 1000 + (uint64_t)k;
-      if ((s = held_out_views(c, L->switch_distance, seed, c->p->verify_views, &first, &nv))) break;
+      if ((s = level_views(c, k, L->switch_distance, &first, &nv))) break;
       /* 000 §4: from here on no pixel samples finer mips than these */
       if (j > 0)
         for (int i = 0; i < c->nmaps; i++) {
@@ -1122,7 +1144,8 @@ static jnd_status levels(ctx *c, const jnd_budget_candidate *ch) {
           }
           int cap[2];
           halved(c, i, mm < 0 ? 30 : texres_mip_bound_level(mm), cap);
-          if (longer(cap) < longer(L->sizes[i])) memcpy(L->sizes[i], cap, sizeof cap);
+          for (int q = 0; q < c->nmaps; q++)   /* every map of the image: unify takes the largest */
+            if (c->leader[q] == i && longer(cap) < longer(L->sizes[q])) memcpy(L->sizes[q], cap, sizeof cap);
         }
       unify(c, L->sizes);
       double *P = jnd_calloc((size_t)nv, sizeof *P);
@@ -1134,7 +1157,7 @@ static jnd_status levels(ctx *c, const jnd_budget_candidate *ch) {
       L->views = nv;
       L->statistic = r.criterion.statistic;
       L->pass = r.criterion.pass;
-      stage(c, "level %d from distance %.3g: statistic %.3f on %d held-out views%s", k, L->switch_distance,
+      stage(c, "%slevel %d from distance %.3g: statistic %.3f on %d held-out views%s", who, k, L->switch_distance,
             L->statistic, nv, L->pass ? "" : "  FAILS");
     }
     if (any_packed(c, ch->packed) && (s = set_state(c, k, L->sizes, ch->formats, ch->packed, ch->layouts))) break;
@@ -1332,9 +1355,12 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
   /* 5. the written chain from the choice's level, verified */
   double t1 = jnd_seconds();
   const jnd_budget_candidate *ch = &R->candidates[R->chosen];
-  if ((s = levels(&c, ch))) goto done;
+  if ((s = levels(&c, ch, "", &R->levels, &R->nlevels))) goto done;
   R->passes = R->mode ? 1 : ch->searched_pass;
   for (int j = 0; j < R->nlevels; j++) R->passes = R->passes && R->levels[j].pass;
+  /* the separate choice judged as the chosen one is: on the same held-out
+   * views at each of its levels' switch distances (the criterion at p) */
+  if ((s = levels(&c, &R->candidates[R->separate], "separately, ", &R->separate_levels, &R->nseparate_levels))) goto done;
   R->verify_s = jnd_seconds() - t1;
   /* the scene as it is written: the choice's maps, level 0 selected */
   s = set_state(&c, 0, ch->sizes, NULL, NULL, NULL);

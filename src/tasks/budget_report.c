@@ -159,7 +159,21 @@ cJSON *budget_report(const char *model, const jnd_budget_params *p, const jnd_bu
     cJSON_AddItemToArray(jc, o);
   }
   cJSON_AddItemToObject(res, "chosen", candidate_json(R, R->chosen, 1));
-  cJSON_AddItemToObject(res, "separate", candidate_json(R, R->separate, 1));
+  cJSON *jse = candidate_json(R, R->separate, 1);
+  cJSON_AddItemToObject(res, "separate", jse);
+  /* judged as the chosen one is: its levels on the same held-out views at
+   * each switch distance, the criterion at p */
+  cJSON *jsv = cJSON_AddArrayToObject(jse, "verification");
+  for (int j = 0; j < R->nseparate_levels; j++) {
+    const jnd_budget_level *L = &R->separate_levels[j];
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddNumberToObject(o, "level", L->level);
+    cJSON_AddItemToObject(o, "switch_distance", report_number_or_null(L->switch_distance));
+    cJSON_AddNumberToObject(o, "views", L->views);
+    cJSON_AddItemToObject(o, "statistic", report_number_or_null(L->statistic));
+    cJSON_AddBoolToObject(o, "pass", L->pass);
+    cJSON_AddItemToArray(jsv, o);
+  }
   /* the separate candidate: texres's sizes, `jnd pca`'s choice per material, lod's perceptual level */
   cJSON_AddStringToObject(res, "separate_is", "texres + pca + lod");
   cJSON_AddItemToObject(res, "separate_pca", separate_pca_json(R));

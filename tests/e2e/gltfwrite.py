@@ -7,6 +7,8 @@ and then each of images (PNG bytes), each image given its own bufferView;
 g gets its images and buffers.
 mip_chain_bytes(w, h, block): bytes of a w x h texture of block bytes per 4x4 block
 with its mip chain (000 Table 2).
+write_ball(path, images): a unit UV sphere of one material "ball" whose
+images are its baseColor, metallicRoughness and occlusion (PNG bytes each).
 uv_sphere(S, R): a unit UV sphere of S segments and R rings: (positions,
 texcoords, indices) as flat lists (its normals are its positions); the
 triangles of ring j come before those of ring j + 1 (2·S per ring).
@@ -74,3 +76,25 @@ def uv_sphere(S=32, R=16):
             a, b = j * (S + 1) + i, (j + 1) * (S + 1) + i
             idx += [a, a + 1, b, a + 1, b + 1, b]
     return pos, uv, idx
+
+
+def write_ball(path, images):
+    pos, uv, idx = uv_sphere(32, 16)
+    nv = len(pos) // 3
+    geo = (struct.pack('<%df' % len(pos), *pos) * 2 + struct.pack('<%df' % len(uv), *uv)
+           + struct.pack('<%dI' % len(idx), *idx))
+    view = lambda off, n: {"buffer": 0, "byteOffset": off, "byteLength": n}
+    g = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+         "bufferViews": [view(0, 12 * nv), view(12 * nv, 12 * nv), view(24 * nv, 8 * nv), view(32 * nv, 4 * len(idx))],
+         "accessors": [{"bufferView": 0, "componentType": 5126, "count": nv, "type": "VEC3", "min": [-1, -1, -1],
+                        "max": [1, 1, 1]},
+                       {"bufferView": 1, "componentType": 5126, "count": nv, "type": "VEC3"},
+                       {"bufferView": 2, "componentType": 5126, "count": nv, "type": "VEC2"},
+                       {"bufferView": 3, "componentType": 5125, "count": len(idx), "type": "SCALAR"}],
+         "textures": [{"source": 0}, {"source": 1}, {"source": 2}],
+         "materials": [{"name": "ball", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0},
+                                                                 "metallicRoughnessTexture": {"index": 1}},
+                        "occlusionTexture": {"index": 2}}],
+         "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3,
+                                     "material": 0}]}]}
+    write_glb(path, g, geo, images)
