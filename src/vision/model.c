@@ -1197,9 +1197,9 @@ static int chroma_summation_apart(const jnd_model_params *p) {
  * of columns at a time, in cache; the first two passes keep what they
  * spread beyond the image's border, so that the window over the image's
  * samples is the same however far the border is (box_rows). f0 and beta: the channels' own critical
- * area and exponent (summation_levels). */
-static jnd_status local_summation(const jnd_model *m, int band, float *D, float *acc, int w, int h, double f0,
-                                  double beta, int d_beta, float d_max) {
+ * area and exponent (summation_levels). P: room for the windowed sums, w × h floats. */
+static jnd_status local_summation(const jnd_model *m, int band, float *D, float *acc, float *P, int w, int h,
+                                  double f0, double beta, int d_beta, float d_max) {
   const double e = m->p.minkowski;
   /* samples of this level per cycle of the band's peak frequency */
   const double spc = 1.0 / (m->band_cpp[band] * ldexp(1.0, band));
@@ -1228,8 +1228,6 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
    * slower fall the bench pair's chromatic difference at 18 cpd is bounded
    * at 0.08 JND, no longer 1e-12: it is summed; docs/model.md "Speed".) */
   if (acc && bound * d_max <= SUMMATION_NEGLIGIBLE) return JND_OK;
-  float *P = jnd_alloc((size_t)w * h, sizeof(float)); /* the windowed sums */
-  if (!P) return JND_ERR_NOMEM;
   int fail = 0;
 #pragma omp parallel num_threads(threads)
   {
@@ -1299,7 +1297,6 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
     }
     free(a);
   }
-  free(P);
   return fail ? jnd_fail(JND_ERR_NOMEM, "model: out of memory") : JND_OK;
 }
 
@@ -1310,12 +1307,19 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
 static jnd_status summation_levels(const jnd_model *m, int band, float *D, float *Dc, int w, int h, float dc_max) {
   const jnd_model_params *p = &m->p;
   if (!(p->summation_area_deg2 > 0)) return JND_OK;
+  /* the windowed sums' plane, one for both passes: the second takes the
+   * first's pages, not fresh ones the kernel zeroes again (8 MB at 1080p) */
+  float *P = jnd_alloc((size_t)w * h, sizeof(float));
+  if (!P) return JND_ERR_NOMEM;
   /* with Dc, D holds the achromatic term to summation_beta (band_difference's e0) */
-  jnd_status s = local_summation(m, band, D, NULL, w, h, p->summation_f0_cpd, p->summation_beta, Dc != NULL, 0);
-  if (s != JND_OK || !Dc) return s;
-  const double f0 = p->summation_chroma_f0_cpd > 0 ? p->summation_chroma_f0_cpd : p->summation_f0_cpd;
-  const double beta = p->summation_chroma_beta > 0 ? p->summation_chroma_beta : p->summation_beta;
-  return local_summation(m, band, Dc, D, w, h, f0, beta, 0, dc_max); /* pooled into D */
+  jnd_status s = local_summation(m, band, D, NULL, P, w, h, p->summation_f0_cpd, p->summation_beta, Dc != NULL, 0);
+  if (s == JND_OK && Dc) {
+    const double f0 = p->summation_chroma_f0_cpd > 0 ? p->summation_chroma_f0_cpd : p->summation_f0_cpd;
+    const double beta = p->summation_chroma_beta > 0 ? p->summation_chroma_beta : p->summation_beta;
+    s = local_summation(m, band, Dc, D, P, w, h, f0, beta, 0, dc_max); /* pooled into D */
+  }
+  free(P);
+  return s;
 }
 
 /* The difference planes of level b: D, and with apart Dc for the chromatic
