@@ -1522,8 +1522,10 @@ static jnd_status band_differences(jnd_model *m, diff_state *st, float **Dlev, i
 }
 
 /* 004 §3.2: the bands collapsed into Dlev[0] (full resolution), the
- * coarser levels freed. */
-static jnd_status collapse_bands(float **Dlev, int nb, int w, int h, int threads) {
+ * coarser levels freed; with nb > 0 Dlev[0] is then raised to p as its
+ * rows are made (jnd_map_of's first step, done here: *powed = 1). */
+static jnd_status collapse_bands(float **Dlev, int nb, int w, int h, float p, int *powed, int threads) {
+  *powed = 0;
   /* 004 §3.2: collapse the difference pyramid (Minkowski sum across bands):
    * acc_i = D_i + EXPAND(acc_{i+1}), from the baseband to the finest band */
   for (int b = nb; b > 0; b--) {
@@ -1531,22 +1533,30 @@ static jnd_status collapse_bands(float **Dlev, int nb, int w, int h, int threads
     for (int k = 0; k < b; k++) { cw = (cw + 1) / 2; ch = (ch + 1) / 2; }
     for (int k = 0; k < b - 1; k++) { fw = (fw + 1) / 2; fh = (fh + 1) / 2; }
     /* acc_{b-1} += max(EXPAND(acc_b), 0), a row at a time */
-    if (!jnd_pyr_expand_add(Dlev[b], cw, ch, Dlev[b - 1], fw, fh, threads))
+    if (!(b == 1 ? jnd_pyr_expand_add_pow(Dlev[b], cw, ch, Dlev[b - 1], fw, fh, p, threads)
+                 : jnd_pyr_expand_add(Dlev[b], cw, ch, Dlev[b - 1], fw, fh, threads)))
       return jnd_fail(JND_ERR_NOMEM, "model: out of memory");
+    *powed = b == 1;
     free(Dlev[b]);
     Dlev[b] = NULL;
   }
   return JND_OK;
 }
 
-/* ^(1/β) of the collapsed sum, and the caller's weights: the JND map, in place. */
-static void jnd_map_of(const jnd_model *m, const jnd_diff_inputs *in, float *o, size_t npx, int threads) {
-  const float inv = (float)(1.0 / m->p.minkowski);
+/* the collapsed sum's exponent to the map: 1/β (Minkowski) */
+static float map_power(const jnd_model *m) { return (float)(1.0 / m->p.minkowski); }
+
+/* ^(1/β) of the collapsed sum (unless powed: collapse_bands did it), and
+ * the caller's weights: the JND map, in place. */
+static void jnd_map_of(const jnd_model *m, const jnd_diff_inputs *in, float *o, size_t npx, int powed, int threads) {
+  const float inv = map_power(m);
   const float *wt = in && in->weights ? in->weights->data : NULL;
   /* two loops, not one with a branch, so that both vectorise */
   const size_t span = 16384;
+  if (!powed) {
 #pragma omp parallel for num_threads(threads) schedule(static)
-  for (size_t i = 0; i < npx; i += span) pow_span(o + i, o + i, npx - i < span ? npx - i : span, inv);
+    for (size_t i = 0; i < npx; i += span) pow_span(o + i, o + i, npx - i < span ? npx - i : span, inv);
+  }
   /* 004 §3.2: weights scale down the difference map */
   if (wt) {
 #pragma omp parallel for num_threads(threads) schedule(static)
@@ -1571,12 +1581,13 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
   if (s == JND_OK) s = csf_velocity(m, &st, in, w, h, threads);
   if (s == JND_OK) s = band_differences(m, &st, Dlev, threads);
   state_free(&st);
-  if (s == JND_OK) s = collapse_bands(Dlev, nb, w, h, threads);
+  int powed = 0;
+  if (s == JND_OK) s = collapse_bands(Dlev, nb, w, h, map_power(m), &powed, threads);
   if (s != JND_OK) {
     for (int b = 0; b < MAX_BANDS; b++) free(Dlev[b]);
     return s;
   }
-  jnd_map_of(m, in, Dlev[0], npx, threads);
+  jnd_map_of(m, in, Dlev[0], npx, powed, threads);
   jnd_image out = {0};
   out.w = w;
   out.h = h;
