@@ -53,7 +53,7 @@ static void help(void) {
  * largest mmap threshold; a 1920×1080 plane is 8.3 MB, its three channels
  * 25 MB) now come from the heap, which is never trimmed: a freed block's
  * pages, already mapped in, serve the next. 1920×1080 pair: total
- * in-process time −5% (docs/speed.md, "Fifth pass: the process"); peak
+ * in-process time −5% (docs/speed.md, "Sixth pass: the process"); peak
  * RSS unchanged (the peak is where the most is held at once). Only here:
  * the long commands (texres, lod, pop) hold and free other patterns. */
 static void keep_freed_memory(void) {

@@ -46,7 +46,7 @@ static void heap_pages(uintptr_t p) {
  * on this machine. A block asked for between parallel loops (the model's
  * levels and band planes: 72 MB of a 1920×1080 diff) was populated by one
  * thread while the others waited for the next loop — 20–35 ms of the run on
- * 2 threads with one idle (docs/speed.md, "Fifth pass: the process"). So a
+ * 2 threads with one idle (docs/speed.md, "Sixth pass: the process"). So a
  * block of POPULATE_SPLIT bytes or more asked for outside a parallel region
  * is populated by the team, a slice each, cut at huge-page boundaries where
  * the block has several per thread (a huge page is zeroed whole by

@@ -409,6 +409,7 @@ typedef struct {
   float *ylum[2];      /* the luminance contrast's numerator and denominator (image_row) */
   float *tmp;
   float *mem;
+  float dc_max;        /* the largest value written to Dc by these rows (note_dc_max) */
 } row_scratch;
 
 static int scratch_init(row_scratch *r, int w) {
@@ -723,6 +724,17 @@ static void add_coarse_maskers(const band_ctx *k, row_scratch *r, int y, const f
   }
 }
 
+/* Row crow of Dc, just written, into the rows' largest value: what
+ * local_summation's test for a negligible chromatic level reads, found
+ * while the row is in cache rather than in a pass over the plane (the
+ * same comparison, so the same value) */
+static void note_dc_max(row_scratch *r, const float *crow, int w) {
+  float mx = r->dc_max;
+#pragma omp simd reduction(max : mx)
+  for (int x = 0; x < w; x++) mx = crow[x] > mx ? crow[x] : mx;
+  r->dc_max = mx;
+}
+
 /* A pixel's three channels' terms into D, or the achromatic one into D and
  * the chromatic ones into Dc when they are summed apart (crow non-NULL) */
 static inline void put_channels(float *drow, float *crow, int x, float p0, float p1, float p2) {
@@ -759,6 +771,7 @@ JND_HOT static void band_rows(const band_ctx *k, row_scratch *r, int y0, int y1,
           drow[x] = jnd_fast_pow(d0[x], k->e0);
           crow[x] = jnd_fast_pow(d1[x], e) + jnd_fast_pow(d2[x], e);
         }
+        note_dc_max(r, crow, w);
       } else {
 #pragma omp simd
         for (int x = 0; x < w; x++) drow[x] = jnd_fast_pow(d0[x], e) + jnd_fast_pow(d1[x], e) + jnd_fast_pow(d2[x], e);
@@ -817,6 +830,7 @@ JND_HOT static void band_rows(const band_ctx *k, row_scratch *r, int y0, int y1,
         put_channels(drow, crow, x, p0, p1, p2);
       }
     }
+    if (crow) note_dc_max(r, crow, w);
   }
 }
 
@@ -881,12 +895,14 @@ static jnd_status band_setup(const jnd_model *m, const diff_state *st, int band,
 
 /* Runs rows(k, scratch, y0, y1, D) on one contiguous chunk of the band's
  * rows per thread (the masker rings of band_rows run down a chunk; a row's
- * value does not depend on the chunking). */
+ * value does not depend on the chunking); *dc_max: the largest value of
+ * k->Dc (0 without it, or where none is above 0). */
 static jnd_status band_parallel(const band_ctx *k, float *D,
-                                void (*rows)(const band_ctx *, row_scratch *, int, int, float *)) {
+                                void (*rows)(const band_ctx *, row_scratch *, int, int, float *), float *dc_max) {
   const int threads = jnd_threads(k->m->p.threads), h = k->h;
   int fail = 0;
-#pragma omp parallel num_threads(threads)
+  float mx = 0;
+#pragma omp parallel num_threads(threads) reduction(max : mx)
   {
     row_scratch r = {0};
     if (!scratch_init(&r, k->w)) {
@@ -896,8 +912,10 @@ static jnd_status band_parallel(const band_ctx *k, float *D,
     const int nt = omp_get_num_threads(), t = omp_get_thread_num();
     const int y0 = (int)((long long)h * t / nt), y1 = (int)((long long)h * (t + 1) / nt);
     if (r.mem && y1 > y0) rows(k, &r, y0, y1, D);
+    mx = r.dc_max;
     free(r.mem);
   }
+  *dc_max = mx;
   return fail ? jnd_fail(JND_ERR_NOMEM, "model: out of memory") : JND_OK;
 }
 
@@ -916,7 +934,7 @@ static float band_masking_weight(const jnd_model *m, int band) {
  * coarser band's pooled maskers (NULL: none); mask_out: where this band's
  * go (NULL: not needed). */
 static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, float *D, float *Dc,
-                                  float *const coarse[NCH], float *const mask_out[NCH]) {
+                                  float *const coarse[NCH], float *const mask_out[NCH], float *dc_max) {
   band_ctx k;
   jnd_status s = band_setup(m, st, band, &k);
   if (s != JND_OK) return s;
@@ -927,7 +945,7 @@ static jnd_status band_difference(const jnd_model *m, diff_state *st, int band, 
     k.mask_out[c] = mask_out ? mask_out[c] : NULL;
   }
   k.coarse_w = coarse ? band_masking_weight(m, band) : 0;
-  s = band_parallel(&k, D, band_rows);
+  s = band_parallel(&k, D, band_rows, dc_max);
   band_free(&k);
   return s;
 }
@@ -970,16 +988,17 @@ static void baseband_rows(const band_ctx *k, row_scratch *r, int y0, int y1, flo
         drow[x] = d[0] + d[1] + d[2];
       }
     }
+    if (k->Dc) note_dc_max(r, k->Dc + (size_t)y * k->w, k->w);
   }
 }
 
-static jnd_status baseband_difference(const jnd_model *m, diff_state *st, float *D, float *Dc) {
+static jnd_status baseband_difference(const jnd_model *m, diff_state *st, float *D, float *Dc, float *dc_max) {
   band_ctx k;
   jnd_status s = band_setup(m, st, m->nbands, &k);
   if (s != JND_OK) return s;
   k.Dc = Dc;
   if (Dc) k.e0 = (float)m->p.summation_beta; /* as band_difference's */
-  s = band_parallel(&k, D, baseband_rows);
+  s = band_parallel(&k, D, baseband_rows, dc_max);
   band_free(&k);
   return s;
 }
@@ -1178,9 +1197,9 @@ static int chroma_summation_apart(const jnd_model_params *p) {
  * of columns at a time, in cache; the first two passes keep what they
  * spread beyond the image's border, so that the window over the image's
  * samples is the same however far the border is (box_rows). f0 and beta: the channels' own critical
- * area and exponent (summation_levels). */
-static jnd_status local_summation(const jnd_model *m, int band, float *D, float *acc, int w, int h, double f0,
-                                  double beta, int d_beta) {
+ * area and exponent (summation_levels). P: room for the windowed sums, w × h floats. */
+static jnd_status local_summation(const jnd_model *m, int band, float *D, float *acc, float *P, int w, int h,
+                                  double f0, double beta, int d_beta, float d_max) {
   const double e = m->p.minkowski;
   /* samples of this level per cycle of the band's peak frequency */
   const double spc = 1.0 / (m->band_cpp[band] * ldexp(1.0, band));
@@ -1201,22 +1220,14 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
    * as far as the passes after them reach (box_rows) */
   const int spill1 = 2 * (r + 1), spill2 = r + 1;
   const int threads = jnd_threads(m->p.threads);
-  if (acc) {
-    /* What this level adds to acc is at most bound × its largest value
-     * anywhere. Where that is negligible — a pair without colour
-     * differences at this band's frequencies — the level is left out: the
-     * map changes by less than SUMMATION_NEGLIGIBLE (a JND of 2e-4 on its
-     * own). (With chroma_tail's slower fall the bench pair's chromatic
-     * difference at 18 cpd is bounded at 0.08 JND, no longer 1e-12: it is
-     * summed; docs/model.md "Speed".) */
-    float mx = 0;
-    const size_t n = (size_t)w * h;
-#pragma omp parallel for reduction(max : mx) num_threads(threads) schedule(static)
-    for (size_t i = 0; i < n; i++) mx = D[i] > mx ? D[i] : mx;
-    if (bound * mx <= SUMMATION_NEGLIGIBLE) return JND_OK;
-  }
-  float *P = jnd_alloc((size_t)w * h, sizeof(float)); /* the windowed sums */
-  if (!P) return JND_ERR_NOMEM;
+  /* What a level added to acc adds is at most bound × its largest value
+   * anywhere (d_max, found as band_rows wrote D: note_dc_max). Where that
+   * is negligible — a pair without colour differences at this band's
+   * frequencies — the level is left out: the map changes by less than
+   * SUMMATION_NEGLIGIBLE (a JND of 2e-4 on its own). (With chroma_tail's
+   * slower fall the bench pair's chromatic difference at 18 cpd is bounded
+   * at 0.08 JND, no longer 1e-12: it is summed; docs/model.md "Speed".) */
+  if (acc && bound * d_max <= SUMMATION_NEGLIGIBLE) return JND_OK;
   int fail = 0;
 #pragma omp parallel num_threads(threads)
   {
@@ -1286,7 +1297,6 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
     }
     free(a);
   }
-  free(P);
   return fail ? jnd_fail(JND_ERR_NOMEM, "model: out of memory") : JND_OK;
 }
 
@@ -1294,15 +1304,22 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
  * or, with Dc, the achromatic one while Dc holds the two chromatic ones,
  * each summed over its own window and the two then added (Minkowski over
  * the channels, as before summation). */
-static jnd_status summation_levels(const jnd_model *m, int band, float *D, float *Dc, int w, int h) {
+static jnd_status summation_levels(const jnd_model *m, int band, float *D, float *Dc, int w, int h, float dc_max) {
   const jnd_model_params *p = &m->p;
   if (!(p->summation_area_deg2 > 0)) return JND_OK;
+  /* the windowed sums' plane, one for both passes: the second takes the
+   * first's pages, not fresh ones the kernel zeroes again (8 MB at 1080p) */
+  float *P = jnd_alloc((size_t)w * h, sizeof(float));
+  if (!P) return JND_ERR_NOMEM;
   /* with Dc, D holds the achromatic term to summation_beta (band_difference's e0) */
-  jnd_status s = local_summation(m, band, D, NULL, w, h, p->summation_f0_cpd, p->summation_beta, Dc != NULL);
-  if (s != JND_OK || !Dc) return s;
-  const double f0 = p->summation_chroma_f0_cpd > 0 ? p->summation_chroma_f0_cpd : p->summation_f0_cpd;
-  const double beta = p->summation_chroma_beta > 0 ? p->summation_chroma_beta : p->summation_beta;
-  return local_summation(m, band, Dc, D, w, h, f0, beta, 0); /* pooled into D */
+  jnd_status s = local_summation(m, band, D, NULL, P, w, h, p->summation_f0_cpd, p->summation_beta, Dc != NULL, 0);
+  if (s == JND_OK && Dc) {
+    const double f0 = p->summation_chroma_f0_cpd > 0 ? p->summation_chroma_f0_cpd : p->summation_f0_cpd;
+    const double beta = p->summation_chroma_beta > 0 ? p->summation_chroma_beta : p->summation_beta;
+    s = local_summation(m, band, Dc, D, P, w, h, f0, beta, 0, dc_max); /* pooled into D */
+  }
+  free(P);
+  return s;
 }
 
 /* The difference planes of level b: D, and with apart Dc for the chromatic
@@ -1467,11 +1484,11 @@ static jnd_status band_differences(jnd_model *m, diff_state *st, float **Dlev, i
         mk_this[c] = jnd_alloc((size_t)st->g[0][0].w[b] * st->g[0][0].h[b], sizeof(float));
         if (!mk_this[c]) s = jnd_fail(JND_ERR_NOMEM, "model: out of memory");
       }
-    float *Dc = NULL;
+    float *Dc = NULL, dc_max = 0;
     if (s == JND_OK) s = level_planes(st, b, apart, &Dlev[b], &Dc);
     if (s == JND_OK)
       s = band_difference(m, st, b, Dlev[b], Dc, xband && mk_coarse[0] ? mk_coarse : NULL,
-                          xband && b > 0 ? mk_this : NULL);
+                          xband && b > 0 ? mk_this : NULL, &dc_max);
     for (int c = 0; c < NCH; c++) {
       free(mk_coarse[c]);
       mk_coarse[c] = mk_this[c];
@@ -1486,16 +1503,16 @@ static jnd_status band_differences(jnd_model *m, diff_state *st, float **Dlev, i
         st->g[a][0].own0 = 0;
         for (int c = 0; c < 3; c++) st->g[a][c].plane[0] = NULL;
       }
-    if (s == JND_OK) s = summation_levels(m, b, Dlev[b], Dc, st->g[0][0].w[b], st->g[0][0].h[b]);
+    if (s == JND_OK) s = summation_levels(m, b, Dlev[b], Dc, st->g[0][0].w[b], st->g[0][0].h[b], dc_max);
     free(Dc);
   }
   for (int c = 0; c < NCH; c++) free(mk_coarse[c]);
   /* the baseband, as one more level below the coarsest band */
   if (s == JND_OK) {
-    float *Dc = NULL;
+    float *Dc = NULL, dc_max = 0;
     s = level_planes(st, nb, apart, &Dlev[nb], &Dc);
-    if (s == JND_OK) s = baseband_difference(m, st, Dlev[nb], Dc);
-    if (s == JND_OK) s = summation_levels(m, nb, Dlev[nb], Dc, st->g[0][0].w[nb], st->g[0][0].h[nb]);
+    if (s == JND_OK) s = baseband_difference(m, st, Dlev[nb], Dc, &dc_max);
+    if (s == JND_OK) s = summation_levels(m, nb, Dlev[nb], Dc, st->g[0][0].w[nb], st->g[0][0].h[nb], dc_max);
     /* a temporal modulation is a flicker whatever the display's task */
     if (s == JND_OK && m->p.display.task == JND_TASK_SIDE_BY_SIDE && !(st->temporal_hz > 0))
       side_by_side_baseband(m, st, Dlev[nb]);
@@ -1505,8 +1522,10 @@ static jnd_status band_differences(jnd_model *m, diff_state *st, float **Dlev, i
 }
 
 /* 004 §3.2: the bands collapsed into Dlev[0] (full resolution), the
- * coarser levels freed. */
-static jnd_status collapse_bands(float **Dlev, int nb, int w, int h, int threads) {
+ * coarser levels freed; with nb > 0 Dlev[0] is then raised to p as its
+ * rows are made (jnd_map_of's first step, done here: *powed = 1). */
+static jnd_status collapse_bands(float **Dlev, int nb, int w, int h, float p, int *powed, int threads) {
+  *powed = 0;
   /* 004 §3.2: collapse the difference pyramid (Minkowski sum across bands):
    * acc_i = D_i + EXPAND(acc_{i+1}), from the baseband to the finest band */
   for (int b = nb; b > 0; b--) {
@@ -1514,22 +1533,30 @@ static jnd_status collapse_bands(float **Dlev, int nb, int w, int h, int threads
     for (int k = 0; k < b; k++) { cw = (cw + 1) / 2; ch = (ch + 1) / 2; }
     for (int k = 0; k < b - 1; k++) { fw = (fw + 1) / 2; fh = (fh + 1) / 2; }
     /* acc_{b-1} += max(EXPAND(acc_b), 0), a row at a time */
-    if (!jnd_pyr_expand_add(Dlev[b], cw, ch, Dlev[b - 1], fw, fh, threads))
+    if (!(b == 1 ? jnd_pyr_expand_add_pow(Dlev[b], cw, ch, Dlev[b - 1], fw, fh, p, threads)
+                 : jnd_pyr_expand_add(Dlev[b], cw, ch, Dlev[b - 1], fw, fh, threads)))
       return jnd_fail(JND_ERR_NOMEM, "model: out of memory");
+    *powed = b == 1;
     free(Dlev[b]);
     Dlev[b] = NULL;
   }
   return JND_OK;
 }
 
-/* ^(1/β) of the collapsed sum, and the caller's weights: the JND map, in place. */
-static void jnd_map_of(const jnd_model *m, const jnd_diff_inputs *in, float *o, size_t npx, int threads) {
-  const float inv = (float)(1.0 / m->p.minkowski);
+/* the collapsed sum's exponent to the map: 1/β (Minkowski) */
+static float map_power(const jnd_model *m) { return (float)(1.0 / m->p.minkowski); }
+
+/* ^(1/β) of the collapsed sum (unless powed: collapse_bands did it), and
+ * the caller's weights: the JND map, in place. */
+static void jnd_map_of(const jnd_model *m, const jnd_diff_inputs *in, float *o, size_t npx, int powed, int threads) {
+  const float inv = map_power(m);
   const float *wt = in && in->weights ? in->weights->data : NULL;
   /* two loops, not one with a branch, so that both vectorise */
   const size_t span = 16384;
+  if (!powed) {
 #pragma omp parallel for num_threads(threads) schedule(static)
-  for (size_t i = 0; i < npx; i += span) pow_span(o + i, o + i, npx - i < span ? npx - i : span, inv);
+    for (size_t i = 0; i < npx; i += span) pow_span(o + i, o + i, npx - i < span ? npx - i : span, inv);
+  }
   /* 004 §3.2: weights scale down the difference map */
   if (wt) {
 #pragma omp parallel for num_threads(threads) schedule(static)
@@ -1554,12 +1581,13 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_
   if (s == JND_OK) s = csf_velocity(m, &st, in, w, h, threads);
   if (s == JND_OK) s = band_differences(m, &st, Dlev, threads);
   state_free(&st);
-  if (s == JND_OK) s = collapse_bands(Dlev, nb, w, h, threads);
+  int powed = 0;
+  if (s == JND_OK) s = collapse_bands(Dlev, nb, w, h, map_power(m), &powed, threads);
   if (s != JND_OK) {
     for (int b = 0; b < MAX_BANDS; b++) free(Dlev[b]);
     return s;
   }
-  jnd_map_of(m, in, Dlev[0], npx, threads);
+  jnd_map_of(m, in, Dlev[0], npx, powed, threads);
   jnd_image out = {0};
   out.w = w;
   out.h = h;

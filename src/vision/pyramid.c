@@ -152,9 +152,17 @@ const float *jnd_pyr_cached_row(jnd_row_cache *c, const float *src, int cw, int 
   return dst;
 }
 
+/* a row raised to p in place (jnd_fast_pow) */
+JND_HOT static void pow_row(float *d, int n, float p) {
+#pragma omp simd
+  for (int x = 0; x < n; x++) d[x] = jnd_fast_pow(d[x], p);
+}
+
 /* EXPAND into dst, or, with add, max(EXPAND, 0) added to dst a row at a
- * time (no expanded image is stored) */
-static int expand(const float *src, int w, int h, float *dst, int dw, int dh, int threads, int add) {
+ * time (no expanded image is stored), and with topow each row of the sum
+ * then raised to p while it is in cache */
+static int expand(const float *src, int w, int h, float *dst, int dw, int dh, int threads, int add, int topow,
+                  float p) {
   int ok = 1;
 #pragma omp parallel num_threads(threads)
   {
@@ -180,6 +188,7 @@ static int expand(const float *src, int w, int h, float *dst, int dw, int dh, in
       float *o = cache.buf + (size_t)3 * dw;
       expand_col(rb, wts, n, o, dw);
       add_positive(o, d, dw);
+      if (topow) pow_row(d, dw, p);
     }
     free(cache.buf);
   }
@@ -187,11 +196,15 @@ static int expand(const float *src, int w, int h, float *dst, int dw, int dh, in
 }
 
 int jnd_pyr_expand(const float *src, int w, int h, float *dst, int dw, int dh, int threads) {
-  return expand(src, w, h, dst, dw, dh, threads, 0);
+  return expand(src, w, h, dst, dw, dh, threads, 0, 0, 0);
 }
 
 int jnd_pyr_expand_add(const float *src, int w, int h, float *dst, int dw, int dh, int threads) {
-  return expand(src, w, h, dst, dw, dh, threads, 1);
+  return expand(src, w, h, dst, dw, dh, threads, 1, 0, 0);
+}
+
+int jnd_pyr_expand_add_pow(const float *src, int w, int h, float *dst, int dw, int dh, float p, int threads) {
+  return expand(src, w, h, dst, dw, dh, threads, 1, 1, p);
 }
 
 jnd_status jnd_gauss_build(jnd_gauss *g, float *plane0, int w, int h, int levels, int threads) {

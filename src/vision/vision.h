@@ -55,6 +55,11 @@ int jnd_pyr_expand(const float *src, int w, int h, float *dst, int dw, int dh, i
 /* dst += max(EXPAND(src), 0), pixel by pixel the same as jnd_pyr_expand into a
  * temporary and adding, without the temporary (collapsing a pyramid) */
 int jnd_pyr_expand_add(const float *src, int w, int h, float *dst, int dw, int dh, int threads); /* 0: out of memory */
+/* the same, then each pixel of dst raised to p (jnd_fast_pow) as its row is
+ * done: bit for bit jnd_pyr_expand_add followed by a pass of jnd_fast_pow
+ * (the collapse's last level and the map's ^(1/e) without a second pass
+ * over the full-resolution plane) */
+int jnd_pyr_expand_add_pow(const float *src, int w, int h, float *dst, int dw, int dh, float p, int threads);
 /* horizontally expands one coarse row of width cw to width fw */
 void jnd_pyr_expand_row(const float *src, int cw, float *dst, int fw);
 /* weights and rows of the vertical EXPAND for fine row y: n (2 or 3) rows */

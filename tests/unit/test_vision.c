@@ -133,6 +133,33 @@ TEST(expand_add_equals_expanding_then_adding_the_positive_part) {
   }
 }
 
+/* the collapse's last level raises each finished row to 1/β in the same
+ * pass (jnd_pyr_expand_add_pow): bit for bit jnd_pyr_expand_add, then
+ * jnd_fast_pow of every pixel, for any thread count */
+TEST(expand_add_pow_equals_expand_add_then_the_power) {
+  enum { W = 37, H = 21, CW = 19, CH = 11 };
+  const float p = 1.0f / 2.4f;
+  float coarse[CW * CH], base[W * H], want[W * H], got[W * H];
+  jnd_rng r;
+  jnd_rng_seed(&r, 7);
+  for (int i = 0; i < CW * CH; i++) coarse[i] = (float)(jnd_rng_uniform(&r) - 0.3);
+  for (int i = 0; i < W * H; i++) base[i] = (float)jnd_rng_uniform(&r);
+  memcpy(want, base, sizeof want);
+  CHECK(jnd_pyr_expand_add(coarse, CW, CH, want, W, H, 1));
+  int moved = 0;
+  for (int i = 0; i < W * H; i++) {
+    float v = jnd_fast_pow(want[i], p);
+    moved += v != want[i];
+    want[i] = v;
+  }
+  CHECK(moved > W * H / 2); /* the power is applied, not skipped */
+  for (int threads = 1; threads <= 3; threads++) {
+    memcpy(got, base, sizeof got);
+    CHECK(jnd_pyr_expand_add_pow(coarse, CW, CH, got, W, H, p, threads));
+    CHECK(memcmp(got, want, sizeof got) == 0);
+  }
+}
+
 /* jnd_pyr_expanded_row (the model makes EXPAND(G_{i+2}) a row at a time):
  * bit for bit jnd_pyr_expand's rows, asked in order, backwards, or
  * skipping about (a thread's chunk starts anywhere; the cache must never
@@ -1467,7 +1494,7 @@ RUN_TESTS(expanded_rows_are_bit_for_bit_the_rows_of_expand, flicker_sensitivity_
           a_uniform_change_is_visible, a_step_beside_a_texture_is_masked_only_within_its_bands_neighbourhood,
           identical_images_have_zero_jnd, band_table_matches_the_filters, finest_band_peaks_near_nyquist_and_four_times_the_next,
           with_004s_limit_the_coarsest_band_peaks_at_or_above_half_a_cycle_per_degree, reduce_and_expand_keep_a_constant_image_constant,
-          expand_add_equals_expanding_then_adding_the_positive_part,
+          expand_add_equals_expanding_then_adding_the_positive_part, expand_add_pow_equals_expand_add_then_the_power,
           lms_luminance_weights_recover_y, opponent_channels_separate_luminance_from_colour,
           csf_adaptation_is_identity_at_100_cdm2_and_follows_barten_peaks_elsewhere, barten_csf_peaks_near_a_few_cycles_per_degree,
           pupil_follows_le_grand, daly_eye_movement_leaves_drift_on_static_images,
