@@ -3019,6 +3019,9 @@ typedef struct {
   int inferred;              /* 1: a ladder state not rendered, as the one before it (one halving
                                 fewer, same level) had statistic 1 and detection never falls as a
                                 map shrinks: its statistic is 1 */
+  int held_out_fail;         /* cheapest-unnoticed mode: chosen, then seen on its held-out views at
+                                some level's switch distance, so dropped for the next cheapest
+                                (docs/budget.md step 6); 0 otherwise */
 } jnd_budget_candidate;
 
 /* `jnd pca`'s own choice for one material, the separately chosen

@@ -52,14 +52,17 @@ static void candidate_clear(jnd_budget_candidate *c) {
   free(c->layouts);
 }
 
+static void budget_levels_free(jnd_budget_level *L, int n) {
+  for (int k = 0; k < n; k++) free(L[k].sizes);
+  free(L);
+}
+
 void jnd_budget_result_clear(jnd_budget_result *r) {
   if (!r) return;
   for (int i = 0; i < r->ncandidates; i++) candidate_clear(&r->candidates[i]);
   free(r->candidates);
-  for (int k = 0; k < r->nlevels; k++) free(r->levels[k].sizes);
-  free(r->levels);
-  for (int k = 0; k < r->nseparate_levels; k++) free(r->separate_levels[k].sizes);
-  free(r->separate_levels);
+  budget_levels_free(r->levels, r->nlevels);
+  budget_levels_free(r->separate_levels, r->nseparate_levels);
   free(r->map_names);
   free(r->pca);
   jnd_lod_result_clear(&r->lod);
@@ -108,6 +111,7 @@ typedef struct {
   jnd_judge *j;
   int nviews;
   int (*vviews)[2];        /* per level k, 2k + (at the viewing condition): its held-out views' first, count */
+  int round;               /* the held-out views' round: a choice dropped on them is followed by fresh ones */
 } ctx;
 
 __attribute__((format(printf, 2, 3))) static void stage(const ctx *c, const char *fmt, ...) {
@@ -1072,13 +1076,32 @@ static int within(const jnd_budget_params *p, const jnd_budget_candidate *x) {
          (p->triangles <= 0 || (double)x->triangles <= p->triangles);
 }
 
+/* x and y draw the same state: level, sizes, encodings, packing */
+static int same_state(const ctx *c, const jnd_budget_candidate *x, const jnd_budget_candidate *y) {
+  if (x->level != y->level) return 0;
+  for (int i = 0; i < c->nmaps; i++)
+    if (x->sizes[i][0] != y->sizes[i][0] || x->sizes[i][1] != y->sizes[i][1] || x->formats[i] != y->formats[i] ||
+        x->packed[i] != y->packed[i])
+      return 0;
+  for (int m = 0; m < c->nmat; m++)
+    if (!pca_same_encoding(&x->layouts[m], &y->layouts[m])) return 0;
+  return 1;
+}
+
+/* x draws the state of a choice its held-out views saw (held_out_fail) */
+static int dropped(const ctx *c, const jnd_budget_candidate *x) {
+  for (int i = 0; i < c->R->ncandidates; i++)
+    if (c->R->candidates[i].held_out_fail && same_state(c, x, &c->R->candidates[i])) return 1;
+  return 0;
+}
+
 static int choose(const ctx *c) {
   const jnd_budget_result *R = c->R;
   int best = -1;
   for (int i = 0; i < R->ncandidates; i++) {
     const jnd_budget_candidate *x = &R->candidates[i];
     if (R->mode == 0) {
-      if (x->scale >= 0 || !x->searched_pass) continue;
+      if (x->scale >= 0 || !x->searched_pass || dropped(c, x)) continue;
       if (best < 0 || x->cost < R->candidates[best].cost) best = i;
     } else {
       if (!within(c->p, x) || !isfinite(x->statistic)) continue;
@@ -1096,7 +1119,7 @@ static jnd_status level_views(ctx *c, int k, double distance, int *first, int *n
   int at = 2 * k + (distance == 0), nl = jnd_scene_lod_count(c->scene);
   if (!c->vviews && !(c->vviews = jnd_calloc((size_t)(2 * nl), sizeof *c->vviews))) return JND_ERR_NOMEM;
   if (c->vviews[at][1] == 0) {
-    uint64_t seed = c->p->texres.judge.views.sampling.seed + 1000 + (uint64_t)k;
+    uint64_t seed = c->p->texres.judge.views.sampling.seed + 1000 + (uint64_t)k + 100 * (uint64_t)c->round;
     jnd_status s = held_out_views(c, distance, seed, c->p->verify_views, &c->vviews[at][0], &c->vviews[at][1]);
     if (s != JND_OK) return s;
   }
@@ -1352,12 +1375,34 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
   R->chosen = choose(&c);
   R->search_s = jnd_seconds() - t0;
 
-  /* 5. the written chain from the choice's level, verified */
+  /* 5. the written chain from the choice's level, verified. In cheapest-
+   * unnoticed mode a choice seen on its held-out views is dropped (with
+   * every candidate drawing its state) and the next cheapest that passes is
+   * verified on fresh held-out views, views that chose nothing: the views a
+   * choice is reported on never took part in choosing it (docs/budget.md
+   * step 6). At most BUDGET_ROUNDS choices are verified; the last is
+   * written, failing or not. */
+  enum { BUDGET_ROUNDS = 3 };
   double t1 = jnd_seconds();
   const jnd_budget_candidate *ch = &R->candidates[R->chosen];
-  if ((s = levels(&c, ch, "", &R->levels, &R->nlevels))) goto done;
-  R->passes = R->mode ? 1 : ch->searched_pass;
-  for (int j = 0; j < R->nlevels; j++) R->passes = R->passes && R->levels[j].pass;
+  for (;;) {
+    if ((s = levels(&c, ch, "", &R->levels, &R->nlevels))) goto done;
+    R->passes = R->mode ? 1 : ch->searched_pass;
+    for (int j = 0; j < R->nlevels; j++) R->passes = R->passes && R->levels[j].pass;
+    if (R->passes || R->mode || !ch->searched_pass || c.round + 1 >= BUDGET_ROUNDS) break;
+    R->candidates[R->chosen].held_out_fail = 1;
+    int next = choose(&c);
+    if (!R->candidates[next].searched_pass || dropped(&c, &R->candidates[next])) break;
+    stage(&c, "the choice is seen on its held-out views: dropped; the next cheapest (%.0f B) on fresh ones",
+          R->candidates[next].cost);
+    budget_levels_free(R->levels, R->nlevels);
+    R->levels = NULL;
+    R->nlevels = 0;
+    for (int k = 0; k < 2 * jnd_scene_lod_count(c.scene) && c.vviews; k++) c.vviews[k][1] = 0;
+    c.round++;
+    R->chosen = next;
+    ch = &R->candidates[next];
+  }
   /* the separate choice judged as the chosen one is: on the same held-out
    * views at each of its levels' switch distances (the criterion at p) */
   if ((s = levels(&c, &R->candidates[R->separate], "separately, ", &R->separate_levels, &R->nseparate_levels))) goto done;

@@ -63,6 +63,7 @@ static cJSON *candidate_json(const jnd_budget_result *R, int i, int with_sizes) 
   cJSON_AddItemToObject(o, "statistic", report_number_or_null(x->statistic));
   cJSON_AddBoolToObject(o, "pass", x->pass);
   if (x->scale < 0) cJSON_AddBoolToObject(o, "passes_with_margin", x->searched_pass);
+  if (x->held_out_fail) cJSON_AddBoolToObject(o, "dropped_on_held_out", 1);   /* step 6 */
   cJSON_AddBoolToObject(o, "pareto", x->pareto);
   int npacked = 0;   /* the materials packed by 001's PCA */
   for (int m = 0; m < jnd_scene_material_count(R->lod.scene); m++) {
