@@ -442,7 +442,11 @@ static jnd_status search_level(ctx *c, int k, jnd_texres_result *T) {
   if (!x) return JND_ERR_NOMEM;
   for (int i = 0; i < c->nmaps; i++) memcpy(x->sizes[i], T->maps[i].chosen, sizeof x->sizes[i]);
   x->searched_pass = T->views.pass && (T->verify_views == 0 || T->verify.pass);
-  stage(c, "textures under level %d: %s", k, x->searched_pass ? "pass" : "FAIL");
+  jnd_judge_counts n;   /* where the time goes: every rendering the shared judge made so far */
+  jnd_judge_get_counts(c->j, &n);
+  stage(c, "textures under level %d: %s (the judge so far: %d views, %d references, %d whole and %d partial renderings)",
+        k, x->searched_pass ? "pass" : "FAIL", jnd_judge_view_count(c->j), n.references, n.renderings,
+        n.partial_renderings);
   return price(c, x);
 }
 
@@ -1342,7 +1346,12 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
     s = JND_ERR_NOMEM;
     goto done;
   }
-  stage(&c, "%d candidates on %d views", R->ncandidates, c.nviews);
+  {
+    jnd_judge_counts n;
+    jnd_judge_get_counts(c.j, &n);
+    stage(&c, "%d candidates on %d views (the judge so far: %d references, %d whole and %d partial renderings)",
+          R->ncandidates, c.nviews, n.references, n.renderings, n.partial_renderings);
+  }
   const jnd_criterion *cr = &p->texres.judge.criterion;
   for (int i = 0; i < R->ncandidates; i++) {
     jnd_budget_candidate *x = &R->candidates[i];

@@ -50,6 +50,8 @@ typedef struct {
   double cx, cy;         /* the centre of the object's bounding box in the frame (the frame's: nothing seen) */
   int has_gaze;          /* 1: this view's own fixation point (gaze_x, gaze_y: pixels of the frame) */
   double gaze_x, gaze_y;
+  int twin;              /* 1 + an earlier view it equals (same_view), whose reference and judgements
+                            it shares: no data of its own; 0: its own */
 } jview;
 
 typedef struct {
@@ -95,6 +97,9 @@ struct jnd_judge {
   uint64_t *mat_key;     /* per material: the state of its maps now */
   jnd_judge_counts counts;
 };
+
+/* the view whose reference and judgements view v's are (itself unless a twin) */
+static int own(const jnd_judge *j, int v) { return j->v[v].twin ? j->v[v].twin - 1 : v; }
 
 void jnd_judge_defaults(jnd_judge_params *p) {
   memset(p, 0, sizeof *p);
@@ -631,6 +636,7 @@ typedef struct {
 static jnd_status render_references(jnd_judge *j, void *arg) {
   const view_range *r = arg;
   for (int v = r->first; v < r->first + r->n; v++) {
+    if (j->v[v].twin) continue;   /* its reference is the view it equals */
     jnd_status st = render_reference(j, &j->v[v]);
     if (st != JND_OK) return st;
   }
@@ -735,14 +741,49 @@ jnd_status jnd_judge_create(jnd_scene *scene, const jnd_judge_params *p, jnd_jud
   return JND_OK;
 }
 
+/* a and b give the same image of the same scene: every field equal, the
+ * doubles bit for bit (jnd_light has padding: compared field by field) */
+static int same_doubles(const double *a, const double *b, int n) { return memcmp(a, b, (size_t)n * sizeof *a) == 0; }
+
+static int same_camera(const jnd_camera *a, const jnd_camera *b) {
+  return same_doubles(a->eye, b->eye, 3) && same_doubles(a->target, b->target, 3) && same_doubles(a->up, b->up, 3) &&
+         same_doubles(&a->fov_y_deg, &b->fov_y_deg, 1) && same_doubles(&a->znear, &b->znear, 1) &&
+         same_doubles(&a->zfar, &b->zfar, 1);
+}
+
+static int same_view(const jnd_view *a, const jnd_view *b) {
+  if (!same_camera(&a->camera, &b->camera) || !same_doubles(a->model, b->model, 16) || a->has_prev != b->has_prev ||
+      a->nlights != b->nlights || !same_doubles(&a->env_intensity, &b->env_intensity, 1) ||
+      !same_doubles(&a->env_rotation_deg, &b->env_rotation_deg, 1) || !same_doubles(&a->exposure, &b->exposure, 1) ||
+      a->background_env != b->background_env || a->unlit != b->unlit || a->outputs != b->outputs ||
+      a->shade_prev != b->shade_prev)
+    return 0;
+  if (a->has_prev && (!same_camera(&a->prev_camera, &b->prev_camera) || !same_doubles(a->prev_model, b->prev_model, 16)))
+    return 0;
+  for (int k = 0; k < a->nlights && k < JND_MAX_LIGHTS; k++) {
+    const jnd_light *x = &a->lights[k], *y = &b->lights[k];
+    if (x->type != y->type || !same_doubles(x->position, y->position, 3) || !same_doubles(x->direction, y->direction, 3) ||
+        !same_doubles(x->color, y->color, 3) || !same_doubles(&x->intensity, &y->intensity, 1) ||
+        !same_doubles(&x->range, &y->range, 1) || !same_doubles(&x->inner_deg, &y->inner_deg, 1) ||
+        !same_doubles(&x->outer_deg, &y->outer_deg, 1))
+      return 0;
+  }
+  return 1;
+}
+
 static jnd_status add_views(jnd_judge *j, const jnd_view *views, int n, int *first) {
   if (n < 1 || !views) return jnd_fail(JND_ERR_ARG, "judge: no views to add");
   jnd_status st = grow_views(j, n);
   if (st != JND_OK) return st;
   view_range r = {j->nv, n};
   for (int v = 0; v < n; v++) {
-    memset(&j->v[j->nv + v], 0, sizeof j->v[0]);
-    j->v[j->nv + v].view = views[v];
+    jview *jv = &j->v[j->nv + v];
+    memset(jv, 0, sizeof *jv);
+    jv->view = views[v];
+    /* a view added before (budget's levels each add texres's confirmation
+     * and held-out views, same seeds): its twin, rendered and judged once */
+    for (int u = 0; u < j->nv + v && !jv->twin; u++)
+      if (!j->v[u].twin && !j->v[u].has_gaze && same_view(&j->v[u].view, &views[v])) jv->twin = u + 1;
   }
   j->nv += n;
   st = with_reference_maps(j, render_references, &r);
@@ -774,6 +815,7 @@ static jnd_status set_reference(jnd_judge *j) {
     j->v[v].has_gaze = keep.has_gaze;
     j->v[v].gaze_x = keep.gaze_x;
     j->v[v].gaze_y = keep.gaze_y;
+    j->v[v].twin = keep.twin;
   }
   view_range r = {0, j->nv};
   return render_references(j, &r);
@@ -826,12 +868,32 @@ static void forget_view(jnd_judge *j, int v) {
   }
 }
 
+/* A fixation point is a view's own: view v and its twins (or the view it
+ * is a twin of) get references of their own, rendered now. */
+static jnd_status separate(jnd_judge *j, int v) {
+  int root = own(j, v);
+  for (int w = 0; w < j->nv; w++) {
+    if (!j->v[w].twin || (w != v && own(j, w) != v)) continue;
+    if (w == v && root == v) continue;
+    j->v[w].twin = 0;
+    view_range r = {w, 1};
+    jnd_status st = with_reference_maps(j, render_references, &r);
+    if (st != JND_OK) return st;
+  }
+  return JND_OK;
+}
+
 jnd_status jnd_judge_set_view_gaze(jnd_judge *j, int v, int has_gaze, double x, double y) {
   if (v < 0 || v >= j->nv) return jnd_fail(JND_ERR_ARG, "judge: view %d of %d", v, j->nv);
   if (has_gaze && !(isfinite(x) && isfinite(y))) return jnd_fail(JND_ERR_ARG, "judge: a fixation point must be finite");
   jview *jv = &j->v[v];
   has_gaze = has_gaze != 0;
   if (jv->has_gaze == has_gaze && (!has_gaze || (jv->gaze_x == x && jv->gaze_y == y))) return JND_OK;
+  int previous = jnd_threads_enter(j->threads);
+  jnd_status st = separate(j, v);
+  jnd_threads_leave(previous);
+  if (st != JND_OK) return st;
+  jv = &j->v[v];
   jv->has_gaze = has_gaze;
   jv->gaze_x = has_gaze ? x : 0;
   jv->gaze_y = has_gaze ? y : 0;
@@ -856,7 +918,7 @@ jnd_status jnd_judge_set_view_eccentricity(jnd_judge *j, int v, double ecc_deg, 
   if (v < 0 || v >= j->nv) return jnd_fail(JND_ERR_ARG, "judge: view %d of %d", v, j->nv);
   if (!(ecc_deg >= 0 && ecc_deg < 90))
     return jnd_fail(JND_ERR_ARG, "judge: eccentricity %g degrees outside [0, 90)", ecc_deg);
-  const jview *jv = &j->v[v];
+  const jview *jv = &j->v[own(j, v)];
   double gx = judge_fixation_left_of(jv->cx, ecc_deg, j->p.model.display.ppd), gy = jv->cy;
   if (x) *x = gx;
   if (y) *y = gy;
@@ -872,7 +934,7 @@ double jnd_judge_mip_min(const jnd_judge *j, int map, int first, int n) {
   if (map < 0 || map >= j->nmaps) return -1;
   double lo = INFINITY;
   for (int v = first; v < first + n && v < j->nv; v++)
-    if (v >= 0 && j->v[v].mip_min[map] < lo) lo = j->v[v].mip_min[map];
+    if (v >= 0 && j->v[own(j, v)].mip_min[map] < lo) lo = j->v[own(j, v)].mip_min[map];
   return isfinite(lo) ? lo : -1;
 }
 
@@ -904,7 +966,7 @@ static jnd_status eval(jnd_judge *j, int first, int n, unsigned flags, double *p
   for (int k = 0; k < n; k++) {
     order[k] = first + k;
     w[k] = 0;
-    const jview *jv = &j->v[first + k];
+    const jview *jv = &j->v[own(j, first + k)];
     if ((flags & JND_JUDGE_DECIDE) && jv->part)
       for (int m = 0; m < j->scene->nmaterials; m++)
         if (c.changed[m]) w[k] += jv->part[m].weight;
@@ -919,7 +981,7 @@ static jnd_status eval(jnd_judge *j, int first, int n, unsigned flags, double *p
       }
   int allowed = (int)floor(j->p.criterion.q * n + 1e-9), above = 0, judged = 0;
   for (int k = 0; k < n && st == JND_OK; k++) {
-    int v = order[k];
+    int v = own(j, order[k]);
     if (isnan(e->p[v])) {
       double P;
       if ((st = judge_view(j, v, &c, &P, NULL, NULL, e->above + (size_t)v * (j->scene->nmaterials + 1))) != JND_OK) break;
@@ -937,7 +999,7 @@ static jnd_status eval(jnd_judge *j, int first, int n, unsigned flags, double *p
   if (st != JND_OK) return st;
   double *q = p ? p : jnd_alloc((size_t)n, sizeof *q);
   if (!q) return JND_ERR_NOMEM;
-  for (int k = 0; k < n; k++) q[k] = e->p[first + k];
+  for (int k = 0; k < n; k++) q[k] = e->p[own(j, first + k)];
   if (out) {
     out->views = n;
     out->judged = judged;
@@ -963,6 +1025,7 @@ jnd_status jnd_judge_eval(jnd_judge *j, int first, int n, unsigned flags, double
 static jnd_status view_images(jnd_judge *j, int v, jnd_image *jmap, jnd_image *frame, jnd_image *mask,
                               jnd_image *heatmap, int crop_out[4]) {
   if (v < 0 || v >= j->nv) return jnd_fail(JND_ERR_ARG, "judge: view %d of %d", v, j->nv);
+  v = own(j, v);
   const jview *jv = &j->v[v];
   change_set c;
   jnd_status st = changes_now(j, &c);
@@ -996,6 +1059,7 @@ jnd_status jnd_judge_view_images(jnd_judge *j, int v, jnd_image *jmap, jnd_image
 
 jnd_status jnd_judge_material_counts(jnd_judge *j, int v, int *counts) {
   if (v < 0 || v >= j->nv) return jnd_fail(JND_ERR_ARG, "judge: view %d of %d", v, j->nv);
+  v = own(j, v);
   update_key(j);
   jstate *e = find_state(j);
   if (!e) return jnd_fail(JND_ERR_NOMEM, "judge: out of memory");

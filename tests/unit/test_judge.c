@@ -462,6 +462,66 @@ done:
   jnd_scene_free(s);
 }
 
+/* budget's levels each add texres's confirmation and held-out views with
+ * the same seeds: a view equal to one the judge has is its twin, neither
+ * rendered nor judged again, and gets a reference of its own once it is
+ * given a fixation point of its own (or the view it equals is). */
+TEST(a_view_added_again_is_rendered_and_judged_once) {
+  if (!test_renderer_available()) {
+    TEST_SKIP("no OpenGL context");
+    return;
+  }
+  jnd_judge_params p;
+  small(&p, 2, 1);
+  jnd_scene *s = parts_scene(2, 0);
+  jnd_judge *j = NULL;
+  jnd_view *again = NULL;
+  CHECK_OK(jnd_judge_create(s, &p, &j));
+  if (!j) goto done;
+  CHECK_OK(jnd_scene_map_resize(s, map_of(s, "part0/baseColor"), 4, 4));
+  double P[2], Q[2], R[4];
+  CHECK_OK(jnd_judge_eval(j, 0, 2, 0, P, NULL));
+  CHECK(P[0] > 0 && P[1] > 0);
+  jnd_judge_counts a, b, c;
+  jnd_judge_get_counts(j, &a);
+  int n = 0, first = -1;
+  CHECK_OK(jnd_view_set_make(s, &p.views, &again, &n));
+  CHECK(n == 2);
+  CHECK(again[1].nlights >= 1);
+  again[1].lights[0].direction[0] = nextafter(again[1].lights[0].direction[0], 2);   /* one bit off: another view */
+  CHECK_OK(jnd_judge_add_views(j, again, n, &first));
+  CHECK(first == 2 && jnd_judge_view_count(j) == 4);
+  jnd_judge_get_counts(j, &b);
+  CHECK(b.references > a.references);   /* the changed view's own */
+  free(again);
+  again = NULL;
+  CHECK_OK(jnd_view_set_make(s, &p.views, &again, &n));
+  CHECK_OK(jnd_judge_add_views(j, again, 1, &first));   /* view 0 again: nothing rendered */
+  CHECK(first == 4);
+  jnd_judge_get_counts(j, &c);
+  CHECK(c.references == b.references);
+  CHECK_OK(jnd_judge_eval(j, 4, 1, 0, Q, NULL));
+  jnd_judge_get_counts(j, &a);
+  CHECK(Q[0] == P[0] && a.view_judgements == c.view_judgements && a.reused == c.reused + 1);
+  CHECK(jnd_judge_mip_min(j, 0, 4, 1) == jnd_judge_mip_min(j, 0, 0, 1));
+  /* a fixation point of its own: the twin is rendered and judged apart */
+  CHECK_OK(jnd_judge_set_view_eccentricity(j, 4, 40, NULL, NULL));
+  jnd_judge_get_counts(j, &b);
+  CHECK(b.references > a.references);
+  CHECK_OK(jnd_judge_eval(j, 0, 2, 0, R, NULL));
+  CHECK_OK(jnd_judge_eval(j, 4, 1, 0, Q, NULL));
+  CHECK(R[0] == P[0] && R[1] == P[1] && Q[0] < 0.5 * P[0]);
+  /* and the view it was a twin of keeps judging as before */
+  CHECK_OK(jnd_judge_set_view_eccentricity(j, 4, 0, NULL, NULL));
+  CHECK_OK(jnd_judge_set_view_gaze(j, 4, 0, 0, 0));
+  CHECK_OK(jnd_judge_eval(j, 4, 1, 0, Q, NULL));
+  CHECK(Q[0] == P[0]);
+done:
+  free(again);
+  jnd_judge_free(j);
+  jnd_scene_free(s);
+}
+
 /* a 64² frame over black: a grey disc (coverage 1 inside) with a grating on it */
 static void disc_frame(jnd_image *c, jnd_image *cov, double contrast) {
   CHECK_OK(jnd_image_alloc(c, 64, 64, 3));
@@ -584,5 +644,6 @@ RUN_TESTS(partial_rendering_equals_the_full_rendering, judges_sharing_a_renderer
           views_of_an_asset_on_the_ground_come_from_above_and_frame_the_asset,
           a_level_of_detail_is_a_state_the_judge_renders_and_recognises,
           the_periphery_is_judged_less_visible_than_the_fovea, each_view_is_judged_at_its_own_gaze_point,
+          a_view_added_again_is_rendered_and_judged_once,
           showing_composes_over_the_background_by_coverage,
           a_pair_judge_makes_one_model_per_ppd_whatever_the_pairs)
