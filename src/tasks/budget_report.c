@@ -47,6 +47,13 @@ static cJSON *separate_pca_json(const jnd_budget_result *R) {
   return a;
 }
 
+/* a level's held-out verification: its views, the statistic, pass at p */
+static void add_verification(cJSON *o, const jnd_budget_level *L) {
+  cJSON_AddNumberToObject(o, "views", L->views);
+  cJSON_AddItemToObject(o, "statistic", report_number_or_null(L->statistic));
+  cJSON_AddBoolToObject(o, "pass", L->pass);
+}
+
 static cJSON *candidate_json(const jnd_budget_result *R, int i, int with_sizes) {
   const jnd_budget_candidate *x = &R->candidates[i];
   cJSON *o = cJSON_CreateObject();
@@ -170,9 +177,7 @@ cJSON *budget_report(const char *model, const jnd_budget_params *p, const jnd_bu
     cJSON *o = cJSON_CreateObject();
     cJSON_AddNumberToObject(o, "level", L->level);
     cJSON_AddItemToObject(o, "switch_distance", report_number_or_null(L->switch_distance));
-    cJSON_AddNumberToObject(o, "views", L->views);
-    cJSON_AddItemToObject(o, "statistic", report_number_or_null(L->statistic));
-    cJSON_AddBoolToObject(o, "pass", L->pass);
+    add_verification(o, L);
     cJSON_AddItemToArray(jsv, o);
   }
   /* the separate candidate: texres's sizes, `jnd pca`'s choice per material, lod's perceptual level */
@@ -200,10 +205,7 @@ cJSON *budget_report(const char *model, const jnd_budget_params *p, const jnd_bu
     cJSON_AddNumberToObject(o, "geometry_bytes", (double)L->geometry_bytes);
     cJSON_AddNumberToObject(o, "texture_bytes", (double)L->texture_bytes);
     cJSON_AddItemToObject(o, "sizes", sizes_json(R, L->sizes));
-    cJSON *jv = cJSON_AddObjectToObject(o, "verification");
-    cJSON_AddNumberToObject(jv, "views", L->views);
-    cJSON_AddItemToObject(jv, "statistic", report_number_or_null(L->statistic));
-    cJSON_AddBoolToObject(jv, "pass", L->pass);
+    add_verification(cJSON_AddObjectToObject(o, "verification"), L);
     cJSON_AddItemToObject(o, "engines", engines_json(R, L->level));
     cJSON_AddItemToArray(jl, o);
   }

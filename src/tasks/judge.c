@@ -871,10 +871,8 @@ static void forget_view(jnd_judge *j, int v) {
 /* A fixation point is a view's own: view v and its twins (or the view it
  * is a twin of) get references of their own, rendered now. */
 static jnd_status separate(jnd_judge *j, int v) {
-  int root = own(j, v);
   for (int w = 0; w < j->nv; w++) {
-    if (!j->v[w].twin || (w != v && own(j, w) != v)) continue;
-    if (w == v && root == v) continue;
+    if (!j->v[w].twin || (w != v && own(j, w) != v)) continue;   /* v itself, or a twin of v */
     j->v[w].twin = 0;
     view_range r = {w, 1};
     jnd_status st = with_reference_maps(j, render_references, &r);
