@@ -37,7 +37,7 @@ ch, se = res["chosen"], res["separate"]
 mib = 2.0 ** 20
 print("   %s: wall %.1f s, user+sys %.1f s, exit %s; rate %.1f B/triangle; %d candidates, %d on the front"
       % (name, wall, user + sys_, rc, r["parameters"]["bytes_per_triangle"], len(res["candidates"]), len(res["pareto"])))
-for label, c in (("joint", ch), ("texres + pca + lod separately", se)):
+for label, c in (("chosen", ch), ("texres + pca + lod separately", se)):
     print("     %-30s level %d, textures %.3f MiB, %d triangles, cost %.3f MiB, statistic %.3f%s"
           % (label, c["level"], c["memory_bytes"] / mib, c["triangles"], c["cost_bytes"] / mib, c["statistic"],
              "" if c["passes_with_margin"] else " (fails with texres's margin)"))
@@ -48,17 +48,25 @@ for q in res.get("separate_pca", []):
           " (%d components, statistic %.3f on pca's views; %.3f MiB against its images' %.3f MiB)"
           % (q["encoding"]["components"], q["statistic"], q.get("components_bytes", 0) / mib, q["images_bytes"] / mib)))
 packed = [m for m, l in ch.get("pca_layouts", {}).items()] or sorted({n.split("/")[0] for n, f in ch["formats"].items() if f == "pca"})
-print("     joint's packed materials (001): %s" % (", ".join(packed) or "none"))
+print("     chosen packed materials (001): %s" % (", ".join(packed) or "none"))
 print("     candidates rendered %d, inferred (ladder beyond a statistic of 1) %d"
       % (sum(not c.get("inferred") for c in res["candidates"]), sum(bool(c.get("inferred")) for c in res["candidates"])))
 t = res.get("timings", {})
 if t:
     print("     search %.1f s, verification %.1f s (wall)" % (t["search_s"], t["verify_s"]))
-saving = res["comparison"]["saving_bytes"]
-print("     joint saves %.3f MiB (%.1f%%) over separately" % (saving / mib, 100 * saving / se["cost_bytes"]))
+sv = [l for l in se.get("verification", []) if l["views"]]
+cmp_ = res["comparison"]
+if cmp_.get("separate_taken"):   # docs/budget.md step 7
+    print("     the separate choice taken: unnoticed at p (judge's and held-out views), cheaper than the joint"
+          " search's own choice, %.3f MiB (%.3f MiB more)" % (cmp_["joint_cost_bytes"] / mib,
+                                                              (cmp_["joint_cost_bytes"] - ch["cost_bytes"]) / mib))
+saving = cmp_["saving_bytes"]
+print("     chosen saves %.3f MiB (%.1f%%) over separately; at most as costly: %s"
+      % (saving / mib, 100 * saving / se["cost_bytes"], "yes" if ch["cost_bytes"] <= se["cost_bytes"] else
+         "no (the separate combination is %s)" % ("seen" if not se["pass"] or not all(l["pass"] for l in sv)
+                                                    else "unnoticed: a fault")))
 print("     levels: " + "; ".join("%d from %s (%s)" % (l["level"], "-" if l["switch_distance"] is None else "%.3g" % l["switch_distance"],
                                                     "pass" if l["verification"]["pass"] else "FAIL") for l in res["levels"]))
-sv = [l for l in se.get("verification", []) if l["views"]]
 if sv:   # texres + pca + lod judged as the joint one is: held-out views at its switch distances, at p
     print("     separately, held out: " + "; ".join("%d from %.3g: %.3f %s" % (l["level"], l["switch_distance"], l["statistic"],
                                                      "pass" if l["pass"] else "FAIL") for l in sv))

@@ -3074,6 +3074,12 @@ typedef struct {
   int npca;
   jnd_budget_pca *pca;       /* owned, per scene material: `jnd pca`'s own choice (the separate one) */
   int passes;                /* the choice passes at the viewing condition and at every switch distance */
+  int separate_taken;        /* cheapest-unnoticed mode: the choice is the separate candidate, cheaper
+                                than the joint one (or the joint one seen) and unnoticed at p on the
+                                judge's views and on held-out views at every switch distance, though
+                                over texres's margin (docs/budget.md step 7) */
+  int joint;                 /* the joint search's own choice (after step 6): chosen, or the candidate
+                                the separate one replaced */
   double search_s, verify_s; /* wall-clock seconds */
   /* set by jnd_budget_run only */
   char model_path[4600];     /* the GLB written: out_dir/model/NAME.glb */

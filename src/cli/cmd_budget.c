@@ -26,6 +26,9 @@ static void help(void) {
       "\n"
       "modes:\n"
       "  (default)           cheapest unnoticed: the cheapest candidate that passes\n"
+      "                      with texres's margin and on held-out views; or texres +\n"
+      "                      pca + lod chosen separately where that is cheaper and\n"
+      "                      unnoticed at P on the judge's and held-out views\n"
       "  --memory SIZE       budget mode: texture memory at most SIZE (B, KiB, MiB,\n"
       "                      GiB, kB, MB, GB; e.g. 8MiB) ...\n"
       "  --triangles N       ... and at most N triangles at the finest level (either or\n"
@@ -96,12 +99,19 @@ static void summary(const cli_common *common, const jnd_budget_result *R) {
   cli_info(common, "%-30s %6s %14s %10s %14s %10s\n", "", "level", "textures MiB", "triangles", "cost MiB",
            "statistic");
   const jnd_budget_candidate *rows[2] = {ch, se};
-  const char *names[2] = {R->mode ? "chosen (within the budget)" : "chosen (cheapest unnoticed)",
+  const char *names[2] = {R->mode                ? "chosen (within the budget)"
+                          : R->separate_taken ? "chosen: the separate one"
+                                              : "chosen (cheapest unnoticed)",
                           "texres + pca + lod separately"};
   for (int i = 0; i < 2; i++)
     cli_info(common, "%-30s %6d %14.3f %10zu %14.3f %10.3f%s\n", names[i], rows[i]->level,
              rows[i]->memory_bytes / 1048576.0, rows[i]->triangles, rows[i]->cost / 1048576.0, rows[i]->statistic,
              i == 1 && !rows[i]->searched_pass ? "  (fails with the margin)" : "");
+  if (R->separate_taken)
+    cli_info(common,
+             "the joint search's own choice (level %d, %.3f MiB) costs more: the separate one is unnoticed at p "
+             "on the judge's and held-out views, so it is taken\n",
+             R->candidates[R->joint].level, R->candidates[R->joint].cost / 1048576.0);
   int front = 0;
   for (int i = 0; i < R->ncandidates; i++) front += R->candidates[i].pareto;
   cli_info(common, "exchange rate %.1f bytes per triangle; %d candidates, %d on the Pareto front\n",

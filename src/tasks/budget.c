@@ -24,7 +24,11 @@
  *   5. each coarser level from its switch distance (the first screen's, the
  *      one the model's MSFT_screencoverage is written for): its maps capped
  *      at the mips that distance samples (000 §4's bound), judged on
- *      held-out views there. */
+ *      held-out views there;
+ *   6. a choice seen there is dropped for the next cheapest, verified on
+ *      fresh views;
+ *   7. the separate candidate, where it is cheaper and unnoticed at p on the
+ *      judge's views and on held-out views, is taken instead (budget_take_separate). */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -1193,6 +1197,39 @@ static jnd_status levels(ctx *c, const jnd_budget_candidate *ch, const char *who
   return s;
 }
 
+/* step 7 (cheapest-unnoticed mode): the separate candidate — texres's
+ * sizes, pca's packing, lod's perceptual level, each chosen by its own
+ * search on its own views — is taken instead of the joint choice where it
+ * costs less (or the joint choice is seen on its held-out views) and is
+ * unnoticed at p both on the judge's views and on held-out views at every
+ * level's switch distance. The joint candidates are held to texres's margin
+ * because the joint search picks the cheapest of many on the same views
+ * (the margin pays for that selection, docs/texres.md); the separate
+ * candidate was not selected on those views, so the criterion itself, on
+ * views that chose nothing, is its test (docs/budget.md step 7). */
+int budget_take_separate(const jnd_budget_result *R) {
+  if (R->mode != 0 || R->chosen == R->separate) return 0;
+  const jnd_budget_candidate *se = &R->candidates[R->separate], *ch = &R->candidates[R->chosen];
+  if (!se->pass || R->nseparate_levels == 0) return 0;
+  for (int j = 0; j < R->nseparate_levels; j++)
+    if (!R->separate_levels[j].pass) return 0;
+  return !R->passes || se->cost < ch->cost;
+}
+
+/* a deep copy of a chain's levels (NULL: out of memory) */
+static jnd_budget_level *levels_copy(const jnd_budget_level *L, int n, int nmaps) {
+  jnd_budget_level *out = jnd_calloc((size_t)(n > 0 ? n : 1), sizeof *out);
+  for (int j = 0; out && j < n; j++) {
+    out[j] = L[j];
+    if (!(out[j].sizes = jnd_calloc((size_t)nmaps, sizeof *out[j].sizes))) {
+      budget_levels_free(out, j);
+      return NULL;
+    }
+    memcpy(out[j].sizes, L[j].sizes, (size_t)nmaps * sizeof *out[j].sizes);
+  }
+  return out;
+}
+
 /* before any rendering: a budget that even the coarsest level with the
  * smallest maps exceeds, named with what is possible */
 static jnd_status check_budget(ctx *c, const char *model) {
@@ -1415,6 +1452,23 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
   /* the separate choice judged as the chosen one is: on the same held-out
    * views at each of its levels' switch distances (the criterion at p) */
   if ((s = levels(&c, &R->candidates[R->separate], "separately, ", &R->separate_levels, &R->nseparate_levels))) goto done;
+  R->joint = R->chosen;
+  if (budget_take_separate(R)) {
+    stage(&c, "the separate choice (%.0f B) is unnoticed at p on the judge's views and on its held-out views, %s "
+          "the joint one (%.0f B): taken", R->candidates[R->separate].cost,
+          R->passes ? "cheaper than" : "and the joint one is seen:", ch->cost);
+    budget_levels_free(R->levels, R->nlevels);
+    R->nlevels = 0;
+    if (!(R->levels = levels_copy(R->separate_levels, R->nseparate_levels, c.nmaps))) {
+      s = JND_ERR_NOMEM;
+      goto done;
+    }
+    R->nlevels = R->nseparate_levels;
+    R->chosen = R->separate;
+    R->passes = 1;
+    R->separate_taken = 1;
+    ch = &R->candidates[R->chosen];
+  }
   R->verify_s = jnd_seconds() - t1;
   /* the scene as it is written: the choice's maps, level 0 selected */
   s = set_state(&c, 0, ch->sizes, NULL, NULL, NULL);

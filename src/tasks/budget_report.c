@@ -192,6 +192,11 @@ cJSON *budget_report(const char *model, const jnd_budget_params *p, const jnd_bu
   cJSON_AddNumberToObject(cmp, "separate_cost_bytes", se->cost);
   cJSON_AddNumberToObject(cmp, "saving_bytes", se->cost - ch->cost);
   cJSON_AddBoolToObject(cmp, "separate_passes_with_margin", se->searched_pass);
+  /* step 7: the separate candidate taken instead of the joint search's own choice */
+  cJSON_AddBoolToObject(cmp, "separate_taken", R->separate_taken);
+  cJSON_AddNumberToObject(cmp, "joint_index", R->joint);
+  cJSON_AddNumberToObject(cmp, "joint_cost_bytes", R->candidates[R->joint].cost);
+  if (R->separate_taken) cJSON_AddItemToObject(cmp, "joint", candidate_json(R, R->joint, 1));
   cJSON *jl = cJSON_AddArrayToObject(res, "levels");
   for (int j = 0; j < R->nlevels; j++) {
     const jnd_budget_level *L = &R->levels[j];

@@ -280,6 +280,18 @@ jnd_status lod_pareto_plot(const jnd_poi_result *r, int screen, int perceptual, 
 
 /* ---- lod_figures.c (end) ---- */
 
+/* ---- budget.c: the separate candidate taken (begin) ---- */
+
+/* Step 7 of jnd_budget_search (docs/budget.md), on R after the joint
+ * choice (R->chosen, R->passes, R->levels) and the separate candidate's
+ * chain (R->separate_levels) are verified: 1 where, in cheapest-unnoticed
+ * mode, the separate candidate is another than the choice, passes p on the
+ * judge's views (pass) and every level of its chain passes its held-out
+ * views, and the choice costs more or is seen. */
+int budget_take_separate(const jnd_budget_result *R);
+
+/* ---- budget.c (end) ---- */
+
 /* ---- budget_figures.c: budget's Pareto plot (begin) ---- */
 
 /* jnd_budget_pareto_plot's picture (out, unless NULL) and its layout (unless

@@ -34,6 +34,14 @@ skip() {
   [ "$fails" -eq 0 ] && exit 77
   exit 1
 }
+# need_webxr_assets: sets ASSETS to the cached npm package
+# @webxr-input-profiles/assets (MIT, pinned; scripts/install-deps.sh fetches
+# it, bench/webxr_assets.sh); skips the test where the cache is missing
+need_webxr_assets() {
+  . "$(dirname "${BASH_SOURCE[0]}")/../../bench/webxr_assets.sh"
+  ASSETS=$(webxr_assets) ||
+    skip "@webxr-input-profiles/assets $WEBXR_ASSETS_VERSION is not in $(webxr_assets_cache) (scripts/install-deps.sh fetches it)"
+}
 shared_data() { [ -n "${JND_SHARED:-}" ] && [ -f "$JND_SHARED/data/README.md" ]; }
 # need_renderer: skips the test where no OpenGL 4.5 core context can be had
 # (jnd render then says so in one line), rather than failing every check

@@ -6,9 +6,7 @@
 # the report must list rendered P per view for it. Skips (exit 77) when the
 # cache is missing.
 . "$(dirname "$0")/lib.bash"
-. "$(dirname "$0")/../../bench/webxr_assets.sh"
-ASSETS=$(webxr_assets) ||
-  skip "@webxr-input-profiles/assets $WEBXR_ASSETS_VERSION is not in $(webxr_assets_cache) (scripts/install-deps.sh fetches it)"
+need_webxr_assets
 need_renderer
 F="$ASSETS/dist/profiles/oculus-touch-v3/left.glb"
 [ -f "$F" ] || { bad "oculus-touch-v3/left.glb is in the package"; finish; }

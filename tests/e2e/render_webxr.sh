@@ -6,9 +6,7 @@
 set -uo pipefail
 . "$(dirname "$0")/lib.bash"
 need_renderer
-. "$(dirname "$0")/../../bench/webxr_assets.sh"
-ASSETS=$(webxr_assets) ||
-  skip "@webxr-input-profiles/assets $WEBXR_ASSETS_VERSION is not in $(webxr_assets_cache) (scripts/install-deps.sh fetches it)"
+need_webxr_assets
 command -v python3 >/dev/null || skip "needs python3"
 for m in oculus-touch/left.glb generic-trigger/none.glb; do
   f="$ASSETS/dist/profiles/$m"

@@ -7,9 +7,7 @@
 set -uo pipefail
 . "$(dirname "$0")/lib.bash"
 need_renderer
-. "$(dirname "$0")/../../bench/webxr_assets.sh"
-ASSETS=$(webxr_assets) ||
-  skip "@webxr-input-profiles/assets $WEBXR_ASSETS_VERSION is not in $(webxr_assets_cache) (scripts/install-deps.sh fetches it)"
+need_webxr_assets
 M="$ASSETS/dist/profiles/generic-trigger-squeeze-thumbstick/left.glb"
 command -v python3 >/dev/null || skip "needs python3"
 [ -f "$M" ] || { bad "the asset is in the package"; finish; }
