@@ -1,7 +1,9 @@
 /* pareto.png of a budget (docs/budget.md): every candidate's texture memory
  * against its criterion statistic, one series per mesh level, the Pareto
  * front of (memory, triangles, statistic), the choice and the separately
- * chosen pair marked, the criterion's p as a line; drawn with the shared
+ * chosen pair marked (and, where step 7 took the separate one, the joint
+ * search's own choice; the choices dropped on held-out views, step 6), the
+ * criterion's p as a line; drawn with the shared
  * line plot (io/draw.h). The figure is built once (budget_build) and either
  * drawn or laid out, so that a test reads the ticks, labels and points the
  * picture holds. */
@@ -14,7 +16,7 @@
 #include "jnd.h"
 #include "tasks/tasks.h"
 
-#define MAX_SERIES 12
+#define MAX_SERIES 14
 #define MAX_LEVEL_GROUPS 8
 
 typedef struct {
@@ -34,8 +36,9 @@ static void budget_figure_free(budget_figure *f) {
 static jnd_status budget_build(const jnd_budget_result *r, const jnd_criterion *c, budget_figure *f) {
   int n = r->ncandidates;
   if (n < 1) return jnd_fail(JND_ERR_ARG, "budget: no candidates to draw");
-  if (r->chosen < 0 || r->chosen >= n || r->separate < 0 || r->separate >= n)
-    return jnd_fail(JND_ERR_ARG, "budget: the chosen or separate candidate is out of range");
+  if (r->chosen < 0 || r->chosen >= n || r->separate < 0 || r->separate >= n ||
+      (r->separate_taken && (r->joint < 0 || r->joint >= n)))
+    return jnd_fail(JND_ERR_ARG, "budget: the chosen, separate or joint candidate is out of range");
   f->x = jnd_calloc((size_t)n * MAX_SERIES, sizeof *f->x);
   f->y = jnd_calloc((size_t)n * MAX_SERIES, sizeof *f->y);
   if (!f->x || !f->y) return jnd_fail(JND_ERR_NOMEM, "budget: out of memory");
@@ -95,14 +98,40 @@ static jnd_status budget_build(const jnd_budget_result *r, const jnd_criterion *
   px[1] = ch->memory_bytes / 1048576.0;
   py[1] = ch->statistic;
   snprintf(f->labels[ns], sizeof f->labels[ns], "texres + pca + lod separately (level %d)", sep->level);
-  snprintf(f->labels[ns + 1], sizeof f->labels[ns + 1], "chosen (level %d)", ch->level);
+  snprintf(f->labels[ns + 1], sizeof f->labels[ns + 1],
+           r->separate_taken ? "chosen: the separate one (level %d)" : "chosen (level %d)", ch->level);
   /* the two are often a few bytes apart: the separate choice's marker is
    * drawn larger, beneath, so that it rings the chosen one where they meet */
   f->s[ns] = (jnd_plot_series){.x = px, .y = py, .n = 1, .label = f->labels[ns], .colour = {0.15f, 0.35f, 0.85f},
                                .markers = 1, .width = 12};
   f->s[ns + 1] = (jnd_plot_series){.x = px + 1, .y = py + 1, .n = 1, .label = f->labels[ns + 1],
                                    .colour = {0.85f, 0.15f, 0.15f}, .markers = 1, .width = 6};
-  f->ns = ns + 2;
+  ns += 2;
+  /* the choices seen on their held-out views and dropped (step 6) */
+  int nd = 0;
+  for (int i = 0; i < n; i++)
+    if (r->candidates[i].held_out_fail && isfinite(r->candidates[i].statistic)) {
+      x[ns * n + nd] = r->candidates[i].memory_bytes / 1048576.0;
+      y[ns * n + nd] = r->candidates[i].statistic;
+      nd++;
+    }
+  if (nd > 0) {
+    f->s[ns] = (jnd_plot_series){.x = x + ns * n, .y = y + ns * n, .n = nd,
+                                 .label = "seen on its held-out views: dropped", .colour = {0.55f, 0.20f, 0.60f},
+                                 .markers = 2, .width = 10};
+    ns++;
+  }
+  /* the joint search's own choice, where the separate one was taken instead (step 7) */
+  if (r->separate_taken) {
+    const jnd_budget_candidate *jo = &r->candidates[r->joint];
+    x[ns * n] = jo->memory_bytes / 1048576.0;
+    y[ns * n] = jo->statistic;
+    snprintf(f->labels[ns], sizeof f->labels[ns], "the joint search's own, dearer (level %d)", jo->level);
+    f->s[ns] = (jnd_plot_series){.x = x + ns * n, .y = y + ns * n, .n = 1, .label = f->labels[ns],
+                                 .colour = {0.90f, 0.55f, 0.10f}, .markers = 1, .width = 8};
+    ns++;
+  }
+  f->ns = ns;
   f->h = (jnd_plot_hline){.y = c->p, .label = "criterion p", .colour = {0.85f, 0.15f, 0.15f}};
   f->ax = (jnd_plot_axes){.title = "Budget: texture memory against visibility, per mesh level",
                           .xlabel = "texture memory (MiB: unique images, mip chains, block formats)",

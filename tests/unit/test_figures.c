@@ -644,6 +644,59 @@ TEST(budget_pareto_draws_every_candidate_the_front_the_choice_and_the_criterion)
   CHECK(budget_pareto_plot(&r, &c, NULL, &L) == JND_ERR_ARG);
 }
 
+TEST(budget_pareto_marks_the_joint_choice_the_separate_one_replaced_and_the_dropped_ones) {
+  /* step 7 took the separate candidate (index 1) over the joint search's
+   * own choice (index 4); step 6 dropped index 2 */
+  enum { N = 5 };
+  static const double mib[N] = {4.0, 0.5, 0.25, 0.0625, 1.0};
+  static const double stat[N] = {0.01, 0.15, 0.08, 0.72, 0.05};
+  jnd_budget_candidate cand[N];
+  memset(cand, 0, sizeof cand);
+  for (int i = 0; i < N; i++) {
+    cand[i].memory_bytes = (size_t)(mib[i] * 1048576.0);
+    cand[i].statistic = stat[i];
+    cand[i].triangles = 4000;
+  }
+  cand[2].held_out_fail = 1;
+  jnd_budget_result r;
+  memset(&r, 0, sizeof r);
+  r.ncandidates = N;
+  r.candidates = cand;
+  r.separate = r.chosen = 1;
+  r.separate_taken = 1;
+  r.joint = 4;
+  jnd_criterion c = {.p = 0.2, .q = 0.1};
+  jnd_image img;
+  jnd_plot_layout L;
+  CHECK_OK(budget_pareto_plot(&r, &c, &img, &L));
+  const jnd_rgb orange = {0.90f, 0.55f, 0.10f}, purple = {0.55f, 0.20f, 0.60f}, red = {0.85f, 0.15f, 0.15f};
+  double jx = jnd_plot_layout_map(&L, 0, mib[4]), jy = jnd_plot_layout_map(&L, 1, stat[4]);
+  double cx = jnd_plot_layout_map(&L, 0, mib[1]), cy = jnd_plot_layout_map(&L, 1, stat[1]);
+  double dx = jnd_plot_layout_map(&L, 0, mib[2]), dy = jnd_plot_layout_map(&L, 1, stat[2]);
+  CHECK(ink_near(&img, jx, jy, 1, orange));
+  CHECK(ink_near(&img, cx, cy, 1, red));
+  CHECK(ink_near(&img, dx, dy, 13, purple) && !ink_near(&img, dx, dy, 1, purple));   /* a ring around it */
+  const char *want[3] = {"chosen: the separate one (level 0)", "the joint search's own, dearer (level 0)",
+                         "seen on its held-out views: dropped"};
+  for (int w = 0; w < 3; w++) {
+    int found = 0;
+    for (int k = 0; k < L.ntexts; k++) found += L.text_kind[k] == 'l' && strcmp(L.text[k], want[w]) == 0;
+    CHECK(found == 1);
+    if (found != 1) fprintf(stderr, "legend '%s' found %d times\n", want[w], found);
+  }
+  jnd_image_free(&img);
+  /* nothing taken, nothing dropped: neither entry */
+  r.separate_taken = 0;
+  cand[2].held_out_fail = 0;
+  CHECK_OK(budget_pareto_plot(&r, &c, NULL, &L));
+  for (int k = 0; k < L.ntexts; k++)
+    CHECK(strcmp(L.text[k], want[1]) != 0 && strcmp(L.text[k], want[2]) != 0 && strcmp(L.text[k], want[0]) != 0);
+  /* a joint index outside the candidates is refused where it is read */
+  r.separate_taken = 1;
+  r.joint = N;
+  CHECK(budget_pareto_plot(&r, &c, NULL, &L) == JND_ERR_ARG);
+}
+
 TEST(the_calibration_histogram_has_a_bar_per_bin_as_tall_as_its_count) {
   /* bins of 32 px: −40 → −32, 0 and 10 → 0, 70 → 64, 600 → the open end bin 512 */
   double err[5] = {-40, 0, 10, 70, 600};
@@ -812,4 +865,5 @@ RUN_TESTS(the_heatmap_keeps_differences_above_one_jnd_apart, a_small_heatmap_is_
           the_calibration_histogram_has_a_bar_per_bin_as_tall_as_its_count,
           the_worst_view_shows_the_chosen_sizes_whether_or_not_the_matrices_ran,
           the_gaze_table_picture_colours_each_cell_by_its_level, lod_pareto_ticks_labels_and_marks_match_the_data,
-          budget_pareto_draws_every_candidate_the_front_the_choice_and_the_criterion)
+          budget_pareto_draws_every_candidate_the_front_the_choice_and_the_criterion,
+          budget_pareto_marks_the_joint_choice_the_separate_one_replaced_and_the_dropped_ones)
