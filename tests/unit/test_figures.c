@@ -557,6 +557,17 @@ TEST(lod_pareto_ticks_labels_and_marks_match_the_data) {
   }
 }
 
+/* a budget result over n candidates, the chosen and separate indices */
+static jnd_budget_result budget_of(jnd_budget_candidate *cand, int n, int chosen, int separate) {
+  jnd_budget_result r;
+  memset(&r, 0, sizeof r);
+  r.ncandidates = n;
+  r.candidates = cand;
+  r.chosen = chosen;
+  r.separate = separate;
+  return r;
+}
+
 TEST(budget_pareto_draws_every_candidate_the_front_the_choice_and_the_criterion) {
   /* two levels' ladders (memory halving to a quarter, the statistic
    * growing), the front, the separately chosen pair and the choice */
@@ -574,12 +585,7 @@ TEST(budget_pareto_draws_every_candidate_the_front_the_choice_and_the_criterion)
     cand[i].triangles = level[i] == 0 ? 4000 : 1200;
     cand[i].pareto = front[i];
   }
-  jnd_budget_result r;
-  memset(&r, 0, sizeof r);
-  r.ncandidates = N;
-  r.candidates = cand;
-  r.separate = 1;
-  r.chosen = 5;
+  jnd_budget_result r = budget_of(cand, N, 5, 1);
   jnd_criterion c = {.p = 0.25, .q = 0.1};
   jnd_image img;
   jnd_plot_layout L;
@@ -658,11 +664,7 @@ TEST(budget_pareto_marks_the_joint_choice_the_separate_one_replaced_and_the_drop
     cand[i].triangles = 4000;
   }
   cand[2].held_out_fail = 1;
-  jnd_budget_result r;
-  memset(&r, 0, sizeof r);
-  r.ncandidates = N;
-  r.candidates = cand;
-  r.separate = r.chosen = 1;
+  jnd_budget_result r = budget_of(cand, N, 1, 1);
   r.separate_taken = 1;
   r.joint = 4;
   jnd_criterion c = {.p = 0.2, .q = 0.1};
