@@ -1290,6 +1290,156 @@ static jnd_status precheck(const char *model, const jnd_budget_params *p, const 
   return s;
 }
 
+/* after step 1: the maps' names, the finest perceptual level over the
+ * screens (*perceptual), the exchange rate, and one judge at the viewing
+ * condition for every search and candidate: the reference (level 0, the
+ * file's maps) rendered once; it decides at texres's p·(1 − margin), as
+ * texres's own would, and the candidates' criterion is taken again at p
+ * (judge) */
+static jnd_status prepare(ctx *c, int *perceptual) {
+  jnd_budget_result *R = c->R;
+  const jnd_budget_params *p = c->p;
+  jnd_status s = images_make(c);
+  if (s) return s;
+  if (!(R->map_names = jnd_calloc((size_t)c->nmaps, sizeof *R->map_names))) return JND_ERR_NOMEM;
+  R->nmaps = c->nmaps;
+  for (int i = 0; i < c->nmaps; i++) snprintf(R->map_names[i], sizeof R->map_names[i], "%s", c->mi[i].name);
+  *perceptual = jnd_scene_lod_count(c->scene) - 1;
+  for (int i = 0; i < R->lod.nsw; i++)
+    if (R->lod.sw[i].perceptual_level < *perceptual) *perceptual = R->lod.sw[i].perceptual_level;
+  if (p->bytes_per_triangle > 0) {
+    R->bytes_per_triangle = p->bytes_per_triangle;
+  } else {
+    size_t b = 0;
+    jnd_lod_level_info li;
+    if ((s = jnd_scene_lod_bytes(c->scene, 0, &b)) || (s = jnd_scene_lod_info(c->scene, 0, &li))) return s;
+    R->bytes_per_triangle = li.triangles ? (double)b / (double)li.triangles : 0;
+  }
+  jnd_judge_params jp = p->texres.judge;
+  jp.views.sampling.coverage = p->lod.poi.coverage;
+  jp.views.sampling.distance = 0;
+  if (p->texres.margin > 0) jp.criterion.p *= 1 - p->texres.margin;
+  if ((s = restore(c)) || (s = jnd_judge_create(c->scene, &jp, &c->j))) return s;
+  c->nviews = jnd_judge_view_count(c->j);
+  return JND_OK;
+}
+
+/* step 3's candidates beside step 2's: the separate one (texres's sizes at
+ * level 0, pca's own choice per material, lod's perceptual level) and the
+ * ladder (per level, every map halved 0, 1, 2, ... times) */
+static jnd_status add_candidates(ctx *c, const char *model, int perceptual) {
+  jnd_budget_result *R = c->R;
+  jnd_budget_candidate *x = add_candidate(c, perceptual, -2);
+  if (!x) return JND_ERR_NOMEM;
+  for (int i = 0; i < c->nmaps; i++) memcpy(x->sizes[i], R->texres.maps[i].chosen, sizeof x->sizes[i]);
+  unify(c, x->sizes);
+  R->separate = R->ncandidates - 1;
+  jnd_status s = separate_pca(c, model, x);
+  if (s || (s = price(c, &R->candidates[R->separate]))) return s;
+  c->nscales = ladder_scales(c);
+  for (int k = 0; k < jnd_scene_lod_count(c->scene); k++)
+    for (int sc = 0; sc < c->nscales; sc++) {
+      if (!(x = add_candidate(c, k, sc))) return JND_ERR_NOMEM;
+      for (int i = 0; i < c->nmaps; i++) halved(c, i, sc, x->sizes[i]);
+      if ((s = price(c, x))) return s;
+    }
+  return JND_OK;
+}
+
+/* step 3: every candidate on the judge's first views (a state a search
+ * judged is not rendered again); P holds c->nviews values */
+static jnd_status judge_candidates(ctx *c, double *P) {
+  jnd_budget_result *R = c->R;
+  const jnd_budget_params *p = c->p;
+  jnd_judge_counts n;
+  jnd_judge_get_counts(c->j, &n);
+  stage(c, "%d candidates on %d views (the judge so far: %d references, %d whole and %d partial renderings)",
+        R->ncandidates, c->nviews, n.references, n.renderings, n.partial_renderings);
+  const jnd_criterion *cr = &p->texres.judge.criterion;
+  for (int i = 0; i < R->ncandidates; i++) {
+    jnd_budget_candidate *x = &R->candidates[i];
+    jnd_judgement r;
+    /* the ladder halves every map once more than the candidate before it
+     * (same level): after a statistic of 1 (every view certain to be
+     * noticed) it is 1 too, as detection never falls as a map shrinks
+     * (texres's bisection rests on it), so it is not rendered */
+    if (x->scale > 0 && x[-1].level == x->level && x[-1].scale == x->scale - 1 && x[-1].statistic >= 1) {
+      x->statistic = 1;
+      x->pass = 0;
+      x->inferred = 1;
+      if (p->progress) p->progress(p->progress_user, NULL, i + 1, R->ncandidates);
+      continue;
+    }
+    jnd_status s = judge(c, x->level, x->sizes, x->formats, x->packed, x->layouts, 0, c->nviews, P, &r);
+    if (s) return s;
+    x->statistic = r.criterion.statistic;
+    x->pass = r.criterion.pass;
+    if (x->scale == -2) {   /* the separate pair, with the margin texres chose with */
+      jnd_criterion_result m;
+      if ((s = jnd_criterion_eval(P, c->nviews, cr->p * (1 - p->texres.margin), cr->q, cr->confidence, &m))) return s;
+      x->searched_pass = m.pass;
+    }
+    if (p->progress) p->progress(p->progress_user, NULL, i + 1, R->ncandidates);
+  }
+  return JND_OK;
+}
+
+/* steps 5 and 6: the written chain from the choice's level, verified. In
+ * cheapest-unnoticed mode a choice seen on its held-out views is dropped
+ * (with every candidate drawing its state) and the next cheapest that
+ * passes is verified on fresh held-out views, views that chose nothing:
+ * the views a choice is reported on never took part in choosing it
+ * (docs/budget.md step 6). At most BUDGET_ROUNDS choices are verified; the
+ * last is written, failing or not. */
+static jnd_status verify_choice(ctx *c) {
+  enum { BUDGET_ROUNDS = 3 };
+  jnd_budget_result *R = c->R;
+  const jnd_budget_candidate *ch = &R->candidates[R->chosen];
+  for (;;) {
+    jnd_status s = levels(c, ch, "", &R->levels, &R->nlevels);
+    if (s) return s;
+    R->passes = R->mode ? 1 : ch->searched_pass;
+    for (int j = 0; j < R->nlevels; j++) R->passes = R->passes && R->levels[j].pass;
+    if (R->passes || R->mode || !ch->searched_pass || c->round + 1 >= BUDGET_ROUNDS) break;
+    R->candidates[R->chosen].held_out_fail = 1;
+    int next = choose(c);
+    if (!R->candidates[next].searched_pass || dropped(c, &R->candidates[next])) break;
+    stage(c, "the choice is seen on its held-out views: dropped; the next cheapest (%.0f B) on fresh ones",
+          R->candidates[next].cost);
+    budget_levels_free(R->levels, R->nlevels);
+    R->levels = NULL;
+    R->nlevels = 0;
+    for (int k = 0; k < 2 * jnd_scene_lod_count(c->scene) && c->vviews; k++) c->vviews[k][1] = 0;
+    c->round++;
+    R->chosen = next;
+    ch = &R->candidates[next];
+  }
+  return JND_OK;
+}
+
+/* step 7: the separate choice judged as the chosen one is, on the same
+ * held-out views at each of its levels' switch distances (the criterion at
+ * p), and taken instead where budget_take_separate says so */
+static jnd_status verify_separate(ctx *c) {
+  jnd_budget_result *R = c->R;
+  jnd_status s = levels(c, &R->candidates[R->separate], "separately, ", &R->separate_levels, &R->nseparate_levels);
+  if (s) return s;
+  R->joint = R->chosen;
+  if (budget_take_separate(R)) {
+    stage(c, "the separate choice (%.0f B) is unnoticed at p on the judge's views and on its held-out views, %s "
+          "the joint one (%.0f B): taken", R->candidates[R->separate].cost,
+          R->passes ? "cheaper than" : "and the joint one is seen:", R->candidates[R->joint].cost);
+    budget_levels_free(R->levels, R->nlevels);
+    R->nlevels = 0;
+    if (!(R->levels = levels_copy(R->separate_levels, R->nseparate_levels, c->nmaps))) return JND_ERR_NOMEM;
+    R->nlevels = R->nseparate_levels;
+    R->chosen = R->separate;
+    R->passes = 1;
+    R->separate_taken = 1;
+  }
+  return JND_OK;
+}
+
 jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd_budget_result *R) {
   memset(R, 0, sizeof *R);
   jnd_budget_params pd;
@@ -1313,37 +1463,8 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
   if ((s = jnd_lod_analyse(model, &lp, &R->lod))) return s;
   ctx c = {.scene = R->lod.scene, .p = p, .R = R};
   double *P = NULL;
-  if ((s = images_make(&c))) goto done;
-  if (!(R->map_names = jnd_calloc((size_t)c.nmaps, sizeof *R->map_names))) {
-    s = JND_ERR_NOMEM;
-    goto done;
-  }
-  R->nmaps = c.nmaps;
-  for (int i = 0; i < c.nmaps; i++) snprintf(R->map_names[i], sizeof R->map_names[i], "%s", c.mi[i].name);
-  int perceptual = jnd_scene_lod_count(c.scene) - 1;
-  for (int i = 0; i < R->lod.nsw; i++)
-    if (R->lod.sw[i].perceptual_level < perceptual) perceptual = R->lod.sw[i].perceptual_level;
-  if (p->bytes_per_triangle > 0) {
-    R->bytes_per_triangle = p->bytes_per_triangle;
-  } else {
-    size_t b = 0;
-    jnd_lod_level_info li;
-    if ((s = jnd_scene_lod_bytes(c.scene, 0, &b)) || (s = jnd_scene_lod_info(c.scene, 0, &li))) goto done;
-    R->bytes_per_triangle = li.triangles ? (double)b / (double)li.triangles : 0;
-  }
-
-  /* one judge at the viewing condition for every search and candidate:
-   * the reference (level 0, the file's maps) rendered once; it decides at
-   * texres's p·(1 − margin), as texres's own would, and the candidates'
-   * criterion is taken again at p (judge) */
-  {
-    jnd_judge_params jp = p->texres.judge;
-    jp.views.sampling.coverage = p->lod.poi.coverage;
-    jp.views.sampling.distance = 0;
-    if (p->texres.margin > 0) jp.criterion.p *= 1 - p->texres.margin;
-    if ((s = restore(&c)) || (s = jnd_judge_create(c.scene, &jp, &c.j))) goto done;
-    c.nviews = jnd_judge_view_count(c.j);
-  }
+  int perceptual = 0;
+  if ((s = prepare(&c, &perceptual))) goto done;
 
   /* 2. textures under each level up to the perceptual one */
   if ((s = search_level(&c, 0, &R->texres))) goto done;
@@ -1353,67 +1474,13 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
     jnd_texres_result_clear(&T);
     if (s) goto done;
   }
-  {
-    jnd_budget_candidate *x = add_candidate(&c, perceptual, -2);
-    if (!x) {
-      s = JND_ERR_NOMEM;
-      goto done;
-    }
-    for (int i = 0; i < c.nmaps; i++) memcpy(x->sizes[i], R->texres.maps[i].chosen, sizeof x->sizes[i]);
-    unify(&c, x->sizes);
-    R->separate = R->ncandidates - 1;
-    if ((s = separate_pca(&c, model, x))) goto done;
-    x = &R->candidates[R->separate];
-    if ((s = price(&c, x))) goto done;
-  }
-  c.nscales = ladder_scales(&c);
-  for (int k = 0; k < jnd_scene_lod_count(c.scene); k++)
-    for (int sc = 0; sc < c.nscales; sc++) {
-      jnd_budget_candidate *x = add_candidate(&c, k, sc);
-      if (!x) {
-        s = JND_ERR_NOMEM;
-        goto done;
-      }
-      for (int i = 0; i < c.nmaps; i++) halved(&c, i, sc, x->sizes[i]);
-      if ((s = price(&c, x))) goto done;
-    }
-
-  /* 3. every candidate on the judge's first views (a state a search judged is not rendered again) */
+  /* 3. the separate candidate and the ladder beside them, all judged */
+  if ((s = add_candidates(&c, model, perceptual))) goto done;
   if (!(P = jnd_calloc((size_t)c.nviews, sizeof *P))) {
     s = JND_ERR_NOMEM;
     goto done;
   }
-  {
-    jnd_judge_counts n;
-    jnd_judge_get_counts(c.j, &n);
-    stage(&c, "%d candidates on %d views (the judge so far: %d references, %d whole and %d partial renderings)",
-          R->ncandidates, c.nviews, n.references, n.renderings, n.partial_renderings);
-  }
-  const jnd_criterion *cr = &p->texres.judge.criterion;
-  for (int i = 0; i < R->ncandidates; i++) {
-    jnd_budget_candidate *x = &R->candidates[i];
-    jnd_judgement r;
-    /* the ladder halves every map once more than the candidate before it
-     * (same level): after a statistic of 1 (every view certain to be
-     * noticed) it is 1 too, as detection never falls as a map shrinks
-     * (texres's bisection rests on it), so it is not rendered */
-    if (x->scale > 0 && x[-1].level == x->level && x[-1].scale == x->scale - 1 && x[-1].statistic >= 1) {
-      x->statistic = 1;
-      x->pass = 0;
-      x->inferred = 1;
-      if (p->progress) p->progress(p->progress_user, NULL, i + 1, R->ncandidates);
-      continue;
-    }
-    if ((s = judge(&c, x->level, x->sizes, x->formats, x->packed, x->layouts, 0, c.nviews, P, &r))) goto done;
-    x->statistic = r.criterion.statistic;
-    x->pass = r.criterion.pass;
-    if (x->scale == -2) {   /* the separate pair, with the margin texres chose with */
-      jnd_criterion_result m;
-      if ((s = jnd_criterion_eval(P, c.nviews, cr->p * (1 - p->texres.margin), cr->q, cr->confidence, &m))) goto done;
-      x->searched_pass = m.pass;
-    }
-    if (p->progress) p->progress(p->progress_user, NULL, i + 1, R->ncandidates);
-  }
+  if ((s = judge_candidates(&c, P))) goto done;
   /* 4. the encodings, from the cheapest that passes; the choice */
   if (R->mode == 0 && R->candidates[choose(&c)].searched_pass && (s = search_encodings(&c, choose(&c), P))) goto done;
   if (R->mode == 1 && (s = budget_encodings(&c, P))) goto done;
@@ -1421,57 +1488,12 @@ jnd_status jnd_budget_search(const char *model, const jnd_budget_params *pp, jnd
   R->chosen = choose(&c);
   R->search_s = jnd_seconds() - t0;
 
-  /* 5. the written chain from the choice's level, verified. In cheapest-
-   * unnoticed mode a choice seen on its held-out views is dropped (with
-   * every candidate drawing its state) and the next cheapest that passes is
-   * verified on fresh held-out views, views that chose nothing: the views a
-   * choice is reported on never took part in choosing it (docs/budget.md
-   * step 6). At most BUDGET_ROUNDS choices are verified; the last is
-   * written, failing or not. */
-  enum { BUDGET_ROUNDS = 3 };
+  /* 5.–7. the choice's chain verified (a choice seen dropped), the separate one beside it */
   double t1 = jnd_seconds();
-  const jnd_budget_candidate *ch = &R->candidates[R->chosen];
-  for (;;) {
-    if ((s = levels(&c, ch, "", &R->levels, &R->nlevels))) goto done;
-    R->passes = R->mode ? 1 : ch->searched_pass;
-    for (int j = 0; j < R->nlevels; j++) R->passes = R->passes && R->levels[j].pass;
-    if (R->passes || R->mode || !ch->searched_pass || c.round + 1 >= BUDGET_ROUNDS) break;
-    R->candidates[R->chosen].held_out_fail = 1;
-    int next = choose(&c);
-    if (!R->candidates[next].searched_pass || dropped(&c, &R->candidates[next])) break;
-    stage(&c, "the choice is seen on its held-out views: dropped; the next cheapest (%.0f B) on fresh ones",
-          R->candidates[next].cost);
-    budget_levels_free(R->levels, R->nlevels);
-    R->levels = NULL;
-    R->nlevels = 0;
-    for (int k = 0; k < 2 * jnd_scene_lod_count(c.scene) && c.vviews; k++) c.vviews[k][1] = 0;
-    c.round++;
-    R->chosen = next;
-    ch = &R->candidates[next];
-  }
-  /* the separate choice judged as the chosen one is: on the same held-out
-   * views at each of its levels' switch distances (the criterion at p) */
-  if ((s = levels(&c, &R->candidates[R->separate], "separately, ", &R->separate_levels, &R->nseparate_levels))) goto done;
-  R->joint = R->chosen;
-  if (budget_take_separate(R)) {
-    stage(&c, "the separate choice (%.0f B) is unnoticed at p on the judge's views and on its held-out views, %s "
-          "the joint one (%.0f B): taken", R->candidates[R->separate].cost,
-          R->passes ? "cheaper than" : "and the joint one is seen:", ch->cost);
-    budget_levels_free(R->levels, R->nlevels);
-    R->nlevels = 0;
-    if (!(R->levels = levels_copy(R->separate_levels, R->nseparate_levels, c.nmaps))) {
-      s = JND_ERR_NOMEM;
-      goto done;
-    }
-    R->nlevels = R->nseparate_levels;
-    R->chosen = R->separate;
-    R->passes = 1;
-    R->separate_taken = 1;
-    ch = &R->candidates[R->chosen];
-  }
+  if ((s = verify_choice(&c)) || (s = verify_separate(&c))) goto done;
   R->verify_s = jnd_seconds() - t1;
   /* the scene as it is written: the choice's maps, level 0 selected */
-  s = set_state(&c, 0, ch->sizes, NULL, NULL, NULL);
+  s = set_state(&c, 0, R->candidates[R->chosen].sizes, NULL, NULL, NULL);
 done:
   jnd_judge_free(c.j);
   free(P);
