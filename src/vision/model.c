@@ -17,6 +17,7 @@
  * bulk. Contrast bands are never stored: each band's difference is computed
  * row by row from the Gaussian levels, expanding the coarser levels on the
  * fly, so the peak stays near 40 bytes a pixel. */
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -1032,81 +1033,23 @@ static void side_by_side_baseband(const jnd_model *m, const diff_state *st, floa
   }
 }
 
-/* One box pass along BOX_ROWS rows at once: weight 1 on the 2r+1 samples
+/* The box passes (jnd_box_pass, boxsum.c): weight 1 on the 2r+1 samples
  * within r of the centre and a on the two at r+1, the weights normalised to
- * sum 1; d[i] for centres from + i, m outputs. The rows are interleaved
- * (sample j of row k at s[BOX_ROWS·j + k], and so d), so their running
- * sums, each a chain of dependent additions, step side by side in one
- * vector. s is read from from − r − 1 to from + m + r: the caller pads it
- * (zeros beyond the image), so the loop has no bounds to check. The end
- * weight a ∈ [0, 1] makes the box's variance a continuous function of its
- * length (box_radius): whole-sample radii alone gave a window that moved in
- * steps as σ moved, and the fit's objective was a staircase (docs/model.md
- * "Area summation"). Each pass's output runs past the image's ends by as
- * far as the passes after it reach, so three passes are one window over
- * the image's samples, each sample counted however near the border it
- * lies. Zero, not mirrored: the viewer sees nothing past the image's
- * border, so a difference near it is summed over fewer detectors
- * (mirroring would add reflected copies of it, and make a small stimulus
- * in a small image look like a large one). */
-#define BOX_ROWS 8 /* two vectors of four doubles: two chains of dependent additions in flight (4 rows
-                      left the adds' latency idle: 3% more CPU for a diff; 16 spilled out of cache) */
-JND_HOT static void box_rows(const float *s, float *d, int from, int m, int r, float a) {
-  const double inv = 1.0 / (2.0 * r + 1.0 + 2.0 * a);
-  double acc[BOX_ROWS] = {0};
-  for (int j = from - r; j <= from + r; j++) {
-    const float *sj = s + (ptrdiff_t)BOX_ROWS * j;
-#pragma omp simd
-    for (int k = 0; k < BOX_ROWS; k++) acc[k] += sj[k];
-  }
-  for (int i = 0; i < m; i++) {
-    const int c = from + i;
-    const float *lo = s + (ptrdiff_t)BOX_ROWS * (c - r - 1), *hi = s + (ptrdiff_t)BOX_ROWS * (c + r + 1),
-                *sub = s + (ptrdiff_t)BOX_ROWS * (c - r);
-    float *o = d + (size_t)BOX_ROWS * i;
-#pragma omp simd
-    for (int k = 0; k < BOX_ROWS; k++) {
-      o[k] = (float)((acc[k] + a * ((double)lo[k] + hi[k])) * inv);
-      acc[k] += hi[k];
-      acc[k] -= sub[k];
-    }
-  }
-}
-
-/* box_rows's pass down cw columns at once (row strides ss and ds): src has n rows,
- * dst gets m, dst row i centred on src row from + i, zero beyond src's first
- * and last rows; a running sum per column over the rows within r, the two
- * rows at r + 1 added with weight a, the rows walked in order (vectorises
- * across x) */
-JND_HOT static void box_cols(const float *src, size_t ss, int n, float *dst, size_t ds, int from, int m, int cw,
-                             int r, float a) {
-  const double inv = 1.0 / (2.0 * r + 1.0 + 2.0 * a);
-  double acc[BOX_COLS];
-  for (int x = 0; x < cw; x++) acc[x] = 0;
-  for (int j = from - r; j <= from + r; j++) {
-    if (j < 0 || j >= n) continue;
-    const float *row = src + (size_t)j * ss;
-    for (int x = 0; x < cw; x++) acc[x] += row[x];
-  }
-  for (int i = 0; i < m; i++) {
-    float *d = dst + (size_t)i * ds;
-    /* the end rows, or a row of zeros beyond src's first and last */
-    static const float zeros[BOX_COLS];
-    const int c = from + i, lo = c - r - 1, hi = c + r + 1;
-    const float *rl = lo >= 0 && lo < n ? src + (size_t)lo * ss : zeros;
-    const float *rh = hi >= 0 && hi < n ? src + (size_t)hi * ss : zeros;
-    for (int x = 0; x < cw; x++) d[x] = (float)((acc[x] + a * ((double)rl[x] + rh[x])) * inv);
-    const int add = c + r + 1, sub = c - r;
-    if (add >= 0 && add < n) {
-      const float *row = src + (size_t)add * ss;
-      for (int x = 0; x < cw; x++) acc[x] += row[x];
-    }
-    if (sub >= 0 && sub < n) {
-      const float *row = src + (size_t)sub * ss;
-      for (int x = 0; x < cw; x++) acc[x] -= row[x];
-    }
-  }
-}
+ * sum 1. The horizontal passes run on BOX_ROWS rows interleaved (sample j
+ * of row k at s[BOX_ROWS·j + k], and so d), one vector a sample; their input
+ * is padded with the zeros beyond the image's ends, so they have no bounds
+ * to check. The end weight a ∈ [0, 1] makes the box's variance a continuous
+ * function of its length (box_radius): whole-sample radii alone gave a
+ * window that moved in steps as σ moved, and the fit's objective was a
+ * staircase (docs/model.md "Area summation"). Each pass's output runs past
+ * the image's ends by as far as the passes after it reach, so three passes
+ * are one window over the image's samples, each sample counted however near
+ * the border it lies. Zero, not mirrored: the viewer sees nothing past the
+ * image's border, so a difference near it is summed over fewer detectors
+ * (mirroring would add reflected copies of it, and make a small stimulus in
+ * a small image look like a large one). */
+#define BOX_ROWS 8 /* one vector of eight floats a sample */
+_Static_assert(BOX_COLS <= JND_BOX_LANES_MAX, "a column block is one box pass");
 
 JND_HOT static void pow_span(const float *src, float *dst, size_t n, float e) {
 #pragma omp simd
@@ -1136,7 +1079,7 @@ JND_HOT static void pool_min_span(const float *sum, float *d, size_t n, float ga
   for (size_t i = 0; i < n; i++) d[i] = jnd_pooled_min(sum[i], d[i], gain, down);
 }
 
-/* The box of box_rows whose variance is v (samples²): whole radius r and
+/* The box of jnd_box_pass whose variance is v (samples²): whole radius r and
  * end weight a ∈ [0, 1). Weights 1 on |j| ≤ r and a on |j| = r + 1, over
  * their sum 2r + 1 + 2a, have variance
  *   (r (r+1) (2r+1) / 3 + 2 a (r+1)²) / (2r + 1 + 2a),
@@ -1196,7 +1139,7 @@ static int chroma_summation_apart(const jnd_model_params *p) {
  * run on BOX_ROWS rows at a time and the three vertical ones on one block
  * of columns at a time, in cache; the first two passes keep what they
  * spread beyond the image's border, so that the window over the image's
- * samples is the same however far the border is (box_rows). f0 and beta: the channels' own critical
+ * samples is the same however far the border is (the box passes above). f0 and beta: the channels' own critical
  * area and exponent (summation_levels). P: room for the windowed sums, w × h floats. */
 static jnd_status local_summation(const jnd_model *m, int band, float *D, float *acc, float *P, int w, int h,
                                   double f0, double beta, int d_beta, float d_max) {
@@ -1217,7 +1160,7 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
    * At a local maximum — where thresholds are read — the bound never acts. */
   const float bound = jnd_fast_pow(gain, down);
   /* how far past each end the first and the second pass keep their output:
-   * as far as the passes after them reach (box_rows) */
+   * as far as the passes after them reach (the box passes above) */
   const int spill1 = 2 * (r + 1), spill2 = r + 1;
   const int threads = jnd_threads(m->p.threads);
   /* What a level added to acc adds is at most bound × its largest value
@@ -1241,7 +1184,8 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
                  w2 = (size_t)w + 2 * (size_t)spill2, hp = (size_t)h + 2 * (size_t)spill1;
     const size_t rows = BOX_ROWS * (w0 + w1 + w2), cols = 2 * BOX_COLS * hp;
     float *a = calloc(rows > cols ? rows : cols, sizeof(float));
-    if (!a) {
+    float *suf = malloc(sizeof(float) * 2 * (size_t)(2 * r + 1) * BOX_COLS); /* jnd_box_pass's block suffixes */
+    if (!a || !suf) {
 #pragma omp atomic write
       fail = 1;
     }
@@ -1255,7 +1199,7 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
     const int ngroups = (h + BOX_ROWS - 1) / BOX_ROWS;
 #pragma omp for schedule(static)
     for (int g = 0; g < ngroups; g++) {
-      if (!a) continue;
+      if (!a || !suf) continue;
       /* the rows to the exponent, through o2's space, interleaved into t0;
        * past the level's last row (its last group) rows of zeros, whose
        * sums are not kept */
@@ -1271,10 +1215,12 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
           memset(row, 0, sizeof(float) * (size_t)w);
         for (int x = 0; x < w; x++) t0[(size_t)BOX_ROWS * x + k] = src[x];
       }
-      box_rows(t0, o1 - (size_t)BOX_ROWS * spill1, -spill1, w + 2 * spill1, r, endw);
-      box_rows(o1, o2 - (size_t)BOX_ROWS * spill2, -spill2, w + 2 * spill2, r, endw);
+      jnd_box_pass(t0, BOX_ROWS, INT_MIN, INT_MAX, o1 - (size_t)BOX_ROWS * spill1, BOX_ROWS, -spill1, w + 2 * spill1,
+                   BOX_ROWS, r, endw, suf);
+      jnd_box_pass(o1, BOX_ROWS, INT_MIN, INT_MAX, o2 - (size_t)BOX_ROWS * spill2, BOX_ROWS, -spill2, w + 2 * spill2,
+                   BOX_ROWS, r, endw, suf);
       float *o3 = a + (size_t)BOX_ROWS * w0; /* o1's space, free again */
-      box_rows(o2, o3, 0, w, r, endw);
+      jnd_box_pass(o2, BOX_ROWS, INT_MIN, INT_MAX, o3, BOX_ROWS, 0, w, BOX_ROWS, r, endw, suf);
       for (int k = 0; k < nk; k++) {
         float *out = P + (size_t)(y0 + k) * w;
         for (int x = 0; x < w; x++) out[x] = o3[(size_t)BOX_ROWS * x + k];
@@ -1283,12 +1229,12 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
     const int nblocks = (w + BOX_COLS - 1) / BOX_COLS;
 #pragma omp for schedule(static)
     for (int bk = 0; bk < nblocks; bk++) {
-      if (!a) continue;
+      if (!a || !suf) continue;
       int x0 = bk * BOX_COLS, cw = w - x0 < BOX_COLS ? w - x0 : BOX_COLS;
       float *b0 = a, *b1 = a + BOX_COLS * hp; /* row stride BOX_COLS */
-      box_cols(P + x0, (size_t)w, h, b0, BOX_COLS, -spill1, h + 2 * spill1, cw, r, endw);
-      box_cols(b0, BOX_COLS, h + 2 * spill1, b1, BOX_COLS, r + 1, h + 2 * spill2, cw, r, endw);
-      box_cols(b1, BOX_COLS, h + 2 * spill2, b0, BOX_COLS, spill2, h, cw, r, endw);
+      jnd_box_pass(P + x0, w, 0, h, b0, BOX_COLS, -spill1, h + 2 * spill1, cw, r, endw, suf);
+      jnd_box_pass(b0, BOX_COLS, 0, h + 2 * spill1, b1, BOX_COLS, r + 1, h + 2 * spill2, cw, r, endw, suf);
+      jnd_box_pass(b1, BOX_COLS, 0, h + 2 * spill2, b0, BOX_COLS, spill2, h, cw, r, endw, suf);
       for (int y = 0; y < h && d_beta; y++)
         pool_min_span(b0 + (size_t)y * BOX_COLS, D + (size_t)y * w + x0, (size_t)cw, gain, down);
       for (int y = 0; y < h && !d_beta; y++)
@@ -1296,6 +1242,7 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
                       (size_t)cw, gain, down, bound);
     }
     free(a);
+    free(suf);
   }
   return fail ? jnd_fail(JND_ERR_NOMEM, "model: out of memory") : JND_OK;
 }

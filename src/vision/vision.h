@@ -158,6 +158,18 @@ static inline float jnd_masked_pow(float d, float a, float l, float slope, float
   return x > 0.0f ? r : 0.0f;
 }
 
+/* ---- local summation's box passes (boxsum.c) ---- */
+#define JND_BOX_LANES_MAX 64 /* the most lanes of one pass (model.c's BOX_COLS) */
+/* One box pass on `lanes` (<= JND_BOX_LANES_MAX) columns at once: input row j
+ * (j in [n0, n1), zeros elsewhere) at s + ss·j, output i (i < m, centred on
+ * input row from + i) at d + ds·i; weight 1 on the 2r + 1 rows within r of
+ * the centre and a on the two at r + 1, normalised to sum 1. The window's
+ * sums are block suffixes and prefixes in float, never a running sum's
+ * subtraction (boxsum.c). suf: scratch of 2·(2r + 1)·lanes floats. Reads
+ * rows from − r − 1 .. from + m + r. */
+void jnd_box_pass(const float *s, ptrdiff_t ss, int n0, int n1, float *d, ptrdiff_t ds, int from, int m, int lanes,
+                  int r, float a, float *suf);
+
 /* ---- local summation's last step (model.c local_summation) ---- */
 /* A pixel's pooled difference (gain · sum)^down, sum its window's sum of
  * j^beta and down = e/beta, capped at bound · j^e (bound = gain^down: where

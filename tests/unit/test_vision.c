@@ -1,4 +1,6 @@
 /* The vision model of 004 §3.1, stage by stage. */
+#include <limits.h>
+
 #include "test.h"
 #include "core/core.h"
 #include "jnd.h"
@@ -319,19 +321,27 @@ TEST(jnd_grows_with_contrast) {
   jnd_model_free(m);
 }
 
+/* (3 threads too: local summation's row groups and column blocks, and its
+ * box passes' blocks, fall to the threads differently; the blocks start at
+ * each pass's first window, not a thread's share: docs/speed.md "Eighth
+ * pass") */
 TEST(results_do_not_depend_on_thread_count) {
-  jnd_model *m1 = model_with(40, 1), *m2 = model_with(40, 2);
+  jnd_model *m1 = model_with(40, 1), *m2 = model_with(40, 2), *m3 = model_with(40, 3);
   jnd_image a = grating(300, 200, 60, 0.2, 0.03, 0), b = grating(300, 200, 60, 0.21, 0.031, 50);
-  jnd_image x, y;
+  jnd_image x, y, z;
   CHECK_OK(jnd_model_diff(m1, &a, &b, NULL, &x));
   CHECK_OK(jnd_model_diff(m2, &a, &b, NULL, &y));
+  CHECK_OK(jnd_model_diff(m3, &a, &b, NULL, &z));
   CHECK(memcmp(x.data, y.data, sizeof(float) * 300 * 200) == 0);
+  CHECK(memcmp(x.data, z.data, sizeof(float) * 300 * 200) == 0);
   jnd_image_free(&x);
   jnd_image_free(&y);
+  jnd_image_free(&z);
   jnd_image_free(&a);
   jnd_image_free(&b);
   jnd_model_free(m1);
   jnd_model_free(m2);
+  jnd_model_free(m3);
 }
 
 TEST(motion_hides_fine_detail) {
@@ -893,6 +903,126 @@ TEST(pooled_min_is_the_capped_pool_of_j_to_e) {
   printf("pooled_min: largest relative difference %.3g\n", worst);
   CHECK(worst < 1e-5);
   CHECK(jnd_pooled_min(5.0f, 0.0f, 10.0f, down) == 0.0f); /* no difference of its own: nothing pooled in */
+}
+
+/* The reference for local summation's box passes: one pass as the model
+ * made it until the eighth pass (docs/speed.md), a running sum in double
+ * down `lanes` columns (row stride lanes), zeros beyond rows [0, n). */
+static void box_pass_in_double(const float *src, int n, float *dst, int from, int m, int lanes, int r, float a) {
+  const double inv = 1.0 / (2.0 * r + 1.0 + 2.0 * a);
+  for (int x = 0; x < lanes; x++) {
+#define AT(j) ((j) >= 0 && (j) < n ? (double)src[(size_t)(j) * lanes + x] : 0.0)
+    double acc = 0;
+    for (int j = from - r; j <= from + r; j++) acc += AT(j);
+    for (int i = 0; i < m; i++) {
+      const int c = from + i;
+      dst[(size_t)i * lanes + x] = (float)((acc + a * (AT(c - r - 1) + AT(c + r + 1))) * inv);
+      acc += AT(c + r + 1);
+      acc -= AT(c - r);
+    }
+#undef AT
+  }
+}
+
+/* Local summation's three passes over n samples of `lanes` lines (row
+ * stride lanes) as model.c's local_summation makes them: the first two keep
+ * what they spread past the ends (2(r + 1), then r + 1), the third gives
+ * the n samples; in double (the reference), or through jnd_box_pass on the
+ * column blocks' bounded input, or (interleaved 8, 8 lanes) on the row
+ * groups' zero-padded one. */
+static void three_box_passes(const float *in, int n, int lanes, int r, float a, int how, float *out) {
+  const int s1 = 2 * (r + 1), s2 = r + 1, pad = s1 + r + 1;
+  const size_t n1 = (size_t)n + 2 * s1, n2 = (size_t)n + 2 * s2;
+  float *b1 = calloc(n1 * lanes, sizeof(float)), *b2 = calloc(n2 * lanes, sizeof(float));
+  float *suf = malloc(sizeof(float) * 2 * (2 * r + 1) * (size_t)lanes);
+  if (how == 0) {
+    box_pass_in_double(in, n, b1, -s1, (int)n1, lanes, r, a);
+    box_pass_in_double(b1, (int)n1, b2, r + 1, (int)n2, lanes, r, a);
+    box_pass_in_double(b2, (int)n2, out, s2, n, lanes, r, a);
+  } else if (how == 1) {
+    jnd_box_pass(in, lanes, 0, n, b1, lanes, -s1, (int)n1, lanes, r, a, suf);
+    jnd_box_pass(b1, lanes, 0, (int)n1, b2, lanes, r + 1, (int)n2, lanes, r, a, suf);
+    jnd_box_pass(b2, lanes, 0, (int)n2, out, lanes, s2, n, lanes, r, a, suf);
+  } else {
+    /* the row groups' layout: inputs padded with zeros, positions from the
+     * image's first sample, no bounds */
+    float *t0 = calloc(((size_t)n + 2 * pad) * 8, sizeof(float)), *o1 = calloc((n1 + 2 * (size_t)s2) * 8, sizeof(float)),
+          *o2 = calloc((n2 + 2 * (size_t)(r + 1)) * 8, sizeof(float));
+    memcpy(t0 + (size_t)8 * pad, in, sizeof(float) * 8 * (size_t)n);
+    jnd_box_pass(t0 + (size_t)8 * pad, 8, INT_MIN, INT_MAX, o1 + (size_t)8 * s2, 8, -s1, (int)n1, 8, r, a, suf);
+    jnd_box_pass(o1 + (size_t)8 * (s2 + s1), 8, INT_MIN, INT_MAX, o2 + (size_t)8 * (r + 1), 8, -s2, (int)n2, 8, r, a,
+                 suf);
+    jnd_box_pass(o2 + (size_t)8 * (r + 1 + s2), 8, INT_MIN, INT_MAX, out, 8, 0, n, 8, r, a, suf);
+    free(t0);
+    free(o1);
+    free(o2);
+  }
+  free(b1);
+  free(b2);
+  free(suf);
+}
+
+/* Local summation's window sums in float (block suffixes and prefixes,
+ * boxsum.c) against the running sums in double they replaced: on j^beta
+ * lines spanning ten orders — plateaus of 8 JND next to zeros and to
+ * 1e-3 JND with spikes of 0.5 JND, log-uniform noise — every window sum within
+ * 1e-4 relative (plus 1e-12 of the largest: the double's own residue where
+ * the float sums are exactly 0), and the pooled JND (gain · min(sum,
+ * j^beta))^(1/beta) at a finest band's gain of 600 within the brief's
+ * 0.01 JND. A running sum in float fails both (0.4 relative, 0.034 JND at
+ * r = 38, one line: the plateau's rounding stays in the small sums after
+ * it). The 8-lane row layout and the
+ * bounded column layout give the same floats. */
+TEST(box_sums_in_float_are_the_running_sums_in_double) {
+  const double beta = 3.12089, gain = 600;
+  const int n = 700;
+  const int rs[] = {0, 1, 7, 38}, lanes_of[] = {8, 37, 64};
+  unsigned seed = 12345;
+  double worst_rel = 0, worst_jnd = 0;
+  for (int ir = 0; ir < 4; ir++)
+    for (int il = 0; il < 3; il++) {
+      const int r = rs[ir], lanes = lanes_of[il];
+      const float a = 0.37f;
+      float *in = malloc(sizeof(float) * (size_t)n * lanes);
+      float *ref = malloc(sizeof(float) * (size_t)n * lanes), *got = malloc(sizeof(float) * (size_t)n * lanes);
+      for (int x = 0; x < lanes; x++)
+        for (int j = 0; j < n; j++) {
+          seed = seed * 1664525u + 1013904223u;
+          const double u = (seed >> 8) / 16777216.0;
+          double jnd = pow(10.0, -3 + 3.9 * u); /* 1e-3 .. 8 JND */
+          if (j >= 200 + x && j < 260 + x) jnd = 8; /* a plateau ... */
+          else if (j >= 260 + x && j < 330) jnd = 0; /* ... then nothing ... */
+          else if (j >= 330 && j < 640) jnd = 1e-3; /* ... then a faint difference ... */
+          if (j % 97 == 13 && j < 300) jnd = 8; /* isolated spikes */
+          if (j == 440 + x || j == 560) jnd = 0.5; /* ... with small spikes: local maxima, where the cap does
+                                                     not hide a sum's error */
+          in[(size_t)j * lanes + x] = (float)pow(jnd, beta);
+        }
+      three_box_passes(in, n, lanes, r, a, 0, ref);
+      double big = 0;
+      for (size_t i = 0; i < (size_t)n * lanes; i++) big = fmax(big, ref[i]);
+      for (int how = 1; how <= (lanes == 8 ? 2 : 1); how++) {
+        three_box_passes(in, n, lanes, r, a, how, got);
+        for (size_t i = 0; i < (size_t)n * lanes; i++) {
+          const double d = fabs((double)got[i] - ref[i]);
+          worst_rel = fmax(worst_rel, d / (ref[i] + 1e-12 / 1e-4 * big));
+          const double jr = pow(gain * fmin(ref[i], in[i]), 1 / beta), jg = pow(gain * fmin(got[i], in[i]), 1 / beta);
+          worst_jnd = fmax(worst_jnd, fabs(jg - jr));
+        }
+        if (how == 2) {
+          float *col = malloc(sizeof(float) * (size_t)n * 8);
+          three_box_passes(in, n, 8, r, a, 1, col);
+          CHECK(memcmp(col, got, sizeof(float) * (size_t)n * 8) == 0);
+          free(col);
+        }
+      }
+      free(in);
+      free(ref);
+      free(got);
+    }
+  printf("box sums in float: largest relative difference %.3g, pooled JND %.3g\n", worst_rel, worst_jnd);
+  CHECK(worst_rel < 1e-4);
+  CHECK(worst_jnd < 0.01);
 }
 
 /* A grating of Weber contrast c (vertical bars, cosine phase at the centre)
@@ -1506,6 +1636,7 @@ RUN_TESTS(expanded_rows_are_bit_for_bit_the_rows_of_expand, flicker_sensitivity_
           display_presets_have_sensible_ppd, display_model_maps_white_to_peak_and_black_to_black_level,
           psychometric_function_follows_000_eq4_at_hand_values, masking_gain_is_the_slope_of_004s_transducer_at_hand_values,
           masked_pow_is_the_two_step_masked_difference, pooled_min_is_the_capped_pool_of_j_to_e,
+          box_sums_in_float_are_the_running_sums_in_double,
           suprathreshold_pedestal_raises_the_threshold_with_legges_slope,
           channels_combine_by_minkowski_summation_with_exponent_2_4,
           colour_is_summed_over_its_own_window_and_luminance_over_its_own, a_stimulus_is_summed_the_same_however_far_the_border,
