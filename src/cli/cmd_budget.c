@@ -107,11 +107,13 @@ static void summary(const cli_common *common, const jnd_budget_result *R) {
     cli_info(common, "%-30s %6d %14.3f %10zu %14.3f %10.3f%s\n", names[i], rows[i]->level,
              rows[i]->memory_bytes / 1048576.0, rows[i]->triangles, rows[i]->cost / 1048576.0, rows[i]->statistic,
              i == 1 && !rows[i]->searched_pass ? "  (fails with the margin)" : "");
-  if (R->separate_taken)
+  if (R->separate_taken) {   /* step 7 takes the separate one where it is cheaper, or where the joint one is seen */
+    const jnd_budget_candidate *jo = &R->candidates[R->joint];
     cli_info(common,
-             "the joint search's own choice (level %d, %.3f MiB) costs more: the separate one is unnoticed at p "
-             "on the judge's and held-out views, so it is taken\n",
-             R->candidates[R->joint].level, R->candidates[R->joint].cost / 1048576.0);
+             "the joint search's own choice (level %d, %.3f MiB) %s: the separate one is unnoticed at p on the "
+             "judge's and held-out views, so it is taken\n",
+             jo->level, jo->cost / 1048576.0, jo->cost > ch->cost ? "costs more" : "is seen on its held-out views");
+  }
   int front = 0;
   for (int i = 0; i < R->ncandidates; i++) front += R->candidates[i].pareto;
   cli_info(common, "exchange rate %.1f bytes per triangle; %d candidates, %d on the Pareto front\n",

@@ -428,6 +428,16 @@ static jnd_status judge(ctx *c, int level, int (*sizes)[2], const jnd_tex_format
 }
 
 /* texres's search with level k drawn: the candidate of its choice */
+/* where the time goes, for the stage log: the views the shared judge holds
+ * and every rendering it has made so far; into buf */
+static const char *judge_so_far(const ctx *c, char *buf, size_t n) {
+  jnd_judge_counts k;
+  jnd_judge_get_counts(c->j, &k);
+  snprintf(buf, n, "the judge so far: %d views, %d references, %d whole and %d partial renderings",
+           jnd_judge_view_count(c->j), k.references, k.renderings, k.partial_renderings);
+  return buf;
+}
+
 static jnd_status search_level(ctx *c, int k, jnd_texres_result *T) {
   jnd_texres_params tp = c->p->texres;
   tp.judge.views.sampling.coverage = c->p->lod.poi.coverage;
@@ -446,11 +456,8 @@ static jnd_status search_level(ctx *c, int k, jnd_texres_result *T) {
   if (!x) return JND_ERR_NOMEM;
   for (int i = 0; i < c->nmaps; i++) memcpy(x->sizes[i], T->maps[i].chosen, sizeof x->sizes[i]);
   x->searched_pass = T->views.pass && (T->verify_views == 0 || T->verify.pass);
-  jnd_judge_counts n;   /* where the time goes: every rendering the shared judge made so far */
-  jnd_judge_get_counts(c->j, &n);
-  stage(c, "textures under level %d: %s (the judge so far: %d views, %d references, %d whole and %d partial renderings)",
-        k, x->searched_pass ? "pass" : "FAIL", jnd_judge_view_count(c->j), n.references, n.renderings,
-        n.partial_renderings);
+  char so_far[160];
+  stage(c, "textures under level %d: %s (%s)", k, x->searched_pass ? "pass" : "FAIL", judge_so_far(c, so_far, sizeof so_far));
   return price(c, x);
 }
 
@@ -1351,11 +1358,8 @@ static jnd_status add_candidates(ctx *c, const char *model, int perceptual) {
 static jnd_status judge_candidates(ctx *c, double *P) {
   jnd_budget_result *R = c->R;
   const jnd_budget_params *p = c->p;
-  jnd_judge_counts n;
-  jnd_judge_get_counts(c->j, &n);
-  stage(c, "%d candidates on %d views (the judge so far: %d references, %d whole and %d partial renderings)",
-        R->ncandidates, c->nviews, n.references, n.renderings, n.partial_renderings);
-  const jnd_criterion *cr = &p->texres.judge.criterion;
+  char so_far[160];
+  stage(c, "%d candidates on %d views (%s)", R->ncandidates, c->nviews, judge_so_far(c, so_far, sizeof so_far));
   for (int i = 0; i < R->ncandidates; i++) {
     jnd_budget_candidate *x = &R->candidates[i];
     jnd_judgement r;
@@ -1374,11 +1378,8 @@ static jnd_status judge_candidates(ctx *c, double *P) {
     if (s) return s;
     x->statistic = r.criterion.statistic;
     x->pass = r.criterion.pass;
-    if (x->scale == -2) {   /* the separate pair, with the margin texres chose with */
-      jnd_criterion_result m;
-      if ((s = jnd_criterion_eval(P, c->nviews, cr->p * (1 - p->texres.margin), cr->q, cr->confidence, &m))) return s;
-      x->searched_pass = m.pass;
-    }
+    /* the separate pair, with the margin texres chose with */
+    if (x->scale == -2 && (s = margin_pass(c, P, c->nviews, &x->searched_pass))) return s;
     if (p->progress) p->progress(p->progress_user, NULL, i + 1, R->ncandidates);
   }
   return JND_OK;

@@ -126,7 +126,9 @@ static jnd_status budget_build(const jnd_budget_result *r, const jnd_criterion *
     const jnd_budget_candidate *jo = &r->candidates[r->joint];
     x[ns * n] = jo->memory_bytes / 1048576.0;
     y[ns * n] = jo->statistic;
-    snprintf(f->labels[ns], sizeof f->labels[ns], "the joint search's own, dearer (level %d)", jo->level);
+    /* taken where it is cheaper, or where the joint one is seen (budget_take_separate) */
+    snprintf(f->labels[ns], sizeof f->labels[ns], "the joint search's own, %s (level %d)",
+             jo->cost > ch->cost ? "dearer" : "seen on its held-out views", jo->level);
     f->s[ns] = (jnd_plot_series){.x = x + ns * n, .y = y + ns * n, .n = 1, .label = f->labels[ns],
                                  .colour = {0.90f, 0.55f, 0.10f}, .markers = 1, .width = 8};
     ns++;

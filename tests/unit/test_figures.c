@@ -660,6 +660,7 @@ TEST(budget_pareto_marks_the_joint_choice_the_separate_one_replaced_and_the_drop
   memset(cand, 0, sizeof cand);
   for (int i = 0; i < N; i++) {
     cand[i].memory_bytes = (size_t)(mib[i] * 1048576.0);
+    cand[i].cost = (double)cand[i].memory_bytes;
     cand[i].statistic = stat[i];
     cand[i].triangles = 4000;
   }
@@ -687,6 +688,16 @@ TEST(budget_pareto_marks_the_joint_choice_the_separate_one_replaced_and_the_drop
     if (found != 1) fprintf(stderr, "legend '%s' found %d times\n", want[w], found);
   }
   jnd_image_free(&img);
+  /* taken over a cheaper joint choice, which its held-out views saw: not called dearer */
+  cand[4].cost = cand[1].cost - 1;
+  CHECK_OK(budget_pareto_plot(&r, &c, NULL, &L));
+  int seen = 0;
+  for (int k = 0; k < L.ntexts; k++) {
+    seen += strcmp(L.text[k], "the joint search's own, seen on its held-out views (level 0)") == 0;
+    CHECK(strcmp(L.text[k], want[1]) != 0);
+  }
+  CHECK(seen == 1);
+  cand[4].cost = (double)cand[4].memory_bytes;
   /* nothing taken, nothing dropped: neither entry */
   r.separate_taken = 0;
   cand[2].held_out_fail = 0;
