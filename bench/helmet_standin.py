@@ -39,7 +39,17 @@ def read_obj(path):
 
 
 def main():
+    if len(sys.argv) != 4:
+        print("usage: helmet_standin.py OUT.gltf MESH.obj TEXSET_DIR", file=sys.stderr)
+        sys.exit(2)
     out, mesh, texset = sys.argv[1:4]
+    for m in [mesh] + [os.path.join(texset, n) for n in MAPS]:
+        if not os.path.isfile(m):
+            print("helmet_standin.py: %s: no such file" % m, file=sys.stderr)
+            sys.exit(2)
+    if os.path.realpath(os.path.dirname(os.path.abspath(out))) == os.path.realpath(texset):
+        print("helmet_standin.py: %s: the output would sit beside the texture set it copies" % out, file=sys.stderr)
+        sys.exit(2)
     v, vt, corners = read_obj(mesh)
     key, pos, uv, idx = {}, [], [], []
     for c in corners:   # one vertex per distinct (position, uv) pair
