@@ -130,12 +130,17 @@ void jnd_gltf_doc_free(jnd_gltf_doc *d) {
  * children before its own mesh, a mesh's primitives in order), and leaves
  * out the ones no mesh uses (an unused material, or one only a
  * KHR_materials_variants mapping names): so the scene's material j is the
- * j-th distinct material of that walk. */
-static void walk_node(const cJSON *root, int node, int depth, int *order, int *n, int cap) {
-  const cJSON *nd = cJSON_GetArrayItem(item(root, "nodes"), node);
-  if (!nd || depth > 64) return;
+ * j-th distinct material of that walk. A glTF node has at most one parent
+ * (glTF 2.0 §3.5.3, nodes form disjoint trees), so each node is walked once:
+ * a file that names a node twice, or in a cycle, cannot make the walk
+ * exponential (children [0, 0] at every one of 64 levels is 2^64 calls). */
+static void walk_node(const cJSON *root, int node, int depth, unsigned char *walked, int *order, int *n, int cap) {
+  const cJSON *nodes = item(root, "nodes"), *nd = cJSON_GetArrayItem(nodes, node);
+  if (!nd || depth > 64 || walked[node]) return;
+  walked[node] = 1;
   const cJSON *ch;
-  cJSON_ArrayForEach(ch, item(nd, "children")) if (cJSON_IsNumber(ch)) walk_node(root, ch->valueint, depth + 1, order, n, cap);
+  cJSON_ArrayForEach(ch, item(nd, "children"))
+    if (cJSON_IsNumber(ch)) walk_node(root, ch->valueint, depth + 1, walked, order, n, cap);
   const cJSON *mesh = cJSON_GetArrayItem(item(root, "meshes"), int_of(nd, "mesh", -1)), *prim;
   cJSON_ArrayForEach(prim, item(mesh, "primitives")) {
     int m = int_of(prim, "material", -1), seen = m < 0;
@@ -150,7 +155,10 @@ jnd_status jnd_gltf_doc_materials(const jnd_gltf_doc *d, const jnd_scene *scene,
   int nm = jnd_scene_material_count(scene), n = 0;
   for (int j = 0; j < nm; j++) out[j] = -1;
   const cJSON *scenes = item(root, "scenes"), *sc = cJSON_GetArrayItem(scenes, int_of(root, "scene", 0)), *nd;
-  cJSON_ArrayForEach(nd, item(sc, "nodes")) if (cJSON_IsNumber(nd)) walk_node(root, nd->valueint, 0, out, &n, nm);
+  unsigned char *walked = jnd_calloc((size_t)cJSON_GetArraySize(item(root, "nodes")) + 1, 1);
+  if (!walked) return JND_ERR_NOMEM;
+  cJSON_ArrayForEach(nd, item(sc, "nodes")) if (cJSON_IsNumber(nd)) walk_node(root, nd->valueint, 0, walked, out, &n, nm);
+  free(walked);
   const cJSON *materials = item(root, "materials");
   if (n == 0)   /* no scene to walk (not a file assimp loaded): the file's own order */
     for (int j = 0; j < nm && j < cJSON_GetArraySize(materials); j++) out[j] = j;

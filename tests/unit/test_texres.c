@@ -117,31 +117,11 @@ static cJSON *read_glb(const char *path, unsigned char **file, const unsigned ch
   return cJSON_ParseWithLength((const char *)*file + 20, jl);
 }
 
-TEST(model_writer_gives_a_resized_data_uri_image_its_own_view_in_a_glb_that_had_none) {
-  /* found by fuzz_gltf: a GLB without bufferViews or buffers whose image is
-   * a data uri. The resized image moves into the binary chunk, so the copy
-   * needs a view and a buffer for it (the writer leaked them before). */
-  jnd_builtin_params bp;
-  jnd_builtin_defaults(&bp);
-  bp.map_size = 16;
-  jnd_scene *s = NULL;
-  CHECK_OK(jnd_scene_builtin(&bp, &s));
-  if (!s) return;
-  jnd_map_info mi;
-  CHECK_OK(jnd_scene_map_info(s, 0, &mi));
-  CHECK(mi.slot == JND_MAP_BASE_COLOR);
-  CHECK_OK(jnd_scene_map_resize(s, 0, 8, 8));
-  /* a 16² PNG as the data uri (its pixels do not matter: the writer re-encodes the map) */
-  const char *dir = test_tmp_dir();
-  char src[1200], out_dir[1200], out[4400];
-  snprintf(src, sizeof src, "%s/noviews.glb", dir);
-  snprintf(out_dir, sizeof out_dir, "%s/noviews_out", dir);
-  CHECK(system((snprintf(out, sizeof out, "mkdir -p '%s'", out_dir), out)) == 0);
-  const char *js = "{\"asset\": {\"version\": \"2.0\"}, \"images\": [{\"uri\": \"data:image/png;base64,AAAA\"}],"
-                   " \"textures\": [{\"source\": 0}],"
-                   " \"materials\": [{\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0}}}]}";
+/* a GLB at path holding the glTF JSON js and no binary chunk */
+static jnd_status write_json_glb(const char *path, const char *js) {
   size_t jl = strlen(js), jp = (jl + 3) & ~(size_t)3;
-  unsigned char glb[1024] = {0};
+  unsigned char *glb = calloc(20 + jp, 1);
+  if (!glb) return JND_ERR_NOMEM;
   uint32_t ver = 2, total = (uint32_t)(20 + jp), jlen = (uint32_t)jp, jtype = 0x4E4F534Au;
   memcpy(glb, "glTF", 4);
   memcpy(glb + 4, &ver, 4);
@@ -150,12 +130,57 @@ TEST(model_writer_gives_a_resized_data_uri_image_its_own_view_in_a_glb_that_had_
   memcpy(glb + 16, &jtype, 4);
   memset(glb + 20, ' ', jp);
   memcpy(glb + 20, js, jl);
-  CHECK_OK(jnd_write_file_atomic(src, glb, total));
-  CHECK_OK(jnd_texres_write_model(s, src, out_dir, out, sizeof out));
-  unsigned char *file = NULL;
-  const unsigned char *bin = NULL;
-  uint32_t bin_n = 0;
-  cJSON *root = read_glb(out, &file, &bin, &bin_n);
+  jnd_status st = jnd_write_file_atomic(path, glb, total);
+  free(glb);
+  return st;
+}
+
+/* the built-in asset at 16² maps with its first (base colour) map halved,
+ * the scene the model-writer tests write back; out_dir (made) under the
+ * test's folder for the copies */
+static jnd_scene *halved_builtin(const char *name, char *out_dir, size_t cap) {
+  jnd_builtin_params bp;
+  jnd_builtin_defaults(&bp);
+  bp.map_size = 16;
+  jnd_scene *s = NULL;
+  CHECK_OK(jnd_scene_builtin(&bp, &s));
+  if (!s) return NULL;
+  jnd_map_info mi;
+  CHECK_OK(jnd_scene_map_info(s, 0, &mi));
+  CHECK(mi.slot == JND_MAP_BASE_COLOR);
+  CHECK_OK(jnd_scene_map_resize(s, 0, 8, 8));
+  char cmd[1400];
+  snprintf(out_dir, cap, "%s/%s", test_tmp_dir(), name);
+  CHECK(system((snprintf(cmd, sizeof cmd, "mkdir -p '%s'", out_dir), cmd)) == 0);
+  return s;
+}
+
+/* the model writer's copy of the GLB src (written with the glTF JSON js)
+ * for scene s, read back: its JSON, or NULL */
+static cJSON *write_back(const jnd_scene *s, const char *src, const char *js, const char *out_dir, char *out,
+                         size_t cap, unsigned char **file, const unsigned char **bin, uint32_t *bin_n) {
+  *file = NULL;
+  CHECK_OK(write_json_glb(src, js));
+  CHECK_OK(jnd_texres_write_model(s, src, out_dir, out, cap));
+  return read_glb(out, file, bin, bin_n);
+}
+
+TEST(model_writer_gives_a_resized_data_uri_image_its_own_view_in_a_glb_that_had_none) {
+  /* found by fuzz_gltf: a GLB without bufferViews or buffers whose image is
+   * a data uri. The resized image moves into the binary chunk, so the copy
+   * needs a view and a buffer for it (the writer leaked them before). */
+  char src[1200], out_dir[1200], out[4400];
+  jnd_scene *s = halved_builtin("noviews_out", out_dir, sizeof out_dir);
+  if (!s) return;
+  /* a 16² PNG as the data uri (its pixels do not matter: the writer re-encodes the map) */
+  snprintf(src, sizeof src, "%s/noviews.glb", test_tmp_dir());
+  const char *js = "{\"asset\": {\"version\": \"2.0\"}, \"images\": [{\"uri\": \"data:image/png;base64,AAAA\"}],"
+                   " \"textures\": [{\"source\": 0}],"
+                   " \"materials\": [{\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0}}}]}";
+  unsigned char *file;
+  const unsigned char *bin;
+  uint32_t bin_n;
+  cJSON *root = write_back(s, src, js, out_dir, out, sizeof out, &file, &bin, &bin_n);
   CHECK(root != NULL && bin != NULL);
   if (root && bin) {
     const cJSON *img = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "images"), 0);
@@ -179,5 +204,43 @@ TEST(model_writer_gives_a_resized_data_uri_image_its_own_view_in_a_glb_that_had_
   jnd_scene_free(s);
 }
 
-RUN_TESTS(model_writer_gives_a_resized_data_uri_image_its_own_view_in_a_glb_that_had_none, memory_of_a_mip_chain_counts_every_level, sizes_never_exceed_the_mip_bound_and_shrink_with_the_object,
+TEST(model_writer_walks_each_node_once_in_a_file_that_names_nodes_twice_or_in_a_cycle) {
+  /* found by fuzz_gltf (CI of stop 38): a node tree 64 deep in which every
+   * node names its child twice made the material walk 2^64 calls; a node
+   * that is its own child is a cycle. glTF nodes have one parent, so the
+   * walk visits each node once and the writer finishes. The material is
+   * still found through the tree (the mesh hangs from the deepest node). */
+  char src[1200], out_dir[1200], out[4400];
+  jnd_scene *s = halved_builtin("twice_out", out_dir, sizeof out_dir);
+  if (!s) return;
+  enum { DEEP = 70 };
+  char js[8192];
+  for (int variant = 0; variant < 2; variant++) {
+    int k = snprintf(js, sizeof js,
+                     "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": [0]}],"
+                     " \"images\": [{\"uri\": \"data:image/png;base64,AAAA\"}], \"textures\": [{\"source\": 0}],"
+                     " \"meshes\": [{\"primitives\": [{\"attributes\": {}, \"material\": 0}]}],"
+                     " \"materials\": [{\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0}}}],"
+                     " \"nodes\": [");
+    if (variant == 0)   /* node i's children are [i+1, i+1]; the last holds the mesh */
+      for (int i = 0; i < DEEP; i++)
+        k += i < DEEP - 1 ? snprintf(js + k, sizeof js - (size_t)k, "{\"children\": [%d, %d]}, ", i + 1, i + 1)
+                          : snprintf(js + k, sizeof js - (size_t)k, "{\"mesh\": 0}");
+    else   /* node 0 is its own child, twice, and node 1 holds the mesh */
+      k += snprintf(js + k, sizeof js - (size_t)k, "{\"children\": [0, 0, 1]}, {\"mesh\": 0}");
+    snprintf(js + k, sizeof js - (size_t)k, "]}");
+    snprintf(src, sizeof src, "%s/twice%d.glb", test_tmp_dir(), variant);
+    unsigned char *file;
+    const unsigned char *bin;
+    uint32_t bin_n;
+    cJSON *root = write_back(s, src, js, out_dir, out, sizeof out, &file, &bin, &bin_n);
+    CHECK(root != NULL);
+    cJSON_Delete(root);
+    free(file);
+    remove(out);
+  }
+  jnd_scene_free(s);
+}
+
+RUN_TESTS(model_writer_walks_each_node_once_in_a_file_that_names_nodes_twice_or_in_a_cycle, model_writer_gives_a_resized_data_uri_image_its_own_view_in_a_glb_that_had_none, memory_of_a_mip_chain_counts_every_level, sizes_never_exceed_the_mip_bound_and_shrink_with_the_object,
           unknown_map_names_are_refused_before_rendering)
