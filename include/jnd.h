@@ -1952,14 +1952,16 @@ typedef struct {
 typedef struct {
   int nmaps;
   jnd_texres_map *maps;      /* owned */
-  int nviews;
+  int nviews;                /* the choice's views: the first set and each confirmation set judged */
   double *view_p;            /* pooled P per view of the chosen combination */
+  int *view_judge;           /* the judge's index of each (owned): with judge_shared the other
+                                searches' views lie between the sets (jnd_judge_view_images) */
   jnd_criterion_result views; /* the criterion (p, q) over them, with its upper bound */
   double choice_p;           /* the threshold the choice was made with: p·(1 − margin) */
   int verify_views;          /* M (0: not run) */
   double *verify_p;          /* pooled P per held-out view */
   jnd_criterion_result verify; /* the criterion (p, q) over the held-out views */
-  int worst_view;            /* the view with the highest P (choice) */
+  int worst_view;            /* the view with the highest P (choice), an index of view_p */
   jnd_image worst_heatmap;   /* its heatmap (jnd_heatmap), sRGB 0..1 */
   int nmatrix;
   jnd_texres_matrix *matrix; /* owned */

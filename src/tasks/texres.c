@@ -71,6 +71,7 @@ jnd_tex_format jnd_slot_block_format(jnd_map_slot slot, int channels) {
 #define TEXRES_MARGIN 0.5
 /* and must pass this many further sets of views it was not chosen on */
 #define TEXRES_CONFIRM_ROUNDS 2
+#define TEXRES_MAX_CONFIRM_ROUNDS 16
 
 void jnd_texres_defaults(jnd_texres_params *p) {
   memset(p, 0, sizeof *p);
@@ -86,6 +87,7 @@ void jnd_texres_result_clear(jnd_texres_result *r) {
   free(r->maps);
   free(r->images);
   free(r->view_p);
+  free(r->view_judge);
   free(r->verify_p);
   jnd_image_free(&r->worst_heatmap);
   for (int i = 0; i < r->nmatrix; i++) {
@@ -120,19 +122,33 @@ typedef struct {
   map_state *ms;
   int *first;             /* per map: the first map that samples its image (the image's leader) */
   int total;              /* progress estimate (renderings) */
-  int nviews;             /* the choice views: judge views [0, nviews) */
-  int set_size;           /* they come in sets of this many (the first, then confirmation sets) */
+  /* The choice's views come in sets: the first, then each confirmation
+   * set. Set i is the judge's views sets[i][0] … sets[i][0] + sets[i][1] − 1;
+   * choice view v (0 … nviews − 1) counts them in set order. They are
+   * named, not taken as the judge's views [0, nviews): a judge shared with
+   * other searches (budget's, one search a mesh level) holds their
+   * confirmation and held-out views between this search's sets. */
+  int sets[1 + TEXRES_MAX_CONFIRM_ROUNDS][2];
+  int nsets;
+  int nviews;             /* the choice's views, all sets */
   double choice_p;        /* p·(1 − margin) */
 } ctx;
 
+/* the judge's index of choice view v */
+static int judge_view(const ctx *c, int v) {
+  for (int i = 0; i < c->nsets; v -= c->sets[i][1], i++)
+    if (v < c->sets[i][1]) return c->sets[i][0] + v;
+  return -1;
+}
+
 /* The choice holds when every set of views passes the criterion on its own:
  * views joining from a confirmation set must not loosen it (with more views
- * in one set, ⌊q·n⌋ would allow more above p). */
+ * in one set, ⌊q·n⌋ would allow more above p). P and fail by choice view. */
 static int sets_pass(const ctx *c, const double *P, unsigned char *fail) {
   int all = 1;
-  for (int first = 0; first < c->nviews; first += c->set_size) {
+  for (int i = 0, first = 0; i < c->nsets; first += c->sets[i][1], i++) {
     jnd_criterion_result r;
-    int n = c->nviews - first < c->set_size ? c->nviews - first : c->set_size;
+    int n = c->sets[i][1];
     const jnd_criterion *cr = &c->p->judge.criterion;
     if (jnd_criterion_eval(P + first, n, c->choice_p, cr->q, cr->confidence, &r) != JND_OK || !r.pass) {
       all = 0;
@@ -262,6 +278,22 @@ static jnd_status judge_combo(ctx *c, const int *k, int first, int n, unsigned f
   if (pass) *pass = r.criterion.pass;
   if (partial) *partial = r.judged < n;
   return JND_OK;
+}
+
+/* combination k on every choice view, set by set (no early decision), into
+ * P (c->nviews values); *stat and *pass the criterion at the choice
+ * threshold over all of them together, as the judge gives it for one range */
+static jnd_status judge_choice(ctx *c, const int *k, double *P, double *stat, int *pass) {
+  jnd_status s = JND_OK;
+  for (int i = 0, v = 0; i < c->nsets && s == JND_OK; v += c->sets[i][1], i++)
+    s = judge_combo(c, k, c->sets[i][0], c->sets[i][1], 0, P + v, NULL, NULL, NULL);
+  if (s != JND_OK || (!stat && !pass)) return s;
+  const jnd_criterion *cr = &c->p->judge.criterion;
+  jnd_criterion_result r;
+  s = jnd_criterion_eval(P, c->nviews, c->choice_p > 0 ? c->choice_p : cr->p, cr->q, cr->confidence, &r);
+  if (stat) *stat = r.statistic;
+  if (pass) *pass = r.pass;
+  return s;
 }
 
 /* the longer side's candidates (descending) of a map */
@@ -442,7 +474,7 @@ static jnd_status run_matrix(ctx *c, int ia, int ib, const int *start, jnd_texre
       k[ib] = b0 + b;
       double st;
       int pass;
-      if ((s = judge_combo(c, k, 0, nviews, 0, P, &st, &pass, NULL)) != JND_OK) break;
+      if ((s = judge_choice(c, k, P, &st, &pass)) != JND_OK) break;
       for (int v = 0; v < nviews; v++) mx->p[((size_t)v * mx->na + a) * mx->nb + b] = P[v];
       mx->stat[a * mx->nb + b] = st;
       size_t bytes = map_bytes(A->cand[a0 + a]) + map_bytes(B->cand[b0 + b]);
@@ -474,7 +506,9 @@ static jnd_status search_map(ctx *c, int i, int start, int *k) {
     int mid = lo + (hi - lo + 1) / 2, pass, partial;
     double st;
     k[i] = mid;
-    if ((s = judge_combo(c, k, 0, c->nviews, JND_JUDGE_DECIDE, NULL, &st, &pass, &partial)) != JND_OK) break;
+    /* before confirmation: the first set, one range */
+    if ((s = judge_combo(c, k, c->sets[0][0], c->sets[0][1], JND_JUDGE_DECIDE, NULL, &st, &pass, &partial)) != JND_OK)
+      break;
     judged++;
     m->series[mid] = st;
     m->series_partial[mid] = (unsigned char)partial;
@@ -519,13 +553,13 @@ static jnd_status descend(ctx *c, int *k, const int *start) {
   unsigned char *fail = jnd_calloc((size_t)N, 1);
   jnd_status s = P && score && cnt && fail ? JND_OK : JND_ERR_NOMEM;
   int pass = 0;
-  if (s == JND_OK) s = judge_combo(c, k, 0, N, 0, P, NULL, NULL, NULL);
+  if (s == JND_OK) s = judge_choice(c, k, P, NULL, NULL);
   if (s == JND_OK) pass = sets_pass(c, P, fail);
   for (; s == JND_OK && !pass && rounds < 16 * nm; rounds++) {
     memset(score, 0, (size_t)nmat * sizeof *score);
     for (int v = 0; v < N && s == JND_OK; v++) {
       if (!fail[v]) continue;
-      if ((s = jnd_judge_material_counts(c->j, v, cnt)) != JND_OK) break;
+      if ((s = jnd_judge_material_counts(c->j, judge_view(c, v), cnt)) != JND_OK) break;
       for (int m = 0; m < nmat; m++) score[m] += cnt[m];
     }
     int best_i = -1;
@@ -539,7 +573,7 @@ static jnd_status descend(ctx *c, int *k, const int *start) {
     if (s != JND_OK || best_i < 0) break; /* every map at its bound */
     k[best_i]--;
     unify(c, k);  /* its image, with every slot that samples it */
-    s = judge_combo(c, k, 0, N, 0, P, NULL, NULL, NULL);
+    s = judge_choice(c, k, P, NULL, NULL);
     if (s == JND_OK) pass = sets_pass(c, P, fail);
   }
   if (s == JND_OK) stage(c, "together: %d map(s) enlarged one step, %s", rounds, pass ? "passes" : "still fails");
@@ -557,7 +591,7 @@ static jnd_status descend(ctx *c, int *k, const int *start) {
  * from the held-out check's. */
 static jnd_status confirm(ctx *c, int *k, const int *start) {
   const jnd_texres_params *p = c->p;
-  int N0 = c->nviews;
+  int N0 = c->sets[0][1];
   for (int round = 0; round < p->confirm_rounds; round++) {
     jnd_view_set vs = p->judge.views;
     vs.cameras = NULL;
@@ -572,7 +606,11 @@ static jnd_status confirm(ctx *c, int *k, const int *start) {
     free(views);
     if (s == JND_OK) s = judge_combo(c, k, first, n, JND_JUDGE_DECIDE, NULL, &stat, &pass, NULL);
     if (s != JND_OK) return s;
-    c->nviews = first + n;   /* they are the choice's views from now on */
+    /* they are the choice's views from now on, a set of their own */
+    c->sets[c->nsets][0] = first;
+    c->sets[c->nsets][1] = n;
+    c->nsets++;
+    c->nviews += n;
     stage(c, "confirmation views %d: the choice %s (statistic %s%.3f)", round + 1, pass ? "holds" : "fails",
           pass ? "" : ">= ", stat);
     if (pass) break;
@@ -664,8 +702,9 @@ jnd_status jnd_texres_search(jnd_scene *scene, const jnd_texres_params *pp, jnd_
   if (p->verify_views < 0) return jnd_fail(JND_ERR_ARG, "texres: %d held-out views is negative", p->verify_views);
   if (!(p->margin >= 0 && p->margin < 1))
     return jnd_fail(JND_ERR_ARG, "texres: margin %g is outside [0, 1)", p->margin);
-  if (p->confirm_rounds < 0 || p->confirm_rounds > 16)
-    return jnd_fail(JND_ERR_ARG, "texres: %d confirmation rounds (0..16)", p->confirm_rounds);
+  if (p->confirm_rounds < 0 || p->confirm_rounds > TEXRES_MAX_CONFIRM_ROUNDS)
+    return jnd_fail(JND_ERR_ARG, "texres: %d confirmation rounds (0..%d)", p->confirm_rounds,
+                    TEXRES_MAX_CONFIRM_ROUNDS);
   int nall = jnd_scene_map_count(scene);
   if (nall == 0) return jnd_fail(JND_ERR_ARG, "%s: the asset has no texture maps", jnd_scene_path(scene));
   if (nall > JND_TEXRES_MAX_MAPS)
@@ -673,7 +712,7 @@ jnd_status jnd_texres_search(jnd_scene *scene, const jnd_texres_params *pp, jnd_
   jnd_status s = check_list(scene, p->maps);
   if (s != JND_OK) return s;
 
-  ctx c = {scene, p, NULL, out, NULL, NULL, 0, 0, 0, cr->p * (1 - p->margin)};
+  ctx c = {.scene = scene, .p = p, .res = out, .choice_p = cr->p * (1 - p->margin)};
   int *k = NULL, *start = NULL;
   int nsearch = 0;
   out->nmaps = nall;
@@ -721,7 +760,9 @@ jnd_status jnd_texres_search(jnd_scene *scene, const jnd_texres_params *pp, jnd_
   jp.progress = on_render;
   jp.progress_user = &c;
   c.nviews = p->judge.views.cameras ? p->judge.views.ncameras : p->judge.views.sampling.count;
-  c.set_size = c.nviews;
+  c.sets[0][0] = 0;   /* the first set: the judge's first views (a shared judge's too) */
+  c.sets[0][1] = c.nviews;
+  c.nsets = 1;
   c.total = c.nviews * (2 + 3 * nsearch) + 2 * p->verify_views;
   /* the reference is level 0; the candidates draw p->level (a mesh level
    * changed is rendered whole, the maps' states still memoised) */
@@ -817,17 +858,19 @@ jnd_status jnd_texres_search(jnd_scene *scene, const jnd_texres_params *pp, jnd_
   /* the final combination on every view (judged already: no rendering) */
   out->nviews = c.nviews;
   out->view_p = jnd_calloc((size_t)c.nviews, sizeof *out->view_p);
-  if (!out->view_p) {
+  out->view_judge = jnd_calloc((size_t)c.nviews, sizeof *out->view_judge);
+  if (!out->view_p || !out->view_judge) {
     s = JND_ERR_NOMEM;
     goto done;
   }
-  if ((s = judge_combo(&c, k, 0, c.nviews, 0, out->view_p, NULL, NULL, NULL)) != JND_OK) goto done;
+  for (int v = 0; v < c.nviews; v++) out->view_judge[v] = judge_view(&c, v);
+  if ((s = judge_choice(&c, k, out->view_p, NULL, NULL)) != JND_OK) goto done;
   if ((s = jnd_criterion_eval(out->view_p, c.nviews, cr->p, cr->q, cr->confidence, &out->views)) != JND_OK) goto done;
   out->worst_view = out->views.worst_view;
   {
     /* 000's picture of the worst view: the object beside its heatmap */
     jnd_image map = {0}, frame = {0};
-    s = jnd_judge_view_images(c.j, out->worst_view, &map, &frame, NULL, NULL, NULL);
+    s = jnd_judge_view_images(c.j, out->view_judge[out->worst_view], &map, &frame, NULL, NULL, NULL);
     if (s == JND_OK)
       s = texres_worst_view_figure(&frame, &map, out->worst_view, c.nviews, out->view_p[out->worst_view],
                                    &out->worst_heatmap);

@@ -40,16 +40,23 @@ static void small_params(jnd_texres_params *p, double coverage) {
 
 static int longer(const int *wh) { return wh[0] > wh[1] ? wh[0] : wh[1]; }
 
-TEST(sizes_never_exceed_the_mip_bound_and_shrink_with_the_object) {
+/* the built-in asset with 256² maps, for a search; NULL (skipped) without a renderer */
+static jnd_scene *searchable_builtin(void) {
   if (!test_renderer_available()) {
     TEST_SKIP("no OpenGL context");
-    return;
+    return NULL;
   }
   jnd_builtin_params bp;
   jnd_builtin_defaults(&bp);
   bp.map_size = 256;
-  jnd_scene *s;
+  jnd_scene *s = NULL;
   CHECK_OK(jnd_scene_builtin(&bp, &s));
+  return s;
+}
+
+TEST(sizes_never_exceed_the_mip_bound_and_shrink_with_the_object) {
+  jnd_scene *s = searchable_builtin();
+  if (!s) return;
   jnd_texres_params p;
   jnd_texres_result near = {0}, far = {0};
   small_params(&p, 0.9);
@@ -81,6 +88,62 @@ TEST(sizes_never_exceed_the_mip_bound_and_shrink_with_the_object) {
   CHECK(mi.width == far.maps[0].chosen[0]);
   jnd_texres_result_clear(&near);
   jnd_texres_result_clear(&far);
+  jnd_scene_free(s);
+}
+
+TEST(a_shared_judge_s_other_views_are_not_the_search_s) {
+  /* A judge shared between searches (jnd budget: one a mesh level) holds
+   * the earlier searches' confirmation and held-out views after its first
+   * ones. A search's choice views are its first set and its own
+   * confirmation sets, named: with two foreign views between them, the
+   * search sees the same views, makes the same choice and reports the same
+   * per-view P as on a judge of its own (it counted the foreign views and
+   * shifted its sets before). */
+  jnd_scene *s = searchable_builtin();
+  if (!s) return;
+  jnd_texres_params p;
+  small_params(&p, 0.9);
+  p.confirm_rounds = 1;
+  jnd_texres_result alone = {0}, shared = {0};
+  CHECK_OK(jnd_texres_search(s, &p, &alone));
+  for (int i = 0; i < alone.nmaps; i++) jnd_scene_map_restore(s, i);   /* the reference state */
+  jnd_judge_params jp = p.judge;
+  jp.criterion.p = p.judge.criterion.p * (1 - p.margin);
+  jnd_judge *j = NULL;
+  CHECK_OK(jnd_judge_create(s, &jp, &j));
+  jnd_view_set vs = p.judge.views;
+  vs.sampling.count = 2;
+  vs.sampling.seed += 77;   /* another search's views */
+  jnd_view *views = NULL;
+  int n = 0, first = 0;
+  CHECK_OK(jnd_view_set_make(s, &vs, &views, &n));
+  CHECK_OK(jnd_judge_add_views(j, views, n, &first));
+  CHECK(first == 3 && n == 2);
+  free(views);
+  p.judge_shared = j;
+  CHECK_OK(jnd_texres_search(s, &p, &shared));
+  CHECK(alone.nviews == 6);   /* 3 views and one confirmation set of 3 */
+  CHECK(shared.nviews == alone.nviews && shared.view_p && alone.view_p);
+  for (int v = 0; v < shared.nviews && v < alone.nviews && shared.view_p && alone.view_p; v++)
+    CHECK(shared.view_p[v] == alone.view_p[v]);
+  CHECK(shared.nmaps == alone.nmaps);
+  for (int i = 0; i < shared.nmaps && i < alone.nmaps; i++)
+    CHECK(shared.maps[i].chosen[0] == alone.maps[i].chosen[0] && shared.maps[i].chosen[1] == alone.maps[i].chosen[1]);
+  CHECK(shared.worst_view == alone.worst_view);
+  /* which of the judge's views they are: the first three, then the confirmation set after the foreign two */
+  static const int expect_judge[6] = {0, 1, 2, 5, 6, 7};
+  for (int v = 0; v < 6 && shared.nviews == 6 && shared.view_judge && alone.view_judge; v++) {
+    CHECK(shared.view_judge[v] == expect_judge[v]);
+    CHECK(alone.view_judge[v] == v);
+  }
+  /* the worst view's picture is of that view, not of the judge's view of that index */
+  const jnd_image *ha = &alone.worst_heatmap, *hs = &shared.worst_heatmap;
+  CHECK(ha->data && hs->data && ha->w == hs->w && ha->h == hs->h && ha->c == hs->c);
+  if (ha->data && hs->data && ha->w == hs->w && ha->h == hs->h && ha->c == hs->c)
+    CHECK(memcmp(ha->data, hs->data, (size_t)ha->w * ha->h * ha->c * sizeof *ha->data) == 0);
+  jnd_texres_result_clear(&alone);
+  jnd_texres_result_clear(&shared);
+  jnd_judge_free(j);
   jnd_scene_free(s);
 }
 
@@ -242,5 +305,5 @@ TEST(model_writer_walks_each_node_once_in_a_file_that_names_nodes_twice_or_in_a_
   jnd_scene_free(s);
 }
 
-RUN_TESTS(model_writer_walks_each_node_once_in_a_file_that_names_nodes_twice_or_in_a_cycle, model_writer_gives_a_resized_data_uri_image_its_own_view_in_a_glb_that_had_none, memory_of_a_mip_chain_counts_every_level, sizes_never_exceed_the_mip_bound_and_shrink_with_the_object,
+RUN_TESTS(a_shared_judge_s_other_views_are_not_the_search_s, model_writer_walks_each_node_once_in_a_file_that_names_nodes_twice_or_in_a_cycle, model_writer_gives_a_resized_data_uri_image_its_own_view_in_a_glb_that_had_none, memory_of_a_mip_chain_counts_every_level, sizes_never_exceed_the_mip_bound_and_shrink_with_the_object,
           unknown_map_names_are_refused_before_rendering)
