@@ -131,21 +131,48 @@ void jnd_gltf_doc_free(jnd_gltf_doc *d) {
  * out the ones no mesh uses (an unused material, or one only a
  * KHR_materials_variants mapping names): so the scene's material j is the
  * j-th distinct material of that walk. A glTF node has at most one parent
- * (glTF 2.0 §3.5.3, nodes form disjoint trees), so each node is walked once:
- * a file that names a node twice, or in a cycle, cannot make the walk
- * exponential (children [0, 0] at every one of 64 levels is 2^64 calls). */
-static void walk_node(const cJSON *root, int node, int depth, unsigned char *walked, int *order, int *n, int cap) {
-  const cJSON *nodes = item(root, "nodes"), *nd = cJSON_GetArrayItem(nodes, node);
-  if (!nd || depth > 64 || walked[node]) return;
-  walked[node] = 1;
-  const cJSON *ch;
-  cJSON_ArrayForEach(ch, item(nd, "children"))
-    if (cJSON_IsNumber(ch)) walk_node(root, ch->valueint, depth + 1, walked, order, n, cap);
+ * (glTF 2.0 §3.5.3: nodes form disjoint trees), so each node is walked
+ * once: a file that names a node twice, or in a cycle, cannot make the walk
+ * exponential (children [0, 0] at every one of 64 levels was 2^64 calls).
+ * The walk keeps its own stack (at most one entry a node), so a tree of any
+ * depth is walked whole, as assimp reads it (a depth bound of 64 left the
+ * materials below it to the file's order). */
+static void note_materials(const cJSON *root, const cJSON *nd, int *order, int *n, int cap) {
   const cJSON *mesh = cJSON_GetArrayItem(item(root, "meshes"), int_of(nd, "mesh", -1)), *prim;
   cJSON_ArrayForEach(prim, item(mesh, "primitives")) {
     int m = int_of(prim, "material", -1), seen = m < 0;
     for (int k = 0; k < *n && !seen; k++) seen = order[k] == m;
     if (!seen && *n < cap) order[(*n)++] = m;
+  }
+}
+
+typedef struct {
+  const cJSON *node, *next;   /* a node on the walk, and its next child to enter */
+} walk_frame;
+
+static void walk_tree(const cJSON *root, int top, unsigned char *walked, walk_frame *stack, int *order, int *n,
+                      int cap) {
+  const cJSON *nodes = item(root, "nodes"), *nd = cJSON_GetArrayItem(nodes, top);
+  if (!nd || walked[top]) return;
+  walked[top] = 1;
+  const cJSON *ch = item(nd, "children");
+  int sp = 0;
+  stack[sp++] = (walk_frame){nd, ch ? ch->child : NULL};
+  while (sp > 0) {
+    walk_frame *f = &stack[sp - 1];
+    if (!f->next) {   /* its children done: its own mesh */
+      note_materials(root, f->node, order, n, cap);
+      sp--;
+      continue;
+    }
+    const cJSON *c = f->next;
+    f->next = c->next;
+    int k = cJSON_IsNumber(c) ? c->valueint : -1;
+    const cJSON *cn = cJSON_GetArrayItem(nodes, k);
+    if (!cn || walked[k]) continue;
+    walked[k] = 1;
+    ch = item(cn, "children");
+    stack[sp++] = (walk_frame){cn, ch ? ch->child : NULL};
   }
 }
 
@@ -155,10 +182,17 @@ jnd_status jnd_gltf_doc_materials(const jnd_gltf_doc *d, const jnd_scene *scene,
   int nm = jnd_scene_material_count(scene), n = 0;
   for (int j = 0; j < nm; j++) out[j] = -1;
   const cJSON *scenes = item(root, "scenes"), *sc = cJSON_GetArrayItem(scenes, int_of(root, "scene", 0)), *nd;
-  unsigned char *walked = jnd_calloc((size_t)cJSON_GetArraySize(item(root, "nodes")) + 1, 1);
-  if (!walked) return JND_ERR_NOMEM;
-  cJSON_ArrayForEach(nd, item(sc, "nodes")) if (cJSON_IsNumber(nd)) walk_node(root, nd->valueint, 0, walked, out, &n, nm);
+  size_t nn = (size_t)cJSON_GetArraySize(item(root, "nodes")) + 1;
+  unsigned char *walked = jnd_calloc(nn, 1);
+  walk_frame *stack = jnd_calloc(nn, sizeof *stack);
+  if (!walked || !stack) {
+    free(walked);
+    free(stack);
+    return JND_ERR_NOMEM;
+  }
+  cJSON_ArrayForEach(nd, item(sc, "nodes")) if (cJSON_IsNumber(nd)) walk_tree(root, nd->valueint, walked, stack, out, &n, nm);
   free(walked);
+  free(stack);
   const cJSON *materials = item(root, "materials");
   if (n == 0)   /* no scene to walk (not a file assimp loaded): the file's own order */
     for (int j = 0; j < nm && j < cJSON_GetArraySize(materials); j++) out[j] = j;

@@ -272,25 +272,34 @@ TEST(model_writer_walks_each_node_once_in_a_file_that_names_nodes_twice_or_in_a_
    * node names its child twice made the material walk 2^64 calls; a node
    * that is its own child is a cycle. glTF nodes have one parent, so the
    * walk visits each node once and the writer finishes. The material is
-   * still found through the tree (the mesh hangs from the deepest node). */
+   * still found through the tree (the mesh hangs from the deepest node),
+   * at any depth (a chain of 300). */
   char src[1200], out_dir[1200], out[4400];
   jnd_scene *s = halved_builtin("twice_out", out_dir, sizeof out_dir);
   if (!s) return;
-  enum { DEEP = 70 };
-  char js[8192];
-  for (int variant = 0; variant < 2; variant++) {
+  enum { DEEP = 70, CHAIN = 300 };
+  char js[16384];
+  for (int variant = 0; variant < 3; variant++) {
+    /* variant 2: the mesh's material is the file's second (the first has no
+     * map), under a chain of CHAIN nodes: the walk must reach it (a depth
+     * bound left it to the file's order, which names the wrong material) */
     int k = snprintf(js, sizeof js,
                      "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": [0]}],"
                      " \"images\": [{\"uri\": \"data:image/png;base64,AAAA\"}], \"textures\": [{\"source\": 0}],"
-                     " \"meshes\": [{\"primitives\": [{\"attributes\": {}, \"material\": 0}]}],"
-                     " \"materials\": [{\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0}}}],"
-                     " \"nodes\": [");
+                     " \"meshes\": [{\"primitives\": [{\"attributes\": {}, \"material\": %d}]}],"
+                     " \"materials\": [%s{\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0}}}],"
+                     " \"nodes\": [",
+                     variant == 2, variant == 2 ? "{}, " : "");
     if (variant == 0)   /* node i's children are [i+1, i+1]; the last holds the mesh */
       for (int i = 0; i < DEEP; i++)
         k += i < DEEP - 1 ? snprintf(js + k, sizeof js - (size_t)k, "{\"children\": [%d, %d]}, ", i + 1, i + 1)
                           : snprintf(js + k, sizeof js - (size_t)k, "{\"mesh\": 0}");
-    else   /* node 0 is its own child, twice, and node 1 holds the mesh */
+    else if (variant == 1)   /* node 0 is its own child, twice, and node 1 holds the mesh */
       k += snprintf(js + k, sizeof js - (size_t)k, "{\"children\": [0, 0, 1]}, {\"mesh\": 0}");
+    else   /* node i's child is i + 1; the last holds the mesh */
+      for (int i = 0; i < CHAIN; i++)
+        k += i < CHAIN - 1 ? snprintf(js + k, sizeof js - (size_t)k, "{\"children\": [%d]}, ", i + 1)
+                           : snprintf(js + k, sizeof js - (size_t)k, "{\"mesh\": 0}");
     snprintf(js + k, sizeof js - (size_t)k, "]}");
     snprintf(src, sizeof src, "%s/twice%d.glb", test_tmp_dir(), variant);
     unsigned char *file;
