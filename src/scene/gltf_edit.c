@@ -147,33 +147,41 @@ static void note_materials(const cJSON *root, const cJSON *nd, int *order, int *
 }
 
 typedef struct {
-  const cJSON *node, *next;   /* a node on the walk, and its next child to enter */
+  const cJSON *node, *next;   /* a node on the walk (NULL: the scene), and its next child to enter */
 } walk_frame;
 
-static void walk_tree(const cJSON *root, int top, unsigned char *walked, walk_frame *stack, int *order, int *n,
-                      int cap) {
-  const cJSON *nodes = item(root, "nodes"), *nd = cJSON_GetArrayItem(nodes, top);
-  if (!nd || walked[top]) return;
-  walked[top] = 1;
-  const cJSON *ch = item(nd, "children");
+/* the scene's trees, from its root nodes: each node's children, then its
+ * own mesh's materials into order (at most cap); each node entered once */
+static jnd_status walk_scene(const cJSON *root, const cJSON *scene, int *order, int *n, int cap) {
+  const cJSON *nodes = item(root, "nodes"), *roots = item(scene, "nodes");
+  size_t nn = (size_t)cJSON_GetArraySize(nodes) + 1;
+  unsigned char *walked = jnd_calloc(nn, 1);
+  walk_frame *stack = jnd_calloc(nn, sizeof *stack);   /* the scene, then at most every node */
+  if (!walked || !stack) {
+    free(walked);
+    free(stack);
+    return JND_ERR_NOMEM;
+  }
   int sp = 0;
-  stack[sp++] = (walk_frame){nd, ch ? ch->child : NULL};
+  stack[sp++] = (walk_frame){NULL, roots ? roots->child : NULL};
   while (sp > 0) {
     walk_frame *f = &stack[sp - 1];
     if (!f->next) {   /* its children done: its own mesh */
-      note_materials(root, f->node, order, n, cap);
+      if (f->node) note_materials(root, f->node, order, n, cap);
       sp--;
       continue;
     }
     const cJSON *c = f->next;
     f->next = c->next;
     int k = cJSON_IsNumber(c) ? c->valueint : -1;
-    const cJSON *cn = cJSON_GetArrayItem(nodes, k);
-    if (!cn || walked[k]) continue;
+    const cJSON *nd = cJSON_GetArrayItem(nodes, k), *ch = item(nd, "children");
+    if (!nd || walked[k]) continue;
     walked[k] = 1;
-    ch = item(cn, "children");
-    stack[sp++] = (walk_frame){cn, ch ? ch->child : NULL};
+    stack[sp++] = (walk_frame){nd, ch ? ch->child : NULL};
   }
+  free(walked);
+  free(stack);
+  return JND_OK;
 }
 
 jnd_status jnd_gltf_doc_materials(const jnd_gltf_doc *d, const jnd_scene *scene, const unsigned char *need,
@@ -181,18 +189,9 @@ jnd_status jnd_gltf_doc_materials(const jnd_gltf_doc *d, const jnd_scene *scene,
   const cJSON *root = d->root;
   int nm = jnd_scene_material_count(scene), n = 0;
   for (int j = 0; j < nm; j++) out[j] = -1;
-  const cJSON *scenes = item(root, "scenes"), *sc = cJSON_GetArrayItem(scenes, int_of(root, "scene", 0)), *nd;
-  size_t nn = (size_t)cJSON_GetArraySize(item(root, "nodes")) + 1;
-  unsigned char *walked = jnd_calloc(nn, 1);
-  walk_frame *stack = jnd_calloc(nn, sizeof *stack);
-  if (!walked || !stack) {
-    free(walked);
-    free(stack);
-    return JND_ERR_NOMEM;
-  }
-  cJSON_ArrayForEach(nd, item(sc, "nodes")) if (cJSON_IsNumber(nd)) walk_tree(root, nd->valueint, walked, stack, out, &n, nm);
-  free(walked);
-  free(stack);
+  const cJSON *sc = cJSON_GetArrayItem(item(root, "scenes"), int_of(root, "scene", 0));
+  jnd_status s = walk_scene(root, sc, out, &n, nm);
+  if (s != JND_OK) return s;
   const cJSON *materials = item(root, "materials");
   if (n == 0)   /* no scene to walk (not a file assimp loaded): the file's own order */
     for (int j = 0; j < nm && j < cJSON_GetArraySize(materials); j++) out[j] = j;
