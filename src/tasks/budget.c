@@ -427,7 +427,6 @@ static jnd_status judge(ctx *c, int level, int (*sizes)[2], const jnd_tex_format
   return s;
 }
 
-/* texres's search with level k drawn: the candidate of its choice */
 /* where the time goes, for the stage log: the views the shared judge holds
  * and every rendering it has made so far; into buf */
 static const char *judge_so_far(const ctx *c, char *buf, size_t n) {
@@ -438,6 +437,7 @@ static const char *judge_so_far(const ctx *c, char *buf, size_t n) {
   return buf;
 }
 
+/* texres's search with level k drawn: the candidate of its choice */
 static jnd_status search_level(ctx *c, int k, jnd_texres_result *T) {
   jnd_texres_params tp = c->p->texres;
   tp.judge.views.sampling.coverage = c->p->lod.poi.coverage;
