@@ -58,14 +58,21 @@ double jnd_rng_uniform(jnd_rng *r);   /* [0, 1) */
 double jnd_rng_normal(jnd_rng *r);    /* standard normal (Box–Muller) */
 
 /* Marks a function whose loops carry the model's arithmetic: it is compiled
- * for AVX2 as well as for baseline x86-64 and the loader picks the version
- * the CPU runs (GCC function multiversioning). Contraction to FMA is off
- * (CMakeLists.txt) and the loops are element-wise, so every version
- * computes the same bits. */
+ * for AVX-512 (x86-64-v4) and AVX2 (x86-64-v3) as well as for baseline
+ * x86-64, and the loader picks the version the CPU runs (GCC function
+ * multiversioning). Contraction to FMA is off (CMakeLists.txt) and the
+ * loops are element-wise (no reduction whose order depends on the vector's
+ * width), so every version computes the same bits. JND_HOT_AVX2 leaves out
+ * the AVX-512 version, for loops of table look-ups: GCC vectorises those
+ * for AVX-512 with byte extracts and inserts in place of loads, twice as
+ * slow as its AVX2 version (png_rgb_to_planes; docs/speed.md, "Ninth
+ * pass"). */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && !defined(JND_NO_CLONES)
-#define JND_HOT __attribute__((target_clones("arch=x86-64-v3", "default")))
+#define JND_HOT __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#define JND_HOT_AVX2 __attribute__((target_clones("arch=x86-64-v3", "default")))
 #else
 #define JND_HOT
+#define JND_HOT_AVX2
 #endif
 
 /* The 64-bit finaliser of MurmurHash3 (fmix64): every input bit moves every

@@ -333,7 +333,7 @@ static inline __attribute__((always_inline)) void png_bytes_to_planes(const floa
 
 /* RGB: no plane overlaps the row or the table (restrict), so the row's
  * bytes need not be read again after each store */
-JND_HOT static void png_rgb_to_planes(const float *restrict to_float, const unsigned char *restrict row,
+JND_HOT_AVX2 static void png_rgb_to_planes(const float *restrict to_float, const unsigned char *restrict row,
                                       float *restrict r, float *restrict g, float *restrict b, size_t w) {
   for (size_t x = 0; x < w; x++) {
     r[x] = to_float[row[3 * x]];

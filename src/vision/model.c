@@ -655,7 +655,7 @@ JND_HOT static void image_row(const band_ctx *k, row_scratch *r, int a, int y, c
 }
 
 /* the pyramid's binomial kernel (1 4 6 4 1)/16 along a row, mirrored ends */
-static void binomial_row(const float *s, float *d, int w) {
+JND_HOT static void binomial_row(const float *s, float *d, int w) {
   if (w < 5) {
     for (int x = 0; x < w; x++)
       d[x] = (s[jnd_mirror(x - 2, w)] + 4 * s[jnd_mirror(x - 1, w)] + 6 * s[x] + 4 * s[jnd_mirror(x + 1, w)] +
@@ -706,7 +706,7 @@ JND_HOT static void response_row(const band_ctx *k, row_scratch *r, int y, float
  * band's level and weighted by k->coarse_w, to the row's own (r->pooled):
  * the masking pool spans neighbouring frequencies (docs/model.md
  * "Masking"). */
-static void add_coarse_maskers(const band_ctx *k, row_scratch *r, int y, const float *const own[NCH]) {
+JND_HOT static void add_coarse_maskers(const band_ctx *k, row_scratch *r, int y, const float *const own[NCH]) {
   const diff_state *st = k->st;
   const int w = k->w, w1 = k->w1, h1 = st->g[0][0].h[k->band + 1];
   int rows[3];
