@@ -1,7 +1,10 @@
 /* libFuzzer target: the PNG decoder (chunk validation, then zlib's inflate
  * where it can, else stb_image) on arbitrary bytes; and differential: where
  * the zlib path and stb_image alone both accept an input, they must give the
- * same pixels, bit for bit, and the same info. */
+ * same pixels, bit for bit, and the same info; and an 8-bit RGB file kept
+ * as its codes (jnd_png_decode_rgb8, what jnd diff reads) must decode
+ * exactly when the planes do, to their samples. */
+#include <stdlib.h>
 #include <string.h>
 
 #include "fuzz.h"
@@ -18,6 +21,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                         memcmp(&info, &ref_info, sizeof info) != 0))
       abort();
     fuzz_check_image(r, &ref, &ref_info);
+  }
+  if (jnd_png_validate("fuzz.png", data, size) == JND_OK && jnd_png_is_rgb8(data, size)) {
+    unsigned char *rgb = NULL;
+    int w, h;
+    jnd_status c = jnd_png_decode_rgb8("fuzz.png", data, size, &rgb, &w, &h);
+    if ((c == JND_OK) != (s == JND_OK)) abort();
+    for (size_t i = 0; c == JND_OK && i < (size_t)w * h * 3; i++)
+      if (w != img.w || h != img.h || jnd_image_plane(&img, (int)(i % 3))[i / 3] != (float)(rgb[i] * (1.0 / 255)))
+        abort();
+    free(rgb);
   }
   fuzz_check_image(s, &img, &info);
   return 0;

@@ -231,21 +231,21 @@ jnd_status jnd_decode_png_stb(const char *name, const unsigned char *buf, size_t
 }
 
 static jnd_status decode_png(const char *name, const unsigned char *buf, size_t n, jnd_image *out,
-                             jnd_image_info *info, const float code_value[256], int *mapped) {
+                             jnd_image_info *info) {
   memset(out, 0, sizeof *out);
   jnd_status s = jnd_png_validate(name, buf, n);
   if (s != JND_OK) return s;
   /* zlib's inflate where it can: a 1920 × 1080 RGB file in 39 ms instead of 62 */
   if (!jnd_png_plain(buf, n)) return png_decode_stb(name, buf, n, out, info);
   int bits;
-  if ((s = jnd_png_decode_mapped(name, buf, n, out, &bits, code_value, mapped)) != JND_OK) return s;
+  if ((s = jnd_png_decode(name, buf, n, out, &bits)) != JND_OK) return s;
   png_info(info, bits, out->c);
   return JND_OK;
 }
 
 jnd_status jnd_decode_png(const char *name, const unsigned char *buf, size_t n, jnd_image *out,
                           jnd_image_info *info) {
-  return decode_png(name, buf, n, out, info, NULL, NULL);
+  return decode_png(name, buf, n, out, info);
 }
 
 jnd_status jnd_decode_jpeg(const char *name, const unsigned char *buf, size_t n, jnd_image *out,
@@ -299,10 +299,9 @@ jnd_status jnd_decode_hdr(const char *name, const unsigned char *buf, size_t n, 
   return JND_OK;
 }
 
-static jnd_status image_read(const char *path, jnd_image *out, jnd_image_info *info, const float code_value[256],
-                             int *mapped) {
+static jnd_status image_read(const char *path, jnd_image *out, jnd_image_info *info, unsigned char **rgb) {
   memset(out, 0, sizeof *out);
-  if (mapped) *mapped = 0;
+  if (rgb) *rgb = NULL;
   unsigned char *buf;
   size_t n;
   jnd_status s = jnd_read_file(path, MAX_FILE_BYTES, &buf, &n);
@@ -311,7 +310,17 @@ static jnd_status image_read(const char *path, jnd_image *out, jnd_image_info *i
   if (n == 0) {
     s = jnd_fail(JND_ERR_FORMAT, "%s: empty file", path);
   } else if (n >= 8 && memcmp(buf, png_sig, 8) == 0) {
-    s = decode_png(path, buf, n, out, info, code_value, mapped);
+    if (rgb && (s = jnd_png_validate(path, buf, n)) == JND_OK && jnd_png_is_rgb8(buf, n)) {
+      int w, h;
+      if ((s = jnd_png_decode_rgb8(path, buf, n, rgb, &w, &h)) == JND_OK) {
+        out->w = w;
+        out->h = h;
+        out->c = 3;
+        png_info(info, 8, 3);
+      }
+    } else if (s == JND_OK) {
+      s = decode_png(path, buf, n, out, info);
+    }
   } else if (n >= 3 && buf[0] == 0xFF && buf[1] == 0xD8 && buf[2] == 0xFF) {
     s = jnd_decode_jpeg(path, buf, n, out, info);
   } else if (n >= 2 && buf[0] == '#' && buf[1] == '?') {
@@ -326,10 +335,9 @@ static jnd_status image_read(const char *path, jnd_image *out, jnd_image_info *i
 }
 
 jnd_status jnd_image_read(const char *path, jnd_image *out, jnd_image_info *info) {
-  return image_read(path, out, info, NULL, NULL);
+  return image_read(path, out, info, NULL);
 }
 
-jnd_status jnd_image_read_mapped(const char *path, jnd_image *out, jnd_image_info *info,
-                                 const float code_value[256], int *mapped) {
-  return image_read(path, out, info, code_value, mapped);
+jnd_status jnd_image_read_rgb8(const char *path, jnd_image *out, jnd_image_info *info, unsigned char **rgb) {
+  return image_read(path, out, info, rgb);
 }

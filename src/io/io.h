@@ -45,17 +45,19 @@ int jnd_png_plain(const unsigned char *buf, size_t n);
  * after the last row is ignored (its Adler-32 is not checked: the chunks'
  * CRCs are). out is empty on failure. */
 jnd_status jnd_png_decode(const char *name, const unsigned char *buf, size_t n, jnd_image *out, int *bits);
-/* jnd_png_decode, an 8-bit RGB file's samples written as code_value[sample]
- * instead of sample / 255 (*mapped = 1; otherwise 0 and the usual values):
- * a caller that maps the codes anyway (jnd_image_read_mapped) saves a pass
- * over the image. */
-jnd_status jnd_png_decode_mapped(const char *name, const unsigned char *buf, size_t n, jnd_image *out, int *bits,
-                                 const float code_value[256], int *mapped);
+/* Whether a PNG that jnd_png_validate has passed is an 8-bit RGB one that
+ * jnd_png_decode reads (jnd_png_plain). */
+int jnd_png_is_rgb8(const unsigned char *buf, size_t n);
+/* jnd_png_decode of an 8-bit RGB file (jnd_png_is_rgb8), its samples kept
+ * as they are: *rgb gets w × h pixels of R, G, B bytes, row-major (free()),
+ * a quarter of the planes' memory. Another layout is JND_ERR_FORMAT. */
+jnd_status jnd_png_decode_rgb8(const char *name, const unsigned char *buf, size_t n, unsigned char **rgb, int *w,
+                               int *h);
 /* jnd_image_read, where the file is an 8-bit RGB PNG that jnd_png_decode
- * reads, with its samples mapped through code_value (*mapped = 1); any
- * other file as jnd_image_read gives it (*mapped = 0). */
-jnd_status jnd_image_read_mapped(const char *path, jnd_image *out, jnd_image_info *info,
-                                 const float code_value[256], int *mapped);
+ * reads, with its samples kept as bytes (jnd_png_decode_rgb8): *rgb gets
+ * them, and out the size with no data; any other file as jnd_image_read
+ * gives it (*rgb NULL). */
+jnd_status jnd_image_read_rgb8(const char *path, jnd_image *out, jnd_image_info *info, unsigned char **rgb);
 
 /* jnd_decode_png through stb_image alone (the path for every other PNG),
  * for comparing the two decoders in tests and the fuzzer. */

@@ -319,6 +319,8 @@ typedef struct {
   unsigned char *bank;
   size_t pitch;
   float to_float[256]; /* 8-bit samples as floats */
+  unsigned char *codes; /* jnd_png_decode_rgb8: the unfiltered rows go here, row bytes apart, not to
+                           planes (out has no data) */
 } png_decoder;
 
 /* Row y of interleaved samples (16-bit ones big-endian, PNG spec §7.1) into
@@ -344,6 +346,10 @@ JND_HOT_AVX2 static void png_rgb_to_planes(const float *restrict to_float, const
 
 static void png_row_to_planes(const png_decoder *d, const unsigned char *row, size_t y, jnd_image *out) {
   size_t w = (size_t)out->w, c = (size_t)out->c;
+  if (d->codes) {
+    memmove(d->codes + y * d->row, row, d->row);
+    return;
+  }
   if (d->depth == 8) {
     /* one pass along the row writing every plane, with the channel count a
      * constant for RGB and RGBA (a pass per plane, or a loop over the
@@ -515,8 +521,10 @@ static int png_decode_whole(png_decoder *d, jnd_image *out) {
     }
   if (zn < 2) return 0;
   unsigned char *joined = chunks > 1 ? jnd_alloc(zn, 1) : NULL, *raw;
-  const int in_place = png_in_place(d, out);
-  if (in_place) /* the image's memory ends PNG_SLACK bytes after the rows */
+  const int in_place = d->codes || png_in_place(d, out);
+  if (d->codes) /* rows written out at y · row, behind the filtered ones at y · stride */
+    raw = d->codes;
+  else if (in_place) /* the image's memory ends PNG_SLACK bytes after the rows */
     raw = (unsigned char *)(out->data + (size_t)out->w * out->h * out->c) - raw_n - PNG_SLACK;
   else
     raw = jnd_alloc(raw_n + PNG_SLACK, 1);
@@ -550,63 +558,97 @@ static int png_decode_whole(png_decoder *d, jnd_image *out) {
   return ok;
 }
 
-jnd_status jnd_png_decode(const char *name, const unsigned char *buf, size_t n, jnd_image *out, int *bits) {
-  return jnd_png_decode_mapped(name, buf, n, out, bits, NULL, NULL);
-}
-
-jnd_status jnd_png_decode_mapped(const char *name, const unsigned char *buf, size_t n, jnd_image *out, int *bits,
-                                 const float code_value[256], int *mapped) {
-  memset(out, 0, sizeof *out);
-  if (mapped) *mapped = 0;
-  png_decoder d;
-  memset(&d, 0, sizeof d);
-  d.name = name;
-  d.buf = buf;
-  d.n = n;
-  d.pos = 8;
-  uint32_t w = 0, h = 0;
-  unsigned channels = 0;
-  jnd_status s = png_read_header(&d, &w, &h, &channels);
-  if (s != JND_OK) return s;
-  if ((s = jnd_image_alloc(out, (int)w, (int)h, (int)channels)) != JND_OK)
-    return jnd_fail(s, "%s: out of memory for %u × %u × %u", name, (unsigned)w, (unsigned)h, channels);
-  /* an 8-bit RGB file's samples straight to the caller's values */
-  const int map = code_value && d.depth == 8 && channels == 3;
-  for (int v = 0; v < 256; v++) d.to_float[v] = map ? code_value[v] : (float)(v * (1.0 / 255));
-  d.bank = jnd_calloc(PNG_WAVE + 2, d.pitch);
-  int whole = d.bank ? png_decode_whole(&d, out) : -1;
+/* The image data into out (its planes, or with d->codes the rows' bytes),
+ * out's size set: libdeflate's whole stream where it can, else zlib's
+ * blocks. d->bank is freed; out is left to the caller. */
+static jnd_status png_decode_data(png_decoder *d, jnd_image *out, const char *name) {
+  d->bank = jnd_calloc(PNG_WAVE + 2, d->pitch);
+  int whole = d->bank ? png_decode_whole(d, out) : -1;
   if (whole) {
-    free(d.bank);
-    if (whole < 0) {
-      jnd_image_free(out);
-      return jnd_fail(JND_ERR_NOMEM, "%s: out of memory for %u × %u × %u", name, (unsigned)w, (unsigned)h, channels);
-    }
-    *bits = (int)d.depth;
-    if (mapped) *mapped = map;
+    free(d->bank);
+    if (whole < 0)
+      return jnd_fail(JND_ERR_NOMEM, "%s: out of memory for %d × %d × %d", name, out->w, out->h, out->c);
     return JND_OK;
   }
-  memset(d.bank, 0, d.pitch); /* the row above the first is zeros (§9.2) */
-  d.rows = d.block * d.stride <= SIZE_MAX - PNG_SLACK ? jnd_alloc(d.block * d.stride + PNG_SLACK, 1) : NULL;
-  if (d.rows) memset(d.rows + d.block * d.stride, 0, PNG_SLACK);
-  if (!d.rows || inflateInit(&d.z) != Z_OK) {
-    free(d.rows);
-    free(d.bank);
-    jnd_image_free(out);
+  memset(d->bank, 0, d->pitch); /* the row above the first is zeros (§9.2) */
+  d->rows = d->block * d->stride <= SIZE_MAX - PNG_SLACK ? jnd_alloc(d->block * d->stride + PNG_SLACK, 1) : NULL;
+  if (d->rows) memset(d->rows + d->block * d->stride, 0, PNG_SLACK);
+  if (!d->rows || inflateInit(&d->z) != Z_OK) {
+    free(d->rows);
+    free(d->bank);
     return jnd_fail(JND_ERR_NOMEM, "%s: out of memory for zlib", name);
   }
 #if ZLIB_VERNUM >= 0x1290
-  inflateValidate(&d.z, 0); /* the Adler-32 after the rows is not read: data past them is ignored */
+  inflateValidate(&d->z, 0); /* the Adler-32 after the rows is not read: data past them is ignored */
 #endif
-  s = png_decode_rows(&d, out);
-  inflateEnd(&d.z);
-  free(d.rows);
-  free(d.bank);
-  if (s != JND_OK) {
+  jnd_status s = png_decode_rows(d, out);
+  inflateEnd(&d->z);
+  free(d->rows);
+  free(d->bank);
+  return s;
+}
+
+/* A decoder on buf, its header read (png_read_header) */
+static jnd_status png_start(png_decoder *d, const char *name, const unsigned char *buf, size_t n, uint32_t *w,
+                            uint32_t *h, unsigned *channels) {
+  memset(d, 0, sizeof *d);
+  d->name = name;
+  d->buf = buf;
+  d->n = n;
+  d->pos = 8;
+  *w = *h = 0;
+  *channels = 0;
+  return png_read_header(d, w, h, channels);
+}
+
+jnd_status jnd_png_decode(const char *name, const unsigned char *buf, size_t n, jnd_image *out, int *bits) {
+  memset(out, 0, sizeof *out);
+  png_decoder d;
+  uint32_t w, h;
+  unsigned channels;
+  jnd_status s = png_start(&d, name, buf, n, &w, &h, &channels);
+  if (s != JND_OK) return s;
+  if ((s = jnd_image_alloc(out, (int)w, (int)h, (int)channels)) != JND_OK)
+    return jnd_fail(s, "%s: out of memory for %u × %u × %u", name, (unsigned)w, (unsigned)h, channels);
+  for (int v = 0; v < 256; v++) d.to_float[v] = (float)(v * (1.0 / 255));
+  if ((s = png_decode_data(&d, out, name)) != JND_OK) {
     jnd_image_free(out);
     return s;
   }
   *bits = (int)d.depth;
-  if (mapped) *mapped = map;
+  return JND_OK;
+}
+
+int jnd_png_is_rgb8(const unsigned char *buf, size_t n) {
+  /* IHDR is the first chunk (jnd_png_validate): bit depth at byte 24, colour type at 25 */
+  return jnd_png_plain(buf, n) && n > 25 && buf[24] == 8 && buf[25] == 2;
+}
+
+jnd_status jnd_png_decode_rgb8(const char *name, const unsigned char *buf, size_t n, unsigned char **rgb, int *w,
+                               int *h) {
+  *rgb = NULL;
+  *w = *h = 0;
+  png_decoder d;
+  uint32_t pw, ph;
+  unsigned channels;
+  jnd_status s = png_start(&d, name, buf, n, &pw, &ph, &channels);
+  if (s != JND_OK) return s;
+  if (d.depth != 8 || channels != 3)
+    return jnd_fail(JND_ERR_FORMAT, "%s: not an 8-bit RGB PNG (bit depth %u, %u channels)", name, d.depth, channels);
+  if ((s = jnd_check_size((int)pw, (int)ph, 3, name)) != JND_OK) return s;
+  /* the filtered rows are inflated here, and the rows written out over
+   * them (png_decode_whole) */
+  size_t bytes;
+  if (!png_mul(ph, d.stride, &bytes) || bytes > SIZE_MAX - PNG_SLACK || !(d.codes = jnd_alloc(bytes + PNG_SLACK, 1)))
+    return jnd_fail(JND_ERR_NOMEM, "%s: out of memory for %u × %u × 3", name, (unsigned)pw, (unsigned)ph);
+  jnd_image out = {(int)pw, (int)ph, 3, NULL};
+  if ((s = png_decode_data(&d, &out, name)) != JND_OK) {
+    free(d.codes);
+    return s;
+  }
+  *rgb = d.codes;
+  *w = (int)pw;
+  *h = (int)ph;
   return JND_OK;
 }
 

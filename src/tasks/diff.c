@@ -109,13 +109,26 @@ jnd_status jnd_diff_summarise(const jnd_image *map, double beta, const jnd_pooli
 jnd_status jnd_diff_files(jnd_model *m, jnd_image *ref, const jnd_image_info *ri, jnd_image *test,
                           const jnd_image_info *ti, const jnd_diff_inputs *in, const jnd_pooling *pool,
                           jnd_image *jnd_out, jnd_diff_stats *stats) {
-  static const int none[2] = {0, 0};
-  return diff_files_mapped(m, ref, ri, test, ti, in, pool, jnd_out, stats, none);
+  unsigned char *none[2] = {NULL, NULL};
+  return diff_files_codes(m, ref, ri, test, ti, none, NULL, in, pool, jnd_out, stats);
 }
 
-jnd_status diff_files_mapped(jnd_model *m, jnd_image *ref, const jnd_image_info *ri, jnd_image *test,
-                             const jnd_image_info *ti, const jnd_diff_inputs *in, const jnd_pooling *pool,
-                             jnd_image *jnd_out, jnd_diff_stats *stats, const int mapped[2]) {
+/* an image kept as codes to planes of their luminances, into img (which
+ * holds its size); rgb freed */
+static jnd_status codes_to_planes(unsigned char *rgb, const float lum[256], jnd_image *img) {
+  const int w = img->w, h = img->h;
+  jnd_status s = jnd_image_alloc(img, w, h, 3);
+  const size_t npx = (size_t)w * h;
+  for (size_t i = 0; s == JND_OK && i < npx; i++)
+    for (int c = 0; c < 3; c++) img->data[c * npx + i] = lum[rgb[3 * i + c]];
+  free(rgb);
+  return s;
+}
+
+jnd_status diff_files_codes(jnd_model *m, jnd_image *ref, const jnd_image_info *ri, jnd_image *test,
+                            const jnd_image_info *ti, unsigned char *rgb[2], const float lum[256],
+                            const jnd_diff_inputs *in, const jnd_pooling *pool, jnd_image *jnd_out,
+                            jnd_diff_stats *stats) {
   const jnd_model_params *p = jnd_model_get_params(m);
   jnd_image map = {0};
   jnd_status s = JND_OK;
@@ -123,10 +136,28 @@ jnd_status diff_files_mapped(jnd_model *m, jnd_image *ref, const jnd_image_info 
     s = jnd_fail(JND_ERR_ARG, "image sizes differ: %d × %d vs %d × %d", ref->w, ref->h, test->w, test->h);
     goto fail;
   }
-  if (!mapped[0] && (s = jnd_display_apply(&p->display, ref, ri->encoding, ri->has_alpha, ref)) != JND_OK) goto fail;
-  if (!mapped[1] && (s = jnd_display_apply(&p->display, test, ti->encoding, ti->has_alpha, test)) != JND_OK)
-    goto fail;
-  if ((s = jnd_model_diff_consume(m, ref, test, in, &map)) != JND_OK) return s;
+  if (rgb[0] && rgb[1]) {
+    const int w = ref->w, h = ref->h;
+    memset(ref, 0, sizeof *ref);
+    memset(test, 0, sizeof *test);
+    s = jnd_model_diff_rgb8(m, rgb[0], rgb[1], w, h, lum, in, &map);
+    rgb[0] = rgb[1] = NULL;
+    if (s != JND_OK) return s;
+  } else {
+    jnd_image *img[2] = {ref, test};
+    const jnd_image_info *info[2] = {ri, ti};
+    for (int a = 0; a < 2; a++) {
+      /* codes beside a decoded image: its luminances as planes */
+      if (rgb[a]) {
+        s = codes_to_planes(rgb[a], lum, img[a]);
+        rgb[a] = NULL;
+      } else {
+        s = jnd_display_apply(&p->display, img[a], info[a]->encoding, info[a]->has_alpha, img[a]);
+      }
+      if (s != JND_OK) goto fail;
+    }
+    if ((s = jnd_model_diff_consume(m, ref, test, in, &map)) != JND_OK) return s;
+  }
   if (stats && (s = jnd_diff_summarise(&map, p->beta, pool, stats)) != JND_OK) {
     jnd_image_free(&map);
     return s;
@@ -137,6 +168,10 @@ jnd_status diff_files_mapped(jnd_model *m, jnd_image *ref, const jnd_image_info 
     jnd_image_free(&map);
   return JND_OK;
 fail:
+  for (int a = 0; a < 2; a++) {
+    free(rgb[a]);
+    rgb[a] = NULL;
+  }
   jnd_image_free(ref);
   jnd_image_free(test);
   return s;

@@ -113,13 +113,13 @@ jnd_status jnd_diff_run(const char *ref_path, const char *test_path, const jnd_d
   cJSON *report = NULL;
   jnd_diff_result *R = jnd_calloc(1, sizeof *R);
   if (!s && !R) s = jnd_fail(JND_ERR_NOMEM, "diff: out of memory");
-  /* an 8-bit RGB PNG decodes straight to the display's luminances (the
-   * values jnd_display_apply would give, bit for bit): one pass over each
-   * image less; a display whose luminances are wrong is reported by
-   * jnd_display_apply as before */
+  /* an 8-bit RGB PNG is kept as its codes (a quarter of the planes'
+   * memory), which the model maps through the display's luminance of each
+   * code (the values jnd_display_apply would give, bit for bit); a display
+   * whose luminances are wrong is reported by jnd_display_apply as before */
   float lum[256];
-  const float *codes = jnd_display_code_luminances(&mp.display, lum) == JND_OK ? lum : NULL;
-  int mapped[2] = {0, 0};
+  const int by_code = jnd_display_code_luminances(&mp.display, lum) == JND_OK;
+  unsigned char *rgb[2] = {NULL, NULL};
   if (!s) {
     /* the two files decode at the same time */
     int ok[2];
@@ -128,13 +128,15 @@ jnd_status jnd_diff_run(const char *ref_path, const char *test_path, const jnd_d
     {
 #pragma omp section
       {
-        ok[0] = jnd_image_read_mapped(ref_path, &ref, &ri, codes, &mapped[0]) == JND_OK;
+        ok[0] = (by_code ? jnd_image_read_rgb8(ref_path, &ref, &ri, &rgb[0]) : jnd_image_read(ref_path, &ref, &ri)) ==
+                JND_OK;
         /* the message lives on the thread that failed: take it along */
         if (!ok[0]) snprintf(msg[0], sizeof msg[0], "%s", jnd_last_error());
       }
 #pragma omp section
       {
-        ok[1] = jnd_image_read_mapped(test_path, &test, &ti, codes, &mapped[1]) == JND_OK;
+        ok[1] = (by_code ? jnd_image_read_rgb8(test_path, &test, &ti, &rgb[1]) : jnd_image_read(test_path, &test, &ti)) ==
+                JND_OK;
         if (!ok[1]) snprintf(msg[1], sizeof msg[1], "%s", jnd_last_error());
       }
     }
@@ -159,7 +161,7 @@ jnd_status jnd_diff_run(const char *ref_path, const char *test_path, const jnd_d
     R->height = ref.h;
     if ((s = jnd_model_create(&mp, &model))) s = jnd_fail(s, "diff: %s", jnd_last_error());
   }
-  if (!s) s = diff_files_mapped(model, &ref, &ri, &test, &ti, &in, &pool, &map, &R->stats, mapped);
+  if (!s) s = diff_files_codes(model, &ref, &ri, &test, &ti, rgb, lum, &in, &pool, &map, &R->stats);
   if (!s && p.calibration_path) s = jnd_diff_summarise_calibrated(&map, &cal, &R->stats);
   times[1] = jnd_seconds() - t0 - times[0];
   if (!s && p.map_path) {
@@ -184,6 +186,8 @@ jnd_status jnd_diff_run(const char *ref_path, const char *test_path, const jnd_d
   jnd_model_free(model);
   jnd_image_free(&ref);
   jnd_image_free(&test);
+  free(rgb[0]);
+  free(rgb[1]);
   jnd_image_free(&motion);
   jnd_image_free(&weights);
   jnd_image_free(&map);

@@ -8,14 +8,18 @@
 #include "jnd.h"
 #include "io/draw.h"
 
-/* ---- diff.c: jnd_diff_files on images already on the display (begin) ---- */
+/* ---- diff.c: jnd_diff_files on images kept as codes (begin) ---- */
 
-/* jnd_diff_files where mapped[a] says that image a (0 ref, 1 test) already
- * holds the display's luminances (jnd_image_read_mapped with
- * jnd_display_code_luminances): its jnd_display_apply is skipped. */
-jnd_status diff_files_mapped(jnd_model *m, jnd_image *ref, const jnd_image_info *ri, jnd_image *test,
-                             const jnd_image_info *ti, const jnd_diff_inputs *in, const jnd_pooling *pool,
-                             jnd_image *jnd_out, jnd_diff_stats *stats, const int mapped[2]);
+/* jnd_diff_files where image a (0 ref, 1 test) may be kept as its 8-bit
+ * RGB codes (jnd_image_read_rgb8): rgb[a] non-NULL, the image holding only
+ * its size, the display's luminance of each code lum[code]
+ * (jnd_display_code_luminances). Both so: the model reads the codes
+ * (jnd_model_diff_rgb8); one: its planes are made from them. rgb's buffers
+ * are taken over (freed, the pointers set to NULL), as the images are. */
+jnd_status diff_files_codes(jnd_model *m, jnd_image *ref, const jnd_image_info *ri, jnd_image *test,
+                            const jnd_image_info *ti, unsigned char *rgb[2], const float lum[256],
+                            const jnd_diff_inputs *in, const jnd_pooling *pool, jnd_image *jnd_out,
+                            jnd_diff_stats *stats);
 
 /* ---- diff.c (end) ---- */
 

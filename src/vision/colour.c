@@ -42,13 +42,41 @@ static void apply3(jnd_image *img, const double m[3][3]) {
 void jnd_rgb_to_xyz(jnd_image *img) { apply3(img, RGB2XYZ); }
 void jnd_xyz_to_lms(jnd_image *img) { apply3(img, XYZ2LMS); }
 
-/* both at once: one pass over the image with the product matrix */
-void jnd_rgb_to_lms(jnd_image *img) {
-  double m[3][3];
+/* the product matrix of the two above */
+static void rgb_to_lms_matrix(double m[3][3]) {
   for (int i = 0; i < 3; i++)
     for (int j = 0; j < 3; j++)
       m[i][j] = XYZ2LMS[i][0] * RGB2XYZ[0][j] + XYZ2LMS[i][1] * RGB2XYZ[1][j] + XYZ2LMS[i][2] * RGB2XYZ[2][j];
+}
+
+/* both at once: one pass over the image with the product matrix */
+void jnd_rgb_to_lms(jnd_image *img) {
+  double m[3][3];
+  rgb_to_lms_matrix(m);
   apply3(img, m);
+}
+
+/* the codes' values, a table look-up a sample: JND_HOT_AVX2, as GCC's
+ * AVX-512 version of such a loop is twice as slow (core.h) */
+JND_HOT_AVX2 static void codes_to_rows(const unsigned char *restrict px, const float *restrict value,
+                                       float *restrict r, float *restrict g, float *restrict b, size_t w) {
+  for (size_t x = 0; x < w; x++) {
+    r[x] = value[px[3 * x]];
+    g[x] = value[px[3 * x + 1]];
+    b[x] = value[px[3 * x + 2]];
+  }
+}
+
+void jnd_rgb8_lms_row(const unsigned char *px, const float value[256], const float a[9], float *const out[3],
+                      size_t w) {
+  codes_to_rows(px, value, out[0], out[1], out[2], w);
+  apply3_span(out[0], out[1], out[2], w, a);
+}
+
+void jnd_rgb_to_lms_weights(float a[9]) {
+  double m[3][3];
+  rgb_to_lms_matrix(m);
+  for (int i = 0; i < 9; i++) a[i] = (float)m[i / 3][i % 3];
 }
 
 void jnd_lms_luminance_weights(double w[3]) {

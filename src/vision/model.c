@@ -314,6 +314,13 @@ typedef struct {
   float uniform_v;   /* retinal velocity when there is no map */
   double temporal_hz; /* > 0: the difference is a temporal modulation at this frequency */
   int il0, il1;      /* the CSF table columns the adaptation luminances need */
+  /* An image kept as its 8-bit RGB codes (jnd_model_diff_rgb8), or NULL:
+   * its level 0 (g[a][c].plane[0] NULL) is made a row at a time from the
+   * codes (rgb8_rows) where REDUCE and the finest band read it, never
+   * stored (12 bytes a pixel less) */
+  unsigned char *rgb[2];
+  float code_lum[256]; /* the display's luminance of each code */
+  float rgb_lms[9];    /* jnd_rgb_to_lms_weights */
 } diff_state;
 
 /* Bilinear sampling of the coarse adaptation map at the centres of a level's
@@ -408,6 +415,7 @@ typedef struct {
   float *pooled[NCH];  /* the maskers of the row being finished, pooled in 5 × 5 */
   jnd_row_cache coarse[NCH]; /* rows of the coarser band's maskers, expanded to this level */
   float *ylum[2];      /* the luminance contrast's numerator and denominator (image_row) */
+  float *l0[3];        /* a row of level 0's L, M, S, made from an image's codes (rgb8_rows) */
   float *tmp;
   float *mem;
   float dc_max;        /* the largest value written to Dc by these rows (note_dc_max) */
@@ -417,9 +425,9 @@ static int scratch_init(row_scratch *r, int w) {
   /* 12 caches × 3 rows; 6 caches × 3 rows of G_{i+2} and a row of its EXPAND; opponent values (2 × 3), log adaptation and log velocity (2), sensitivities
    * (3), eccentricity factors (3), masker ring (5 × 3), difference ring (3 × 3), pooled maskers (3),
    * 3 caches × 3 rows of the coarser band's maskers, the CSF table columns, the luminance contrast's
-   * two terms, one row of scratch */
+   * two terms, level 0's three cones, one row of scratch */
   _Static_assert(sizeof(int) == sizeof(float), "the column indices share the float scratch");
-  r->mem = malloc(sizeof(float) * (size_t)w * (36 + 18 + 1 + 6 + 2 + 3 + 3 + 15 + 9 + 3 + 9 + 1 + 2 + 1));
+  r->mem = malloc(sizeof(float) * (size_t)w * (36 + 18 + 1 + 6 + 2 + 3 + 3 + 15 + 9 + 3 + 9 + 1 + 2 + 3 + 1));
   if (!r->mem) return 0;
   float *p = r->mem;
   for (int a = 0; a < 2; a++)
@@ -455,6 +463,7 @@ static int scratch_init(row_scratch *r, int w) {
   r->lix = (int *)(void *)p, p += w;
   r->ylum[0] = p, p += w;
   r->ylum[1] = p, p += w;
+  for (int c = 0; c < 3; c++) r->l0[c] = p, p += w;
   r->tmp = p;
   return 1;
 }
@@ -610,6 +619,12 @@ static const float *expanded_row(const band_ctx *k, row_scratch *r, int a, int c
   return dst;
 }
 
+/* row y of image a's level 0 (L, M, S) from its codes */
+static void rgb8_rows(const diff_state *st, int a, int y, float *const out[3]) {
+  const size_t w = (size_t)st->g[a][0].w[0];
+  jnd_rgb8_lms_row(st->rgb[a] + (size_t)y * 3 * w, st->code_lum, st->rgb_lms, out, w);
+}
+
 /* one image's CSF-normalised contrasts on row y: opp[a][A, a, b] */
 JND_HOT static void image_row(const band_ctx *k, row_scratch *r, int a, int y, const int rows[3], const float wts[3]) {
   const diff_state *st = k->st;
@@ -618,9 +633,12 @@ JND_HOT static void image_row(const band_ctx *k, row_scratch *r, int a, int y, c
    * and denominator summed from the L and M cones' terms with Y's weights
    * (docs/model.md "Channels") */
   float *yn = r->ylum[0], *yd = r->ylum[1];
+  /* level 0 of an image kept as codes: its three cones' row made here */
+  const int from_codes = !st->g[a][0].plane[band];
+  if (from_codes) rgb8_rows(st, a, y, r->l0);
   /* 004 §3.1: band-limited contrast (G_i − G_{i+1}) / G_{i+2} (Lubin 1995), per cone */
   for (int c = 0; c < 3; c++) {
-    const float *g0 = st->g[a][c].plane[band] + (size_t)y * w;
+    const float *g0 = from_codes ? r->l0[c] : st->g[a][c].plane[band] + (size_t)y * w;
     const float *p0 = jnd_pyr_cached_row(&r->cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[0], w);
     const float *p1 = jnd_pyr_cached_row(&r->cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[1], w);
     const float *p2 = jnd_pyr_cached_row(&r->cache[a][c][0], st->g[a][c].plane[band + 1], w1, rows[2], w);
@@ -1286,6 +1304,7 @@ static void state_free(diff_state *st) {
     free(st->adapt[a]);
   }
   free(st->adapt_mid);
+  for (int a = 0; a < 2; a++) free(st->rgb[a]);
   if (st->has_vel) jnd_gauss_free(&st->vel[0]);
   if (st->has_vel && !st->vel_shared) jnd_gauss_free(&st->vel[1]);
 }
@@ -1321,17 +1340,61 @@ static jnd_status velocity_map(const jnd_model *m, const jnd_image *motion, int 
 
 /* ---- diff_lms's stages, in 004 §3.1's order (the list at the top) ---- */
 
+/* rgb8_rows for jnd_gauss_build3_rows: ctx is {state, image} */
+typedef struct {
+  const diff_state *st;
+  int a;
+} rgb8_src;
+
+static void rgb8_rows_of(void *ctx, int y, float *const out[3]) {
+  const rgb8_src *q = ctx;
+  rgb8_rows(q->st, q->a, y, out);
+}
+
+/* Which of an image's L, M, S planes kept as codes hold one value each
+ * (value[c] then): its pixels whose codes differ from the first pixel's,
+ * through the same arithmetic as its rows, until every plane has differed
+ * (at the first such pixel, but for codes whose L, M or S round alike) */
+static void rgb8_constant(const diff_state *st, int a, size_t npx, int constant[3], float value[3]) {
+  const unsigned char *px = st->rgb[a];
+  float one[3], *o[3] = {&one[0], &one[1], &one[2]}, *v[3] = {&value[0], &value[1], &value[2]};
+  jnd_rgb8_lms_row(px, st->code_lum, st->rgb_lms, v, 1);
+  int left = 3;
+  for (int c = 0; c < 3; c++) constant[c] = 1;
+  for (size_t i = 1; i < npx && left; i++) {
+    const unsigned char *q = px + 3 * i;
+    if (q[0] == px[0] && q[1] == px[1] && q[2] == px[2]) continue;
+    jnd_rgb8_lms_row(q, st->code_lum, st->rgb_lms, o, 1);
+    for (int c = 0; c < 3; c++)
+      if (constant[c] && one[c] != value[c]) {
+        constant[c] = 0;
+        left--;
+      }
+  }
+}
+
 /* Gaussian pyramids of both images' L, M, S planes (lms[a] is taken over:
- * plane 0 of channel L owns it, freed here on failure), and whether each
- * image is uniform (a psychophysical background needs no contrast bands). */
+ * plane 0 of channel L owns it, freed here on failure; an image kept as
+ * codes, st->rgb[a], has lms[a] NULL), and whether each image is uniform (a
+ * psychophysical background needs no contrast bands). */
 static jnd_status gaussian_pyramids(diff_state *st, float *lms[2], int w, int h, int levels, int threads) {
   jnd_status s = JND_OK;
   size_t npx = (size_t)w * h;
-  for (int a = 0; a < 2 && s == JND_OK; a++)
+  for (int a = 0; a < 2 && s == JND_OK; a++) {
+    if (st->rgb[a]) {
+      int constant[3];
+      float value[3];
+      rgb8_constant(st, a, npx, constant, value);
+      rgb8_src src = {st, a};
+      s = jnd_gauss_build3_rows(st->g[a], rgb8_rows_of, &src, w, h, levels, constant, value, threads);
+      st->uniform[a] = constant[0] && constant[1] && constant[2];
+      continue;
+    }
     for (int c = 0; c < 3 && s == JND_OK; c++) {
       s = jnd_gauss_build(&st->g[a][c], lms[a] + (size_t)c * npx, w, h, levels, threads);
       if (s == JND_OK && c == 0) st->g[a][c].own0 = 1; /* plane 0 of channel L owns the buffer */
     }
+  }
   if (s != JND_OK) {
     for (int a = 0; a < 2; a++)
       if (!st->g[a][0].own0) free(lms[a]);
@@ -1339,6 +1402,7 @@ static jnd_status gaussian_pyramids(diff_state *st, float *lms[2], int w, int h,
   }
   /* a uniform image (a psychophysical background) needs no contrast bands */
   for (int a = 0; a < 2; a++) {
+    if (st->rgb[a]) continue;
     st->uniform[a] = 1;
     for (int c = 0; c < 3 && st->uniform[a]; c++) {
       const float *p = lms[a] + (size_t)c * npx;
@@ -1449,6 +1513,8 @@ static jnd_status band_differences(jnd_model *m, diff_state *st, float **Dlev, i
         if (st->g[a][0].own0) free(st->g[a][0].plane[0]);
         st->g[a][0].own0 = 0;
         for (int c = 0; c < 3; c++) st->g[a][c].plane[0] = NULL;
+        free(st->rgb[a]);
+        st->rgb[a] = NULL;
       }
     if (s == JND_OK) s = summation_levels(m, b, Dlev[b], Dc, st->g[0][0].w[b], st->g[0][0].h[b], dc_max);
     free(Dc);
@@ -1511,17 +1577,30 @@ static void jnd_map_of(const jnd_model *m, const jnd_diff_inputs *in, float *o, 
   }
 }
 
-/* The model on two LMS images (planar, 3 channels) whose buffers it takes over. */
-static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_diff_inputs *in,
-                           jnd_image *jnd_out) {
+/* Gaussian levels: bands need G_{i+2}; the adaptation level must exist too */
+static int gauss_level_count(const jnd_model *m) {
+  int levels = m->nbands + 2;
+  if (m->adapt_level + 1 > levels) levels = m->adapt_level + 1;
+  return levels;
+}
+
+/* The model on two LMS images (planar, 3 channels) whose buffers it takes
+ * over; an image given as codes instead (rgb[a], taken over; lms[a] NULL)
+ * has its level 0 made from them where it is read (diff_state.rgb). */
+static jnd_status diff_lms(jnd_model *m, float *lms[2], unsigned char *rgb[2], const float *code_lum, int w, int h,
+                           const jnd_diff_inputs *in, jnd_image *jnd_out) {
   diff_state st;
   memset(&st, 0, sizeof st);
   const int threads = jnd_threads(m->p.threads);
   const int nb = m->nbands;
-  /* Gaussian levels: bands need G_{i+2}; the adaptation level must exist too */
-  int levels = nb + 2;
-  if (m->adapt_level + 1 > levels) levels = m->adapt_level + 1;
+  const int levels = gauss_level_count(m);
   size_t npx = (size_t)w * h;
+  if (rgb && (rgb[0] || rgb[1])) {
+    st.rgb[0] = rgb[0];
+    st.rgb[1] = rgb[1];
+    memcpy(st.code_lum, code_lum, sizeof st.code_lum);
+    jnd_rgb_to_lms_weights(st.rgb_lms);
+  }
   float *Dlev[MAX_BANDS] = {0};
   jnd_status s = gaussian_pyramids(&st, lms, w, h, levels, threads);
   if (s == JND_OK) s = adaptation_luminance(m, &st, levels);
@@ -1583,7 +1662,7 @@ static jnd_status diff_copy(jnd_model *m, const jnd_image *ref, const jnd_image 
   to_lms(&c[0], is_xyz);
   to_lms(&c[1], is_xyz);
   float *lms[2] = {c[0].data, c[1].data};
-  return diff_lms(m, lms, ref->w, ref->h, in, jnd_out);
+  return diff_lms(m, lms, NULL, NULL, ref->w, ref->h, in, jnd_out);
 }
 
 jnd_status jnd_model_diff(jnd_model *m, const jnd_image *ref, const jnd_image *test, const jnd_diff_inputs *in,
@@ -1611,5 +1690,43 @@ jnd_status jnd_model_diff_consume(jnd_model *m, jnd_image *ref, jnd_image *test,
   int w = ref->w, h = ref->h;
   memset(ref, 0, sizeof *ref);
   memset(test, 0, sizeof *test);
-  return diff_lms(m, lms, w, h, in, jnd_out);
+  return diff_lms(m, lms, NULL, NULL, w, h, in, jnd_out);
+}
+
+jnd_status jnd_model_diff_rgb8(jnd_model *m, unsigned char *ref, unsigned char *test, int w, int h,
+                               const float lum[256], const jnd_diff_inputs *in, jnd_image *jnd_out) {
+  memset(jnd_out, 0, sizeof *jnd_out);
+  unsigned char *rgb[2] = {ref, test};
+  const jnd_image a = {w, h, 3, NULL};
+  jnd_status s = check_pair(&a, &a, in);
+  const int levels = gauss_level_count(m);
+  const int alev = m->adapt_level < levels ? m->adapt_level : levels - 1;
+  if (s == JND_OK && (m->nbands < 1 || alev < 1)) {
+    /* level 0 is then read whole (as the adaptation level, or the
+     * baseband's): the images as planes, made from the codes */
+    const size_t npx = (size_t)w * h;
+    float *lms[2] = {jnd_alloc(npx * 3, sizeof(float)), jnd_alloc(npx * 3, sizeof(float))};
+    float lw[9];
+    jnd_rgb_to_lms_weights(lw);
+    for (int i = 0; i < 2; i++)
+      for (int y = 0; y < h && lms[i]; y++) {
+        float *row[3] = {lms[i] + (size_t)y * w, lms[i] + npx + (size_t)y * w, lms[i] + 2 * npx + (size_t)y * w};
+        jnd_rgb8_lms_row(rgb[i] + (size_t)y * 3 * w, lum, lw, row, (size_t)w);
+      }
+    free(ref);
+    free(test);
+    if (!lms[0] || !lms[1]) {
+      free(lms[0]);
+      free(lms[1]);
+      return JND_ERR_NOMEM;
+    }
+    return diff_lms(m, lms, NULL, NULL, w, h, in, jnd_out);
+  }
+  if (s != JND_OK) {
+    free(ref);
+    free(test);
+    return s;
+  }
+  float *none[2] = {NULL, NULL};
+  return diff_lms(m, none, rgb, lum, w, h, in, jnd_out);
 }

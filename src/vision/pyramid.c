@@ -71,6 +71,41 @@ int jnd_pyr_reduce(const float *src, int w, int h, float *dst, int dw, int dh, i
   return ok;
 }
 
+int jnd_pyr_reduce3_rows(jnd_rows3_fn row, void *ctx, int w, int h, float *const dst[3], int dw, int dh,
+                         int threads) {
+  /* jnd_pyr_reduce on three planes at once, each input row made once for
+   * all three (row), then reduced by the same reduce_row and reduce_col */
+  int ok = 1;
+#pragma omp parallel num_threads(threads)
+  {
+    float *mem = malloc(sizeof(float) * ((size_t)dw * 15 + (size_t)w * 3));
+    if (!mem) {
+#pragma omp atomic write
+      ok = 0;
+    }
+    int held[5] = {-1, -1, -1, -1, -1};
+#pragma omp for schedule(static)
+    for (int y = 0; y < dh; y++) {
+      if (!mem) continue;
+      float *in[3] = {mem + (size_t)dw * 15, mem + (size_t)dw * 15 + w, mem + (size_t)dw * 15 + 2 * (size_t)w};
+      const float *r[3][5];
+      for (int k = 0; k < 5; k++) {
+        int at = jnd_mirror(2 * y + k - 2, h), slot = at % 5;
+        float *buf = mem + (size_t)slot * 3 * dw;
+        if (held[slot] != at) {
+          row(ctx, at, in);
+          for (int c = 0; c < 3; c++) reduce_row(in[c], w, buf + (size_t)c * dw, dw);
+          held[slot] = at;
+        }
+        for (int c = 0; c < 3; c++) r[c][k] = buf + (size_t)c * dw;
+      }
+      for (int c = 0; c < 3; c++) reduce_col(r[c][0], r[c][1], r[c][2], r[c][3], r[c][4], dst[c] + (size_t)y * dw, dw);
+    }
+    free(mem);
+  }
+  return ok;
+}
+
 /* fine sample x of EXPAND near the borders (mirrored coarse indices) */
 static float expand_at(const float *src, int cw, int x) {
   if ((x & 1) == 0) {
@@ -207,35 +242,70 @@ int jnd_pyr_expand_add_pow(const float *src, int w, int h, float *dst, int dw, i
   return expand(src, w, h, dst, dw, dh, threads, 1, 1, p);
 }
 
-jnd_status jnd_gauss_build(jnd_gauss *g, float *plane0, int w, int h, int levels, int threads) {
+/* the levels' sizes; each from the one above, halved and rounded up */
+static jnd_status gauss_sizes(jnd_gauss *g, int w, int h, int levels) {
   memset(g, 0, sizeof *g);
   if (levels < 1 || levels > 24) return jnd_fail(JND_ERR_INTERNAL, "pyramid: %d levels", levels);
   g->levels = levels;
   g->w[0] = w;
   g->h[0] = h;
+  for (int i = 1; i < levels; i++) {
+    g->w[i] = (g->w[i - 1] + 1) / 2;
+    g->h[i] = (g->h[i - 1] + 1) / 2;
+  }
+  return JND_OK;
+}
+
+/* levels from..levels−1 allocated and made from the one above each (or,
+ * for a constant plane, set to its value) */
+static jnd_status gauss_levels(jnd_gauss *g, int from, int constant, float value, int threads) {
+  for (int i = from; i < g->levels; i++) {
+    g->plane[i] = jnd_alloc((size_t)g->w[i] * g->h[i], sizeof(float));
+    if (!g->plane[i]) return JND_ERR_NOMEM;
+    if (constant) {
+      for (size_t j = 0; j < (size_t)g->w[i] * g->h[i]; j++) g->plane[i][j] = value;
+      continue;
+    }
+    if (!jnd_pyr_reduce(g->plane[i - 1], g->w[i - 1], g->h[i - 1], g->plane[i], g->w[i], g->h[i], threads))
+      return jnd_fail(JND_ERR_NOMEM, "pyramid: out of memory");
+  }
+  return JND_OK;
+}
+
+jnd_status jnd_gauss_build(jnd_gauss *g, float *plane0, int w, int h, int levels, int threads) {
+  jnd_status s = gauss_sizes(g, w, h, levels);
+  if (s != JND_OK) return s;
   g->plane[0] = plane0;
   /* a constant plane (a psychophysical background) has constant levels */
   size_t n = (size_t)w * h, k = 1;
   while (k < n && plane0[k] == plane0[0]) k++;
-  const int constant = k == n;
-  for (int i = 1; i < levels; i++) {
-    g->w[i] = (g->w[i - 1] + 1) / 2;
-    g->h[i] = (g->h[i - 1] + 1) / 2;
-    g->plane[i] = jnd_alloc((size_t)g->w[i] * g->h[i], sizeof(float));
-    if (!g->plane[i]) {
-      jnd_gauss_free(g);
-      return JND_ERR_NOMEM;
-    }
-    if (constant) {
-      for (size_t j = 0; j < (size_t)g->w[i] * g->h[i]; j++) g->plane[i][j] = plane0[0];
-      continue;
-    }
-    if (!jnd_pyr_reduce(g->plane[i - 1], g->w[i - 1], g->h[i - 1], g->plane[i], g->w[i], g->h[i], threads)) {
-      jnd_gauss_free(g);
-      return jnd_fail(JND_ERR_NOMEM, "pyramid: out of memory");
-    }
+  if ((s = gauss_levels(g, 1, k == n, plane0[0], threads)) != JND_OK) jnd_gauss_free(g);
+  return s;
+}
+
+jnd_status jnd_gauss_build3_rows(jnd_gauss g[3], jnd_rows3_fn row, void *ctx, int w, int h, int levels,
+                                 const int constant[3], const float value[3], int threads) {
+  jnd_status s = JND_OK;
+  for (int c = 0; c < 3 && s == JND_OK; c++) s = gauss_sizes(&g[c], w, h, levels);
+  /* level 1 of all three from the rows (unless all are constant), then
+   * each plane's own levels, a constant plane's set to its value as
+   * jnd_gauss_build sets them */
+  for (int c = 0; c < 3 && s == JND_OK && levels > 1; c++) {
+    g[c].plane[1] = jnd_alloc((size_t)g[c].w[1] * g[c].h[1], sizeof(float));
+    if (!g[c].plane[1]) s = JND_ERR_NOMEM;
   }
-  return JND_OK;
+  if (s == JND_OK && levels > 1 && !(constant[0] && constant[1] && constant[2]) &&
+      !jnd_pyr_reduce3_rows(row, ctx, w, h, (float *const[3]){g[0].plane[1], g[1].plane[1], g[2].plane[1]},
+                            g[0].w[1], g[0].h[1], threads))
+    s = jnd_fail(JND_ERR_NOMEM, "pyramid: out of memory");
+  for (int c = 0; c < 3 && s == JND_OK && levels > 1; c++) {
+    if (constant[c])
+      for (size_t j = 0; j < (size_t)g[c].w[1] * g[c].h[1]; j++) g[c].plane[1][j] = value[c];
+    s = gauss_levels(&g[c], 2, constant[c], value[c], threads);
+  }
+  if (s != JND_OK)
+    for (int c = 0; c < 3; c++) jnd_gauss_free(&g[c]);
+  return s;
 }
 
 void jnd_gauss_free(jnd_gauss *g) {

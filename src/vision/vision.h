@@ -12,6 +12,28 @@ void jnd_rgb_to_xyz(jnd_image *img);
 /* CIE XYZ → Hunt–Pointer–Estévez LMS (004 §3.1, matrix from Fairchild 2004), in place */
 void jnd_xyz_to_lms(jnd_image *img);
 void jnd_rgb_to_lms(jnd_image *img); /* the two above in one pass */
+/* the float weights jnd_rgb_to_lms applies, row by row (L = a[0]·R + a[1]·G
+ * + a[2]·B, summed in that order; then M, S): for computing the same LMS
+ * values from other storage (jnd_model_diff_rgb8) */
+void jnd_rgb_to_lms_weights(float a[9]);
+/* w pixels of 8-bit R, G, B codes (3 bytes a pixel) to L, M, S rows:
+ * each code's value (value[code], the display's luminance), then the
+ * weights a of jnd_rgb_to_lms_weights — bit for bit jnd_rgb_to_lms of an
+ * image holding value[code] */
+void jnd_rgb8_lms_row(const unsigned char *px, const float value[256], const float a[9], float *const out[3],
+                      size_t w);
+
+/* jnd_model_diff_consume (include/jnd.h) for two 8-bit RGB images kept as
+ * their codes: w × h pixels of R, G, B bytes, row-major, taken over (freed),
+ * and lum[v] the display's luminance of code v (jnd_display_code_luminances).
+ * The same map, bit for bit, as planes of lum[code] through
+ * jnd_model_diff_consume, without the images' float planes (12 bytes a
+ * pixel each, 50 MB at 1920 × 1080): the finest level is made from the
+ * codes a row at a time where REDUCE and the finest band read it. Where
+ * level 0 is read whole (no band, or the adaptation level at level 0: a
+ * display of under about 2 pixels a degree) the planes are made first. */
+jnd_status jnd_model_diff_rgb8(jnd_model *m, unsigned char *ref, unsigned char *test, int w, int h,
+                               const float lum[256], const jnd_diff_inputs *in, jnd_image *jnd_out);
 /* luminance Y from HPE LMS (the second row of the inverse matrix) */
 void jnd_lms_luminance_weights(double w[3]);
 /* one colour from HPE LMS back to CIE XYZ (the inverse of the matrix above) */
@@ -48,6 +70,17 @@ typedef struct {
  * with `levels` levels; level 0 is the plane itself (borrowed). */
 jnd_status jnd_gauss_build(jnd_gauss *g, float *plane0, int w, int h, int levels, int threads);
 void jnd_gauss_free(jnd_gauss *g);
+/* Rows of three planes made on demand: row y of each into out[0..2]. */
+typedef void (*jnd_rows3_fn)(void *ctx, int y, float *const out[3]);
+/* The pyramids of three w × h planes that are not stored, whose rows
+ * row(ctx, …) makes (each row once a thread for all three): level 0 is
+ * left NULL, levels 1… are bit for bit jnd_gauss_build's of the planes.
+ * constant[c]: plane c holds one value, value[c] (jnd_gauss_build's test). */
+jnd_status jnd_gauss_build3_rows(jnd_gauss g[3], jnd_rows3_fn row, void *ctx, int w, int h, int levels,
+                                 const int constant[3], const float value[3], int threads);
+/* jnd_pyr_reduce of three planes given by their rows */
+int jnd_pyr_reduce3_rows(jnd_rows3_fn row, void *ctx, int w, int h, float *const dst[3], int dw, int dh,
+                         int threads); /* 0: out of memory */
 /* one REDUCE step: blur with the binomial kernel and keep even samples */
 int jnd_pyr_reduce(const float *src, int w, int h, float *dst, int dw, int dh, int threads); /* 0: out of memory */
 /* one EXPAND step: to (dw, dh) from (w, h), interpolating with 2× the kernel */
@@ -210,8 +243,8 @@ jnd_status jnd_delta_e94_map_where(const jnd_display *d, const jnd_image *ref, c
 
 /* ---- the display (display.c) ---- */
 /* The luminance (cd/m²) jnd_display_apply gives each 8-bit sRGB code
- * without alpha, bit for bit: a decoder that writes these for an 8-bit
- * file's samples (jnd_image_read_mapped) leaves the display nothing to do.
+ * without alpha, bit for bit: an 8-bit RGB file's codes looked up in it
+ * (jnd_model_diff_rgb8) leave the display nothing to do.
  * Fails as jnd_display_apply does on the display's luminances. */
 jnd_status jnd_display_code_luminances(const jnd_display *d, float lum[256]);
 

@@ -805,7 +805,9 @@ static unsigned char *plain_png(const png_layout *L, uint64_t seed, int first, u
   return file;
 }
 
-/* Both paths decode buf to the same floats, bit for bit, and the same info. */
+/* Both paths decode buf to the same floats, bit for bit, and the same info;
+ * and an 8-bit RGB file kept as its codes (jnd_png_decode_rgb8) has the
+ * codes of those floats (code / 255), any other is refused by it. */
 static int png_paths_agree(const char *name, const unsigned char *buf, size_t n) {
   jnd_image a, b;
   jnd_image_info ia, ib;
@@ -813,6 +815,26 @@ static int png_paths_agree(const char *name, const unsigned char *buf, size_t n)
   int same = sa == JND_OK && sb == JND_OK && same_shape(&a, &b) &&
              memcmp(a.data, b.data, sizeof(float) * a.w * a.h * a.c) == 0 && memcmp(&ia, &ib, sizeof ia) == 0;
   if (!same) fprintf(stderr, "%s: the zlib path (%d) and stb_image (%d) differ: %s\n", name, sa, sb, jnd_last_error());
+  unsigned char *rgb = NULL;
+  int w = -1, h = -1;
+  const int is_rgb8 = sb == JND_OK && b.c == 3 && ib.bits == 8;
+  if (same && jnd_png_is_rgb8(buf, n) != is_rgb8) {
+    fprintf(stderr, "%s: jnd_png_is_rgb8 says %d\n", name, !is_rgb8);
+    same = 0;
+  }
+  jnd_status sc = jnd_png_decode_rgb8(name, buf, n, &rgb, &w, &h);
+  if (same && is_rgb8) {
+    const size_t npx = (size_t)b.w * b.h;
+    size_t bad = sc != JND_OK || w != b.w || h != b.h;
+    for (size_t i = 0; !bad && i < npx * 3; i++)
+      bad += jnd_image_plane(&b, (int)(i % 3))[i / 3] != (float)(rgb[i] * (1.0 / 255));
+    if (bad) fprintf(stderr, "%s: its codes are not its samples (%d)\n", name, sc);
+    same = !bad;
+  } else if (same && (sc != JND_ERR_FORMAT || rgb)) {
+    fprintf(stderr, "%s: kept as codes though not 8-bit RGB\n", name);
+    same = 0;
+  }
+  free(rgb);
   jnd_image_free(&a);
   jnd_image_free(&b);
   return same;
@@ -1245,12 +1267,12 @@ TEST(embedded_texture_has_the_codes_the_png_writer_writes) {
   jnd_image_free(&b);
 }
 
-/* jnd diff decodes an 8-bit RGB PNG straight to the display's luminances
- * (jnd_image_read_mapped with jnd_display_code_luminances): bit for bit
- * what reading it and jnd_display_apply give, on every code and on a
- * display with ambient light; any other PNG (alpha, grey, 16 bits) is read
- * as jnd_image_read reads it and said unmapped. */
-TEST(png_decoded_to_the_display_is_bit_for_bit_the_display_of_the_decoded_png) {
+/* jnd diff keeps an 8-bit RGB PNG as its codes (jnd_image_read_rgb8) and
+ * the model looks each up in jnd_display_code_luminances: bit for bit what
+ * reading it and jnd_display_apply give, on every code and on a display
+ * with ambient light; any other PNG (alpha, grey, 16 bits) is read as
+ * jnd_image_read reads it, with no codes. */
+TEST(png_kept_as_codes_is_bit_for_bit_the_display_of_the_decoded_png) {
   jnd_display d;
   CHECK_OK(jnd_display_preset("phone", &d));
   d.ambient_lux = 250;
@@ -1266,13 +1288,21 @@ TEST(png_decoded_to_the_display_is_bit_for_bit_the_display_of_the_decoded_png) {
         for (int y = 0; y < h; y++)
           for (int x = 0; x < w; x++)
             jnd_image_plane(&im, ch)[(size_t)y * w + x] = (float)((x * (2 * y + 1) + 37 * ch) % 256) / 255.0f;
-      const char *path = tmp_file("mapped.png");
+      const char *path = tmp_file("codes.png");
       CHECK_OK(jnd_image_write_png(path, &im, bits));
       CHECK_OK(jnd_image_read(path, &a, &ia));
-      int mapped = -1;
-      CHECK_OK(jnd_image_read_mapped(path, &b, &ib, lum, &mapped));
-      CHECK(mapped == (c == 3 && bits == 8));
-      if (mapped != 1) CHECK_OK(jnd_display_apply(&d, &b, ib.encoding, ib.has_alpha, &b));
+      unsigned char *rgb = (unsigned char *)"";
+      CHECK_OK(jnd_image_read_rgb8(path, &b, &ib, &rgb));
+      CHECK((rgb != NULL) == (c == 3 && bits == 8));
+      CHECK(b.w == w && b.h == h && memcmp(&ia, &ib, sizeof ia) == 0);
+      if (rgb) { /* the codes through the table into planes, as the model reads them */
+        CHECK(b.data == NULL && b.c == 3);
+        CHECK_OK(jnd_image_alloc(&b, w, h, 3));
+        for (size_t i = 0; i < (size_t)w * h * 3; i++) jnd_image_plane(&b, (int)(i % 3))[i / 3] = lum[rgb[i]];
+        free(rgb);
+      } else {
+        CHECK_OK(jnd_display_apply(&d, &b, ib.encoding, ib.has_alpha, &b));
+      }
       CHECK_OK(jnd_display_apply(&d, &a, ia.encoding, ia.has_alpha, &a));
       size_t same = 0, n = (size_t)w * h * 3;
       CHECK(a.c == 3 && b.c == 3);
@@ -1287,7 +1317,7 @@ TEST(png_decoded_to_the_display_is_bit_for_bit_the_display_of_the_decoded_png) {
   CHECK(jnd_display_code_luminances(&d, lum) != JND_OK);
 }
 
-RUN_TESTS(png_decoded_to_the_display_is_bit_for_bit_the_display_of_the_decoded_png,
+RUN_TESTS(png_kept_as_codes_is_bit_for_bit_the_display_of_the_decoded_png,
           embedded_texture_has_the_codes_the_png_writer_writes, exr_float_round_trips_exactly, exr_half_round_trips_within_half_precision,
           exr_half_write_clamps_to_the_half_range_instead_of_infinity,
           exr_default_names_give_back_the_same_channel_order,

@@ -1614,7 +1614,109 @@ TEST(default_beta_of_3_5_is_what_diff_uses) {
   jnd_model_free(m);
 }
 
-RUN_TESTS(expanded_rows_are_bit_for_bit_the_rows_of_expand, flicker_sensitivity_is_band_pass_at_low_spatial_frequency_and_low_pass_at_high,
+/* jnd_model_diff_rgb8 (8-bit RGB images kept as their codes, level 0
+ * made a row at a time) gives jnd_model_diff_consume's map on planes of
+ * lum[code] bit for bit: a textured pair, a pair with one uniform image
+ * and an identical pair, at 1 and 2 threads, with a fixation point and a
+ * weight map, on a display whose adaptation level is level 0 (the planes
+ * then made first) or level 1 (a uniform image's level 1 read; with the
+ * flicker task, so that its baseband shows it), and with a table in which different codes have one
+ * luminance (an image whose codes differ but whose cones do not is
+ * uniform, as its planes say). */
+static jnd_image planes_of_codes(const unsigned char *rgb, int w, int h, const float lum[256]) {
+  jnd_image im;
+  jnd_image_alloc(&im, w, h, 3);
+  for (size_t i = 0; i < (size_t)w * h; i++)
+    for (int c = 0; c < 3; c++) jnd_image_plane(&im, c)[i] = lum[rgb[3 * i + c]];
+  return im;
+}
+
+static int rgb8_agrees(double ppd, int threads, int gaze, const unsigned char *a, const unsigned char *b, int w, int h,
+                       const float lum[256], const jnd_image *weights, double *peak) {
+  jnd_model_params p;
+  jnd_model_defaults(&p);
+  p.display.ppd = fabs(ppd);
+  /* a negative ppd: the flicker task, whose baseband the side-by-side
+   * task's colour-difference cap does not hide */
+  if (ppd < 0) p.display.task = JND_TASK_FLICKER;
+  p.threads = threads;
+  jnd_model *m = NULL;
+  if (jnd_model_create(&p, &m) != JND_OK) return 0;
+  if (gaze) jnd_model_set_gaze(m, 1, w / 3.0, h / 2.0);
+  jnd_diff_inputs in = {0};
+  in.weights = weights;
+  const size_t n = (size_t)w * h * 3;
+  unsigned char *ca = malloc(n), *cb = malloc(n);
+  memcpy(ca, a, n);
+  memcpy(cb, b, n);
+  jnd_image ra = planes_of_codes(a, w, h, lum), rb = planes_of_codes(b, w, h, lum), m1 = {0}, m2 = {0};
+  /* the codes first: their levels in memory the planes' run has not just
+   * freed (which would hold the same values where one was left unset) */
+  int ok = jnd_model_diff_rgb8(m, ca, cb, w, h, lum, &in, &m2) == JND_OK &&
+           jnd_model_diff_consume(m, &ra, &rb, &in, &m1) == JND_OK && m1.w == m2.w && m1.h == m2.h &&
+           memcmp(m1.data, m2.data, sizeof(float) * (size_t)w * h) == 0;
+  *peak = m1.data ? max_of(&m1) : -1;
+  if (!ok) fprintf(stderr, "rgb8: ppd %g, %d threads, gaze %d: maps differ\n", ppd, threads, gaze);
+  jnd_image_free(&m1);
+  jnd_image_free(&m2);
+  jnd_model_free(m);
+  return ok;
+}
+
+TEST(a_pair_kept_as_codes_gives_the_map_of_their_planes_bit_for_bit) {
+  const int w = 203, h = 77;
+  const size_t n = (size_t)w * h * 3;
+  unsigned char *a = malloc(n), *b = malloc(n), *flat = malloc(n);
+  jnd_rng r;
+  jnd_rng_seed(&r, 41);
+  for (int y = 0; y < h; y++)
+    for (int x = 0; x < w; x++)
+      for (int c = 0; c < 3; c++) {
+        size_t i = ((size_t)y * w + x) * 3 + c;
+        a[i] = (unsigned char)(100 + 60 * sin(0.3 * x + 0.2 * y + c) + (int)(jnd_rng_next(&r) % 9));
+        b[i] = (unsigned char)(a[i] + (x > 90 && x < 130 && y > 20 && y < 50 ? 6 : 0));
+        flat[i] = (unsigned char)(90 + 10 * c);
+      }
+  jnd_display d;
+  CHECK_OK(jnd_display_preset("standard-fhd", &d));
+  float lum[256];
+  CHECK_OK(jnd_display_code_luminances(&d, lum));
+  jnd_image wt;
+  jnd_image_alloc(&wt, w, h, 1);
+  for (int i = 0; i < w * h; i++) wt.data[i] = (float)(i % 7) / 6.0f;
+  double peak;
+  for (int t = 1; t <= 2; t++) {
+    CHECK(rgb8_agrees(38, t, 0, a, b, w, h, lum, NULL, &peak));
+    CHECK(peak > 0.5); /* the change is seen: the maps compared are not zero */
+    CHECK(rgb8_agrees(38, t, 1, a, b, w, h, lum, &wt, &peak));
+    CHECK(rgb8_agrees(38, t, 0, flat, b, w, h, lum, NULL, &peak));
+    CHECK(rgb8_agrees(38, t, 0, b, flat, w, h, lum, NULL, &peak));
+    CHECK(rgb8_agrees(38, t, 0, a, a, w, h, lum, NULL, &peak));
+    CHECK(peak == 0);
+  }
+  /* adaptation at level 0 (ppd under √2), and at level 1 (ppd 2.5), where
+   * a uniform image's level 1 is read */
+  CHECK(rgb8_agrees(1.2, 2, 0, a, b, w, h, lum, NULL, &peak));
+  CHECK(rgb8_agrees(2.5, 2, 0, flat, b, w, h, lum, NULL, &peak));
+  CHECK(rgb8_agrees(-2.5, 1, 0, b, flat, w, h, lum, NULL, &peak));
+  /* codes 90…99 all one luminance: `rough` differs from `flat` in its codes
+   * only, so both are uniform; against `b` each is the uniform side */
+  float coarse[256];
+  for (int v = 0; v < 256; v++) coarse[v] = lum[v < 90 || v > 120 ? v : 90];
+  unsigned char *rough = malloc(n);
+  for (size_t i = 0; i < n; i++) rough[i] = (unsigned char)(flat[i] + (i * 7919 % 11 < 5 ? 3 : 0));
+  CHECK(rgb8_agrees(38, 2, 0, rough, flat, w, h, coarse, NULL, &peak));
+  CHECK(peak == 0);
+  CHECK(rgb8_agrees(38, 2, 0, rough, b, w, h, coarse, NULL, &peak));
+  CHECK(rgb8_agrees(38, 1, 0, b, rough, w, h, coarse, NULL, &peak));
+  jnd_image_free(&wt);
+  free(a);
+  free(b);
+  free(flat);
+  free(rough);
+}
+
+RUN_TESTS(a_pair_kept_as_codes_gives_the_map_of_their_planes_bit_for_bit, expanded_rows_are_bit_for_bit_the_rows_of_expand, flicker_sensitivity_is_band_pass_at_low_spatial_frequency_and_low_pass_at_high,
           flicker_at_half_a_cycle_per_degree_is_best_seen_near_6_hz_as_robson_1966,
           chromatic_flicker_is_flat_at_low_temporal_frequencies_and_fades_above_ten_hertz,
           red_green_sensitivity_falls_faster_with_eccentricity_than_luminance,
