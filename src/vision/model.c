@@ -619,6 +619,22 @@ static const float *expanded_row(const band_ctx *k, row_scratch *r, int a, int c
   return dst;
 }
 
+/* How many rows ahead local summation's column blocks ask for their rows'
+ * cache lines (prefetch_span): a row of a block is 4 lines, its work about
+ * a hundred cycles, a line from memory several hundred (docs/speed.md,
+ * "Ninth pass") */
+#define PREFETCH_ROWS 8
+
+/* asks for the cache lines of n floats at p (for writing: write) */
+static inline void prefetch_span(const float *p, size_t n, int write) {
+  for (size_t i = 0; i < n; i += 16) {
+    if (write)
+      __builtin_prefetch(p + i, 1, 3);
+    else
+      __builtin_prefetch(p + i, 0, 3);
+  }
+}
+
 /* row y of image a's level 0 (L, M, S) from its codes */
 static void rgb8_rows(const diff_state *st, int a, int y, float *const out[3]) {
   const size_t w = (size_t)st->g[a][0].w[0];
@@ -1250,14 +1266,29 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
       if (!a || !suf) continue;
       int x0 = bk * BOX_COLS, cw = w - x0 < BOX_COLS ? w - x0 : BOX_COLS;
       float *b0 = a, *b1 = a + BOX_COLS * hp; /* row stride BOX_COLS */
-      jnd_box_pass(P + x0, w, 0, h, b0, BOX_COLS, -spill1, h + 2 * spill1, cw, r, endw, suf);
+      /* The block's columns of P, of D and of acc are rows w floats apart,
+       * which the hardware's prefetchers do not follow (a stride of pages):
+       * each row's lines are asked for PREFETCH_ROWS rows ahead. P's
+       * block is first gathered into b1 so, the passes' reads then
+       * contiguous: the same values in the same order. */
+      for (int y = 0; y < h; y++) {
+        if (y + PREFETCH_ROWS < h) prefetch_span(P + (size_t)(y + PREFETCH_ROWS) * w + x0, (size_t)cw, 0);
+        memcpy(b1 + (size_t)y * BOX_COLS, P + (size_t)y * w + x0, sizeof(float) * (size_t)cw);
+      }
+      jnd_box_pass(b1, BOX_COLS, 0, h, b0, BOX_COLS, -spill1, h + 2 * spill1, cw, r, endw, suf);
       jnd_box_pass(b0, BOX_COLS, 0, h + 2 * spill1, b1, BOX_COLS, r + 1, h + 2 * spill2, cw, r, endw, suf);
       jnd_box_pass(b1, BOX_COLS, 0, h + 2 * spill2, b0, BOX_COLS, spill2, h, cw, r, endw, suf);
-      for (int y = 0; y < h && d_beta; y++)
-        pool_min_span(b0 + (size_t)y * BOX_COLS, D + (size_t)y * w + x0, (size_t)cw, gain, down);
-      for (int y = 0; y < h && !d_beta; y++)
-        pool_cap_span(b0 + (size_t)y * BOX_COLS, D + (size_t)y * w + x0, acc ? acc + (size_t)y * w + x0 : NULL,
-                      (size_t)cw, gain, down, bound);
+      for (int y = 0; y < h; y++) {
+        if (y + PREFETCH_ROWS < h) {
+          prefetch_span(D + (size_t)(y + PREFETCH_ROWS) * w + x0, (size_t)cw, 1);
+          if (acc) prefetch_span(acc + (size_t)(y + PREFETCH_ROWS) * w + x0, (size_t)cw, 1);
+        }
+        if (d_beta)
+          pool_min_span(b0 + (size_t)y * BOX_COLS, D + (size_t)y * w + x0, (size_t)cw, gain, down);
+        else
+          pool_cap_span(b0 + (size_t)y * BOX_COLS, D + (size_t)y * w + x0, acc ? acc + (size_t)y * w + x0 : NULL,
+                        (size_t)cw, gain, down, bound);
+      }
     }
     free(a);
     free(suf);
