@@ -109,7 +109,7 @@ jnd_status jnd_diff_summarise(const jnd_image *map, double beta, const jnd_pooli
 jnd_status jnd_diff_files(jnd_model *m, jnd_image *ref, const jnd_image_info *ri, jnd_image *test,
                           const jnd_image_info *ti, const jnd_diff_inputs *in, const jnd_pooling *pool,
                           jnd_image *jnd_out, jnd_diff_stats *stats) {
-  unsigned char *none[2] = {NULL, NULL};
+  jnd_model_image *none[2] = {NULL, NULL};
   return diff_files_codes(m, ref, ri, test, ti, none, NULL, in, pool, jnd_out, stats);
 }
 
@@ -126,7 +126,7 @@ static jnd_status codes_to_planes(unsigned char *rgb, const float lum[256], jnd_
 }
 
 jnd_status diff_files_codes(jnd_model *m, jnd_image *ref, const jnd_image_info *ri, jnd_image *test,
-                            const jnd_image_info *ti, unsigned char *rgb[2], const float lum[256],
+                            const jnd_image_info *ti, jnd_model_image *prep[2], const float lum[256],
                             const jnd_diff_inputs *in, const jnd_pooling *pool, jnd_image *jnd_out,
                             jnd_diff_stats *stats) {
   const jnd_model_params *p = jnd_model_get_params(m);
@@ -136,21 +136,20 @@ jnd_status diff_files_codes(jnd_model *m, jnd_image *ref, const jnd_image_info *
     s = jnd_fail(JND_ERR_ARG, "image sizes differ: %d × %d vs %d × %d", ref->w, ref->h, test->w, test->h);
     goto fail;
   }
-  if (rgb[0] && rgb[1]) {
-    const int w = ref->w, h = ref->h;
+  if (prep[0] && prep[1]) {
     memset(ref, 0, sizeof *ref);
     memset(test, 0, sizeof *test);
-    s = jnd_model_diff_rgb8(m, rgb[0], rgb[1], w, h, lum, in, &map);
-    rgb[0] = rgb[1] = NULL;
+    s = jnd_model_diff_images(m, prep[0], prep[1], in, &map);
+    prep[0] = prep[1] = NULL;
     if (s != JND_OK) return s;
   } else {
     jnd_image *img[2] = {ref, test};
     const jnd_image_info *info[2] = {ri, ti};
     for (int a = 0; a < 2; a++) {
       /* codes beside a decoded image: its luminances as planes */
-      if (rgb[a]) {
-        s = codes_to_planes(rgb[a], lum, img[a]);
-        rgb[a] = NULL;
+      if (prep[a]) {
+        s = codes_to_planes(jnd_model_image_codes(prep[a]), lum, img[a]);
+        prep[a] = NULL;
       } else {
         s = jnd_display_apply(&p->display, img[a], info[a]->encoding, info[a]->has_alpha, img[a]);
       }
@@ -169,8 +168,8 @@ jnd_status diff_files_codes(jnd_model *m, jnd_image *ref, const jnd_image_info *
   return JND_OK;
 fail:
   for (int a = 0; a < 2; a++) {
-    free(rgb[a]);
-    rgb[a] = NULL;
+    jnd_model_image_free(prep[a]);
+    prep[a] = NULL;
   }
   jnd_image_free(ref);
   jnd_image_free(test);

@@ -80,6 +80,22 @@ static jnd_status read_map(const char *path, const jnd_image *ref, int motion, j
   return JND_OK;
 }
 
+/* A file read for the model (jnd diff's ref or test): with lum (the
+ * display's luminance of each code), an 8-bit RGB PNG is kept as its codes
+ * and made into its pyramids at once (jnd_model_image_rgb8, on this thread:
+ * the other file is decoding on the other), *prep set and out holding only
+ * its size; any other file is read into out. */
+static jnd_status read_prepared(const jnd_model *model, const char *path, const float *lum, jnd_image *out,
+                                jnd_image_info *info, jnd_model_image **prep) {
+  *prep = NULL;
+  if (!lum) return jnd_image_read(path, out, info);
+  unsigned char *rgb = NULL;
+  jnd_status s = jnd_image_read_rgb8(path, out, info, &rgb);
+  if (s == JND_OK && rgb && (s = jnd_model_image_rgb8(model, rgb, out->w, out->h, lum, 1, prep)) != JND_OK)
+    s = jnd_fail(s, "%s: %s", path, jnd_last_error());
+  return s;
+}
+
 jnd_status jnd_diff_run(const char *ref_path, const char *test_path, const jnd_diff_params *pp, jnd_diff_result **out) {
   *out = NULL;
   if (!ref_path || !test_path) return jnd_fail(JND_ERR_ARG, "diff: needs two images, REF and TEST");
@@ -119,26 +135,21 @@ jnd_status jnd_diff_run(const char *ref_path, const char *test_path, const jnd_d
    * whose luminances are wrong is reported by jnd_display_apply as before */
   float lum[256];
   const int by_code = jnd_display_code_luminances(&mp.display, lum) == JND_OK;
-  unsigned char *rgb[2] = {NULL, NULL};
+  jnd_model_image *prep[2] = {NULL, NULL};
+  if (!s && (s = jnd_model_create(&mp, &model))) s = jnd_fail(s, "diff: %s", jnd_last_error());
   if (!s) {
-    /* the two files decode at the same time */
+    /* the two files decode at the same time, each then made into its
+     * pyramids on its own thread (read_prepared) */
     int ok[2];
     char msg[2][1024] = {"", ""};
-#pragma omp parallel sections num_threads(mp.threads == 1 ? 1 : 2)
-    {
-#pragma omp section
-      {
-        ok[0] = (by_code ? jnd_image_read_rgb8(ref_path, &ref, &ri, &rgb[0]) : jnd_image_read(ref_path, &ref, &ri)) ==
-                JND_OK;
-        /* the message lives on the thread that failed: take it along */
-        if (!ok[0]) snprintf(msg[0], sizeof msg[0], "%s", jnd_last_error());
-      }
-#pragma omp section
-      {
-        ok[1] = (by_code ? jnd_image_read_rgb8(test_path, &test, &ti, &rgb[1]) : jnd_image_read(test_path, &test, &ti)) ==
-                JND_OK;
-        if (!ok[1]) snprintf(msg[1], sizeof msg[1], "%s", jnd_last_error());
-      }
+    const char *paths[2] = {ref_path, test_path};
+    jnd_image *img[2] = {&ref, &test};
+    jnd_image_info *info[2] = {&ri, &ti};
+#pragma omp parallel for num_threads(mp.threads == 1 ? 1 : 2) schedule(static, 1)
+    for (int a = 0; a < 2; a++) {
+      ok[a] = read_prepared(model, paths[a], by_code ? lum : NULL, img[a], info[a], &prep[a]) == JND_OK;
+      /* the message lives on the thread that failed: take it along */
+      if (!ok[a]) snprintf(msg[a], sizeof msg[a], "%s", jnd_last_error());
     }
     if (!ok[0] || !ok[1]) s = jnd_fail(JND_ERR_IO, "%s", msg[ok[0] ? 1 : 0]);
   }
@@ -159,9 +170,8 @@ jnd_status jnd_diff_run(const char *ref_path, const char *test_path, const jnd_d
   if (!s) {
     R->width = ref.w;
     R->height = ref.h;
-    if ((s = jnd_model_create(&mp, &model))) s = jnd_fail(s, "diff: %s", jnd_last_error());
+    s = diff_files_codes(model, &ref, &ri, &test, &ti, prep, lum, &in, &pool, &map, &R->stats);
   }
-  if (!s) s = diff_files_codes(model, &ref, &ri, &test, &ti, rgb, lum, &in, &pool, &map, &R->stats);
   if (!s && p.calibration_path) s = jnd_diff_summarise_calibrated(&map, &cal, &R->stats);
   times[1] = jnd_seconds() - t0 - times[0];
   if (!s && p.map_path) {
@@ -186,8 +196,8 @@ jnd_status jnd_diff_run(const char *ref_path, const char *test_path, const jnd_d
   jnd_model_free(model);
   jnd_image_free(&ref);
   jnd_image_free(&test);
-  free(rgb[0]);
-  free(rgb[1]);
+  jnd_model_image_free(prep[0]);
+  jnd_model_image_free(prep[1]);
   jnd_image_free(&motion);
   jnd_image_free(&weights);
   jnd_image_free(&map);

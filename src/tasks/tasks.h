@@ -10,14 +10,16 @@
 
 /* ---- diff.c: jnd_diff_files on images kept as codes (begin) ---- */
 
-/* jnd_diff_files where image a (0 ref, 1 test) may be kept as its 8-bit
- * RGB codes (jnd_image_read_rgb8): rgb[a] non-NULL, the image holding only
- * its size, the display's luminance of each code lum[code]
- * (jnd_display_code_luminances). Both so: the model reads the codes
- * (jnd_model_diff_rgb8); one: its planes are made from them. rgb's buffers
- * are taken over (freed, the pointers set to NULL), as the images are. */
+/* jnd_diff_files where image a (0 ref, 1 test) may be an 8-bit RGB image
+ * kept as its codes (jnd_image_read_rgb8) whose pyramids are made already
+ * (jnd_model_image_rgb8): prep[a] non-NULL, the image holding only its
+ * size, the display's luminance of each code lum[code]
+ * (jnd_display_code_luminances). Both so: the model compares them
+ * (jnd_model_diff_images); one: its planes are made from its codes. prep's
+ * images are taken over (the pointers set to NULL), as the images are. */
+typedef struct jnd_model_image jnd_model_image; /* vision/vision.h */
 jnd_status diff_files_codes(jnd_model *m, jnd_image *ref, const jnd_image_info *ri, jnd_image *test,
-                            const jnd_image_info *ti, unsigned char *rgb[2], const float lum[256],
+                            const jnd_image_info *ti, jnd_model_image *prep[2], const float lum[256],
                             const jnd_diff_inputs *in, const jnd_pooling *pool, jnd_image *jnd_out,
                             jnd_diff_stats *stats);
 

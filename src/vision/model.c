@@ -319,8 +319,8 @@ typedef struct {
    * codes (rgb8_rows) where REDUCE and the finest band read it, never
    * stored (12 bytes a pixel less) */
   unsigned char *rgb[2];
-  float code_lum[256]; /* the display's luminance of each code */
-  float rgb_lms[9];    /* jnd_rgb_to_lms_weights */
+  float code_lum[2][256]; /* the display's luminance of each code, per image */
+  float rgb_lms[9];       /* jnd_rgb_to_lms_weights */
 } diff_state;
 
 /* Bilinear sampling of the coarse adaptation map at the centres of a level's
@@ -638,7 +638,7 @@ static inline void prefetch_span(const float *p, size_t n, int write) {
 /* row y of image a's level 0 (L, M, S) from its codes */
 static void rgb8_rows(const diff_state *st, int a, int y, float *const out[3]) {
   const size_t w = (size_t)st->g[a][0].w[0];
-  jnd_rgb8_lms_row(st->rgb[a] + (size_t)y * 3 * w, st->code_lum, st->rgb_lms, out, w);
+  jnd_rgb8_lms_row(st->rgb[a] + (size_t)y * 3 * w, st->code_lum[a], st->rgb_lms, out, w);
 }
 
 /* one image's CSF-normalised contrasts on row y: opp[a][A, a, b] */
@@ -1389,13 +1389,13 @@ static void rgb8_rows_of(void *ctx, int y, float *const out[3]) {
 static void rgb8_constant(const diff_state *st, int a, size_t npx, int constant[3], float value[3]) {
   const unsigned char *px = st->rgb[a];
   float one[3], *o[3] = {&one[0], &one[1], &one[2]}, *v[3] = {&value[0], &value[1], &value[2]};
-  jnd_rgb8_lms_row(px, st->code_lum, st->rgb_lms, v, 1);
+  jnd_rgb8_lms_row(px, st->code_lum[a], st->rgb_lms, v, 1);
   int left = 3;
   for (int c = 0; c < 3; c++) constant[c] = 1;
   for (size_t i = 1; i < npx && left; i++) {
     const unsigned char *q = px + 3 * i;
     if (q[0] == px[0] && q[1] == px[1] && q[2] == px[2]) continue;
-    jnd_rgb8_lms_row(q, st->code_lum, st->rgb_lms, o, 1);
+    jnd_rgb8_lms_row(q, st->code_lum[a], st->rgb_lms, o, 1);
     for (int c = 0; c < 3; c++)
       if (constant[c] && one[c] != value[c]) {
         constant[c] = 0;
@@ -1404,47 +1404,50 @@ static void rgb8_constant(const diff_state *st, int a, size_t npx, int constant[
   }
 }
 
-/* Gaussian pyramids of both images' L, M, S planes (lms[a] is taken over:
- * plane 0 of channel L owns it, freed here on failure; an image kept as
- * codes, st->rgb[a], has lms[a] NULL), and whether each image is uniform (a
+/* Gaussian pyramids of image a's L, M, S planes (lms is taken over: plane
+ * 0 of channel L owns it, freed here on failure; an image kept as codes,
+ * st->rgb[a], has lms NULL), and whether the image is uniform (a
  * psychophysical background needs no contrast bands). */
-static jnd_status gaussian_pyramids(diff_state *st, float *lms[2], int w, int h, int levels, int threads) {
+static jnd_status image_pyramids(diff_state *st, int a, float *lms, int w, int h, int levels, int threads) {
   jnd_status s = JND_OK;
   size_t npx = (size_t)w * h;
-  for (int a = 0; a < 2 && s == JND_OK; a++) {
-    if (st->rgb[a]) {
-      int constant[3];
-      float value[3];
-      rgb8_constant(st, a, npx, constant, value);
-      rgb8_src src = {st, a};
-      s = jnd_gauss_build3_rows(st->g[a], rgb8_rows_of, &src, w, h, levels, constant, value, threads);
-      st->uniform[a] = constant[0] && constant[1] && constant[2];
-      continue;
-    }
-    for (int c = 0; c < 3 && s == JND_OK; c++) {
-      s = jnd_gauss_build(&st->g[a][c], lms[a] + (size_t)c * npx, w, h, levels, threads);
-      if (s == JND_OK && c == 0) st->g[a][c].own0 = 1; /* plane 0 of channel L owns the buffer */
-    }
-  }
-  if (s != JND_OK) {
-    for (int a = 0; a < 2; a++)
-      if (!st->g[a][0].own0) free(lms[a]);
+  if (st->rgb[a]) {
+    int constant[3];
+    float value[3];
+    rgb8_constant(st, a, npx, constant, value);
+    rgb8_src src = {st, a};
+    s = jnd_gauss_build3_rows(st->g[a], rgb8_rows_of, &src, w, h, levels, constant, value, threads);
+    st->uniform[a] = constant[0] && constant[1] && constant[2];
     return s;
   }
-  /* a uniform image (a psychophysical background) needs no contrast bands */
-  for (int a = 0; a < 2; a++) {
-    if (st->rgb[a]) continue;
-    st->uniform[a] = 1;
-    for (int c = 0; c < 3 && st->uniform[a]; c++) {
-      const float *p = lms[a] + (size_t)c * npx;
-      for (size_t i = 1; i < npx; i++)
-        if (p[i] != p[0]) {
-          st->uniform[a] = 0;
-          break;
-        }
-    }
+  for (int c = 0; c < 3 && s == JND_OK; c++) {
+    s = jnd_gauss_build(&st->g[a][c], lms + (size_t)c * npx, w, h, levels, threads);
+    if (s == JND_OK && c == 0) st->g[a][c].own0 = 1; /* plane 0 of channel L owns the buffer */
+  }
+  if (s != JND_OK) {
+    if (!st->g[a][0].own0) free(lms);
+    return s;
+  }
+  st->uniform[a] = 1;
+  for (int c = 0; c < 3 && st->uniform[a]; c++) {
+    const float *p = lms + (size_t)c * npx;
+    for (size_t i = 1; i < npx; i++)
+      if (p[i] != p[0]) {
+        st->uniform[a] = 0;
+        break;
+      }
   }
   return JND_OK;
+}
+
+/* both images' (image_pyramids); lms[a] taken over */
+static jnd_status gaussian_pyramids(diff_state *st, float *lms[2], int w, int h, int levels, int threads) {
+  jnd_status s = image_pyramids(st, 0, lms[0], w, h, levels, threads);
+  if (s != JND_OK) {
+    if (!st->rgb[1]) free(lms[1]);
+    return s;
+  }
+  return image_pyramids(st, 1, lms[1], w, h, levels, threads);
 }
 
 /* The adaptation luminance of the CSF: Y at the level where a pixel is
@@ -1615,36 +1618,23 @@ static int gauss_level_count(const jnd_model *m) {
   return levels;
 }
 
-/* The model on two LMS images (planar, 3 channels) whose buffers it takes
- * over; an image given as codes instead (rgb[a], taken over; lms[a] NULL)
- * has its level 0 made from them where it is read (diff_state.rgb). */
-static jnd_status diff_lms(jnd_model *m, float *lms[2], unsigned char *rgb[2], const float *code_lum, int w, int h,
-                           const jnd_diff_inputs *in, jnd_image *jnd_out) {
-  diff_state st;
-  memset(&st, 0, sizeof st);
+/* The model from the images' pyramids on (st, taken over) to the map */
+static jnd_status diff_levels(jnd_model *m, diff_state *st, int w, int h, const jnd_diff_inputs *in,
+                              jnd_image *jnd_out) {
   const int threads = jnd_threads(m->p.threads);
   const int nb = m->nbands;
-  const int levels = gauss_level_count(m);
-  size_t npx = (size_t)w * h;
-  if (rgb && (rgb[0] || rgb[1])) {
-    st.rgb[0] = rgb[0];
-    st.rgb[1] = rgb[1];
-    memcpy(st.code_lum, code_lum, sizeof st.code_lum);
-    jnd_rgb_to_lms_weights(st.rgb_lms);
-  }
   float *Dlev[MAX_BANDS] = {0};
-  jnd_status s = gaussian_pyramids(&st, lms, w, h, levels, threads);
-  if (s == JND_OK) s = adaptation_luminance(m, &st, levels);
-  if (s == JND_OK) s = csf_velocity(m, &st, in, w, h, threads);
-  if (s == JND_OK) s = band_differences(m, &st, Dlev, threads);
-  state_free(&st);
+  jnd_status s = adaptation_luminance(m, st, gauss_level_count(m));
+  if (s == JND_OK) s = csf_velocity(m, st, in, w, h, threads);
+  if (s == JND_OK) s = band_differences(m, st, Dlev, threads);
+  state_free(st);
   int powed = 0;
   if (s == JND_OK) s = collapse_bands(Dlev, nb, w, h, map_power(m), &powed, threads);
   if (s != JND_OK) {
     for (int b = 0; b < MAX_BANDS; b++) free(Dlev[b]);
     return s;
   }
-  jnd_map_of(m, in, Dlev[0], npx, powed, threads);
+  jnd_map_of(m, in, Dlev[0], (size_t)w * h, powed, threads);
   jnd_image out = {0};
   out.w = w;
   out.h = h;
@@ -1652,6 +1642,20 @@ static jnd_status diff_lms(jnd_model *m, float *lms[2], unsigned char *rgb[2], c
   out.data = Dlev[0];
   *jnd_out = out;
   return JND_OK;
+}
+
+/* The model on two LMS images (planar, 3 channels) whose buffers it takes
+ * over. */
+static jnd_status diff_lms(jnd_model *m, float *lms[2], int w, int h, const jnd_diff_inputs *in,
+                           jnd_image *jnd_out) {
+  diff_state st;
+  memset(&st, 0, sizeof st);
+  jnd_status s = gaussian_pyramids(&st, lms, w, h, gauss_level_count(m), jnd_threads(m->p.threads));
+  if (s != JND_OK) {
+    state_free(&st);
+    return s;
+  }
+  return diff_levels(m, &st, w, h, in, jnd_out);
 }
 
 static jnd_status check_pair(const jnd_image *a, const jnd_image *b, const jnd_diff_inputs *in) {
@@ -1693,7 +1697,7 @@ static jnd_status diff_copy(jnd_model *m, const jnd_image *ref, const jnd_image 
   to_lms(&c[0], is_xyz);
   to_lms(&c[1], is_xyz);
   float *lms[2] = {c[0].data, c[1].data};
-  return diff_lms(m, lms, NULL, NULL, ref->w, ref->h, in, jnd_out);
+  return diff_lms(m, lms, ref->w, ref->h, in, jnd_out);
 }
 
 jnd_status jnd_model_diff(jnd_model *m, const jnd_image *ref, const jnd_image *test, const jnd_diff_inputs *in,
@@ -1721,43 +1725,120 @@ jnd_status jnd_model_diff_consume(jnd_model *m, jnd_image *ref, jnd_image *test,
   int w = ref->w, h = ref->h;
   memset(ref, 0, sizeof *ref);
   memset(test, 0, sizeof *test);
-  return diff_lms(m, lms, NULL, NULL, w, h, in, jnd_out);
+  return diff_lms(m, lms, w, h, in, jnd_out);
+}
+
+/* One image of a pair, its pyramids made on its own (jnd_model_image_rgb8):
+ * a diff_state's half */
+struct jnd_model_image {
+  jnd_gauss g[3];
+  unsigned char *rgb; /* its codes: level 0 is made from them, or g[0] owns its LMS planes (made
+                         from them where level 0 is read whole) */
+  float code_lum[256];
+  int uniform;
+  int w, h;
+};
+
+void jnd_model_image_free(jnd_model_image *im) {
+  if (!im) return;
+  for (int c = 0; c < 3; c++) jnd_gauss_free(&im->g[c]);
+  free(im->rgb);
+  free(im);
+}
+
+unsigned char *jnd_model_image_codes(jnd_model_image *im) {
+  unsigned char *rgb = im->rgb;
+  im->rgb = NULL;
+  jnd_model_image_free(im);
+  return rgb;
+}
+
+jnd_status jnd_model_image_rgb8(const jnd_model *m, unsigned char *rgb, int w, int h, const float lum[256],
+                                int threads, jnd_model_image **out) {
+  *out = NULL;
+  jnd_status s = jnd_check_size(w, h, 3, "model");
+  jnd_model_image *im = s == JND_OK ? calloc(1, sizeof *im) : NULL;
+  if (!im) {
+    free(rgb);
+    return s != JND_OK ? s : jnd_fail(JND_ERR_NOMEM, "model: out of memory");
+  }
+  diff_state st;
+  memset(&st, 0, sizeof st);
+  jnd_rgb_to_lms_weights(st.rgb_lms);
+  const int levels = gauss_level_count(m);
+  const int alev = m->adapt_level < levels ? m->adapt_level : levels - 1;
+  float *lms = NULL;
+  if (m->nbands < 1 || alev < 1) {
+    /* level 0 is then read whole (as the adaptation level, or the
+     * baseband's): the image as planes, made from the codes */
+    const size_t npx = (size_t)w * h;
+    lms = jnd_alloc(npx * 3, sizeof(float));
+    for (int y = 0; y < h && lms; y++) {
+      float *row[3] = {lms + (size_t)y * w, lms + npx + (size_t)y * w, lms + 2 * npx + (size_t)y * w};
+      jnd_rgb8_lms_row(rgb + (size_t)y * 3 * w, lum, st.rgb_lms, row, (size_t)w);
+    }
+    if (!lms) {
+      free(rgb);
+      free(im);
+      return JND_ERR_NOMEM;
+    }
+  } else {
+    st.rgb[0] = rgb;
+    memcpy(st.code_lum[0], lum, sizeof st.code_lum[0]);
+  }
+  s = image_pyramids(&st, 0, lms, w, h, levels, threads);
+  memcpy(im->g, st.g[0], sizeof im->g);
+  /* kept with the planes too, for jnd_model_image_codes (the planes are read) */
+  im->rgb = rgb;
+  memcpy(im->code_lum, st.code_lum[0], sizeof im->code_lum);
+  im->uniform = st.uniform[0];
+  im->w = w;
+  im->h = h;
+  if (s != JND_OK) {
+    jnd_model_image_free(im);
+    return s;
+  }
+  *out = im;
+  return JND_OK;
+}
+
+jnd_status jnd_model_diff_images(jnd_model *m, jnd_model_image *ref, jnd_model_image *test,
+                                 const jnd_diff_inputs *in, jnd_image *jnd_out) {
+  memset(jnd_out, 0, sizeof *jnd_out);
+  const jnd_image a = {ref->w, ref->h, 3, NULL}, b = {test->w, test->h, 3, NULL};
+  jnd_status s = check_pair(&a, &b, in);
+  if (s != JND_OK) {
+    jnd_model_image_free(ref);
+    jnd_model_image_free(test);
+    return s;
+  }
+  diff_state st;
+  memset(&st, 0, sizeof st);
+  jnd_rgb_to_lms_weights(st.rgb_lms);
+  jnd_model_image *im[2] = {ref, test};
+  for (int i = 0; i < 2; i++) {
+    memcpy(st.g[i], im[i]->g, sizeof st.g[i]);
+    st.rgb[i] = im[i]->rgb; /* (with planes too: unread, freed with them) */
+    memcpy(st.code_lum[i], im[i]->code_lum, sizeof st.code_lum[i]);
+    st.uniform[i] = im[i]->uniform;
+    free(im[i]); /* its contents now st's */
+  }
+  return diff_levels(m, &st, a.w, a.h, in, jnd_out);
 }
 
 jnd_status jnd_model_diff_rgb8(jnd_model *m, unsigned char *ref, unsigned char *test, int w, int h,
                                const float lum[256], const jnd_diff_inputs *in, jnd_image *jnd_out) {
   memset(jnd_out, 0, sizeof *jnd_out);
-  unsigned char *rgb[2] = {ref, test};
-  const jnd_image a = {w, h, 3, NULL};
-  jnd_status s = check_pair(&a, &a, in);
-  const int levels = gauss_level_count(m);
-  const int alev = m->adapt_level < levels ? m->adapt_level : levels - 1;
-  if (s == JND_OK && (m->nbands < 1 || alev < 1)) {
-    /* level 0 is then read whole (as the adaptation level, or the
-     * baseband's): the images as planes, made from the codes */
-    const size_t npx = (size_t)w * h;
-    float *lms[2] = {jnd_alloc(npx * 3, sizeof(float)), jnd_alloc(npx * 3, sizeof(float))};
-    float lw[9];
-    jnd_rgb_to_lms_weights(lw);
-    for (int i = 0; i < 2; i++)
-      for (int y = 0; y < h && lms[i]; y++) {
-        float *row[3] = {lms[i] + (size_t)y * w, lms[i] + npx + (size_t)y * w, lms[i] + 2 * npx + (size_t)y * w};
-        jnd_rgb8_lms_row(rgb[i] + (size_t)y * 3 * w, lum, lw, row, (size_t)w);
-      }
-    free(ref);
-    free(test);
-    if (!lms[0] || !lms[1]) {
-      free(lms[0]);
-      free(lms[1]);
-      return JND_ERR_NOMEM;
-    }
-    return diff_lms(m, lms, NULL, NULL, w, h, in, jnd_out);
-  }
+  const int threads = jnd_threads(m->p.threads);
+  jnd_model_image *a = NULL, *b = NULL;
+  jnd_status s = jnd_model_image_rgb8(m, ref, w, h, lum, threads, &a);
   if (s != JND_OK) {
-    free(ref);
     free(test);
     return s;
   }
-  float *none[2] = {NULL, NULL};
-  return diff_lms(m, none, rgb, lum, w, h, in, jnd_out);
+  if ((s = jnd_model_image_rgb8(m, test, w, h, lum, threads, &b)) != JND_OK) {
+    jnd_model_image_free(a);
+    return s;
+  }
+  return jnd_model_diff_images(m, a, b, in, jnd_out);
 }

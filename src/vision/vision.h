@@ -34,6 +34,20 @@ void jnd_rgb8_lms_row(const unsigned char *px, const float value[256], const flo
  * display of under about 2 pixels a degree) the planes are made first. */
 jnd_status jnd_model_diff_rgb8(jnd_model *m, unsigned char *ref, unsigned char *test, int w, int h,
                                const float lum[256], const jnd_diff_inputs *in, jnd_image *jnd_out);
+/* jnd_model_diff_rgb8 in two steps, so that each image's pyramids can be
+ * made as soon as it is decoded, beside the other's decoding (jnd diff: a
+ * thread a file): jnd_model_image_rgb8 takes an image's codes over and
+ * makes its pyramids (with `threads` threads; 1 inside a parallel
+ * section), jnd_model_diff_images takes two such images over and compares
+ * them — the same map, bit for bit. */
+typedef struct jnd_model_image jnd_model_image;
+jnd_status jnd_model_image_rgb8(const jnd_model *m, unsigned char *rgb, int w, int h, const float lum[256],
+                                int threads, jnd_model_image **out);
+jnd_status jnd_model_diff_images(jnd_model *m, jnd_model_image *ref, jnd_model_image *test,
+                                 const jnd_diff_inputs *in, jnd_image *jnd_out);
+/* an image's codes back (the image freed): for a pair whose other image is not 8-bit RGB */
+unsigned char *jnd_model_image_codes(jnd_model_image *im);
+void jnd_model_image_free(jnd_model_image *im);
 /* luminance Y from HPE LMS (the second row of the inverse matrix) */
 void jnd_lms_luminance_weights(double w[3]);
 /* one colour from HPE LMS back to CIE XYZ (the inverse of the matrix above) */
