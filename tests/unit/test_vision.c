@@ -1716,7 +1716,44 @@ TEST(a_pair_kept_as_codes_gives_the_map_of_their_planes_bit_for_bit) {
   free(rough);
 }
 
-RUN_TESTS(a_pair_kept_as_codes_gives_the_map_of_their_planes_bit_for_bit, expanded_rows_are_bit_for_bit_the_rows_of_expand, flicker_sensitivity_is_band_pass_at_low_spatial_frequency_and_low_pass_at_high,
+/* jnd_rgb8_lms_row (table look-ups in a vectorised loop, then the RGB→LMS
+ * weights) is the plain look-up and the sums in jnd_rgb_to_lms's order, for
+ * every code in every channel and row lengths 1–69 (on either side of any
+ * vector's width and its remainders) and longer */
+TEST(codes_to_cones_is_the_table_and_the_weights_for_every_code_and_length) {
+  float value[256], a[9];
+  for (int v = 0; v < 256; v++) value[v] = 0.2f + (float)v * (float)v * 0.003f + (float)(v % 7) * 1e-3f;
+  jnd_rgb_to_lms_weights(a);
+  enum { MAXW = 300 };
+  unsigned char px[3 * MAXW];
+  float l[MAXW], m[MAXW], sc[MAXW];
+  size_t bad = 0, n = 0;
+  for (int w = 1; w <= MAXW; w += w < 70 ? 1 : 23)
+    for (int shift = 0; shift < 256; shift += 37) {
+      for (int i = 0; i < 3 * w; i++) px[i] = (unsigned char)((i * 89 + shift + i / 3) & 255);
+      float *out[3] = {l, m, sc};
+      jnd_rgb8_lms_row(px, value, a, out, (size_t)w);
+      for (int x = 0; x < w; x++) {
+        const float r = value[px[3 * x]], g = value[px[3 * x + 1]], b = value[px[3 * x + 2]];
+        bad += l[x] != a[0] * r + a[1] * g + a[2] * b;
+        bad += m[x] != a[3] * r + a[4] * g + a[5] * b;
+        bad += sc[x] != a[6] * r + a[7] * g + a[8] * b;
+        n += 3;
+      }
+    }
+  /* every code was seen in every channel */
+  int seen[3][256] = {{0}};
+  for (int shift = 0; shift < 256; shift += 37)
+    for (int i = 0; i < 3 * MAXW; i++) seen[i % 3][(i * 89 + shift + i / 3) & 255] = 1;
+  int all = 1;
+  for (int c = 0; c < 3; c++)
+    for (int v = 0; v < 256; v++) all &= seen[c][v];
+  CHECK(all);
+  fprintf(stderr, "codes to cones: %zu of %zu differ\n", bad, n);
+  CHECK(n > 90000 && bad == 0);
+}
+
+RUN_TESTS(codes_to_cones_is_the_table_and_the_weights_for_every_code_and_length, a_pair_kept_as_codes_gives_the_map_of_their_planes_bit_for_bit, expanded_rows_are_bit_for_bit_the_rows_of_expand, flicker_sensitivity_is_band_pass_at_low_spatial_frequency_and_low_pass_at_high,
           flicker_at_half_a_cycle_per_degree_is_best_seen_near_6_hz_as_robson_1966,
           chromatic_flicker_is_flat_at_low_temporal_frequencies_and_fades_above_ten_hertz,
           red_green_sensitivity_falls_faster_with_eccentricity_than_luminance,
