@@ -230,17 +230,23 @@ jnd_status jnd_decode_png_stb(const char *name, const unsigned char *buf, size_t
   return s != JND_OK ? s : png_decode_stb(name, buf, n, out, info);
 }
 
+/* a PNG that jnd_png_validate has passed */
+static jnd_status decode_valid_png(const char *name, const unsigned char *buf, size_t n, jnd_image *out,
+                                   jnd_image_info *info) {
+  /* zlib's inflate where it can: a 1920 × 1080 RGB file in 39 ms instead of 62 */
+  if (!jnd_png_plain(buf, n)) return png_decode_stb(name, buf, n, out, info);
+  int bits;
+  jnd_status s;
+  if ((s = jnd_png_decode(name, buf, n, out, &bits)) != JND_OK) return s;
+  png_info(info, bits, out->c);
+  return JND_OK;
+}
+
 static jnd_status decode_png(const char *name, const unsigned char *buf, size_t n, jnd_image *out,
                              jnd_image_info *info) {
   memset(out, 0, sizeof *out);
   jnd_status s = jnd_png_validate(name, buf, n);
-  if (s != JND_OK) return s;
-  /* zlib's inflate where it can: a 1920 × 1080 RGB file in 39 ms instead of 62 */
-  if (!jnd_png_plain(buf, n)) return png_decode_stb(name, buf, n, out, info);
-  int bits;
-  if ((s = jnd_png_decode(name, buf, n, out, &bits)) != JND_OK) return s;
-  png_info(info, bits, out->c);
-  return JND_OK;
+  return s != JND_OK ? s : decode_valid_png(name, buf, n, out, info);
 }
 
 jnd_status jnd_decode_png(const char *name, const unsigned char *buf, size_t n, jnd_image *out,
@@ -310,7 +316,9 @@ static jnd_status image_read(const char *path, jnd_image *out, jnd_image_info *i
   if (n == 0) {
     s = jnd_fail(JND_ERR_FORMAT, "%s: empty file", path);
   } else if (n >= 8 && memcmp(buf, png_sig, 8) == 0) {
-    if (rgb && (s = jnd_png_validate(path, buf, n)) == JND_OK && jnd_png_is_rgb8(buf, n)) {
+    /* validated once, whichever decoder then reads it */
+    s = jnd_png_validate(path, buf, n);
+    if (s == JND_OK && rgb && jnd_png_is_rgb8(buf, n)) {
       int w, h;
       if ((s = jnd_png_decode_rgb8(path, buf, n, rgb, &w, &h)) == JND_OK) {
         out->w = w;
@@ -319,7 +327,7 @@ static jnd_status image_read(const char *path, jnd_image *out, jnd_image_info *i
         png_info(info, 8, 3);
       }
     } else if (s == JND_OK) {
-      s = decode_png(path, buf, n, out, info);
+      s = decode_valid_png(path, buf, n, out, info);
     }
   } else if (n >= 3 && buf[0] == 0xFF && buf[1] == 0xD8 && buf[2] == 0xFF) {
     s = jnd_decode_jpeg(path, buf, n, out, info);

@@ -347,7 +347,7 @@ JND_HOT_AVX2 static void png_rgb_to_planes(const float *restrict to_float, const
 static void png_row_to_planes(const png_decoder *d, const unsigned char *row, size_t y, jnd_image *out) {
   size_t w = (size_t)out->w, c = (size_t)out->c;
   if (d->codes) {
-    memmove(d->codes + y * d->row, row, d->row);
+    memcpy(d->codes + y * d->row, row, d->row); /* row: the bank's, never the codes' */
     return;
   }
   if (d->depth == 8) {

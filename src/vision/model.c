@@ -1440,11 +1440,11 @@ static jnd_status image_pyramids(diff_state *st, int a, float *lms, int w, int h
   return JND_OK;
 }
 
-/* both images' (image_pyramids); lms[a] taken over */
+/* both images' planes' (image_pyramids); lms[a] taken over */
 static jnd_status gaussian_pyramids(diff_state *st, float *lms[2], int w, int h, int levels, int threads) {
   jnd_status s = image_pyramids(st, 0, lms[0], w, h, levels, threads);
   if (s != JND_OK) {
-    if (!st->rgb[1]) free(lms[1]);
+    free(lms[1]);
     return s;
   }
   return image_pyramids(st, 1, lms[1], w, h, levels, threads);

@@ -122,6 +122,32 @@ cp "$T/ex/reference.png" "$T/crc.png"
 printf '\x00' | dd of="$T/crc.png" bs=1 seek=200 conv=notrunc 2>/dev/null
 expect_exit 2 png_with_bad_crc_exits_two "$JND" diff "$T/crc.png" "$T/ex/test.png"
 check bad_crc_is_named grep -q "CRC" "$T/err.txt"
+# valid chunks and CRCs around a corrupt deflate stream: an 8-bit RGB file,
+# read as codes (jnd_png_decode_rgb8) — and a 16-bit one beside it, read as
+# planes — is refused in one line naming it, with nothing written
+python3 -B - "$T" <<'PY3'
+import struct, sys, zlib
+t = sys.argv[1]
+def png(path, bits):
+    w, h = 64, 48
+    raw = b"".join(b"\0" + bytes((x * 3 + y) & 255 for x in range(w * 3 * bits // 8)) for y in range(h))
+    z = bytearray(zlib.compress(raw))
+    for i in range(10, len(z) - 8, 7):
+        z[i] ^= 0x5A
+    def chunk(k, d):
+        return struct.pack(">I", len(d)) + k + d + struct.pack(">I", zlib.crc32(k + d) & 0xFFFFFFFF)
+    open(path, "wb").write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, bits, 2, 0, 0, 0))
+                          + chunk(b"IDAT", bytes(z)) + chunk(b"IEND", b""))
+png(t + "/baddata8.png", 8)
+png(t + "/baddata16.png", 16)
+PY3
+"$JND" example -o "$T/s64" --size 64x48 2>/dev/null
+for bits in 8 16; do
+  expect_exit 2 "corrupt_${bits}_bit_deflate_exits_two" "$JND" diff "$T/baddata$bits.png" "$T/s64/test.png" --json "$T/bd$bits.json"
+  check "corrupt_${bits}_bit_deflate_error_is_one_line" one_line_error
+  check "corrupt_${bits}_bit_deflate_names_the_file" grep -q "baddata$bits.png: corrupt PNG" "$T/err.txt"
+  check "no_report_after_corrupt_${bits}_bit_deflate" test ! -e "$T/bd$bits.json"
+done
 : >"$T/empty.png"
 expect_exit 2 empty_file_exits_two "$JND" diff "$T/empty.png" "$T/ex/test.png"
 "$JND" example -o "$T/small" --size 128x96 2>/dev/null
