@@ -114,27 +114,41 @@ static void coverage_rule(const jnd_scene *s, const jnd_poi_screen *ref, int nsc
  * The screens are independent, and one screen's judging keeps about one core
  * busy on a CPU rasteriser: a small window's rendering is mostly the
  * triangles' setup on the calling thread, and the model runs one thread
- * beside the rasteriser's. So `threads` workers (0: the cores) take the
- * screens w, w + W, w + 2W, ..., each with a twin of the scene (its own level
- * shown; jnd_scene_twin) and a renderer of its own, which every judge of its
- * screens borrows and sizes to its window. A screen's result depends on the
- * screen alone, so the report is the same for every thread count; an error
- * is the first failing screen's, in screen order. */
+ * beside the rasteriser's. So `threads` workers (0: the cores), each with a
+ * twin of the scene (its own level shown; jnd_scene_twin) and a renderer of
+ * its own, which every judge of its screens borrows and sizes to its
+ * window, take the screens in order as they become free: the screens' costs
+ * differ by a third (teapot_100k: 92 to 127 renderings), and handed out w,
+ * w + W, ... in advance one worker idled while the other finished its
+ * second screen (docs/speed.md, item 4). A screen's result depends on the
+ * screen alone, so the report is the same for every thread count and every
+ * order of taking; an error is the first failing screen's, in screen
+ * order. */
 typedef struct {
-  jnd_scene *scene;                  /* the run's (worker 0) or a twin */
+  jnd_scene *scene;                  /* the run's (worker 0 without work beside) or a twin */
+  const jnd_poi_screen *screens;     /* n */
+  int n;
   const jnd_lod_switch_params *sp;
   const jnd_lod_run_params *p;
   jnd_lod_result *out;
-  int first, step;
+  int *next;                         /* the next screen to take (under lock) */
   jnd_status *status;                /* per screen */
   char (*error)[512];                /* per screen: its message */
-  pthread_mutex_t *lock;             /* the progress callback and its count */
+  pthread_mutex_t *lock;             /* next, held, the progress callback and its count */
   int *done;
+  int *held;                         /* nonzero while the work beside reports its own progress */
 } screen_worker;
+
+/* the next screen no worker has taken, or n when none is left */
+static int take_screen(screen_worker *w) {
+  pthread_mutex_lock(w->lock);
+  int i = *w->next < w->n ? (*w->next)++ : w->n;
+  pthread_mutex_unlock(w->lock);
+  return i;
+}
 
 static void *judge_screen_worker(void *arg) {
   screen_worker *w = arg;
-  int n = w->out->poi.nscreens;
   jnd_lod_switch_params sp = *w->sp;
   jnd_renderer *r = NULL;
   jnd_status st = JND_OK;
@@ -142,8 +156,8 @@ static void *judge_screen_worker(void *arg) {
     /* each judge sizes it */
     if (!(st = judge_renderer(&sp.judge.views.render, 64, &r))) sp.judge.renderer = r;
   }
-  for (int i = w->first; i < n; i += w->step) {
-    if (!st) st = jnd_lod_switch_analyse(w->scene, &w->out->poi.screens[i].screen, &sp, &w->out->sw[i]);
+  for (int i; (i = take_screen(w)) < w->n;) {
+    if (!st) st = jnd_lod_switch_analyse(w->scene, &w->screens[i], &sp, &w->out->sw[i]);
     w->status[i] = st;
     if (st) {
       snprintf(w->error[i], sizeof w->error[i], "%s", jnd_last_error());
@@ -151,16 +165,26 @@ static void *judge_screen_worker(void *arg) {
     }
     pthread_mutex_lock(w->lock);
     ++*w->done;
-    if (w->p->progress) w->p->progress(w->p->progress_user, "perceptual choice", *w->done, n);
+    if (w->p->progress && !*w->held) w->p->progress(w->p->progress_user, "perceptual choice", *w->done, w->n);
     pthread_mutex_unlock(w->lock);
   }
   jnd_renderer_free(r);
   return NULL;
 }
 
-static jnd_status judge_screens(jnd_scene *s, const jnd_lod_switch_params *sp, const jnd_lod_run_params *p,
-                                jnd_lod_result *out) {
-  int n = out->poi.nscreens;
+/* Work the calling thread does while the screens are judged (003's
+ * analysis): run with its own progress, the screens' held back until it
+ * returns. */
+typedef struct {
+  jnd_status (*run)(void *user);
+  void *user;
+} screens_beside;
+
+/* The screens judged by the workers; with beside, every worker on a twin
+ * and a thread of its own while this thread runs beside->run, whose status,
+ * if an error, is the one returned (it comes first in the run's order). */
+static jnd_status judge_screens(jnd_scene *s, const jnd_poi_screen *screens, int n, const jnd_lod_switch_params *sp,
+                                const jnd_lod_run_params *p, jnd_lod_result *out, const screens_beside *beside) {
   int nw = jnd_threads(p->threads);
   if (nw > n) nw = n;
   if (nw > LOD_MAX_SCREENS) nw = LOD_MAX_SCREENS;
@@ -170,32 +194,58 @@ static jnd_status judge_screens(jnd_scene *s, const jnd_lod_switch_params *sp, c
   char error[LOD_MAX_SCREENS][512];
   screen_worker w[LOD_MAX_SCREENS];
   pthread_t tid[LOD_MAX_SCREENS];
-  int started[LOD_MAX_SCREENS] = {0}, done = 0;
+  int started[LOD_MAX_SCREENS] = {0}, done = 0, next = 0, held = beside != NULL;
   pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
   if (n > LOD_MAX_SCREENS) return jnd_fail(JND_ERR_ARG, "lod: %d screens (at most %d)", n, LOD_MAX_SCREENS);
   for (int i = 0; i < n; i++) status[i] = JND_OK, error[i][0] = 0;
-  if (p->progress) p->progress(p->progress_user, "perceptual choice", 0, n);
+  if (p->progress && !held) p->progress(p->progress_user, "perceptual choice", 0, n);
   jnd_status st = JND_OK;
   memset(w, 0, sizeof w);
+  /* without work beside, worker 0 is this thread, on the run's scene */
+  const int first = beside ? 0 : 1;
   for (int k = 0; k < nw; k++) {
-    w[k] = (screen_worker){k == 0 ? s : jnd_scene_twin(s), sp, p, out, k, nw, status, error, &lock, &done};
+    w[k] = (screen_worker){k < first ? s : jnd_scene_twin(s), screens, n, sp, p, out, &next, status, error, &lock,
+                           &done, &held};
     if (!w[k].scene) {
       st = jnd_fail(JND_ERR_NOMEM, "lod: out of memory");
       break;
     }
-    if (k > 0 && pthread_create(&tid[k], NULL, judge_screen_worker, &w[k]) == 0) started[k] = 1;
+    if (k >= first && pthread_create(&tid[k], NULL, judge_screen_worker, &w[k]) == 0) started[k] = 1;
   }
-  if (!st) judge_screen_worker(&w[0]);
-  for (int k = 1; k < nw; k++) {
+  jnd_status bst = JND_OK;
+  char berr[512] = "";
+  if (beside) {
+    if ((bst = beside->run(beside->user))) snprintf(berr, sizeof berr, "%s", jnd_last_error());
+    pthread_mutex_lock(&lock);
+    held = 0;
+    if (p->progress && !bst) p->progress(p->progress_user, "perceptual choice", done, n);
+    pthread_mutex_unlock(&lock);
+  } else if (!st) {
+    judge_screen_worker(&w[0]);
+  }
+  for (int k = first; k < nw; k++) {
     if (started[k]) pthread_join(tid[k], NULL);
     else if (!st && w[k].scene) judge_screen_worker(&w[k]);   /* no thread: on this one */
     if (w[k].scene) jnd_scene_free(w[k].scene);
   }
   jnd_scene_lod_select(s, 0);
+  if (bst) return jnd_fail(bst, "%s", berr);
   if (st) return st;
   for (int i = 0; i < n; i++)
     if (status[i]) return jnd_fail(status[i], "%s", error[i]);
   return JND_OK;
+}
+
+/* 003's analysis as work beside the screens */
+typedef struct {
+  jnd_scene *scene;
+  const jnd_poi_params *pp;
+  jnd_poi_result *out;
+} poi_job;
+
+static jnd_status run_poi(void *user) {
+  poi_job *j = user;
+  return jnd_poi_analyse(j->scene, j->pp, j->out);
 }
 
 jnd_status jnd_lod_analyse(const char *model_path, const jnd_lod_run_params *p, jnd_lod_result *out) {
@@ -233,14 +283,19 @@ jnd_status jnd_lod_analyse(const char *model_path, const jnd_lod_run_params *p, 
       pp.progress = p->progress;
       pp.progress_user = p->progress_user;
     }
-    if ((st = jnd_poi_analyse(s, &pp, &out->poi))) {
+    jnd_poi_screen scr[LOD_MAX_SCREENS];
+    int nscr = 0;
+    if ((st = poi_check(s, &pp, scr, &nscr))) {
       jnd_lod_result_clear(out);
       return st;
     }
-    out->analysed = 1;
-    /* the perceptual choice and switch distances, per screen */
+    /* the perceptual choice and switch distances, per screen: with two
+     * threads or more, judged beside 003's analysis, which keeps two cores
+     * only about 85 % busy (its renderings and its sums take turns), as
+     * the screens' judges keep them about 75 % (docs/speed.md, item 4);
+     * one thread does one, then the other */
     if (p->perceptual) {
-      if (!(out->sw = jnd_calloc((size_t)out->poi.nscreens, sizeof *out->sw))) {
+      if (!(out->sw = jnd_calloc((size_t)nscr, sizeof *out->sw))) {
         jnd_lod_result_clear(out);
         return jnd_fail(JND_ERR_NOMEM, "%s: out of memory", model_path);
       }
@@ -252,13 +307,23 @@ jnd_status jnd_lod_analyse(const char *model_path, const jnd_lod_run_params *p, 
       vs->lights = p->poi.lights;
       sp.judge.views.render.env_path = p->poi.env_path;
       sp.judge.views.render.platform = p->poi.platform;
-      out->nsw = out->poi.nscreens;
-      st = judge_screens(s, &sp, p, out);
-      if (st) {
-        jnd_lod_result_clear(out);
-        return st;
+      out->nsw = nscr;
+      poi_job job = {s, &pp, &out->poi};
+      screens_beside beside = {run_poi, &job};
+      if (jnd_threads(p->threads) >= 2 && !sp.judge.renderer) {
+        st = judge_screens(s, scr, nscr, &sp, p, out, &beside);
+      } else {
+        st = run_poi(&job);
+        if (!st) st = judge_screens(s, scr, nscr, &sp, p, out, NULL);
       }
+    } else {
+      st = jnd_poi_analyse(s, &pp, &out->poi);
     }
+    if (st) {
+      jnd_lod_result_clear(out);
+      return st;
+    }
+    out->analysed = 1;
   }
   out->analysis_s = jnd_seconds() - t1;
   out->analysis_cpu_s = jnd_cpu_seconds() - c1;

@@ -507,14 +507,8 @@ static double object_term(size_t f1, size_t f2, double l2, double extent) {
   return frac * l2 / extent;
 }
 
-jnd_status jnd_poi_analyse(jnd_scene *scene, const jnd_poi_params *pp, jnd_poi_result *out) {
-  jnd_poi_params d;
-  if (!pp) {
-    jnd_poi_defaults(&d);
-    pp = &d;
-  }
-  const jnd_poi_params *p = pp;
-  memset(out, 0, sizeof *out);
+jnd_status poi_check(const jnd_scene *scene, const jnd_poi_params *p, jnd_poi_screen scr[LOD_MAX_SCREENS],
+                     int *nscr) {
   int n = jnd_scene_lod_count(scene);
   if (n < 2) return jnd_fail(JND_ERR_ARG, "%s: no levels of detail to compare (build or add a chain)", jnd_scene_path(scene));
   if (n > 64) return jnd_fail(JND_ERR_LIMIT, "%s: %d levels (at most 64)", jnd_scene_path(scene), n);
@@ -524,16 +518,29 @@ jnd_status jnd_poi_analyse(jnd_scene *scene, const jnd_poi_params *pp, jnd_poi_r
   if (!(p->virtual_scale >= 1)) return jnd_fail(JND_ERR_ARG, "poi: virtual scale %g is below 1", p->virtual_scale);
   if (p->surface_samples < 16) return jnd_fail(JND_ERR_ARG, "poi: %d surface samples (at least 16)", p->surface_samples);
   /* the screens */
-  jnd_poi_screen scr[LOD_MAX_SCREENS];
-  int nscr = p->screens ? p->nscreens : 4;
-  if (nscr < 1 || nscr > LOD_MAX_SCREENS) return jnd_fail(JND_ERR_ARG, "poi: %d screens (1..%d)", nscr, LOD_MAX_SCREENS);
-  for (int s = 0; s < nscr; s++) {
+  *nscr = p->screens ? p->nscreens : 4;
+  if (*nscr < 1 || *nscr > LOD_MAX_SCREENS) return jnd_fail(JND_ERR_ARG, "poi: %d screens (1..%d)", *nscr, LOD_MAX_SCREENS);
+  for (int s = 0; s < *nscr; s++) {
     if (p->screens) scr[s] = p->screens[s];
     else if (jnd_poi_screen_parse(default_screens[s], &scr[s])) return JND_ERR_INTERNAL;
     if (scr[s].width_px < 1 || scr[s].height_px < 1 || !(scr[s].ppd > 0))
       return jnd_fail(JND_ERR_ARG, "poi: screen '%s' needs pixels and pixels per degree", scr[s].name);
   }
-  jnd_status st = JND_OK;
+  return JND_OK;
+}
+
+jnd_status jnd_poi_analyse(jnd_scene *scene, const jnd_poi_params *pp, jnd_poi_result *out) {
+  jnd_poi_params d;
+  if (!pp) {
+    jnd_poi_defaults(&d);
+    pp = &d;
+  }
+  const jnd_poi_params *p = pp;
+  memset(out, 0, sizeof *out);
+  jnd_poi_screen scr[LOD_MAX_SCREENS];
+  int nscr, n = jnd_scene_lod_count(scene);
+  jnd_status st = poi_check(scene, p, scr, &nscr);
+  if (st) return st;
   out->nlevels = n;
   out->nscreens = nscr;
   out->views = p->views;

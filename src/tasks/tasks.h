@@ -85,6 +85,13 @@ jnd_status judge_level_codes(jnd_renderer *r, jnd_scene *scene, int level, const
  * step's workers). */
 #define LOD_MAX_SCREENS 16
 
+/* jnd_poi_analyse's checks of its parameters against the scene, and its
+ * screens (the four presets unless p names some) into scr[*nscr]: what
+ * jnd_poi_analyse refuses, refused before any work, so that a run can
+ * start the perceptual step's screens beside the analysis (lod.c) */
+jnd_status poi_check(const jnd_scene *scene, const jnd_poi_params *p, jnd_poi_screen scr[LOD_MAX_SCREENS],
+                     int *nscr);
+
 /* ---- lod_poi.c and lod.c (end) ---- */
 
 /* ---- linalg.c: small dense linear algebra for pca.c (begin) ---- */
