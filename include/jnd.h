@@ -2431,8 +2431,9 @@ typedef struct {
                                 platform are poi's) */
   jnd_lod_switch_params sw;  /* their parameters (jnd_lod_switch_defaults; coverage is poi's) */
   int threads;               /* screens judged at once by the perceptual step, each on a thread with
-                                a renderer of its own (0: OpenMP's default, the cores); the report
-                                is the same for every count */
+                                a renderer of its own (0: OpenMP's default, the cores); with 2 or
+                                more, 003's analysis runs on the calling thread beside them; the
+                                report is the same for every count */
   void (*progress)(void *user, const char *stage, int done, int total); /* also the analysis's */
   void *progress_user;
   jnd_run_options run;       /* map side of "builtin[:...]" (512 here), the report's copy, timings,
