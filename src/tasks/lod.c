@@ -125,7 +125,7 @@ static void coverage_rule(const jnd_scene *s, const jnd_poi_screen *ref, int nsc
  * order of taking; an error is the first failing screen's, in screen
  * order. */
 typedef struct {
-  jnd_scene *scene;                  /* the run's (worker 0 without work beside) or a twin */
+  jnd_scene *scene;                  /* the run's (worker 0 without the analysis beside) or a twin */
   const jnd_poi_screen *screens;     /* n */
   int n;
   const jnd_lod_switch_params *sp;
@@ -136,7 +136,7 @@ typedef struct {
   char (*error)[512];                /* per screen: its message */
   pthread_mutex_t *lock;             /* next, held, the progress callback and its count */
   int *done;
-  int *held;                         /* nonzero while the work beside reports its own progress */
+  int *held;                         /* nonzero while the analysis beside reports its own progress */
 } screen_worker;
 
 /* the next screen no worker has taken, or n when none is left */
@@ -172,19 +172,13 @@ static void *judge_screen_worker(void *arg) {
   return NULL;
 }
 
-/* Work the calling thread does while the screens are judged (003's
- * analysis): run with its own progress, the screens' held back until it
- * returns. */
-typedef struct {
-  jnd_status (*run)(void *user);
-  void *user;
-} screens_beside;
-
-/* The screens judged by the workers; with beside, every worker on a twin
- * and a thread of its own while this thread runs beside->run, whose status,
- * if an error, is the one returned (it comes first in the run's order). */
+/* The screens judged by the workers. With poi (003's analysis's
+ * parameters, poi_check passed), every worker is on a twin and a thread of
+ * its own while this thread runs the analysis into out->poi, with its own
+ * progress, the screens' held back until it returns; its error, if any, is
+ * the one returned (it comes first in the run's order). */
 static jnd_status judge_screens(jnd_scene *s, const jnd_poi_screen *screens, int n, const jnd_lod_switch_params *sp,
-                                const jnd_lod_run_params *p, jnd_lod_result *out, const screens_beside *beside) {
+                                const jnd_lod_run_params *p, jnd_lod_result *out, const jnd_poi_params *poi) {
   int nw = jnd_threads(p->threads);
   if (nw > n) nw = n;
   if (nw > LOD_MAX_SCREENS) nw = LOD_MAX_SCREENS;
@@ -194,15 +188,15 @@ static jnd_status judge_screens(jnd_scene *s, const jnd_poi_screen *screens, int
   char error[LOD_MAX_SCREENS][512];
   screen_worker w[LOD_MAX_SCREENS];
   pthread_t tid[LOD_MAX_SCREENS];
-  int started[LOD_MAX_SCREENS] = {0}, done = 0, next = 0, held = beside != NULL;
+  int started[LOD_MAX_SCREENS] = {0}, done = 0, next = 0, held = poi != NULL;
   pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
   if (n > LOD_MAX_SCREENS) return jnd_fail(JND_ERR_ARG, "lod: %d screens (at most %d)", n, LOD_MAX_SCREENS);
   for (int i = 0; i < n; i++) status[i] = JND_OK, error[i][0] = 0;
   if (p->progress && !held) p->progress(p->progress_user, "perceptual choice", 0, n);
   jnd_status st = JND_OK;
   memset(w, 0, sizeof w);
-  /* without work beside, worker 0 is this thread, on the run's scene */
-  const int first = beside ? 0 : 1;
+  /* without the analysis, worker 0 is this thread, on the run's scene */
+  const int first = poi ? 0 : 1;
   for (int k = 0; k < nw; k++) {
     w[k] = (screen_worker){k < first ? s : jnd_scene_twin(s), screens, n, sp, p, out, &next, status, error, &lock,
                            &done, &held};
@@ -214,8 +208,8 @@ static jnd_status judge_screens(jnd_scene *s, const jnd_poi_screen *screens, int
   }
   jnd_status bst = JND_OK;
   char berr[512] = "";
-  if (beside) {
-    if ((bst = beside->run(beside->user))) snprintf(berr, sizeof berr, "%s", jnd_last_error());
+  if (poi) {
+    if ((bst = jnd_poi_analyse(s, poi, &out->poi))) snprintf(berr, sizeof berr, "%s", jnd_last_error());
     pthread_mutex_lock(&lock);
     held = 0;
     if (p->progress && !bst) p->progress(p->progress_user, "perceptual choice", done, n);
@@ -234,18 +228,6 @@ static jnd_status judge_screens(jnd_scene *s, const jnd_poi_screen *screens, int
   for (int i = 0; i < n; i++)
     if (status[i]) return jnd_fail(status[i], "%s", error[i]);
   return JND_OK;
-}
-
-/* 003's analysis as work beside the screens */
-typedef struct {
-  jnd_scene *scene;
-  const jnd_poi_params *pp;
-  jnd_poi_result *out;
-} poi_job;
-
-static jnd_status run_poi(void *user) {
-  poi_job *j = user;
-  return jnd_poi_analyse(j->scene, j->pp, j->out);
 }
 
 jnd_status jnd_lod_analyse(const char *model_path, const jnd_lod_run_params *p, jnd_lod_result *out) {
@@ -308,12 +290,10 @@ jnd_status jnd_lod_analyse(const char *model_path, const jnd_lod_run_params *p, 
       sp.judge.views.render.env_path = p->poi.env_path;
       sp.judge.views.render.platform = p->poi.platform;
       out->nsw = nscr;
-      poi_job job = {s, &pp, &out->poi};
-      screens_beside beside = {run_poi, &job};
       if (jnd_threads(p->threads) >= 2 && !sp.judge.renderer) {
-        st = judge_screens(s, scr, nscr, &sp, p, out, &beside);
+        st = judge_screens(s, scr, nscr, &sp, p, out, &pp);
       } else {
-        st = run_poi(&job);
+        st = jnd_poi_analyse(s, &pp, &out->poi);
         if (!st) st = judge_screens(s, scr, nscr, &sp, p, out, NULL);
       }
     } else {

@@ -701,14 +701,20 @@ TEST(a_twin_shows_its_own_level_and_shares_the_rest) {
 TEST(bad_perceptual_options_are_refused_before_any_work) {
   /* issue 28: jnd_lod_run refused a bad tolerance, max_px or views per
    * distance only after 003's analysis (minutes): now before the chain is
-   * built and before the output folder exists */
-  for (int bad = 0; bad < 3; bad++) {
+   * built and before the output folder exists. 003's own options (bad
+   * 3..5), with two threads: refused before the screens' workers start
+   * beside the analysis (poi_check), not after they have judged */
+  for (int bad = 0; bad < 6; bad++) {
     jnd_lod_run_params p;
     jnd_lod_run_defaults(&p);
     const char *want = "tolerance";
     if (bad == 0) p.sw.tolerance = 0.0005;
     if (bad == 1) p.sw.max_px = 31, want = "largest rendering";
     if (bad == 2) p.sw.judge.views.sampling.count = 0, want = "views";
+    if (bad == 3) p.poi.surface_samples = 8, want = "surface samples";
+    if (bad == 4) p.poi.virtual_scale = 0.5, want = "virtual scale";
+    if (bad == 5) p.poi.views = 0, want = "views";
+    if (bad >= 3) p.threads = 2;
     char dir[64];
     snprintf(dir, sizeof dir, "/tmp/jnd-test-lod-bad-%d", bad);
     jnd_lod_result *r = NULL;
