@@ -52,43 +52,63 @@ static uint32_t order_key(float f) {
   return (u & 0x80000000u) ? ~u : u | 0x80000000u;
 }
 
-/* Ranks ks (ascending) of v[0, n), whose keys all agree above bit shift + 12
- * (shift 20: any values): one pass counts the values per bin of key bits
- * [shift, shift + 12); the bins holding the wanted ranks are gathered in a
- * second pass, and each is searched one level finer (shift 8) or, at that
- * level, sorted. Exact, O(n), and v is unchanged. Both passes split v into
- * the same nt ranges; each range's counts place its values, so the result
- * depends on neither timing nor team size. */
+enum { NBIN = JND_ORDER_BINS, FINE = 8 };
+
+/* Adds range [i0, i1) of v to h4's four interleaved counts (4 × NBIN bins
+ * of key bits [shift, shift + 12)), so that neighbouring values in one bin
+ * (most of a smooth map) do not each wait for the previous one's
+ * increment; fold_counts sums them */
+static void count_range(const float *v, size_t i0, size_t i1, int shift, size_t *h4) {
+  size_t i = i0;
+  for (; i + 4 <= i1; i += 4)
+    for (int q = 0; q < 4; q++) h4[(size_t)q * NBIN + (order_key(v[i + q]) >> shift & (NBIN - 1))]++;
+  for (; i < i1; i++) h4[order_key(v[i]) >> shift & (NBIN - 1)]++;
+}
+
+static void fold_counts(const size_t *h4, size_t *h) {
+  for (int b = 0; b < NBIN; b++) h[b] = h4[b] + h4[NBIN + b] + h4[2 * NBIN + b] + h4[3 * NBIN + b];
+}
+
+void jnd_order_count(const float *v, size_t n, size_t *h4) { count_range(v, 0, n, 20, h4); }
+void jnd_order_fold(const size_t *h4, size_t *h) { fold_counts(h4, h); }
+
+/* Whether any of the 8 values at v falls in one of the wanted bins (key bits
+ * [shift, shift + 12) equal to one of want[0..nw)): compares of the 8 keys
+ * with each, no branch per value; most groups of a map hold none */
+static inline int group_wanted(const float *v, int shift, const uint32_t *want, int nw) {
+  uint32_t hit = 0;
+  for (int w = 0; w < nw; w++)
+    for (int q = 0; q < 8; q++) hit |= (uint32_t)((order_key(v[q]) >> shift & (NBIN - 1)) == want[w]);
+  return hit != 0;
+}
+
 static jnd_status order_stats_level(const float *v, size_t n, const size_t *ks, int nk, float *out, int shift,
-                                    int nt) {
-  enum { NBIN = 1 << 12, FINE = 8 };
-  /* [thread][4][bin]: four counts a range, summed into the first after the
-   * pass, so that neighbouring values in one bin (most of a smooth map) do
-   * not each wait for the previous one's increment */
-  size_t *hist = jnd_calloc((size_t)nt * 4 * NBIN, sizeof *hist);
+                                    int nt);
+
+/* Ranks ks (ascending) of v[0, n), whose keys all agree above bit shift + 12
+ * (shift 20: any values), from the counts per bin of key bits [shift, shift
+ * + 12) of nt ranges of v, [bound[t], bound[t + 1]) counted into row t of
+ * hist (rows hstride apart): the bins holding the wanted ranks are
+ * gathered in a pass, and each is searched one level finer (shift 8) or, at
+ * that level, sorted. Exact, O(n), and v is unchanged. Range t's values go
+ * after the earlier ranges' in each gathered bin, so the result depends on
+ * neither timing nor team size (and an order statistic, on no order at
+ * all). */
+static jnd_status order_select(const float *v, int nt, const size_t *bound, const size_t *hist, size_t hstride,
+                               const size_t *ks, int nk, float *out, int shift) {
   size_t *start = jnd_calloc(NBIN + 1, sizeof *start);
   int *slot = malloc(sizeof(int) * NBIN);
-  if (!hist || !start || !slot) {
-    free(hist);
+  if (!start || !slot) {
     free(start);
     free(slot);
     return JND_ERR_NOMEM;
   }
-  /* nt fixed ranges, range t counted into hist row t (whatever the team size) */
-#pragma omp parallel for num_threads(nt) schedule(static)
-  for (int t = 0; t < nt; t++) {
-    size_t i0 = n * (size_t)t / (size_t)nt, i1 = n * (size_t)(t + 1) / (size_t)nt;
-    size_t *h = hist + (size_t)t * 4 * NBIN, i = i0;
-    for (; i + 4 <= i1; i += 4)
-      for (int q = 0; q < 4; q++) h[(size_t)q * NBIN + (order_key(v[i + q]) >> shift & (NBIN - 1))]++;
-    for (; i < i1; i++) h[order_key(v[i]) >> shift & (NBIN - 1)]++;
-    for (int b = 0; b < NBIN; b++) h[b] += h[NBIN + b] + h[2 * NBIN + b] + h[3 * NBIN + b];
-  }
   for (int t = 0; t < nt; t++)
-    for (int b = 0; b < NBIN; b++) start[b + 1] += hist[(size_t)t * 4 * NBIN + b];
+    for (int b = 0; b < NBIN; b++) start[b + 1] += hist[(size_t)t * hstride + b];
   for (int b = 0; b < NBIN; b++) start[b + 1] += start[b];
   /* the bin of each wanted rank, and a gather buffer per distinct bin */
   int bin_of[64], nbins = 0, bins[64];
+  uint32_t want[64];
   size_t off[65] = {0};
   for (int b = 0; b < NBIN; b++) slot[b] = -1;
   for (int i = 0; i < nk; i++) {
@@ -100,6 +120,7 @@ static jnd_status order_stats_level(const float *v, size_t n, const size_t *ks, 
     if (slot[lo] < 0) {
       slot[lo] = nbins;
       bins[nbins] = lo;
+      want[nbins] = (uint32_t)lo;
       off[nbins + 1] = off[nbins] + (start[lo + 1] - start[lo]);
       nbins++;
     }
@@ -110,14 +131,22 @@ static jnd_status order_stats_level(const float *v, size_t n, const size_t *ks, 
   if (s == JND_OK) {
 #pragma omp parallel for num_threads(nt) schedule(static)
     for (int t = 0; t < nt; t++) {
-      size_t i0 = n * (size_t)t / (size_t)nt, i1 = n * (size_t)(t + 1) / (size_t)nt;
+      const size_t i0 = bound[t], i1 = bound[t + 1];
       /* this range's place in each gathered bin: after the earlier ranges' values */
       size_t fill[64];
       for (int j = 0; j < nbins; j++) {
         fill[j] = off[j];
-        for (int u = 0; u < t; u++) fill[j] += hist[(size_t)u * 4 * NBIN + bins[j]];
+        for (int u = 0; u < t; u++) fill[j] += hist[(size_t)u * hstride + bins[j]];
       }
-      for (size_t i = i0; i < i1; i++) {
+      size_t i = i0;
+      for (; i + 8 <= i1; i += 8) {
+        if (!group_wanted(v + i, shift, want, nbins)) continue;
+        for (int q = 0; q < 8; q++) {
+          int sl = slot[order_key(v[i + q]) >> shift & (NBIN - 1)];
+          if (sl >= 0) buf[fill[sl]++] = v[i + q];
+        }
+      }
+      for (; i < i1; i++) {
         int sl = slot[order_key(v[i]) >> shift & (NBIN - 1)];
         if (sl >= 0) buf[fill[sl]++] = v[i];
       }
@@ -140,18 +169,58 @@ static jnd_status order_stats_level(const float *v, size_t n, const size_t *ks, 
     i = e;
   }
   free(buf);
-  free(hist);
   free(start);
   free(slot);
   return s;
 }
 
-jnd_status jnd_order_stats(const float *v, size_t n, const size_t *ks, int nk, float *out) {
+/* order_select after a counting pass: v split into nt equal ranges, each
+ * counted by a thread */
+static jnd_status order_stats_level(const float *v, size_t n, const size_t *ks, int nk, float *out, int shift,
+                                    int nt) {
+  /* [thread][4][bin]: four counts a range (count_range), folded into the
+   * range's row of counts (hist) */
+  size_t *h4 = jnd_calloc((size_t)nt * 4 * NBIN, sizeof *h4);
+  size_t *hist = jnd_alloc((size_t)nt * NBIN, sizeof *hist);
+  size_t bound[65];
+  if (!h4 || !hist || nt > 64) {
+    free(h4);
+    free(hist);
+    return JND_ERR_NOMEM;
+  }
+  for (int t = 0; t <= nt; t++) bound[t] = n * (size_t)t / (size_t)nt;
+#pragma omp parallel for num_threads(nt) schedule(static)
+  for (int t = 0; t < nt; t++) {
+    count_range(v, bound[t], bound[t + 1], shift, h4 + (size_t)t * 4 * NBIN);
+    fold_counts(h4 + (size_t)t * 4 * NBIN, hist + (size_t)t * NBIN);
+  }
+  free(h4);
+  jnd_status s = order_select(v, nt, bound, hist, NBIN, ks, nk, out, shift);
+  free(hist);
+  return s;
+}
+
+static jnd_status ranks_check(const size_t *ks, int nk, size_t n) {
   if (nk > 64) return jnd_fail(JND_ERR_INTERNAL, "order statistics: at most 64 ranks");
   for (int i = 0; i < nk; i++)
     if (ks[i] >= n || (i > 0 && ks[i] < ks[i - 1])) return jnd_fail(JND_ERR_INTERNAL, "order statistics: bad index");
-  const int nt = omp_get_max_threads() > 0 ? omp_get_max_threads() : 1;
+  return JND_OK;
+}
+
+jnd_status jnd_order_stats(const float *v, size_t n, const size_t *ks, int nk, float *out) {
+  jnd_status s = ranks_check(ks, nk, n);
+  if (s != JND_OK) return s;
+  int nt = omp_get_max_threads() > 0 ? omp_get_max_threads() : 1;
+  if (nt > 64) nt = 64;
   return order_stats_level(v, n, ks, nk, out, 20, nt);
+}
+
+jnd_status jnd_ranks_select_counted(jnd_ranks *r, const float *v, int nt, const size_t *bound, const size_t *hist) {
+  jnd_status s = ranks_check(r->k, r->nk, r->n);
+  if (s != JND_OK) return s;
+  if (nt < 1 || nt > 64 || bound[0] != 0 || bound[nt] != r->n)
+    return jnd_fail(JND_ERR_INTERNAL, "order statistics: bad ranges");
+  return order_select(v, nt, bound, hist, NBIN, r->k, r->nk, r->v, 20);
 }
 
 /* ---- percentiles from order statistics ---- */

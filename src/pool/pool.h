@@ -24,6 +24,18 @@ typedef struct {
 void jnd_ranks_init(jnd_ranks *r, size_t n);
 jnd_status jnd_ranks_want(jnd_ranks *r, double p);
 jnd_status jnd_ranks_select(jnd_ranks *r, const float *v);
+/* Counting and selecting apart, for a caller that reads the values anyway
+ * (jnd_diff_summarise): jnd_order_count adds the n values to h4's four
+ * interleaved counts per bin (4 × JND_ORDER_BINS, zeroed first by the
+ * caller), jnd_order_fold sums those into h (JND_ORDER_BINS); then
+ * jnd_ranks_select_counted selects as jnd_ranks_select does, v being nt
+ * ranges [bound[t], bound[t + 1]) (bound[0] = 0, bound[nt] = n, nt <= 64)
+ * whose counts are row t of hist (JND_ORDER_BINS apart). The same values
+ * as jnd_ranks_select, whatever the ranges. */
+enum { JND_ORDER_BINS = 4096 };
+void jnd_order_count(const float *v, size_t n, size_t *h4);
+void jnd_order_fold(const size_t *h4, size_t *h);
+jnd_status jnd_ranks_select_counted(jnd_ranks *r, const float *v, int nt, const size_t *bound, const size_t *hist);
 double jnd_ranks_percentile(const jnd_ranks *r, double p, double (*f)(double, const void *), const void *ctx);
 /* np percentiles p[] of n values at once (np <= 32) into out[] */
 jnd_status jnd_percentiles(const float *v, size_t n, const double *p, int np, double *out);

@@ -4,6 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <omp.h>
+
 #include "core/core.h"
 #include "core/fastmath.h"
 #include "pool/pool.h"
@@ -22,13 +24,15 @@ enum { SUM_BLOCK = 4096 };
  * log2 (the same floats as jnd_fast_pow and jnd_prob_of_jnd); without
  * Minkowski pooling Σ P^2.4 is 0 and not computed. */
 JND_HOT static void block_sums(const float *j, size_t m, float beta, int minkowski, double out[4]) {
-  float a[SUM_BLOCK], b[SUM_BLOCK];
+  float a[SUM_BLOCK], b[SUM_BLOCK], l[SUM_BLOCK];
 #pragma omp simd
-  for (size_t i = 0; i < m; i++) {
-    const float l = jnd_fast_log2_of(j[i]);
-    a[i] = j[i] > 0.0f ? jnd_fast_exp2(2.4f * l) : 0.0f;
-    b[i] = jnd_prob_of_jnd_log2(j[i], l, beta);
-  }
+  for (size_t i = 0; i < m; i++) l[i] = jnd_fast_log2_of(j[i]);
+#pragma omp simd
+  for (size_t i = 0; i < m; i++) a[i] = j[i] > 0.0f ? jnd_fast_exp2(2.4f * l[i]) : 0.0f;
+#pragma omp simd
+  for (size_t i = 0; i < m; i++) b[i] = jnd_fast_exp2(beta * l[i]);
+#pragma omp simd
+  for (size_t i = 0; i < m; i++) b[i] = j[i] > 0 ? 1.0f - jnd_fast_exp2(-b[i]) : 0.0f;
   double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
   if (minkowski) {
     float c[SUM_BLOCK];
@@ -64,15 +68,43 @@ jnd_status jnd_diff_summarise(const jnd_image *map, double beta, const jnd_pooli
   if (!pool) pool = &dflt;
   const float fb = (float)beta;
   const int minkowski = pool->kind == JND_POOL_MINKOWSKI;
-  /* sums in fixed blocks (the same order whatever the thread count) */
+  /* sums in fixed blocks (the same order whatever the thread count), and
+   * the values' bins for the percentiles counted as each block is read
+   * (jnd_order_count: one pass over the map, not two); thread t takes
+   * blocks [nblocks·t/nt, nblocks·(t+1)/nt), its counts row t */
   const size_t nblocks = (n + SUM_BLOCK - 1) / SUM_BLOCK;
+  int nt = omp_get_max_threads();
+  nt = nt < 1 ? 1 : nt > 64 ? 64 : nt;
   double *part = jnd_calloc(nblocks * 4, sizeof *part);
-  if (!part) return JND_ERR_NOMEM;
-#pragma omp parallel for schedule(static)
-  for (size_t bk = 0; bk < nblocks; bk++) {
-    size_t i0 = bk * SUM_BLOCK;
-    block_sums(map->data + i0, n - i0 < SUM_BLOCK ? n - i0 : SUM_BLOCK, fb, minkowski, part + bk * 4);
+  size_t *h4 = jnd_alloc((size_t)nt * 4 * JND_ORDER_BINS, sizeof *h4);
+  size_t *hist = jnd_alloc((size_t)nt * JND_ORDER_BINS, sizeof *hist);
+  size_t bound[65];
+  int team = 1;
+  if (!part || !h4 || !hist) {
+    free(part);
+    free(h4);
+    free(hist);
+    return JND_ERR_NOMEM;
   }
+#pragma omp parallel num_threads(nt)
+  {
+    const int tn = omp_get_num_threads(), t = omp_get_thread_num();
+    const size_t b0 = nblocks * (size_t)t / (size_t)tn, b1 = nblocks * (size_t)(t + 1) / (size_t)tn;
+    size_t *c4 = h4 + (size_t)t * 4 * JND_ORDER_BINS;
+    memset(c4, 0, sizeof *c4 * 4 * JND_ORDER_BINS);
+    for (size_t bk = b0; bk < b1; bk++) {
+      size_t i0 = bk * SUM_BLOCK, m = n - i0 < SUM_BLOCK ? n - i0 : SUM_BLOCK;
+      block_sums(map->data + i0, m, fb, minkowski, part + bk * 4);
+      jnd_order_count(map->data + i0, m, c4);
+    }
+    jnd_order_fold(c4, hist + (size_t)t * JND_ORDER_BINS);
+    bound[t] = b0 * SUM_BLOCK < n ? b0 * SUM_BLOCK : n;
+    if (t == tn - 1) {
+      bound[tn] = n;
+      team = tn;
+    }
+  }
+  free(h4);
   double sj = 0, sj24 = 0, sp = 0, sp24 = 0;
   for (size_t bk = 0; bk < nblocks; bk++) {
     sj += part[bk * 4];
@@ -89,7 +121,8 @@ jnd_status jnd_diff_summarise(const jnd_image *map, double beta, const jnd_pooli
   const double pcts[] = {93, 50, 99, 100, pool->kind == JND_POOL_PERCENTILE ? pool->percentile : 93};   /* p_p93 etc. are named statistics */
   jnd_status s = JND_OK;
   for (size_t i = 0; i < sizeof pcts / sizeof pcts[0] && s == JND_OK; i++) s = jnd_ranks_want(&r, pcts[i]);
-  if (s == JND_OK) s = jnd_ranks_select(&r, map->data);
+  if (s == JND_OK) s = jnd_ranks_select_counted(&r, map->data, team, bound, hist);
+  free(hist);
   if (s != JND_OK) return s;
   st->jnd_p93 = jnd_ranks_percentile(&r, 93, NULL, NULL);
   st->jnd_max = jnd_ranks_percentile(&r, 100, NULL, NULL);
