@@ -76,6 +76,20 @@ static void keep_freed_memory(void) {
 #if defined(__GLIBC__) && defined(M_TOP_PAD)
   (void)mallopt(M_TOP_PAD, 64 << 20);
 #endif
+  /* And one heap for both threads (M_ARENA_MAX). glibc gave the second
+   * decoding thread a heap of its own, mapped by itself: jnd_alloc advises
+   * only the whole huge pages inside each of its blocks, so most of that
+   * thread's image (its codes, its pyramid's levels) was populated in 4 KiB
+   * pages, several times slower here than the main heap's huge pages, and
+   * its decoding ended 5–10 ms after the main thread's (the main thread
+   * waiting). 20 interleaved runs each, stage times inside the process
+   * (docs/speed.md "Eleventh pass"): both images decoded at 44.4 ms
+   * instead of 48.3 (medians), the run 158.6 ms instead of 164.3; the peak
+   * RSS is 65–74 MB either way. The two threads' few dozen mallocs now
+   * share a lock. */
+#if defined(__GLIBC__) && defined(M_ARENA_MAX)
+  (void)mallopt(M_ARENA_MAX, 1);
+#endif
 }
 
 static int run(int argc, char **argv) {
