@@ -20,7 +20,9 @@ static double prob_of(double j, const void *beta) { return jnd_prob_of_jnd((floa
 enum { SUM_BLOCK = 4096 };
 
 /* one block's Σ j, Σ j^2.4, Σ P and (for Minkowski pooling) Σ P^2.4: the
- * values in vectorisable loops, then summed in order. j^2.4 and P share j's
+ * values in vectorisable loops, a loop a step (a value's whole chain, its
+ * log2 and three exp2s one after the other, in one loop was bound by their
+ * latency: docs/speed.md "Eleventh pass"), then summed in order. j^2.4 and P share j's
  * log2 (the same floats as jnd_fast_pow and jnd_prob_of_jnd); without
  * Minkowski pooling Σ P^2.4 is 0 and not computed. */
 JND_HOT static void block_sums(const float *j, size_t m, float beta, int minkowski, double out[4]) {
@@ -30,9 +32,9 @@ JND_HOT static void block_sums(const float *j, size_t m, float beta, int minkows
 #pragma omp simd
   for (size_t i = 0; i < m; i++) a[i] = j[i] > 0.0f ? jnd_fast_exp2(2.4f * l[i]) : 0.0f;
 #pragma omp simd
-  for (size_t i = 0; i < m; i++) b[i] = jnd_fast_exp2(beta * l[i]);
+  for (size_t i = 0; i < m; i++) b[i] = jnd_prob_power(l[i], beta);
 #pragma omp simd
-  for (size_t i = 0; i < m; i++) b[i] = j[i] > 0 ? 1.0f - jnd_fast_exp2(-b[i]) : 0.0f;
+  for (size_t i = 0; i < m; i++) b[i] = jnd_prob_of_power(j[i], b[i]);
   double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
   if (minkowski) {
     float c[SUM_BLOCK];

@@ -64,8 +64,14 @@ static inline void jnd_opponent_colour(float cl, float cm, float cs, float *a, f
 /* ---- the psychometric function (000 eq. 4), the one definition ---- */
 /* P = 1 − exp(ln 0.5 · jnd^β) = 1 − 2^(−jnd^β), with the fast pow so that
  * per-pixel loops vectorise; jnd_probability and every pooling call it. */
+static inline float jnd_prob_of_jnd_log2(float j, float l, float beta);
+/* ... in two steps, for loops that run each over a block (one pixel's
+ * chain of exp2s in one loop is latency-bound: docs/speed.md "Eleventh
+ * pass"): jnd^β from the log2, then P from it */
+static inline float jnd_prob_power(float l, float beta) { return jnd_fast_exp2(beta * l); }
+static inline float jnd_prob_of_power(float j, float jb) { return j > 0 ? 1.0f - jnd_fast_exp2(-jb) : 0.0f; }
 static inline float jnd_prob_of_jnd_log2(float j, float l, float beta) {
-  return j > 0 ? 1.0f - jnd_fast_exp2(-jnd_fast_exp2(beta * l)) : 0.0f;
+  return jnd_prob_of_power(j, jnd_prob_power(l, beta));
 }
 /* the same from j alone; jnd_prob_of_jnd_log2 above takes l =
  * jnd_fast_log2_of(j), for loops that raise j to other powers too

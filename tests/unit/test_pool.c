@@ -74,6 +74,49 @@ TEST(order_statistics_of_values_crowded_in_one_bin_equal_the_sorted_values) {
   free(s);
 }
 
+/* Counting apart from selecting (jnd_diff_summarise counts as it sums):
+ * whatever the ranges the values are cut into, empty ones included, the
+ * ranks are the sorted values; ranges that do not cover the values are
+ * refused. */
+TEST(ranks_selected_from_counts_of_any_ranges_equal_the_sorted_values) {
+  const size_t n = 100003;
+  float *v = malloc(n * sizeof *v), *s = malloc(n * sizeof *s);
+  fill(v, n, 23, 1);
+  /* a run of values in one bin far from the rest: the gather's groups of 8
+   * without a wanted value are skipped, those with one are not */
+  for (size_t i = 40000; i < 40100; i++) v[i] = 1000.0f + (float)(i % 7);
+  memcpy(s, v, n * sizeof *s);
+  qsort(s, n, sizeof *s, cmp_float);
+  const size_t cuts[][5] = {{0, n, 0, 0, 0}, {0, 4096, n, 0, 0}, {0, 0, 50001, n, 0}, {0, 17, 17, 99999, n}};
+  const int nts[] = {1, 2, 3, 4};
+  size_t *h4 = malloc(4 * JND_ORDER_BINS * sizeof *h4), *hist = malloc(4 * JND_ORDER_BINS * sizeof *hist);
+  for (int c = 0; c < 4; c++) {
+    const int nt = nts[c];
+    for (int t = 0; t < nt; t++) {
+      memset(h4, 0, 4 * JND_ORDER_BINS * sizeof *h4);
+      jnd_order_count(v + cuts[c][t], cuts[c][t + 1] - cuts[c][t], h4);
+      jnd_order_fold(h4, hist + (size_t)t * JND_ORDER_BINS);
+    }
+    jnd_ranks r;
+    jnd_ranks_init(&r, n);
+    const double p[] = {0, 50, 93, 99, 99.99, 100};
+    for (int i = 0; i < 6; i++) CHECK_OK(jnd_ranks_want(&r, p[i]));
+    CHECK_OK(jnd_ranks_select_counted(&r, v, nt, cuts[c], hist));
+    for (int i = 0; i < r.nk; i++) CHECK(r.v[i] == s[r.k[i]]);
+    CHECK(jnd_ranks_percentile(&r, 100, NULL, NULL) == s[n - 1]);
+  }
+  jnd_ranks r;
+  jnd_ranks_init(&r, n);
+  CHECK_OK(jnd_ranks_want(&r, 50));
+  const size_t short_of_n[2] = {0, n - 1}, not_from_0[2] = {1, n};
+  CHECK_STATUS(jnd_ranks_select_counted(&r, v, 1, short_of_n, hist), JND_ERR_INTERNAL);
+  CHECK_STATUS(jnd_ranks_select_counted(&r, v, 1, not_from_0, hist), JND_ERR_INTERNAL);
+  free(h4);
+  free(hist);
+  free(v);
+  free(s);
+}
+
 TEST(order_statistics_of_a_constant_map) {
   size_t n = 10000, ks[3] = {0, 9299, 9999};
   float *v = malloc(n * sizeof *v), out[3];
@@ -510,6 +553,7 @@ RUN_TESTS(knee_of_a_flat_then_steep_curve_is_its_corner, knee_ties_within_the_to
           binomial_upper_bound_matches_closed_forms, criterion_upper_bound_is_clopper_pearson_of_the_views_observed_above,
           order_statistics_equal_the_sorted_values,
           order_statistics_of_values_crowded_in_one_bin_equal_the_sorted_values, order_statistics_of_a_constant_map,
+          ranks_selected_from_counts_of_any_ranges_equal_the_sorted_values,
           order_statistics_refuse_bad_indices, sort_matches_qsort_for_both_paths, percentiles_interpolate_linearly,
           percentiles_of_a_large_map_match_a_full_sort,
           diff_summary_percentiles_match_a_full_sort, pooling_names_parse_and_print,
