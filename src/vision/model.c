@@ -1238,7 +1238,12 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
       o2 = a + (size_t)BOX_ROWS * (w0 + w1 + spill2);
     }
     const int ngroups = (h + BOX_ROWS - 1) / BOX_ROWS;
-#pragma omp for schedule(static)
+    /* groups and blocks handed out as threads come free: a thread held up
+     * (this machine's host takes a vCPU away for milliseconds at a time)
+     * no longer leaves the other waiting at the loop's end with its share
+     * undone (docs/speed.md "Eleventh pass"); each is computed alone, so
+     * the values are the same */
+#pragma omp for schedule(dynamic, 1)
     for (int g = 0; g < ngroups; g++) {
       if (!a || !suf) continue;
       /* the rows to the exponent, through o2's space, interleaved into t0;
@@ -1268,7 +1273,7 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
       }
     }
     const int nblocks = (w + BOX_COLS - 1) / BOX_COLS;
-#pragma omp for schedule(static)
+#pragma omp for schedule(dynamic, 1)
     for (int bk = 0; bk < nblocks; bk++) {
       if (!a || !suf) continue;
       int x0 = bk * BOX_COLS, cw = w - x0 < BOX_COLS ? w - x0 : BOX_COLS;
