@@ -72,14 +72,15 @@ static void fold_counts(const size_t *h4, size_t *h) {
 void jnd_order_count(const float *v, size_t n, size_t *h4) { count_range(v, 0, n, 20, h4); }
 void jnd_order_fold(const size_t *h4, size_t *h) { fold_counts(h4, h); }
 
-/* Whether any of the 8 values at v falls in one of the wanted bins (key bits
- * [shift, shift + 12) equal to one of want[0..nw)): compares of the 8 keys
- * with each, no branch per value; most groups of a map hold none */
-static inline int group_wanted(const float *v, int shift, const uint32_t *want, int nw) {
-  uint32_t hit = 0;
+/* Which of the 8 values at v fall in one of the wanted bins (key bits
+ * [shift, shift + 12) equal to one of want[0..nw)), as bit q for value q:
+ * compares of the 8 keys with each, no branch per value; most groups of a
+ * map hold none, and the others few */
+static inline unsigned group_wanted(const float *v, int shift, const uint32_t *want, int nw) {
+  unsigned hit = 0;
   for (int w = 0; w < nw; w++)
-    for (int q = 0; q < 8; q++) hit |= (uint32_t)((order_key(v[q]) >> shift & (NBIN - 1)) == want[w]);
-  return hit != 0;
+    for (int q = 0; q < 8; q++) hit |= (unsigned)((order_key(v[q]) >> shift & (NBIN - 1)) == want[w]) << q;
+  return hit;
 }
 
 static jnd_status order_stats_level(const float *v, size_t n, const size_t *ks, int nk, float *out, int shift,
@@ -139,13 +140,11 @@ static jnd_status order_select(const float *v, int nt, const size_t *bound, cons
         for (int u = 0; u < t; u++) fill[j] += hist[(size_t)u * hstride + bins[j]];
       }
       size_t i = i0;
-      for (; i + 8 <= i1; i += 8) {
-        if (!group_wanted(v + i, shift, want, nbins)) continue;
-        for (int q = 0; q < 8; q++) {
-          int sl = slot[order_key(v[i + q]) >> shift & (NBIN - 1)];
-          if (sl >= 0) buf[fill[sl]++] = v[i + q];
+      for (; i + 8 <= i1; i += 8)
+        for (unsigned hit = group_wanted(v + i, shift, want, nbins); hit; hit &= hit - 1) {
+          const float x = v[i + (size_t)__builtin_ctz(hit)];
+          buf[fill[slot[order_key(x) >> shift & (NBIN - 1)]]++] = x;
         }
-      }
       for (; i < i1; i++) {
         int sl = slot[order_key(v[i]) >> shift & (NBIN - 1)];
         if (sl >= 0) buf[fill[sl]++] = v[i];
