@@ -696,6 +696,8 @@ jnd_status jnd_scene_lod_build(jnd_scene *s, const jnd_lod_params *p) {
                       by_ratio ? "triangle-ratio" : "error", by_ratio ? "fall from below 1 to 0" : "rise within (0, 1]",
                       k + 1, t);
   }
+  /* meshoptimizer, opened on first use (meshopt_lazy.c) */
+  if (!jnd_meshopt_ready()) return jnd_fail(JND_ERR_IO, "lod: %s", jnd_last_error());
   jnd_status st = ensure_levels(s);
   if (st) return st;
   /* drop an earlier chain, keep level 0 */

@@ -196,4 +196,9 @@ void jnd_box_down_plane(const float *src, int w, int h, int s, float *dst);
  * averaged in linear light, other channels as stored. out is allocated. */
 jnd_status jnd_box_reduce_map(const jnd_image *orig, int lev, jnd_map_kind kind, jnd_image *out);
 
+/* Whether meshoptimizer can be called (opened on first use where CMake read
+ * its soname: src/scene/meshopt_lazy.c); 0 with the loader's message as the
+ * last error */
+int jnd_meshopt_ready(void);
+
 #endif
