@@ -238,6 +238,13 @@ jnd_status jnd_lod_analyse(const char *model_path, const jnd_lod_run_params *p, 
   }
   memset(out, 0, sizeof *out);
   jnd_status st;
+  /* 003's parameters and screens refused before the asset is loaded and
+   * its chain built (a chain of a large mesh takes seconds) */
+  if (p->analyse) {
+    jnd_poi_screen scr[LOD_MAX_SCREENS];
+    int nscr = 0;
+    if ((st = poi_params_check(&p->poi, scr, &nscr))) return st;
+  }
   double t0 = jnd_seconds(), c0 = jnd_cpu_seconds();
   /* the asset and its chain */
   st = jnd_scene_open(model_path, p->run.map_size > 0 ? p->run.map_size : 512, &out->scene);

@@ -512,6 +512,10 @@ jnd_status poi_check(const jnd_scene *scene, const jnd_poi_params *p, jnd_poi_sc
   int n = jnd_scene_lod_count(scene);
   if (n < 2) return jnd_fail(JND_ERR_ARG, "%s: no levels of detail to compare (build or add a chain)", jnd_scene_path(scene));
   if (n > 64) return jnd_fail(JND_ERR_LIMIT, "%s: %d levels (at most 64)", jnd_scene_path(scene), n);
+  return poi_params_check(p, scr, nscr);
+}
+
+jnd_status poi_params_check(const jnd_poi_params *p, jnd_poi_screen scr[LOD_MAX_SCREENS], int *nscr) {
   if (p->views < 1 || p->views > JND_VIEWS_MAX)
     return jnd_fail(JND_ERR_ARG, "poi: %d views (1..%d)", p->views, JND_VIEWS_MAX);
   if (!(p->coverage > 0 && p->coverage <= 1)) return jnd_fail(JND_ERR_ARG, "lod: coverage %g outside (0, 1]: the object must fit on the screen", p->coverage);

@@ -91,6 +91,10 @@ jnd_status judge_level_codes(jnd_renderer *r, jnd_scene *scene, int level, const
  * start the perceptual step's screens beside the analysis (lod.c) */
 jnd_status poi_check(const jnd_scene *scene, const jnd_poi_params *p, jnd_poi_screen scr[LOD_MAX_SCREENS],
                      int *nscr);
+/* ... all of it but the scene's levels: the parameters and the screens,
+ * which jnd_lod_analyse refuses before it loads the asset or builds its
+ * chain */
+jnd_status poi_params_check(const jnd_poi_params *p, jnd_poi_screen scr[LOD_MAX_SCREENS], int *nscr);
 
 /* ---- lod_poi.c and lod.c (end) ---- */
 

@@ -702,8 +702,9 @@ TEST(bad_perceptual_options_are_refused_before_any_work) {
   /* issue 28: jnd_lod_run refused a bad tolerance, max_px or views per
    * distance only after 003's analysis (minutes): now before the chain is
    * built and before the output folder exists. 003's own options (bad
-   * 3..5), with two threads: refused before the screens' workers start
-   * beside the analysis (poi_check), not after they have judged */
+   * 3..5), with two threads, likewise (poi_params_check), not after the
+   * chain is built and the screens' workers have started beside the
+   * analysis */
   for (int bad = 0; bad < 6; bad++) {
     jnd_lod_run_params p;
     jnd_lod_run_defaults(&p);
@@ -723,6 +724,11 @@ TEST(bad_perceptual_options_are_refused_before_any_work) {
     CHECK_LT(jnd_cpu_seconds() - c0, 0.5);   /* 003's analysis of the sphere takes seconds */
     CHECK(r == NULL && strstr(jnd_last_error(), want) && !strchr(jnd_last_error(), '\n'));
     struct stat st;
+    CHECK(stat(dir, &st) != 0);
+    /* before the asset is even opened: a model that does not exist is not
+     * what is refused */
+    CHECK_STATUS(jnd_lod_run("/nonexistent/jnd-test-lod-model.obj", &p, dir, &r), JND_ERR_ARG);
+    CHECK(r == NULL && strstr(jnd_last_error(), want));
     CHECK(stat(dir, &st) != 0);
   }
 }
