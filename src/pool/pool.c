@@ -89,13 +89,13 @@ static jnd_status order_stats_level(const float *v, size_t n, const size_t *ks, 
 /* Ranks ks (ascending) of v[0, n), whose keys all agree above bit shift + 12
  * (shift 20: any values), from the counts per bin of key bits [shift, shift
  * + 12) of nt ranges of v, [bound[t], bound[t + 1]) counted into row t of
- * hist (rows hstride apart): the bins holding the wanted ranks are
+ * hist (rows NBIN apart): the bins holding the wanted ranks are
  * gathered in a pass, and each is searched one level finer (shift 8) or, at
  * that level, sorted. Exact, O(n), and v is unchanged. Range t's values go
  * after the earlier ranges' in each gathered bin, so the result depends on
  * neither timing nor team size (and an order statistic, on no order at
  * all). */
-static jnd_status order_select(const float *v, int nt, const size_t *bound, const size_t *hist, size_t hstride,
+static jnd_status order_select(const float *v, int nt, const size_t *bound, const size_t *hist,
                                const size_t *ks, int nk, float *out, int shift) {
   size_t *start = jnd_calloc(NBIN + 1, sizeof *start);
   int *slot = malloc(sizeof(int) * NBIN);
@@ -105,7 +105,7 @@ static jnd_status order_select(const float *v, int nt, const size_t *bound, cons
     return JND_ERR_NOMEM;
   }
   for (int t = 0; t < nt; t++)
-    for (int b = 0; b < NBIN; b++) start[b + 1] += hist[(size_t)t * hstride + b];
+    for (int b = 0; b < NBIN; b++) start[b + 1] += hist[(size_t)t * NBIN + b];
   for (int b = 0; b < NBIN; b++) start[b + 1] += start[b];
   /* the bin of each wanted rank, and a gather buffer per distinct bin */
   int bin_of[64], nbins = 0, bins[64];
@@ -137,7 +137,7 @@ static jnd_status order_select(const float *v, int nt, const size_t *bound, cons
       size_t fill[64];
       for (int j = 0; j < nbins; j++) {
         fill[j] = off[j];
-        for (int u = 0; u < t; u++) fill[j] += hist[(size_t)u * hstride + bins[j]];
+        for (int u = 0; u < t; u++) fill[j] += hist[(size_t)u * NBIN + bins[j]];
       }
       size_t i = i0;
       for (; i + 8 <= i1; i += 8)
@@ -194,7 +194,7 @@ static jnd_status order_stats_level(const float *v, size_t n, const size_t *ks, 
     fold_counts(h4 + (size_t)t * 4 * NBIN, hist + (size_t)t * NBIN);
   }
   free(h4);
-  jnd_status s = order_select(v, nt, bound, hist, NBIN, ks, nk, out, shift);
+  jnd_status s = order_select(v, nt, bound, hist, ks, nk, out, shift);
   free(hist);
   return s;
 }
@@ -219,7 +219,7 @@ jnd_status jnd_ranks_select_counted(jnd_ranks *r, const float *v, int nt, const 
   if (s != JND_OK) return s;
   if (nt < 1 || nt > 64 || bound[0] != 0 || bound[nt] != r->n)
     return jnd_fail(JND_ERR_INTERNAL, "order statistics: bad ranges");
-  return order_select(v, nt, bound, hist, NBIN, r->k, r->nk, r->v, 20);
+  return order_select(v, nt, bound, hist, r->k, r->nk, r->v, 20);
 }
 
 /* ---- percentiles from order statistics ---- */
