@@ -121,6 +121,17 @@ const char *jnd_version(void);
 JND_EXPERIMENTAL double jnd_seconds(void);
 JND_EXPERIMENTAL double jnd_cpu_seconds(void);
 
+/* For a program whose threads are all jnd's OpenMP threads (the jnd tool's
+ * diff): holds each of them to a CPU of its own when it runs one thread per
+ * CPU it may use (threads: 0 for OpenMP's default, as in the parameters).
+ * Returns how many it holds; 0 when it leaves them free: fewer or more
+ * threads than CPUs (two processes would pile onto the same CPUs), a
+ * binding asked for by OMP_PROC_BIND, OMP_PLACES, GOMP_CPU_AFFINITY or
+ * KMP_AFFINITY, one CPU, or no affinity interface. A thread started later
+ * by a held thread inherits its one CPU, so a program that starts threads
+ * of its own (a CPU rasteriser's) should not ask. Never changes a result. */
+JND_EXPERIMENTAL int jnd_threads_pin(int threads);
+
 /* ------------------------------------------------------------------------ */
 /* Images and image files                                                   */
 /* ------------------------------------------------------------------------ */

@@ -149,6 +149,9 @@ static int run(int argc, char **argv) {
   cli_run_options(&p.run, &common, 0);
   jnd_diff_result *R = NULL;
   keep_freed_memory();
+  /* each thread on a CPU of its own: diff starts no threads but OpenMP's
+   * (core.h jnd_threads_pin; docs/speed.md "Twelfth pass") */
+  (void)jnd_threads_pin(mp->threads);
   if (jnd_diff_run(paths[0], paths[1], &p, &R) != JND_OK) return cli_lib_error();
   int rc = cli_report_print(R->report, common.json_path);
   const jnd_diff_stats *st = &R->stats;

@@ -2,6 +2,8 @@
 #include <malloc.h>
 #include <math.h>
 #include <omp.h>
+#include <pthread.h>
+#include <sched.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -221,5 +223,69 @@ TEST(lazy_libraries_give_their_own_functions_or_name_what_is_missing) {
   CHECK(fabs(val[0] + val[1] - 4) < 1e-12 && fabs(val[0] * val[1] - 3) < 1e-12);
 }
 
+/* jnd_threads_pin (docs/speed.md "Twelfth pass"): with one thread per CPU
+ * the process may use, each thread is held to a CPU of its own, no two to
+ * the same; nothing is held for more or fewer threads than CPUs, nor when
+ * the user asked for a binding of their own. Runs last: it holds this
+ * process's threads. */
+static int cpus_of_each_thread(int n, const cpu_set_t *allowed, int *one_each, int *distinct) {
+  int cpu[CPU_SETSIZE], count[CPU_SETSIZE], inside = 1;
+#pragma omp parallel num_threads(n)
+  {
+    cpu_set_t mine;
+    const int t = omp_get_thread_num();
+    count[t] = pthread_getaffinity_np(pthread_self(), sizeof mine, &mine) == 0 ? CPU_COUNT(&mine) : -1;
+    cpu[t] = -1;
+    for (int c = 0; c < CPU_SETSIZE; c++)
+      if (count[t] >= 1 && CPU_ISSET(c, &mine)) {
+        if (!CPU_ISSET(c, allowed)) {
+#pragma omp atomic write
+          inside = 0;
+        }
+        if (cpu[t] < 0) cpu[t] = c;
+      }
+  }
+  *one_each = 1;
+  *distinct = 1;
+  int free_ = 1;
+  for (int t = 0; t < n; t++) {
+    *one_each &= count[t] == 1;
+    free_ &= count[t] == CPU_COUNT(allowed);
+    for (int u = 0; u < t; u++) *distinct &= cpu[t] != cpu[u];
+  }
+  return inside ? free_ : -1;
+}
+
+TEST(threads_are_held_one_to_a_cpu_only_when_every_cpu_has_one) {
+  static const char *const asked[] = {"OMP_PROC_BIND", "OMP_PLACES", "GOMP_CPU_AFFINITY", "KMP_AFFINITY"};
+  for (size_t i = 0; i < sizeof asked / sizeof asked[0]; i++) unsetenv(asked[i]);
+  cpu_set_t allowed;
+  CHECK(sched_getaffinity(0, sizeof allowed, &allowed) == 0);
+  const int n = CPU_COUNT(&allowed);
+  int one_each, distinct;
+  CHECK(jnd_threads_pin(n + 1) == 0);
+  if (n > 1) CHECK(jnd_threads_pin(n - 1) == 0);
+  setenv("OMP_PLACES", "cores", 1);
+  CHECK(jnd_threads_pin(n) == 0);
+  unsetenv("OMP_PLACES");
+  setenv("GOMP_CPU_AFFINITY", "0", 1);
+  CHECK(jnd_threads_pin(n) == 0);
+  unsetenv("GOMP_CPU_AFFINITY");
+  /* so far every thread may run on every CPU */
+  CHECK(cpus_of_each_thread(n, &allowed, &one_each, &distinct) == 1);
+  const int held = jnd_threads_pin(n);
+  if (n < 2) {
+    CHECK(held == 0);
+    return;
+  }
+  CHECK(held == n);
+  CHECK(cpus_of_each_thread(n, &allowed, &one_each, &distinct) == 0);
+  CHECK(one_each && distinct);
+  /* a smaller team keeps the held threads it takes */
+  CHECK(cpus_of_each_thread(2, &allowed, &one_each, &distinct) == 0);
+  CHECK(one_each && distinct);
+}
+
 RUN_TESTS(large_blocks_are_mapped_in_whole_whoever_populates_them, lazy_libraries_give_their_own_functions_or_name_what_is_missing, clocks_advance_with_work_and_never_go_back, first_outside_finds_the_first_bad_value_in_any_block, fast_log2_exp2_pow_match_libm_over_the_models_ranges, image_alloc_is_zeroed_and_planar, image_alloc_refuses_zero_and_oversized,
-          error_messages_are_one_line, rng_is_deterministic_and_uniform)
+          error_messages_are_one_line, rng_is_deterministic_and_uniform,
+          threads_are_held_one_to_a_cpu_only_when_every_cpu_has_one)
