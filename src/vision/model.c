@@ -1092,6 +1092,39 @@ static void side_by_side_baseband(const jnd_model *m, const diff_state *st, floa
 #define BOX_ROWS 8 /* one vector of eight floats a sample */
 _Static_assert(BOX_COLS <= JND_BOX_LANES_MAX, "a column block is one box pass");
 
+/* Eight rows into the passes' interleaved layout (sample x of row k at
+ * d[BOX_ROWS·x + k]), and back out, eight streams in one loop that the
+ * compiler turns into shuffles: a row at a time, the strided scalar moves
+ * were 2.5 % of the run's samples (docs/speed.md "Twelfth pass") */
+_Static_assert(BOX_ROWS == 8, "interleave8 and deinterleave8 move eight rows");
+JND_HOT static void interleave8_rows(float *restrict d, int w, const float *restrict s0, const float *restrict s1,
+                                     const float *restrict s2, const float *restrict s3, const float *restrict s4,
+                                     const float *restrict s5, const float *restrict s6, const float *restrict s7) {
+  for (int x = 0; x < w; x++) {
+    float *p = d + (size_t)BOX_ROWS * x;
+    p[0] = s0[x], p[1] = s1[x], p[2] = s2[x], p[3] = s3[x];
+    p[4] = s4[x], p[5] = s5[x], p[6] = s6[x], p[7] = s7[x];
+  }
+}
+
+JND_HOT static void deinterleave8_rows(const float *restrict s, int w, float *restrict d0, float *restrict d1,
+                                       float *restrict d2, float *restrict d3, float *restrict d4, float *restrict d5,
+                                       float *restrict d6, float *restrict d7) {
+  for (int x = 0; x < w; x++) {
+    const float *p = s + (size_t)BOX_ROWS * x;
+    d0[x] = p[0], d1[x] = p[1], d2[x] = p[2], d3[x] = p[3];
+    d4[x] = p[4], d5[x] = p[5], d6[x] = p[6], d7[x] = p[7];
+  }
+}
+
+static void interleave8(const float *const s[BOX_ROWS], float *d, int w) {
+  interleave8_rows(d, w, s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7]);
+}
+
+static void deinterleave8(const float *s, float *const d[BOX_ROWS], int w) {
+  deinterleave8_rows(s, w, d[0], d[1], d[2], d[3], d[4], d[5], d[6], d[7]);
+}
+
 JND_HOT static void pow_span(const float *src, float *dst, size_t n, float e) {
 #pragma omp simd
   for (size_t i = 0; i < n; i++) dst[i] = jnd_fast_pow(src[i], e);
@@ -1250,27 +1283,30 @@ static jnd_status local_summation(const jnd_model *m, int band, float *D, float 
        * past the level's last row (its last group) rows of zeros, whose
        * sums are not kept */
       const int y0 = g * BOX_ROWS, nk = h - y0 < BOX_ROWS ? h - y0 : BOX_ROWS;
-      float *row = o2 - (size_t)BOX_ROWS * spill2;
+      float *staged = o2 - (size_t)BOX_ROWS * spill2; /* room for BOX_ROWS rows */
+      const float *src[BOX_ROWS];
       for (int k = 0; k < BOX_ROWS; k++) {
-        const float *src = row; /* D's row to beta/e, or D's own holding j^beta already */
+        /* D's row to beta/e, or D's own holding j^beta already */
+        float *row = staged + (size_t)k * w;
+        src[k] = row;
         if (k < nk && d_beta)
-          src = D + (size_t)(y0 + k) * w;
+          src[k] = D + (size_t)(y0 + k) * w;
         else if (k < nk)
           pow_span(D + (size_t)(y0 + k) * w, row, (size_t)w, up);
         else
           memset(row, 0, sizeof(float) * (size_t)w);
-        for (int x = 0; x < w; x++) t0[(size_t)BOX_ROWS * x + k] = src[x];
       }
+      interleave8(src, t0, w);
       jnd_box_pass(t0, BOX_ROWS, INT_MIN, INT_MAX, o1 - (size_t)BOX_ROWS * spill1, BOX_ROWS, -spill1, w + 2 * spill1,
                    BOX_ROWS, r, endw, suf);
       jnd_box_pass(o1, BOX_ROWS, INT_MIN, INT_MAX, o2 - (size_t)BOX_ROWS * spill2, BOX_ROWS, -spill2, w + 2 * spill2,
                    BOX_ROWS, r, endw, suf);
       float *o3 = a + (size_t)BOX_ROWS * w0; /* o1's space, free again */
       jnd_box_pass(o2, BOX_ROWS, INT_MIN, INT_MAX, o3, BOX_ROWS, 0, w, BOX_ROWS, r, endw, suf);
-      for (int k = 0; k < nk; k++) {
-        float *out = P + (size_t)(y0 + k) * w;
-        for (int x = 0; x < w; x++) out[x] = o3[(size_t)BOX_ROWS * x + k];
-      }
+      /* the rows past the level's end go to t0's space, free again */
+      float *out[BOX_ROWS];
+      for (int k = 0; k < BOX_ROWS; k++) out[k] = k < nk ? P + (size_t)(y0 + k) * w : t0 + (size_t)k * w;
+      deinterleave8(o3, out, w);
     }
     const int nblocks = (w + BOX_COLS - 1) / BOX_COLS;
 #pragma omp for schedule(dynamic, 1)
