@@ -57,7 +57,7 @@ enum { NBIN = JND_ORDER_BINS, FINE = 8 };
 /* Adds range [i0, i1) of v to h4's four interleaved counts (4 × NBIN bins
  * of key bits [shift, shift + 12)), so that neighbouring values in one bin
  * (most of a smooth map) do not each wait for the previous one's
- * increment; fold_counts sums them */
+ * increment; jnd_order_fold sums them */
 static void count_range(const float *v, size_t i0, size_t i1, int shift, size_t *h4) {
   size_t i = i0;
   for (; i + 4 <= i1; i += 4)
@@ -65,12 +65,12 @@ static void count_range(const float *v, size_t i0, size_t i1, int shift, size_t 
   for (; i < i1; i++) h4[order_key(v[i]) >> shift & (NBIN - 1)]++;
 }
 
-static void fold_counts(const size_t *h4, size_t *h) {
+void jnd_order_fold(const size_t *h4, size_t *h) {
   for (int b = 0; b < NBIN; b++) h[b] = h4[b] + h4[NBIN + b] + h4[2 * NBIN + b] + h4[3 * NBIN + b];
 }
 
+/* the first level's counts: key bits [20, 32) */
 void jnd_order_count(const float *v, size_t n, size_t *h4) { count_range(v, 0, n, 20, h4); }
-void jnd_order_fold(const size_t *h4, size_t *h) { fold_counts(h4, h); }
 
 /* Which of the 8 values at v fall in one of the wanted bins (key bits
  * [shift, shift + 12) equal to one of want[0..nw)), as bit q for value q:
@@ -108,9 +108,9 @@ static jnd_status order_select(const float *v, int nt, const size_t *bound, cons
     for (int b = 0; b < NBIN; b++) start[b + 1] += hist[(size_t)t * NBIN + b];
   for (int b = 0; b < NBIN; b++) start[b + 1] += start[b];
   /* the bin of each wanted rank, and a gather buffer per distinct bin */
-  int bin_of[64], nbins = 0, bins[64];
-  uint32_t want[64];
-  size_t off[65] = {0};
+  int bin_of[JND_RANKS_MAX], nbins = 0, bins[JND_RANKS_MAX];
+  uint32_t want[JND_RANKS_MAX];
+  size_t off[JND_RANKS_MAX + 1] = {0};
   for (int b = 0; b < NBIN; b++) slot[b] = -1;
   for (int i = 0; i < nk; i++) {
     int lo = 0, hi = NBIN - 1; /* the bin b with start[b] <= k < start[b + 1] */
@@ -134,7 +134,7 @@ static jnd_status order_select(const float *v, int nt, const size_t *bound, cons
     for (int t = 0; t < nt; t++) {
       const size_t i0 = bound[t], i1 = bound[t + 1];
       /* this range's place in each gathered bin: after the earlier ranges' values */
-      size_t fill[64];
+      size_t fill[JND_RANKS_MAX];
       for (int j = 0; j < nbins; j++) {
         fill[j] = off[j];
         for (int u = 0; u < t; u++) fill[j] += hist[(size_t)u * NBIN + bins[j]];
@@ -156,7 +156,7 @@ static jnd_status order_select(const float *v, int nt, const size_t *bound, cons
     const int j = slot[bin_of[i]];
     const size_t m = off[j + 1] - off[j];
     float *b = buf + off[j];
-    size_t local[64];
+    size_t local[JND_RANKS_MAX];
     int e = i;
     for (; e < nk && bin_of[e] == bin_of[i]; e++) local[e - i] = ks[e] - start[bin_of[i]];
     if (shift > FINE && m > 4096) {
@@ -181,8 +181,8 @@ static jnd_status order_stats_level(const float *v, size_t n, const size_t *ks, 
    * range's row of counts (hist) */
   size_t *h4 = jnd_calloc((size_t)nt * 4 * NBIN, sizeof *h4);
   size_t *hist = jnd_alloc((size_t)nt * NBIN, sizeof *hist);
-  size_t bound[65];
-  if (!h4 || !hist || nt > 64) {
+  size_t bound[JND_ORDER_RANGES_MAX + 1];
+  if (!h4 || !hist || nt > JND_ORDER_RANGES_MAX) {
     free(h4);
     free(hist);
     return JND_ERR_NOMEM;
@@ -191,7 +191,7 @@ static jnd_status order_stats_level(const float *v, size_t n, const size_t *ks, 
 #pragma omp parallel for num_threads(nt) schedule(static)
   for (int t = 0; t < nt; t++) {
     count_range(v, bound[t], bound[t + 1], shift, h4 + (size_t)t * 4 * NBIN);
-    fold_counts(h4 + (size_t)t * 4 * NBIN, hist + (size_t)t * NBIN);
+    jnd_order_fold(h4 + (size_t)t * 4 * NBIN, hist + (size_t)t * NBIN);
   }
   free(h4);
   jnd_status s = order_select(v, nt, bound, hist, ks, nk, out, shift);
@@ -200,7 +200,7 @@ static jnd_status order_stats_level(const float *v, size_t n, const size_t *ks, 
 }
 
 static jnd_status ranks_check(const size_t *ks, int nk, size_t n) {
-  if (nk > 64) return jnd_fail(JND_ERR_INTERNAL, "order statistics: at most 64 ranks");
+  if (nk > JND_RANKS_MAX) return jnd_fail(JND_ERR_INTERNAL, "order statistics: at most %d ranks", JND_RANKS_MAX);
   for (int i = 0; i < nk; i++)
     if (ks[i] >= n || (i > 0 && ks[i] < ks[i - 1])) return jnd_fail(JND_ERR_INTERNAL, "order statistics: bad index");
   return JND_OK;
@@ -210,14 +210,14 @@ jnd_status jnd_order_stats(const float *v, size_t n, const size_t *ks, int nk, f
   jnd_status s = ranks_check(ks, nk, n);
   if (s != JND_OK) return s;
   int nt = omp_get_max_threads() > 0 ? omp_get_max_threads() : 1;
-  if (nt > 64) nt = 64;
+  if (nt > JND_ORDER_RANGES_MAX) nt = JND_ORDER_RANGES_MAX;
   return order_stats_level(v, n, ks, nk, out, 20, nt);
 }
 
 jnd_status jnd_ranks_select_counted(jnd_ranks *r, const float *v, int nt, const size_t *bound, const size_t *hist) {
   jnd_status s = ranks_check(r->k, r->nk, r->n);
   if (s != JND_OK) return s;
-  if (nt < 1 || nt > 64 || bound[0] != 0 || bound[nt] != r->n)
+  if (nt < 1 || nt > JND_ORDER_RANGES_MAX || bound[0] != 0 || bound[nt] != r->n)
     return jnd_fail(JND_ERR_INTERNAL, "order statistics: bad ranges");
   return order_select(v, nt, bound, hist, r->k, r->nk, r->v, 20);
 }

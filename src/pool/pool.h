@@ -29,10 +29,11 @@ jnd_status jnd_ranks_select(jnd_ranks *r, const float *v);
  * interleaved counts per bin (4 × JND_ORDER_BINS, zeroed first by the
  * caller), jnd_order_fold sums those into h (JND_ORDER_BINS); then
  * jnd_ranks_select_counted selects as jnd_ranks_select does, v being nt
- * ranges [bound[t], bound[t + 1]) (bound[0] = 0, bound[nt] = n, nt <= 64)
- * whose counts are row t of hist (JND_ORDER_BINS apart). The same values
- * as jnd_ranks_select, whatever the ranges. */
-enum { JND_ORDER_BINS = 4096 };
+ * ranges [bound[t], bound[t + 1]) (bound[0] = 0, bound[nt] = n,
+ * nt <= JND_ORDER_RANGES_MAX) whose counts are row t of hist
+ * (JND_ORDER_BINS apart). The same values as jnd_ranks_select, whatever the
+ * ranges. */
+enum { JND_ORDER_BINS = 4096, JND_ORDER_RANGES_MAX = 64 };
 void jnd_order_count(const float *v, size_t n, size_t *h4);
 void jnd_order_fold(const size_t *h4, size_t *h);
 jnd_status jnd_ranks_select_counted(jnd_ranks *r, const float *v, int nt, const size_t *bound, const size_t *hist);

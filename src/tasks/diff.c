@@ -76,11 +76,11 @@ jnd_status jnd_diff_summarise(const jnd_image *map, double beta, const jnd_pooli
    * blocks [nblocks·t/nt, nblocks·(t+1)/nt), its counts row t */
   const size_t nblocks = (n + SUM_BLOCK - 1) / SUM_BLOCK;
   int nt = omp_get_max_threads();
-  nt = nt < 1 ? 1 : nt > 64 ? 64 : nt;
+  nt = nt < 1 ? 1 : nt > JND_ORDER_RANGES_MAX ? JND_ORDER_RANGES_MAX : nt;
   double *part = jnd_calloc(nblocks * 4, sizeof *part);
   size_t *h4 = jnd_alloc((size_t)nt * 4 * JND_ORDER_BINS, sizeof *h4);
   size_t *hist = jnd_alloc((size_t)nt * JND_ORDER_BINS, sizeof *hist);
-  size_t bound[65];
+  size_t bound[JND_ORDER_RANGES_MAX + 1];
   int team = 1;
   if (!part || !h4 || !hist) {
     free(part);
