@@ -150,7 +150,7 @@ static int run(int argc, char **argv) {
   jnd_diff_result *R = NULL;
   keep_freed_memory();
   /* each thread on a CPU of its own: diff starts no threads but OpenMP's
-   * (core.h jnd_threads_pin; docs/speed.md "Twelfth pass") */
+   * (jnd.h jnd_threads_pin; docs/speed.md "Twelfth pass") */
   (void)jnd_threads_pin(mp->threads);
   if (jnd_diff_run(paths[0], paths[1], &p, &R) != JND_OK) return cli_lib_error();
   int rc = cli_report_print(R->report, common.json_path);
